@@ -1,0 +1,598 @@
+//! Typed attribute columns (structure of arrays) and the tables that hold them per class.
+
+use std::collections::BTreeMap;
+use std::fmt;
+
+use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+
+use crate::error::GeoError;
+
+/// Which element an attribute is stored on, as in Houdini.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum AttribClass {
+    Point,
+    Vertex,
+    Primitive,
+    Detail,
+}
+
+impl fmt::Display for AttribClass {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            AttribClass::Point => "point",
+            AttribClass::Vertex => "vertex",
+            AttribClass::Primitive => "primitive",
+            AttribClass::Detail => "detail",
+        })
+    }
+}
+
+/// The storage type of an attribute column.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AttribType {
+    Float,
+    Int,
+    Vec2,
+    Vec3,
+    Vec4,
+    Quat,
+    Mat4,
+    String,
+}
+
+impl fmt::Display for AttribType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            AttribType::Float => "float",
+            AttribType::Int => "int",
+            AttribType::Vec2 => "vector2",
+            AttribType::Vec3 => "vector3",
+            AttribType::Vec4 => "vector4",
+            AttribType::Quat => "quaternion",
+            AttribType::Mat4 => "matrix4",
+            AttribType::String => "string",
+        })
+    }
+}
+
+/// Semantic tag telling transforms how to treat a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum TypeInfo {
+    /// Plain data: transforms leave it alone.
+    #[default]
+    None,
+    /// A location: the full affine transform applies.
+    Position,
+    /// A direction with length: the linear part applies.
+    Vector,
+    /// A surface normal: the inverse transpose applies, then renormalisation.
+    Normal,
+    /// A colour: never transformed.
+    Color,
+    /// An orientation: the rotation part is pre-multiplied.
+    Quaternion,
+    /// Texture coordinates: never transformed.
+    TexCoord,
+    /// A local 4x4 transform (instancing): the linear part is pre-multiplied.
+    Transform,
+}
+
+impl fmt::Display for TypeInfo {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            TypeInfo::None => "none",
+            TypeInfo::Position => "position",
+            TypeInfo::Vector => "vector",
+            TypeInfo::Normal => "normal",
+            TypeInfo::Color => "color",
+            TypeInfo::Quaternion => "quaternion",
+            TypeInfo::TexCoord => "texcoord",
+            TypeInfo::Transform => "transform",
+        })
+    }
+}
+
+/// One attribute value, used for defaults and single-element access.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AttribValue {
+    Float(f32),
+    Int(i32),
+    Vec2(Vec2),
+    Vec3(Vec3),
+    Vec4(Vec4),
+    Quat(Quat),
+    Mat4(Mat4),
+    String(String),
+}
+
+impl AttribValue {
+    pub fn attrib_type(&self) -> AttribType {
+        match self {
+            AttribValue::Float(_) => AttribType::Float,
+            AttribValue::Int(_) => AttribType::Int,
+            AttribValue::Vec2(_) => AttribType::Vec2,
+            AttribValue::Vec3(_) => AttribType::Vec3,
+            AttribValue::Vec4(_) => AttribType::Vec4,
+            AttribValue::Quat(_) => AttribType::Quat,
+            AttribValue::Mat4(_) => AttribType::Mat4,
+            AttribValue::String(_) => AttribType::String,
+        }
+    }
+
+    /// The zero value of a type (identity for quaternions and matrices).
+    pub fn zero(ty: AttribType) -> AttribValue {
+        match ty {
+            AttribType::Float => AttribValue::Float(0.0),
+            AttribType::Int => AttribValue::Int(0),
+            AttribType::Vec2 => AttribValue::Vec2(Vec2::ZERO),
+            AttribType::Vec3 => AttribValue::Vec3(Vec3::ZERO),
+            AttribType::Vec4 => AttribValue::Vec4(Vec4::ZERO),
+            AttribType::Quat => AttribValue::Quat(Quat::IDENTITY),
+            AttribType::Mat4 => AttribValue::Mat4(Mat4::IDENTITY),
+            AttribType::String => AttribValue::String(String::new()),
+        }
+    }
+}
+
+/// Strings stored once in a table; elements hold indices into it.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct StringColumn {
+    pub table: Vec<String>,
+    pub indices: Vec<u32>,
+}
+
+impl StringColumn {
+    /// The index of `s` in the table, adding it when new.
+    pub fn intern(&mut self, s: &str) -> u32 {
+        match self.table.iter().position(|t| t == s) {
+            Some(i) => i as u32,
+            None => {
+                self.table.push(s.to_owned());
+                (self.table.len() - 1) as u32
+            }
+        }
+    }
+
+    pub fn get(&self, i: usize) -> &str {
+        &self.table[self.indices[i] as usize]
+    }
+}
+
+/// The column of values itself.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AttribData {
+    Float(Vec<f32>),
+    Int(Vec<i32>),
+    Vec2(Vec<Vec2>),
+    Vec3(Vec<Vec3>),
+    Vec4(Vec<Vec4>),
+    Quat(Vec<Quat>),
+    Mat4(Vec<Mat4>),
+    String(StringColumn),
+}
+
+/// Runs `$body` with `$v` bound to the inner `Vec` of every numeric variant, and
+/// `$s` for the string column.
+macro_rules! each_column {
+    ($data:expr, $v:ident => $body:expr, $s:ident => $sbody:expr) => {
+        match $data {
+            AttribData::Float($v) => $body,
+            AttribData::Int($v) => $body,
+            AttribData::Vec2($v) => $body,
+            AttribData::Vec3($v) => $body,
+            AttribData::Vec4($v) => $body,
+            AttribData::Quat($v) => $body,
+            AttribData::Mat4($v) => $body,
+            AttribData::String($s) => $sbody,
+        }
+    };
+}
+
+impl AttribData {
+    /// A column of `len` copies of `value`.
+    pub fn filled(value: &AttribValue, len: usize) -> AttribData {
+        match value {
+            AttribValue::Float(x) => AttribData::Float(vec![*x; len]),
+            AttribValue::Int(x) => AttribData::Int(vec![*x; len]),
+            AttribValue::Vec2(x) => AttribData::Vec2(vec![*x; len]),
+            AttribValue::Vec3(x) => AttribData::Vec3(vec![*x; len]),
+            AttribValue::Vec4(x) => AttribData::Vec4(vec![*x; len]),
+            AttribValue::Quat(x) => AttribData::Quat(vec![*x; len]),
+            AttribValue::Mat4(x) => AttribData::Mat4(vec![*x; len]),
+            AttribValue::String(s) => AttribData::String(StringColumn {
+                table: vec![s.clone()],
+                indices: vec![0; len],
+            }),
+        }
+    }
+
+    pub fn attrib_type(&self) -> AttribType {
+        match self {
+            AttribData::Float(_) => AttribType::Float,
+            AttribData::Int(_) => AttribType::Int,
+            AttribData::Vec2(_) => AttribType::Vec2,
+            AttribData::Vec3(_) => AttribType::Vec3,
+            AttribData::Vec4(_) => AttribType::Vec4,
+            AttribData::Quat(_) => AttribType::Quat,
+            AttribData::Mat4(_) => AttribType::Mat4,
+            AttribData::String(_) => AttribType::String,
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        each_column!(self, v => v.len(), s => s.indices.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The element at `i` as a value.
+    pub fn get(&self, i: usize) -> AttribValue {
+        match self {
+            AttribData::Float(v) => AttribValue::Float(v[i]),
+            AttribData::Int(v) => AttribValue::Int(v[i]),
+            AttribData::Vec2(v) => AttribValue::Vec2(v[i]),
+            AttribData::Vec3(v) => AttribValue::Vec3(v[i]),
+            AttribData::Vec4(v) => AttribValue::Vec4(v[i]),
+            AttribData::Quat(v) => AttribValue::Quat(v[i]),
+            AttribData::Mat4(v) => AttribValue::Mat4(v[i]),
+            AttribData::String(s) => AttribValue::String(s.get(i).to_owned()),
+        }
+    }
+
+    /// Sets element `i`; the value must have the column's type.
+    pub fn set(&mut self, i: usize, value: &AttribValue) -> Result<(), AttribType> {
+        match (self, value) {
+            (AttribData::Float(v), AttribValue::Float(x)) => v[i] = *x,
+            (AttribData::Int(v), AttribValue::Int(x)) => v[i] = *x,
+            (AttribData::Vec2(v), AttribValue::Vec2(x)) => v[i] = *x,
+            (AttribData::Vec3(v), AttribValue::Vec3(x)) => v[i] = *x,
+            (AttribData::Vec4(v), AttribValue::Vec4(x)) => v[i] = *x,
+            (AttribData::Quat(v), AttribValue::Quat(x)) => v[i] = *x,
+            (AttribData::Mat4(v), AttribValue::Mat4(x)) => v[i] = *x,
+            (AttribData::String(s), AttribValue::String(x)) => {
+                let k = s.intern(x);
+                s.indices[i] = k;
+            }
+            (_, other) => return Err(other.attrib_type()),
+        }
+        Ok(())
+    }
+
+    /// Grows or shrinks to `len`, filling new elements with `fill`.
+    pub(crate) fn resize(&mut self, len: usize, fill: &AttribValue) {
+        match (self, fill) {
+            (AttribData::Float(v), AttribValue::Float(x)) => v.resize(len, *x),
+            (AttribData::Int(v), AttribValue::Int(x)) => v.resize(len, *x),
+            (AttribData::Vec2(v), AttribValue::Vec2(x)) => v.resize(len, *x),
+            (AttribData::Vec3(v), AttribValue::Vec3(x)) => v.resize(len, *x),
+            (AttribData::Vec4(v), AttribValue::Vec4(x)) => v.resize(len, *x),
+            (AttribData::Quat(v), AttribValue::Quat(x)) => v.resize(len, *x),
+            (AttribData::Mat4(v), AttribValue::Mat4(x)) => v.resize(len, *x),
+            (AttribData::String(s), AttribValue::String(x)) => {
+                let k = s.intern(x);
+                s.indices.resize(len, k);
+            }
+            (data, _) => unreachable!(
+                "attribute default type checked on creation ({})",
+                data.attrib_type()
+            ),
+        }
+    }
+
+    /// A new column made of the elements at `indices`, in that order.
+    pub fn gather(&self, indices: &[u32]) -> AttribData {
+        fn pick<T: Copy>(v: &[T], idx: &[u32]) -> Vec<T> {
+            idx.iter().map(|&i| v[i as usize]).collect()
+        }
+        match self {
+            AttribData::Float(v) => AttribData::Float(pick(v, indices)),
+            AttribData::Int(v) => AttribData::Int(pick(v, indices)),
+            AttribData::Vec2(v) => AttribData::Vec2(pick(v, indices)),
+            AttribData::Vec3(v) => AttribData::Vec3(pick(v, indices)),
+            AttribData::Vec4(v) => AttribData::Vec4(pick(v, indices)),
+            AttribData::Quat(v) => AttribData::Quat(pick(v, indices)),
+            AttribData::Mat4(v) => AttribData::Mat4(pick(v, indices)),
+            AttribData::String(s) => AttribData::String(StringColumn {
+                table: s.table.clone(),
+                indices: pick(&s.indices, indices),
+            }),
+        }
+    }
+
+    /// Appends `other`'s elements; false when the types differ.
+    pub(crate) fn append(&mut self, other: &AttribData) -> bool {
+        match (self, other) {
+            (AttribData::Float(a), AttribData::Float(b)) => a.extend_from_slice(b),
+            (AttribData::Int(a), AttribData::Int(b)) => a.extend_from_slice(b),
+            (AttribData::Vec2(a), AttribData::Vec2(b)) => a.extend_from_slice(b),
+            (AttribData::Vec3(a), AttribData::Vec3(b)) => a.extend_from_slice(b),
+            (AttribData::Vec4(a), AttribData::Vec4(b)) => a.extend_from_slice(b),
+            (AttribData::Quat(a), AttribData::Quat(b)) => a.extend_from_slice(b),
+            (AttribData::Mat4(a), AttribData::Mat4(b)) => a.extend_from_slice(b),
+            (AttribData::String(a), AttribData::String(b)) => {
+                let remap: Vec<u32> = b.table.iter().map(|s| a.intern(s)).collect();
+                a.indices
+                    .extend(b.indices.iter().map(|&i| remap[i as usize]));
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// The raw bytes of a numeric column (None for strings).
+    pub fn as_bytes(&self) -> Option<&[u8]> {
+        each_column!(self, v => Some(bytemuck::cast_slice(v)), _s => None)
+    }
+}
+
+/// An attribute: its column, its semantic tag and the default for new elements.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attribute {
+    pub type_info: TypeInfo,
+    default: AttribValue,
+    data: AttribData,
+}
+
+macro_rules! typed_access {
+    ($get:ident, $get_mut:ident, $variant:ident, $t:ty) => {
+        pub fn $get(&self) -> Option<&[$t]> {
+            match &self.data {
+                AttribData::$variant(v) => Some(v),
+                _ => None,
+            }
+        }
+        pub fn $get_mut(&mut self) -> Option<&mut [$t]> {
+            match &mut self.data {
+                AttribData::$variant(v) => Some(v),
+                _ => None,
+            }
+        }
+    };
+}
+
+impl Attribute {
+    /// A column of `len` elements set to `default`.
+    pub fn new(default: AttribValue, type_info: TypeInfo, len: usize) -> Attribute {
+        Attribute {
+            type_info,
+            data: AttribData::filled(&default, len),
+            default,
+        }
+    }
+
+    /// Wraps an existing column; the default is the type's zero.
+    pub fn from_data(data: AttribData, type_info: TypeInfo) -> Attribute {
+        Attribute {
+            type_info,
+            default: AttribValue::zero(data.attrib_type()),
+            data,
+        }
+    }
+
+    pub fn with_default(mut self, default: AttribValue) -> Result<Attribute, AttribType> {
+        if default.attrib_type() != self.data.attrib_type() {
+            return Err(default.attrib_type());
+        }
+        self.default = default;
+        Ok(self)
+    }
+
+    pub fn attrib_type(&self) -> AttribType {
+        self.data.attrib_type()
+    }
+
+    pub fn default_value(&self) -> &AttribValue {
+        &self.default
+    }
+
+    pub fn data(&self) -> &AttribData {
+        &self.data
+    }
+
+    /// Mutable access to the values; the length cannot change through it.
+    pub fn values_mut(&mut self) -> ValuesMut<'_> {
+        ValuesMut(&mut self.data)
+    }
+
+    pub fn len(&self) -> usize {
+        self.data.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.data.is_empty()
+    }
+
+    typed_access!(as_f32, as_f32_mut, Float, f32);
+    typed_access!(as_i32, as_i32_mut, Int, i32);
+    typed_access!(as_vec2, as_vec2_mut, Vec2, Vec2);
+    typed_access!(as_vec3, as_vec3_mut, Vec3, Vec3);
+    typed_access!(as_vec4, as_vec4_mut, Vec4, Vec4);
+    typed_access!(as_quat, as_quat_mut, Quat, Quat);
+    typed_access!(as_mat4, as_mat4_mut, Mat4, Mat4);
+
+    pub fn as_strings(&self) -> Option<&StringColumn> {
+        match &self.data {
+            AttribData::String(s) => Some(s),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn gather(&self, indices: &[u32]) -> Attribute {
+        Attribute {
+            type_info: self.type_info,
+            default: self.default.clone(),
+            data: self.data.gather(indices),
+        }
+    }
+}
+
+/// Length-preserving mutable view of a column.
+pub struct ValuesMut<'a>(&'a mut AttribData);
+
+impl ValuesMut<'_> {
+    pub fn set(&mut self, i: usize, value: &AttribValue) -> Result<(), AttribType> {
+        self.0.set(i, value)
+    }
+}
+
+/// All attributes of one class, by name, each with the same number of elements.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttribTable {
+    class: AttribClass,
+    len: usize,
+    attribs: BTreeMap<String, Attribute>,
+}
+
+impl AttribTable {
+    pub fn new(class: AttribClass, len: usize) -> AttribTable {
+        AttribTable {
+            class,
+            len,
+            attribs: BTreeMap::new(),
+        }
+    }
+
+    pub fn class(&self) -> AttribClass {
+        self.class
+    }
+
+    /// Number of elements every column holds.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    pub fn get(&self, name: &str) -> Option<&Attribute> {
+        self.attribs.get(name)
+    }
+
+    pub fn get_mut(&mut self, name: &str) -> Option<&mut Attribute> {
+        self.attribs.get_mut(name)
+    }
+
+    pub fn contains(&self, name: &str) -> bool {
+        self.attribs.contains_key(name)
+    }
+
+    /// Attributes in name order (deterministic).
+    pub fn iter(&self) -> impl Iterator<Item = (&str, &Attribute)> {
+        self.attribs.iter().map(|(k, v)| (k.as_str(), v))
+    }
+
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.attribs.keys().map(|k| k.as_str())
+    }
+
+    pub fn num_attribs(&self) -> usize {
+        self.attribs.len()
+    }
+
+    /// Adds or replaces an attribute; its length must match the table's.
+    pub fn insert(&mut self, name: &str, attrib: Attribute) -> Result<(), GeoError> {
+        if attrib.len() != self.len {
+            return Err(GeoError::AttribLength {
+                class: self.class,
+                name: name.to_owned(),
+                expected: self.len,
+                found: attrib.len(),
+            });
+        }
+        self.attribs.insert(name.to_owned(), attrib);
+        Ok(())
+    }
+
+    /// The attribute `name`, created with `default` when absent; errors if it
+    /// exists with another type.
+    pub fn get_or_create(
+        &mut self,
+        name: &str,
+        default: AttribValue,
+        type_info: TypeInfo,
+    ) -> Result<&mut Attribute, GeoError> {
+        let class = self.class;
+        let len = self.len;
+        let ty = default.attrib_type();
+        let attrib = self
+            .attribs
+            .entry(name.to_owned())
+            .or_insert_with(|| Attribute::new(default, type_info, len));
+        if attrib.attrib_type() != ty {
+            return Err(GeoError::AttribType {
+                class,
+                name: name.to_owned(),
+                expected: ty,
+                found: attrib.attrib_type(),
+            });
+        }
+        Ok(attrib)
+    }
+
+    pub fn remove(&mut self, name: &str) -> Option<Attribute> {
+        self.attribs.remove(name)
+    }
+
+    /// Resizes every column, new elements taking each attribute's default.
+    pub(crate) fn resize(&mut self, len: usize) {
+        self.len = len;
+        for a in self.attribs.values_mut() {
+            let d = a.default.clone();
+            a.data.resize(len, &d);
+        }
+    }
+
+    /// A table of the elements at `indices`.
+    pub fn gather(&self, indices: &[u32]) -> AttribTable {
+        AttribTable {
+            class: self.class,
+            len: indices.len(),
+            attribs: self
+                .attribs
+                .iter()
+                .map(|(k, a)| (k.clone(), a.gather(indices)))
+                .collect(),
+        }
+    }
+
+    /// Appends `other`'s elements. Attributes missing on either side are filled
+    /// with their defaults; a name with two different types is an error.
+    pub(crate) fn append(&mut self, other: &AttribTable) -> Result<(), GeoError> {
+        for (name, theirs) in &other.attribs {
+            if let Some(ours) = self.attribs.get(name) {
+                if ours.attrib_type() != theirs.attrib_type() {
+                    return Err(GeoError::AttribType {
+                        class: self.class,
+                        name: name.clone(),
+                        expected: ours.attrib_type(),
+                        found: theirs.attrib_type(),
+                    });
+                }
+            }
+        }
+        let old_len = self.len;
+        let new_len = old_len + other.len;
+        for (name, theirs) in &other.attribs {
+            let ours = self.attribs.entry(name.clone()).or_insert_with(|| {
+                Attribute::new(theirs.default.clone(), theirs.type_info, old_len)
+            });
+            let appended = ours.data.append(&theirs.data);
+            debug_assert!(appended, "types checked above");
+        }
+        for a in self.attribs.values_mut() {
+            if a.len() != new_len {
+                let d = a.default.clone();
+                a.data.resize(new_len, &d);
+            }
+        }
+        self.len = new_len;
+        Ok(())
+    }
+
+    pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = (&str, &mut Attribute)> {
+        self.attribs.iter_mut().map(|(k, v)| (k.as_str(), v))
+    }
+}

@@ -1,0 +1,504 @@
+//! The `Geometry` container: points, vertices, primitives, attributes, groups, packed instances.
+
+use std::collections::BTreeMap;
+use std::sync::{Arc, OnceLock};
+
+use glam::{Mat4, Vec3};
+
+use crate::attrib::{AttribClass, AttribData, AttribTable, AttribValue, Attribute, TypeInfo};
+use crate::error::GeoError;
+use crate::group::Group;
+use crate::topology::Topology;
+
+/// The name of the point position attribute, always present.
+pub const P: &str = "P";
+
+/// What a primitive is. Every primitive owns a contiguous run of vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PrimKind {
+    /// A closed polygon (3 or more vertices).
+    Polygon,
+    /// An open polyline (2 or more vertices).
+    Polyline,
+    /// A packed instance: one vertex (its point gives the translation) and an
+    /// entry in the instance table.
+    Packed(u32),
+}
+
+impl PrimKind {
+    pub fn name(&self) -> &'static str {
+        match self {
+            PrimKind::Polygon => "polygon",
+            PrimKind::Polyline => "polyline",
+            PrimKind::Packed(_) => "packed",
+        }
+    }
+}
+
+/// A shared reference to another geometry placed with a transform. Its world
+/// transform is `translate(P of its point) * transform`, as Houdini's packed
+/// primitives: moving the point moves the instance.
+#[derive(Clone, Debug)]
+pub struct PackedInstance {
+    pub source: Arc<Geometry>,
+    pub transform: Mat4,
+}
+
+/// Houdini's geometry model. Vertices are corners of primitives referencing
+/// points; each primitive's vertices are contiguous (`prim_offsets`).
+#[derive(Clone, Debug)]
+pub struct Geometry {
+    pub(crate) points: AttribTable,
+    pub(crate) vertices: AttribTable,
+    pub(crate) prims: AttribTable,
+    pub(crate) detail: AttribTable,
+    pub(crate) vertex_point: Vec<u32>,
+    pub(crate) prim_offsets: Vec<u32>,
+    pub(crate) prim_kinds: Vec<PrimKind>,
+    pub(crate) packed: Vec<PackedInstance>,
+    pub(crate) point_groups: BTreeMap<String, Group>,
+    pub(crate) prim_groups: BTreeMap<String, Group>,
+    pub(crate) topology: OnceLock<Arc<Topology>>,
+    pub(crate) content_hash: OnceLock<u128>,
+}
+
+impl Default for Geometry {
+    fn default() -> Self {
+        Geometry::new()
+    }
+}
+
+impl PartialEq for Geometry {
+    fn eq(&self, other: &Self) -> bool {
+        self.content_hash() == other.content_hash()
+    }
+}
+
+pub(crate) fn checked_u32(n: usize, what: &'static str) -> Result<u32, GeoError> {
+    u32::try_from(n).map_err(|_| GeoError::TooLarge { what })
+}
+
+impl Geometry {
+    /// An empty geometry with the `P` attribute.
+    pub fn new() -> Geometry {
+        let mut points = AttribTable::new(AttribClass::Point, 0);
+        points
+            .insert(
+                P,
+                Attribute::new(AttribValue::Vec3(Vec3::ZERO), TypeInfo::Position, 0),
+            )
+            .expect("empty column fits empty table");
+        Geometry {
+            points,
+            vertices: AttribTable::new(AttribClass::Vertex, 0),
+            prims: AttribTable::new(AttribClass::Primitive, 0),
+            detail: AttribTable::new(AttribClass::Detail, 1),
+            vertex_point: Vec::new(),
+            prim_offsets: vec![0],
+            prim_kinds: Vec::new(),
+            packed: Vec::new(),
+            point_groups: BTreeMap::new(),
+            prim_groups: BTreeMap::new(),
+            topology: OnceLock::new(),
+            content_hash: OnceLock::new(),
+        }
+    }
+
+    /// A polygon mesh from positions and faces given as a flat list of point
+    /// indices with a vertex count per face. Indices are checked.
+    pub fn from_polygons(
+        positions: Vec<Vec3>,
+        face_points: Vec<u32>,
+        face_counts: &[u32],
+    ) -> Result<Geometry, GeoError> {
+        let mut g = Geometry::new();
+        g.set_positions(positions);
+        let n = g.num_points();
+        if let Some(&bad) = face_points.iter().find(|&&p| p as usize >= n) {
+            return Err(GeoError::PointOutOfRange {
+                index: bad,
+                count: n,
+            });
+        }
+        let mut offsets = Vec::with_capacity(face_counts.len() + 1);
+        offsets.push(0u32);
+        let mut acc = 0u64;
+        for &c in face_counts {
+            if c < 3 {
+                return Err(GeoError::PolygonTooSmall(c as usize));
+            }
+            acc += c as u64;
+            offsets.push(checked_u32(acc as usize, "vertex count")?);
+        }
+        if acc as usize != face_points.len() {
+            return Err(GeoError::Invalid(format!(
+                "face counts sum to {acc} but {} face indices were given",
+                face_points.len()
+            )));
+        }
+        g.prim_kinds = vec![PrimKind::Polygon; face_counts.len()];
+        g.vertex_point = face_points;
+        g.prim_offsets = offsets;
+        g.vertices.resize(g.vertex_point.len());
+        g.prims.resize(g.prim_kinds.len());
+        Ok(g)
+    }
+
+    /// A triangle mesh from positions and index triples.
+    pub fn from_triangles(positions: Vec<Vec3>, triangles: &[[u32; 3]]) -> Result<Geometry, GeoError> {
+        let flat: Vec<u32> = bytemuck::cast_slice(triangles).to_vec();
+        let counts = vec![3u32; triangles.len()];
+        Geometry::from_polygons(positions, flat, &counts)
+    }
+
+    pub(crate) fn invalidate_topology(&mut self) {
+        self.topology = OnceLock::new();
+        self.content_hash = OnceLock::new();
+    }
+
+    pub(crate) fn invalidate_content(&mut self) {
+        self.content_hash = OnceLock::new();
+    }
+
+    // ----- counts and raw access -----
+
+    pub fn num_points(&self) -> usize {
+        self.points.len()
+    }
+
+    pub fn num_vertices(&self) -> usize {
+        self.vertex_point.len()
+    }
+
+    pub fn num_prims(&self) -> usize {
+        self.prim_kinds.len()
+    }
+
+    pub fn positions(&self) -> &[Vec3] {
+        self.points
+            .get(P)
+            .and_then(|a| a.as_vec3())
+            .expect("P is always a vector3 point attribute")
+    }
+
+    pub fn positions_mut(&mut self) -> &mut [Vec3] {
+        self.invalidate_content();
+        self.points
+            .get_mut(P)
+            .and_then(|a| a.as_vec3_mut())
+            .expect("P is always a vector3 point attribute")
+    }
+
+    /// Replaces all points' positions; the point count becomes `positions.len()`.
+    pub fn set_positions(&mut self, positions: Vec<Vec3>) {
+        let n = positions.len();
+        self.resize_points(n);
+        let attr = Attribute::from_data(AttribData::Vec3(positions), TypeInfo::Position);
+        self.points.insert(P, attr).expect("same length");
+        self.invalidate_content();
+    }
+
+    /// Point index of every vertex.
+    pub fn vertex_points(&self) -> &[u32] {
+        &self.vertex_point
+    }
+
+    /// Vertex offsets: primitive `i` owns vertices `offsets[i]..offsets[i+1]`.
+    pub fn prim_offsets(&self) -> &[u32] {
+        &self.prim_offsets
+    }
+
+    pub fn prim_kinds(&self) -> &[PrimKind] {
+        &self.prim_kinds
+    }
+
+    pub fn prim_kind(&self, prim: usize) -> PrimKind {
+        self.prim_kinds[prim]
+    }
+
+    /// The vertex range of a primitive.
+    pub fn prim_vertex_range(&self, prim: usize) -> std::ops::Range<usize> {
+        self.prim_offsets[prim] as usize..self.prim_offsets[prim + 1] as usize
+    }
+
+    /// The points of a primitive's vertices, in order.
+    pub fn prim_points(&self, prim: usize) -> &[u32] {
+        &self.vertex_point[self.prim_vertex_range(prim)]
+    }
+
+    pub fn packed_instances(&self) -> &[PackedInstance] {
+        &self.packed
+    }
+
+    pub fn packed_instance(&self, prim: usize) -> Option<&PackedInstance> {
+        match self.prim_kinds[prim] {
+            PrimKind::Packed(i) => self.packed.get(i as usize),
+            _ => None,
+        }
+    }
+
+    /// World transform of a packed primitive (see [`PackedInstance`]).
+    pub fn packed_world_transform(&self, prim: usize) -> Option<Mat4> {
+        let inst = self.packed_instance(prim)?;
+        let pt = *self.prim_points(prim).first()?;
+        let p = *self.positions().get(pt as usize)?;
+        Some(Mat4::from_translation(p) * inst.transform)
+    }
+
+    pub fn is_polygon_mesh(&self) -> bool {
+        self.prim_kinds.iter().all(|k| *k == PrimKind::Polygon)
+    }
+
+    // ----- attributes -----
+
+    pub fn attribs(&self, class: AttribClass) -> &AttribTable {
+        match class {
+            AttribClass::Point => &self.points,
+            AttribClass::Vertex => &self.vertices,
+            AttribClass::Primitive => &self.prims,
+            AttribClass::Detail => &self.detail,
+        }
+    }
+
+    /// Mutable attribute table. Column lengths stay tied to element counts.
+    pub fn attribs_mut(&mut self, class: AttribClass) -> &mut AttribTable {
+        self.invalidate_content();
+        match class {
+            AttribClass::Point => &mut self.points,
+            AttribClass::Vertex => &mut self.vertices,
+            AttribClass::Primitive => &mut self.prims,
+            AttribClass::Detail => &mut self.detail,
+        }
+    }
+
+    pub fn attrib(&self, class: AttribClass, name: &str) -> Option<&Attribute> {
+        self.attribs(class).get(name)
+    }
+
+    /// Adds or replaces an attribute (P cannot be replaced by a non-vector3).
+    pub fn set_attrib(
+        &mut self,
+        class: AttribClass,
+        name: &str,
+        attrib: Attribute,
+    ) -> Result<(), GeoError> {
+        if class == AttribClass::Point
+            && name == P
+            && attrib.attrib_type() != crate::AttribType::Vec3
+        {
+            return Err(GeoError::PositionRequired);
+        }
+        self.attribs_mut(class).insert(name, attrib)
+    }
+
+    pub fn remove_attrib(&mut self, class: AttribClass, name: &str) -> Result<Option<Attribute>, GeoError> {
+        if class == AttribClass::Point && name == P {
+            return Err(GeoError::PositionRequired);
+        }
+        Ok(self.attribs_mut(class).remove(name))
+    }
+
+    // ----- groups -----
+
+    pub fn point_groups(&self) -> &BTreeMap<String, Group> {
+        &self.point_groups
+    }
+
+    pub fn prim_groups(&self) -> &BTreeMap<String, Group> {
+        &self.prim_groups
+    }
+
+    pub fn set_point_group(&mut self, name: &str, group: Group) -> Result<(), GeoError> {
+        if group.len() != self.num_points() {
+            return Err(GeoError::GroupLength {
+                name: name.to_owned(),
+                expected: self.num_points(),
+                found: group.len(),
+            });
+        }
+        self.invalidate_content();
+        self.point_groups.insert(name.to_owned(), group);
+        Ok(())
+    }
+
+    pub fn set_prim_group(&mut self, name: &str, group: Group) -> Result<(), GeoError> {
+        if group.len() != self.num_prims() {
+            return Err(GeoError::GroupLength {
+                name: name.to_owned(),
+                expected: self.num_prims(),
+                found: group.len(),
+            });
+        }
+        self.invalidate_content();
+        self.prim_groups.insert(name.to_owned(), group);
+        Ok(())
+    }
+
+    pub fn remove_point_group(&mut self, name: &str) -> Option<Group> {
+        self.invalidate_content();
+        self.point_groups.remove(name)
+    }
+
+    pub fn remove_prim_group(&mut self, name: &str) -> Option<Group> {
+        self.invalidate_content();
+        self.prim_groups.remove(name)
+    }
+
+    // ----- building -----
+
+    fn resize_points(&mut self, n: usize) {
+        self.points.resize(n);
+        for g in self.point_groups.values_mut() {
+            g.resize(n);
+        }
+        self.invalidate_topology();
+    }
+
+    /// Adds a point and returns its index.
+    pub fn add_point(&mut self, p: Vec3) -> u32 {
+        let i = self.num_points();
+        self.resize_points(i + 1);
+        self.positions_mut()[i] = p;
+        i as u32
+    }
+
+    /// Adds points and returns the index of the first.
+    pub fn add_points(&mut self, ps: &[Vec3]) -> u32 {
+        let first = self.num_points();
+        self.resize_points(first + ps.len());
+        self.positions_mut()[first..].copy_from_slice(ps);
+        first as u32
+    }
+
+    fn push_prim(&mut self, kind: PrimKind, points: &[u32]) -> Result<u32, GeoError> {
+        let n = self.num_points();
+        if let Some(&bad) = points.iter().find(|&&p| p as usize >= n) {
+            return Err(GeoError::PointOutOfRange {
+                index: bad,
+                count: n,
+            });
+        }
+        let prim = checked_u32(self.num_prims(), "primitive count")?;
+        self.vertex_point.extend_from_slice(points);
+        let end = checked_u32(self.vertex_point.len(), "vertex count")?;
+        self.prim_offsets.push(end);
+        self.prim_kinds.push(kind);
+        self.vertices.resize(self.vertex_point.len());
+        self.prims.resize(self.prim_kinds.len());
+        for g in self.prim_groups.values_mut() {
+            g.resize(self.prim_kinds.len());
+        }
+        self.invalidate_topology();
+        Ok(prim)
+    }
+
+    /// Adds a closed polygon over existing points.
+    pub fn add_polygon(&mut self, points: &[u32]) -> Result<u32, GeoError> {
+        if points.len() < 3 {
+            return Err(GeoError::PolygonTooSmall(points.len()));
+        }
+        self.push_prim(PrimKind::Polygon, points)
+    }
+
+    /// Adds an open polyline over existing points.
+    pub fn add_polyline(&mut self, points: &[u32]) -> Result<u32, GeoError> {
+        if points.len() < 2 {
+            return Err(GeoError::PolylineTooSmall(points.len()));
+        }
+        self.push_prim(PrimKind::Polyline, points)
+    }
+
+    /// Adds a packed instance of `source` at point `point`.
+    pub fn add_packed(
+        &mut self,
+        point: u32,
+        source: Arc<Geometry>,
+        transform: Mat4,
+    ) -> Result<u32, GeoError> {
+        let idx = checked_u32(self.packed.len(), "packed instance count")?;
+        let prim = self.push_prim(PrimKind::Packed(idx), &[point])?;
+        self.packed.push(PackedInstance { source, transform });
+        Ok(prim)
+    }
+
+    /// Adds `count` packed instances of one source, each on a new point, with
+    /// per-instance positions and local transforms. Bulk path for instancing.
+    pub fn add_packed_many(
+        &mut self,
+        source: &Arc<Geometry>,
+        positions: &[Vec3],
+        transforms: &[Mat4],
+    ) -> Result<(), GeoError> {
+        if positions.len() != transforms.len() {
+            return Err(GeoError::Invalid(format!(
+                "{} positions but {} transforms for packed instances",
+                positions.len(),
+                transforms.len()
+            )));
+        }
+        let first_point = self.add_points(positions);
+        let first_packed = self.packed.len();
+        let first_prim = self.num_prims();
+        checked_u32(first_packed + positions.len(), "packed instance count")?;
+        checked_u32(self.vertex_point.len() + positions.len(), "vertex count")?;
+        for (i, t) in transforms.iter().enumerate() {
+            self.vertex_point.push(first_point + i as u32);
+            self.prim_offsets.push(self.vertex_point.len() as u32);
+            self.prim_kinds.push(PrimKind::Packed((first_packed + i) as u32));
+            self.packed.push(PackedInstance {
+                source: Arc::clone(source),
+                transform: *t,
+            });
+        }
+        self.vertices.resize(self.vertex_point.len());
+        self.prims.resize(self.prim_kinds.len());
+        for g in self.prim_groups.values_mut() {
+            g.resize(first_prim + positions.len());
+        }
+        self.invalidate_topology();
+        Ok(())
+    }
+
+    /// The topology (edges, adjacency, half-edges), built on first use and
+    /// cached until the connectivity changes.
+    pub fn topology(&self) -> Arc<Topology> {
+        Arc::clone(self.topology.get_or_init(|| Arc::new(Topology::build(self))))
+    }
+
+    /// Bytes held by this geometry's own columns (packed sources counted once
+    /// per distinct source, not per instance).
+    pub fn memory_bytes(&self) -> usize {
+        fn table_bytes(t: &AttribTable) -> usize {
+            t.iter()
+                .map(|(_, a)| match a.data() {
+                    AttribData::String(s) => {
+                        s.indices.len() * 4 + s.table.iter().map(|x| x.len()).sum::<usize>()
+                    }
+                    d => d.as_bytes().map_or(0, |b| b.len()),
+                })
+                .sum()
+        }
+        let mut seen = std::collections::HashSet::new();
+        let mut sources = 0;
+        for inst in &self.packed {
+            if seen.insert(Arc::as_ptr(&inst.source)) {
+                sources += inst.source.memory_bytes();
+            }
+        }
+        table_bytes(&self.points)
+            + table_bytes(&self.vertices)
+            + table_bytes(&self.prims)
+            + table_bytes(&self.detail)
+            + self.vertex_point.len() * 4
+            + self.prim_offsets.len() * 4
+            + self.prim_kinds.len() * std::mem::size_of::<PrimKind>()
+            + self.packed.len() * std::mem::size_of::<PackedInstance>()
+            + self
+                .point_groups
+                .values()
+                .chain(self.prim_groups.values())
+                .map(|g| g.words().len() * 8)
+                .sum::<usize>()
+            + sources
+    }
+}

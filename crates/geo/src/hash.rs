@@ -1,0 +1,198 @@
+//! Content hash (xxh3-128) of a geometry: equal for equal content whatever its history.
+
+use rayon::prelude::*;
+use xxhash_rust::xxh3::{xxh3_128, Xxh3};
+
+use crate::attrib::{AttribData, AttribTable, AttribValue};
+use crate::geometry::{Geometry, PrimKind};
+
+/// Columns larger than this are hashed in parallel chunks of this size; the
+/// chunk size is fixed so the result never depends on the thread count.
+const CHUNK: usize = 1 << 20;
+
+/// Hashes a byte slice; large slices are split into fixed chunks hashed in
+/// parallel and the chunk digests are hashed again.
+pub fn hash_bytes(bytes: &[u8]) -> u128 {
+    if bytes.len() <= 4 * CHUNK {
+        return xxh3_128(bytes);
+    }
+    let digests: Vec<u128> = bytes.par_chunks(CHUNK).map(xxh3_128).collect();
+    let mut h = Xxh3::new();
+    h.update(&(bytes.len() as u64).to_le_bytes());
+    h.update(bytemuck::cast_slice(&digests));
+    h.digest128()
+}
+
+fn put_str(h: &mut Xxh3, s: &str) {
+    h.update(&(s.len() as u64).to_le_bytes());
+    h.update(s.as_bytes());
+}
+
+fn put_value(h: &mut Xxh3, v: &AttribValue) {
+    match v {
+        AttribValue::Float(x) => h.update(&x.to_le_bytes()),
+        AttribValue::Int(x) => h.update(&x.to_le_bytes()),
+        AttribValue::Vec2(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::Vec3(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::Vec4(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::Quat(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::Mat4(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::String(s) => put_str(h, s),
+    }
+}
+
+/// Strings hash by value: indices are renumbered in order of first use so two
+/// columns with different tables but the same strings hash equally.
+fn put_strings(h: &mut Xxh3, table: &[String], indices: &[u32]) {
+    let mut remap = vec![u32::MAX; table.len()];
+    let mut order: Vec<u32> = Vec::new();
+    let canonical: Vec<u32> = indices
+        .iter()
+        .map(|&i| {
+            let slot = &mut remap[i as usize];
+            if *slot == u32::MAX {
+                *slot = order.len() as u32;
+                order.push(i);
+            }
+            *slot
+        })
+        .collect();
+    h.update(&(order.len() as u64).to_le_bytes());
+    for &i in &order {
+        put_str(h, &table[i as usize]);
+    }
+    h.update(&hash_bytes(bytemuck::cast_slice(&canonical)).to_le_bytes());
+}
+
+fn put_table(h: &mut Xxh3, t: &AttribTable) {
+    h.update(&(t.len() as u64).to_le_bytes());
+    h.update(&(t.num_attribs() as u64).to_le_bytes());
+    for (name, a) in t.iter() {
+        put_str(h, name);
+        put_str(h, &a.attrib_type().to_string());
+        put_str(h, &a.type_info.to_string());
+        put_value(h, a.default_value());
+        match a.data() {
+            AttribData::String(s) => put_strings(h, &s.table, &s.indices),
+            d => {
+                let bytes = d.as_bytes().expect("numeric column");
+                h.update(&hash_bytes(bytes).to_le_bytes());
+            }
+        }
+    }
+}
+
+pub(crate) fn compute(g: &Geometry) -> u128 {
+    let mut h = Xxh3::new();
+    h.update(b"geode-geometry-v1");
+    put_table(&mut h, &g.points);
+    put_table(&mut h, &g.vertices);
+    put_table(&mut h, &g.prims);
+    put_table(&mut h, &g.detail);
+    h.update(&hash_bytes(bytemuck::cast_slice(&g.vertex_point)).to_le_bytes());
+    h.update(&hash_bytes(bytemuck::cast_slice(&g.prim_offsets)).to_le_bytes());
+    // Kinds as bytes; packed instances by their source's content and transform,
+    // in primitive order, so the instance table's internal order does not matter.
+    let kinds: Vec<u8> = g
+        .prim_kinds
+        .iter()
+        .map(|k| match k {
+            PrimKind::Polygon => 0u8,
+            PrimKind::Polyline => 1,
+            PrimKind::Packed(_) => 2,
+        })
+        .collect();
+    h.update(&hash_bytes(&kinds).to_le_bytes());
+    for k in &g.prim_kinds {
+        if let PrimKind::Packed(i) = k {
+            let inst = &g.packed[*i as usize];
+            h.update(&inst.source.content_hash().to_le_bytes());
+            h.update(bytemuck::bytes_of(&inst.transform));
+        }
+    }
+    for (kind, groups) in [("point", &g.point_groups), ("prim", &g.prim_groups)] {
+        put_str(&mut h, kind);
+        h.update(&(groups.len() as u64).to_le_bytes());
+        for (name, grp) in groups {
+            put_str(&mut h, name);
+            h.update(&(grp.len() as u64).to_le_bytes());
+            h.update(&hash_bytes(bytemuck::cast_slice(grp.words())).to_le_bytes());
+        }
+    }
+    h.digest128()
+}
+
+impl Geometry {
+    /// xxh3-128 of everything observable: attributes (names, types, tags,
+    /// defaults, values), connectivity, groups and packed instances (by their
+    /// sources' content). Cached until the geometry is mutated.
+    pub fn content_hash(&self) -> u128 {
+        *self.content_hash.get_or_init(|| compute(self))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attrib::{AttribClass, Attribute, TypeInfo};
+    use glam::Vec3;
+
+    fn quad() -> Geometry {
+        Geometry::from_polygons(
+            vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            vec![0, 1, 2, 3],
+            &[4],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn equal_content_equal_hash_whatever_history() {
+        let a = quad();
+        // Built point by point instead of in bulk.
+        let mut b = Geometry::new();
+        for p in a.positions() {
+            b.add_point(*p);
+        }
+        b.add_polygon(&[0, 1, 2, 3]).unwrap();
+        assert_eq!(a.content_hash(), b.content_hash());
+
+        // String tables in different orders but the same per-element strings.
+        let mut c = a.clone();
+        let mut d = a.clone();
+        let mut s1 = Attribute::new(AttribValue::String("x".into()), TypeInfo::None, 4);
+        s1.values_mut().set(1, &AttribValue::String("y".into())).unwrap();
+        let mut s2 = Attribute::new(AttribValue::String("y".into()), TypeInfo::None, 4);
+        s2.values_mut().set(0, &AttribValue::String("x".into())).unwrap();
+        for i in [2, 3] {
+            s2.values_mut().set(i, &AttribValue::String("x".into())).unwrap();
+        }
+        let s2 = s2.with_default(AttribValue::String("x".into())).unwrap();
+        c.set_attrib(AttribClass::Point, "name", s1).unwrap();
+        d.set_attrib(AttribClass::Point, "name", s2).unwrap();
+        assert_eq!(c.content_hash(), d.content_hash());
+    }
+
+    #[test]
+    fn any_change_changes_hash() {
+        let a = quad();
+        let mut b = a.clone();
+        b.positions_mut()[2].x += 1e-6;
+        assert_ne!(a.content_hash(), b.content_hash());
+        let mut c = a.clone();
+        c.add_point(Vec3::ZERO);
+        assert_ne!(a.content_hash(), c.content_hash());
+        let mut d = a.clone();
+        d.set_point_group("g", crate::Group::new(4)).unwrap();
+        assert_ne!(a.content_hash(), d.content_hash());
+    }
+
+    #[test]
+    fn chunked_hash_is_stable() {
+        let data: Vec<u8> = (0..(9 * CHUNK + 17)).map(|i| (i * 31 % 251) as u8).collect();
+        let a = hash_bytes(&data);
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let b = pool.install(|| hash_bytes(&data));
+        assert_eq!(a, b);
+    }
+}

@@ -1,0 +1,23 @@
+//! geode's geometry model (Houdini's): points, vertices, primitives, typed
+//! attribute columns, groups, packed instances, topology and the operations
+//! every node needs. Knows nothing of files, nodes or graphs.
+
+pub mod attrib;
+mod error;
+mod geometry;
+mod group;
+mod hash;
+pub mod ops;
+pub mod primitives;
+pub mod topology;
+
+pub use attrib::{
+    AttribClass, AttribData, AttribTable, AttribType, AttribValue, Attribute, StringColumn,
+    TypeInfo,
+};
+pub use error::GeoError;
+pub use geometry::{Geometry, PackedInstance, PrimKind, P};
+pub use glam;
+pub use group::Group;
+pub use hash::hash_bytes;
+pub use topology::{HalfEdge, ManifoldReport, Topology};

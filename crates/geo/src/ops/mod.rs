@@ -1,0 +1,21 @@
+//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate.
+
+mod bounds;
+mod edit;
+mod fuse;
+mod merge;
+mod normals;
+mod transform;
+mod triangulate;
+mod unpack;
+mod validate;
+
+pub use bounds::{bounds, signed_volume, surface_area, Aabb};
+pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};
+pub use fuse::{fuse_points, FuseStats};
+pub use merge::merge;
+pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
+pub use transform::{transform, trs};
+pub use triangulate::{triangulate, triangulate_polygon};
+pub use unpack::unpack;
+pub use validate::{validate, ValidationIssue};
