@@ -111,33 +111,60 @@ impl Geometry {
         face_points: Vec<u32>,
         face_counts: &[u32],
     ) -> Result<Geometry, GeoError> {
+        let kinds = vec![PrimKind::Polygon; face_counts.len()];
+        Geometry::from_prims(positions, face_points, face_counts, kinds)
+    }
+
+    /// Polygons and polylines in bulk: positions, the flat point index of every
+    /// vertex, a vertex count per primitive and each primitive's kind (packed
+    /// primitives are added with [`Geometry::add_packed`]). Everything is checked.
+    pub fn from_prims(
+        positions: Vec<Vec3>,
+        vertex_points: Vec<u32>,
+        counts: &[u32],
+        kinds: Vec<PrimKind>,
+    ) -> Result<Geometry, GeoError> {
         let mut g = Geometry::new();
         g.set_positions(positions);
         let n = g.num_points();
-        if let Some(&bad) = face_points.iter().find(|&&p| p as usize >= n) {
+        if let Some(&bad) = vertex_points.iter().find(|&&p| p as usize >= n) {
             return Err(GeoError::PointOutOfRange {
                 index: bad,
                 count: n,
             });
         }
-        let mut offsets = Vec::with_capacity(face_counts.len() + 1);
+        if kinds.len() != counts.len() {
+            return Err(GeoError::Invalid(format!(
+                "{} primitive kinds for {} vertex counts",
+                kinds.len(),
+                counts.len()
+            )));
+        }
+        let mut offsets = Vec::with_capacity(counts.len() + 1);
         offsets.push(0u32);
         let mut acc = 0u64;
-        for &c in face_counts {
-            if c < 3 {
-                return Err(GeoError::PolygonTooSmall(c as usize));
+        for (&c, kind) in counts.iter().zip(&kinds) {
+            match kind {
+                PrimKind::Polygon if c < 3 => return Err(GeoError::PolygonTooSmall(c as usize)),
+                PrimKind::Polyline if c < 2 => return Err(GeoError::PolylineTooSmall(c as usize)),
+                PrimKind::Packed(_) => {
+                    return Err(GeoError::Invalid(
+                        "packed primitives cannot be built in bulk from indices".into(),
+                    ))
+                }
+                _ => {}
             }
             acc += c as u64;
             offsets.push(checked_u32(acc as usize, "vertex count")?);
         }
-        if acc as usize != face_points.len() {
+        if acc as usize != vertex_points.len() {
             return Err(GeoError::Invalid(format!(
-                "face counts sum to {acc} but {} face indices were given",
-                face_points.len()
+                "vertex counts sum to {acc} but {} vertices were given",
+                vertex_points.len()
             )));
         }
-        g.prim_kinds = vec![PrimKind::Polygon; face_counts.len()];
-        g.vertex_point = face_points;
+        g.prim_kinds = kinds;
+        g.vertex_point = vertex_points;
         g.prim_offsets = offsets;
         g.vertices.resize(g.vertex_point.len());
         g.prims.resize(g.prim_kinds.len());

@@ -1,1 +1,151 @@
-//! placeholder
+//! geode's file formats. Reads OBJ (with OpenSubdiv tags), STL, PLY and
+//! glTF/GLB; writes OBJ, binary STL, binary PLY, GLB and USDA. Every write is
+//! atomic. The only crate besides the CLI that touches the file system.
+
+mod atomic;
+mod error;
+mod gltf_read;
+mod gltf_write;
+pub mod obj;
+mod ply;
+mod progress;
+mod stl;
+mod text;
+mod usda;
+
+use std::path::Path;
+
+use geode_geo::{ops, Geometry, PrimKind};
+
+pub use atomic::write_atomic;
+pub use error::{IoError, ParseError, Position};
+pub use progress::{NoProgress, Progress};
+
+/// A file format geode reads or writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Obj,
+    Stl,
+    Ply,
+    Gltf,
+    Glb,
+    Usda,
+}
+
+impl Format {
+    pub const ALL: [Format; 6] = [Format::Obj, Format::Stl, Format::Ply, Format::Gltf, Format::Glb, Format::Usda];
+
+    /// The format named by a path's extension (case-insensitive).
+    pub fn from_path(path: &Path) -> Option<Format> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "obj" => Format::Obj,
+            "stl" => Format::Stl,
+            "ply" => Format::Ply,
+            "gltf" => Format::Gltf,
+            "glb" => Format::Glb,
+            "usda" => Format::Usda,
+            _ => return None,
+        })
+    }
+
+    pub fn extension(self) -> &'static str {
+        match self {
+            Format::Obj => "obj",
+            Format::Stl => "stl",
+            Format::Ply => "ply",
+            Format::Gltf => "gltf",
+            Format::Glb => "glb",
+            Format::Usda => "usda",
+        }
+    }
+
+    pub fn can_read(self) -> bool {
+        self != Format::Usda
+    }
+
+    pub fn can_write(self) -> bool {
+        self != Format::Gltf
+    }
+
+    /// Whether the format keeps packed instances as instances.
+    pub fn keeps_instances(self) -> bool {
+        matches!(self, Format::Glb | Format::Usda)
+    }
+}
+
+fn list(f: impl Fn(Format) -> bool) -> String {
+    Format::ALL.iter().filter(|x| f(**x)).map(|x| format!(".{}", x.extension())).collect::<Vec<_>>().join(", ")
+}
+
+/// Parses bytes in a format; `path` names the source in errors and gives the
+/// folder external glTF buffers are read from.
+pub fn read_bytes(bytes: &[u8], format: Format, path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
+    if bytes.is_empty() {
+        return Err(ParseError::byte(0, format!("empty file: expected {} data", format.extension().to_uppercase())).in_file(path));
+    }
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        parse_unguarded(bytes, format, path.parent(), progress)
+    }));
+    match result {
+        Ok(r) => r.map_err(|e| e.in_file(path)),
+        // Defence in depth for third-party parsers: a panic is a parse error, not a crash.
+        Err(_) => Err(ParseError::whole("malformed file (the parser rejected it)").in_file(path)),
+    }
+}
+
+/// The parsers without the panic guard of [`read_bytes`]: for fuzz targets,
+/// which must see a panic to report it.
+#[doc(hidden)]
+pub fn parse_unguarded(bytes: &[u8], format: Format, base: Option<&Path>, progress: &dyn Progress) -> Result<Geometry, ParseError> {
+    match format {
+        Format::Obj => obj::read_obj(bytes, progress),
+        Format::Stl => stl::read_stl(bytes, progress),
+        Format::Ply => ply::read_ply(bytes, progress),
+        Format::Gltf | Format::Glb => gltf_read::read_gltf(bytes, base, progress),
+        Format::Usda => Err(ParseError::whole("reading USDA is not supported (geode writes it)")),
+    }
+}
+
+/// Reads a geometry file, the format chosen by its extension.
+pub fn read(path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
+    let format = Format::from_path(path)
+        .filter(|f| f.can_read())
+        .ok_or_else(|| IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_read) })?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::os(path, e))?;
+    read_bytes(&bytes, format, path, progress)
+}
+
+/// Encodes a geometry into bytes of a format. Formats without instancing get
+/// the packed primitives unpacked.
+pub fn write_bytes(g: &Geometry, format: Format, path: &Path, progress: &dyn Progress) -> Result<Vec<u8>, IoError> {
+    let mut out = Vec::new();
+    encode(g, format, path, &mut out, progress)?;
+    Ok(out)
+}
+
+fn encode(g: &Geometry, format: Format, path: &Path, w: &mut dyn std::io::Write, progress: &dyn Progress) -> Result<(), IoError> {
+    let unpacked;
+    let g = if !format.keeps_instances() && g.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_))) {
+        unpacked = ops::unpack(g).map_err(|e| IoError::Unsupported { path: path.to_owned(), message: e.to_string() })?;
+        &unpacked
+    } else {
+        g
+    };
+    match format {
+        Format::Obj => obj::write_obj(g, w, path, progress),
+        Format::Stl => stl::write_stl(g, w, path, progress),
+        Format::Ply => ply::write_ply(g, w, path, progress),
+        Format::Glb => gltf_write::write_glb(g, w, path, progress),
+        Format::Usda => usda::write_usda(g, w, path, progress),
+        Format::Gltf => Err(IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_write) }),
+    }
+}
+
+/// Writes a geometry file atomically, the format chosen by the extension.
+pub fn write(g: &Geometry, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+    let format = Format::from_path(path)
+        .filter(|f| f.can_write())
+        .ok_or_else(|| IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_write) })?;
+    write_atomic(path, |w| encode(g, format, path, w, progress))
+}

@@ -1,0 +1,223 @@
+//! glTF 2.0 / GLB reader (through the `gltf` crate): meshes of the default scene, shared meshes as packed instances.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use base64::Engine;
+use geode_geo::glam::{Mat4, Vec2, Vec3};
+use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
+use gltf::mesh::Mode;
+
+use crate::error::{ParseError, ParseResult};
+use crate::progress::Progress;
+
+fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8>>> {
+    let mut out = Vec::new();
+    for b in doc.buffers() {
+        let data = match b.source() {
+            gltf::buffer::Source::Bin => doc
+                .blob
+                .clone()
+                .ok_or_else(|| ParseError::whole(format!("buffer {} refers to a GLB binary chunk that is missing", b.index())))?,
+            gltf::buffer::Source::Uri(uri) => {
+                if let Some(rest) = uri.strip_prefix("data:") {
+                    let (_, payload) = rest
+                        .split_once(";base64,")
+                        .ok_or_else(|| ParseError::whole(format!("buffer {}: only base64 data URIs are supported", b.index())))?;
+                    base64::engine::general_purpose::STANDARD
+                        .decode(payload)
+                        .map_err(|e| ParseError::whole(format!("buffer {}: bad base64 data: {e}", b.index())))?
+                } else {
+                    let dir = base.ok_or_else(|| ParseError::whole(format!("buffer {} refers to external file `{uri}` but no folder is known", b.index())))?;
+                    let p = dir.join(uri);
+                    std::fs::read(&p).map_err(|e| ParseError::whole(format!("buffer {}: cannot read `{}`: {e}", b.index(), p.display())))?
+                }
+            }
+        };
+        if data.len() < b.length() {
+            return Err(ParseError::whole(format!("buffer {} declares {} bytes but holds {}", b.index(), b.length(), data.len())));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// Checks that an accessor's data lies inside its buffer, so reading it cannot
+/// go out of bounds.
+fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
+    let elem = a.size();
+    let check_view = |view: &gltf::buffer::View, offset: usize, count: usize, elem: usize| -> ParseResult<()> {
+        let buf = buffers.get(view.buffer().index()).ok_or_else(|| ParseError::whole("buffer view refers to a missing buffer"))?;
+        let stride = view.stride().unwrap_or(elem);
+        let need = if count == 0 { 0 } else { offset.checked_add(stride.checked_mul(count - 1).and_then(|x| x.checked_add(elem)).ok_or_else(|| ParseError::whole("accessor size overflows"))?).ok_or_else(|| ParseError::whole("accessor size overflows"))? };
+        let end = view.offset().checked_add(view.length()).ok_or_else(|| ParseError::whole("buffer view overflows"))?;
+        if need > view.length() || end > buf.len() || stride < elem {
+            return Err(ParseError::whole(format!("accessor {} reaches past the end of its buffer view {}", a.index(), view.index())));
+        }
+        Ok(())
+    };
+    if let Some(view) = a.view() {
+        check_view(&view, a.offset(), a.count(), elem)?;
+    }
+    if let Some(s) = a.sparse() {
+        let iv = s.indices().view();
+        let isize = match s.indices().index_type() {
+            gltf::accessor::sparse::IndexType::U8 => 1,
+            gltf::accessor::sparse::IndexType::U16 => 2,
+            gltf::accessor::sparse::IndexType::U32 => 4,
+        };
+        check_view(&iv, s.indices().offset(), s.count(), isize)?;
+        check_view(&s.values().view(), s.values().offset(), s.count(), elem)?;
+    }
+    Ok(())
+}
+
+fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry> {
+    let mut parts = Vec::new();
+    for prim in mesh.primitives() {
+        for (_, a) in prim.attributes() {
+            check_accessor(&a, buffers)?;
+        }
+        if let Some(i) = prim.indices() {
+            check_accessor(&i, buffers)?;
+        }
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
+        let positions: Vec<Vec3> = reader
+            .read_positions()
+            .ok_or_else(|| ParseError::whole(format!("mesh {} primitive {} has no POSITION", mesh.index(), prim.index())))?
+            .map(Vec3::from)
+            .collect();
+        let n = positions.len() as u32;
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(i) => i.into_u32().collect(),
+            None => (0..n).collect(),
+        };
+        if let Some(&bad) = indices.iter().find(|&&i| i >= n) {
+            return Err(ParseError::whole(format!("mesh {} primitive {}: index {bad} out of range ({n} vertices)", mesh.index(), prim.index())));
+        }
+        let (vp, counts, kinds): (Vec<u32>, Vec<u32>, Vec<PrimKind>) = match prim.mode() {
+            Mode::Triangles => {
+                let t = indices.len() / 3;
+                (indices[..t * 3].to_vec(), vec![3; t], vec![PrimKind::Polygon; t])
+            }
+            Mode::TriangleStrip => {
+                let mut v = Vec::new();
+                for k in 0..indices.len().saturating_sub(2) {
+                    let (a, b, c) = (indices[k], indices[k + 1], indices[k + 2]);
+                    v.extend(if k % 2 == 0 { [a, b, c] } else { [b, a, c] });
+                }
+                let t = v.len() / 3;
+                (v, vec![3; t], vec![PrimKind::Polygon; t])
+            }
+            Mode::TriangleFan => {
+                let mut v = Vec::new();
+                for k in 1..indices.len().saturating_sub(1) {
+                    v.extend([indices[0], indices[k], indices[k + 1]]);
+                }
+                let t = v.len() / 3;
+                (v, vec![3; t], vec![PrimKind::Polygon; t])
+            }
+            Mode::Lines => {
+                let s = indices.len() / 2;
+                (indices[..s * 2].to_vec(), vec![2; s], vec![PrimKind::Polyline; s])
+            }
+            Mode::LineStrip | Mode::LineLoop if indices.len() >= 2 => {
+                let mut v = indices.clone();
+                if prim.mode() == Mode::LineLoop {
+                    v.push(indices[0]);
+                }
+                let c = v.len() as u32;
+                (v, vec![c], vec![PrimKind::Polyline])
+            }
+            _ => (Vec::new(), Vec::new(), Vec::new()),
+        };
+        let mut g = Geometry::from_prims(positions, vp, &counts, kinds).map_err(|e| ParseError::whole(e.to_string()))?;
+        let count = g.num_points();
+        let mut set = |name: &str, data: AttribData, info| -> ParseResult<()> {
+            if data.len() != count {
+                return Err(ParseError::whole(format!("mesh {} primitive {}: {name} has {} values for {count} vertices", mesh.index(), prim.index(), data.len())));
+            }
+            g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info)).map_err(|e| ParseError::whole(e.to_string()))
+        };
+        if let Some(n) = reader.read_normals() {
+            set("N", AttribData::Vec3(n.map(Vec3::from).collect()), TypeInfo::Normal)?;
+        }
+        if let Some(t) = reader.read_tex_coords(0) {
+            set("uv", AttribData::Vec2(t.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()), TypeInfo::TexCoord)?;
+        }
+        if let Some(c) = reader.read_colors(0) {
+            set("Cd", AttribData::Vec3(c.into_rgb_f32().map(Vec3::from).collect()), TypeInfo::Color)?;
+        }
+        parts.push(g);
+    }
+    let refs: Vec<&Geometry> = parts.iter().collect();
+    ops::merge(&refs).map_err(|e| ParseError::whole(e.to_string()))
+}
+
+/// Parses glTF JSON or GLB. Nodes of the default scene (or the first) are
+/// walked with their transforms; a mesh used by one node is baked in place,
+/// a mesh used by several becomes packed instances of one shared geometry.
+/// `base` is the folder external buffer files are read from.
+pub fn read_gltf(bytes: &[u8], base: Option<&Path>, progress: &dyn Progress) -> ParseResult<Geometry> {
+    let doc = gltf::Gltf::from_slice(bytes).map_err(|e| ParseError::whole(format!("invalid glTF: {e}")))?;
+    let buffers = load_buffers(&doc, base)?;
+    progress.start("reading glTF", doc.meshes().len() as u64);
+    let scene = doc.default_scene().or_else(|| doc.scenes().next());
+    // (mesh, world transform) for every mesh-carrying node.
+    let mut placed: Vec<(usize, Mat4)> = Vec::new();
+    let mut stack: Vec<(gltf::Node, Mat4, usize)> = match &scene {
+        Some(s) => s.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect(),
+        None => Vec::new(),
+    };
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > 256 {
+            return Err(ParseError::whole("node hierarchy deeper than 256 levels (a cycle?)"));
+        }
+        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
+        if let Some(m) = node.mesh() {
+            placed.push((m.index(), world));
+        }
+        for c in node.children() {
+            stack.push((c, world, depth + 1));
+        }
+    }
+    if scene.is_none() {
+        placed = doc.meshes().map(|m| (m.index(), Mat4::IDENTITY)).collect();
+    }
+    placed.sort_by_key(|(m, _)| *m);
+    let meshes: Vec<gltf::Mesh> = doc.meshes().collect();
+    let mut uses: HashMap<usize, usize> = HashMap::new();
+    for (m, _) in &placed {
+        *uses.entry(*m).or_default() += 1;
+    }
+    let mut sources: HashMap<usize, Arc<Geometry>> = HashMap::new();
+    let mut baked = Vec::new();
+    let mut instanced = Geometry::new();
+    for (i, (m, world)) in placed.iter().enumerate() {
+        progress.set(i as u64);
+        let mesh = &meshes[*m];
+        if uses[m] == 1 {
+            let mut g = mesh_geometry(mesh, &buffers)?;
+            ops::transform(&mut g, *world);
+            baked.push(g);
+        } else {
+            let src = match sources.get(m) {
+                Some(s) => Arc::clone(s),
+                None => {
+                    let s = Arc::new(mesh_geometry(mesh, &buffers)?);
+                    sources.insert(*m, Arc::clone(&s));
+                    s
+                }
+            };
+            let t = world.w_axis.truncate();
+            let local = Mat4::from_translation(-t) * *world;
+            let p = instanced.add_point(t);
+            instanced.add_packed(p, src, local).map_err(|e| ParseError::whole(e.to_string()))?;
+        }
+    }
+    progress.finish();
+    let mut all: Vec<&Geometry> = baked.iter().collect();
+    all.push(&instanced);
+    ops::merge(&all).map_err(|e| ParseError::whole(e.to_string()))
+}

@@ -1,0 +1,43 @@
+//! Progress reporting hooks for long reads and writes (the CLI draws bars from them).
+
+/// Receives progress of a long operation: a total, then the amount done.
+pub trait Progress: Sync {
+    fn start(&self, _what: &str, _total: u64) {}
+    fn set(&self, _done: u64) {}
+    fn finish(&self) {}
+}
+
+/// Reports nothing.
+pub struct NoProgress;
+
+impl Progress for NoProgress {}
+
+/// Calls `set` only every `step` units, so hot loops stay cheap.
+pub(crate) struct Throttle<'a> {
+    progress: &'a dyn Progress,
+    step: u64,
+    next: u64,
+}
+
+impl<'a> Throttle<'a> {
+    pub fn new(progress: &'a dyn Progress, what: &str, total: u64) -> Throttle<'a> {
+        progress.start(what, total);
+        Throttle {
+            progress,
+            step: (total / 200).max(1 << 16),
+            next: 0,
+        }
+    }
+
+    #[inline]
+    pub fn tick(&mut self, done: u64) {
+        if done >= self.next {
+            self.progress.set(done);
+            self.next = done + self.step;
+        }
+    }
+
+    pub fn finish(self) {
+        self.progress.finish();
+    }
+}

@@ -1,0 +1,227 @@
+//! STL reader (ASCII and binary) and binary STL writer.
+
+use std::io::Write;
+use std::path::Path;
+
+use geode_geo::glam::Vec3;
+use geode_geo::{ops, Geometry, PrimKind};
+use rayon::prelude::*;
+
+use crate::atomic::os_err;
+use crate::error::{IoError, ParseError, ParseResult};
+use crate::progress::{Progress, Throttle};
+use crate::text::{parse_f32, Lines};
+
+const HEADER: usize = 80;
+const RECORD: usize = 50;
+
+/// True when the bytes are laid out exactly as a binary STL.
+fn is_binary(bytes: &[u8]) -> bool {
+    if bytes.len() < HEADER + 4 {
+        return false;
+    }
+    let n = u32::from_le_bytes(bytes[HEADER..HEADER + 4].try_into().expect("4 bytes")) as u64;
+    (HEADER as u64 + 4 + n * RECORD as u64) == bytes.len() as u64
+}
+
+/// Parses STL. Binary when the size matches the triangle count, else ASCII
+/// when it starts with `solid`; corners at identical positions share a point.
+pub fn read_stl(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> {
+    let corners = if is_binary(bytes) {
+        read_binary(bytes)?
+    } else if bytes.trim_ascii_start().starts_with(b"solid") {
+        read_ascii(bytes, progress)?
+    } else if bytes.len() < HEADER + 4 {
+        return Err(ParseError::byte(
+            bytes.len() as u64,
+            format!("truncated binary STL: {} bytes, expected at least 84 (header and triangle count)", bytes.len()),
+        ));
+    } else {
+        let n = u32::from_le_bytes(bytes[HEADER..HEADER + 4].try_into().expect("4 bytes")) as u64;
+        let expected = HEADER as u64 + 4 + n * RECORD as u64;
+        let have = (bytes.len() - HEADER - 4) / RECORD;
+        return Err(ParseError::byte(
+            (HEADER + 4 + have * RECORD) as u64,
+            format!(
+                "binary STL declares {n} triangles ({expected} bytes) but the file has {} bytes: {}",
+                bytes.len(),
+                if (bytes.len() as u64) < expected { "truncated" } else { "trailing data" }
+            ),
+        ));
+    };
+    weld(corners)
+}
+
+fn read_binary(bytes: &[u8]) -> ParseResult<Vec<Vec3>> {
+    let body = &bytes[HEADER + 4..];
+    let mut corners = vec![Vec3::ZERO; body.len() / RECORD * 3];
+    corners
+        .par_chunks_mut(3)
+        .zip(body.par_chunks(RECORD))
+        .for_each(|(out, rec)| {
+            for (k, c) in out.iter_mut().enumerate() {
+                let f = |i: usize| {
+                    let o = 12 + k * 12 + i * 4;
+                    f32::from_le_bytes(rec[o..o + 4].try_into().expect("4 bytes"))
+                };
+                *c = Vec3::new(f(0), f(1), f(2));
+            }
+        });
+    if let Some(i) = corners.iter().position(|c| !c.is_finite()) {
+        let tri = i / 3;
+        return Err(ParseError::byte(
+            (HEADER + 4 + tri * RECORD + 12 + (i % 3) * 12) as u64,
+            format!("triangle {tri} has a non-finite vertex"),
+        ));
+    }
+    Ok(corners)
+}
+
+fn read_ascii(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Vec<Vec3>> {
+    let mut corners = Vec::new();
+    let mut in_loop = 0usize;
+    let mut seen_solid = false;
+    let mut ended = false;
+    let mut throttle = Throttle::new(progress, "reading STL", bytes.len() as u64);
+    for (line_no, offset, line) in Lines::new(bytes) {
+        throttle.tick(offset as u64);
+        let line = line.map_err(|m| ParseError::line(line_no, m))?;
+        let mut t = line.split_ascii_whitespace();
+        let Some(k) = t.next() else { continue };
+        let err = |m: String| ParseError::line(line_no, m);
+        match k {
+            "solid" if !seen_solid => seen_solid = true,
+            "facet" | "outer" | "endfacet" if seen_solid && !ended => {}
+            "vertex" if seen_solid && !ended => {
+                let v: Vec<f32> = t
+                    .map(|x| parse_f32(x).ok_or_else(|| err(format!("expected a number, found `{x}`"))))
+                    .collect::<Result<_, _>>()?;
+                if v.len() != 3 {
+                    return Err(err(format!("`vertex` needs 3 numbers, found {}", v.len())));
+                }
+                corners.push(Vec3::new(v[0], v[1], v[2]));
+                in_loop += 1;
+            }
+            "endloop" => {
+                if in_loop != 3 {
+                    return Err(err(format!("a facet needs 3 vertices, found {in_loop}")));
+                }
+                in_loop = 0;
+            }
+            "endsolid" => ended = true,
+            // Several solids may follow each other in one file.
+            "solid" if ended => ended = false,
+            other => {
+                return Err(err(format!(
+                    "unexpected `{}` (expected solid, facet, outer loop, vertex, endloop, endfacet or endsolid)",
+                    other.chars().take(32).collect::<String>()
+                )))
+            }
+        }
+    }
+    throttle.finish();
+    if in_loop != 0 {
+        return Err(ParseError::whole("file ends inside a facet"));
+    }
+    Ok(corners)
+}
+
+/// Shares one point among corners with bit-identical positions, numbering
+/// points by first appearance (deterministic, parallel sort).
+fn weld(corners: Vec<Vec3>) -> ParseResult<Geometry> {
+    let key = |p: &Vec3| {
+        // -0.0 and 0.0 are the same place.
+        let b = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
+        (b(p.x), b(p.y), b(p.z))
+    };
+    let mut order: Vec<u32> = (0..corners.len() as u32).collect();
+    order.par_sort_unstable_by_key(|&i| (key(&corners[i as usize]), i));
+    // Each run of equal keys becomes one point, represented by its first corner.
+    let mut first_of_corner = vec![0u32; corners.len()];
+    let mut run_start = 0;
+    for k in 0..order.len() {
+        if k == 0 || key(&corners[order[k] as usize]) != key(&corners[order[k - 1] as usize]) {
+            run_start = order[k];
+        }
+        first_of_corner[order[k] as usize] = run_start;
+    }
+    let mut point_of_first = vec![u32::MAX; corners.len()];
+    let mut positions = Vec::new();
+    let mut vertex_points = Vec::with_capacity(corners.len());
+    for c in 0..corners.len() {
+        let f = first_of_corner[c] as usize;
+        if point_of_first[f] == u32::MAX {
+            point_of_first[f] = positions.len() as u32;
+            positions.push(corners[f]);
+        }
+        vertex_points.push(point_of_first[f]);
+    }
+    let counts = vec![3u32; corners.len() / 3];
+    Geometry::from_polygons(positions, vertex_points, &counts).map_err(|e| ParseError::whole(e.to_string()))
+}
+
+/// Writes binary STL: polygons are triangulated, facet normals computed.
+/// Polylines are skipped (STL holds only triangles); packed primitives must be
+/// unpacked first.
+pub fn write_stl(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+    if g.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_))) {
+        return Err(IoError::Unsupported { path: path.to_owned(), message: "STL cannot hold packed primitives; unpack them first".into() });
+    }
+    let tri = if g.prim_offsets().windows(2).all(|w| w[1] - w[0] == 3) { None } else { Some(ops::triangulate(g, None)) };
+    let t = tri.as_ref().unwrap_or(g);
+    let p = t.positions();
+    let tris: Vec<usize> = (0..t.num_prims()).filter(|&i| t.prim_kind(i) == PrimKind::Polygon).collect();
+    let count = u32::try_from(tris.len()).map_err(|_| IoError::Unsupported { path: path.to_owned(), message: "more than 4294967295 triangles".into() })?;
+    let e = os_err(path);
+    let mut header = [b' '; HEADER];
+    let tag = format!("binary STL written by geode {}", env!("CARGO_PKG_VERSION"));
+    header[..tag.len()].copy_from_slice(tag.as_bytes());
+    w.write_all(&header).map_err(&e)?;
+    w.write_all(&count.to_le_bytes()).map_err(&e)?;
+    let mut throttle = Throttle::new(progress, "writing STL", tris.len() as u64);
+    const BATCH: usize = 1 << 15;
+    let mut buf = vec![0u8; BATCH * RECORD];
+    for (bi, batch) in tris.chunks(BATCH).enumerate() {
+        throttle.tick((bi * BATCH) as u64);
+        buf.par_chunks_mut(RECORD).zip(batch.par_iter()).for_each(|(rec, &prim)| {
+            let pts = t.prim_points(prim);
+            let [a, b, c] = [0, 1, 2].map(|k| p[pts[k] as usize]);
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            for (k, v) in [n, a, b, c].iter().enumerate() {
+                rec[k * 12..k * 12 + 12].copy_from_slice(bytemuck::bytes_of(&v.to_array()));
+            }
+            rec[48] = 0;
+            rec[49] = 0;
+        });
+        w.write_all(&buf[..batch.len() * RECORD]).map_err(&e)?;
+    }
+    throttle.finish();
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::progress::NoProgress;
+
+    #[test]
+    fn ascii_with_shared_points() {
+        let text = "solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\n\
+                    facet normal 0 0 1\nouter loop\nvertex 1 0 0\nvertex 1 1 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid t\n";
+        let g = read_stl(text.as_bytes(), &NoProgress).unwrap();
+        assert_eq!(g.num_prims(), 2);
+        assert_eq!(g.num_points(), 4);
+        assert_eq!(g.prim_points(1), &[1, 3, 2]);
+    }
+
+    #[test]
+    fn truncated_binary_names_the_offset() {
+        let mut b = vec![0u8; 84 + 50 * 2];
+        b[80] = 3;
+        let e = read_stl(&b, &NoProgress).unwrap_err();
+        assert_eq!(e.pos, Some(crate::Position::Byte(184)));
+        assert_eq!(e.message, "binary STL declares 3 triangles (234 bytes) but the file has 184 bytes: truncated");
+        let e = read_stl(b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n", &NoProgress).unwrap_err();
+        assert_eq!((e.pos, e.message.as_str()), (Some(crate::Position::Line(4)), "`vertex` needs 3 numbers, found 2"));
+    }
+}

@@ -1,0 +1,88 @@
+//! Shared fixtures for the io behaviour tests: sample geometries and external validators.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::Arc;
+
+use geode_geo::glam::{Mat4, Quat, Vec2, Vec3};
+use geode_geo::{primitives, AttribClass, AttribData, Attribute, Geometry, Group, TypeInfo};
+
+pub fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+}
+
+pub fn corpus() -> PathBuf {
+    let p = repo_root().join("../shared/corpus");
+    assert!(p.is_dir(), "the shared corpus must sit beside the checkout at {}", p.display());
+    p
+}
+
+/// A torus with point uv, N and Cd, a primitive attribute and a group.
+pub fn attributed_torus() -> Geometry {
+    let mut g = primitives::torus(1.0, 0.35, 24, 12);
+    let n = geode_geo::ops::point_normals(&g);
+    let p = g.positions().to_vec();
+    let uv: Vec<Vec2> = p.iter().map(|q| Vec2::new(q.x * 0.25 + 0.5, q.z * 0.25 + 0.5)).collect();
+    let cd: Vec<Vec3> = p.iter().map(|q| (*q * 0.3 + Vec3::splat(0.5)).clamp(Vec3::ZERO, Vec3::ONE)).collect();
+    g.set_attrib(AttribClass::Point, "N", Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal)).unwrap();
+    g.set_attrib(AttribClass::Point, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)).unwrap();
+    g.set_attrib(AttribClass::Point, "Cd", Attribute::from_data(AttribData::Vec3(cd), TypeInfo::Color)).unwrap();
+    let w: Vec<f32> = (0..g.num_prims()).map(|i| i as f32 * 0.5).collect();
+    g.set_attrib(AttribClass::Primitive, "weight", Attribute::from_data(AttribData::Float(w), TypeInfo::None)).unwrap();
+    let half = Group::from_members(g.num_prims(), 0..g.num_prims() / 2);
+    g.set_prim_group("half", half).unwrap();
+    g
+}
+
+/// A cube with per-corner (vertex) uvs and normals.
+pub fn vertex_attributed_cube() -> Geometry {
+    let mut g = primitives::cube(2.0);
+    let vn = geode_geo::ops::vertex_normals(&g, 30.0);
+    let uv: Vec<Vec2> = (0..g.num_vertices()).map(|v| Vec2::new((v % 4) as f32 / 4.0, (v / 4) as f32 / 6.0)).collect();
+    g.set_attrib(AttribClass::Vertex, "N", Attribute::from_data(AttribData::Vec3(vn), TypeInfo::Normal)).unwrap();
+    g.set_attrib(AttribClass::Vertex, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)).unwrap();
+    g
+}
+
+/// A grid of packed instances of a sphere, plus a loose polyline.
+pub fn instanced_scene(n: usize) -> Geometry {
+    let src = Arc::new(primitives::uv_sphere(0.2, 12, 6));
+    let positions: Vec<Vec3> = (0..n).map(|i| Vec3::new((i % 10) as f32, 0.0, (i / 10) as f32)).collect();
+    let transforms: Vec<Mat4> = (0..n)
+        .map(|i| Mat4::from_scale_rotation_translation(Vec3::splat(1.0 + i as f32 * 0.01), Quat::from_rotation_y(i as f32 * 0.3), Vec3::ZERO))
+        .collect();
+    let mut g = Geometry::new();
+    g.add_packed_many(&src, &positions, &transforms).unwrap();
+    let a = g.add_point(Vec3::new(0.0, 2.0, 0.0));
+    let b = g.add_point(Vec3::new(5.0, 2.0, 0.0));
+    let c = g.add_point(Vec3::new(5.0, 2.0, 5.0));
+    g.add_polyline(&[a, b, c]).unwrap();
+    g
+}
+
+/// True when the test run must use the external validators (CI sets it).
+pub fn validators_required() -> bool {
+    std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1")
+}
+
+/// Runs a validator command; None when its tool is not installed (and not required).
+pub fn run_validator(mut cmd: Command, what: &str) -> Option<String> {
+    match cmd.output() {
+        Ok(out) => {
+            let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
+            if !out.status.success() && (text.contains("Cannot find") || text.contains("ModuleNotFoundError")) {
+                assert!(!validators_required(), "{what} is not installed:\n{text}");
+                eprintln!("skipping: {what} not installed");
+                return None;
+            }
+            assert!(out.status.success(), "{what} rejected the files:\n{text}");
+            Some(text)
+        }
+        Err(e) => {
+            assert!(!validators_required(), "{what} could not run: {e}");
+            eprintln!("skipping: {what} could not run: {e}");
+            None
+        }
+    }
+}
