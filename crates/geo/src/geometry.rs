@@ -172,7 +172,10 @@ impl Geometry {
     }
 
     /// A triangle mesh from positions and index triples.
-    pub fn from_triangles(positions: Vec<Vec3>, triangles: &[[u32; 3]]) -> Result<Geometry, GeoError> {
+    pub fn from_triangles(
+        positions: Vec<Vec3>,
+        triangles: &[[u32; 3]],
+    ) -> Result<Geometry, GeoError> {
         let flat: Vec<u32> = bytemuck::cast_slice(triangles).to_vec();
         let counts = vec![3u32; triangles.len()];
         Geometry::from_polygons(positions, flat, &counts)
@@ -318,7 +321,11 @@ impl Geometry {
         self.attribs_mut(class).insert(name, attrib)
     }
 
-    pub fn remove_attrib(&mut self, class: AttribClass, name: &str) -> Result<Option<Attribute>, GeoError> {
+    pub fn remove_attrib(
+        &mut self,
+        class: AttribClass,
+        name: &str,
+    ) -> Result<Option<Attribute>, GeoError> {
         if class == AttribClass::Point && name == P {
             return Err(GeoError::PositionRequired);
         }
@@ -471,7 +478,8 @@ impl Geometry {
         for (i, t) in transforms.iter().enumerate() {
             self.vertex_point.push(first_point + i as u32);
             self.prim_offsets.push(self.vertex_point.len() as u32);
-            self.prim_kinds.push(PrimKind::Packed((first_packed + i) as u32));
+            self.prim_kinds
+                .push(PrimKind::Packed((first_packed + i) as u32));
             self.packed.push(PackedInstance {
                 source: Arc::clone(source),
                 transform: *t,
@@ -489,7 +497,10 @@ impl Geometry {
     /// The topology (edges, adjacency, half-edges), built on first use and
     /// cached until the connectivity changes.
     pub fn topology(&self) -> Arc<Topology> {
-        Arc::clone(self.topology.get_or_init(|| Arc::new(Topology::build(self))))
+        Arc::clone(
+            self.topology
+                .get_or_init(|| Arc::new(Topology::build(self))),
+        )
     }
 
     /// Bytes held by this geometry's own columns (packed sources counted once

@@ -161,11 +161,17 @@ mod tests {
         let mut c = a.clone();
         let mut d = a.clone();
         let mut s1 = Attribute::new(AttribValue::String("x".into()), TypeInfo::None, 4);
-        s1.values_mut().set(1, &AttribValue::String("y".into())).unwrap();
+        s1.values_mut()
+            .set(1, &AttribValue::String("y".into()))
+            .unwrap();
         let mut s2 = Attribute::new(AttribValue::String("y".into()), TypeInfo::None, 4);
-        s2.values_mut().set(0, &AttribValue::String("x".into())).unwrap();
+        s2.values_mut()
+            .set(0, &AttribValue::String("x".into()))
+            .unwrap();
         for i in [2, 3] {
-            s2.values_mut().set(i, &AttribValue::String("x".into())).unwrap();
+            s2.values_mut()
+                .set(i, &AttribValue::String("x".into()))
+                .unwrap();
         }
         let s2 = s2.with_default(AttribValue::String("x".into())).unwrap();
         c.set_attrib(AttribClass::Point, "name", s1).unwrap();
@@ -189,9 +195,14 @@ mod tests {
 
     #[test]
     fn chunked_hash_is_stable() {
-        let data: Vec<u8> = (0..(9 * CHUNK + 17)).map(|i| (i * 31 % 251) as u8).collect();
+        let data: Vec<u8> = (0..(9 * CHUNK + 17))
+            .map(|i| (i * 31 % 251) as u8)
+            .collect();
         let a = hash_bytes(&data);
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
         let b = pool.install(|| hash_bytes(&data));
         assert_eq!(a, b);
     }

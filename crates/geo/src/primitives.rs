@@ -110,7 +110,12 @@ pub fn uv_sphere(radius: f32, cols: u32, rows: u32) -> Geometry {
         for i in 0..cols {
             let phi = TAU * i as f32 / cols as f32;
             positions.push(
-                radius * Vec3::new(theta.sin() * phi.cos(), theta.cos(), -theta.sin() * phi.sin()),
+                radius
+                    * Vec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.cos(),
+                        -theta.sin() * phi.sin(),
+                    ),
             );
         }
     }
@@ -124,7 +129,12 @@ pub fn uv_sphere(radius: f32, cols: u32, rows: u32) -> Geometry {
     }
     for j in 1..rows - 1 {
         for i in 0..cols {
-            faces.extend_from_slice(&[ring(j, i), ring(j + 1, i), ring(j + 1, i + 1), ring(j, i + 1)]);
+            faces.extend_from_slice(&[
+                ring(j, i),
+                ring(j + 1, i),
+                ring(j + 1, i + 1),
+                ring(j, i + 1),
+            ]);
             counts.push(4);
         }
     }
@@ -144,7 +154,11 @@ pub fn torus(major: f32, minor: f32, cols: u32, rows: u32) -> Geometry {
         for j in 0..rows {
             let theta = TAU * j as f32 / rows as f32;
             let r = major + minor * theta.cos();
-            positions.push(Vec3::new(r * phi.cos(), minor * theta.sin(), -r * phi.sin()));
+            positions.push(Vec3::new(
+                r * phi.cos(),
+                minor * theta.sin(),
+                -r * phi.sin(),
+            ));
         }
     }
     let id = |i: u32, j: u32| (i % cols) * rows + j % rows;
@@ -196,7 +210,10 @@ mod tests {
             (cube(2.0), 8.0),
             (box_mesh(Vec3::new(1.0, 2.0, 3.0), [2, 3, 4]), 6.0),
             (uv_sphere(1.0, 64, 32), 4.0 / 3.0 * std::f32::consts::PI),
-            (torus(2.0, 0.5, 96, 48), 2.0 * std::f32::consts::PI.powi(2) * 2.0 * 0.25),
+            (
+                torus(2.0, 0.5, 96, 48),
+                2.0 * std::f32::consts::PI.powi(2) * 2.0 * 0.25,
+            ),
             (tube(1.0, 2.0, 128, 2, true), std::f32::consts::PI * 2.0),
         ] {
             let r = g.topology().manifold_report(&g);

@@ -131,16 +131,10 @@ impl Topology {
         }
         let edge_half_edges = Csr::from_pairs(edges.len(), edge_he_pairs);
 
-        let point_prims = Csr::from_pairs(
-            np,
-            (0..nv).map(|v| (vp[v], vertex_prim[v])).collect(),
-        );
+        let point_prims = Csr::from_pairs(np, (0..nv).map(|v| (vp[v], vertex_prim[v])).collect());
         let point_points = Csr::from_pairs(
             np,
-            edges
-                .iter()
-                .flat_map(|&[a, b]| [(a, b), (b, a)])
-                .collect(),
+            edges.iter().flat_map(|&[a, b]| [(a, b), (b, a)]).collect(),
         );
         let point_half_edges = Csr::from_pairs(
             np,
@@ -318,7 +312,9 @@ impl Topology {
                 }
             }
         }
-        (0..out.len()).filter(|&i| find(&mut parent, i) == i).count()
+        (0..out.len())
+            .filter(|&i| find(&mut parent, i) == i)
+            .count()
     }
 }
 

@@ -32,11 +32,10 @@ pub enum IoError {
         message: String,
     },
     /// The operating system refused.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {error}", path.display())]
     Os {
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The extension names no format geode knows.
     #[error("{}: unknown file format (expected one of: {expected})", path.display())]
@@ -50,7 +49,7 @@ impl IoError {
     pub fn os(path: impl Into<PathBuf>, source: std::io::Error) -> IoError {
         IoError::Os {
             path: path.into(),
-            source,
+            error: source,
         }
     }
 

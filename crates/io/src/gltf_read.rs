@@ -16,27 +16,50 @@ fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8
     let mut out = Vec::new();
     for b in doc.buffers() {
         let data = match b.source() {
-            gltf::buffer::Source::Bin => doc
-                .blob
-                .clone()
-                .ok_or_else(|| ParseError::whole(format!("buffer {} refers to a GLB binary chunk that is missing", b.index())))?,
+            gltf::buffer::Source::Bin => doc.blob.clone().ok_or_else(|| {
+                ParseError::whole(format!(
+                    "buffer {} refers to a GLB binary chunk that is missing",
+                    b.index()
+                ))
+            })?,
             gltf::buffer::Source::Uri(uri) => {
                 if let Some(rest) = uri.strip_prefix("data:") {
-                    let (_, payload) = rest
-                        .split_once(";base64,")
-                        .ok_or_else(|| ParseError::whole(format!("buffer {}: only base64 data URIs are supported", b.index())))?;
+                    let (_, payload) = rest.split_once(";base64,").ok_or_else(|| {
+                        ParseError::whole(format!(
+                            "buffer {}: only base64 data URIs are supported",
+                            b.index()
+                        ))
+                    })?;
                     base64::engine::general_purpose::STANDARD
                         .decode(payload)
-                        .map_err(|e| ParseError::whole(format!("buffer {}: bad base64 data: {e}", b.index())))?
+                        .map_err(|e| {
+                            ParseError::whole(format!("buffer {}: bad base64 data: {e}", b.index()))
+                        })?
                 } else {
-                    let dir = base.ok_or_else(|| ParseError::whole(format!("buffer {} refers to external file `{uri}` but no folder is known", b.index())))?;
+                    let dir = base.ok_or_else(|| {
+                        ParseError::whole(format!(
+                            "buffer {} refers to external file `{uri}` but no folder is known",
+                            b.index()
+                        ))
+                    })?;
                     let p = dir.join(uri);
-                    std::fs::read(&p).map_err(|e| ParseError::whole(format!("buffer {}: cannot read `{}`: {e}", b.index(), p.display())))?
+                    std::fs::read(&p).map_err(|e| {
+                        ParseError::whole(format!(
+                            "buffer {}: cannot read `{}`: {e}",
+                            b.index(),
+                            p.display()
+                        ))
+                    })?
                 }
             }
         };
         if data.len() < b.length() {
-            return Err(ParseError::whole(format!("buffer {} declares {} bytes but holds {}", b.index(), b.length(), data.len())));
+            return Err(ParseError::whole(format!(
+                "buffer {} declares {} bytes but holds {}",
+                b.index(),
+                b.length(),
+                data.len()
+            )));
         }
         out.push(data);
     }
@@ -47,16 +70,37 @@ fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8
 /// go out of bounds.
 fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
     let elem = a.size();
-    let check_view = |view: &gltf::buffer::View, offset: usize, count: usize, elem: usize| -> ParseResult<()> {
-        let buf = buffers.get(view.buffer().index()).ok_or_else(|| ParseError::whole("buffer view refers to a missing buffer"))?;
-        let stride = view.stride().unwrap_or(elem);
-        let need = if count == 0 { 0 } else { offset.checked_add(stride.checked_mul(count - 1).and_then(|x| x.checked_add(elem)).ok_or_else(|| ParseError::whole("accessor size overflows"))?).ok_or_else(|| ParseError::whole("accessor size overflows"))? };
-        let end = view.offset().checked_add(view.length()).ok_or_else(|| ParseError::whole("buffer view overflows"))?;
-        if need > view.length() || end > buf.len() || stride < elem {
-            return Err(ParseError::whole(format!("accessor {} reaches past the end of its buffer view {}", a.index(), view.index())));
-        }
-        Ok(())
-    };
+    let check_view =
+        |view: &gltf::buffer::View, offset: usize, count: usize, elem: usize| -> ParseResult<()> {
+            let buf = buffers
+                .get(view.buffer().index())
+                .ok_or_else(|| ParseError::whole("buffer view refers to a missing buffer"))?;
+            let stride = view.stride().unwrap_or(elem);
+            let need = if count == 0 {
+                0
+            } else {
+                offset
+                    .checked_add(
+                        stride
+                            .checked_mul(count - 1)
+                            .and_then(|x| x.checked_add(elem))
+                            .ok_or_else(|| ParseError::whole("accessor size overflows"))?,
+                    )
+                    .ok_or_else(|| ParseError::whole("accessor size overflows"))?
+            };
+            let end = view
+                .offset()
+                .checked_add(view.length())
+                .ok_or_else(|| ParseError::whole("buffer view overflows"))?;
+            if need > view.length() || end > buf.len() || stride < elem {
+                return Err(ParseError::whole(format!(
+                    "accessor {} reaches past the end of its buffer view {}",
+                    a.index(),
+                    view.index()
+                )));
+            }
+            Ok(())
+        };
     if let Some(view) = a.view() {
         check_view(&view, a.offset(), a.count(), elem)?;
     }
@@ -85,7 +129,13 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
         let reader = prim.reader(|b| buffers.get(b.index()).map(|v| v.as_slice()));
         let positions: Vec<Vec3> = reader
             .read_positions()
-            .ok_or_else(|| ParseError::whole(format!("mesh {} primitive {} has no POSITION", mesh.index(), prim.index())))?
+            .ok_or_else(|| {
+                ParseError::whole(format!(
+                    "mesh {} primitive {} has no POSITION",
+                    mesh.index(),
+                    prim.index()
+                ))
+            })?
             .map(Vec3::from)
             .collect();
         let n = positions.len() as u32;
@@ -94,12 +144,20 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
             None => (0..n).collect(),
         };
         if let Some(&bad) = indices.iter().find(|&&i| i >= n) {
-            return Err(ParseError::whole(format!("mesh {} primitive {}: index {bad} out of range ({n} vertices)", mesh.index(), prim.index())));
+            return Err(ParseError::whole(format!(
+                "mesh {} primitive {}: index {bad} out of range ({n} vertices)",
+                mesh.index(),
+                prim.index()
+            )));
         }
         let (vp, counts, kinds): (Vec<u32>, Vec<u32>, Vec<PrimKind>) = match prim.mode() {
             Mode::Triangles => {
                 let t = indices.len() / 3;
-                (indices[..t * 3].to_vec(), vec![3; t], vec![PrimKind::Polygon; t])
+                (
+                    indices[..t * 3].to_vec(),
+                    vec![3; t],
+                    vec![PrimKind::Polygon; t],
+                )
             }
             Mode::TriangleStrip => {
                 let mut v = Vec::new();
@@ -120,7 +178,11 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
             }
             Mode::Lines => {
                 let s = indices.len() / 2;
-                (indices[..s * 2].to_vec(), vec![2; s], vec![PrimKind::Polyline; s])
+                (
+                    indices[..s * 2].to_vec(),
+                    vec![2; s],
+                    vec![PrimKind::Polyline; s],
+                )
             }
             Mode::LineStrip | Mode::LineLoop if indices.len() >= 2 => {
                 let mut v = indices.clone();
@@ -132,22 +194,53 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
             }
             _ => (Vec::new(), Vec::new(), Vec::new()),
         };
-        let mut g = Geometry::from_prims(positions, vp, &counts, kinds).map_err(|e| ParseError::whole(e.to_string()))?;
-        let count = g.num_points();
+        // glTF splits vertices wherever an attribute differs; weld them back
+        // into shared points so the surface is connected, keeping the
+        // attributes per corner (vertex class) when a point was shared.
+        let (points, point_of) = crate::weld::weld_positions(&positions);
+        let welded = points.len() < positions.len();
+        let corner_src: Vec<u32> = vp.clone();
+        let vp: Vec<u32> = vp.iter().map(|&i| point_of[i as usize]).collect();
+        let mut g = Geometry::from_prims(points, vp, &counts, kinds)
+            .map_err(|e| ParseError::whole(e.to_string()))?;
+        let n_src = positions.len();
         let mut set = |name: &str, data: AttribData, info| -> ParseResult<()> {
-            if data.len() != count {
-                return Err(ParseError::whole(format!("mesh {} primitive {}: {name} has {} values for {count} vertices", mesh.index(), prim.index(), data.len())));
+            if data.len() != n_src {
+                return Err(ParseError::whole(format!(
+                    "mesh {} primitive {}: {name} has {} values for {n_src} vertices",
+                    mesh.index(),
+                    prim.index(),
+                    data.len()
+                )));
             }
-            g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info)).map_err(|e| ParseError::whole(e.to_string()))
+            let (class, data) = if welded {
+                (AttribClass::Vertex, data.gather(&corner_src))
+            } else {
+                (AttribClass::Point, data)
+            };
+            g.set_attrib(class, name, Attribute::from_data(data, info))
+                .map_err(|e| ParseError::whole(e.to_string()))
         };
         if let Some(n) = reader.read_normals() {
-            set("N", AttribData::Vec3(n.map(Vec3::from).collect()), TypeInfo::Normal)?;
+            set(
+                "N",
+                AttribData::Vec3(n.map(Vec3::from).collect()),
+                TypeInfo::Normal,
+            )?;
         }
         if let Some(t) = reader.read_tex_coords(0) {
-            set("uv", AttribData::Vec2(t.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()), TypeInfo::TexCoord)?;
+            set(
+                "uv",
+                AttribData::Vec2(t.into_f32().map(|[u, v]| Vec2::new(u, 1.0 - v)).collect()),
+                TypeInfo::TexCoord,
+            )?;
         }
         if let Some(c) = reader.read_colors(0) {
-            set("Cd", AttribData::Vec3(c.into_rgb_f32().map(Vec3::from).collect()), TypeInfo::Color)?;
+            set(
+                "Cd",
+                AttribData::Vec3(c.into_rgb_f32().map(Vec3::from).collect()),
+                TypeInfo::Color,
+            )?;
         }
         parts.push(g);
     }
@@ -159,8 +252,13 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
 /// walked with their transforms; a mesh used by one node is baked in place,
 /// a mesh used by several becomes packed instances of one shared geometry.
 /// `base` is the folder external buffer files are read from.
-pub fn read_gltf(bytes: &[u8], base: Option<&Path>, progress: &dyn Progress) -> ParseResult<Geometry> {
-    let doc = gltf::Gltf::from_slice(bytes).map_err(|e| ParseError::whole(format!("invalid glTF: {e}")))?;
+pub fn read_gltf(
+    bytes: &[u8],
+    base: Option<&Path>,
+    progress: &dyn Progress,
+) -> ParseResult<Geometry> {
+    let doc = gltf::Gltf::from_slice(bytes)
+        .map_err(|e| ParseError::whole(format!("invalid glTF: {e}")))?;
     let buffers = load_buffers(&doc, base)?;
     progress.start("reading glTF", doc.meshes().len() as u64);
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
@@ -172,7 +270,9 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, progress: &dyn Progress) -> 
     };
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
-            return Err(ParseError::whole("node hierarchy deeper than 256 levels (a cycle?)"));
+            return Err(ParseError::whole(
+                "node hierarchy deeper than 256 levels (a cycle?)",
+            ));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(m) = node.mesh() {
@@ -213,7 +313,9 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, progress: &dyn Progress) -> 
             let t = world.w_axis.truncate();
             let local = Mat4::from_translation(-t) * *world;
             let p = instanced.add_point(t);
-            instanced.add_packed(p, src, local).map_err(|e| ParseError::whole(e.to_string()))?;
+            instanced
+                .add_packed(p, src, local)
+                .map_err(|e| ParseError::whole(e.to_string()))?;
         }
     }
     progress.finish();

@@ -36,13 +36,21 @@ impl Builder {
         }
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
-        self.views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}));
+        self.views.push(
+            json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}),
+        );
         self.views.len() - 1
     }
 
-    fn vec_accessor<T: bytemuck::Pod>(&mut self, data: &[T], ty: &str, min_max: Option<(Vec3, Vec3)>) -> usize {
+    fn vec_accessor<T: bytemuck::Pod>(
+        &mut self,
+        data: &[T],
+        ty: &str,
+        min_max: Option<(Vec3, Vec3)>,
+    ) -> usize {
         let view = self.view(bytemuck::cast_slice(data), ARRAY_BUFFER);
-        let mut a = json!({"bufferView": view, "componentType": FLOAT, "count": data.len(), "type": ty});
+        let mut a =
+            json!({"bufferView": view, "componentType": FLOAT, "count": data.len(), "type": ty});
         if let Some((lo, hi)) = min_max {
             a["min"] = json!([lo.x, lo.y, lo.z]);
             a["max"] = json!([hi.x, hi.y, hi.z]);
@@ -69,80 +77,131 @@ impl Builder {
     }
 
     fn build_mesh(&mut self, g: &Geometry) -> Option<usize> {
-        let has_polys = g.prim_kinds().iter().any(|k| *k == PrimKind::Polygon);
-        let has_lines = g.prim_kinds().iter().any(|k| *k == PrimKind::Polyline);
+        let has_polys = g.prim_kinds().contains(&PrimKind::Polygon);
+        let has_lines = g.prim_kinds().contains(&PrimKind::Polyline);
         let only_points = g.num_prims() == 0 && g.num_points() > 0;
         if !has_polys && !has_lines && !only_points {
             return None;
         }
         // Instance anchors are not part of the mesh: drop packed primitives and
         // the points only they used.
-        let packed: Vec<usize> = (0..g.num_prims()).filter(|&i| matches!(g.prim_kind(i), PrimKind::Packed(_))).collect();
+        let packed: Vec<usize> = (0..g.num_prims())
+            .filter(|&i| matches!(g.prim_kind(i), PrimKind::Packed(_)))
+            .collect();
         let own;
         let g = if packed.is_empty() {
             g
         } else {
             let mut c = g.clone();
-            ops::delete_prims(&mut c, &geode_geo::Group::from_members(g.num_prims(), packed), true);
+            ops::delete_prims(
+                &mut c,
+                &geode_geo::Group::from_members(g.num_prims(), packed),
+                true,
+            );
             own = c;
             &own
         };
         let tri = ops::triangulate(g, None);
         let pos = tri.positions();
-        let per_corner = ["N", "uv", "Cd"].iter().any(|n| tri.attrib(AttribClass::Vertex, n).is_some());
+        let per_corner = ["N", "uv", "Cd"]
+            .iter()
+            .any(|n| tri.attrib(AttribClass::Vertex, n).is_some());
         // glTF vertices: one per point, or one per polygon corner when any
         // attribute lives on vertices.
         let vertex_source: Vec<(u32, Option<u32>)> = if per_corner {
             (0..tri.num_prims())
                 .filter(|&p| tri.prim_kind(p) == PrimKind::Polygon)
-                .flat_map(|p| tri.prim_vertex_range(p).map(|v| (tri.vertex_points()[v], Some(v as u32))))
+                .flat_map(|p| {
+                    tri.prim_vertex_range(p)
+                        .map(|v| (tri.vertex_points()[v], Some(v as u32)))
+                })
                 .collect()
         } else {
             (0..tri.num_points() as u32).map(|p| (p, None)).collect()
         };
         let fetch3 = |name: &str| -> Option<Vec<Vec3>> {
-            let v = tri.attrib(AttribClass::Vertex, name).and_then(|a| a.as_vec3());
-            let p = tri.attrib(AttribClass::Point, name).and_then(|a| a.as_vec3());
+            let v = tri
+                .attrib(AttribClass::Vertex, name)
+                .and_then(|a| a.as_vec3());
+            let p = tri
+                .attrib(AttribClass::Point, name)
+                .and_then(|a| a.as_vec3());
             if v.is_none() && p.is_none() {
                 return None;
             }
-            Some(vertex_source.iter().map(|&(pt, vx)| match (v, vx) {
-                (Some(v), Some(i)) => v[i as usize],
-                _ => p.map_or(Vec3::ZERO, |p| p[pt as usize]),
-            }).collect())
+            Some(
+                vertex_source
+                    .iter()
+                    .map(|&(pt, vx)| match (v, vx) {
+                        (Some(v), Some(i)) => v[i as usize],
+                        _ => p.map_or(Vec3::ZERO, |p| p[pt as usize]),
+                    })
+                    .collect(),
+            )
         };
         let mut attrs = serde_json::Map::new();
-        let positions: Vec<Vec3> = vertex_source.iter().map(|&(p, _)| pos[p as usize]).collect();
+        let positions: Vec<Vec3> = vertex_source
+            .iter()
+            .map(|&(p, _)| pos[p as usize])
+            .collect();
         if positions.is_empty() {
             return None;
         }
-        let (lo, hi) = positions.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| (a.min(*p), b.max(*p)));
-        attrs.insert("POSITION".into(), json!(self.vec_accessor(&positions, "VEC3", Some((lo, hi)))));
+        let (lo, hi) = positions
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                (a.min(*p), b.max(*p))
+            });
+        attrs.insert(
+            "POSITION".into(),
+            json!(self.vec_accessor(&positions, "VEC3", Some((lo, hi)))),
+        );
         if let Some(mut n) = fetch3("N") {
             // glTF requires unit normals: fall back to the computed ones where
             // the attribute is zero or not finite.
-            let computed: Option<Vec<Vec3>> = n.iter().any(|x| !x.is_finite() || x.length_squared() < 1e-12).then(|| {
-                let pn = ops::point_normals(&tri);
-                vertex_source.iter().map(|&(p, _)| pn[p as usize]).collect()
-            });
+            let computed: Option<Vec<Vec3>> = n
+                .iter()
+                .any(|x| !x.is_finite() || x.length_squared() < 1e-12)
+                .then(|| {
+                    let pn = ops::point_normals(&tri);
+                    vertex_source.iter().map(|&(p, _)| pn[p as usize]).collect()
+                });
             for (i, x) in n.iter_mut().enumerate() {
                 let u = x.normalize_or_zero();
-                *x = if u.is_finite() && u != Vec3::ZERO { u } else { computed.as_ref().map_or(Vec3::Y, |c| c[i]).try_normalize().unwrap_or(Vec3::Y) };
+                *x = if u.is_finite() && u != Vec3::ZERO {
+                    u
+                } else {
+                    computed
+                        .as_ref()
+                        .map_or(Vec3::Y, |c| c[i])
+                        .try_normalize()
+                        .unwrap_or(Vec3::Y)
+                };
             }
             attrs.insert("NORMAL".into(), json!(self.vec_accessor(&n, "VEC3", None)));
         }
-        let uv_v = tri.attrib(AttribClass::Vertex, "uv").and_then(|a| a.as_vec2());
-        let uv_p = tri.attrib(AttribClass::Point, "uv").and_then(|a| a.as_vec2());
+        let uv_v = tri
+            .attrib(AttribClass::Vertex, "uv")
+            .and_then(|a| a.as_vec2());
+        let uv_p = tri
+            .attrib(AttribClass::Point, "uv")
+            .and_then(|a| a.as_vec2());
         if uv_v.is_some() || uv_p.is_some() {
             // glTF's texture origin is the top left: v is flipped.
-            let uv: Vec<Vec2> = vertex_source.iter().map(|&(pt, vx)| {
-                let t = match (uv_v, vx) {
-                    (Some(v), Some(i)) => v[i as usize],
-                    _ => uv_p.map_or(Vec2::ZERO, |p| p[pt as usize]),
-                };
-                Vec2::new(t.x, 1.0 - t.y)
-            }).collect();
-            attrs.insert("TEXCOORD_0".into(), json!(self.vec_accessor(&uv, "VEC2", None)));
+            let uv: Vec<Vec2> = vertex_source
+                .iter()
+                .map(|&(pt, vx)| {
+                    let t = match (uv_v, vx) {
+                        (Some(v), Some(i)) => v[i as usize],
+                        _ => uv_p.map_or(Vec2::ZERO, |p| p[pt as usize]),
+                    };
+                    Vec2::new(t.x, 1.0 - t.y)
+                })
+                .collect();
+            attrs.insert(
+                "TEXCOORD_0".into(),
+                json!(self.vec_accessor(&uv, "VEC2", None)),
+            );
         }
         if let Some(mut c) = fetch3("Cd") {
             for x in c.iter_mut() {
@@ -157,7 +216,10 @@ impl Builder {
         let tri_idx: Vec<u32> = if per_corner {
             (0..vertex_source.len() as u32).collect()
         } else {
-            (0..tri.num_prims()).filter(|&p| tri.prim_kind(p) == PrimKind::Polygon).flat_map(|p| tri.prim_points(p).iter().copied()).collect()
+            (0..tri.num_prims())
+                .filter(|&p| tri.prim_kind(p) == PrimKind::Polygon)
+                .flat_map(|p| tri.prim_points(p).iter().copied())
+                .collect()
         };
         if !tri_idx.is_empty() {
             let idx = self.index_accessor(&tri_idx);
@@ -167,11 +229,23 @@ impl Builder {
             // Line vertices are points; with per-corner layout they need their own positions.
             let segs: Vec<[u32; 2]> = (0..tri.num_prims())
                 .filter(|&p| tri.prim_kind(p) == PrimKind::Polyline)
-                .flat_map(|p| tri.prim_points(p).windows(2).map(|w| [w[0], w[1]]).collect::<Vec<_>>())
+                .flat_map(|p| {
+                    tri.prim_points(p)
+                        .windows(2)
+                        .map(|w| [w[0], w[1]])
+                        .collect::<Vec<_>>()
+                })
                 .collect();
             if per_corner {
-                let pts: Vec<Vec3> = segs.iter().flat_map(|s| [pos[s[0] as usize], pos[s[1] as usize]]).collect();
-                let (lo, hi) = pts.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| (a.min(*p), b.max(*p)));
+                let pts: Vec<Vec3> = segs
+                    .iter()
+                    .flat_map(|s| [pos[s[0] as usize], pos[s[1] as usize]])
+                    .collect();
+                let (lo, hi) = pts
+                    .iter()
+                    .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(a, b), p| {
+                        (a.min(*p), b.max(*p))
+                    });
                 let acc = self.vec_accessor(&pts, "VEC3", Some((lo, hi)));
                 prims.push(json!({"attributes": {"POSITION": acc}, "mode": 1}));
             } else {
@@ -207,9 +281,16 @@ impl Builder {
             let world = g.packed_world_transform(prim).expect("packed has a point");
             let src: Arc<Geometry> = Arc::clone(&inst.source);
             let mesh = self.mesh(&src);
-            let has_nested = src.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_)));
+            let has_nested = src
+                .prim_kinds()
+                .iter()
+                .any(|k| matches!(k, PrimKind::Packed(_)));
             // The source's own mesh sits on this node; its instances become children.
-            let children = if has_nested { self.nodes_for(&src, false, depth + 1) } else { Vec::new() };
+            let children = if has_nested {
+                self.nodes_for(&src, false, depth + 1)
+            } else {
+                Vec::new()
+            };
             let mut node = json!({"matrix": matrix(&world)});
             if let Some(m) = mesh {
                 node["mesh"] = json!(m);
@@ -230,7 +311,12 @@ fn matrix(m: &Mat4) -> Vec<f32> {
 
 /// Writes GLB. Packed instances become nodes sharing one mesh per distinct
 /// source (instances are not expanded).
-pub fn write_glb(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+pub fn write_glb(
+    g: &Geometry,
+    w: &mut dyn Write,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
     progress.start("writing GLB", 1);
     let mut b = Builder::default();
     let roots = b.nodes_for(g, true, 0);
@@ -255,22 +341,30 @@ pub fn write_glb(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
         doc["bufferViews"] = json!(b.views);
         doc["buffers"] = json!([{"byteLength": b.bin.len()}]);
     }
-    let mut json_bytes = serde_json::to_vec(&doc).map_err(|e| IoError::Unsupported { path: path.to_owned(), message: e.to_string() })?;
+    let mut json_bytes = serde_json::to_vec(&doc).map_err(|e| IoError::Unsupported {
+        path: path.to_owned(),
+        message: e.to_string(),
+    })?;
     while json_bytes.len() % 4 != 0 {
         json_bytes.push(b' ');
     }
     let has_bin = !b.meshes.is_empty();
     let total = 12 + 8 + json_bytes.len() + if has_bin { 8 + b.bin.len() } else { 0 };
-    let total = u32::try_from(total).map_err(|_| IoError::Unsupported { path: path.to_owned(), message: "GLB larger than 4 GiB".into() })?;
+    let total = u32::try_from(total).map_err(|_| IoError::Unsupported {
+        path: path.to_owned(),
+        message: "GLB larger than 4 GiB".into(),
+    })?;
     let e = os_err(path);
     w.write_all(b"glTF").map_err(&e)?;
     w.write_all(&2u32.to_le_bytes()).map_err(&e)?;
     w.write_all(&total.to_le_bytes()).map_err(&e)?;
-    w.write_all(&(json_bytes.len() as u32).to_le_bytes()).map_err(&e)?;
+    w.write_all(&(json_bytes.len() as u32).to_le_bytes())
+        .map_err(&e)?;
     w.write_all(b"JSON").map_err(&e)?;
     w.write_all(&json_bytes).map_err(&e)?;
     if has_bin {
-        w.write_all(&(b.bin.len() as u32).to_le_bytes()).map_err(&e)?;
+        w.write_all(&(b.bin.len() as u32).to_le_bytes())
+            .map_err(&e)?;
         w.write_all(b"BIN\0").map_err(&e)?;
         w.write_all(&b.bin).map_err(&e)?;
     }

@@ -12,6 +12,7 @@ mod progress;
 mod stl;
 mod text;
 mod usda;
+mod weld;
 
 use std::path::Path;
 
@@ -33,7 +34,14 @@ pub enum Format {
 }
 
 impl Format {
-    pub const ALL: [Format; 6] = [Format::Obj, Format::Stl, Format::Ply, Format::Gltf, Format::Glb, Format::Usda];
+    pub const ALL: [Format; 6] = [
+        Format::Obj,
+        Format::Stl,
+        Format::Ply,
+        Format::Gltf,
+        Format::Glb,
+        Format::Usda,
+    ];
 
     /// The format named by a path's extension (case-insensitive).
     pub fn from_path(path: &Path) -> Option<Format> {
@@ -75,14 +83,31 @@ impl Format {
 }
 
 fn list(f: impl Fn(Format) -> bool) -> String {
-    Format::ALL.iter().filter(|x| f(**x)).map(|x| format!(".{}", x.extension())).collect::<Vec<_>>().join(", ")
+    Format::ALL
+        .iter()
+        .filter(|x| f(**x))
+        .map(|x| format!(".{}", x.extension()))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Parses bytes in a format; `path` names the source in errors and gives the
 /// folder external glTF buffers are read from.
-pub fn read_bytes(bytes: &[u8], format: Format, path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
+pub fn read_bytes(
+    bytes: &[u8],
+    format: Format,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<Geometry, IoError> {
     if bytes.is_empty() {
-        return Err(ParseError::byte(0, format!("empty file: expected {} data", format.extension().to_uppercase())).in_file(path));
+        return Err(ParseError::byte(
+            0,
+            format!(
+                "empty file: expected {} data",
+                format.extension().to_uppercase()
+            ),
+        )
+        .in_file(path));
     }
     let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         parse_unguarded(bytes, format, path.parent(), progress)
@@ -97,13 +122,20 @@ pub fn read_bytes(bytes: &[u8], format: Format, path: &Path, progress: &dyn Prog
 /// The parsers without the panic guard of [`read_bytes`]: for fuzz targets,
 /// which must see a panic to report it.
 #[doc(hidden)]
-pub fn parse_unguarded(bytes: &[u8], format: Format, base: Option<&Path>, progress: &dyn Progress) -> Result<Geometry, ParseError> {
+pub fn parse_unguarded(
+    bytes: &[u8],
+    format: Format,
+    base: Option<&Path>,
+    progress: &dyn Progress,
+) -> Result<Geometry, ParseError> {
     match format {
         Format::Obj => obj::read_obj(bytes, progress),
         Format::Stl => stl::read_stl(bytes, progress),
         Format::Ply => ply::read_ply(bytes, progress),
         Format::Gltf | Format::Glb => gltf_read::read_gltf(bytes, base, progress),
-        Format::Usda => Err(ParseError::whole("reading USDA is not supported (geode writes it)")),
+        Format::Usda => Err(ParseError::whole(
+            "reading USDA is not supported (geode writes it)",
+        )),
     }
 }
 
@@ -111,23 +143,44 @@ pub fn parse_unguarded(bytes: &[u8], format: Format, base: Option<&Path>, progre
 pub fn read(path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
     let format = Format::from_path(path)
         .filter(|f| f.can_read())
-        .ok_or_else(|| IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_read) })?;
+        .ok_or_else(|| IoError::UnknownFormat {
+            path: path.to_owned(),
+            expected: list(Format::can_read),
+        })?;
     let bytes = std::fs::read(path).map_err(|e| IoError::os(path, e))?;
     read_bytes(&bytes, format, path, progress)
 }
 
 /// Encodes a geometry into bytes of a format. Formats without instancing get
 /// the packed primitives unpacked.
-pub fn write_bytes(g: &Geometry, format: Format, path: &Path, progress: &dyn Progress) -> Result<Vec<u8>, IoError> {
+pub fn write_bytes(
+    g: &Geometry,
+    format: Format,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<Vec<u8>, IoError> {
     let mut out = Vec::new();
     encode(g, format, path, &mut out, progress)?;
     Ok(out)
 }
 
-fn encode(g: &Geometry, format: Format, path: &Path, w: &mut dyn std::io::Write, progress: &dyn Progress) -> Result<(), IoError> {
+fn encode(
+    g: &Geometry,
+    format: Format,
+    path: &Path,
+    w: &mut dyn std::io::Write,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
     let unpacked;
-    let g = if !format.keeps_instances() && g.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_))) {
-        unpacked = ops::unpack(g).map_err(|e| IoError::Unsupported { path: path.to_owned(), message: e.to_string() })?;
+    let g = if !format.keeps_instances()
+        && g.prim_kinds()
+            .iter()
+            .any(|k| matches!(k, PrimKind::Packed(_)))
+    {
+        unpacked = ops::unpack(g).map_err(|e| IoError::Unsupported {
+            path: path.to_owned(),
+            message: e.to_string(),
+        })?;
         &unpacked
     } else {
         g
@@ -138,7 +191,10 @@ fn encode(g: &Geometry, format: Format, path: &Path, w: &mut dyn std::io::Write,
         Format::Ply => ply::write_ply(g, w, path, progress),
         Format::Glb => gltf_write::write_glb(g, w, path, progress),
         Format::Usda => usda::write_usda(g, w, path, progress),
-        Format::Gltf => Err(IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_write) }),
+        Format::Gltf => Err(IoError::UnknownFormat {
+            path: path.to_owned(),
+            expected: list(Format::can_write),
+        }),
     }
 }
 
@@ -146,6 +202,9 @@ fn encode(g: &Geometry, format: Format, path: &Path, w: &mut dyn std::io::Write,
 pub fn write(g: &Geometry, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
     let format = Format::from_path(path)
         .filter(|f| f.can_write())
-        .ok_or_else(|| IoError::UnknownFormat { path: path.to_owned(), expected: list(Format::can_write) })?;
+        .ok_or_else(|| IoError::UnknownFormat {
+            path: path.to_owned(),
+            expected: list(Format::can_write),
+        })?;
     write_atomic(path, |w| encode(g, format, path, w, progress))
 }

@@ -37,9 +37,37 @@ const NO_INDEX: u32 = u32::MAX;
 
 /// Statements of the OBJ specification that carry nothing geode uses.
 const IGNORED: &[&str] = &[
-    "s", "mtllib", "vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm",
-    "trim", "hole", "scrv", "sp", "end", "con", "mg", "lod", "ctech", "stech", "bevel",
-    "c_interp", "d_interp", "maplib", "usemap", "shadow_obj", "trace_obj", "call", "csh", "p",
+    "s",
+    "mtllib",
+    "vp",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "mg",
+    "lod",
+    "ctech",
+    "stech",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "maplib",
+    "usemap",
+    "shadow_obj",
+    "trace_obj",
+    "call",
+    "csh",
+    "p",
 ];
 
 struct Tag {
@@ -76,7 +104,10 @@ fn resolve(index: i64, count: usize, what: &str, line: u64) -> ParseResult<u32> 
     } else if index < 0 {
         count as i64 + index
     } else {
-        return Err(ParseError::line(line, format!("{what} index 0 is invalid (OBJ indices start at 1)")));
+        return Err(ParseError::line(
+            line,
+            format!("{what} index 0 is invalid (OBJ indices start at 1)"),
+        ));
     };
     if resolved < 0 || resolved as usize >= count {
         return Err(ParseError::line(
@@ -98,7 +129,10 @@ fn floats<'a>(
     let mut n = 0;
     for t in toks {
         if n == max {
-            return Err(ParseError::line(line, format!("too many numbers for {what} (at most {max})")));
+            return Err(ParseError::line(
+                line,
+                format!("too many numbers for {what} (at most {max})"),
+            ));
         }
         out[n] = parse_f32(t).ok_or_else(|| {
             ParseError::line(line, format!("expected a number in {what}, found `{t}`"))
@@ -106,7 +140,10 @@ fn floats<'a>(
         n += 1;
     }
     if n < min {
-        return Err(ParseError::line(line, format!("{what} needs {min} numbers, found {n}")));
+        return Err(ParseError::line(
+            line,
+            format!("{what} needs {min} numbers, found {n}"),
+        ));
     }
     Ok((out, n))
 }
@@ -161,7 +198,10 @@ fn parse(bytes: &[u8], progress: &dyn Progress) -> ParseResult<ObjData> {
                         Some("") | None => NO_INDEX,
                         Some(s) => {
                             let i = parse_i64(s).ok_or_else(|| {
-                                ParseError::line(line_no, format!("expected a texture index, found `{s}`"))
+                                ParseError::line(
+                                    line_no,
+                                    format!("expected a texture index, found `{s}`"),
+                                )
                             })?;
                             resolve(i, d.texcoords.len(), "texture coordinate", line_no)?
                         }
@@ -170,7 +210,10 @@ fn parse(bytes: &[u8], progress: &dyn Progress) -> ParseResult<ObjData> {
                         Some("") | None => NO_INDEX,
                         Some(s) => {
                             let i = parse_i64(s).ok_or_else(|| {
-                                ParseError::line(line_no, format!("expected a normal index, found `{s}`"))
+                                ParseError::line(
+                                    line_no,
+                                    format!("expected a normal index, found `{s}`"),
+                                )
                             })?;
                             resolve(i, d.normals.len(), "normal", line_no)?
                         }
@@ -185,7 +228,10 @@ fn parse(bytes: &[u8], progress: &dyn Progress) -> ParseResult<ObjData> {
                 if corner_buf.len() < min {
                     return Err(ParseError::line(
                         line_no,
-                        format!("`{keyword}` needs at least {min} vertices, found {}", corner_buf.len()),
+                        format!(
+                            "`{keyword}` needs at least {min} vertices, found {}",
+                            corner_buf.len()
+                        ),
                     ));
                 }
                 let any_uv = corner_buf.iter().any(|c| c.1 != NO_INDEX);
@@ -236,7 +282,10 @@ fn parse(bytes: &[u8], progress: &dyn Progress) -> ParseResult<ObjData> {
             other => {
                 return Err(ParseError::line(
                     line_no,
-                    format!("unknown OBJ statement `{}`", other.chars().take(32).collect::<String>()),
+                    format!(
+                        "unknown OBJ statement `{}`",
+                        other.chars().take(32).collect::<String>()
+                    ),
                 ))
             }
         }
@@ -245,33 +294,84 @@ fn parse(bytes: &[u8], progress: &dyn Progress) -> ParseResult<ObjData> {
     Ok(d)
 }
 
-fn parse_tag<'a>(raw: &str, line: u64, mut toks: impl Iterator<Item = &'a str>) -> ParseResult<Tag> {
+fn parse_tag<'a>(
+    raw: &str,
+    line: u64,
+    mut toks: impl Iterator<Item = &'a str>,
+) -> ParseResult<Tag> {
     let name = toks
         .next()
         .ok_or_else(|| ParseError::line(line, "tag `t` needs a name"))?
         .to_owned();
-    let counts = toks
-        .next()
-        .ok_or_else(|| ParseError::line(line, format!("tag `{name}` needs its argument counts `i/f/s`")))?;
-    let c: Vec<usize> = counts.split('/').map(|x| x.parse().unwrap_or(usize::MAX)).collect();
+    let counts = toks.next().ok_or_else(|| {
+        ParseError::line(
+            line,
+            format!("tag `{name}` needs its argument counts `i/f/s`"),
+        )
+    })?;
+    let c: Vec<usize> = counts
+        .split('/')
+        .map(|x| x.parse().unwrap_or(usize::MAX))
+        .collect();
     if c.len() != 3 || c.iter().any(|&x| x > 1 << 20) {
-        return Err(ParseError::line(line, format!("tag `{name}`: expected counts `ints/floats/strings`, found `{counts}`")));
+        return Err(ParseError::line(
+            line,
+            format!("tag `{name}`: expected counts `ints/floats/strings`, found `{counts}`"),
+        ));
     }
-    let mut tag = Tag { line, name, ints: Vec::new(), floats: Vec::new(), strings: Vec::new(), raw: raw.trim().to_owned() };
+    let mut tag = Tag {
+        line,
+        name,
+        ints: Vec::new(),
+        floats: Vec::new(),
+        strings: Vec::new(),
+        raw: raw.trim().to_owned(),
+    };
     for _ in 0..c[0] {
-        let t = toks.next().ok_or_else(|| ParseError::line(line, format!("tag `{}` expected {} integers", tag.name, c[0])))?;
-        tag.ints.push(parse_i64(t).ok_or_else(|| ParseError::line(line, format!("tag `{}`: expected an integer, found `{t}`", tag.name)))?);
+        let t = toks.next().ok_or_else(|| {
+            ParseError::line(
+                line,
+                format!("tag `{}` expected {} integers", tag.name, c[0]),
+            )
+        })?;
+        tag.ints.push(parse_i64(t).ok_or_else(|| {
+            ParseError::line(
+                line,
+                format!("tag `{}`: expected an integer, found `{t}`", tag.name),
+            )
+        })?);
     }
     for _ in 0..c[1] {
-        let t = toks.next().ok_or_else(|| ParseError::line(line, format!("tag `{}` expected {} numbers", tag.name, c[1])))?;
-        tag.floats.push(parse_f32(t).ok_or_else(|| ParseError::line(line, format!("tag `{}`: expected a number, found `{t}`", tag.name)))?);
+        let t = toks.next().ok_or_else(|| {
+            ParseError::line(
+                line,
+                format!("tag `{}` expected {} numbers", tag.name, c[1]),
+            )
+        })?;
+        tag.floats.push(parse_f32(t).ok_or_else(|| {
+            ParseError::line(
+                line,
+                format!("tag `{}`: expected a number, found `{t}`", tag.name),
+            )
+        })?);
     }
     for _ in 0..c[2] {
-        let t = toks.next().ok_or_else(|| ParseError::line(line, format!("tag `{}` expected {} strings", tag.name, c[2])))?;
+        let t = toks.next().ok_or_else(|| {
+            ParseError::line(
+                line,
+                format!("tag `{}` expected {} strings", tag.name, c[2]),
+            )
+        })?;
         tag.strings.push(t.to_owned());
     }
     if let Some(extra) = toks.next() {
-        return Err(ParseError::line(line, format!("tag `{}`: unexpected `{extra}` after its {counts} arguments", tag.name)));
+        return Err(ParseError::line(
+            line,
+            format!(
+                "tag `{}`: unexpected `{extra}` after its {counts} arguments",
+                tag.name
+            ),
+        ));
     }
     Ok(tag)
 }
@@ -281,36 +381,81 @@ fn build(d: ObjData) -> ParseResult<Geometry> {
     let mut g = Geometry::from_prims(d.positions, d.vertex_points, &d.counts, d.kinds)
         .map_err(|e| ParseError::whole(e.to_string()))?;
     let set = |g: &mut Geometry, class, name: &str, a: Attribute| {
-        g.set_attrib(class, name, a).expect("lengths match the element counts");
+        g.set_attrib(class, name, a)
+            .expect("lengths match the element counts");
     };
     if !d.colors.is_empty() {
         let mut c = d.colors;
         c.resize(g.num_points(), Vec3::ONE);
-        set(&mut g, AttribClass::Point, "Cd", Attribute::from_data(AttribData::Vec3(c), TypeInfo::Color));
+        set(
+            &mut g,
+            AttribClass::Point,
+            "Cd",
+            Attribute::from_data(AttribData::Vec3(c), TypeInfo::Color),
+        );
     }
     if let Some(mut idx) = d.vertex_uv {
         idx.resize(n_vertices, NO_INDEX);
-        let uv = idx.iter().map(|&i| if i == NO_INDEX { Vec2::ZERO } else { d.texcoords[i as usize] }).collect();
-        set(&mut g, AttribClass::Vertex, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord));
+        let uv = idx
+            .iter()
+            .map(|&i| {
+                if i == NO_INDEX {
+                    Vec2::ZERO
+                } else {
+                    d.texcoords[i as usize]
+                }
+            })
+            .collect();
+        set(
+            &mut g,
+            AttribClass::Vertex,
+            "uv",
+            Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+        );
     }
     if let Some(mut idx) = d.vertex_n {
         idx.resize(n_vertices, NO_INDEX);
-        let n = idx.iter().map(|&i| if i == NO_INDEX { Vec3::ZERO } else { d.normals[i as usize] }).collect();
-        set(&mut g, AttribClass::Vertex, "N", Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal));
+        let n = idx
+            .iter()
+            .map(|&i| {
+                if i == NO_INDEX {
+                    Vec3::ZERO
+                } else {
+                    d.normals[i as usize]
+                }
+            })
+            .collect();
+        set(
+            &mut g,
+            AttribClass::Vertex,
+            "N",
+            Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
+        );
     }
     // Groups: one primitive group per name used.
     let mut groups: BTreeMap<&str, Group> = BTreeMap::new();
     for (prim, &s) in d.prim_group_set.iter().enumerate() {
         for name in &d.group_sets[s as usize] {
-            groups.entry(name).or_insert_with(|| Group::new(g.num_prims())).set(prim, true);
+            groups
+                .entry(name)
+                .or_insert_with(|| Group::new(g.num_prims()))
+                .set(prim, true);
         }
     }
     for (name, grp) in groups {
         g.set_prim_group(name, grp).expect("length matches");
     }
     if d.materials.len() > 1 {
-        let col = StringColumn { table: d.materials, indices: d.prim_material };
-        set(&mut g, AttribClass::Primitive, "material", Attribute::from_data(AttribData::String(col), TypeInfo::None));
+        let col = StringColumn {
+            table: d.materials,
+            indices: d.prim_material,
+        };
+        set(
+            &mut g,
+            AttribClass::Primitive,
+            "material",
+            Attribute::from_data(AttribData::String(col), TypeInfo::None),
+        );
     }
     apply_tags(&mut g, &d.tags)?;
     Ok(g)
@@ -323,7 +468,10 @@ fn apply_tags(g: &mut Geometry, tags: &[Tag]) -> ParseResult<()> {
     let np = g.num_points();
     let point = |i: i64, line: u64| -> ParseResult<u32> {
         if i < 0 || i as usize >= np {
-            return Err(ParseError::line(line, format!("tag refers to vertex {i} but there are {np} vertices (0-based)")));
+            return Err(ParseError::line(
+                line,
+                format!("tag refers to vertex {i} but there are {np} vertices (0-based)"),
+            ));
         }
         Ok(i as u32)
     };
@@ -335,61 +483,132 @@ fn apply_tags(g: &mut Geometry, tags: &[Tag]) -> ParseResult<()> {
     for t in tags {
         let line = t.line;
         let need = |ok: bool, what: &str| -> ParseResult<()> {
-            if ok { Ok(()) } else { Err(ParseError::line(line, format!("tag `{}` expects {what}", t.name))) }
+            if ok {
+                Ok(())
+            } else {
+                Err(ParseError::line(
+                    line,
+                    format!("tag `{}` expects {what}", t.name),
+                ))
+            }
         };
         match t.name.as_str() {
             "crease" => {
-                need(t.ints.len() >= 2 && (t.floats.len() == 1 || t.floats.len() == t.ints.len() - 1), "a chain of at least 2 vertices and 1 sharpness (or one per edge)")?;
+                need(
+                    t.ints.len() >= 2
+                        && (t.floats.len() == 1 || t.floats.len() == t.ints.len() - 1),
+                    "a chain of at least 2 vertices and 1 sharpness (or one per edge)",
+                )?;
                 let c = creases.get_or_insert_with(|| vec![0.0; g.num_vertices()]);
                 for k in 0..t.ints.len() - 1 {
                     let (a, b) = (point(t.ints[k], line)?, point(t.ints[k + 1], line)?);
-                    let s = if t.floats.len() == 1 { t.floats[0] } else { t.floats[k] };
-                    let e = topo.find_edge(a, b).ok_or_else(|| ParseError::line(line, format!("crease edge {a}-{b} is not an edge of any face")))?;
+                    let s = if t.floats.len() == 1 {
+                        t.floats[0]
+                    } else {
+                        t.floats[k]
+                    };
+                    let e = topo.find_edge(a, b).ok_or_else(|| {
+                        ParseError::line(
+                            line,
+                            format!("crease edge {a}-{b} is not an edge of any face"),
+                        )
+                    })?;
                     for h in topo.edge_half_edges(e) {
                         c[h.0 as usize] = s;
                     }
                 }
             }
             "corner" => {
-                need(!t.ints.is_empty() && (t.floats.len() == 1 || t.floats.len() == t.ints.len()), "vertices and 1 sharpness (or one per vertex)")?;
+                need(
+                    !t.ints.is_empty() && (t.floats.len() == 1 || t.floats.len() == t.ints.len()),
+                    "vertices and 1 sharpness (or one per vertex)",
+                )?;
                 let c = corners.get_or_insert_with(|| vec![0.0; np]);
                 for (k, &i) in t.ints.iter().enumerate() {
-                    c[point(i, line)? as usize] = if t.floats.len() == 1 { t.floats[0] } else { t.floats[k] };
+                    c[point(i, line)? as usize] = if t.floats.len() == 1 {
+                        t.floats[0]
+                    } else {
+                        t.floats[k]
+                    };
                 }
             }
             "hole" => {
                 let h = holes.get_or_insert_with(|| vec![0; g.num_prims()]);
                 for &f in &t.ints {
                     if f < 0 || f as usize >= h.len() {
-                        return Err(ParseError::line(line, format!("hole refers to face {f} but there are {} faces (0-based)", h.len())));
+                        return Err(ParseError::line(
+                            line,
+                            format!(
+                                "hole refers to face {f} but there are {} faces (0-based)",
+                                h.len()
+                            ),
+                        ));
                     }
                     h[f as usize] = 1;
                 }
             }
             "interpolateboundary" | "facevaryinginterpolateboundary" => {
                 need(t.ints.len() == 1, "one integer")?;
-                let name = if t.name == "interpolateboundary" { BOUNDARY } else { FVAR_BOUNDARY };
-                g.set_attrib(AttribClass::Detail, name, Attribute::new(AttribValue::Int(t.ints[0] as i32), TypeInfo::None, 1)).expect("detail");
+                let name = if t.name == "interpolateboundary" {
+                    BOUNDARY
+                } else {
+                    FVAR_BOUNDARY
+                };
+                g.set_attrib(
+                    AttribClass::Detail,
+                    name,
+                    Attribute::new(AttribValue::Int(t.ints[0] as i32), TypeInfo::None, 1),
+                )
+                .expect("detail");
             }
             "creasemethod" | "smoothtriangles" => {
                 need(t.strings.len() == 1, "one string")?;
-                let name = if t.name == "creasemethod" { CREASE_METHOD } else { TRIANGLE_RULE };
-                g.set_attrib(AttribClass::Detail, name, Attribute::new(AttribValue::String(t.strings[0].clone()), TypeInfo::None, 1)).expect("detail");
+                let name = if t.name == "creasemethod" {
+                    CREASE_METHOD
+                } else {
+                    TRIANGLE_RULE
+                };
+                g.set_attrib(
+                    AttribClass::Detail,
+                    name,
+                    Attribute::new(AttribValue::String(t.strings[0].clone()), TypeInfo::None, 1),
+                )
+                .expect("detail");
             }
             _ => raw.push(t.raw.as_str()),
         }
     }
     if let Some(c) = creases {
-        g.set_attrib(AttribClass::Vertex, CREASE, Attribute::from_data(AttribData::Float(c), TypeInfo::None)).expect("len");
+        g.set_attrib(
+            AttribClass::Vertex,
+            CREASE,
+            Attribute::from_data(AttribData::Float(c), TypeInfo::None),
+        )
+        .expect("len");
     }
     if let Some(c) = corners {
-        g.set_attrib(AttribClass::Point, CORNER, Attribute::from_data(AttribData::Float(c), TypeInfo::None)).expect("len");
+        g.set_attrib(
+            AttribClass::Point,
+            CORNER,
+            Attribute::from_data(AttribData::Float(c), TypeInfo::None),
+        )
+        .expect("len");
     }
     if let Some(h) = holes {
-        g.set_attrib(AttribClass::Primitive, HOLE, Attribute::from_data(AttribData::Int(h), TypeInfo::None)).expect("len");
+        g.set_attrib(
+            AttribClass::Primitive,
+            HOLE,
+            Attribute::from_data(AttribData::Int(h), TypeInfo::None),
+        )
+        .expect("len");
     }
     if !raw.is_empty() {
-        g.set_attrib(AttribClass::Detail, RAW_TAGS, Attribute::new(AttribValue::String(raw.join("\n")), TypeInfo::None, 1)).expect("detail");
+        g.set_attrib(
+            AttribClass::Detail,
+            RAW_TAGS,
+            Attribute::new(AttribValue::String(raw.join("\n")), TypeInfo::None, 1),
+        )
+        .expect("detail");
     }
     Ok(())
 }
@@ -402,7 +621,12 @@ pub fn read_obj(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
 /// Writes OBJ text: `v` (with colours from point `Cd`), `vt`/`vn` from vertex
 /// or point `uv`/`N`, `f` and `l`, groups as `g`, materials as `usemtl`, and
 /// subdivision tags as `t` lines. Packed primitives must be unpacked first.
-pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+pub fn write_obj(
+    g: &Geometry,
+    w: &mut dyn Write,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
     let e = os_err(path);
     let mut throttle = Throttle::new(progress, "writing OBJ", g.num_prims() as u64);
     writeln!(w, "# written by geode {}", env!("CARGO_PKG_VERSION")).map_err(&e)?;
@@ -411,10 +635,18 @@ pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
     use std::fmt::Write as _;
     for (i, p) in g.positions().iter().enumerate() {
         match cd {
-            Some(c) => { let c = c[i]; let _ = writeln!(buf, "v {} {} {} {} {} {}", p.x, p.y, p.z, c.x, c.y, c.z); }
-            None => { let _ = writeln!(buf, "v {} {} {}", p.x, p.y, p.z); }
+            Some(c) => {
+                let c = c[i];
+                let _ = writeln!(buf, "v {} {} {} {} {} {}", p.x, p.y, p.z, c.x, c.y, c.z);
+            }
+            None => {
+                let _ = writeln!(buf, "v {} {} {}", p.x, p.y, p.z);
+            }
         }
-        if buf.len() > 1 << 16 { w.write_all(buf.as_bytes()).map_err(&e)?; buf.clear(); }
+        if buf.len() > 1 << 16 {
+            w.write_all(buf.as_bytes()).map_err(&e)?;
+            buf.clear();
+        }
     }
     // Per-vertex indices into the vt/vn lists (point attributes are written per point).
     let uv_of = |class: AttribClass| g.attrib(class, "uv").and_then(|a| a.as_vec2());
@@ -431,13 +663,21 @@ pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
     };
     for t in uv.iter().flat_map(|v| v.iter()) {
         let _ = writeln!(buf, "vt {} {}", t.x, t.y);
-        if buf.len() > 1 << 16 { w.write_all(buf.as_bytes()).map_err(&e)?; buf.clear(); }
+        if buf.len() > 1 << 16 {
+            w.write_all(buf.as_bytes()).map_err(&e)?;
+            buf.clear();
+        }
     }
     for n in nrm.iter().flat_map(|v| v.iter()) {
         let _ = writeln!(buf, "vn {} {} {}", n.x, n.y, n.z);
-        if buf.len() > 1 << 16 { w.write_all(buf.as_bytes()).map_err(&e)?; buf.clear(); }
+        if buf.len() > 1 << 16 {
+            w.write_all(buf.as_bytes()).map_err(&e)?;
+            buf.clear();
+        }
     }
-    let material = g.attrib(AttribClass::Primitive, "material").and_then(|a| a.as_strings());
+    let material = g
+        .attrib(AttribClass::Primitive, "material")
+        .and_then(|a| a.as_strings());
     let groups: Vec<(&String, &Group)> = g.prim_groups().iter().collect();
     let mut last_groups: Option<Vec<&str>> = None;
     let mut last_material: Option<&str> = None;
@@ -448,11 +688,18 @@ pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
             PrimKind::Polygon => "f",
             PrimKind::Polyline => "l",
             PrimKind::Packed(_) => {
-                return Err(IoError::Unsupported { path: path.to_owned(), message: "OBJ cannot hold packed primitives; unpack them first".into() })
+                return Err(IoError::Unsupported {
+                    path: path.to_owned(),
+                    message: "OBJ cannot hold packed primitives; unpack them first".into(),
+                })
             }
         };
         if !groups.is_empty() {
-            let mine: Vec<&str> = groups.iter().filter(|(_, grp)| grp.contains(prim)).map(|(n, _)| n.as_str()).collect();
+            let mine: Vec<&str> = groups
+                .iter()
+                .filter(|(_, grp)| grp.contains(prim))
+                .map(|(n, _)| n.as_str())
+                .collect();
             if last_groups.as_ref() != Some(&mine) {
                 let _ = writeln!(buf, "g {}", mine.join(" ")).map(|_| ());
                 last_groups = Some(mine);
@@ -478,7 +725,10 @@ pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
             };
         }
         buf.push('\n');
-        if buf.len() > 1 << 16 { w.write_all(buf.as_bytes()).map_err(&e)?; buf.clear(); }
+        if buf.len() > 1 << 16 {
+            w.write_all(buf.as_bytes()).map_err(&e)?;
+            buf.clear();
+        }
     }
     write_tags(g, &mut buf);
     w.write_all(buf.as_bytes()).map_err(&e)?;
@@ -488,39 +738,68 @@ pub fn write_obj(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
 
 fn write_tags(g: &Geometry, buf: &mut String) {
     use std::fmt::Write as _;
-    if let Some(c) = g.attrib(AttribClass::Vertex, CREASE).and_then(|a| a.as_f32()) {
+    if let Some(c) = g
+        .attrib(AttribClass::Vertex, CREASE)
+        .and_then(|a| a.as_f32())
+    {
         let topo = g.topology();
         for (e, &[a, b]) in topo.edges().iter().enumerate() {
-            let s = topo.edge_half_edges(e).map(|h| c[h.0 as usize]).fold(0.0f32, f32::max);
+            let s = topo
+                .edge_half_edges(e)
+                .map(|h| c[h.0 as usize])
+                .fold(0.0f32, f32::max);
             if s > 0.0 {
                 let _ = writeln!(buf, "t crease 2/1/0 {a} {b} {s}");
             }
         }
     }
-    if let Some(c) = g.attrib(AttribClass::Point, CORNER).and_then(|a| a.as_f32()) {
+    if let Some(c) = g
+        .attrib(AttribClass::Point, CORNER)
+        .and_then(|a| a.as_f32())
+    {
         for (p, &s) in c.iter().enumerate() {
             if s > 0.0 {
                 let _ = writeln!(buf, "t corner 1/1/0 {p} {s}");
             }
         }
     }
-    if let Some(h) = g.attrib(AttribClass::Primitive, HOLE).and_then(|a| a.as_i32()) {
-        let faces: Vec<String> = h.iter().enumerate().filter(|(_, &x)| x != 0).map(|(i, _)| i.to_string()).collect();
+    if let Some(h) = g
+        .attrib(AttribClass::Primitive, HOLE)
+        .and_then(|a| a.as_i32())
+    {
+        let faces: Vec<String> = h
+            .iter()
+            .enumerate()
+            .filter(|(_, &x)| x != 0)
+            .map(|(i, _)| i.to_string())
+            .collect();
         if !faces.is_empty() {
             let _ = writeln!(buf, "t hole {}/0/0 {}", faces.len(), faces.join(" "));
         }
     }
-    for (name, tag) in [(BOUNDARY, "interpolateboundary"), (FVAR_BOUNDARY, "facevaryinginterpolateboundary")] {
+    for (name, tag) in [
+        (BOUNDARY, "interpolateboundary"),
+        (FVAR_BOUNDARY, "facevaryinginterpolateboundary"),
+    ] {
         if let Some(v) = g.attrib(AttribClass::Detail, name).and_then(|a| a.as_i32()) {
             let _ = writeln!(buf, "t {tag} 1/0/0 {}", v[0]);
         }
     }
-    for (name, tag) in [(CREASE_METHOD, "creasemethod"), (TRIANGLE_RULE, "smoothtriangles")] {
-        if let Some(s) = g.attrib(AttribClass::Detail, name).and_then(|a| a.as_strings()) {
+    for (name, tag) in [
+        (CREASE_METHOD, "creasemethod"),
+        (TRIANGLE_RULE, "smoothtriangles"),
+    ] {
+        if let Some(s) = g
+            .attrib(AttribClass::Detail, name)
+            .and_then(|a| a.as_strings())
+        {
             let _ = writeln!(buf, "t {tag} 0/0/1 {}", s.get(0));
         }
     }
-    if let Some(s) = g.attrib(AttribClass::Detail, RAW_TAGS).and_then(|a| a.as_strings()) {
+    if let Some(s) = g
+        .attrib(AttribClass::Detail, RAW_TAGS)
+        .and_then(|a| a.as_strings())
+    {
         for l in s.get(0).lines() {
             let _ = writeln!(buf, "{l}");
         }
@@ -547,26 +826,55 @@ mod tests {
         assert_eq!(g.num_prims(), 3);
         assert_eq!(g.prim_points(1), &[0, 2, 3]);
         assert_eq!(g.prim_kind(2), PrimKind::Polyline);
-        let uv = g.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2().unwrap();
+        let uv = g
+            .attrib(AttribClass::Vertex, "uv")
+            .unwrap()
+            .as_vec2()
+            .unwrap();
         assert_eq!(uv[2], Vec2::new(1.0, 1.0));
         assert_eq!(uv[3], Vec2::ZERO, "faces without vt get the default");
         assert_eq!(g.prim_groups()["a"].members().collect::<Vec<_>>(), vec![0]);
-        assert_eq!(g.prim_groups()["b"].members().collect::<Vec<_>>(), vec![0, 1, 2]);
-        let m = g.attrib(AttribClass::Primitive, "material").unwrap().as_strings().unwrap();
+        assert_eq!(
+            g.prim_groups()["b"].members().collect::<Vec<_>>(),
+            vec![0, 1, 2]
+        );
+        let m = g
+            .attrib(AttribClass::Primitive, "material")
+            .unwrap()
+            .as_strings()
+            .unwrap();
         assert_eq!((m.get(0), m.get(1)), ("", "red"));
     }
 
     #[test]
     fn errors_name_the_line() {
         let cases = [
-            ("v 0 0 0\nf 1 2 3\n", "line 2: vertex index 2 out of range (1 vertexs defined so far)"),
+            (
+                "v 0 0 0\nf 1 2 3\n",
+                "line 2: vertex index 2 out of range (1 vertexs defined so far)",
+            ),
             ("v 0 0\n", "line 1: vertex `v` needs 3 numbers, found 2"),
-            ("v 0 0 x\n", "line 1: expected a number in vertex `v`, found `x`"),
-            ("v 0 0 0\nv 1 0 0\nf 1 2\n", "line 3: `f` needs at least 3 vertices, found 2"),
+            (
+                "v 0 0 x\n",
+                "line 1: expected a number in vertex `v`, found `x`",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nf 1 2\n",
+                "line 3: `f` needs at least 3 vertices, found 2",
+            ),
             ("\n\nbogus 1\n", "line 3: unknown OBJ statement `bogus`"),
-            ("v 0 0 0\nf 0 1 1\n", "line 2: vertex index 0 is invalid (OBJ indices start at 1)"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 9 1.0\n", "line 5: tag refers to vertex 9 but there are 3 vertices (0-based)"),
-            ("t crease 2/1/0 0\n", "line 1: tag `crease` expected 2 integers"),
+            (
+                "v 0 0 0\nf 0 1 1\n",
+                "line 2: vertex index 0 is invalid (OBJ indices start at 1)",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 9 1.0\n",
+                "line 5: tag refers to vertex 9 but there are 3 vertices (0-based)",
+            ),
+            (
+                "t crease 2/1/0 0\n",
+                "line 1: tag `crease` expected 2 integers",
+            ),
         ];
         for (text, expect) in cases {
             let e = read(text).unwrap_err();
@@ -581,12 +889,41 @@ mod tests {
                     t crease 2/1/0 0 1 2.5\nt corner 1/1/0 2 4.0\nt interpolateboundary 1/0/0 2\n\
                     t hole 1/0/0 0\nt creasemethod 0/0/1 chaikin\nt vertexedit 1/0/1 3 add\n";
         let g = read(text).unwrap();
-        let c = g.attrib(AttribClass::Vertex, CREASE).unwrap().as_f32().unwrap();
+        let c = g
+            .attrib(AttribClass::Vertex, CREASE)
+            .unwrap()
+            .as_f32()
+            .unwrap();
         assert_eq!(c, &[2.5, 0.0, 0.0, 0.0]);
-        assert_eq!(g.attrib(AttribClass::Point, CORNER).unwrap().as_f32().unwrap()[2], 4.0);
-        assert_eq!(g.attrib(AttribClass::Detail, BOUNDARY).unwrap().as_i32().unwrap(), &[2]);
-        assert_eq!(g.attrib(AttribClass::Primitive, HOLE).unwrap().as_i32().unwrap(), &[1]);
-        assert_eq!(g.attrib(AttribClass::Detail, RAW_TAGS).unwrap().as_strings().unwrap().get(0), "t vertexedit 1/0/1 3 add");
+        assert_eq!(
+            g.attrib(AttribClass::Point, CORNER)
+                .unwrap()
+                .as_f32()
+                .unwrap()[2],
+            4.0
+        );
+        assert_eq!(
+            g.attrib(AttribClass::Detail, BOUNDARY)
+                .unwrap()
+                .as_i32()
+                .unwrap(),
+            &[2]
+        );
+        assert_eq!(
+            g.attrib(AttribClass::Primitive, HOLE)
+                .unwrap()
+                .as_i32()
+                .unwrap(),
+            &[1]
+        );
+        assert_eq!(
+            g.attrib(AttribClass::Detail, RAW_TAGS)
+                .unwrap()
+                .as_strings()
+                .unwrap()
+                .get(0),
+            "t vertexedit 1/0/1 3 add"
+        );
         let mut out = Vec::new();
         write_obj(&g, &mut out, Path::new("x.obj"), &NoProgress).unwrap();
         let back = read_obj(&out, &NoProgress).unwrap();

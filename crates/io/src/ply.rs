@@ -103,7 +103,9 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
         let mut t = line.split_ascii_whitespace();
         if first {
             if line.trim() != "ply" {
-                return Err(err("not a PLY file: expected `ply` on the first line".into()));
+                return Err(err(
+                    "not a PLY file: expected `ply` on the first line".into()
+                ));
             }
             first = false;
             continue;
@@ -149,7 +151,11 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
             Some(other) => return Err(err(format!("unknown header keyword `{}`", other.chars().take(32).collect::<String>()))),
         }
     }
-    Err(ParseError::whole(if first { "empty file: expected `ply`".to_owned() } else { "header has no `end_header`".to_owned() }))
+    Err(ParseError::whole(if first {
+        "empty file: expected `ply`".to_owned()
+    } else {
+        "header has no `end_header`".to_owned()
+    }))
 }
 
 /// Reads values in the body, tracking the position for errors.
@@ -169,13 +175,20 @@ impl Source for BinarySource<'_> {
     fn value(&mut self, s: Scalar, what: &dyn Fn() -> String) -> ParseResult<f64> {
         let n = s.size();
         let Some(b) = self.bytes.get(self.pos..self.pos + n) else {
-            return Err(ParseError::byte(self.pos as u64, format!("file ends while reading {}", what())));
+            return Err(ParseError::byte(
+                self.pos as u64,
+                format!("file ends while reading {}", what()),
+            ));
         };
         self.pos += n;
         macro_rules! num {
             ($t:ty) => {{
                 let a = b.try_into().expect("sized");
-                (if self.big { <$t>::from_be_bytes(a) } else { <$t>::from_le_bytes(a) }) as f64
+                (if self.big {
+                    <$t>::from_be_bytes(a)
+                } else {
+                    <$t>::from_le_bytes(a)
+                }) as f64
             }};
         }
         Ok(match s {
@@ -207,20 +220,33 @@ impl Source for AsciiSource<'_> {
     fn value(&mut self, s: Scalar, what: &dyn Fn() -> String) -> ParseResult<f64> {
         loop {
             if let Some(tok) = self.tokens.next() {
-                let v: f64 = tok
-                    .parse()
-                    .map_err(|_| ParseError::line(self.line_no, format!("expected a number for {}, found `{tok}`", what())))?;
+                let v: f64 = tok.parse().map_err(|_| {
+                    ParseError::line(
+                        self.line_no,
+                        format!("expected a number for {}, found `{tok}`", what()),
+                    )
+                })?;
                 if !s.is_float() && v.fract() != 0.0 {
-                    return Err(ParseError::line(self.line_no, format!("expected an integer for {}, found `{tok}`", what())));
+                    return Err(ParseError::line(
+                        self.line_no,
+                        format!("expected an integer for {}, found `{tok}`", what()),
+                    ));
                 }
                 return Ok(v);
             }
             match self.lines.next() {
                 Some((n, _, l)) => {
                     self.line_no = self.base + n;
-                    self.tokens = l.map_err(|m| ParseError::line(n, m))?.split_ascii_whitespace();
+                    self.tokens = l
+                        .map_err(|m| ParseError::line(n, m))?
+                        .split_ascii_whitespace();
                 }
-                None => return Err(ParseError::line(self.line_no, format!("file ends while reading {}", what()))),
+                None => {
+                    return Err(ParseError::line(
+                        self.line_no,
+                        format!("file ends while reading {}", what()),
+                    ))
+                }
             }
         }
     }
@@ -228,13 +254,20 @@ impl Source for AsciiSource<'_> {
     fn end_element(&mut self) -> ParseResult<()> {
         // Elements are one per line: leftovers mean the header's properties are wrong.
         if let Some(tok) = self.tokens.next() {
-            return Err(ParseError::line(self.line_no, format!("unexpected `{tok}` after the element's declared properties")));
+            return Err(ParseError::line(
+                self.line_no,
+                format!("unexpected `{tok}` after the element's declared properties"),
+            ));
         }
         Ok(())
     }
 }
 
-fn read_elements(h: &Header, src: &mut dyn Source, progress: &dyn Progress) -> ParseResult<Vec<Vec<Column>>> {
+fn read_elements(
+    h: &Header,
+    src: &mut dyn Source,
+    progress: &dyn Progress,
+) -> ParseResult<Vec<Vec<Column>>> {
     let total: u64 = h.elements.iter().map(|e| e.count as u64).sum();
     let mut throttle = Throttle::new(progress, "reading PLY", total);
     let mut done = 0u64;
@@ -256,7 +289,10 @@ fn read_elements(h: &Header, src: &mut dyn Source, progress: &dyn Progress) -> P
                     PropKind::List { count, item } => {
                         let n = src.value(count, &what)?;
                         if !(0.0..=1e6).contains(&n) {
-                            return Err(ParseError::whole(format!("list length {n} of {} is not a sensible count", what())));
+                            return Err(ParseError::whole(format!(
+                                "list length {n} of {} is not a sensible count",
+                                what()
+                            )));
                         }
                         c.list_counts.push(n as u32);
                         for _ in 0..n as usize {
@@ -282,22 +318,40 @@ pub fn read_ply(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
     let data = match h.encoding {
         Encoding::Ascii => {
             let mut lines = Lines::new(&bytes[h.body_offset..]);
-            let mut src = AsciiSource { lines: Lines::new(&[]), base: h.body_line, line_no: h.body_line, tokens: "".split_ascii_whitespace() };
+            let mut src = AsciiSource {
+                lines: Lines::new(&[]),
+                base: h.body_line,
+                line_no: h.body_line,
+                tokens: "".split_ascii_whitespace(),
+            };
             std::mem::swap(&mut src.lines, &mut lines);
             let data = read_elements(&h, &mut src, progress)?;
             // The source numbers lines from the body: shift to file lines.
             for (n, _, l) in src.lines {
                 if l.map(|s| !s.trim().is_empty()).unwrap_or(true) {
-                    return Err(ParseError::line(h.body_line + n, "more data than the header declares"));
+                    return Err(ParseError::line(
+                        h.body_line + n,
+                        "more data than the header declares",
+                    ));
                 }
             }
             data
         }
         enc => {
-            let mut src = BinarySource { bytes, pos: h.body_offset, big: enc == Encoding::Big };
+            let mut src = BinarySource {
+                bytes,
+                pos: h.body_offset,
+                big: enc == Encoding::Big,
+            };
             let data = read_elements(&h, &mut src, progress)?;
             if src.pos != bytes.len() {
-                return Err(ParseError::byte(src.pos as u64, format!("{} bytes of data beyond what the header declares", bytes.len() - src.pos)));
+                return Err(ParseError::byte(
+                    src.pos as u64,
+                    format!(
+                        "{} bytes of data beyond what the header declares",
+                        bytes.len() - src.pos
+                    ),
+                ));
             }
             data
         }
@@ -306,7 +360,11 @@ pub fn read_ply(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
 }
 
 fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
-    let find = |el: &Element, names: &[&str]| names.iter().find_map(|n| el.props.iter().position(|p| p.name == *n));
+    let find = |el: &Element, names: &[&str]| {
+        names
+            .iter()
+            .find_map(|n| el.props.iter().position(|p| p.name == *n))
+    };
     let mut positions = Vec::new();
     let mut point_attribs: Vec<(String, Attribute)> = Vec::new();
     let mut vertex_points: Vec<u32> = Vec::new();
@@ -319,16 +377,43 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
         let scalar = |i: usize| &cols[i].values;
         match el.name.as_str() {
             "vertex" => {
-                let (Some(x), Some(y), Some(z)) = (find(el, &["x"]), find(el, &["y"]), find(el, &["z"])) else {
+                let (Some(x), Some(y), Some(z)) =
+                    (find(el, &["x"]), find(el, &["y"]), find(el, &["z"]))
+                else {
                     return Err(ParseError::whole("element `vertex` lacks x, y or z"));
                 };
-                positions = (0..el.count).map(|i| Vec3::new(scalar(x)[i] as f32, scalar(y)[i] as f32, scalar(z)[i] as f32)).collect();
+                positions = (0..el.count)
+                    .map(|i| {
+                        Vec3::new(
+                            scalar(x)[i] as f32,
+                            scalar(y)[i] as f32,
+                            scalar(z)[i] as f32,
+                        )
+                    })
+                    .collect();
                 let mut used = vec![x, y, z];
-                let vec3 = |names: [&str; 3]| -> Option<[usize; 3]> { Some([find(el, &[names[0]])?, find(el, &[names[1]])?, find(el, &[names[2]])?]) };
+                let vec3 = |names: [&str; 3]| -> Option<[usize; 3]> {
+                    Some([
+                        find(el, &[names[0]])?,
+                        find(el, &[names[1]])?,
+                        find(el, &[names[2]])?,
+                    ])
+                };
                 if let Some(n) = vec3(["nx", "ny", "nz"]) {
                     used.extend(n);
-                    let v = (0..el.count).map(|i| Vec3::new(scalar(n[0])[i] as f32, scalar(n[1])[i] as f32, scalar(n[2])[i] as f32)).collect();
-                    point_attribs.push(("N".into(), Attribute::from_data(AttribData::Vec3(v), TypeInfo::Normal)));
+                    let v = (0..el.count)
+                        .map(|i| {
+                            Vec3::new(
+                                scalar(n[0])[i] as f32,
+                                scalar(n[1])[i] as f32,
+                                scalar(n[2])[i] as f32,
+                            )
+                        })
+                        .collect();
+                    point_attribs.push((
+                        "N".into(),
+                        Attribute::from_data(AttribData::Vec3(v), TypeInfo::Normal),
+                    ));
                 }
                 if let Some(c) = vec3(["red", "green", "blue"]) {
                     used.extend(c);
@@ -338,14 +423,30 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
                         _ => 1.0,
                     };
                     let s = [scale(0), scale(1), scale(2)];
-                    let v = (0..el.count).map(|i| Vec3::new((scalar(c[0])[i] * s[0]) as f32, (scalar(c[1])[i] * s[1]) as f32, (scalar(c[2])[i] * s[2]) as f32)).collect();
-                    point_attribs.push(("Cd".into(), Attribute::from_data(AttribData::Vec3(v), TypeInfo::Color)));
+                    let v = (0..el.count)
+                        .map(|i| {
+                            Vec3::new(
+                                (scalar(c[0])[i] * s[0]) as f32,
+                                (scalar(c[1])[i] * s[1]) as f32,
+                                (scalar(c[2])[i] * s[2]) as f32,
+                            )
+                        })
+                        .collect();
+                    point_attribs.push((
+                        "Cd".into(),
+                        Attribute::from_data(AttribData::Vec3(v), TypeInfo::Color),
+                    ));
                 }
                 for (un, vn) in [("s", "t"), ("u", "v"), ("texture_u", "texture_v")] {
                     if let (Some(u), Some(v)) = (find(el, &[un]), find(el, &[vn])) {
                         used.extend([u, v]);
-                        let uv = (0..el.count).map(|i| Vec2::new(scalar(u)[i] as f32, scalar(v)[i] as f32)).collect();
-                        point_attribs.push(("uv".into(), Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)));
+                        let uv = (0..el.count)
+                            .map(|i| Vec2::new(scalar(u)[i] as f32, scalar(v)[i] as f32))
+                            .collect();
+                        point_attribs.push((
+                            "uv".into(),
+                            Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+                        ));
                         break;
                     }
                 }
@@ -359,26 +460,36 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
                         } else {
                             AttribData::Int(cols[i].values.iter().map(|&v| v as i32).collect())
                         };
-                        point_attribs.push((p.name.clone(), Attribute::from_data(data, TypeInfo::None)));
+                        point_attribs
+                            .push((p.name.clone(), Attribute::from_data(data, TypeInfo::None)));
                     }
                 }
             }
             "face" => {
                 let Some(vi) = find(el, &["vertex_indices", "vertex_index"]) else {
-                    return Err(ParseError::whole("element `face` lacks a vertex_indices list"));
+                    return Err(ParseError::whole(
+                        "element `face` lacks a vertex_indices list",
+                    ));
                 };
                 let c = &cols[vi];
                 if c.list_counts.is_empty() && el.count > 0 {
-                    return Err(ParseError::whole("face property vertex_indices must be a list"));
+                    return Err(ParseError::whole(
+                        "face property vertex_indices must be a list",
+                    ));
                 }
                 let mut k = 0;
                 for (f, &n) in c.list_counts.iter().enumerate() {
                     if n < 3 {
-                        return Err(ParseError::whole(format!("face {f} has {n} vertices, at least 3 needed")));
+                        return Err(ParseError::whole(format!(
+                            "face {f} has {n} vertices, at least 3 needed"
+                        )));
                     }
                     for &v in &c.values[k..k + n as usize] {
                         if v < 0.0 || v as usize >= positions.len() {
-                            return Err(ParseError::whole(format!("face {f} refers to vertex {v} but there are {} vertices", positions.len())));
+                            return Err(ParseError::whole(format!(
+                                "face {f} refers to vertex {v} but there are {} vertices",
+                                positions.len()
+                            )));
                         }
                         vertex_points.push(v as u32);
                     }
@@ -389,8 +500,17 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
                 n_faces = el.count;
                 if let Some(ti) = find(el, &["texcoord"]) {
                     let t = &cols[ti];
-                    if t.list_counts.iter().zip(&c.list_counts).all(|(a, b)| *a == 2 * *b) {
-                        vertex_uv = Some(t.values.chunks(2).map(|p| Vec2::new(p[0] as f32, p[1] as f32)).collect());
+                    if t.list_counts
+                        .iter()
+                        .zip(&c.list_counts)
+                        .all(|(a, b)| *a == 2 * *b)
+                    {
+                        vertex_uv = Some(
+                            t.values
+                                .chunks(2)
+                                .map(|p| Vec2::new(p[0] as f32, p[1] as f32))
+                                .collect(),
+                        );
                     }
                 }
                 for (i, p) in el.props.iter().enumerate() {
@@ -404,7 +524,10 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
                     for i in 0..el.count {
                         for v in [cols[a].values[i], cols[b].values[i]] {
                             if v < 0.0 || v as usize >= positions.len() {
-                                return Err(ParseError::whole(format!("edge {i} refers to vertex {v} but there are {} vertices", positions.len())));
+                                return Err(ParseError::whole(format!(
+                                    "edge {i} refers to vertex {v} but there are {} vertices",
+                                    positions.len()
+                                )));
                             }
                             vertex_points.push(v as u32);
                         }
@@ -417,20 +540,36 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
         }
     }
     let n_vertices = vertex_points.len();
-    let mut g = Geometry::from_prims(positions, vertex_points, &counts, kinds).map_err(|e| ParseError::whole(e.to_string()))?;
+    let mut g = Geometry::from_prims(positions, vertex_points, &counts, kinds)
+        .map_err(|e| ParseError::whole(e.to_string()))?;
     for (name, a) in point_attribs {
-        g.set_attrib(AttribClass::Point, &name, a).map_err(|e| ParseError::whole(e.to_string()))?;
+        g.set_attrib(AttribClass::Point, &name, a)
+            .map_err(|e| ParseError::whole(e.to_string()))?;
     }
     let n_prims = g.num_prims();
     for (name, mut vals, float) in prim_attribs {
         vals.resize(n_prims, 0.0);
-        let data = if float { AttribData::Float(vals.iter().map(|&v| v as f32).collect()) } else { AttribData::Int(vals.iter().map(|&v| v as i32).collect()) };
-        g.set_attrib(AttribClass::Primitive, &name, Attribute::from_data(data, TypeInfo::None)).map_err(|e| ParseError::whole(e.to_string()))?;
+        let data = if float {
+            AttribData::Float(vals.iter().map(|&v| v as f32).collect())
+        } else {
+            AttribData::Int(vals.iter().map(|&v| v as i32).collect())
+        };
+        g.set_attrib(
+            AttribClass::Primitive,
+            &name,
+            Attribute::from_data(data, TypeInfo::None),
+        )
+        .map_err(|e| ParseError::whole(e.to_string()))?;
     }
     if let Some(mut uv) = vertex_uv {
         uv.resize(n_vertices, Vec2::ZERO);
         debug_assert!(n_faces <= n_prims);
-        g.set_attrib(AttribClass::Vertex, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)).map_err(|e| ParseError::whole(e.to_string()))?;
+        g.set_attrib(
+            AttribClass::Vertex,
+            "uv",
+            Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+        )
+        .map_err(|e| ParseError::whole(e.to_string()))?;
     }
     Ok(g)
 }
@@ -439,9 +578,20 @@ fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
 /// red/green/blue), point `uv` (as s/t) and every other scalar float or int
 /// point attribute; faces with their scalar primitive attributes; polylines as
 /// `edge` elements (one per segment). Packed primitives must be unpacked first.
-pub fn write_ply(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
-    if g.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_))) {
-        return Err(IoError::Unsupported { path: path.to_owned(), message: "PLY cannot hold packed primitives; unpack them first".into() });
+pub fn write_ply(
+    g: &Geometry,
+    w: &mut dyn Write,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
+    if g.prim_kinds()
+        .iter()
+        .any(|k| matches!(k, PrimKind::Packed(_)))
+    {
+        return Err(IoError::Unsupported {
+            path: path.to_owned(),
+            message: "PLY cannot hold packed primitives; unpack them first".into(),
+        });
     }
     let e = os_err(path);
     let pts = g.attribs(AttribClass::Point);
@@ -451,22 +601,39 @@ pub fn write_ply(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
     let uvs = pts.get("uv").and_then(|a| a.as_vec2());
     let scalars: Vec<(&str, &Attribute)> = pts
         .iter()
-        .filter(|(n, a)| !["P", "N", "Cd", "uv"].contains(n) && matches!(a.attrib_type(), AttribType::Float | AttribType::Int))
+        .filter(|(n, a)| {
+            !["P", "N", "Cd", "uv"].contains(n)
+                && matches!(a.attrib_type(), AttribType::Float | AttribType::Int)
+        })
         .filter(|(n, _)| n.chars().all(|c| c.is_ascii_graphic()))
         .collect();
     let prim_scalars: Vec<(&str, &Attribute)> = g
         .attribs(AttribClass::Primitive)
         .iter()
-        .filter(|(n, a)| matches!(a.attrib_type(), AttribType::Float | AttribType::Int) && n.chars().all(|c| c.is_ascii_graphic()))
+        .filter(|(n, a)| {
+            matches!(a.attrib_type(), AttribType::Float | AttribType::Int)
+                && n.chars().all(|c| c.is_ascii_graphic())
+        })
         .collect();
-    let polys: Vec<usize> = (0..g.num_prims()).filter(|&i| g.prim_kind(i) == PrimKind::Polygon).collect();
+    let polys: Vec<usize> = (0..g.num_prims())
+        .filter(|&i| g.prim_kind(i) == PrimKind::Polygon)
+        .collect();
     let segments: Vec<[u32; 2]> = (0..g.num_prims())
         .filter(|&i| g.prim_kind(i) == PrimKind::Polyline)
-        .flat_map(|i| g.prim_points(i).windows(2).map(|w| [w[0], w[1]]).collect::<Vec<_>>())
+        .flat_map(|i| {
+            g.prim_points(i)
+                .windows(2)
+                .map(|w| [w[0], w[1]])
+                .collect::<Vec<_>>()
+        })
         .collect();
     let big_faces = polys.iter().any(|&i| g.prim_vertex_range(i).len() > 255);
     let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
-    head += &format!("comment written by geode {}\nelement vertex {}\n", env!("CARGO_PKG_VERSION"), g.num_points());
+    head += &format!(
+        "comment written by geode {}\nelement vertex {}\n",
+        env!("CARGO_PKG_VERSION"),
+        g.num_points()
+    );
     head += "property float x\nproperty float y\nproperty float z\n";
     if normals.is_some() {
         head += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -477,20 +644,37 @@ pub fn write_ply(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
     if uvs.is_some() {
         head += "property float s\nproperty float t\n";
     }
-    let ty = |a: &Attribute| if a.attrib_type() == AttribType::Float { "float" } else { "int" };
+    let ty = |a: &Attribute| {
+        if a.attrib_type() == AttribType::Float {
+            "float"
+        } else {
+            "int"
+        }
+    };
     for (n, a) in &scalars {
         head += &format!("property {} {n}\n", ty(a));
     }
-    head += &format!("element face {}\nproperty list {} int vertex_indices\n", polys.len(), if big_faces { "uint" } else { "uchar" });
+    head += &format!(
+        "element face {}\nproperty list {} int vertex_indices\n",
+        polys.len(),
+        if big_faces { "uint" } else { "uchar" }
+    );
     for (n, a) in &prim_scalars {
         head += &format!("property {} {n}\n", ty(a));
     }
     if !segments.is_empty() {
-        head += &format!("element edge {}\nproperty int vertex1\nproperty int vertex2\n", segments.len());
+        head += &format!(
+            "element edge {}\nproperty int vertex1\nproperty int vertex2\n",
+            segments.len()
+        );
     }
     head += "end_header\n";
     w.write_all(head.as_bytes()).map_err(&e)?;
-    let mut throttle = Throttle::new(progress, "writing PLY", (g.num_points() + polys.len()) as u64);
+    let mut throttle = Throttle::new(
+        progress,
+        "writing PLY",
+        (g.num_points() + polys.len()) as u64,
+    );
     let mut buf: Vec<u8> = Vec::with_capacity(1 << 20);
     let put_scalar = |buf: &mut Vec<u8>, a: &Attribute, i: usize| match a.data() {
         AttribData::Float(v) => buf.extend_from_slice(&v[i].to_le_bytes()),
@@ -557,9 +741,27 @@ mod tests {
     fn ascii_with_colours_and_extra_properties() {
         let g = read_ply(ASCII.as_bytes(), &NoProgress).unwrap();
         assert_eq!((g.num_points(), g.num_prims()), (4, 1));
-        assert_eq!(g.attrib(AttribClass::Point, "Cd").unwrap().as_vec3().unwrap()[1], Vec3::Y);
-        assert_eq!(g.attrib(AttribClass::Point, "quality").unwrap().as_f32().unwrap(), &[1.5, 2.0, 3.0, 4.0]);
-        assert_eq!(g.attrib(AttribClass::Primitive, "flag").unwrap().as_i32().unwrap(), &[7]);
+        assert_eq!(
+            g.attrib(AttribClass::Point, "Cd")
+                .unwrap()
+                .as_vec3()
+                .unwrap()[1],
+            Vec3::Y
+        );
+        assert_eq!(
+            g.attrib(AttribClass::Point, "quality")
+                .unwrap()
+                .as_f32()
+                .unwrap(),
+            &[1.5, 2.0, 3.0, 4.0]
+        );
+        assert_eq!(
+            g.attrib(AttribClass::Primitive, "flag")
+                .unwrap()
+                .as_i32()
+                .unwrap(),
+            &[7]
+        );
     }
 
     #[test]
@@ -567,12 +769,24 @@ mod tests {
         let short = ASCII.replace("element vertex 4", "element vertex 5");
         let e = read_ply(short.as_bytes(), &NoProgress).unwrap_err();
         assert_eq!(e.pos, Some(crate::Position::Line(20)));
-        assert_eq!(e.message, "file ends while reading property `quality` of vertex 4 of 5");
+        assert_eq!(
+            e.message,
+            "file ends while reading property `quality` of vertex 4 of 5"
+        );
         let long = ASCII.replace("element vertex 4", "element vertex 3");
         let e = read_ply(long.as_bytes(), &NoProgress).unwrap_err();
-        assert!(e.message.contains("after the element's declared properties") || e.message.contains("more data"), "{}", e.message);
+        assert!(
+            e.message
+                .contains("after the element's declared properties")
+                || e.message.contains("more data"),
+            "{}",
+            e.message
+        );
         let bad_index = ASCII.replace("4 0 1 2 3 7", "4 0 1 2 9 7");
         let e = read_ply(bad_index.as_bytes(), &NoProgress).unwrap_err();
-        assert_eq!(e.message, "face 0 refers to vertex 9 but there are 4 vertices");
+        assert_eq!(
+            e.message,
+            "face 0 refers to vertex 9 but there are 4 vertices"
+        );
     }
 }

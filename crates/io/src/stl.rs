@@ -34,7 +34,10 @@ pub fn read_stl(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
     } else if bytes.len() < HEADER + 4 {
         return Err(ParseError::byte(
             bytes.len() as u64,
-            format!("truncated binary STL: {} bytes, expected at least 84 (header and triangle count)", bytes.len()),
+            format!(
+                "truncated binary STL: {} bytes, expected at least 84 (header and triangle count)",
+                bytes.len()
+            ),
         ));
     } else {
         let n = u32::from_le_bytes(bytes[HEADER..HEADER + 4].try_into().expect("4 bytes")) as u64;
@@ -126,52 +129,46 @@ fn read_ascii(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Vec<Vec3>> {
     Ok(corners)
 }
 
-/// Shares one point among corners with bit-identical positions, numbering
-/// points by first appearance (deterministic, parallel sort).
+/// Shares one point among corners with bit-identical positions.
 fn weld(corners: Vec<Vec3>) -> ParseResult<Geometry> {
-    let key = |p: &Vec3| {
-        // -0.0 and 0.0 are the same place.
-        let b = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
-        (b(p.x), b(p.y), b(p.z))
-    };
-    let mut order: Vec<u32> = (0..corners.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&i| (key(&corners[i as usize]), i));
-    // Each run of equal keys becomes one point, represented by its first corner.
-    let mut first_of_corner = vec![0u32; corners.len()];
-    let mut run_start = 0;
-    for k in 0..order.len() {
-        if k == 0 || key(&corners[order[k] as usize]) != key(&corners[order[k - 1] as usize]) {
-            run_start = order[k];
-        }
-        first_of_corner[order[k] as usize] = run_start;
-    }
-    let mut point_of_first = vec![u32::MAX; corners.len()];
-    let mut positions = Vec::new();
-    let mut vertex_points = Vec::with_capacity(corners.len());
-    for c in 0..corners.len() {
-        let f = first_of_corner[c] as usize;
-        if point_of_first[f] == u32::MAX {
-            point_of_first[f] = positions.len() as u32;
-            positions.push(corners[f]);
-        }
-        vertex_points.push(point_of_first[f]);
-    }
+    let (positions, vertex_points) = crate::weld::weld_positions(&corners);
     let counts = vec![3u32; corners.len() / 3];
-    Geometry::from_polygons(positions, vertex_points, &counts).map_err(|e| ParseError::whole(e.to_string()))
+    Geometry::from_polygons(positions, vertex_points, &counts)
+        .map_err(|e| ParseError::whole(e.to_string()))
 }
 
 /// Writes binary STL: polygons are triangulated, facet normals computed.
 /// Polylines are skipped (STL holds only triangles); packed primitives must be
 /// unpacked first.
-pub fn write_stl(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
-    if g.prim_kinds().iter().any(|k| matches!(k, PrimKind::Packed(_))) {
-        return Err(IoError::Unsupported { path: path.to_owned(), message: "STL cannot hold packed primitives; unpack them first".into() });
+pub fn write_stl(
+    g: &Geometry,
+    w: &mut dyn Write,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
+    if g.prim_kinds()
+        .iter()
+        .any(|k| matches!(k, PrimKind::Packed(_)))
+    {
+        return Err(IoError::Unsupported {
+            path: path.to_owned(),
+            message: "STL cannot hold packed primitives; unpack them first".into(),
+        });
     }
-    let tri = if g.prim_offsets().windows(2).all(|w| w[1] - w[0] == 3) { None } else { Some(ops::triangulate(g, None)) };
+    let tri = if g.prim_offsets().windows(2).all(|w| w[1] - w[0] == 3) {
+        None
+    } else {
+        Some(ops::triangulate(g, None))
+    };
     let t = tri.as_ref().unwrap_or(g);
     let p = t.positions();
-    let tris: Vec<usize> = (0..t.num_prims()).filter(|&i| t.prim_kind(i) == PrimKind::Polygon).collect();
-    let count = u32::try_from(tris.len()).map_err(|_| IoError::Unsupported { path: path.to_owned(), message: "more than 4294967295 triangles".into() })?;
+    let tris: Vec<usize> = (0..t.num_prims())
+        .filter(|&i| t.prim_kind(i) == PrimKind::Polygon)
+        .collect();
+    let count = u32::try_from(tris.len()).map_err(|_| IoError::Unsupported {
+        path: path.to_owned(),
+        message: "more than 4294967295 triangles".into(),
+    })?;
     let e = os_err(path);
     let mut header = [b' '; HEADER];
     let tag = format!("binary STL written by geode {}", env!("CARGO_PKG_VERSION"));
@@ -183,16 +180,18 @@ pub fn write_stl(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Pr
     let mut buf = vec![0u8; BATCH * RECORD];
     for (bi, batch) in tris.chunks(BATCH).enumerate() {
         throttle.tick((bi * BATCH) as u64);
-        buf.par_chunks_mut(RECORD).zip(batch.par_iter()).for_each(|(rec, &prim)| {
-            let pts = t.prim_points(prim);
-            let [a, b, c] = [0, 1, 2].map(|k| p[pts[k] as usize]);
-            let n = (b - a).cross(c - a).normalize_or_zero();
-            for (k, v) in [n, a, b, c].iter().enumerate() {
-                rec[k * 12..k * 12 + 12].copy_from_slice(bytemuck::bytes_of(&v.to_array()));
-            }
-            rec[48] = 0;
-            rec[49] = 0;
-        });
+        buf.par_chunks_mut(RECORD)
+            .zip(batch.par_iter())
+            .for_each(|(rec, &prim)| {
+                let pts = t.prim_points(prim);
+                let [a, b, c] = [0, 1, 2].map(|k| p[pts[k] as usize]);
+                let n = (b - a).cross(c - a).normalize_or_zero();
+                for (k, v) in [n, a, b, c].iter().enumerate() {
+                    rec[k * 12..k * 12 + 12].copy_from_slice(bytemuck::bytes_of(&v.to_array()));
+                }
+                rec[48] = 0;
+                rec[49] = 0;
+            });
         w.write_all(&buf[..batch.len() * RECORD]).map_err(&e)?;
     }
     throttle.finish();
@@ -220,8 +219,21 @@ mod tests {
         b[80] = 3;
         let e = read_stl(&b, &NoProgress).unwrap_err();
         assert_eq!(e.pos, Some(crate::Position::Byte(184)));
-        assert_eq!(e.message, "binary STL declares 3 triangles (234 bytes) but the file has 184 bytes: truncated");
-        let e = read_stl(b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n", &NoProgress).unwrap_err();
-        assert_eq!((e.pos, e.message.as_str()), (Some(crate::Position::Line(4)), "`vertex` needs 3 numbers, found 2"));
+        assert_eq!(
+            e.message,
+            "binary STL declares 3 triangles (234 bytes) but the file has 184 bytes: truncated"
+        );
+        let e = read_stl(
+            b"solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0\n",
+            &NoProgress,
+        )
+        .unwrap_err();
+        assert_eq!(
+            (e.pos, e.message.as_str()),
+            (
+                Some(crate::Position::Line(4)),
+                "`vertex` needs 3 numbers, found 2"
+            )
+        );
     }
 }

@@ -35,7 +35,10 @@ impl<'a> Iterator for Lines<'a> {
         }
         let start = self.pos;
         let rest = &self.bytes[start..];
-        let end = rest.iter().position(|&b| b == b'\n').map_or(rest.len(), |i| i);
+        let end = rest
+            .iter()
+            .position(|&b| b == b'\n')
+            .map_or(rest.len(), |i| i);
         self.pos = start + end + 1;
         self.line += 1;
         let mut raw = &rest[..end];
@@ -43,7 +46,10 @@ impl<'a> Iterator for Lines<'a> {
             raw = &raw[..raw.len() - 1];
         }
         let text = std::str::from_utf8(raw).map_err(|e| {
-            format!("not UTF-8 text (invalid byte at column {})", e.valid_up_to() + 1)
+            format!(
+                "not UTF-8 text (invalid byte at column {})",
+                e.valid_up_to() + 1
+            )
         });
         Some((self.line, start, text))
     }
@@ -81,7 +87,9 @@ mod tests {
 
     #[test]
     fn lines_and_numbers() {
-        let l: Vec<_> = Lines::new(b"a\r\nb\n\nc").map(|(n, o, s)| (n, o, s.unwrap())).collect();
+        let l: Vec<_> = Lines::new(b"a\r\nb\n\nc")
+            .map(|(n, o, s)| (n, o, s.unwrap()))
+            .collect();
         assert_eq!(l, vec![(1, 0, "a"), (2, 3, "b"), (3, 5, ""), (4, 6, "c")]);
         assert_eq!(parse_i64("-12"), Some(-12));
         assert_eq!(parse_i64("1x"), None);

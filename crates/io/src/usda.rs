@@ -24,13 +24,22 @@ struct Writer<'w> {
 impl Writer<'_> {
     fn flush_if_big(&mut self) -> Result<(), IoError> {
         if self.buf.len() > 1 << 20 {
-            self.out.write_all(self.buf.as_bytes()).map_err(os_err(self.path))?;
+            self.out
+                .write_all(self.buf.as_bytes())
+                .map_err(os_err(self.path))?;
             self.buf.clear();
         }
         Ok(())
     }
 
-    fn array<T>(&mut self, indent: &str, decl: &str, items: &[T], fmt: impl Fn(&mut String, &T), meta: &str) -> Result<(), IoError> {
+    fn array<T>(
+        &mut self,
+        indent: &str,
+        decl: &str,
+        items: &[T],
+        fmt: impl Fn(&mut String, &T),
+        meta: &str,
+    ) -> Result<(), IoError> {
         let _ = write!(self.buf, "{indent}{decl} = [");
         for (i, it) in items.iter().enumerate() {
             if i > 0 {
@@ -56,7 +65,8 @@ impl Writer<'_> {
         }
         let name = format!("proto_{}", self.protos.len());
         self.proto_index.insert(key, self.protos.len());
-        self.protos.push((key, name.clone(), std::sync::Arc::clone(src)));
+        self.protos
+            .push((key, name.clone(), std::sync::Arc::clone(src)));
         name
     }
 
@@ -64,47 +74,132 @@ impl Writer<'_> {
     /// instanceable prim per packed primitive.
     fn body(&mut self, g: &Geometry, indent: &str) -> Result<(), IoError> {
         let p = g.positions();
-        let polys: Vec<usize> = (0..g.num_prims()).filter(|&i| g.prim_kind(i) == PrimKind::Polygon).collect();
+        let polys: Vec<usize> = (0..g.num_prims())
+            .filter(|&i| g.prim_kind(i) == PrimKind::Polygon)
+            .collect();
         if !polys.is_empty() {
-            let counts: Vec<u32> = polys.iter().map(|&i| g.prim_vertex_range(i).len() as u32).collect();
-            let indices: Vec<u32> = polys.iter().flat_map(|&i| g.prim_points(i).iter().copied()).collect();
-            let corner_vertices: Vec<usize> = polys.iter().flat_map(|&i| g.prim_vertex_range(i)).collect();
+            let counts: Vec<u32> = polys
+                .iter()
+                .map(|&i| g.prim_vertex_range(i).len() as u32)
+                .collect();
+            let indices: Vec<u32> = polys
+                .iter()
+                .flat_map(|&i| g.prim_points(i).iter().copied())
+                .collect();
+            let corner_vertices: Vec<usize> =
+                polys.iter().flat_map(|&i| g.prim_vertex_range(i)).collect();
             let _ = writeln!(self.buf, "{indent}def Mesh \"mesh\"\n{indent}{{");
             let inner = format!("{indent}    ");
             if let Some(b) = ops::bounds(g) {
-                let _ = writeln!(self.buf, "{inner}float3[] extent = [({}, {}, {}), ({}, {}, {})]", b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z);
+                let _ = writeln!(
+                    self.buf,
+                    "{inner}float3[] extent = [({}, {}, {}), ({}, {}, {})]",
+                    b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z
+                );
             }
-            self.array(&inner, "int[] faceVertexCounts", &counts, |s, c| { let _ = write!(s, "{c}"); }, "")?;
-            self.array(&inner, "int[] faceVertexIndices", &indices, |s, c| { let _ = write!(s, "{c}"); }, "")?;
-            let v3 = |s: &mut String, v: &Vec3| { let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z); };
+            self.array(
+                &inner,
+                "int[] faceVertexCounts",
+                &counts,
+                |s, c| {
+                    let _ = write!(s, "{c}");
+                },
+                "",
+            )?;
+            self.array(
+                &inner,
+                "int[] faceVertexIndices",
+                &indices,
+                |s, c| {
+                    let _ = write!(s, "{c}");
+                },
+                "",
+            )?;
+            let v3 = |s: &mut String, v: &Vec3| {
+                let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
+            };
             // Vertex-class attributes are face-varying in USD, point-class ones per vertex.
-            for (name, decl, norm) in [("N", "normal3f[] normals", true), ("Cd", "color3f[] primvars:displayColor", false)] {
-                if let Some(v) = g.attrib(AttribClass::Vertex, name).and_then(|a| a.as_vec3()) {
-                    let vals: Vec<Vec3> = corner_vertices.iter().map(|&c| if norm { v[c].normalize_or_zero() } else { v[c] }).collect();
+            for (name, decl, norm) in [
+                ("N", "normal3f[] normals", true),
+                ("Cd", "color3f[] primvars:displayColor", false),
+            ] {
+                if let Some(v) = g
+                    .attrib(AttribClass::Vertex, name)
+                    .and_then(|a| a.as_vec3())
+                {
+                    let vals: Vec<Vec3> = corner_vertices
+                        .iter()
+                        .map(|&c| if norm { v[c].normalize_or_zero() } else { v[c] })
+                        .collect();
                     self.array(&inner, decl, &vals, v3, "interpolation = \"faceVarying\"")?;
-                } else if let Some(v) = g.attrib(AttribClass::Point, name).and_then(|a| a.as_vec3()) {
+                } else if let Some(v) = g.attrib(AttribClass::Point, name).and_then(|a| a.as_vec3())
+                {
                     self.array(&inner, decl, v, v3, "interpolation = \"vertex\"")?;
                 }
             }
             self.array(&inner, "point3f[] points", p, v3, "")?;
-            let v2 = |s: &mut String, v: &geode_geo::glam::Vec2| { let _ = write!(s, "({}, {})", v.x, v.y); };
-            if let Some(v) = g.attrib(AttribClass::Vertex, "uv").and_then(|a| a.as_vec2()) {
+            let v2 = |s: &mut String, v: &geode_geo::glam::Vec2| {
+                let _ = write!(s, "({}, {})", v.x, v.y);
+            };
+            if let Some(v) = g
+                .attrib(AttribClass::Vertex, "uv")
+                .and_then(|a| a.as_vec2())
+            {
                 let vals: Vec<_> = corner_vertices.iter().map(|&c| v[c]).collect();
-                self.array(&inner, "texCoord2f[] primvars:st", &vals, v2, "interpolation = \"faceVarying\"")?;
+                self.array(
+                    &inner,
+                    "texCoord2f[] primvars:st",
+                    &vals,
+                    v2,
+                    "interpolation = \"faceVarying\"",
+                )?;
             } else if let Some(v) = g.attrib(AttribClass::Point, "uv").and_then(|a| a.as_vec2()) {
-                self.array(&inner, "texCoord2f[] primvars:st", v, v2, "interpolation = \"vertex\"")?;
+                self.array(
+                    &inner,
+                    "texCoord2f[] primvars:st",
+                    v,
+                    v2,
+                    "interpolation = \"vertex\"",
+                )?;
             }
-            let _ = writeln!(self.buf, "{inner}uniform token subdivisionScheme = \"none\"\n{indent}}}");
+            let _ = writeln!(
+                self.buf,
+                "{inner}uniform token subdivisionScheme = \"none\"\n{indent}}}"
+            );
         }
-        let lines: Vec<usize> = (0..g.num_prims()).filter(|&i| g.prim_kind(i) == PrimKind::Polyline).collect();
+        let lines: Vec<usize> = (0..g.num_prims())
+            .filter(|&i| g.prim_kind(i) == PrimKind::Polyline)
+            .collect();
         if !lines.is_empty() {
-            let counts: Vec<u32> = lines.iter().map(|&i| g.prim_vertex_range(i).len() as u32).collect();
-            let pts: Vec<Vec3> = lines.iter().flat_map(|&i| g.prim_points(i).iter().map(|&k| p[k as usize])).collect();
+            let counts: Vec<u32> = lines
+                .iter()
+                .map(|&i| g.prim_vertex_range(i).len() as u32)
+                .collect();
+            let pts: Vec<Vec3> = lines
+                .iter()
+                .flat_map(|&i| g.prim_points(i).iter().map(|&k| p[k as usize]))
+                .collect();
             let _ = writeln!(self.buf, "{indent}def BasisCurves \"curves\"\n{indent}{{");
             let inner = format!("{indent}    ");
             let _ = writeln!(self.buf, "{inner}uniform token type = \"linear\"");
-            self.array(&inner, "int[] curveVertexCounts", &counts, |s, c| { let _ = write!(s, "{c}"); }, "")?;
-            self.array(&inner, "point3f[] points", &pts, |s, v| { let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z); }, "")?;
+            self.array(
+                &inner,
+                "int[] curveVertexCounts",
+                &counts,
+                |s, c| {
+                    let _ = write!(s, "{c}");
+                },
+                "",
+            )?;
+            self.array(
+                &inner,
+                "point3f[] points",
+                &pts,
+                |s, v| {
+                    let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
+                },
+                "",
+            )?;
             let _ = writeln!(self.buf, "{inner}float[] widths = [0.01] (\n{inner}    interpolation = \"constant\"\n{inner})\n{indent}}}");
         }
         let mut k = 0;
@@ -130,17 +225,39 @@ impl Writer<'_> {
 /// USD matrices multiply row vectors: its rows are our columns.
 fn usd_matrix(m: &Mat4) -> String {
     let c = m.to_cols_array_2d();
-    let row = |r: [f32; 4]| format!("({}, {}, {}, {})", r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64);
-    format!("({}, {}, {}, {})", row(c[0]), row(c[1]), row(c[2]), row(c[3]))
+    let row = |r: [f32; 4]| {
+        format!(
+            "({}, {}, {}, {})",
+            r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64
+        )
+    };
+    format!(
+        "({}, {}, {}, {})",
+        row(c[0]),
+        row(c[1]),
+        row(c[2]),
+        row(c[3])
+    )
 }
 
 /// Writes a `.usda` layer: an Xform `/geode` holding a Mesh (polygons, with
 /// normals, displayColor and st primvars), BasisCurves (polylines) and one
 /// instanceable Xform per packed instance referencing a prototype under the
 /// abstract class `/geode_prototypes`, so instances share their prototype.
-pub fn write_usda(g: &Geometry, w: &mut dyn Write, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+pub fn write_usda(
+    g: &Geometry,
+    w: &mut dyn Write,
+    path: &Path,
+    progress: &dyn Progress,
+) -> Result<(), IoError> {
     progress.start("writing USDA", 1);
-    let mut wr = Writer { out: w, buf: String::new(), path, protos: Vec::new(), proto_index: HashMap::new() };
+    let mut wr = Writer {
+        out: w,
+        buf: String::new(),
+        path,
+        protos: Vec::new(),
+        proto_index: HashMap::new(),
+    };
     let _ = writeln!(
         wr.buf,
         "#usda 1.0\n(\n    defaultPrim = \"geode\"\n    doc = \"written by geode {}\"\n    metersPerUnit = 1\n    upAxis = \"Y\"\n)\n\ndef Xform \"geode\"\n{{",

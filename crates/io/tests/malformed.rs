@@ -9,24 +9,41 @@ fn read_err(name: &str, bytes: &[u8]) -> geode_io::IoError {
     let path = dir.path().join(name);
     std::fs::write(&path, bytes).unwrap();
     let e = read(&path, &NoProgress).expect_err("must be rejected");
-    assert!(e.to_string().starts_with(&path.display().to_string()), "names the file: {e}");
+    assert!(
+        e.to_string().starts_with(&path.display().to_string()),
+        "names the file: {e}"
+    );
     e
 }
 
 #[test]
 fn truncated_binary_stl() {
-    let mut bytes = geode_io::write_bytes(&geode_geo::primitives::cube(1.0), Format::Stl, Path::new("c.stl"), &NoProgress).unwrap();
+    let mut bytes = geode_io::write_bytes(
+        &geode_geo::primitives::cube(1.0),
+        Format::Stl,
+        Path::new("c.stl"),
+        &NoProgress,
+    )
+    .unwrap();
     bytes.truncate(bytes.len() - 7);
     let e = read_err("cube.stl", &bytes);
     assert_eq!(e.position(), Some(Position::Byte(84 + 50 * 11)));
-    assert!(e.to_string().contains("declares 12 triangles (684 bytes) but the file has 677 bytes: truncated"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("declares 12 triangles (684 bytes) but the file has 677 bytes: truncated"),
+        "{e}"
+    );
 }
 
 #[test]
 fn obj_index_out_of_range() {
     let e = read_err("bad.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 4\n");
     assert_eq!(e.position(), Some(Position::Line(5)));
-    assert!(e.to_string().ends_with("line 5: vertex index 4 out of range (3 vertexs defined so far)"), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("line 5: vertex index 4 out of range (3 vertexs defined so far)"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -36,16 +53,28 @@ fn ply_with_wrong_counts() {
     let e = read_err("short.ply", text.as_bytes());
     assert_eq!(e.position(), Some(Position::Line(13)));
     // The face line is taken for the fourth vertex and has one number too many.
-    assert!(e.to_string().ends_with("line 13: unexpected `2` after the element's declared properties"), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("line 13: unexpected `2` after the element's declared properties"),
+        "{e}"
+    );
     let long = text.replace("element vertex 4", "element vertex 2");
     let e = read_err("long.ply", long.as_bytes());
-    assert!(e.to_string().ends_with("line 12: unexpected `0` after the element's declared properties"), "{e}");
+    assert!(
+        e.to_string()
+            .ends_with("line 12: unexpected `0` after the element's declared properties"),
+        "{e}"
+    );
 
     let bin = b"ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nend_header\n\0\0\0\0\0\0\0\0\0\0\0\0\0\0";
     let e = read_err("short_bin.ply", bin);
     let body = bin.len() - 14;
     assert_eq!(e.position(), Some(Position::Byte(body as u64 + 12)));
-    assert!(e.to_string().contains("file ends while reading property `x` of vertex 1 of 2"), "{e}");
+    assert!(
+        e.to_string()
+            .contains("file ends while reading property `x` of vertex 1 of 2"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -17,7 +17,10 @@ fn round_trip(g: &Geometry, ext: &str) -> Geometry {
 }
 
 fn attr3<'a>(g: &'a Geometry, class: AttribClass, name: &str) -> &'a [Vec3] {
-    g.attrib(class, name).unwrap_or_else(|| panic!("{name} missing")).as_vec3().unwrap()
+    g.attrib(class, name)
+        .unwrap_or_else(|| panic!("{name} missing"))
+        .as_vec3()
+        .unwrap()
 }
 
 #[test]
@@ -26,12 +29,27 @@ fn obj_keeps_everything() {
     let back = round_trip(&g, "obj");
     assert_eq!(back.num_points(), g.num_points());
     assert_eq!(back.num_prims(), g.num_prims());
-    assert_eq!(back.positions(), g.positions(), "shortest float text round trips exactly");
+    assert_eq!(
+        back.positions(),
+        g.positions(),
+        "shortest float text round trips exactly"
+    );
     assert_eq!(back.vertex_points(), g.vertex_points());
-    assert_eq!(attr3(&back, AttribClass::Point, "Cd"), attr3(&g, AttribClass::Point, "Cd"));
+    assert_eq!(
+        attr3(&back, AttribClass::Point, "Cd"),
+        attr3(&g, AttribClass::Point, "Cd")
+    );
     // Point uv/N come back per vertex (OBJ indexes them per corner).
-    let uv = back.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2().unwrap();
-    let puv = g.attrib(AttribClass::Point, "uv").unwrap().as_vec2().unwrap();
+    let uv = back
+        .attrib(AttribClass::Vertex, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
+    let puv = g
+        .attrib(AttribClass::Point, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
     for (v, &p) in g.vertex_points().iter().enumerate() {
         assert_eq!(uv[v], puv[p as usize]);
     }
@@ -39,20 +57,32 @@ fn obj_keeps_everything() {
 
     let c = vertex_attributed_cube();
     let back = round_trip(&c, "obj");
-    for name in ["N"] {
-        assert_eq!(attr3(&back, AttribClass::Vertex, name), attr3(&c, AttribClass::Vertex, name));
-    }
-    assert_eq!(back.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2(), c.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2());
+    assert_eq!(
+        attr3(&back, AttribClass::Vertex, "N"),
+        attr3(&c, AttribClass::Vertex, "N")
+    );
+    assert_eq!(
+        back.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2(),
+        c.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2()
+    );
 }
 
 #[test]
 fn stl_positions_exact_and_triangulated() {
     let g = attributed_torus();
     let back = round_trip(&g, "stl");
-    assert_eq!(back.num_points(), g.num_points(), "identical corners weld back into shared points");
+    assert_eq!(
+        back.num_points(),
+        g.num_points(),
+        "identical corners weld back into shared points"
+    );
     assert_eq!(back.num_prims(), 2 * g.num_prims());
     let sorted = |g: &Geometry| {
-        let mut v: Vec<[u32; 3]> = g.positions().iter().map(|p| p.to_array().map(f32::to_bits)).collect();
+        let mut v: Vec<[u32; 3]> = g
+            .positions()
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect();
         v.sort_unstable();
         v
     };
@@ -65,14 +95,28 @@ fn stl_positions_exact_and_triangulated() {
 fn ply_keeps_attributes() {
     let g = attributed_torus();
     let back = round_trip(&g, "ply");
-    assert_eq!((back.num_points(), back.num_prims()), (g.num_points(), g.num_prims()));
+    assert_eq!(
+        (back.num_points(), back.num_prims()),
+        (g.num_points(), g.num_prims())
+    );
     assert_eq!(back.positions(), g.positions());
     assert_eq!(back.vertex_points(), g.vertex_points());
     for name in ["N", "Cd"] {
-        assert_eq!(attr3(&back, AttribClass::Point, name), attr3(&g, AttribClass::Point, name));
+        assert_eq!(
+            attr3(&back, AttribClass::Point, name),
+            attr3(&g, AttribClass::Point, name)
+        );
     }
-    assert_eq!(back.attrib(AttribClass::Point, "uv").unwrap().as_vec2(), g.attrib(AttribClass::Point, "uv").unwrap().as_vec2());
-    assert_eq!(back.attrib(AttribClass::Primitive, "weight").unwrap().as_f32(), g.attrib(AttribClass::Primitive, "weight").unwrap().as_f32());
+    assert_eq!(
+        back.attrib(AttribClass::Point, "uv").unwrap().as_vec2(),
+        g.attrib(AttribClass::Point, "uv").unwrap().as_vec2()
+    );
+    assert_eq!(
+        back.attrib(AttribClass::Primitive, "weight")
+            .unwrap()
+            .as_f32(),
+        g.attrib(AttribClass::Primitive, "weight").unwrap().as_f32()
+    );
     // Polylines travel as edges.
     let mut lines = Geometry::new();
     lines.add_points(&[Vec3::ZERO, Vec3::X, Vec3::Y]);
@@ -96,15 +140,27 @@ fn glb_keeps_attributes_and_instances() {
             assert!((*x - *y).length() < 1e-6, "{name}: {x} vs {y}");
         }
     }
-    let uv = back.attrib(AttribClass::Point, "uv").unwrap().as_vec2().unwrap();
-    let uv0 = g.attrib(AttribClass::Point, "uv").unwrap().as_vec2().unwrap();
+    let uv = back
+        .attrib(AttribClass::Point, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
+    let uv0 = g
+        .attrib(AttribClass::Point, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
     for (a, b) in uv.iter().zip(uv0) {
         assert!((*a - *b).length() < 1e-6, "v flip undone on read");
     }
 
     let scene = instanced_scene(40);
     let back = round_trip(&scene, "glb");
-    let packed = back.prim_kinds().iter().filter(|k| matches!(k, PrimKind::Packed(_))).count();
+    let packed = back
+        .prim_kinds()
+        .iter()
+        .filter(|k| matches!(k, PrimKind::Packed(_)))
+        .count();
     assert_eq!(packed, 40, "instances stay instances");
     let b0 = ops::bounds(&scene).unwrap();
     let b1 = ops::bounds(&back).unwrap();
@@ -127,5 +183,8 @@ fn formats_without_instancing_unpack() {
 #[test]
 fn unknown_extension_is_a_clear_error() {
     let e = write(&Geometry::new(), Path::new("out.xyz"), &NoProgress).unwrap_err();
-    assert_eq!(e.to_string(), "out.xyz: unknown file format (expected one of: .obj, .stl, .ply, .glb, .usda)");
+    assert_eq!(
+        e.to_string(),
+        "out.xyz: unknown file format (expected one of: .obj, .stl, .ply, .glb, .usda)"
+    );
 }

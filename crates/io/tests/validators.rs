@@ -20,19 +20,28 @@ fn samples() -> Vec<(&'static str, Geometry)> {
     let mut nested = Geometry::new();
     let inner = std::sync::Arc::new(instanced_scene(4));
     let p = nested.add_point(Vec3::Y * 5.0);
-    nested.add_packed(p, inner, geode_geo::glam::Mat4::from_rotation_x(0.5)).unwrap();
+    nested
+        .add_packed(p, inner, geode_geo::glam::Mat4::from_rotation_x(0.5))
+        .unwrap();
     let mut bad_normals = primitives::cube(1.0);
     bad_normals
         .set_attrib(
             geode_geo::AttribClass::Point,
             "N",
-            geode_geo::Attribute::new(geode_geo::AttribValue::Vec3(Vec3::ZERO), geode_geo::TypeInfo::Normal, 8),
+            geode_geo::Attribute::new(
+                geode_geo::AttribValue::Vec3(Vec3::ZERO),
+                geode_geo::TypeInfo::Normal,
+                8,
+            ),
         )
         .unwrap();
     vec![
         ("torus", attributed_torus()),
         ("cube_vertex_attrs", vertex_attributed_cube()),
-        ("concave", ops::triangulate(&primitives::tube(1.0, 1.0, 7, 2, true), None)),
+        (
+            "concave",
+            ops::triangulate(&primitives::tube(1.0, 1.0, 7, 2, true), None),
+        ),
         ("instances", instanced_scene(100)),
         ("nested", nested),
         ("lines", lines),
@@ -69,18 +78,41 @@ fn usda_opens_in_usd_core() {
         let path = dir.path().join(format!("{name}.usda"));
         write(&g, &path, &NoProgress).unwrap();
         cmd.arg(path);
-        let polys = g.prim_kinds().iter().filter(|k| **k == geode_geo::PrimKind::Polygon).count();
-        let curves = g.prim_kinds().iter().filter(|k| **k == geode_geo::PrimKind::Polyline).count();
-        let instances = g.prim_kinds().iter().filter(|k| matches!(k, geode_geo::PrimKind::Packed(_))).count();
+        let polys = g
+            .prim_kinds()
+            .iter()
+            .filter(|k| **k == geode_geo::PrimKind::Polygon)
+            .count();
+        let curves = g
+            .prim_kinds()
+            .iter()
+            .filter(|k| **k == geode_geo::PrimKind::Polyline)
+            .count();
+        let instances = g
+            .prim_kinds()
+            .iter()
+            .filter(|k| matches!(k, geode_geo::PrimKind::Packed(_)))
+            .count();
         // Only the top level's faces are counted by traversal (prototypes sit
         // under an abstract class); instances are counted at every level.
-        let nested_instances: usize = g.packed_instances().iter().map(|i| i.source.packed_instances().len()).sum();
+        let nested_instances: usize = g
+            .packed_instances()
+            .iter()
+            .map(|i| i.source.packed_instances().len())
+            .sum();
         cmd.arg(format!(
             "{{\"faces\": {polys}, \"curves\": {curves}, \"instances\": {}}}",
             instances + nested_instances
         ));
     }
     if let Some(report) = run_validator(cmd, "usd-core (pip)") {
-        assert_eq!(report.lines().filter(|l| l.contains("\"ok\": true")).count(), samples().len(), "{report}");
+        assert_eq!(
+            report
+                .lines()
+                .filter(|l| l.contains("\"ok\": true"))
+                .count(),
+            samples().len(),
+            "{report}"
+        );
     }
 }

@@ -54,7 +54,11 @@ pub fn delete_prims(g: &mut Geometry, group: &Group, delete_unused_points: bool)
 /// Deletes the points in `group` and every primitive that uses one of them.
 pub fn delete_points(g: &mut Geometry, group: &Group) {
     let keep: Vec<bool> = (0..g.num_prims())
-        .map(|prim| !g.prim_points(prim).iter().any(|&p| group.contains(p as usize)))
+        .map(|prim| {
+            !g.prim_points(prim)
+                .iter()
+                .any(|&p| group.contains(p as usize))
+        })
         .collect();
     keep_prims(g, &keep);
     let keep_points: Vec<bool> = (0..g.num_points()).map(|p| !group.contains(p)).collect();

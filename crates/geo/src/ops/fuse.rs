@@ -121,7 +121,7 @@ fn collapse_repeated_points(g: &mut Geometry) -> usize {
     let mut keep_vertices: Vec<u32> = Vec::with_capacity(g.num_vertices());
     let mut keep_prim = vec![true; g.num_prims()];
     let mut new_counts = Vec::with_capacity(g.num_prims());
-    for prim in 0..g.num_prims() {
+    for (prim, keep) in keep_prim.iter_mut().enumerate() {
         let r = g.prim_vertex_range(prim);
         let kind = g.prim_kinds[prim];
         let start = keep_vertices.len();
@@ -148,7 +148,7 @@ fn collapse_repeated_points(g: &mut Geometry) -> usize {
         };
         if keep_vertices.len() - start < min {
             keep_vertices.truncate(start);
-            keep_prim[prim] = false;
+            *keep = false;
         }
         new_counts.push((keep_vertices.len() - start) as u32);
     }

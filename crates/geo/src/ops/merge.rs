@@ -12,7 +12,8 @@ fn append_groups(
     their_len: usize,
 ) {
     for (name, g) in theirs {
-        ours.entry(name.clone()).or_insert_with(|| Group::new(old_len));
+        ours.entry(name.clone())
+            .or_insert_with(|| Group::new(old_len));
         ours.get_mut(name).expect("just inserted").append(g);
     }
     for g in ours.values_mut() {
@@ -35,7 +36,8 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
     let total_vertices: usize = inputs.iter().map(|g| g.num_vertices()).sum();
     checked_u32(total_points, "point count")?;
     checked_u32(total_vertices, "vertex count")?;
-    out.vertex_point.reserve(total_vertices - out.num_vertices());
+    out.vertex_point
+        .reserve(total_vertices - out.num_vertices());
     for g in &inputs[1..] {
         let point_base = out.num_points() as u32;
         let vertex_base = out.num_vertices() as u32;
@@ -54,8 +56,18 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
             other => *other,
         }));
         out.packed.extend(g.packed.iter().cloned());
-        append_groups(&mut out.point_groups, &g.point_groups, old_points, g.num_points());
-        append_groups(&mut out.prim_groups, &g.prim_groups, old_prims, g.num_prims());
+        append_groups(
+            &mut out.point_groups,
+            &g.point_groups,
+            old_points,
+            g.num_points(),
+        );
+        append_groups(
+            &mut out.prim_groups,
+            &g.prim_groups,
+            old_prims,
+            g.num_prims(),
+        );
     }
     out.invalidate_topology();
     Ok(out)
@@ -102,17 +114,32 @@ mod tests {
         let mut w = w;
         w.as_f32_mut().unwrap()[0] = 5.0;
         b.set_attrib(AttribClass::Primitive, "w", w).unwrap();
-        b.set_prim_group("top", Group::from_members(6, [1])).unwrap();
+        b.set_prim_group("top", Group::from_members(6, [1]))
+            .unwrap();
         let m = merge(&[&a, &b]).unwrap();
         assert_eq!(m.num_points(), 16);
         assert_eq!(m.num_prims(), 12);
-        let cd = m.attrib(AttribClass::Point, "Cd").unwrap().as_vec3().unwrap();
+        let cd = m
+            .attrib(AttribClass::Point, "Cd")
+            .unwrap()
+            .as_vec3()
+            .unwrap();
         assert_eq!(cd[0], Vec3::X);
         assert_eq!(cd[8], Vec3::ZERO, "missing on b: the attribute's default");
-        let w = m.attrib(AttribClass::Primitive, "w").unwrap().as_f32().unwrap();
+        let w = m
+            .attrib(AttribClass::Primitive, "w")
+            .unwrap()
+            .as_f32()
+            .unwrap();
         assert_eq!(&w[..7], &[-1.0, -1.0, -1.0, -1.0, -1.0, -1.0, 5.0]);
-        assert_eq!(m.prim_groups()["top"].members().collect::<Vec<_>>(), vec![7]);
-        assert_eq!(m.prim_points(6), &[8, 9, 10, 11].map(|i| b.prim_points(0)[i - 8] + 8));
+        assert_eq!(
+            m.prim_groups()["top"].members().collect::<Vec<_>>(),
+            vec![7]
+        );
+        assert_eq!(
+            m.prim_points(6),
+            &[8, 9, 10, 11].map(|i| b.prim_points(0)[i - 8] + 8)
+        );
         assert!(crate::ops::validate(&m).is_empty());
     }
 
@@ -120,10 +147,18 @@ mod tests {
     fn conflicting_types_are_an_error() {
         let mut a = cube(1.0);
         let mut b = cube(1.0);
-        a.set_attrib(AttribClass::Point, "x", Attribute::new(AttribValue::Float(0.0), TypeInfo::None, 8))
-            .unwrap();
-        b.set_attrib(AttribClass::Point, "x", Attribute::new(AttribValue::Int(0), TypeInfo::None, 8))
-            .unwrap();
+        a.set_attrib(
+            AttribClass::Point,
+            "x",
+            Attribute::new(AttribValue::Float(0.0), TypeInfo::None, 8),
+        )
+        .unwrap();
+        b.set_attrib(
+            AttribClass::Point,
+            "x",
+            Attribute::new(AttribValue::Int(0), TypeInfo::None, 8),
+        )
+        .unwrap();
         let e = merge(&[&a, &b]).unwrap_err();
         assert_eq!(e.to_string(), "point attribute `x` is int, expected float");
     }

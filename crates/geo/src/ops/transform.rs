@@ -68,7 +68,11 @@ pub fn transform(g: &mut Geometry, m: Mat4) {
         lin
     };
     let (_, rot, _) = Mat4::from_mat3(lin).to_scale_rotation_translation();
-    let rot = if rot.is_finite() { rot.normalize() } else { Quat::IDENTITY };
+    let rot = if rot.is_finite() {
+        rot.normalize()
+    } else {
+        Quat::IDENTITY
+    };
     g.invalidate_content();
     transform_table(&mut g.points, &m, &normal_m, &rot);
     transform_table(&mut g.vertices, &m, &normal_m, &rot);
@@ -101,13 +105,24 @@ mod tests {
         let mut g = Geometry::new();
         g.add_point(Vec3::new(1.0, 0.0, 0.0));
         let set = |g: &mut Geometry, name: &str, v: AttribValue, info| {
-            g.set_attrib(AttribClass::Point, name, Attribute::new(v, info, 1)).unwrap();
+            g.set_attrib(AttribClass::Point, name, Attribute::new(v, info, 1))
+                .unwrap();
         };
         let n = Vec3::new(1.0, 1.0, 0.0).normalize();
         set(&mut g, "N", AttribValue::Vec3(n), TypeInfo::Normal);
-        set(&mut g, "v", AttribValue::Vec3(Vec3::new(1.0, 1.0, 0.0)), TypeInfo::Vector);
+        set(
+            &mut g,
+            "v",
+            AttribValue::Vec3(Vec3::new(1.0, 1.0, 0.0)),
+            TypeInfo::Vector,
+        );
         set(&mut g, "Cd", AttribValue::Vec3(Vec3::ONE), TypeInfo::Color);
-        set(&mut g, "orient", AttribValue::Quat(Quat::IDENTITY), TypeInfo::Quaternion);
+        set(
+            &mut g,
+            "orient",
+            AttribValue::Quat(Quat::IDENTITY),
+            TypeInfo::Quaternion,
+        );
         // Non-uniform scale x2 in X, then translate.
         let m = Mat4::from_translation(Vec3::Z) * Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0));
         transform(&mut g, m);
@@ -116,7 +131,9 @@ mod tests {
         assert_eq!(get("v"), AttribValue::Vec3(Vec3::new(2.0, 1.0, 0.0)));
         assert_eq!(get("Cd"), AttribValue::Vec3(Vec3::ONE));
         // Inverse transpose of diag(2,1,1) is diag(0.5,1,1): (0.5,1,0) normalised.
-        let AttribValue::Vec3(nn) = get("N") else { panic!() };
+        let AttribValue::Vec3(nn) = get("N") else {
+            panic!()
+        };
         assert!((nn - Vec3::new(0.5, 1.0, 0.0).normalize()).length() < 1e-6);
         // Normals stay perpendicular to a transformed tangent.
         let tangent = Vec3::new(1.0, -1.0, 0.0);
@@ -131,8 +148,15 @@ mod tests {
         )
         .unwrap();
         let rot = Quat::from_rotation_y(0.7);
-        transform(&mut r, Mat4::from_quat(rot) * Mat4::from_scale(Vec3::splat(3.0)));
-        let q = r.attrib(AttribClass::Point, "orient").unwrap().as_quat().unwrap()[0];
+        transform(
+            &mut r,
+            Mat4::from_quat(rot) * Mat4::from_scale(Vec3::splat(3.0)),
+        );
+        let q = r
+            .attrib(AttribClass::Point, "orient")
+            .unwrap()
+            .as_quat()
+            .unwrap()[0];
         assert!(q.angle_between(rot) < 1e-5);
     }
 

@@ -62,8 +62,13 @@ fn ear_clip(q: &[Vec2], out: &mut Vec<[u32; 3]>) {
         let is_convex = cross2(b - a, c - b) > 0.0;
         let is_ear = is_convex
             && idx.iter().all(|&j| {
-                j == ia || j == ib || j == ic || q[j as usize] == a || q[j as usize] == b
-                    || q[j as usize] == c || !inside(q[j as usize], a, b, c)
+                j == ia
+                    || j == ib
+                    || j == ic
+                    || q[j as usize] == a
+                    || q[j as usize] == b
+                    || q[j as usize] == c
+                    || !inside(q[j as usize], a, b, c)
             });
         // After a full pass without an ear the polygon is degenerate
         // (self-intersecting or collinear): clip anyway so we terminate.
@@ -87,8 +92,10 @@ pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
     const CHUNK: usize = 1 << 14;
     let p = g.positions();
     let nprims = g.num_prims();
-    // Each chunk yields (vertex list, per new prim: (source prim, vertex count)).
-    let pieces: Vec<(Vec<u32>, Vec<(u32, u32)>)> = (0..nprims.div_ceil(CHUNK))
+    // Each chunk yields its vertex list and, per new primitive, (source
+    // primitive, vertex count).
+    type Piece = (Vec<u32>, Vec<(u32, u32)>);
+    let pieces: Vec<Piece> = (0..nprims.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
             let mut verts = Vec::new();
@@ -113,7 +120,10 @@ pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
         })
         .collect();
     let vertex_src: Vec<u32> = pieces.iter().flat_map(|(v, _)| v.iter().copied()).collect();
-    let prim_src: Vec<u32> = pieces.iter().flat_map(|(_, p)| p.iter().map(|x| x.0)).collect();
+    let prim_src: Vec<u32> = pieces
+        .iter()
+        .flat_map(|(_, p)| p.iter().map(|x| x.0))
+        .collect();
     let mut out = g.clone();
     let mut acc = 0u32;
     out.prim_offsets = std::iter::once(0)
@@ -122,7 +132,10 @@ pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
             acc
         }))
         .collect();
-    out.vertex_point = vertex_src.iter().map(|&v| g.vertex_point[v as usize]).collect();
+    out.vertex_point = vertex_src
+        .iter()
+        .map(|&v| g.vertex_point[v as usize])
+        .collect();
     out.vertices = g.vertices.gather(&vertex_src);
     out.prims = g.prims.gather(&prim_src);
     out.prim_kinds = prim_src.iter().map(|&s| g.prim_kinds[s as usize]).collect();

@@ -18,12 +18,18 @@ pub fn unpack(g: &Geometry) -> Result<Geometry, GeoError> {
     for &prim in &packed {
         let inst = g.packed_instance(prim).expect("packed primitive");
         let mut piece = unpack(&inst.source)?;
-        let m = g.packed_world_transform(prim).expect("packed primitive has a point");
+        let m = g
+            .packed_world_transform(prim)
+            .expect("packed primitive has a point");
         super::transform(&mut piece, m);
         pieces.push(piece);
     }
     let mut rest = g.clone();
-    super::delete_prims(&mut rest, &Group::from_members(g.num_prims(), packed.iter().copied()), false);
+    super::delete_prims(
+        &mut rest,
+        &Group::from_members(g.num_prims(), packed.iter().copied()),
+        false,
+    );
     // Only the points that served as instance anchors and nothing else go.
     let mut used = vec![false; rest.num_points()];
     for &p in rest.vertex_points() {
@@ -68,6 +74,10 @@ mod tests {
         let b = crate::ops::bounds(&flat).unwrap();
         assert_eq!(b.min, Vec3::new(-1.0, 9.0, -1.0));
         assert_eq!(b.max, Vec3::new(5.0, 11.0, 1.0));
-        assert_eq!(crate::ops::bounds(&outer).unwrap(), b, "packed bounds match unpacked");
+        assert_eq!(
+            crate::ops::bounds(&outer).unwrap(),
+            b,
+            "packed bounds match unpacked"
+        );
     }
 }

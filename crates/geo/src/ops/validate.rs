@@ -9,19 +9,45 @@ use crate::geometry::{Geometry, PrimKind};
 #[derive(Clone, Debug, PartialEq)]
 pub enum ValidationIssue {
     BadOffsets(String),
-    VertexPointOutOfRange { vertex: usize, point: u32, points: usize },
-    TooFewVertices { prim: usize, kind: &'static str, count: usize },
-    PackedOutOfRange { prim: usize, index: u32 },
-    AttribLength { class: AttribClass, name: String, len: usize, expected: usize },
-    GroupLength { name: String, len: usize, expected: usize },
-    NonFinitePosition { point: usize },
+    VertexPointOutOfRange {
+        vertex: usize,
+        point: u32,
+        points: usize,
+    },
+    TooFewVertices {
+        prim: usize,
+        kind: &'static str,
+        count: usize,
+    },
+    PackedOutOfRange {
+        prim: usize,
+        index: u32,
+    },
+    AttribLength {
+        class: AttribClass,
+        name: String,
+        len: usize,
+        expected: usize,
+    },
+    GroupLength {
+        name: String,
+        len: usize,
+        expected: usize,
+    },
+    NonFinitePosition {
+        point: usize,
+    },
 }
 
 impl fmt::Display for ValidationIssue {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             ValidationIssue::BadOffsets(m) => write!(f, "primitive offsets: {m}"),
-            ValidationIssue::VertexPointOutOfRange { vertex, point, points } => write!(
+            ValidationIssue::VertexPointOutOfRange {
+                vertex,
+                point,
+                points,
+            } => write!(
                 f,
                 "vertex {vertex} references point {point} but there are {points} points"
             ),
@@ -29,13 +55,25 @@ impl fmt::Display for ValidationIssue {
                 write!(f, "{kind} {prim} has only {count} vertices")
             }
             ValidationIssue::PackedOutOfRange { prim, index } => {
-                write!(f, "packed primitive {prim} references missing instance {index}")
+                write!(
+                    f,
+                    "packed primitive {prim} references missing instance {index}"
+                )
             }
-            ValidationIssue::AttribLength { class, name, len, expected } => write!(
+            ValidationIssue::AttribLength {
+                class,
+                name,
+                len,
+                expected,
+            } => write!(
                 f,
                 "{class} attribute `{name}` has {len} elements, expected {expected}"
             ),
-            ValidationIssue::GroupLength { name, len, expected } => {
+            ValidationIssue::GroupLength {
+                name,
+                len,
+                expected,
+            } => {
                 write!(f, "group `{name}` has {len} flags, expected {expected}")
             }
             ValidationIssue::NonFinitePosition { point } => {
@@ -72,7 +110,11 @@ pub fn validate(g: &Geometry) -> Vec<ValidationIssue> {
     let np = g.num_points();
     for (v, &p) in g.vertex_point.iter().enumerate() {
         if p as usize >= np {
-            out.push(ValidationIssue::VertexPointOutOfRange { vertex: v, point: p, points: np });
+            out.push(ValidationIssue::VertexPointOutOfRange {
+                vertex: v,
+                point: p,
+                points: np,
+            });
         }
     }
     for (prim, kind) in g.prim_kinds.iter().enumerate() {
@@ -88,7 +130,11 @@ pub fn validate(g: &Geometry) -> Vec<ValidationIssue> {
             }
         };
         if count < min {
-            out.push(ValidationIssue::TooFewVertices { prim, kind: kind.name(), count });
+            out.push(ValidationIssue::TooFewVertices {
+                prim,
+                kind: kind.name(),
+                count,
+            });
         }
     }
     for (class, expected) in [
@@ -111,7 +157,11 @@ pub fn validate(g: &Geometry) -> Vec<ValidationIssue> {
     for (groups, expected) in [(&g.point_groups, np), (&g.prim_groups, g.num_prims())] {
         for (name, grp) in groups {
             if grp.len() != expected {
-                out.push(ValidationIssue::GroupLength { name: name.clone(), len: grp.len(), expected });
+                out.push(ValidationIssue::GroupLength {
+                    name: name.clone(),
+                    len: grp.len(),
+                    expected,
+                });
             }
         }
     }

@@ -9,12 +9,19 @@ use geode_geo::glam::{Mat4, Quat, Vec2, Vec3};
 use geode_geo::{primitives, AttribClass, AttribData, Attribute, Geometry, Group, TypeInfo};
 
 pub fn repo_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").canonicalize().unwrap()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
 }
 
 pub fn corpus() -> PathBuf {
     let p = repo_root().join("../shared/corpus");
-    assert!(p.is_dir(), "the shared corpus must sit beside the checkout at {}", p.display());
+    assert!(
+        p.is_dir(),
+        "the shared corpus must sit beside the checkout at {}",
+        p.display()
+    );
     p
 }
 
@@ -23,13 +30,39 @@ pub fn attributed_torus() -> Geometry {
     let mut g = primitives::torus(1.0, 0.35, 24, 12);
     let n = geode_geo::ops::point_normals(&g);
     let p = g.positions().to_vec();
-    let uv: Vec<Vec2> = p.iter().map(|q| Vec2::new(q.x * 0.25 + 0.5, q.z * 0.25 + 0.5)).collect();
-    let cd: Vec<Vec3> = p.iter().map(|q| (*q * 0.3 + Vec3::splat(0.5)).clamp(Vec3::ZERO, Vec3::ONE)).collect();
-    g.set_attrib(AttribClass::Point, "N", Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal)).unwrap();
-    g.set_attrib(AttribClass::Point, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)).unwrap();
-    g.set_attrib(AttribClass::Point, "Cd", Attribute::from_data(AttribData::Vec3(cd), TypeInfo::Color)).unwrap();
+    let uv: Vec<Vec2> = p
+        .iter()
+        .map(|q| Vec2::new(q.x * 0.25 + 0.5, q.z * 0.25 + 0.5))
+        .collect();
+    let cd: Vec<Vec3> = p
+        .iter()
+        .map(|q| (*q * 0.3 + Vec3::splat(0.5)).clamp(Vec3::ZERO, Vec3::ONE))
+        .collect();
+    g.set_attrib(
+        AttribClass::Point,
+        "N",
+        Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
+    )
+    .unwrap();
+    g.set_attrib(
+        AttribClass::Point,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+    )
+    .unwrap();
+    g.set_attrib(
+        AttribClass::Point,
+        "Cd",
+        Attribute::from_data(AttribData::Vec3(cd), TypeInfo::Color),
+    )
+    .unwrap();
     let w: Vec<f32> = (0..g.num_prims()).map(|i| i as f32 * 0.5).collect();
-    g.set_attrib(AttribClass::Primitive, "weight", Attribute::from_data(AttribData::Float(w), TypeInfo::None)).unwrap();
+    g.set_attrib(
+        AttribClass::Primitive,
+        "weight",
+        Attribute::from_data(AttribData::Float(w), TypeInfo::None),
+    )
+    .unwrap();
     let half = Group::from_members(g.num_prims(), 0..g.num_prims() / 2);
     g.set_prim_group("half", half).unwrap();
     g
@@ -39,18 +72,38 @@ pub fn attributed_torus() -> Geometry {
 pub fn vertex_attributed_cube() -> Geometry {
     let mut g = primitives::cube(2.0);
     let vn = geode_geo::ops::vertex_normals(&g, 30.0);
-    let uv: Vec<Vec2> = (0..g.num_vertices()).map(|v| Vec2::new((v % 4) as f32 / 4.0, (v / 4) as f32 / 6.0)).collect();
-    g.set_attrib(AttribClass::Vertex, "N", Attribute::from_data(AttribData::Vec3(vn), TypeInfo::Normal)).unwrap();
-    g.set_attrib(AttribClass::Vertex, "uv", Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord)).unwrap();
+    let uv: Vec<Vec2> = (0..g.num_vertices())
+        .map(|v| Vec2::new((v % 4) as f32 / 4.0, (v / 4) as f32 / 6.0))
+        .collect();
+    g.set_attrib(
+        AttribClass::Vertex,
+        "N",
+        Attribute::from_data(AttribData::Vec3(vn), TypeInfo::Normal),
+    )
+    .unwrap();
+    g.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+    )
+    .unwrap();
     g
 }
 
 /// A grid of packed instances of a sphere, plus a loose polyline.
 pub fn instanced_scene(n: usize) -> Geometry {
     let src = Arc::new(primitives::uv_sphere(0.2, 12, 6));
-    let positions: Vec<Vec3> = (0..n).map(|i| Vec3::new((i % 10) as f32, 0.0, (i / 10) as f32)).collect();
+    let positions: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new((i % 10) as f32, 0.0, (i / 10) as f32))
+        .collect();
     let transforms: Vec<Mat4> = (0..n)
-        .map(|i| Mat4::from_scale_rotation_translation(Vec3::splat(1.0 + i as f32 * 0.01), Quat::from_rotation_y(i as f32 * 0.3), Vec3::ZERO))
+        .map(|i| {
+            Mat4::from_scale_rotation_translation(
+                Vec3::splat(1.0 + i as f32 * 0.01),
+                Quat::from_rotation_y(i as f32 * 0.3),
+                Vec3::ZERO,
+            )
+        })
         .collect();
     let mut g = Geometry::new();
     g.add_packed_many(&src, &positions, &transforms).unwrap();
@@ -70,8 +123,11 @@ pub fn validators_required() -> bool {
 pub fn run_validator(mut cmd: Command, what: &str) -> Option<String> {
     match cmd.output() {
         Ok(out) => {
-            let text = String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-            if !out.status.success() && (text.contains("Cannot find") || text.contains("ModuleNotFoundError")) {
+            let text = String::from_utf8_lossy(&out.stdout).into_owned()
+                + &String::from_utf8_lossy(&out.stderr);
+            if !out.status.success()
+                && (text.contains("Cannot find") || text.contains("ModuleNotFoundError"))
+            {
                 assert!(!validators_required(), "{what} is not installed:\n{text}");
                 eprintln!("skipping: {what} not installed");
                 return None;

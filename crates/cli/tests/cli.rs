@@ -1,0 +1,102 @@
+//! The `geode` command end to end: info, convert, errors and exit codes.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn geode(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geode"))
+        .args(args)
+        .current_dir(repo_root())
+        .output()
+        .unwrap()
+}
+
+fn repo_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn text(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr)
+}
+
+#[test]
+fn info_reports_counts_attributes_and_hash() {
+    let o = geode(&["info", "examples/assets/creased_box.obj"]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    for needle in [
+        "points:      8",
+        "6 polygons",
+        "vertex     creaseweight",
+        "topology:    closed manifold",
+        "content hash: ",
+    ] {
+        assert!(t.contains(needle), "missing `{needle}` in\n{t}");
+    }
+    let o = geode(&["info", "--json", "examples/assets/creased_box.obj"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["points"], 8);
+    assert_eq!(v["content_hash"].as_str().unwrap().len(), 32);
+}
+
+#[test]
+fn convert_round_trips_every_writable_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = geode(&["info", "--json", "examples/assets/creased_box.obj"]);
+    let reference: serde_json::Value = serde_json::from_slice(&reference.stdout).unwrap();
+    for ext in ["obj", "ply", "glb", "stl"] {
+        let out = dir.path().join(format!("box.{ext}"));
+        let o = geode(&[
+            "convert",
+            "examples/assets/creased_box.obj",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", text(&o));
+        let back = geode(&["info", "--json", out.to_str().unwrap()]);
+        let back: serde_json::Value = serde_json::from_slice(&back.stdout).unwrap();
+        assert_eq!(back["bounds"], reference["bounds"], "{ext}");
+        assert_eq!(back["boundary_edges"], 0, "{ext} stays closed");
+    }
+    let out = dir.path().join("box.usda");
+    assert!(geode(&[
+        "convert",
+        "examples/assets/creased_box.obj",
+        out.to_str().unwrap()
+    ])
+    .status
+    .success());
+    assert!(std::fs::read_to_string(out)
+        .unwrap()
+        .starts_with("#usda 1.0"));
+}
+
+#[test]
+fn errors_name_the_file_and_exit_codes_distinguish() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.obj");
+    std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
+    let o = geode(&["info", bad.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        format!(
+            "error: {}: line 2: vertex index 2 out of range (1 vertexs defined so far)",
+            bad.display()
+        )
+    );
+    let o = geode(&["info", "missing.obj"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).contains("missing.obj: No such file or directory"),
+        "{}",
+        text(&o)
+    );
+    // A failed conversion leaves no output behind.
+    let out = dir.path().join("out.glb");
+    let o = geode(&["convert", bad.to_str().unwrap(), out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(!out.exists());
+    assert_eq!(geode(&["frobnicate"]).status.code(), Some(2));
+    let v = geode(&["--version"]);
+    assert!(text(&v).starts_with("geode "), "{}", text(&v));
+}
