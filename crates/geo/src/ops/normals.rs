@@ -165,9 +165,9 @@ mod tests {
         }
         let vn = vertex_normals(&g, 60.0);
         let fn_ = prim_normals(&g);
-        for prim in 0..g.num_prims() {
+        for (prim, face_normal) in fn_.iter().enumerate() {
             for v in g.prim_vertex_range(prim) {
-                assert!((vn[v] - fn_[prim]).length() < 1e-6);
+                assert!((vn[v] - *face_normal).length() < 1e-6);
             }
         }
         // Above 90 degrees the cube's corners are smooth again.
