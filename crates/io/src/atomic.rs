@@ -26,9 +26,30 @@ where
         w.flush().map_err(|e| IoError::os(path, e))?;
     }
     tmp.as_file().sync_all().map_err(|e| IoError::os(path, e))?;
+    set_permissions(tmp.path(), path).map_err(|e| IoError::os(path, e))?;
     // Dropping `tmp` on an error path deletes the temporary file.
     tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
     Ok(())
+}
+
+/// Temporary files are created private (0600); the result should look like
+/// any file the user writes: the old file's permissions, or 0644.
+fn set_permissions(tmp: &Path, target: &Path) -> std::io::Result<()> {
+    let perms = match std::fs::metadata(target) {
+        Ok(m) => m.permissions(),
+        Err(_) => {
+            #[cfg(unix)]
+            {
+                use std::os::unix::fs::PermissionsExt;
+                std::fs::Permissions::from_mode(0o644)
+            }
+            #[cfg(not(unix))]
+            {
+                return Ok(());
+            }
+        }
+    };
+    std::fs::set_permissions(tmp, perms)
 }
 
 /// Maps an OS error while writing to an [`IoError`] for `path`.
@@ -58,5 +79,13 @@ mod tests {
         assert_eq!(leftovers.len(), 1, "temporary file removed");
         write_atomic(&target, |w| w.write_all(b"new").map_err(os_err(&target))).unwrap();
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            let fresh = dir.path().join("fresh.obj");
+            write_atomic(&fresh, |w| w.write_all(b"x").map_err(os_err(&fresh))).unwrap();
+            let mode = std::fs::metadata(&fresh).unwrap().permissions().mode() & 0o777;
+            assert_eq!(mode, 0o644, "not the temporary file's private mode");
+        }
     }
 }

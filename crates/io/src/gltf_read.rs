@@ -117,9 +117,47 @@ fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
     Ok(())
 }
 
+/// Rejects attribute layouts the reader (and the glTF specification) does not
+/// allow, before the `gltf` crate's readers meet them.
+fn check_semantics(prim: &gltf::Primitive) -> ParseResult<()> {
+    use gltf::accessor::{DataType as D, Dimensions as Dim};
+    use gltf::Semantic as S;
+    for (semantic, a) in prim.attributes() {
+        let ok = match &semantic {
+            S::Positions | S::Normals => a.dimensions() == Dim::Vec3 && a.data_type() == D::F32,
+            S::TexCoords(_) => {
+                a.dimensions() == Dim::Vec2 && matches!(a.data_type(), D::F32 | D::U8 | D::U16)
+            }
+            S::Colors(_) => {
+                matches!(a.dimensions(), Dim::Vec3 | Dim::Vec4)
+                    && matches!(a.data_type(), D::F32 | D::U8 | D::U16)
+            }
+            _ => true,
+        };
+        if !ok {
+            return Err(ParseError::whole(format!(
+                "primitive {}: attribute {semantic:?} has type {:?} {:?}, which glTF does not allow",
+                prim.index(),
+                a.dimensions(),
+                a.data_type()
+            )));
+        }
+    }
+    if let Some(i) = prim.indices() {
+        if i.dimensions() != Dim::Scalar || !matches!(i.data_type(), D::U8 | D::U16 | D::U32) {
+            return Err(ParseError::whole(format!(
+                "primitive {}: indices must be unsigned scalars",
+                prim.index()
+            )));
+        }
+    }
+    Ok(())
+}
+
 fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry> {
     let mut parts = Vec::new();
     for prim in mesh.primitives() {
+        check_semantics(&prim)?;
         for (_, a) in prim.attributes() {
             check_accessor(&a, buffers)?;
         }

@@ -82,6 +82,12 @@ impl Format {
     }
 }
 
+impl std::fmt::Display for Format {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.extension())
+    }
+}
+
 fn list(f: impl Fn(Format) -> bool) -> String {
     Format::ALL
         .iter()

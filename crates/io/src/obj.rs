@@ -124,8 +124,8 @@ fn floats<'a>(
     min: usize,
     max: usize,
     what: &str,
-) -> ParseResult<([f32; 6], usize)> {
-    let mut out = [0.0f32; 6];
+) -> ParseResult<([f32; 7], usize)> {
+    let mut out = [0.0f32; 7];
     let mut n = 0;
     for t in toks {
         if n == max {

@@ -39,7 +39,7 @@ impl<'a> Iterator for Lines<'a> {
             .iter()
             .position(|&b| b == b'\n')
             .map_or(rest.len(), |i| i);
-        self.pos = start + end + 1;
+        self.pos = (start + end + 1).min(self.bytes.len());
         self.line += 1;
         let mut raw = &rest[..end];
         if raw.last() == Some(&b'\r') {

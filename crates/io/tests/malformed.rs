@@ -136,3 +136,18 @@ fn random_bytes_error_names_file_and_position() {
     let e = read_err("noise.stl", &noise(7, 500));
     assert!(matches!(e.position(), Some(Position::Byte(_))), "{e}");
 }
+
+/// Inputs that once crashed a reader under cargo-fuzz stay rejected cleanly.
+#[test]
+fn fuzz_regressions() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let f = Format::from_path(&path).unwrap();
+        let bytes = std::fs::read(&path).unwrap();
+        let _ = geode_io::parse_unguarded(&bytes, f, None, &NoProgress);
+        n += 1;
+    }
+    assert!(n >= 3);
+}

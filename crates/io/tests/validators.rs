@@ -72,7 +72,7 @@ fn glb_passes_khronos_validator() {
 #[test]
 fn usda_opens_in_usd_core() {
     let dir = tempfile::tempdir().unwrap();
-    let mut cmd = Command::new("python3");
+    let mut cmd = Command::new(std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into()));
     cmd.arg(repo_root().join("tools/usd_check.py"));
     for (name, g) in samples() {
         let path = dir.path().join(format!("{name}.usda"));
@@ -114,5 +114,47 @@ fn usda_opens_in_usd_core() {
             samples().len(),
             "{report}"
         );
+    }
+}
+
+/// geode's manifold report and volume agree with trimesh on written STL files.
+#[test]
+fn manifold_report_agrees_with_trimesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut open_grid = primitives::grid(geode_geo::glam::Vec2::splat(1.0), 4, 4);
+    open_grid
+        .remove_attrib(geode_geo::AttribClass::Point, "uv")
+        .unwrap();
+    let cases = vec![
+        ("sphere", primitives::uv_sphere(1.0, 32, 16)),
+        ("torus", primitives::torus(1.0, 0.25, 48, 16)),
+        (
+            "box",
+            primitives::box_mesh(Vec3::new(1.0, 2.0, 3.0), [3, 2, 1]),
+        ),
+        ("grid", open_grid),
+    ];
+    let mut cmd = Command::new(std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into()));
+    cmd.arg(repo_root().join("tools/mesh_check.py"));
+    for (name, g) in &cases {
+        let path = dir.path().join(format!("{name}.stl"));
+        write(g, &path, &NoProgress).unwrap();
+        cmd.arg(path);
+    }
+    let Some(report) = run_validator(cmd, "trimesh (pip)") else {
+        return;
+    };
+    for ((name, g), line) in cases.iter().zip(report.lines()) {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        let ours = g.topology().manifold_report(g).is_closed_manifold();
+        assert_eq!(v["watertight"].as_bool(), Some(ours), "{name}: {line}");
+        assert_eq!(v["winding_consistent"].as_bool(), Some(true), "{name}");
+        if ours {
+            let vol = ops::signed_volume(g) as f64;
+            assert!(
+                (v["volume"].as_f64().unwrap() - vol).abs() < 1e-4 * vol.abs().max(1.0),
+                "{name}: {line} vs {vol}"
+            );
+        }
     }
 }

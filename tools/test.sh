@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Runs every test of the workspace, with the external reference validators
+# (Khronos glTF validator from npm, Pixar's usd-core and trimesh from PyPI)
+# installed into tools/ first, so that nothing has to be installed by hand.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+if [ ! -d tools/node_modules/gltf-validator ]; then
+  echo "installing gltf-validator (npm) into tools/node_modules" >&2
+  npm install --prefix tools --no-audit --no-fund --loglevel=error >&2
+fi
+if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh" 2>/dev/null; then
+  echo "installing usd-core and trimesh (PyPI) into tools/.venv" >&2
+  python3 -m venv tools/.venv
+  tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh >&2
+fi
+
+export GEODE_PYTHON="$PWD/tools/.venv/bin/python"
+export GEODE_REQUIRE_VALIDATORS=1
+exec cargo test --workspace "$@"
