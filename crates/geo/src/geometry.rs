@@ -275,6 +275,22 @@ impl Geometry {
         Some(Mat4::from_translation(p) * inst.transform)
     }
 
+    /// Indices of the primitives whose kind satisfies `pred`, in order.
+    pub fn prims_where(&self, pred: impl Fn(PrimKind) -> bool) -> Vec<usize> {
+        (0..self.num_prims())
+            .filter(|&i| pred(self.prim_kinds[i]))
+            .collect()
+    }
+
+    pub fn is_packed(kind: PrimKind) -> bool {
+        matches!(kind, PrimKind::Packed(_))
+    }
+
+    /// Whether any primitive is a packed instance.
+    pub fn has_packed(&self) -> bool {
+        !self.packed.is_empty()
+    }
+
     pub fn is_polygon_mesh(&self) -> bool {
         self.prim_kinds.iter().all(|k| *k == PrimKind::Polygon)
     }
@@ -538,5 +554,49 @@ impl Geometry {
                 .map(|g| g.words().len() * 8)
                 .sum::<usize>()
             + sources
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives::torus;
+
+    #[test]
+    fn packed_instances_cost_a_transform_not_a_copy() {
+        // A 10k-triangle source, 100k instances.
+        let src = Arc::new(crate::ops::triangulate(&torus(1.0, 0.3, 100, 50), None));
+        assert_eq!(src.num_prims(), 10_000);
+        let n = 100_000;
+        let positions: Vec<Vec3> = (0..n).map(|i| Vec3::new(i as f32, 0.0, 0.0)).collect();
+        let mut g = Geometry::new();
+        g.add_packed_many(&src, &positions, &vec![Mat4::IDENTITY; n])
+            .unwrap();
+        let per_instance = (g.memory_bytes() - src.memory_bytes()) as f64 / n as f64;
+        assert!(per_instance < 128.0, "{per_instance} bytes per instance");
+        assert!(
+            src.memory_bytes() > 100 * 1024,
+            "the source itself is large"
+        );
+        assert!(crate::ops::validate(&g).is_empty());
+    }
+
+    #[test]
+    fn building_checks_indices_and_sizes() {
+        let e = Geometry::from_polygons(vec![Vec3::ZERO; 3], vec![0, 1, 5], &[3]).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "point index 5 out of range (geometry has 3 points)"
+        );
+        let e = Geometry::from_polygons(vec![Vec3::ZERO; 3], vec![0, 1], &[2]).unwrap_err();
+        assert_eq!(e.to_string(), "a polygon needs at least 3 vertices, got 2");
+        let mut g = Geometry::new();
+        assert!(g.add_polyline(&[0, 1]).is_err());
+        g.add_points(&[Vec3::ZERO, Vec3::X]);
+        assert_eq!(g.add_polyline(&[0, 1]).unwrap(), 0);
+        assert_eq!(
+            g.remove_attrib(AttribClass::Point, P).unwrap_err(),
+            GeoError::PositionRequired
+        );
     }
 }

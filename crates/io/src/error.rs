@@ -61,6 +61,21 @@ impl IoError {
     }
 }
 
+/// Formats without instancing refuse packed primitives (`write` unpacks first).
+pub(crate) fn refuse_packed(
+    g: &geode_geo::Geometry,
+    path: &std::path::Path,
+    format: &str,
+) -> Result<(), IoError> {
+    if g.has_packed() {
+        return Err(IoError::Unsupported {
+            path: path.to_owned(),
+            message: format!("{format} cannot hold packed primitives; unpack them first"),
+        });
+    }
+    Ok(())
+}
+
 /// A parse error at a position, before the file name is known to the parser.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ParseError {

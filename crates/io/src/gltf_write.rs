@@ -85,9 +85,7 @@ impl Builder {
         }
         // Instance anchors are not part of the mesh: drop packed primitives and
         // the points only they used.
-        let packed: Vec<usize> = (0..g.num_prims())
-            .filter(|&i| matches!(g.prim_kind(i), PrimKind::Packed(_)))
-            .collect();
+        let packed: Vec<usize> = g.prims_where(Geometry::is_packed);
         let own;
         let g = if packed.is_empty() {
             g

@@ -16,7 +16,7 @@ mod weld;
 
 use std::path::Path;
 
-use geode_geo::{ops, Geometry, PrimKind};
+use geode_geo::{ops, Geometry};
 
 pub use atomic::write_atomic;
 pub use error::{IoError, ParseError, Position};
@@ -178,11 +178,7 @@ fn encode(
     progress: &dyn Progress,
 ) -> Result<(), IoError> {
     let unpacked;
-    let g = if !format.keeps_instances()
-        && g.prim_kinds()
-            .iter()
-            .any(|k| matches!(k, PrimKind::Packed(_)))
-    {
+    let g = if !format.keeps_instances() && g.has_packed() {
         unpacked = ops::unpack(g).map_err(|e| IoError::Unsupported {
             path: path.to_owned(),
             message: e.to_string(),

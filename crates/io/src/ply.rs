@@ -584,15 +584,7 @@ pub fn write_ply(
     path: &Path,
     progress: &dyn Progress,
 ) -> Result<(), IoError> {
-    if g.prim_kinds()
-        .iter()
-        .any(|k| matches!(k, PrimKind::Packed(_)))
-    {
-        return Err(IoError::Unsupported {
-            path: path.to_owned(),
-            message: "PLY cannot hold packed primitives; unpack them first".into(),
-        });
-    }
+    crate::error::refuse_packed(g, path, "PLY")?;
     let e = os_err(path);
     let pts = g.attribs(AttribClass::Point);
     let vec3 = |n: &str| pts.get(n).and_then(|a| a.as_vec3());
@@ -615,9 +607,7 @@ pub fn write_ply(
                 && n.chars().all(|c| c.is_ascii_graphic())
         })
         .collect();
-    let polys: Vec<usize> = (0..g.num_prims())
-        .filter(|&i| g.prim_kind(i) == PrimKind::Polygon)
-        .collect();
+    let polys: Vec<usize> = g.prims_where(|k| k == PrimKind::Polygon);
     let segments: Vec<[u32; 2]> = (0..g.num_prims())
         .filter(|&i| g.prim_kind(i) == PrimKind::Polyline)
         .flat_map(|i| {

@@ -146,15 +146,7 @@ pub fn write_stl(
     path: &Path,
     progress: &dyn Progress,
 ) -> Result<(), IoError> {
-    if g.prim_kinds()
-        .iter()
-        .any(|k| matches!(k, PrimKind::Packed(_)))
-    {
-        return Err(IoError::Unsupported {
-            path: path.to_owned(),
-            message: "STL cannot hold packed primitives; unpack them first".into(),
-        });
-    }
+    crate::error::refuse_packed(g, path, "STL")?;
     let tri = if g.prim_offsets().windows(2).all(|w| w[1] - w[0] == 3) {
         None
     } else {

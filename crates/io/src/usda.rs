@@ -74,9 +74,7 @@ impl Writer<'_> {
     /// instanceable prim per packed primitive.
     fn body(&mut self, g: &Geometry, indent: &str) -> Result<(), IoError> {
         let p = g.positions();
-        let polys: Vec<usize> = (0..g.num_prims())
-            .filter(|&i| g.prim_kind(i) == PrimKind::Polygon)
-            .collect();
+        let polys: Vec<usize> = g.prims_where(|k| k == PrimKind::Polygon);
         if !polys.is_empty() {
             let counts: Vec<u32> = polys
                 .iter()
@@ -167,9 +165,7 @@ impl Writer<'_> {
                 "{inner}uniform token subdivisionScheme = \"none\"\n{indent}}}"
             );
         }
-        let lines: Vec<usize> = (0..g.num_prims())
-            .filter(|&i| g.prim_kind(i) == PrimKind::Polyline)
-            .collect();
+        let lines: Vec<usize> = g.prims_where(|k| k == PrimKind::Polyline);
         if !lines.is_empty() {
             let counts: Vec<u32> = lines
                 .iter()

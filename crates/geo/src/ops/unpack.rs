@@ -1,16 +1,14 @@
 //! Expand packed instances into real geometry.
 
 use crate::error::GeoError;
-use crate::geometry::{Geometry, PrimKind};
+use crate::geometry::Geometry;
 use crate::group::Group;
 
 /// Replaces every packed primitive by a transformed copy of its source
 /// (recursively: nested packs are unpacked too). The packed primitives' own
 /// points are removed when nothing else uses them.
 pub fn unpack(g: &Geometry) -> Result<Geometry, GeoError> {
-    let packed: Vec<usize> = (0..g.num_prims())
-        .filter(|&p| matches!(g.prim_kind(p), PrimKind::Packed(_)))
-        .collect();
+    let packed = g.prims_where(Geometry::is_packed);
     if packed.is_empty() {
         return Ok(g.clone());
     }
