@@ -162,6 +162,8 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
 trait Source {
     fn value(&mut self, s: Scalar, what: &dyn Fn() -> String) -> ParseResult<f64>;
     fn end_element(&mut self) -> ParseResult<()>;
+    /// Bytes left to read: an upper bound on the elements still to come.
+    fn remaining_bytes(&self) -> usize;
 }
 
 struct BinarySource<'a> {
@@ -205,6 +207,10 @@ impl Source for BinarySource<'_> {
 
     fn end_element(&mut self) -> ParseResult<()> {
         Ok(())
+    }
+
+    fn remaining_bytes(&self) -> usize {
+        self.bytes.len().saturating_sub(self.pos)
     }
 }
 
@@ -261,6 +267,10 @@ impl Source for AsciiSource<'_> {
         }
         Ok(())
     }
+
+    fn remaining_bytes(&self) -> usize {
+        self.lines.remaining()
+    }
 }
 
 fn read_elements(
@@ -274,9 +284,16 @@ fn read_elements(
     let mut out = Vec::new();
     for el in &h.elements {
         let mut cols: Vec<Column> = el.props.iter().map(|_| Column::default()).collect();
+        if el.props.is_empty() {
+            // Nothing to read, however many elements are declared.
+            out.push(cols);
+            continue;
+        }
+        // Never reserve more than the file could hold (a declared count is untrusted).
+        let plausible = el.count.min(src.remaining_bytes());
         for (c, p) in cols.iter_mut().zip(&el.props) {
             if let PropKind::Scalar(_) = p.kind {
-                c.values.reserve(el.count.min(1 << 28));
+                c.values.reserve(plausible);
             }
         }
         for i in 0..el.count {

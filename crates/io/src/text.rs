@@ -17,6 +17,11 @@ impl<'a> Lines<'a> {
         }
     }
 
+    /// Bytes not yet consumed.
+    pub fn remaining(&self) -> usize {
+        self.bytes.len() - self.pos
+    }
+
     pub fn offset(&self) -> usize {
         self.pos
     }
