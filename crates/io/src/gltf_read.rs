@@ -66,6 +66,41 @@ fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8
     Ok(out)
 }
 
+/// gltf-json's validation indexes `accessors[POSITION]` without a bounds check
+/// (found by fuzzing): check those references before handing the document over.
+fn check_position_accessors(bytes: &[u8]) -> ParseResult<()> {
+    let json: &[u8] = if bytes.starts_with(b"glTF") {
+        match gltf::Glb::from_slice(bytes) {
+            Ok(glb) => return check_position_json(&glb.json),
+            Err(e) => return Err(ParseError::whole(format!("invalid GLB: {e}"))),
+        }
+    } else {
+        bytes
+    };
+    check_position_json(json)
+}
+
+fn check_position_json(json: &[u8]) -> ParseResult<()> {
+    let Ok(doc) = serde_json::from_slice::<serde_json::Value>(json) else {
+        return Ok(()); // Malformed JSON: the gltf crate reports it with detail.
+    };
+    let accessors = doc.get("accessors").and_then(|a| a.as_array()).map_or(0, |a| a.len());
+    let meshes = doc.get("meshes").and_then(|m| m.as_array()).into_iter().flatten();
+    for (mi, mesh) in meshes.enumerate() {
+        let prims = mesh.get("primitives").and_then(|p| p.as_array()).into_iter().flatten();
+        for (pi, prim) in prims.enumerate() {
+            if let Some(pos) = prim.pointer("/attributes/POSITION").and_then(|v| v.as_u64()) {
+                if pos as usize >= accessors {
+                    return Err(ParseError::whole(format!(
+                        "mesh {mi} primitive {pi}: POSITION refers to accessor {pos} but there are {accessors}"
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Checks that an accessor's data lies inside its buffer, so reading it cannot
 /// go out of bounds.
 fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
@@ -295,6 +330,7 @@ pub fn read_gltf(
     base: Option<&Path>,
     progress: &dyn Progress,
 ) -> ParseResult<Geometry> {
+    check_position_accessors(bytes)?;
     let doc = gltf::Gltf::from_slice(bytes)
         .map_err(|e| ParseError::whole(format!("invalid glTF: {e}")))?;
     let buffers = load_buffers(&doc, base)?;
