@@ -84,12 +84,26 @@ fn check_position_json(json: &[u8]) -> ParseResult<()> {
     let Ok(doc) = serde_json::from_slice::<serde_json::Value>(json) else {
         return Ok(()); // Malformed JSON: the gltf crate reports it with detail.
     };
-    let accessors = doc.get("accessors").and_then(|a| a.as_array()).map_or(0, |a| a.len());
-    let meshes = doc.get("meshes").and_then(|m| m.as_array()).into_iter().flatten();
+    let accessors = doc
+        .get("accessors")
+        .and_then(|a| a.as_array())
+        .map_or(0, |a| a.len());
+    let meshes = doc
+        .get("meshes")
+        .and_then(|m| m.as_array())
+        .into_iter()
+        .flatten();
     for (mi, mesh) in meshes.enumerate() {
-        let prims = mesh.get("primitives").and_then(|p| p.as_array()).into_iter().flatten();
+        let prims = mesh
+            .get("primitives")
+            .and_then(|p| p.as_array())
+            .into_iter()
+            .flatten();
         for (pi, prim) in prims.enumerate() {
-            if let Some(pos) = prim.pointer("/attributes/POSITION").and_then(|v| v.as_u64()) {
+            if let Some(pos) = prim
+                .pointer("/attributes/POSITION")
+                .and_then(|v| v.as_u64())
+            {
                 if pos as usize >= accessors {
                     return Err(ParseError::whole(format!(
                         "mesh {mi} primitive {pi}: POSITION refers to accessor {pos} but there are {accessors}"

@@ -155,10 +155,16 @@ fn fuzz_regressions() {
 /// Declared counts are untrusted: a huge count costs neither time nor memory.
 #[test]
 fn huge_declared_counts_are_cheap() {
-    let empty_elements = b"ply\nformat binary_little_endian 1.0\nelement junk 4000000000\nend_header\n";
+    let empty_elements =
+        b"ply\nformat binary_little_endian 1.0\nelement junk 4000000000\nend_header\n";
     let g = geode_io::parse_unguarded(empty_elements, Format::Ply, None, &NoProgress).unwrap();
     assert_eq!(g.num_points(), 0);
     let huge = b"ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nend_header\n\0\0\0\0";
     let e = geode_io::parse_unguarded(huge, Format::Ply, None, &NoProgress).unwrap_err();
-    assert!(e.message.contains("file ends while reading property `x` of vertex 1 of 4000000000"), "{}", e.message);
+    assert!(
+        e.message
+            .contains("file ends while reading property `x` of vertex 1 of 4000000000"),
+        "{}",
+        e.message
+    );
 }
