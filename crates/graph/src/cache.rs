@@ -1,0 +1,202 @@
+//! The process-wide cook cache: values by 128-bit key, bounded by bytes, least recently used evicted first.
+
+use std::sync::{Mutex, OnceLock};
+
+use geode_op::Value;
+use lru::LruCache;
+
+/// A cached result: the value and its content identity (so a hit never
+/// touches geometry data).
+#[derive(Clone, Debug)]
+pub struct Cached {
+    pub value: Value,
+    pub identity: u128,
+    pub bytes: usize,
+}
+
+/// Counters, for tests, traces and `geode cook --stats`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct CacheStats {
+    pub hits: u64,
+    pub misses: u64,
+    pub evictions: u64,
+    pub entries: usize,
+    pub bytes: usize,
+    pub budget: usize,
+}
+
+struct Inner {
+    map: LruCache<u128, Cached>,
+    bytes: usize,
+    stats: CacheStats,
+}
+
+/// A byte-bounded LRU map from cook keys to results.
+pub struct Cache {
+    budget: usize,
+    enabled: bool,
+    inner: Mutex<Inner>,
+}
+
+impl Cache {
+    /// A cache holding at most `budget` bytes of values.
+    pub fn new(budget: usize) -> Cache {
+        Cache {
+            budget,
+            enabled: budget > 0,
+            inner: Mutex::new(Inner {
+                map: LruCache::unbounded(),
+                bytes: 0,
+                stats: CacheStats {
+                    budget,
+                    ..Default::default()
+                },
+            }),
+        }
+    }
+
+    /// A cache that stores nothing.
+    pub fn disabled() -> Cache {
+        Cache::new(0)
+    }
+
+    /// Configured from the environment: `GEODE_CACHE=off` disables it,
+    /// `GEODE_CACHE_MB` sizes it (default 2048 MiB).
+    pub fn from_env() -> Cache {
+        if std::env::var("GEODE_CACHE").is_ok_and(|v| v.eq_ignore_ascii_case("off") || v == "0") {
+            return Cache::disabled();
+        }
+        let mb = std::env::var("GEODE_CACHE_MB")
+            .ok()
+            .and_then(|v| v.trim().parse::<usize>().ok())
+            .unwrap_or(2048);
+        Cache::new(mb.saturating_mul(1 << 20))
+    }
+
+    /// The process-wide cache, configured from the environment on first use.
+    pub fn global() -> &'static Cache {
+        static GLOBAL: OnceLock<Cache> = OnceLock::new();
+        GLOBAL.get_or_init(Cache::from_env)
+    }
+
+    pub fn is_enabled(&self) -> bool {
+        self.enabled
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Inner> {
+        // A panic while holding the lock leaves consistent data: keep going.
+        self.inner.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// The value under `key`, marking it most recently used.
+    pub fn get(&self, key: u128) -> Option<Cached> {
+        if !self.enabled {
+            return None;
+        }
+        let mut inner = self.lock();
+        let hit = inner.map.get(&key).cloned();
+        if hit.is_some() {
+            inner.stats.hits += 1;
+        } else {
+            inner.stats.misses += 1;
+        }
+        hit
+    }
+
+    /// Stores a result, evicting least recently used entries until the byte
+    /// budget holds. A value larger than the whole budget is not stored.
+    pub fn insert(&self, key: u128, entry: Cached) {
+        if !self.enabled || entry.bytes > self.budget {
+            return;
+        }
+        let mut inner = self.lock();
+        inner.bytes += entry.bytes;
+        if let Some(old) = inner.map.put(key, entry) {
+            inner.bytes -= old.bytes;
+        }
+        while inner.bytes > self.budget {
+            match inner.map.pop_lru() {
+                Some((_, old)) => {
+                    inner.bytes -= old.bytes;
+                    inner.stats.evictions += 1;
+                }
+                None => break,
+            }
+        }
+    }
+
+    pub fn contains(&self, key: u128) -> bool {
+        self.enabled && self.lock().map.contains(&key)
+    }
+
+    pub fn clear(&self) {
+        let mut inner = self.lock();
+        inner.map.clear();
+        inner.bytes = 0;
+    }
+
+    pub fn stats(&self) -> CacheStats {
+        let inner = self.lock();
+        CacheStats {
+            entries: inner.map.len(),
+            bytes: inner.bytes,
+            ..inner.stats
+        }
+    }
+}
+
+impl std::fmt::Debug for Cache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Cache({:?})", self.stats())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geode_geo::glam::Vec3;
+    use geode_geo::Geometry;
+
+    fn value(n: usize) -> Cached {
+        let mut g = Geometry::new();
+        g.add_points(&vec![Vec3::ZERO; n]);
+        let v = Value::geometry(g);
+        Cached {
+            identity: v.identity(),
+            bytes: v.bytes(),
+            value: v,
+        }
+    }
+
+    #[test]
+    fn eviction_respects_the_byte_budget_lru_first() {
+        let one = value(1000); // 12 kB of positions
+        let cache = Cache::new(one.bytes * 3);
+        for k in 0..3u128 {
+            cache.insert(k, value(1000));
+        }
+        assert_eq!(cache.stats().entries, 3);
+        assert!(
+            cache.get(0).is_some(),
+            "touch 0: 1 becomes the least recent"
+        );
+        cache.insert(3, value(1000));
+        assert!(cache.stats().bytes <= cache.stats().budget);
+        assert!(!cache.contains(1), "least recently used went first");
+        assert!(cache.contains(0) && cache.contains(2) && cache.contains(3));
+        assert_eq!(cache.stats().evictions, 1);
+        cache.insert(9, value(10_000));
+        assert!(
+            !cache.contains(9),
+            "larger than the whole budget: not stored"
+        );
+        assert_eq!(cache.stats().entries, 3);
+    }
+
+    #[test]
+    fn disabled_cache_stores_nothing() {
+        let c = Cache::disabled();
+        c.insert(1, value(1));
+        assert!(c.get(1).is_none());
+    }
+}

@@ -1,0 +1,777 @@
+//! Turns a document into a checked, flattened network, reporting every problem at once.
+
+use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
+
+use geode_op::{Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry};
+use serde_json::Value as Json;
+
+use crate::channel::{Channel, Key};
+use crate::document::{Document, NetworkDoc, NodeDoc, VERSION};
+
+/// A problem found while loading a network.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{path}: {}{message}", param.as_ref().map(|p| format!("parameter `{p}`: ")).unwrap_or_default())]
+pub struct LoadError {
+    /// The node path (`/` for the document itself).
+    pub path: String,
+    pub param: Option<String>,
+    pub message: String,
+}
+
+impl LoadError {
+    fn node(path: &str, message: impl Into<String>) -> LoadError {
+        LoadError {
+            path: path.to_owned(),
+            param: None,
+            message: message.into(),
+        }
+    }
+
+    fn param(path: &str, param: &str, message: impl Into<String>) -> LoadError {
+        LoadError {
+            path: path.to_owned(),
+            param: Some(param.to_owned()),
+            message: message.into(),
+        }
+    }
+}
+
+/// One numeric component of a parameter: fixed or keyframed.
+#[derive(Clone, Debug)]
+pub(crate) enum Component {
+    Const(f64),
+    Channel(Channel),
+}
+
+#[derive(Clone, Debug)]
+pub(crate) enum ParamSource {
+    Text(String),
+    Components(Vec<Component>),
+}
+
+#[derive(Clone, Debug)]
+pub(crate) struct CompiledParam {
+    pub spec: &'static ParamSpec,
+    pub source: ParamSource,
+}
+
+impl CompiledParam {
+    fn eval(&self, frame: f64) -> ParamValue {
+        match &self.source {
+            ParamSource::Text(s) => ParamValue::String(s.clone()),
+            ParamSource::Components(c) => {
+                let v: Vec<f64> = c
+                    .iter()
+                    .map(|c| match c {
+                        Component::Const(x) => *x,
+                        Component::Channel(ch) => ch.eval(frame),
+                    })
+                    .collect();
+                self.spec.from_components(&v)
+            }
+        }
+    }
+
+    fn is_animated(&self) -> bool {
+        matches!(&self.source, ParamSource::Components(c) if c.iter().any(|c| matches!(c, Component::Channel(ch) if !ch.is_constant())))
+    }
+}
+
+#[derive(Clone)]
+pub(crate) enum NodeKind {
+    Op {
+        op: Arc<dyn Operator>,
+        params: Vec<CompiledParam>,
+    },
+    /// A subnetwork: its value is its output node's.
+    Subnet { output: Option<usize> },
+    /// A node of an unknown type (only while loading: load then fails).
+    Invalid,
+}
+
+#[derive(Clone)]
+pub(crate) struct Node {
+    pub path: String,
+    pub kind: NodeKind,
+    pub inputs: Vec<Option<usize>>,
+    pub bypass: bool,
+    /// For nodes inside a subnetwork: the subnet's index.
+    pub parent: Option<usize>,
+}
+
+/// A promoted parameter: the subnet parameter and the inner node it drives
+/// (the tag solo view's auto mode follows).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Promotion {
+    pub subnet: String,
+    pub name: String,
+    pub target: String,
+    pub target_param: String,
+}
+
+/// A checked network: nodes flattened by path (subnet contents included),
+/// inputs resolved, parameters parsed, no cycles.
+#[derive(Clone)]
+pub struct Network {
+    pub(crate) nodes: Vec<Node>,
+    by_path: HashMap<String, usize>,
+    output: Option<usize>,
+    promotions: Vec<Promotion>,
+}
+
+impl Network {
+    pub(crate) fn index(&self, path: &str) -> Option<usize> {
+        self.by_path.get(path).copied()
+    }
+
+    /// Every node path, in document order (parents before their contents).
+    pub fn paths(&self) -> impl Iterator<Item = &str> {
+        self.nodes.iter().map(|n| n.path.as_str())
+    }
+
+    /// The path of the network's output node, if it names one.
+    pub fn output(&self) -> Option<&str> {
+        self.output.map(|i| self.nodes[i].path.as_str())
+    }
+
+    pub fn promotions(&self) -> &[Promotion] {
+        &self.promotions
+    }
+
+    /// The type name of a node (`subnet` for subnetworks).
+    pub fn node_type(&self, path: &str) -> Option<&str> {
+        self.index(path).map(|i| match &self.nodes[i].kind {
+            NodeKind::Op { op, .. } => op.spec().name,
+            NodeKind::Subnet { .. } => "subnet",
+            NodeKind::Invalid => "invalid",
+        })
+    }
+
+    /// A node's parameters evaluated at `frame`.
+    pub(crate) fn params_at(&self, i: usize, frame: f64) -> Params {
+        match &self.nodes[i].kind {
+            NodeKind::Op { params, .. } => Params::new(
+                &self.nodes[i].path,
+                params
+                    .iter()
+                    .map(|p| (p.spec.name, p.eval(frame)))
+                    .collect(),
+            ),
+            NodeKind::Subnet { .. } | NodeKind::Invalid => {
+                Params::new(&self.nodes[i].path, Vec::new())
+            }
+        }
+    }
+
+    /// The inner node a parameter's tag names (`ParamSpec::affects`), as a path.
+    pub fn param_affects(&self, node: &str, param: &str) -> Option<String> {
+        let NodeKind::Op { op, .. } = &self.nodes[self.index(node)?].kind else {
+            return None;
+        };
+        let inner = op.spec().param(param)?.affects?;
+        let path = format!("{node}/{inner}");
+        self.index(&path).map(|_| path)
+    }
+
+    /// Whether any parameter of node `path` is animated.
+    pub fn is_animated(&self, path: &str) -> bool {
+        self.index(path).is_some_and(|i| match &self.nodes[i].kind {
+            NodeKind::Op { params, .. } => params.iter().any(CompiledParam::is_animated),
+            NodeKind::Subnet { .. } | NodeKind::Invalid => false,
+        })
+    }
+
+    /// Loads and checks a document against the registry's node types.
+    pub fn load(doc: &Document, registry: &Registry) -> Result<Network, Vec<LoadError>> {
+        let mut b = Builder {
+            registry,
+            nodes: Vec::new(),
+            docs: Vec::new(),
+            by_path: HashMap::new(),
+            errors: Vec::new(),
+            promotions: Vec::new(),
+        };
+        if doc.geode != "network" {
+            b.errors.push(LoadError::node(
+                "/",
+                format!(
+                    "not a geode network (\"geode\" is \"{}\", expected \"network\")",
+                    doc.geode
+                ),
+            ));
+        }
+        if doc.version > VERSION {
+            b.errors.push(LoadError::node(
+                "/",
+                format!(
+                    "network version {} is newer than this geode understands ({VERSION})",
+                    doc.version
+                ),
+            ));
+        }
+        b.collect(&doc.network, "", None);
+        b.resolve_inputs();
+        b.compile_params();
+        b.check_wires();
+        let output = b.network_output(&doc.network, "", None);
+        let net = Network {
+            nodes: b.nodes,
+            by_path: b.by_path,
+            output,
+            promotions: b.promotions,
+        };
+        let mut errors = b.errors;
+        errors.extend(find_cycles(&net));
+        // Grouped by node (document-level first), each node's in check order.
+        errors.sort_by(|a, b| a.path.cmp(&b.path));
+        if errors.is_empty() {
+            Ok(net)
+        } else {
+            Err(errors)
+        }
+    }
+}
+
+struct Builder<'a> {
+    registry: &'a Registry,
+    nodes: Vec<Node>,
+    docs: Vec<NodeDoc>,
+    by_path: HashMap<String, usize>,
+    errors: Vec<LoadError>,
+    promotions: Vec<Promotion>,
+}
+
+fn describe(j: &Json) -> String {
+    match j {
+        Json::Null => "null".into(),
+        Json::Bool(b) => format!("boolean {b}"),
+        Json::Number(n) => format!("number {n}"),
+        Json::String(s) => format!("string {s:?}"),
+        Json::Array(a) => format!("an array of {}", a.len()),
+        Json::Object(_) => "an object".into(),
+    }
+}
+
+impl Builder<'_> {
+    fn collect(&mut self, net: &NetworkDoc, prefix: &str, parent: Option<usize>) {
+        for (name, doc) in &net.nodes {
+            let path = format!("{prefix}/{name}");
+            if name.is_empty() || name.contains('/') || name.starts_with('@') {
+                self.errors.push(LoadError::node(
+                    &path,
+                    "a node name must be non-empty and contain neither `/` nor a leading `@`",
+                ));
+                continue;
+            }
+            let kind = if doc.ty == "subnet" {
+                if doc.network.is_none() {
+                    self.errors
+                        .push(LoadError::node(&path, "a subnet needs a \"network\""));
+                }
+                NodeKind::Subnet { output: None }
+            } else {
+                match self.registry.get(&doc.ty) {
+                    Some(op) => NodeKind::Op {
+                        op: Arc::clone(op),
+                        params: Vec::new(),
+                    },
+                    None => {
+                        let near = self.registry.closest(&doc.ty);
+                        let hint = if near.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" (did you mean {}?)", near.join(", "))
+                        };
+                        self.errors.push(LoadError::node(
+                            &path,
+                            format!("unknown node type `{}`{hint}", doc.ty),
+                        ));
+                        // Kept as a placeholder so references to it do not add errors.
+                        NodeKind::Invalid
+                    }
+                }
+            };
+            if doc.ty != "subnet" && (doc.network.is_some() || !doc.promote.is_empty()) {
+                self.errors.push(LoadError::node(
+                    &path,
+                    "only subnets have a \"network\" or \"promote\"",
+                ));
+            }
+            let idx = self.nodes.len();
+            self.by_path.insert(path.clone(), idx);
+            self.nodes.push(Node {
+                path: path.clone(),
+                kind,
+                inputs: Vec::new(),
+                bypass: doc.bypass,
+                parent,
+            });
+            self.docs.push(doc.clone());
+            if let Some(inner) = &doc.network {
+                self.collect(inner, &path, Some(idx));
+                let out = self.network_output(inner, &path, Some(idx));
+                if let NodeKind::Subnet { output } = &mut self.nodes[idx].kind {
+                    *output = out;
+                }
+            }
+        }
+    }
+
+    /// The output node of a (sub)network: `output`, else the display flag.
+    fn network_output(
+        &mut self,
+        net: &NetworkDoc,
+        prefix: &str,
+        subnet: Option<usize>,
+    ) -> Option<usize> {
+        let name = net.output.clone().or_else(|| {
+            net.nodes
+                .iter()
+                .find(|(_, d)| d.display)
+                .map(|(n, _)| n.clone())
+        })?;
+        let path = format!("{prefix}/{name}");
+        match self.by_path.get(&path) {
+            Some(&i) => Some(i),
+            None => {
+                let at = subnet.map_or("/".to_owned(), |s| self.nodes[s].path.clone());
+                if !self.errors.iter().any(|e| e.path == path) {
+                    self.errors.push(LoadError::node(
+                        &at,
+                        format!("output `{name}` is not a node of this network"),
+                    ));
+                }
+                None
+            }
+        }
+    }
+
+    fn resolve_inputs(&mut self) {
+        for i in 0..self.nodes.len() {
+            let path = self.nodes[i].path.clone();
+            let prefix = &path[..path.rfind('/').unwrap_or(0)];
+            let mut inputs = Vec::new();
+            for (k, inp) in self.docs[i].inputs.iter().enumerate() {
+                let resolved = match inp {
+                    None => None,
+                    Some(s) if s.starts_with('@') => {
+                        let parent = self.nodes[i].parent;
+                        match (parent, s[1..].parse::<usize>()) {
+                            (Some(p), Ok(n)) => {
+                                match self.nodes[p].inputs.get(n) {
+                                    Some(src) => *src,
+                                    None => {
+                                        self.errors.push(LoadError::node(&path, format!("input {} refers to `{s}` but the subnet has {} inputs", k + 1, self.nodes[p].inputs.len())));
+                                        None
+                                    }
+                                }
+                            }
+                            (None, _) => {
+                                self.errors.push(LoadError::node(
+                                    &path,
+                                    format!("input {} refers to `{s}` outside a subnet", k + 1),
+                                ));
+                                None
+                            }
+                            (_, Err(_)) => {
+                                self.errors.push(LoadError::node(
+                                    &path,
+                                    format!(
+                                        "input {} refers to `{s}`, expected `@` and a number",
+                                        k + 1
+                                    ),
+                                ));
+                                None
+                            }
+                        }
+                    }
+                    Some(s) => {
+                        match self.by_path.get(&format!("{prefix}/{s}")) {
+                            Some(&j) => Some(j),
+                            None => {
+                                self.errors.push(LoadError::node(&path, format!("input {} refers to `{s}`, which is not a node of this network", k + 1)));
+                                None
+                            }
+                        }
+                    }
+                };
+                inputs.push(resolved);
+            }
+            self.nodes[i].inputs = inputs;
+        }
+    }
+
+    fn parse_param(
+        &mut self,
+        path: &str,
+        spec: &'static ParamSpec,
+        j: &Json,
+    ) -> Option<ParamSource> {
+        let err = |m: String| LoadError::param(path, spec.name, m);
+        if spec.ty.is_textual() {
+            let Json::String(s) = j else {
+                self.errors.push(err(format!(
+                    "expected a {} (a string), found {}",
+                    spec.ty,
+                    describe(j)
+                )));
+                return None;
+            };
+            if let ParamType::Menu(items) = spec.ty {
+                if !items.contains(&s.as_str()) {
+                    self.errors
+                        .push(err(format!("`{s}` is not one of {}", items.join(", "))));
+                    return None;
+                }
+            }
+            return Some(ParamSource::Text(s.clone()));
+        }
+        let n = spec.ty.components();
+        let parts: Vec<&Json> = match (n, j) {
+            (1, Json::Array(_)) | (2.., Json::Number(_)) => {
+                self.errors.push(err(format!(
+                    "expected {}, found {}",
+                    expectation(spec.ty),
+                    describe(j)
+                )));
+                return None;
+            }
+            (1, j) => vec![j],
+            (_, Json::Array(a)) if a.len() == n => a.iter().collect(),
+            _ => {
+                self.errors.push(err(format!(
+                    "expected {}, found {}",
+                    expectation(spec.ty),
+                    describe(j)
+                )));
+                return None;
+            }
+        };
+        let mut comps = Vec::new();
+        for p in parts {
+            let c = match p {
+                Json::Number(x) => Component::Const(x.as_f64().unwrap_or(f64::NAN)),
+                Json::Bool(b) if spec.ty == ParamType::Toggle => {
+                    Component::Const(if *b { 1.0 } else { 0.0 })
+                }
+                Json::Object(o) if o.contains_key("keys") => {
+                    if !spec.animatable {
+                        self.errors
+                            .push(err("this parameter cannot be animated".into()));
+                        return None;
+                    }
+                    let keys: Result<Vec<Key>, _> = serde_json::from_value(o["keys"].clone());
+                    match keys.map_err(|e| e.to_string()).and_then(Channel::new) {
+                        Ok(ch) => Component::Channel(ch),
+                        Err(e) => {
+                            self.errors.push(err(format!("bad channel: {e}")));
+                            return None;
+                        }
+                    }
+                }
+                other => {
+                    self.errors.push(err(format!(
+                        "expected {}, found {}",
+                        expectation(spec.ty),
+                        describe(other)
+                    )));
+                    return None;
+                }
+            };
+            let values: Vec<f64> = match &c {
+                Component::Const(x) => vec![*x],
+                Component::Channel(ch) => ch.keys().iter().map(|k| k.value).collect(),
+            };
+            for v in values {
+                if !v.is_finite() {
+                    self.errors
+                        .push(err("values must be finite numbers".into()));
+                    return None;
+                }
+                if spec.ty == ParamType::Int && v.fract() != 0.0 {
+                    self.errors
+                        .push(err(format!("expected an integer, found {v}")));
+                    return None;
+                }
+                if let Some(min) = spec.min.filter(|m| v < *m) {
+                    self.errors
+                        .push(err(format!("value {v} is below the minimum {min}")));
+                    return None;
+                }
+                if let Some(max) = spec.max.filter(|m| v > *m) {
+                    self.errors
+                        .push(err(format!("value {v} is above the maximum {max}")));
+                    return None;
+                }
+            }
+            comps.push(c);
+        }
+        Some(ParamSource::Components(comps))
+    }
+
+    fn compile_params(&mut self) {
+        // Promoted values, applied to their target after the target's own parameters.
+        let mut overrides: BTreeMap<(usize, String), (String, Json)> = BTreeMap::new();
+        for i in 0..self.nodes.len() {
+            let path = self.nodes[i].path.clone();
+            let doc = self.docs[i].clone();
+            match self.nodes[i].kind.clone() {
+                NodeKind::Op { op, .. } => {
+                    let spec = op.spec();
+                    let mut given: BTreeMap<&str, &Json> = BTreeMap::new();
+                    for (name, j) in &doc.params {
+                        match spec.param(name) {
+                            Some(_) => {
+                                given.insert(name.as_str(), j);
+                            }
+                            None => {
+                                let known: Vec<&str> = spec.params.iter().map(|p| p.name).collect();
+                                let mut near: Vec<(usize, &str)> = known
+                                    .iter()
+                                    .map(|k| (geode_op::edit_distance(name, k), *k))
+                                    .filter(|(d, _)| *d <= 3)
+                                    .collect();
+                                near.sort();
+                                let hint = near
+                                    .first()
+                                    .map(|(_, k)| format!(" (did you mean `{k}`?)"))
+                                    .unwrap_or_default();
+                                self.errors.push(LoadError::node(
+                                    &path,
+                                    format!("unknown parameter `{name}`{hint}"),
+                                ));
+                            }
+                        }
+                    }
+                    let mut params = Vec::new();
+                    for spec in spec.params {
+                        let source = match given.get(spec.name) {
+                            Some(j) => self.parse_param(&path, spec, j),
+                            None => None,
+                        };
+                        let source = source.unwrap_or_else(|| default_source(spec));
+                        params.push(CompiledParam { spec, source });
+                    }
+                    self.nodes[i].kind = NodeKind::Op { op, params };
+                }
+                NodeKind::Invalid => {}
+                NodeKind::Subnet { .. } => {
+                    for (name, target) in &doc.promote {
+                        let Some((inner, param)) = target.rsplit_once('/') else {
+                            self.errors.push(LoadError::node(&path, format!("promoted parameter `{name}` must name `node/parameter`, found `{target}`")));
+                            continue;
+                        };
+                        let inner_path = format!("{path}/{inner}");
+                        let Some(&t) = self.by_path.get(&inner_path) else {
+                            self.errors.push(LoadError::node(&path, format!("promoted parameter `{name}` targets `{inner}`, which is not a node of the subnet")));
+                            continue;
+                        };
+                        self.promotions.push(Promotion {
+                            subnet: path.clone(),
+                            name: name.clone(),
+                            target: inner_path,
+                            target_param: param.to_owned(),
+                        });
+                        if let Some(j) = doc.params.get(name) {
+                            overrides.insert((t, param.to_owned()), (name.clone(), j.clone()));
+                        }
+                    }
+                    for name in doc.params.keys() {
+                        if !doc.promote.contains_key(name) {
+                            self.errors.push(LoadError::node(&path, format!("unknown parameter `{name}` (a subnet has only its promoted parameters)")));
+                        }
+                    }
+                }
+            }
+        }
+        for ((t, param), (promoted, j)) in overrides {
+            let NodeKind::Op { op, .. } = &self.nodes[t].kind else {
+                let p = self.nodes[t].path.clone();
+                self.errors.push(LoadError::node(&p, format!("promoted parameter `{promoted}` targets a subnet, not a node with parameters")));
+                continue;
+            };
+            let path = self.nodes[t].path.clone();
+            let Some(spec) = op.spec().param(&param) else {
+                let sub = self.nodes[self.nodes[t].parent.unwrap_or(t)].path.clone();
+                self.errors.push(LoadError::node(
+                    &sub,
+                    format!(
+                        "promoted parameter `{promoted}` targets `{param}`, which {} does not have",
+                        path
+                    ),
+                ));
+                continue;
+            };
+            if let Some(source) = self.parse_param(&path, spec, &j) {
+                if let NodeKind::Op { params, .. } = &mut self.nodes[t].kind {
+                    if let Some(p) = params.iter_mut().find(|p| p.spec.name == param) {
+                        p.source = source;
+                    }
+                }
+            }
+        }
+    }
+
+    fn output_type(&self, i: usize) -> Option<PortType> {
+        let mut i = i;
+        for _ in 0..=self.nodes.len() {
+            let n = &self.nodes[i];
+            if n.bypass {
+                i = (*n.inputs.first()?)?;
+                continue;
+            }
+            match &n.kind {
+                NodeKind::Op { op, .. } => return Some(op.spec().output),
+                NodeKind::Subnet { output } => i = (*output)?,
+                NodeKind::Invalid => return None,
+            }
+        }
+        None
+    }
+
+    fn check_wires(&mut self) {
+        for i in 0..self.nodes.len() {
+            let NodeKind::Op { op, .. } = &self.nodes[i].kind else {
+                continue;
+            };
+            let spec = op.spec();
+            let path = self.nodes[i].path.clone();
+            let given = &self.docs[i].inputs;
+            let n = self.nodes[i].inputs.len().max(spec.inputs.len());
+            if !spec.variadic && given.len() > spec.inputs.len() {
+                self.errors.push(LoadError::node(
+                    &path,
+                    format!(
+                        "{} inputs connected but `{}` takes {}",
+                        given.len(),
+                        spec.name,
+                        spec.inputs.len()
+                    ),
+                ));
+                continue;
+            }
+            for k in 0..n {
+                let Some(decl) = spec.inputs.get(k).or(if spec.variadic {
+                    spec.inputs.last()
+                } else {
+                    None
+                }) else {
+                    continue;
+                };
+                let src = self.nodes[i].inputs.get(k).copied().flatten();
+                let connected_in_doc = given.get(k).is_some_and(|g| g.is_some());
+                match src {
+                    None if decl.required && !connected_in_doc && k < spec.inputs.len() => {
+                        self.errors.push(LoadError::node(
+                            &path,
+                            format!(
+                                "input {} ({}) is required but not connected",
+                                k + 1,
+                                decl.name
+                            ),
+                        ));
+                    }
+                    Some(s) => {
+                        if let Some(t) = self.output_type(s) {
+                            if t != decl.ty {
+                                self.errors.push(LoadError::node(
+                                    &path,
+                                    format!(
+                                        "input {} ({}) expects {} but {} gives {}",
+                                        k + 1,
+                                        decl.name,
+                                        decl.ty,
+                                        self.nodes[s].path,
+                                        t
+                                    ),
+                                ));
+                            }
+                        }
+                    }
+                    None => {}
+                }
+            }
+        }
+    }
+}
+
+fn expectation(ty: ParamType) -> String {
+    match ty.components() {
+        1 if ty == ParamType::Toggle => "a toggle (true/false, a number or a channel)".into(),
+        1 => format!("{ty} (a number or a channel)"),
+        n => format!("{ty} (an array of {n} numbers or channels)"),
+    }
+}
+
+fn default_source(spec: &'static ParamSpec) -> ParamSource {
+    match spec.default_value() {
+        ParamValue::Float(x) => ParamSource::Components(vec![Component::Const(x)]),
+        ParamValue::Int(x) => ParamSource::Components(vec![Component::Const(x as f64)]),
+        ParamValue::Toggle(x) => {
+            ParamSource::Components(vec![Component::Const(if x { 1.0 } else { 0.0 })])
+        }
+        ParamValue::Vector(v) => {
+            ParamSource::Components(v.into_iter().map(Component::Const).collect())
+        }
+        ParamValue::String(s) => ParamSource::Text(s),
+    }
+}
+
+/// Every cycle through inputs and subnet outputs, each named by its nodes.
+fn find_cycles(net: &Network) -> Vec<LoadError> {
+    let deps = |i: usize| -> Vec<usize> {
+        let n = &net.nodes[i];
+        let mut d: Vec<usize> = n.inputs.iter().flatten().copied().collect();
+        if let NodeKind::Subnet { output: Some(o) } = n.kind {
+            d.push(o);
+        }
+        d
+    };
+    // 0 unvisited, 1 on the stack, 2 done.
+    let mut state = vec![0u8; net.nodes.len()];
+    let mut errors = Vec::new();
+    for start in 0..net.nodes.len() {
+        if state[start] != 0 {
+            continue;
+        }
+        let mut stack: Vec<(usize, Vec<usize>)> = vec![(start, deps(start))];
+        state[start] = 1;
+        while let Some((node, pending)) = stack.last_mut() {
+            match pending.pop() {
+                Some(next) if state[next] == 0 => {
+                    state[next] = 1;
+                    let d = deps(next);
+                    stack.push((next, d));
+                }
+                Some(next) if state[next] == 1 => {
+                    let pos = stack
+                        .iter()
+                        .position(|(n, _)| *n == next)
+                        .expect("on the stack");
+                    // The stack runs against the data flow (each entry is an
+                    // input of the one before): reversed, each node feeds the next.
+                    let mut flow: Vec<&str> = stack[pos..]
+                        .iter()
+                        .rev()
+                        .map(|(n, _)| net.nodes[*n].path.as_str())
+                        .collect();
+                    // Start at the smallest path so the message does not depend on the walk.
+                    let first = (0..flow.len()).min_by_key(|&k| flow[k]).unwrap_or(0);
+                    flow.rotate_left(first);
+                    flow.push(flow[0]);
+                    errors.push(LoadError::node(
+                        flow[0],
+                        format!("cycle: {}", flow.join(" -> ")),
+                    ));
+                }
+                Some(_) => {}
+                None => {
+                    state[*node] = 2;
+                    stack.pop();
+                }
+            }
+        }
+    }
+    errors
+}

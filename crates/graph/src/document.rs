@@ -1,0 +1,127 @@
+//! The network document: versioned JSON, nodes by name (paths are their nesting), unknown fields kept.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+use serde_json::Value as Json;
+
+/// The document version this geode writes and understands.
+pub const VERSION: u64 = 1;
+
+/// A network file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Document {
+    /// Marks the file as a geode network (always "network").
+    pub geode: String,
+    pub version: u64,
+    #[serde(flatten)]
+    pub network: NetworkDoc,
+    /// Fields of newer versions, kept so saving never drops them.
+    #[serde(flatten)]
+    pub extra: BTreeMap<String, Json>,
+}
+
+/// Nodes by name, and the node whose output is the network's result.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+pub struct NetworkDoc {
+    pub nodes: BTreeMap<String, NodeDoc>,
+    /// The output node's name; else the node with the display flag; else none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub output: Option<String>,
+}
+
+/// One node.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NodeDoc {
+    #[serde(rename = "type")]
+    pub ty: String,
+    /// Parameter values: constants, or channels (`{"keys": [...]}`) per component.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub params: BTreeMap<String, Json>,
+    /// Sibling node names (or `@N` for a subnetwork's N-th input), null for an
+    /// unconnected optional input.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<Option<String>>,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub bypass: bool,
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub display: bool,
+    /// For `type: "subnet"`: the inner network.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub network: Option<Box<NetworkDoc>>,
+    /// For subnets: promoted parameters, name -> "inner_node/parameter".
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub promote: BTreeMap<String, String>,
+    #[serde(flatten)]
+    pub extra: BTreeMap<String, Json>,
+}
+
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
+/// A document that could not even be parsed as JSON of the right shape.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("line {line}, column {column}: {message}")]
+pub struct SyntaxError {
+    pub line: usize,
+    pub column: usize,
+    pub message: String,
+}
+
+impl Document {
+    pub fn new() -> Document {
+        Document {
+            geode: "network".into(),
+            version: VERSION,
+            network: NetworkDoc::default(),
+            extra: BTreeMap::new(),
+        }
+    }
+
+    pub fn from_json(text: &str) -> Result<Document, SyntaxError> {
+        serde_json::from_str(text).map_err(|e| SyntaxError {
+            line: e.line(),
+            column: e.column(),
+            message: e
+                .to_string()
+                .split(" at line")
+                .next()
+                .unwrap_or_default()
+                .to_owned(),
+        })
+    }
+
+    /// Pretty JSON with keys in a stable order.
+    pub fn to_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("documents always serialise") + "\n"
+    }
+}
+
+impl Default for Document {
+    fn default() -> Self {
+        Document::new()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn unknown_fields_survive_a_round_trip() {
+        let text = r#"{"geode": "network", "version": 1, "future": {"x": 1},
+            "nodes": {"a": {"type": "box", "colour": "red", "params": {"size": [1, 2, 3]}}}}"#;
+        let d = Document::from_json(text).unwrap();
+        let again = Document::from_json(&d.to_json()).unwrap();
+        assert_eq!(again, d);
+        assert_eq!(again.extra["future"]["x"], 1);
+        assert_eq!(again.network.nodes["a"].extra["colour"], "red");
+    }
+
+    #[test]
+    fn syntax_errors_have_positions() {
+        let e = Document::from_json("{\n \"geode\": \"network\",\n \"version\": }").unwrap_err();
+        assert_eq!((e.line, e.column), (3, 13));
+    }
+}

@@ -1,0 +1,320 @@
+//! The cook engine: pulls inputs (independent branches in parallel), keys every cook by content, consults the cache, traces each cook.
+
+use std::sync::{Mutex, OnceLock};
+use std::time::Instant;
+
+use geode_op::{CancelToken, CookContext, CookError, NodeSpec, Params, ProgressFn, Value};
+use rayon::prelude::*;
+use xxhash_rust::xxh3::Xxh3;
+
+use crate::cache::{Cache, Cached};
+use crate::compile::{Network, NodeKind};
+
+/// How to cook.
+pub struct CookOptions<'a> {
+    pub frame: f64,
+    pub cancel: CancelToken,
+    /// Called with (node path, fraction) as kernels report progress, and
+    /// with 1.0 when a node finishes.
+    pub progress: Option<&'a ProgressFn>,
+}
+
+impl CookOptions<'_> {
+    pub fn at_frame(frame: f64) -> CookOptions<'static> {
+        CookOptions {
+            frame,
+            cancel: CancelToken::new(),
+            progress: None,
+        }
+    }
+}
+
+/// What happened to one node during a cook.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CookEvent {
+    pub path: String,
+    pub node_type: &'static str,
+    pub key: u128,
+    /// Served from the cache (the node's cook did not run).
+    pub hit: bool,
+    pub seconds: f64,
+    pub bytes: usize,
+}
+
+/// A cook's value and what ran to produce it.
+pub struct CookResult {
+    pub value: Value,
+    pub events: Vec<CookEvent>,
+}
+
+impl CookResult {
+    /// Paths of the nodes whose cook actually ran (cache misses), sorted.
+    pub fn cooked(&self) -> Vec<&str> {
+        let mut v: Vec<&str> = self
+            .events
+            .iter()
+            .filter(|e| !e.hit)
+            .map(|e| e.path.as_str())
+            .collect();
+        v.sort_unstable();
+        v
+    }
+}
+
+/// Cooks nodes of one network against a cache.
+pub struct Engine<'c> {
+    net: Network,
+    cache: &'c Cache,
+}
+
+#[derive(Clone)]
+struct Cooked {
+    value: Value,
+    identity: u128,
+}
+
+type Slot = OnceLock<Result<Cooked, Vec<CookError>>>;
+
+struct Run<'e, 'o> {
+    engine: &'e Engine<'e>,
+    opts: &'o CookOptions<'o>,
+    slots: Vec<Slot>,
+    events: Mutex<Vec<CookEvent>>,
+}
+
+fn no_progress(_: &str, _: f32) {}
+
+/// The cache key: node type and version, parameter values at the frame and
+/// input identities (and the frame itself for time-dependent nodes).
+fn cook_key(spec: &NodeSpec, params: &Params, inputs: &[Option<Cooked>], frame: f64) -> u128 {
+    let mut h = Xxh3::new();
+    h.update(b"geode-cook-v1");
+    h.update(&(spec.name.len() as u64).to_le_bytes());
+    h.update(spec.name.as_bytes());
+    h.update(&spec.version.to_le_bytes());
+    for (name, v) in params.iter() {
+        h.update(name.as_bytes());
+        h.update(b"=");
+        v.hash_into(&mut h);
+    }
+    for inp in inputs {
+        match inp {
+            Some(c) => h.update(&c.identity.to_le_bytes()),
+            None => h.update(b"none"),
+        }
+    }
+    if spec.time_dependent {
+        h.update(&frame.to_le_bytes());
+    }
+    h.digest128()
+}
+
+impl Run<'_, '_> {
+    fn node(&self, i: usize) -> Result<Cooked, Vec<CookError>> {
+        self.slots[i].get_or_init(|| self.cook_node(i)).clone()
+    }
+
+    fn cook_node(&self, i: usize) -> Result<Cooked, Vec<CookError>> {
+        let net = &self.engine.net;
+        let n = &net.nodes[i];
+        if self.opts.cancel.is_cancelled() {
+            return Err(vec![CookError::cancelled(&n.path)]);
+        }
+        // Independent branches cook in parallel; every error is reported.
+        let results: Vec<Result<Option<Cooked>, Vec<CookError>>> = n
+            .inputs
+            .par_iter()
+            .map(|inp| match inp {
+                Some(j) => self.node(*j).map(Some),
+                None => Ok(None),
+            })
+            .collect();
+        let mut errors: Vec<CookError> = Vec::new();
+        let mut inputs = Vec::with_capacity(results.len());
+        for r in results {
+            match r {
+                Ok(c) => inputs.push(c),
+                Err(e) => {
+                    for x in e {
+                        if !errors.contains(&x) {
+                            errors.push(x);
+                        }
+                    }
+                }
+            }
+        }
+        if !errors.is_empty() {
+            return Err(errors);
+        }
+        if n.bypass {
+            return match inputs.into_iter().next().flatten() {
+                Some(c) => Ok(c),
+                None => Err(vec![CookError::new(
+                    &n.path,
+                    "bypassed, but has no input to pass through",
+                )]),
+            };
+        }
+        let op = match &n.kind {
+            NodeKind::Subnet { output: Some(o) } => return self.node(*o),
+            NodeKind::Subnet { output: None } => {
+                return Err(vec![CookError::new(
+                    &n.path,
+                    "the subnet has no output node",
+                )])
+            }
+            NodeKind::Op { op, .. } => op,
+            NodeKind::Invalid => return Err(vec![CookError::new(&n.path, "unknown node type")]),
+        };
+        let spec = op.spec();
+        let params = net.params_at(i, self.opts.frame);
+        let key = cook_key(spec, &params, &inputs, self.opts.frame);
+        let span = tracing::info_span!(
+            "cook",
+            node = %n.path,
+            node_type = spec.name,
+            frame = self.opts.frame,
+            key = %format!("{key:032x}"),
+            hit = tracing::field::Empty,
+            bytes = tracing::field::Empty,
+        );
+        let _enter = span.enter();
+        let start = Instant::now();
+        let progress = self.opts.progress.unwrap_or(&no_progress);
+        if let Some(c) = self.engine.cache.get(key) {
+            span.record("hit", true);
+            span.record("bytes", c.bytes);
+            self.record(CookEvent {
+                path: n.path.clone(),
+                node_type: spec.name,
+                key,
+                hit: true,
+                seconds: start.elapsed().as_secs_f64(),
+                bytes: c.bytes,
+            });
+            progress(&n.path, 1.0);
+            return Ok(Cooked {
+                value: c.value,
+                identity: c.identity,
+            });
+        }
+        span.record("hit", false);
+        let ctx = CookContext {
+            path: &n.path,
+            frame: self.opts.frame,
+            cancel: &self.opts.cancel,
+            on_progress: progress,
+        };
+        let values: Vec<Option<Value>> = inputs
+            .iter()
+            .map(|c| c.as_ref().map(|c| c.value.clone()))
+            .collect();
+        let value = op.cook(&ctx, &values, &params).map_err(|e| vec![e])?;
+        if value.port_type() != spec.output {
+            return Err(vec![CookError::new(
+                &n.path,
+                format!(
+                    "produced {} but declares {}",
+                    value.port_type(),
+                    spec.output
+                ),
+            )]);
+        }
+        let identity = value.identity();
+        let bytes = value.bytes();
+        span.record("bytes", bytes);
+        self.engine.cache.insert(
+            key,
+            Cached {
+                value: value.clone(),
+                identity,
+                bytes,
+            },
+        );
+        self.record(CookEvent {
+            path: n.path.clone(),
+            node_type: spec.name,
+            key,
+            hit: false,
+            seconds: start.elapsed().as_secs_f64(),
+            bytes,
+        });
+        progress(&n.path, 1.0);
+        Ok(Cooked { value, identity })
+    }
+
+    fn record(&self, e: CookEvent) {
+        self.events
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .push(e);
+    }
+}
+
+impl<'c> Engine<'c> {
+    pub fn new(net: Network, cache: &'c Cache) -> Engine<'c> {
+        Engine { net, cache }
+    }
+
+    pub fn network(&self) -> &Network {
+        &self.net
+    }
+
+    pub fn cache(&self) -> &Cache {
+        self.cache
+    }
+
+    /// Cooks the node at `path` (any node, inside subnetworks too: solo view).
+    pub fn cook(&self, path: &str, opts: &CookOptions) -> Result<CookResult, Vec<CookError>> {
+        let i = self
+            .net
+            .index(path)
+            .ok_or_else(|| vec![CookError::new(path, "no such node")])?;
+        let run = Run {
+            engine: self,
+            opts,
+            slots: (0..self.net.nodes.len()).map(|_| OnceLock::new()).collect(),
+            events: Mutex::new(Vec::new()),
+        };
+        let cooked = run.node(i)?;
+        let mut events = run.events.into_inner().unwrap_or_else(|p| p.into_inner());
+        events.sort_by(|a, b| a.path.cmp(&b.path));
+        Ok(CookResult {
+            value: cooked.value,
+            events,
+        })
+    }
+
+    /// Cooks the network's output node.
+    pub fn cook_output(&self, opts: &CookOptions) -> Result<CookResult, Vec<CookError>> {
+        let out = self
+            .net
+            .output()
+            .ok_or_else(|| {
+                vec![CookError::new(
+                    "/",
+                    "the network names no output node (set \"output\" or a display flag)",
+                )]
+            })?
+            .to_owned();
+        self.cook(&out, opts)
+    }
+
+    /// Solo view's auto mode: given the parameters that changed (node path,
+    /// parameter name), the node to show. A promoted subnet parameter shows
+    /// the inner node it drives; any other parameter shows its own node. The
+    /// last change wins, as in seed 004.
+    pub fn solo_target(&self, changed: &[(&str, &str)]) -> Option<String> {
+        changed.iter().rev().find_map(|(node, param)| {
+            let promoted = self
+                .net
+                .promotions()
+                .iter()
+                .find(|p| p.subnet == *node && p.name == *param)
+                .map(|p| p.target.clone());
+            promoted
+                .or_else(|| self.net.param_affects(node, param))
+                .or_else(|| self.net.index(node).map(|_| node.to_string()))
+        })
+    }
+}

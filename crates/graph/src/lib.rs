@@ -1,0 +1,30 @@
+//! geode's node networks: the versioned JSON document ([`Document`]),
+//! keyframed channels, loading with every problem reported at once
+//! ([`Network::load`]), and the cook [`Engine`]: parallel pull of inputs,
+//! content-hashed keys with early cut-off, a process-wide byte-bounded LRU
+//! [`Cache`], solo view of any inner node, and a `tracing` span per cook.
+//! Knows no concrete node: node types come from a [`geode_op::Registry`].
+
+pub mod cache;
+pub mod channel;
+mod compile;
+pub mod document;
+mod engine;
+
+pub use cache::{Cache, CacheStats};
+pub use compile::{LoadError, Network, Promotion};
+pub use document::{Document, SyntaxError};
+pub use engine::{CookEvent, CookOptions, CookResult, Engine};
+
+/// Parses and loads a network document in one step; syntax errors come back
+/// as a single load error naming the line and column.
+pub fn load_str(text: &str, registry: &geode_op::Registry) -> Result<Network, Vec<LoadError>> {
+    let doc = Document::from_json(text).map_err(|e| {
+        vec![LoadError {
+            path: "/".into(),
+            param: None,
+            message: e.to_string(),
+        }]
+    })?;
+    Network::load(&doc, registry)
+}

@@ -1,0 +1,256 @@
+//! Toy operators for the engine's tests: the engine must work with node types it has never heard of.
+#![allow(dead_code)]
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use geode_geo::glam::Vec3;
+use geode_geo::Geometry;
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault, ParamSpec, ParamType,
+    Params, PortType, Registry, Value,
+};
+
+/// `points`: `count` points along X, spaced by `step`.
+struct Points;
+/// `offset`: moves every point by `by`.
+struct Offset;
+/// `clamp`: clamps X to at most `max` (so different inputs can give equal outputs).
+struct Clamp;
+/// `join`: merges any number of inputs.
+struct Join;
+/// `pack`: a bundle of its inputs named a, b, c...
+struct Pack;
+/// `slow`: spins until cancelled.
+struct Slow;
+
+static POINTS: NodeSpec = NodeSpec {
+    name: "points",
+    version: 1,
+    label: "Points",
+    category: "test",
+    help: "",
+    inputs: &[],
+    variadic: false,
+    output: PortType::Geometry,
+    params: &[
+        ParamSpec::new("count", "Count", ParamType::Int, ParamDefault::Int(3), "")
+            .range(0.0, 1000.0),
+        ParamSpec::new(
+            "step",
+            "Step",
+            ParamType::Float,
+            ParamDefault::Float(1.0),
+            "",
+        ),
+    ],
+    time_dependent: false,
+};
+static OFFSET: NodeSpec = NodeSpec {
+    name: "offset",
+    version: 1,
+    label: "Offset",
+    category: "test",
+    help: "",
+    inputs: &[InputSpec {
+        name: "geometry",
+        ty: PortType::Geometry,
+        required: true,
+    }],
+    variadic: false,
+    output: PortType::Geometry,
+    params: &[ParamSpec::new(
+        "by",
+        "By",
+        ParamType::Vec3,
+        ParamDefault::Vec3([0.0; 3]),
+        "",
+    )],
+    time_dependent: false,
+};
+static CLAMP: NodeSpec = NodeSpec {
+    name: "clamp",
+    version: 1,
+    label: "Clamp",
+    category: "test",
+    help: "",
+    inputs: &[InputSpec {
+        name: "geometry",
+        ty: PortType::Geometry,
+        required: true,
+    }],
+    variadic: false,
+    output: PortType::Geometry,
+    params: &[ParamSpec::new(
+        "max",
+        "Max",
+        ParamType::Float,
+        ParamDefault::Float(1.0),
+        "",
+    )],
+    time_dependent: false,
+};
+static JOIN: NodeSpec = NodeSpec {
+    name: "join",
+    version: 1,
+    label: "Join",
+    category: "test",
+    help: "",
+    inputs: &[InputSpec {
+        name: "geometry",
+        ty: PortType::Geometry,
+        required: false,
+    }],
+    variadic: true,
+    output: PortType::Geometry,
+    params: &[],
+    time_dependent: false,
+};
+static PACK: NodeSpec = NodeSpec {
+    name: "pack",
+    version: 1,
+    label: "Pack",
+    category: "test",
+    help: "",
+    inputs: &[InputSpec {
+        name: "geometry",
+        ty: PortType::Geometry,
+        required: false,
+    }],
+    variadic: true,
+    output: PortType::Bundle,
+    params: &[],
+    time_dependent: false,
+};
+static SLOW: NodeSpec = NodeSpec {
+    name: "slow",
+    version: 1,
+    label: "Slow",
+    category: "test",
+    help: "",
+    inputs: &[],
+    variadic: false,
+    output: PortType::Geometry,
+    params: &[],
+    time_dependent: false,
+};
+
+pub static COOKS: AtomicUsize = AtomicUsize::new(0);
+
+pub fn geo(v: &Value) -> &Geometry {
+    v.as_geometry().unwrap()
+}
+
+impl Operator for Points {
+    fn spec(&self) -> &'static NodeSpec {
+        &POINTS
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        COOKS.fetch_add(1, Ordering::Relaxed);
+        let mut g = Geometry::new();
+        let step = p.float("step")? as f32;
+        let pts: Vec<Vec3> = (0..p.int("count")?)
+            .map(|i| Vec3::X * i as f32 * step)
+            .collect();
+        g.add_points(&pts);
+        Ok(Value::geometry(g))
+    }
+}
+
+impl Operator for Offset {
+    fn spec(&self) -> &'static NodeSpec {
+        &OFFSET
+    }
+    fn cook(
+        &self,
+        _: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = geo(inputs[0].as_ref().unwrap()).clone();
+        let by = p.vector::<3>("by")?;
+        for q in g.positions_mut() {
+            *q += Vec3::new(by[0] as f32, by[1] as f32, by[2] as f32);
+        }
+        Ok(Value::geometry(g))
+    }
+}
+
+impl Operator for Clamp {
+    fn spec(&self) -> &'static NodeSpec {
+        &CLAMP
+    }
+    fn cook(
+        &self,
+        _: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = geo(inputs[0].as_ref().unwrap()).clone();
+        let max = p.float("max")? as f32;
+        for q in g.positions_mut() {
+            q.x = q.x.min(max);
+        }
+        Ok(Value::geometry(g))
+    }
+}
+
+impl Operator for Join {
+    fn spec(&self) -> &'static NodeSpec {
+        &JOIN
+    }
+    fn cook(
+        &self,
+        _: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        let gs: Vec<&Geometry> = inputs.iter().flatten().map(geo).collect();
+        Ok(Value::geometry(geode_geo::ops::merge(&gs).unwrap()))
+    }
+}
+
+impl Operator for Pack {
+    fn spec(&self) -> &'static NodeSpec {
+        &PACK
+    }
+    fn cook(
+        &self,
+        _: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        let mut b = geode_op::Bundle::default();
+        for (i, v) in inputs.iter().enumerate() {
+            if let Some(v) = v {
+                b.entries.insert(
+                    ((b'a' + i as u8) as char).to_string(),
+                    v.as_geometry().unwrap().clone(),
+                );
+            }
+        }
+        Ok(Value::Bundle(std::sync::Arc::new(b)))
+    }
+}
+
+impl Operator for Slow {
+    fn spec(&self) -> &'static NodeSpec {
+        &SLOW
+    }
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
+        loop {
+            ctx.check()?;
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+    }
+}
+
+pub fn registry() -> Registry {
+    let mut r = Registry::new();
+    r.add(Points);
+    r.add(Offset);
+    r.add(Clamp);
+    r.add(Join);
+    r.add(Pack);
+    r.add(Slow);
+    r
+}

@@ -1,0 +1,280 @@
+//! Parameter declarations (name, type, default, range, animatable, help, tag) and evaluated values.
+
+use std::fmt;
+
+use xxhash_rust::xxh3::Xxh3;
+
+use crate::context::CookError;
+
+/// The type of a parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamType {
+    Float,
+    Int,
+    Toggle,
+    Vec2,
+    Vec3,
+    Vec4,
+    String,
+    /// One of the listed tokens.
+    Menu(&'static [&'static str]),
+    /// A file path (read through geode-io, hashed by content where it matters).
+    File,
+}
+
+impl ParamType {
+    /// Number of animatable components (0 for strings).
+    pub fn components(self) -> usize {
+        match self {
+            ParamType::Float | ParamType::Int | ParamType::Toggle => 1,
+            ParamType::Vec2 => 2,
+            ParamType::Vec3 => 3,
+            ParamType::Vec4 => 4,
+            ParamType::String | ParamType::Menu(_) | ParamType::File => 0,
+        }
+    }
+
+    pub fn is_textual(self) -> bool {
+        self.components() == 0
+    }
+}
+
+impl fmt::Display for ParamType {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamType::Float => f.write_str("float"),
+            ParamType::Int => f.write_str("int"),
+            ParamType::Toggle => f.write_str("toggle"),
+            ParamType::Vec2 => f.write_str("vector2"),
+            ParamType::Vec3 => f.write_str("vector3"),
+            ParamType::Vec4 => f.write_str("vector4"),
+            ParamType::String => f.write_str("string"),
+            ParamType::Menu(items) => write!(f, "menu ({})", items.join(" | ")),
+            ParamType::File => f.write_str("file"),
+        }
+    }
+}
+
+/// A default value, writable in a `const` declaration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamDefault {
+    Float(f64),
+    Int(i64),
+    Toggle(bool),
+    Vec2([f64; 2]),
+    Vec3([f64; 3]),
+    Vec4([f64; 4]),
+    Str(&'static str),
+}
+
+/// A parameter, declared once: it drives validation, docs, the CLI and the studio.
+#[derive(Clone, Copy, Debug)]
+pub struct ParamSpec {
+    pub name: &'static str,
+    pub label: &'static str,
+    pub ty: ParamType,
+    pub default: ParamDefault,
+    /// Inclusive hard limits on every numeric component (values outside are errors).
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub animatable: bool,
+    pub help: &'static str,
+    /// Name of the inner node this parameter affects (solo view's auto mode).
+    pub affects: Option<&'static str>,
+}
+
+impl ParamSpec {
+    /// A parameter with no range, animatable when numeric, no tag.
+    pub const fn new(
+        name: &'static str,
+        label: &'static str,
+        ty: ParamType,
+        default: ParamDefault,
+        help: &'static str,
+    ) -> ParamSpec {
+        ParamSpec {
+            name,
+            label,
+            ty,
+            default,
+            min: None,
+            max: None,
+            animatable: !matches!(ty, ParamType::String | ParamType::Menu(_) | ParamType::File),
+            help,
+            affects: None,
+        }
+    }
+
+    pub const fn range(mut self, min: f64, max: f64) -> ParamSpec {
+        self.min = Some(min);
+        self.max = Some(max);
+        self
+    }
+
+    pub const fn at_least(mut self, min: f64) -> ParamSpec {
+        self.min = Some(min);
+        self
+    }
+
+    pub const fn not_animatable(mut self) -> ParamSpec {
+        self.animatable = false;
+        self
+    }
+
+    pub fn default_value(&self) -> ParamValue {
+        match self.default {
+            ParamDefault::Float(x) => ParamValue::Float(x),
+            ParamDefault::Int(x) => ParamValue::Int(x),
+            ParamDefault::Toggle(x) => ParamValue::Toggle(x),
+            ParamDefault::Vec2(v) => ParamValue::Vector(v.to_vec()),
+            ParamDefault::Vec3(v) => ParamValue::Vector(v.to_vec()),
+            ParamDefault::Vec4(v) => ParamValue::Vector(v.to_vec()),
+            ParamDefault::Str(s) => ParamValue::String(s.to_owned()),
+        }
+    }
+
+    /// Builds a value of this parameter's type from numeric components.
+    pub fn from_components(&self, c: &[f64]) -> ParamValue {
+        match self.ty {
+            ParamType::Float => ParamValue::Float(c[0]),
+            // Animated ints and toggles round: a channel may pass between integers.
+            ParamType::Int => ParamValue::Int(c[0].round() as i64),
+            ParamType::Toggle => ParamValue::Toggle(c[0] >= 0.5),
+            _ => ParamValue::Vector(c.to_vec()),
+        }
+    }
+}
+
+/// A parameter's value at a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamValue {
+    Float(f64),
+    Int(i64),
+    Toggle(bool),
+    Vector(Vec<f64>),
+    String(String),
+}
+
+impl ParamValue {
+    /// Feeds a canonical encoding into a cache key.
+    pub fn hash_into(&self, h: &mut Xxh3) {
+        match self {
+            ParamValue::Float(x) => {
+                h.update(b"f");
+                h.update(&canonical(*x).to_le_bytes());
+            }
+            ParamValue::Int(x) => {
+                h.update(b"i");
+                h.update(&x.to_le_bytes());
+            }
+            ParamValue::Toggle(x) => h.update(if *x { b"t1" } else { b"t0" }),
+            ParamValue::Vector(v) => {
+                h.update(b"v");
+                h.update(&(v.len() as u64).to_le_bytes());
+                for x in v {
+                    h.update(&canonical(*x).to_le_bytes());
+                }
+            }
+            ParamValue::String(s) => {
+                h.update(b"s");
+                h.update(&(s.len() as u64).to_le_bytes());
+                h.update(s.as_bytes());
+            }
+        }
+    }
+}
+
+/// -0 and 0 are the same parameter value.
+fn canonical(x: f64) -> u64 {
+    if x == 0.0 {
+        0
+    } else {
+        x.to_bits()
+    }
+}
+
+impl fmt::Display for ParamValue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ParamValue::Float(x) => write!(f, "{x}"),
+            ParamValue::Int(x) => write!(f, "{x}"),
+            ParamValue::Toggle(x) => write!(f, "{x}"),
+            ParamValue::Vector(v) => write!(f, "{v:?}"),
+            ParamValue::String(s) => write!(f, "{s:?}"),
+        }
+    }
+}
+
+/// Every declared parameter of a node, evaluated at the cook's frame.
+#[derive(Clone, Debug, Default)]
+pub struct Params {
+    path: String,
+    values: Vec<(&'static str, ParamValue)>,
+}
+
+impl Params {
+    pub fn new(path: impl Into<String>, values: Vec<(&'static str, ParamValue)>) -> Params {
+        Params {
+            path: path.into(),
+            values,
+        }
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &(&'static str, ParamValue)> {
+        self.values.iter()
+    }
+
+    pub fn get(&self, name: &str) -> Result<&ParamValue, CookError> {
+        self.values
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, v)| v)
+            .ok_or_else(|| {
+                CookError::param(
+                    &self.path,
+                    name,
+                    "the node asked for a parameter it does not declare",
+                )
+            })
+    }
+
+    fn wrong(&self, name: &str, want: &str) -> CookError {
+        CookError::param(&self.path, name, format!("expected a {want}"))
+    }
+
+    pub fn float(&self, name: &str) -> Result<f64, CookError> {
+        match self.get(name)? {
+            ParamValue::Float(x) => Ok(*x),
+            ParamValue::Int(x) => Ok(*x as f64),
+            _ => Err(self.wrong(name, "float")),
+        }
+    }
+
+    pub fn int(&self, name: &str) -> Result<i64, CookError> {
+        match self.get(name)? {
+            ParamValue::Int(x) => Ok(*x),
+            _ => Err(self.wrong(name, "int")),
+        }
+    }
+
+    pub fn toggle(&self, name: &str) -> Result<bool, CookError> {
+        match self.get(name)? {
+            ParamValue::Toggle(x) => Ok(*x),
+            _ => Err(self.wrong(name, "toggle")),
+        }
+    }
+
+    pub fn vector<const N: usize>(&self, name: &str) -> Result<[f64; N], CookError> {
+        match self.get(name)? {
+            ParamValue::Vector(v) if v.len() == N => Ok(std::array::from_fn(|i| v[i])),
+            _ => Err(self.wrong(name, &format!("vector{N}"))),
+        }
+    }
+
+    pub fn string(&self, name: &str) -> Result<&str, CookError> {
+        match self.get(name)? {
+            ParamValue::String(s) => Ok(s),
+            _ => Err(self.wrong(name, "string")),
+        }
+    }
+}
