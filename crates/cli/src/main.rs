@@ -1,5 +1,7 @@
 //! The `geode` command: inspect and convert geometry files.
 
+mod catalogue;
+mod cook;
 mod info;
 mod progress;
 
@@ -10,6 +12,11 @@ use clap::{Parser, Subcommand};
 
 const EXAMPLES: &str = "\
 Examples:
+  geode cook examples/primitives.json -o /tmp/primitives.glb
+  geode cook examples/primitives.json --frames 1-24 -o '/tmp/prim.$F4.obj'
+  geode cook examples/primitives.json --node /spin --frame 12 -o /tmp/spin.ply --trace /tmp/trace.json
+  geode check examples/primitives.json
+  geode nodes transform
   geode info examples/assets/creased_box.obj
   geode info --json model.glb
   geode convert examples/assets/creased_box.obj /tmp/box.glb
@@ -23,10 +30,53 @@ Exit codes: 0 success, 1 a file could not be read or written, 2 bad usage.";
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Write a Chrome trace (open in Perfetto or chrome://tracing) with a span per cook.
+    #[arg(long, global = true, value_name = "FILE")]
+    trace: Option<PathBuf>,
 }
 
 #[derive(Subcommand)]
 enum Command {
+    /// Cook a network's output (or any node) at one or more frames and write the result.
+    #[command(
+        after_help = "Examples:\n  geode cook examples/primitives.json -o /tmp/out.glb\n  geode cook examples/primitives.json --frames 1-48 -o '/tmp/out.$F4.stl'\n\n\
+        $F is the frame, $F4 the frame padded to 4 digits, $FF the fractional frame.\n\
+        GEODE_CACHE=off disables the cook cache; GEODE_CACHE_MB sizes it (default 2048)."
+    )]
+    Cook {
+        /// Network file (.json).
+        network: PathBuf,
+        /// Cook this node instead of the network's output (any path, inside subnets too).
+        #[arg(long, value_name = "PATH")]
+        node: Option<String>,
+        /// The frame to cook (default 1).
+        #[arg(long, value_name = "F", conflicts_with = "frames")]
+        frame: Option<f64>,
+        /// An inclusive range of frames, e.g. 1-24.
+        #[arg(long, value_name = "A-B")]
+        frames: Option<String>,
+        /// Output file; the extension picks the format. May contain $F, $F4, $FF.
+        #[arg(short, long, value_name = "OUT")]
+        output: Option<String>,
+        /// Print what cooked and what came from the cache, per frame.
+        #[arg(long)]
+        stats: bool,
+    },
+    /// Load and check a network without cooking it: every problem is reported.
+    Check { network: PathBuf },
+    /// Rewrite a network file in canonical form (atomically; unknown fields are kept).
+    Fmt { network: PathBuf },
+    /// List node types, show one, or write the markdown catalogue.
+    #[command(
+        after_help = "Examples:\n  geode nodes\n  geode nodes sphere\n  geode nodes --markdown docs/nodes"
+    )]
+    Nodes {
+        /// A node type to describe.
+        node_type: Option<String>,
+        /// Write one markdown page per node type (and an index) into this folder.
+        #[arg(long, value_name = "DIR")]
+        markdown: Option<PathBuf>,
+    },
     /// Print counts, bounds, attributes, groups, topology and content hash of a file.
     #[command(after_help = "Example:\n  geode info examples/assets/creased_box.obj")]
     Info {
@@ -50,7 +100,45 @@ enum Command {
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
+    // The guard flushes the trace file when the command ends.
+    let _trace = match &cli.trace {
+        Some(path) => {
+            use tracing_subscriber::prelude::*;
+            let (layer, guard) = tracing_chrome::ChromeLayerBuilder::new()
+                .file(path)
+                .include_args(true)
+                .build();
+            tracing_subscriber::registry().with(layer).init();
+            Some(guard)
+        }
+        None => None,
+    };
     match cli.command {
+        Command::Cook {
+            network,
+            node,
+            frame,
+            frames,
+            output,
+            stats,
+        } => {
+            cook::cook(cook::CookArgs {
+                network: &network,
+                node: node.as_deref(),
+                frames: cook::frames(frame, frames.as_deref())?,
+                output: output.as_deref(),
+                stats,
+            })?;
+        }
+        Command::Check { network } => cook::check(&network)?,
+        Command::Fmt { network } => cook::fmt(&network)?,
+        Command::Nodes {
+            node_type,
+            markdown,
+        } => match markdown {
+            Some(dir) => catalogue::write_markdown(&dir)?,
+            None => catalogue::list(node_type.as_deref())?,
+        },
         Command::Info { file, json } => {
             let g = geode_io::read(&file, &progress::Bar::new())?;
             let report = info::Report::new(&file, &g);

@@ -16,7 +16,7 @@ pub struct CookOptions<'a> {
     pub cancel: CancelToken,
     /// Called with (node path, fraction) as kernels report progress, and
     /// with 1.0 when a node finishes.
-    pub progress: Option<&'a ProgressFn>,
+    pub progress: Option<&'a ProgressFn<'a>>,
 }
 
 impl CookOptions<'_> {
@@ -86,7 +86,13 @@ fn no_progress(_: &str, _: f32) {}
 
 /// The cache key: node type and version, parameter values at the frame and
 /// input identities (and the frame itself for time-dependent nodes).
-fn cook_key(spec: &NodeSpec, params: &Params, inputs: &[Option<Cooked>], frame: f64) -> u128 {
+fn cook_key(
+    spec: &NodeSpec,
+    params: &Params,
+    inputs: &[Option<Cooked>],
+    extra: Option<u128>,
+    frame: f64,
+) -> u128 {
     let mut h = Xxh3::new();
     h.update(b"geode-cook-v1");
     h.update(&(spec.name.len() as u64).to_le_bytes());
@@ -102,6 +108,9 @@ fn cook_key(spec: &NodeSpec, params: &Params, inputs: &[Option<Cooked>], frame: 
             Some(c) => h.update(&c.identity.to_le_bytes()),
             None => h.update(b"none"),
         }
+    }
+    if let Some(x) = extra {
+        h.update(&x.to_le_bytes());
     }
     if spec.time_dependent {
         h.update(&frame.to_le_bytes());
@@ -168,7 +177,8 @@ impl Run<'_, '_> {
         };
         let spec = op.spec();
         let params = net.params_at(i, self.opts.frame);
-        let key = cook_key(spec, &params, &inputs, self.opts.frame);
+        let extra = op.key_extra(&params).map_err(|e| vec![e])?;
+        let key = cook_key(spec, &params, &inputs, extra, self.opts.frame);
         let span = tracing::info_span!(
             "cook",
             node = %n.path,

@@ -61,7 +61,7 @@ impl CookError {
 }
 
 /// Receives (node path, fraction done) as cooks progress.
-pub type ProgressFn = dyn Fn(&str, f32) + Sync;
+pub type ProgressFn<'a> = dyn Fn(&str, f32) + Sync + 'a;
 
 /// The cook's surroundings. Kernels' long loops call [`CookContext::check`]
 /// and [`CookContext::progress`].
@@ -69,7 +69,7 @@ pub struct CookContext<'a> {
     pub path: &'a str,
     pub frame: f64,
     pub cancel: &'a CancelToken,
-    pub on_progress: &'a ProgressFn,
+    pub on_progress: &'a ProgressFn<'a>,
 }
 
 impl CookContext<'_> {

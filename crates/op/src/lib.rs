@@ -13,6 +13,9 @@ pub use param::{ParamDefault, ParamSpec, ParamType, ParamValue, Params};
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};
 
+mod docs;
+pub use docs::markdown;
+
 /// One input of a node type.
 #[derive(Clone, Copy, Debug)]
 pub struct InputSpec {
@@ -43,7 +46,54 @@ pub struct NodeSpec {
     pub time_dependent: bool,
 }
 
+/// A required geometry input.
+pub const fn geometry_input(name: &'static str) -> InputSpec {
+    InputSpec {
+        name,
+        ty: PortType::Geometry,
+        required: true,
+    }
+}
+
 impl NodeSpec {
+    /// A geometry-producing node type at version 1 (override with the setters).
+    pub const fn new(
+        name: &'static str,
+        label: &'static str,
+        category: &'static str,
+        help: &'static str,
+        inputs: &'static [InputSpec],
+        params: &'static [ParamSpec],
+    ) -> NodeSpec {
+        NodeSpec {
+            name,
+            version: 1,
+            label,
+            category,
+            help,
+            inputs,
+            variadic: false,
+            output: PortType::Geometry,
+            params,
+            time_dependent: false,
+        }
+    }
+
+    pub const fn variadic(mut self) -> NodeSpec {
+        self.variadic = true;
+        self
+    }
+
+    pub const fn output(mut self, ty: PortType) -> NodeSpec {
+        self.output = ty;
+        self
+    }
+
+    pub const fn version(mut self, v: u32) -> NodeSpec {
+        self.version = v;
+        self
+    }
+
     pub fn param(&self, name: &str) -> Option<&'static ParamSpec> {
         self.params.iter().find(|p| p.name == name)
     }
@@ -61,4 +111,11 @@ pub trait Operator: Send + Sync {
         inputs: &[Option<Value>],
         params: &Params,
     ) -> Result<Value, CookError>;
+
+    /// Extra content for the cache key that parameters do not capture: a node
+    /// reading a file returns the file's content hash, so editing the file
+    /// recooks the node (DESIGN.md invariant 4).
+    fn key_extra(&self, _params: &Params) -> Result<Option<u128>, CookError> {
+        Ok(None)
+    }
 }

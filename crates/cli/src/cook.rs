@@ -1,0 +1,231 @@
+//! `geode cook`, `geode check` and `geode fmt`: load a network, cook frames to files.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{anyhow, bail, Context, Result};
+use geode_graph::{Cache, CookOptions, Document, Engine, Network};
+use geode_op::{CancelToken, Value};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// Reads and checks a network file; every problem is listed, each prefixed by the file.
+pub fn load(path: &Path) -> Result<(Document, Network)> {
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("{}: cannot read the network", path.display()))?;
+    let doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    match Network::load(&doc, &geode_nodes::registry()) {
+        Ok(net) => Ok((doc, net)),
+        Err(errors) => {
+            let lines: Vec<String> = errors
+                .iter()
+                .map(|e| format!("{}: {e}", path.display()))
+                .collect();
+            bail!(
+                "{} problem{} in the network:\n{}",
+                errors.len(),
+                if errors.len() == 1 { "" } else { "s" },
+                lines.join("\n")
+            )
+        }
+    }
+}
+
+/// `$HIP` is the network file's folder, as in Houdini (file nodes expand it).
+fn set_hip(network: &Path) {
+    if std::env::var_os("HIP").is_none() {
+        let dir = network
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        std::env::set_var("HIP", dir);
+    }
+}
+
+/// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).
+pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
+    match (frame, range) {
+        (Some(f), None) => Ok(vec![f]),
+        (None, None) => Ok(vec![1.0]),
+        (None, Some(r)) => {
+            let (a, b) = r
+                .split_once('-')
+                .ok_or_else(|| anyhow!("--frames expects A-B, found `{r}`"))?;
+            let (a, b): (i64, i64) = (
+                a.trim().parse().context("--frames: start")?,
+                b.trim().parse().context("--frames: end")?,
+            );
+            if b < a {
+                bail!("--frames {r}: the end is before the start");
+            }
+            if b - a > 1_000_000 {
+                bail!("--frames {r}: more than a million frames");
+            }
+            Ok((a..=b).map(|f| f as f64).collect())
+        }
+        (Some(_), Some(_)) => bail!("give --frame or --frames, not both"),
+    }
+}
+
+/// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF` (fractional frame).
+pub fn frame_path(pattern: &str, frame: f64) -> PathBuf {
+    let mut out = String::new();
+    let mut rest = pattern;
+    while let Some(i) = rest.find("$F") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 2..];
+        let whole = frame.round() as i64;
+        match after.chars().next() {
+            Some('F') => {
+                out.push_str(&format!("{frame}"));
+                rest = &after[1..];
+            }
+            Some(d @ '1'..='9') => {
+                let width = d.to_digit(10).unwrap_or(1) as usize;
+                out.push_str(&format!("{whole:0width$}"));
+                rest = &after[1..];
+            }
+            _ => {
+                out.push_str(&whole.to_string());
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    PathBuf::from(out)
+}
+
+pub struct CookArgs<'a> {
+    pub network: &'a Path,
+    pub node: Option<&'a str>,
+    pub frames: Vec<f64>,
+    pub output: Option<&'a str>,
+    pub stats: bool,
+}
+
+pub fn cook(args: CookArgs) -> Result<()> {
+    let (_, net) = load(args.network)?;
+    set_hip(args.network);
+    let target = match args.node {
+        Some(n) => n.to_owned(),
+        None => net.output().map(str::to_owned).ok_or_else(|| {
+            anyhow!(
+                "{}: the network names no output node; set \"output\" or pass --node",
+                args.network.display()
+            )
+        })?,
+    };
+    if net.node_type(&target).is_none() {
+        let known: Vec<&str> = net.paths().collect();
+        bail!(
+            "{}: no node `{target}` (nodes: {})",
+            args.network.display(),
+            known.join(", ")
+        );
+    }
+    let engine = Engine::new(net, Cache::global());
+    let cancel = CancelToken::new();
+    {
+        let c = cancel.clone();
+        // Ctrl-C asks running kernels to stop; nothing partial is written.
+        let _ = ctrlc::set_handler(move || c.cancel());
+    }
+    let bar =
+        ProgressBar::with_draw_target(Some(args.frames.len() as u64), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("cooking [{bar:30}] {pos}/{len} frames {msg}")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    let on_progress = |path: &str, _: f32| bar.set_message(path.to_owned());
+    for &frame in &args.frames {
+        let opts = CookOptions {
+            frame,
+            cancel: cancel.clone(),
+            progress: Some(&on_progress),
+        };
+        let result = engine.cook(&target, &opts).map_err(|errors| {
+            if errors.iter().any(|e| e.cancelled) {
+                return anyhow!("interrupted: nothing was written for frame {frame}");
+            }
+            let lines: Vec<String> = errors
+                .iter()
+                .map(|e| format!("{}: frame {frame}: {e}", args.network.display()))
+                .collect();
+            anyhow!("the cook failed:\n{}", lines.join("\n"))
+        })?;
+        if let Some(pattern) = args.output {
+            let path = frame_path(pattern, frame);
+            match &result.value {
+                Value::Geometry(g) => geode_io::write(g, &path, &geode_io::NoProgress)?,
+                Value::Bundle(b) => bail!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")),
+            }
+            bar.suspend(|| eprintln!("frame {frame}: wrote {}", path.display()));
+        }
+        if args.stats {
+            bar.suspend(|| {
+                for e in &result.events {
+                    eprintln!(
+                        "  {:<40} {:<20} {:>4} {:>10.3} ms {:>12} bytes",
+                        e.path,
+                        e.node_type,
+                        if e.hit { "hit" } else { "cook" },
+                        e.seconds * 1e3,
+                        e.bytes
+                    );
+                }
+            });
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    Ok(())
+}
+
+pub fn check(path: &Path) -> Result<()> {
+    let (_, net) = load(path)?;
+    println!(
+        "{}: ok ({} nodes, output {})",
+        path.display(),
+        net.paths().count(),
+        net.output().unwrap_or("none")
+    );
+    Ok(())
+}
+
+/// Rewrites a network in canonical form, atomically, keeping unknown fields.
+pub fn fmt(path: &Path) -> Result<()> {
+    let (doc, _) = load(path)?;
+    let text = doc.to_json();
+    geode_io::write_atomic(path, |w| {
+        w.write_all(text.as_bytes())
+            .map_err(|e| geode_io::IoError::os(path, e))
+    })?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_patterns() {
+        assert_eq!(
+            frame_path("out.$F4.obj", 7.0),
+            PathBuf::from("out.0007.obj")
+        );
+        assert_eq!(frame_path("out.$F.obj", 12.0), PathBuf::from("out.12.obj"));
+        assert_eq!(frame_path("a$FF-$F2", 2.5), PathBuf::from("a2.5-03"));
+        assert_eq!(frame_path("plain.obj", 3.0), PathBuf::from("plain.obj"));
+    }
+
+    #[test]
+    fn frame_ranges() {
+        assert_eq!(frames(None, Some("3-5")).unwrap(), vec![3.0, 4.0, 5.0]);
+        assert_eq!(frames(Some(2.5), None).unwrap(), vec![2.5]);
+        assert_eq!(frames(None, None).unwrap(), vec![1.0]);
+        assert_eq!(
+            frames(None, Some("5-3")).unwrap_err().to_string(),
+            "--frames 5-3: the end is before the start"
+        );
+        assert!(frames(None, Some("x")).is_err());
+    }
+}

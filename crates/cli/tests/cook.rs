@@ -1,0 +1,249 @@
+//! `geode cook`, `check`, `fmt` and `nodes` end to end: every example cooks,
+//! frames expand, output is byte-identical on any thread count, traces are
+//! valid Chrome traces, Ctrl-C stops promptly, docs are up to date.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn geode(args: &[&str], env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_geode"));
+    c.args(args).current_dir(root());
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().unwrap()
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+fn text(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned() + &String::from_utf8_lossy(&o.stderr)
+}
+
+fn examples() -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(root().join("examples"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .map(|p| format!("examples/{}", p.file_name().unwrap().to_string_lossy()))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn every_example_checks_and_cooks() {
+    let dir = tempfile::tempdir().unwrap();
+    assert!(examples().len() >= 2);
+    for ex in examples() {
+        let o = geode(&["check", &ex], &[]);
+        assert!(o.status.success(), "{ex}: {}", text(&o));
+        let out = dir.path().join("out.glb");
+        let o = geode(&["cook", &ex, "-o", out.to_str().unwrap()], &[]);
+        assert!(o.status.success(), "{ex}: {}", text(&o));
+        assert!(std::fs::metadata(&out).unwrap().len() > 100, "{ex}");
+    }
+}
+
+#[test]
+fn frame_ranges_write_one_file_per_frame_and_animation_shows() {
+    let dir = tempfile::tempdir().unwrap();
+    let pattern = dir.path().join("spin.$F4.ply");
+    let o = geode(
+        &[
+            "cook",
+            "examples/primitives.json",
+            "--node",
+            "/spin",
+            "--frames",
+            "1-3",
+            "-o",
+            pattern.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let files: Vec<Vec<u8>> = (1..=3)
+        .map(|f| std::fs::read(dir.path().join(format!("spin.{f:04}.ply"))).unwrap())
+        .collect();
+    assert_ne!(files[0], files[1], "the rotation is animated");
+    assert_ne!(files[1], files[2]);
+}
+
+#[test]
+fn byte_identical_output_on_one_and_many_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = Vec::new();
+    for threads in ["1", "4"] {
+        for ext in ["glb", "obj", "usda"] {
+            let out = dir.path().join(format!("t{threads}.{ext}"));
+            let o = geode(
+                &[
+                    "cook",
+                    "examples/primitives.json",
+                    "--frame",
+                    "7.5",
+                    "-o",
+                    out.to_str().unwrap(),
+                ],
+                &[("RAYON_NUM_THREADS", threads), ("GEODE_CACHE", "off")],
+            );
+            assert!(o.status.success(), "{}", text(&o));
+            outputs.push((ext, std::fs::read(out).unwrap()));
+        }
+    }
+    for i in 0..3 {
+        assert_eq!(
+            outputs[i].1,
+            outputs[i + 3].1,
+            "{} differs between 1 and 4 threads",
+            outputs[i].0
+        );
+    }
+}
+
+#[test]
+fn trace_is_valid_chrome_json_with_a_span_per_cooked_node() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = dir.path().join("trace.json");
+    let o = geode(
+        &[
+            "--trace",
+            trace.to_str().unwrap(),
+            "cook",
+            "examples/primitives.json",
+            "--stats",
+        ],
+        &[("GEODE_CACHE", "off")],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let cooked = text(&o).lines().filter(|l| l.contains(" cook ")).count();
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&trace).unwrap()).expect("valid JSON");
+    let events = v.as_array().expect("a Chrome trace is an array of events");
+    let begins: Vec<&serde_json::Value> = events
+        .iter()
+        .filter(|e| e["name"] == "cook" && e["ph"] == "B")
+        .collect();
+    let ends = events
+        .iter()
+        .filter(|e| e["name"] == "cook" && e["ph"] == "E")
+        .count();
+    assert_eq!(begins.len(), cooked, "one span per cooked node");
+    assert_eq!(ends, cooked);
+    assert!(cooked >= 9);
+    let args = &begins[0]["args"];
+    for field in ["node", "node_type", "frame", "key"] {
+        assert!(!args[field].is_null(), "span carries `{field}`: {args}");
+    }
+}
+
+#[test]
+fn check_reports_every_problem_with_the_file_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"geode": "network", "version": 1, "nodes": {
+        "a": {"type": "sphear"},
+        "b": {"type": "transform", "inputs": ["a"], "params": {"rotate": [1, 2]}}}}"#,
+    )
+    .unwrap();
+    let o = geode(&["check", bad.to_str().unwrap()], &[]);
+    assert_eq!(o.status.code(), Some(1));
+    let b = bad.display();
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        format!("error: 2 problems in the network:\n{b}: /a: unknown node type `sphear` (did you mean sphere?)\n{b}: /b: parameter `rotate`: expected vector3 (an array of 3 numbers or channels), found an array of 2")
+    );
+}
+
+#[test]
+fn fmt_rewrites_atomically_and_keeps_unknown_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("n.json");
+    std::fs::write(&f, r#"{"version": 1, "geode": "network", "studio": {"zoom": 2}, "nodes": {"a": {"type": "box", "ui": [1, 2]}}}"#).unwrap();
+    let o = geode(&["fmt", f.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let v: serde_json::Value = serde_json::from_slice(&std::fs::read(&f).unwrap()).unwrap();
+    assert_eq!(v["studio"]["zoom"], 2);
+    assert_eq!(v["nodes"]["a"]["ui"][1], 2);
+}
+
+#[test]
+fn ctrl_c_stops_within_a_fraction_of_a_second_and_writes_nothing_partial() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("heavy.json");
+    std::fs::write(&net, r#"{"geode": "network", "version": 1, "output": "n", "nodes": {
+        "s": {"type": "sphere", "params": {"rows": 400, "columns": 800, "radius": {"keys": [{"frame": 1, "value": 1}, {"frame": 100000, "value": 2}]}}},
+        "n": {"type": "normals", "inputs": ["s"]}}}"#).unwrap();
+    let pattern = dir.path().join("f.$F.stl");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_geode"))
+        .args([
+            "cook",
+            net.to_str().unwrap(),
+            "--frames",
+            "1-100000",
+            "-o",
+            pattern.to_str().unwrap(),
+        ])
+        .env("GEODE_CACHE", "off")
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let t0 = std::time::Instant::now();
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let status = child.wait().unwrap();
+    let waited = t0.elapsed().as_secs_f64();
+    assert!(!status.success());
+    assert!(waited < 0.5, "stopped after {waited} s");
+    for e in std::fs::read_dir(dir.path()).unwrap() {
+        let name = e.unwrap().file_name().to_string_lossy().into_owned();
+        assert!(
+            !name.starts_with(".geode-tmp"),
+            "temporary file left behind: {name}"
+        );
+        if name.ends_with(".stl") {
+            // Every written frame is complete: its size matches its triangle count.
+            let b = std::fs::read(dir.path().join(&name)).unwrap();
+            let n = u32::from_le_bytes(b[80..84].try_into().unwrap()) as usize;
+            assert_eq!(b.len(), 84 + 50 * n, "{name} is complete");
+        }
+    }
+}
+
+#[test]
+fn node_docs_are_up_to_date() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = geode(&["nodes", "--markdown", dir.path().to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let committed = root().join("docs/nodes");
+    for e in std::fs::read_dir(dir.path()).unwrap() {
+        let name = e.unwrap().file_name();
+        let fresh = std::fs::read_to_string(dir.path().join(&name)).unwrap();
+        let old = std::fs::read_to_string(committed.join(&name)).unwrap_or_default();
+        assert_eq!(
+            fresh,
+            old,
+            "docs/nodes/{} is stale: run `geode nodes --markdown docs/nodes`",
+            name.to_string_lossy()
+        );
+    }
+    let o = geode(&["nodes"], &[]);
+    assert!(text(&o).contains("transform"));
+    let o = geode(&["nodes", "sphere"], &[]);
+    assert!(
+        text(&o).contains("| `radius` | Radius | float | 1 |"),
+        "{}",
+        text(&o)
+    );
+}

@@ -1,0 +1,184 @@
+//! Attribute nodes: create an attribute with a value; randomize one (seeded, thread-count independent).
+
+use geode_geo::glam::{Vec2, Vec3, Vec4};
+use geode_geo::{AttribData, AttribValue, Attribute, TypeInfo};
+use geode_op::{
+    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
+};
+
+use crate::util::{class, count, geometry, input_owned, vec3, CLASSES};
+
+const TYPES: &[&str] = &[
+    "float", "int", "vector2", "vector3", "vector4", "color", "normal",
+];
+
+fn check_name(ctx: &CookContext, name: &str) -> Result<(), CookError> {
+    if name.is_empty()
+        || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        || name.starts_with(|c: char| c.is_ascii_digit())
+    {
+        return Err(ctx.param_error("name", format!("`{name}` is not a valid attribute name (letters, digits and _, not starting with a digit)")));
+    }
+    Ok(())
+}
+
+struct Create;
+static CREATE: NodeSpec = NodeSpec::new(
+    "attribute_create",
+    "Attribute Create",
+    "attribute",
+    "Adds (or overwrites) an attribute with one value on every element of a class.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("name", "Name", T::String, D::Str("attr"), "Attribute name."),
+        P::new(
+            "class",
+            "Class",
+            T::Menu(CLASSES),
+            D::Str("point"),
+            "Element class to store it on.",
+        ),
+        P::new(
+            "type",
+            "Type",
+            T::Menu(TYPES),
+            D::Str("float"),
+            "Storage type; color and normal are vector3 with that type-info.",
+        ),
+        P::new(
+            "value",
+            "Value",
+            T::Vec4,
+            D::Vec4([0.0; 4]),
+            "The value (components beyond the type's size are ignored).",
+        ),
+    ],
+);
+impl Operator for Create {
+    fn spec(&self) -> &'static NodeSpec {
+        &CREATE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let name = p.string("name")?;
+        check_name(ctx, name)?;
+        let c = class(p, "class")?;
+        let v = p.vector::<4>("value")?.map(|x| x as f32);
+        let (value, info) = match p.string("type")? {
+            "float" => (AttribValue::Float(v[0]), TypeInfo::None),
+            "int" => (AttribValue::Int(v[0].round() as i32), TypeInfo::None),
+            "vector2" => (AttribValue::Vec2(Vec2::new(v[0], v[1])), TypeInfo::None),
+            "vector4" => (AttribValue::Vec4(Vec4::from_array(v)), TypeInfo::None),
+            "color" => (
+                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+                TypeInfo::Color,
+            ),
+            "normal" => (
+                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+                TypeInfo::Normal,
+            ),
+            _ => (
+                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+                TypeInfo::Vector,
+            ),
+        };
+        let n = count(&g, c);
+        g.set_attrib(c, name, Attribute::new(value, info, n))
+            .map_err(|e| ctx.param_error("name", e.to_string()))?;
+        geometry(g)
+    }
+}
+
+/// A uniform value in [0, 1) from (seed, element, component): SplitMix64, so
+/// each element's value is independent of how the work is split.
+pub fn unit_random(seed: u64, element: u64, component: u64) -> f32 {
+    let mut z = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        ^ element.wrapping_mul(0xBF58_476D_1CE4_E5B9)
+        ^ component.wrapping_mul(0x94D0_49BB_1331_11EB);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 40) as f32 / (1u64 << 24) as f32
+}
+
+struct Randomize;
+static RANDOMIZE: NodeSpec = NodeSpec::new(
+    "attribute_randomize",
+    "Attribute Randomize",
+    "attribute",
+    "Sets an attribute to uniform random values between min and max, seeded: the same seed gives the same values on any machine and thread count.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("name", "Name", T::String, D::Str("Cd"), "Attribute name."),
+        P::new("class", "Class", T::Menu(CLASSES), D::Str("point"), "Element class."),
+        P::new("type", "Type", T::Menu(&["float", "vector3", "color"]), D::Str("color"), "float uses the first component of min and max."),
+        P::new("min", "Min", T::Vec3, D::Vec3([0.0; 3]), "Lower bound per component."),
+        P::new("max", "Max", T::Vec3, D::Vec3([1.0; 3]), "Upper bound per component."),
+        P::new("seed", "Seed", T::Int, D::Int(0), "Random seed."),
+    ],
+);
+impl Operator for Randomize {
+    fn spec(&self) -> &'static NodeSpec {
+        &RANDOMIZE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let name = p.string("name")?;
+        check_name(ctx, name)?;
+        let c = class(p, "class")?;
+        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+        let seed = p.int("seed")? as u64;
+        let n = count(&g, c) as u64;
+        let r = |e: u64, k: u64| unit_random(seed, e, k);
+        let (data, info) = match p.string("type")? {
+            "float" => (
+                AttribData::Float((0..n).map(|e| lo.x + (hi.x - lo.x) * r(e, 0)).collect()),
+                TypeInfo::None,
+            ),
+            ty => (
+                AttribData::Vec3(
+                    (0..n)
+                        .map(|e| lo + (hi - lo) * Vec3::new(r(e, 0), r(e, 1), r(e, 2)))
+                        .collect(),
+                ),
+                if ty == "color" {
+                    TypeInfo::Color
+                } else {
+                    TypeInfo::Vector
+                },
+            ),
+        };
+        g.set_attrib(c, name, Attribute::from_data(data, info))
+            .map_err(|e| ctx.param_error("name", e.to_string()))?;
+        geometry(g)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Create);
+    r.add(Randomize);
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn random_is_uniform_enough_and_seeded() {
+        let v: Vec<f32> = (0..100_000).map(|i| super::unit_random(7, i, 0)).collect();
+        let mean = v.iter().sum::<f32>() / v.len() as f32;
+        assert!((mean - 0.5).abs() < 0.01, "{mean}");
+        assert!(v.iter().all(|x| (0.0..1.0).contains(x)));
+        assert_ne!(super::unit_random(7, 1, 0), super::unit_random(8, 1, 0));
+        assert_eq!(super::unit_random(7, 1, 0), super::unit_random(7, 1, 0));
+    }
+}

@@ -1,0 +1,135 @@
+//! Group nodes: by bounding box, or by an expression on position.
+
+use geode_geo::glam::Vec3;
+use geode_geo::{AttribClass, Geometry, Group, PrimKind};
+use geode_op::{
+    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
+};
+use rayon::prelude::*;
+
+use crate::expr::Expr;
+use crate::util::{class, geometry, input_owned, vec3, ELEMENT_CLASSES};
+
+/// Positions of the elements of a class: points, or primitive centroids.
+fn element_positions(g: &Geometry, c: AttribClass) -> Vec<Vec3> {
+    let p = g.positions();
+    match c {
+        AttribClass::Primitive => (0..g.num_prims())
+            .map(|i| {
+                if let (PrimKind::Packed(_), Some(m)) =
+                    (g.prim_kind(i), g.packed_world_transform(i))
+                {
+                    return m.w_axis.truncate();
+                }
+                let pts = g.prim_points(i);
+                pts.iter().map(|&k| p[k as usize]).sum::<Vec3>() / pts.len().max(1) as f32
+            })
+            .collect(),
+        _ => p.to_vec(),
+    }
+}
+
+fn store(
+    ctx: &CookContext,
+    g: &mut Geometry,
+    c: AttribClass,
+    name: &str,
+    flags: Vec<bool>,
+) -> Result<(), CookError> {
+    if name.is_empty() {
+        return Err(ctx.param_error("group", "a group needs a name"));
+    }
+    let grp = Group::from_flags(flags);
+    let r = if c == AttribClass::Primitive {
+        g.set_prim_group(name, grp)
+    } else {
+        g.set_point_group(name, grp)
+    };
+    r.map_err(|e| ctx.param_error("group", e.to_string()))
+}
+
+struct Bounding;
+static BOUNDING: NodeSpec = NodeSpec::new(
+    "group_bbox",
+    "Group by Bounding Box",
+    "group",
+    "Puts the points (or primitives, by centroid) inside an axis-aligned box into a group.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("group", "Group", T::String, D::Str("inside"), "Group name."),
+        P::new(
+            "class",
+            "Class",
+            T::Menu(ELEMENT_CLASSES),
+            D::Str("point"),
+            "Group points or primitives.",
+        ),
+        P::new("min", "Min", T::Vec3, D::Vec3([-0.5; 3]), "Box corner."),
+        P::new("max", "Max", T::Vec3, D::Vec3([0.5; 3]), "Opposite corner."),
+    ],
+);
+impl Operator for Bounding {
+    fn spec(&self) -> &'static NodeSpec {
+        &BOUNDING
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let c = class(p, "class")?;
+        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+        let flags = element_positions(&g, c)
+            .par_iter()
+            .map(|q| q.cmpge(lo).all() && q.cmple(hi).all())
+            .collect();
+        store(ctx, &mut g, c, p.string("group")?, flags)?;
+        geometry(g)
+    }
+}
+
+struct Expression;
+static EXPRESSION: NodeSpec = NodeSpec::new(
+    "group_expression",
+    "Group by Expression",
+    "group",
+    "Puts the elements for which an expression is non-zero into a group. Variables: x, y, z (position; a primitive's centroid), id (element index), frame. Operators: + - * / % ^ < <= > >= == != && || !; functions sin cos tan abs sqrt floor ceil min max pow atan2; pi.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("group", "Group", T::String, D::Str("selected"), "Group name."),
+        P::new("class", "Class", T::Menu(ELEMENT_CLASSES), D::Str("point"), "Group points or primitives."),
+        P::new("expression", "Expression", T::String, D::Str("y > 0"), "The test, e.g. `x > 0 && y < 0.5`."),
+    ],
+);
+impl Operator for Expression {
+    fn spec(&self) -> &'static NodeSpec {
+        &EXPRESSION
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let c = class(p, "class")?;
+        let expr = Expr::parse(p.string("expression")?, &["x", "y", "z", "id", "frame"])
+            .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+        let frame = ctx.frame;
+        let flags = element_positions(&g, c)
+            .par_iter()
+            .enumerate()
+            .map(|(i, q)| expr.eval(&[q.x as f64, q.y as f64, q.z as f64, i as f64, frame]) != 0.0)
+            .collect();
+        store(ctx, &mut g, c, p.string("group")?, flags)?;
+        geometry(g)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Bounding);
+    r.add(Expression);
+}

@@ -1,0 +1,171 @@
+//! Mesh nodes: delete, normals, fuse, triangulate.
+
+use geode_geo::{ops, AttribClass, AttribData, Attribute, Group, TypeInfo};
+use geode_op::{
+    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
+};
+
+use crate::util::{class, geometry, input_owned, ELEMENT_CLASSES};
+
+struct Delete;
+static DELETE: NodeSpec = NodeSpec::new(
+    "delete",
+    "Delete",
+    "mesh",
+    "Deletes the points or primitives of a group (or all but them). Deleting points deletes the primitives that use them.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("group", "Group", T::String, D::Str(""), "The group to delete."),
+        P::new("class", "Class", T::Menu(ELEMENT_CLASSES), D::Str("primitive"), "Whether the group holds points or primitives."),
+        P::new("invert", "Delete non-selected", T::Toggle, D::Toggle(false), "Keep the group, delete the rest."),
+        P::new("keep_points", "Keep unused points", T::Toggle, D::Toggle(false), "When deleting primitives, keep points no longer used."),
+    ],
+);
+impl Operator for Delete {
+    fn spec(&self) -> &'static NodeSpec {
+        &DELETE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let name = p.string("group")?;
+        let c = class(p, "class")?;
+        let groups = if c == AttribClass::Primitive {
+            g.prim_groups()
+        } else {
+            g.point_groups()
+        };
+        let Some(grp) = groups.get(name) else {
+            let known: Vec<&str> = groups.keys().map(|k| k.as_str()).collect();
+            return Err(ctx.param_error(
+                "group",
+                format!(
+                    "no {} group `{name}` (groups: {})",
+                    if c == AttribClass::Primitive {
+                        "primitive"
+                    } else {
+                        "point"
+                    },
+                    if known.is_empty() {
+                        "none".into()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            ));
+        };
+        let mut sel = grp.clone();
+        if p.toggle("invert")? {
+            sel = Group::from_flags((0..sel.len()).map(|i| !sel.contains(i)));
+        }
+        if c == AttribClass::Primitive {
+            ops::delete_prims(&mut g, &sel, !p.toggle("keep_points")?);
+        } else {
+            ops::delete_points(&mut g, &sel);
+        }
+        geometry(g)
+    }
+}
+
+struct Normals;
+static NORMALS: NodeSpec = NodeSpec::new(
+    "normals",
+    "Normals",
+    "mesh",
+    "Computes `N`: angle-weighted point normals, vertex normals split where faces meet at more than the cusp angle, or face normals.",
+    &[geometry_input("geometry")],
+    &[
+        P::new("class", "Add to", T::Menu(&["point", "vertex", "primitive"]), D::Str("vertex"), "Where N is stored."),
+        P::new("cusp_angle", "Cusp angle", T::Float, D::Float(60.0), "Vertex normals: faces meeting at a sharper angle keep separate normals.").range(0.0, 180.0),
+    ],
+);
+impl Operator for Normals {
+    fn spec(&self) -> &'static NodeSpec {
+        &NORMALS
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let c = class(p, "class")?;
+        let n = match c {
+            AttribClass::Point => ops::point_normals(&g),
+            AttribClass::Primitive => ops::prim_normals(&g),
+            _ => ops::vertex_normals(&g, p.float("cusp_angle")? as f32),
+        };
+        // One N only: a stale N on another class would win in some writers.
+        for other in [
+            AttribClass::Point,
+            AttribClass::Vertex,
+            AttribClass::Primitive,
+        ] {
+            if other != c {
+                let _ = g.remove_attrib(other, "N");
+            }
+        }
+        g.set_attrib(
+            c,
+            "N",
+            Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
+        )
+        .map_err(|e| ctx.error(e.to_string()))?;
+        geometry(g)
+    }
+}
+
+struct Fuse;
+static FUSE: NodeSpec = NodeSpec::new(
+    "fuse",
+    "Fuse",
+    "mesh",
+    "Merges points closer than a distance (transitively) into their average; collapses degenerate primitives.",
+    &[geometry_input("geometry")],
+    &[P::new("distance", "Distance", T::Float, D::Float(0.001), "Points closer than this are merged.").at_least(0.0)],
+);
+impl Operator for Fuse {
+    fn spec(&self) -> &'static NodeSpec {
+        &FUSE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        ops::fuse_points(&mut g, p.float("distance")? as f32);
+        geometry(g)
+    }
+}
+
+struct Triangulate;
+static TRIANGULATE: NodeSpec = NodeSpec::new("triangulate", "Triangulate", "mesh", "Splits polygons into triangles: fans for convex ones, ear clipping for concave ones. Attributes carry over.", &[geometry_input("geometry")], &[]);
+impl Operator for Triangulate {
+    fn spec(&self) -> &'static NodeSpec {
+        &TRIANGULATE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input_owned(ctx, inputs, 0)?;
+        geometry(ops::triangulate(&g, None))
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Delete);
+    r.add(Normals);
+    r.add(Fuse);
+    r.add(Triangulate);
+}

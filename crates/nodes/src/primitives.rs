@@ -1,0 +1,248 @@
+//! Mesh primitive nodes: box, sphere, grid, tube, torus (with divisions and a centre).
+
+use geode_geo::glam::{Mat4, Vec2, Vec3};
+use geode_geo::{ops, primitives, Geometry};
+use geode_op::{
+    CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
+    Params, Registry, Value,
+};
+
+use crate::util::{geometry, vec2, vec3};
+
+const CENTER: P = P::new(
+    "center",
+    "Center",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Where the primitive is centred.",
+);
+
+fn placed(mut g: Geometry, center: Vec3) -> Geometry {
+    if center != Vec3::ZERO {
+        ops::transform(&mut g, Mat4::from_translation(center));
+    }
+    g
+}
+
+fn div(p: &Params, name: &str) -> Result<u32, CookError> {
+    Ok(p.int(name)?.clamp(1, 1 << 16) as u32)
+}
+
+struct BoxNode;
+static BOX: NodeSpec = NodeSpec::new(
+    "box",
+    "Box",
+    "primitive",
+    "An axis-aligned box of closed quads; each face is divided into a grid and shared edges share points.",
+    &[],
+    &[
+        P::new("size", "Size", T::Vec3, D::Vec3([1.0; 3]), "Edge lengths along X, Y and Z.").at_least(0.0),
+        CENTER,
+        P::new("divisions", "Divisions", T::Vec3, D::Vec3([1.0; 3]), "Quads along each axis (rounded).").range(1.0, 4096.0),
+    ],
+);
+impl Operator for BoxNode {
+    fn spec(&self) -> &'static NodeSpec {
+        &BOX
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
+        geometry(placed(
+            primitives::box_mesh(vec3(p, "size")?, d),
+            vec3(p, "center")?,
+        ))
+    }
+}
+
+struct Sphere;
+static SPHERE: NodeSpec = NodeSpec::new(
+    "sphere",
+    "Sphere",
+    "primitive",
+    "A closed UV sphere: quads, with triangle fans at the poles.",
+    &[],
+    &[
+        P::new(
+            "radius",
+            "Radius",
+            T::Float,
+            D::Float(1.0),
+            "Sphere radius.",
+        )
+        .at_least(0.0),
+        CENTER,
+        P::new("rows", "Rows", T::Int, D::Int(16), "Latitude bands.").range(2.0, 65536.0),
+        P::new(
+            "columns",
+            "Columns",
+            T::Int,
+            D::Int(32),
+            "Longitude segments.",
+        )
+        .range(3.0, 65536.0),
+    ],
+);
+impl Operator for Sphere {
+    fn spec(&self) -> &'static NodeSpec {
+        &SPHERE
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let g = primitives::uv_sphere(
+            p.float("radius")? as f32,
+            div(p, "columns")?,
+            div(p, "rows")?,
+        );
+        geometry(placed(g, vec3(p, "center")?))
+    }
+}
+
+struct Grid;
+static GRID: NodeSpec = NodeSpec::new(
+    "grid",
+    "Grid",
+    "primitive",
+    "A grid of quads in the XZ plane facing +Y, with point `uv`.",
+    &[],
+    &[
+        P::new(
+            "size",
+            "Size",
+            T::Vec2,
+            D::Vec2([10.0, 10.0]),
+            "Extent along X and Z.",
+        )
+        .at_least(0.0),
+        CENTER,
+        P::new("rows", "Rows", T::Int, D::Int(10), "Quads along Z.").range(1.0, 65536.0),
+        P::new("columns", "Columns", T::Int, D::Int(10), "Quads along X.").range(1.0, 65536.0),
+    ],
+);
+impl Operator for Grid {
+    fn spec(&self) -> &'static NodeSpec {
+        &GRID
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let size: Vec2 = vec2(p, "size")?;
+        geometry(placed(
+            primitives::grid(size, div(p, "columns")?, div(p, "rows")?),
+            vec3(p, "center")?,
+        ))
+    }
+}
+
+struct Tube;
+static TUBE: NodeSpec = NodeSpec::new(
+    "tube",
+    "Tube",
+    "primitive",
+    "A tube along +Y from the centre, optionally capped (then closed).",
+    &[],
+    &[
+        P::new("radius", "Radius", T::Float, D::Float(0.5), "Tube radius.").at_least(0.0),
+        P::new(
+            "height",
+            "Height",
+            T::Float,
+            D::Float(1.0),
+            "Length along Y.",
+        ),
+        CENTER,
+        P::new(
+            "rows",
+            "Rows",
+            T::Int,
+            D::Int(1),
+            "Segments along the height.",
+        )
+        .range(1.0, 65536.0),
+        P::new("columns", "Columns", T::Int, D::Int(24), "Segments around.").range(3.0, 65536.0),
+        P::new(
+            "caps",
+            "End caps",
+            T::Toggle,
+            D::Toggle(true),
+            "Close both ends with polygons.",
+        ),
+    ],
+);
+impl Operator for Tube {
+    fn spec(&self) -> &'static NodeSpec {
+        &TUBE
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let g = primitives::tube(
+            p.float("radius")? as f32,
+            p.float("height")? as f32,
+            div(p, "columns")?,
+            div(p, "rows")?,
+            p.toggle("caps")?,
+        );
+        geometry(placed(g, vec3(p, "center")?))
+    }
+}
+
+struct Torus;
+static TORUS: NodeSpec = NodeSpec::new(
+    "torus",
+    "Torus",
+    "primitive",
+    "A closed torus around the Y axis.",
+    &[],
+    &[
+        P::new(
+            "major_radius",
+            "Major radius",
+            T::Float,
+            D::Float(1.0),
+            "Distance from the axis to the tube's centre.",
+        )
+        .at_least(0.0),
+        P::new(
+            "minor_radius",
+            "Minor radius",
+            T::Float,
+            D::Float(0.25),
+            "Tube radius.",
+        )
+        .at_least(0.0),
+        CENTER,
+        P::new(
+            "rows",
+            "Rows",
+            T::Int,
+            D::Int(12),
+            "Segments around the tube.",
+        )
+        .range(3.0, 65536.0),
+        P::new(
+            "columns",
+            "Columns",
+            T::Int,
+            D::Int(24),
+            "Segments around the axis.",
+        )
+        .range(3.0, 65536.0),
+    ],
+);
+impl Operator for Torus {
+    fn spec(&self) -> &'static NodeSpec {
+        &TORUS
+    }
+    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let g = primitives::torus(
+            p.float("major_radius")? as f32,
+            p.float("minor_radius")? as f32,
+            div(p, "columns")?,
+            div(p, "rows")?,
+        );
+        geometry(placed(g, vec3(p, "center")?))
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(BoxNode);
+    r.add(Sphere);
+    r.add(Grid);
+    r.add(Tube);
+    r.add(Torus);
+}

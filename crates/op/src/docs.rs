@@ -1,0 +1,77 @@
+//! Markdown documentation of a node type, generated from its declaration.
+
+use std::fmt::Write;
+
+use crate::{NodeSpec, ParamDefault};
+
+fn default_text(d: &ParamDefault) -> String {
+    match d {
+        ParamDefault::Float(x) => format!("{x}"),
+        ParamDefault::Int(x) => format!("{x}"),
+        ParamDefault::Toggle(x) => format!("{x}"),
+        ParamDefault::Vec2(v) => format!("{v:?}"),
+        ParamDefault::Vec3(v) => format!("{v:?}"),
+        ParamDefault::Vec4(v) => format!("{v:?}"),
+        ParamDefault::Str(s) => format!("{s:?}"),
+    }
+}
+
+/// The page for one node type: summary, inputs, output and a parameter table.
+pub fn markdown(spec: &NodeSpec) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# {} (`{}`)\n", spec.label, spec.name);
+    let _ = writeln!(
+        s,
+        "Category: {}. Version {}.\n",
+        spec.category, spec.version
+    );
+    let _ = writeln!(s, "{}\n", spec.help);
+    s.push_str("## Inputs\n\n");
+    if spec.inputs.is_empty() {
+        s.push_str("None.\n");
+    }
+    for (i, inp) in spec.inputs.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "{}. {} ({}{})",
+            i + 1,
+            inp.name,
+            inp.ty,
+            if inp.required {
+                ", required"
+            } else {
+                ", optional"
+            }
+        );
+    }
+    if spec.variadic {
+        s.push_str("\nAny number of further inputs of the last kind may follow.\n");
+    }
+    let _ = writeln!(s, "\n## Output\n\n{}\n", spec.output);
+    s.push_str("## Parameters\n\n");
+    if spec.params.is_empty() {
+        s.push_str("None.\n");
+        return s;
+    }
+    s.push_str("| name | label | type | default | range | animatable | description |\n|---|---|---|---|---|---|---|\n");
+    for p in spec.params {
+        let range = match (p.min, p.max) {
+            (Some(a), Some(b)) => format!("{a} to {b}"),
+            (Some(a), None) => format!(">= {a}"),
+            (None, Some(b)) => format!("<= {b}"),
+            (None, None) => String::new(),
+        };
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} | {} | {} | {} | {} |",
+            p.name,
+            p.label,
+            p.ty,
+            default_text(&p.default),
+            range,
+            if p.animatable { "yes" } else { "no" },
+            p.help.replace('|', "\\|")
+        );
+    }
+    s
+}
