@@ -81,33 +81,39 @@ fn check_position_accessors(bytes: &[u8]) -> ParseResult<()> {
 }
 
 fn check_position_json(json: &[u8]) -> ParseResult<()> {
-    let Ok(doc) = serde_json::from_slice::<serde_json::Value>(json) else {
-        return Ok(()); // Malformed JSON: the gltf crate reports it with detail.
+    // Shaped like gltf-json's own parse (unknown fields skipped unvalidated),
+    // so whatever it accepts, this reads too.
+    #[derive(serde::Deserialize)]
+    struct Root {
+        #[serde(default)]
+        accessors: Vec<serde::de::IgnoredAny>,
+        #[serde(default)]
+        meshes: Vec<Mesh>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Mesh {
+        #[serde(default)]
+        primitives: Vec<Primitive>,
+    }
+    #[derive(serde::Deserialize)]
+    struct Primitive {
+        #[serde(default)]
+        attributes: Attributes,
+    }
+    #[derive(serde::Deserialize, Default)]
+    struct Attributes {
+        #[serde(rename = "POSITION")]
+        position: Option<u64>,
+    }
+    let Ok(root) = serde_json::from_slice::<Root>(json) else {
+        return Ok(()); // The gltf crate reports malformed JSON with detail.
     };
-    let accessors = doc
-        .get("accessors")
-        .and_then(|a| a.as_array())
-        .map_or(0, |a| a.len());
-    let meshes = doc
-        .get("meshes")
-        .and_then(|m| m.as_array())
-        .into_iter()
-        .flatten();
-    for (mi, mesh) in meshes.enumerate() {
-        let prims = mesh
-            .get("primitives")
-            .and_then(|p| p.as_array())
-            .into_iter()
-            .flatten();
-        for (pi, prim) in prims.enumerate() {
-            if let Some(pos) = prim
-                .pointer("/attributes/POSITION")
-                .and_then(|v| v.as_u64())
-            {
-                if pos as usize >= accessors {
-                    return Err(ParseError::whole(format!(
-                        "mesh {mi} primitive {pi}: POSITION refers to accessor {pos} but there are {accessors}"
-                    )));
+    let accessors = root.accessors.len();
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(p) = prim.attributes.position {
+                if p as usize >= accessors {
+                    return Err(ParseError::whole(format!("mesh {mi} primitive {pi}: POSITION refers to accessor {p} but there are {accessors}")));
                 }
             }
         }
