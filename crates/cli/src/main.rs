@@ -4,6 +4,7 @@ mod catalogue;
 mod cook;
 mod info;
 mod progress;
+mod telemetry;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -33,6 +34,10 @@ struct Cli {
     /// Write a Chrome trace (open in Perfetto or chrome://tracing) with a span per cook.
     #[arg(long, global = true, value_name = "FILE")]
     trace: Option<PathBuf>,
+    /// Export a span per cook to an OpenTelemetry collector over OTLP/HTTP
+    /// (e.g. Jaeger at http://localhost:4318/v1/traces). Needs the `otlp` build feature.
+    #[arg(long, global = true, value_name = "URL")]
+    otlp: Option<String>,
 }
 
 #[derive(Subcommand)]
@@ -100,19 +105,8 @@ enum Command {
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
-    // The guard flushes the trace file when the command ends.
-    let _trace = match &cli.trace {
-        Some(path) => {
-            use tracing_subscriber::prelude::*;
-            let (layer, guard) = tracing_chrome::ChromeLayerBuilder::new()
-                .file(path)
-                .include_args(true)
-                .build();
-            tracing_subscriber::registry().with(layer).init();
-            Some(guard)
-        }
-        None => None,
-    };
+    // The guard flushes the trace sinks when the command ends.
+    let _telemetry = telemetry::init(cli.trace.as_deref(), cli.otlp.as_deref())?;
     match cli.command {
         Command::Cook {
             network,

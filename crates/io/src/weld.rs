@@ -7,21 +7,25 @@ use rayon::prelude::*;
 /// input position. Positions are equal when bit-identical (with -0 = 0).
 /// Deterministic: a parallel sort, then a sequential numbering pass.
 pub fn weld_positions(corners: &[Vec3]) -> (Vec<Vec3>, Vec<u32>) {
-    let key = |p: &Vec3| {
-        let b = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
-        (b(p.x), b(p.y), b(p.z))
-    };
-    let mut order: Vec<u32> = (0..corners.len() as u32).collect();
-    order.par_sort_unstable_by_key(|&i| (key(&corners[i as usize]), i));
-    // Each run of equal keys becomes one point, represented by its first corner.
+    let bits = |x: f32| if x == 0.0 { 0 } else { x.to_bits() };
+    // Keys laid out beside their indices so the sort compares in place.
+    let mut keyed: Vec<([u32; 3], u32)> = corners
+        .par_iter()
+        .enumerate()
+        .map(|(i, p)| ([bits(p.x), bits(p.y), bits(p.z)], i as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    // Each run of equal keys becomes one point, represented by its first
+    // (lowest-index) corner, which sorts first within the run.
     let mut first_of_corner = vec![0u32; corners.len()];
     let mut run_start = 0;
-    for k in 0..order.len() {
-        if k == 0 || key(&corners[order[k] as usize]) != key(&corners[order[k - 1] as usize]) {
-            run_start = order[k];
+    for k in 0..keyed.len() {
+        if k == 0 || keyed[k].0 != keyed[k - 1].0 {
+            run_start = keyed[k].1;
         }
-        first_of_corner[order[k] as usize] = run_start;
+        first_of_corner[keyed[k].1 as usize] = run_start;
     }
+    drop(keyed);
     let mut point_of_first = vec![u32::MAX; corners.len()];
     let mut positions = Vec::new();
     let mut map = Vec::with_capacity(corners.len());
