@@ -27,7 +27,10 @@ impl Drop for Guard {
 pub fn init(trace: Option<&Path>, otlp: Option<&str>) -> Result<Guard> {
     let mut guard = Guard::default();
     let chrome = trace.map(|path| {
-        let (layer, flush) = tracing_chrome::ChromeLayerBuilder::new().file(path).include_args(true).build();
+        let (layer, flush) = tracing_chrome::ChromeLayerBuilder::new()
+            .file(path)
+            .include_args(true)
+            .build();
         guard._chrome = Some(flush);
         layer
     });
@@ -36,10 +39,17 @@ pub fn init(trace: Option<&Path>, otlp: Option<&str>) -> Result<Guard> {
         Some(endpoint) => {
             use opentelemetry::trace::TracerProvider as _;
             use opentelemetry_otlp::WithExportConfig as _;
-            let exporter = opentelemetry_otlp::SpanExporter::builder().with_http().with_endpoint(endpoint).build()?;
+            let exporter = opentelemetry_otlp::SpanExporter::builder()
+                .with_http()
+                .with_endpoint(endpoint)
+                .build()?;
             let provider = opentelemetry_sdk::trace::SdkTracerProvider::builder()
                 .with_simple_exporter(exporter)
-                .with_resource(opentelemetry_sdk::Resource::builder().with_service_name("geode").build())
+                .with_resource(
+                    opentelemetry_sdk::Resource::builder()
+                        .with_service_name("geode")
+                        .build(),
+                )
                 .build();
             let layer = tracing_opentelemetry::layer().with_tracer(provider.tracer("geode"));
             guard.otlp = Some(provider);
@@ -54,7 +64,10 @@ pub fn init(trace: Option<&Path>, otlp: Option<&str>) -> Result<Guard> {
     #[cfg(not(feature = "otlp"))]
     let otel: Option<tracing_subscriber::layer::Identity> = None;
     if chrome.is_some() || otel.is_some() {
-        tracing_subscriber::registry().with(chrome).with(otel).init();
+        tracing_subscriber::registry()
+            .with(chrome)
+            .with(otel)
+            .init();
     }
     Ok(guard)
 }

@@ -20,7 +20,9 @@ fn cook_spans_are_exported_over_otlp_http() {
                 Ok(s) => s,
                 Err(_) => break,
             };
-            stream.set_read_timeout(Some(std::time::Duration::from_secs(5))).unwrap();
+            stream
+                .set_read_timeout(Some(std::time::Duration::from_secs(5)))
+                .unwrap();
             let mut reader = BufReader::new(stream.try_clone().unwrap());
             let mut request_line = String::new();
             reader.read_line(&mut request_line).unwrap();
@@ -59,7 +61,11 @@ fn cook_spans_are_exported_over_otlp_http() {
         .current_dir(&root)
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let bodies = collector.join().unwrap();
     assert!(!bodies.is_empty(), "the collector received no export");
     let all: Vec<u8> = bodies.iter().flat_map(|b| b.2.clone()).collect();

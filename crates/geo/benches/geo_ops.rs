@@ -80,7 +80,10 @@ fn transform_10m(bencher: Bencher) {
         .with_inputs(|| g.clone())
         .bench_local_values(|mut g| {
             ops::transform(&mut g, m);
-            assert_ne!(g.positions()[g.num_points() / 2], grid_10m().positions()[g.num_points() / 2]);
+            assert_ne!(
+                g.positions()[g.num_points() / 2],
+                grid_10m().positions()[g.num_points() / 2]
+            );
             g
         });
 }
