@@ -247,3 +247,30 @@ fn node_docs_are_up_to_date() {
         text(&o)
     );
 }
+
+#[test]
+fn cache_environment_switches() {
+    // Over two frames only the animated branch changes: with the cache on,
+    // the second frame serves every other node from it.
+    let hits = |env: &[(&str, &str)]| {
+        let o = geode(
+            &[
+                "cook",
+                "examples/primitives.json",
+                "--frames",
+                "1-2",
+                "--stats",
+            ],
+            env,
+        );
+        assert!(o.status.success(), "{}", text(&o));
+        text(&o).lines().filter(|l| l.contains(" hit ")).count()
+    };
+    assert!(hits(&[]) >= 5, "default cache on");
+    assert_eq!(hits(&[("GEODE_CACHE", "off")]), 0);
+    assert_eq!(
+        hits(&[("GEODE_CACHE_MB", "0")]),
+        0,
+        "a zero budget stores nothing"
+    );
+}
