@@ -40,7 +40,7 @@ fn geo(nodes: &str, output: &str) -> Arc<Geometry> {
 }
 
 fn err(nodes: &str, output: &str) -> String {
-    cook_at(nodes, output, 1.0).err().expect("an error")
+    cook_at(nodes, output, 1.0).expect_err("an error")
 }
 
 fn closed(g: &Geometry) -> bool {
