@@ -24,12 +24,7 @@ pub fn list(node_type: Option<&str>) -> Result<()> {
         None => {
             for op in reg.iter() {
                 let s = op.spec();
-                let first = s
-                    .help
-                    .split(". ")
-                    .next()
-                    .unwrap_or("")
-                    .trim_end_matches('.');
+                let first = s.summary();
                 println!("{:<22} {:<10} {}", s.name, s.category, first);
             }
         }
@@ -44,12 +39,7 @@ pub fn pages() -> Vec<(String, String)> {
     let mut out = Vec::new();
     for op in reg.iter() {
         let s = op.spec();
-        let first = s
-            .help
-            .split(". ")
-            .next()
-            .unwrap_or("")
-            .trim_end_matches('.');
+        let first = s.summary();
         index.push_str(&format!(
             "| [`{}`]({}.md) | {} | {} |\n",
             s.name, s.name, s.category, first

@@ -94,6 +94,15 @@ impl NodeSpec {
         self
     }
 
+    /// The first sentence of the help text.
+    pub fn summary(&self) -> &'static str {
+        self.help
+            .split(". ")
+            .next()
+            .unwrap_or("")
+            .trim_end_matches('.')
+    }
+
     pub fn param(&self, name: &str) -> Option<&'static ParamSpec> {
         self.params.iter().find(|p| p.name == name)
     }

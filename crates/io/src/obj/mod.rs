@@ -1,37 +1,23 @@
 //! Wavefront OBJ reader and writer, including OpenSubdiv's `t` tag lines (creases, corners, boundary, holes).
 
+mod tags;
+mod write;
+
 use std::collections::BTreeMap;
-use std::io::Write;
-use std::path::Path;
 
 use geode_geo::glam::{Vec2, Vec3};
 use geode_geo::{
-    AttribClass, AttribData, AttribValue, Attribute, Geometry, Group, PrimKind, StringColumn,
-    TypeInfo,
+    AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, StringColumn, TypeInfo,
 };
 
-use crate::atomic::os_err;
-use crate::error::{IoError, ParseError, ParseResult};
+use crate::error::{ParseError, ParseResult};
 use crate::progress::{Progress, Throttle};
 use crate::text::{parse_f32, parse_i64, Lines};
 
-/// Vertex attribute holding edge crease sharpness (on the vertex that starts the edge).
-pub const CREASE: &str = "creaseweight";
-/// Point attribute holding corner sharpness.
-pub const CORNER: &str = "cornerweight";
-/// Primitive attribute flagging holes (1).
-pub const HOLE: &str = "subd_hole";
-/// Detail attribute: boundary interpolation (0 none, 1 edge and corner, 2 edge only).
-pub const BOUNDARY: &str = "subd_boundary";
-/// Detail attribute: face-varying boundary interpolation.
-pub const FVAR_BOUNDARY: &str = "subd_fvar_boundary";
-/// Detail attribute: crease method (`normal` or `chaikin`).
-pub const CREASE_METHOD: &str = "subd_creasemethod";
-/// Detail attribute: triangle subdivision rule (`catmark` or `smooth`).
-pub const TRIANGLE_RULE: &str = "subd_smoothtriangles";
-/// Detail attribute: tag lines geode keeps verbatim but does not interpret
-/// (OpenSubdiv's legacy hierarchical edits), one per line.
-pub const RAW_TAGS: &str = "obj_tags";
+pub use tags::{
+    BOUNDARY, CORNER, CREASE, CREASE_METHOD, FVAR_BOUNDARY, HOLE, RAW_TAGS, TRIANGLE_RULE,
+};
+pub use write::write_obj;
 
 const NO_INDEX: u32 = u32::MAX;
 
@@ -70,13 +56,13 @@ const IGNORED: &[&str] = &[
     "p",
 ];
 
-struct Tag {
-    line: u64,
-    name: String,
-    ints: Vec<i64>,
-    floats: Vec<f32>,
-    strings: Vec<String>,
-    raw: String,
+pub(crate) struct Tag {
+    pub line: u64,
+    pub name: String,
+    pub ints: Vec<i64>,
+    pub floats: Vec<f32>,
+    pub strings: Vec<String>,
+    pub raw: String,
 }
 
 #[derive(Default)]
@@ -457,163 +443,10 @@ fn build(d: ObjData) -> ParseResult<Geometry> {
             Attribute::from_data(AttribData::String(col), TypeInfo::None),
         );
     }
-    apply_tags(&mut g, &d.tags)?;
+    tags::apply_tags(&mut g, &d.tags)?;
     Ok(g)
 }
 
-fn apply_tags(g: &mut Geometry, tags: &[Tag]) -> ParseResult<()> {
-    if tags.is_empty() {
-        return Ok(());
-    }
-    let np = g.num_points();
-    let point = |i: i64, line: u64| -> ParseResult<u32> {
-        if i < 0 || i as usize >= np {
-            return Err(ParseError::line(
-                line,
-                format!("tag refers to vertex {i} but there are {np} vertices (0-based)"),
-            ));
-        }
-        Ok(i as u32)
-    };
-    let mut creases: Option<Vec<f32>> = None;
-    let mut corners: Option<Vec<f32>> = None;
-    let mut holes: Option<Vec<i32>> = None;
-    let mut raw = Vec::new();
-    let topo = g.topology();
-    for t in tags {
-        let line = t.line;
-        let need = |ok: bool, what: &str| -> ParseResult<()> {
-            if ok {
-                Ok(())
-            } else {
-                Err(ParseError::line(
-                    line,
-                    format!("tag `{}` expects {what}", t.name),
-                ))
-            }
-        };
-        match t.name.as_str() {
-            "crease" => {
-                need(
-                    t.ints.len() >= 2
-                        && (t.floats.len() == 1 || t.floats.len() == t.ints.len() - 1),
-                    "a chain of at least 2 vertices and 1 sharpness (or one per edge)",
-                )?;
-                let c = creases.get_or_insert_with(|| vec![0.0; g.num_vertices()]);
-                for k in 0..t.ints.len() - 1 {
-                    let (a, b) = (point(t.ints[k], line)?, point(t.ints[k + 1], line)?);
-                    let s = if t.floats.len() == 1 {
-                        t.floats[0]
-                    } else {
-                        t.floats[k]
-                    };
-                    let e = topo.find_edge(a, b).ok_or_else(|| {
-                        ParseError::line(
-                            line,
-                            format!("crease edge {a}-{b} is not an edge of any face"),
-                        )
-                    })?;
-                    for h in topo.edge_half_edges(e) {
-                        c[h.0 as usize] = s;
-                    }
-                }
-            }
-            "corner" => {
-                need(
-                    !t.ints.is_empty() && (t.floats.len() == 1 || t.floats.len() == t.ints.len()),
-                    "vertices and 1 sharpness (or one per vertex)",
-                )?;
-                let c = corners.get_or_insert_with(|| vec![0.0; np]);
-                for (k, &i) in t.ints.iter().enumerate() {
-                    c[point(i, line)? as usize] = if t.floats.len() == 1 {
-                        t.floats[0]
-                    } else {
-                        t.floats[k]
-                    };
-                }
-            }
-            "hole" => {
-                let h = holes.get_or_insert_with(|| vec![0; g.num_prims()]);
-                for &f in &t.ints {
-                    if f < 0 || f as usize >= h.len() {
-                        return Err(ParseError::line(
-                            line,
-                            format!(
-                                "hole refers to face {f} but there are {} faces (0-based)",
-                                h.len()
-                            ),
-                        ));
-                    }
-                    h[f as usize] = 1;
-                }
-            }
-            "interpolateboundary" | "facevaryinginterpolateboundary" => {
-                need(t.ints.len() == 1, "one integer")?;
-                let name = if t.name == "interpolateboundary" {
-                    BOUNDARY
-                } else {
-                    FVAR_BOUNDARY
-                };
-                g.set_attrib(
-                    AttribClass::Detail,
-                    name,
-                    Attribute::new(AttribValue::Int(t.ints[0] as i32), TypeInfo::None, 1),
-                )
-                .expect("detail");
-            }
-            "creasemethod" | "smoothtriangles" => {
-                need(t.strings.len() == 1, "one string")?;
-                let name = if t.name == "creasemethod" {
-                    CREASE_METHOD
-                } else {
-                    TRIANGLE_RULE
-                };
-                g.set_attrib(
-                    AttribClass::Detail,
-                    name,
-                    Attribute::new(AttribValue::String(t.strings[0].clone()), TypeInfo::None, 1),
-                )
-                .expect("detail");
-            }
-            _ => raw.push(t.raw.as_str()),
-        }
-    }
-    if let Some(c) = creases {
-        g.set_attrib(
-            AttribClass::Vertex,
-            CREASE,
-            Attribute::from_data(AttribData::Float(c), TypeInfo::None),
-        )
-        .expect("len");
-    }
-    if let Some(c) = corners {
-        g.set_attrib(
-            AttribClass::Point,
-            CORNER,
-            Attribute::from_data(AttribData::Float(c), TypeInfo::None),
-        )
-        .expect("len");
-    }
-    if let Some(h) = holes {
-        g.set_attrib(
-            AttribClass::Primitive,
-            HOLE,
-            Attribute::from_data(AttribData::Int(h), TypeInfo::None),
-        )
-        .expect("len");
-    }
-    if !raw.is_empty() {
-        g.set_attrib(
-            AttribClass::Detail,
-            RAW_TAGS,
-            Attribute::new(AttribValue::String(raw.join("\n")), TypeInfo::None, 1),
-        )
-        .expect("detail");
-    }
-    Ok(())
-}
-
-/// Parses OBJ text.
 pub fn read_obj(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> {
     build(parse(bytes, progress)?)
 }
@@ -621,191 +454,6 @@ pub fn read_obj(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
 /// Writes OBJ text: `v` (with colours from point `Cd`), `vt`/`vn` from vertex
 /// or point `uv`/`N`, `f` and `l`, groups as `g`, materials as `usemtl`, and
 /// subdivision tags as `t` lines. Packed primitives must be unpacked first.
-pub fn write_obj(
-    g: &Geometry,
-    w: &mut dyn Write,
-    path: &Path,
-    progress: &dyn Progress,
-) -> Result<(), IoError> {
-    let e = os_err(path);
-    let mut throttle = Throttle::new(progress, "writing OBJ", g.num_prims() as u64);
-    writeln!(w, "# written by geode {}", env!("CARGO_PKG_VERSION")).map_err(&e)?;
-    let cd = g.attrib(AttribClass::Point, "Cd").and_then(|a| a.as_vec3());
-    let mut buf = String::with_capacity(1 << 16);
-    use std::fmt::Write as _;
-    for (i, p) in g.positions().iter().enumerate() {
-        match cd {
-            Some(c) => {
-                let c = c[i];
-                let _ = writeln!(buf, "v {} {} {} {} {} {}", p.x, p.y, p.z, c.x, c.y, c.z);
-            }
-            None => {
-                let _ = writeln!(buf, "v {} {} {}", p.x, p.y, p.z);
-            }
-        }
-        if buf.len() > 1 << 16 {
-            w.write_all(buf.as_bytes()).map_err(&e)?;
-            buf.clear();
-        }
-    }
-    // Per-vertex indices into the vt/vn lists (point attributes are written per point).
-    let uv_of = |class: AttribClass| g.attrib(class, "uv").and_then(|a| a.as_vec2());
-    let (uv, uv_by_point) = match (uv_of(AttribClass::Vertex), uv_of(AttribClass::Point)) {
-        (Some(v), _) => (Some(v), false),
-        (None, Some(p)) => (Some(p), true),
-        _ => (None, false),
-    };
-    let n_of = |class: AttribClass| g.attrib(class, "N").and_then(|a| a.as_vec3());
-    let (nrm, n_by_point) = match (n_of(AttribClass::Vertex), n_of(AttribClass::Point)) {
-        (Some(v), _) => (Some(v), false),
-        (None, Some(p)) => (Some(p), true),
-        _ => (None, false),
-    };
-    for t in uv.iter().flat_map(|v| v.iter()) {
-        let _ = writeln!(buf, "vt {} {}", t.x, t.y);
-        if buf.len() > 1 << 16 {
-            w.write_all(buf.as_bytes()).map_err(&e)?;
-            buf.clear();
-        }
-    }
-    for n in nrm.iter().flat_map(|v| v.iter()) {
-        let _ = writeln!(buf, "vn {} {} {}", n.x, n.y, n.z);
-        if buf.len() > 1 << 16 {
-            w.write_all(buf.as_bytes()).map_err(&e)?;
-            buf.clear();
-        }
-    }
-    let material = g
-        .attrib(AttribClass::Primitive, "material")
-        .and_then(|a| a.as_strings());
-    let groups: Vec<(&String, &Group)> = g.prim_groups().iter().collect();
-    let mut last_groups: Option<Vec<&str>> = None;
-    let mut last_material: Option<&str> = None;
-    let vp = g.vertex_points();
-    for prim in 0..g.num_prims() {
-        throttle.tick(prim as u64);
-        let kw = match g.prim_kind(prim) {
-            PrimKind::Polygon => "f",
-            PrimKind::Polyline => "l",
-            PrimKind::Packed(_) => {
-                return Err(IoError::Unsupported {
-                    path: path.to_owned(),
-                    message: "OBJ cannot hold packed primitives; unpack them first".into(),
-                })
-            }
-        };
-        if !groups.is_empty() {
-            let mine: Vec<&str> = groups
-                .iter()
-                .filter(|(_, grp)| grp.contains(prim))
-                .map(|(n, _)| n.as_str())
-                .collect();
-            if last_groups.as_ref() != Some(&mine) {
-                let _ = writeln!(buf, "g {}", mine.join(" ")).map(|_| ());
-                last_groups = Some(mine);
-            }
-        }
-        if let Some(m) = material {
-            let name = m.get(prim);
-            if last_material != Some(name) {
-                let _ = writeln!(buf, "usemtl {name}");
-                last_material = Some(name);
-            }
-        }
-        buf.push_str(kw);
-        for v in g.prim_vertex_range(prim) {
-            let p = vp[v] + 1;
-            let t = uv.map(|_| if uv_by_point { p } else { v as u32 + 1 });
-            let n = nrm.map(|_| if n_by_point { p } else { v as u32 + 1 });
-            let _ = match (t, n) {
-                (None, None) => write!(buf, " {p}"),
-                (Some(t), None) => write!(buf, " {p}/{t}"),
-                (None, Some(n)) => write!(buf, " {p}//{n}"),
-                (Some(t), Some(n)) => write!(buf, " {p}/{t}/{n}"),
-            };
-        }
-        buf.push('\n');
-        if buf.len() > 1 << 16 {
-            w.write_all(buf.as_bytes()).map_err(&e)?;
-            buf.clear();
-        }
-    }
-    write_tags(g, &mut buf);
-    w.write_all(buf.as_bytes()).map_err(&e)?;
-    throttle.finish();
-    Ok(())
-}
-
-fn write_tags(g: &Geometry, buf: &mut String) {
-    use std::fmt::Write as _;
-    if let Some(c) = g
-        .attrib(AttribClass::Vertex, CREASE)
-        .and_then(|a| a.as_f32())
-    {
-        let topo = g.topology();
-        for (e, &[a, b]) in topo.edges().iter().enumerate() {
-            let s = topo
-                .edge_half_edges(e)
-                .map(|h| c[h.0 as usize])
-                .fold(0.0f32, f32::max);
-            if s > 0.0 {
-                let _ = writeln!(buf, "t crease 2/1/0 {a} {b} {s}");
-            }
-        }
-    }
-    if let Some(c) = g
-        .attrib(AttribClass::Point, CORNER)
-        .and_then(|a| a.as_f32())
-    {
-        for (p, &s) in c.iter().enumerate() {
-            if s > 0.0 {
-                let _ = writeln!(buf, "t corner 1/1/0 {p} {s}");
-            }
-        }
-    }
-    if let Some(h) = g
-        .attrib(AttribClass::Primitive, HOLE)
-        .and_then(|a| a.as_i32())
-    {
-        let faces: Vec<String> = h
-            .iter()
-            .enumerate()
-            .filter(|(_, &x)| x != 0)
-            .map(|(i, _)| i.to_string())
-            .collect();
-        if !faces.is_empty() {
-            let _ = writeln!(buf, "t hole {}/0/0 {}", faces.len(), faces.join(" "));
-        }
-    }
-    for (name, tag) in [
-        (BOUNDARY, "interpolateboundary"),
-        (FVAR_BOUNDARY, "facevaryinginterpolateboundary"),
-    ] {
-        if let Some(v) = g.attrib(AttribClass::Detail, name).and_then(|a| a.as_i32()) {
-            let _ = writeln!(buf, "t {tag} 1/0/0 {}", v[0]);
-        }
-    }
-    for (name, tag) in [
-        (CREASE_METHOD, "creasemethod"),
-        (TRIANGLE_RULE, "smoothtriangles"),
-    ] {
-        if let Some(s) = g
-            .attrib(AttribClass::Detail, name)
-            .and_then(|a| a.as_strings())
-        {
-            let _ = writeln!(buf, "t {tag} 0/0/1 {}", s.get(0));
-        }
-    }
-    if let Some(s) = g
-        .attrib(AttribClass::Detail, RAW_TAGS)
-        .and_then(|a| a.as_strings())
-    {
-        for l in s.get(0).lines() {
-            let _ = writeln!(buf, "{l}");
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -925,7 +573,7 @@ mod tests {
             "t vertexedit 1/0/1 3 add"
         );
         let mut out = Vec::new();
-        write_obj(&g, &mut out, Path::new("x.obj"), &NoProgress).unwrap();
+        write_obj(&g, &mut out, std::path::Path::new("x.obj"), &NoProgress).unwrap();
         let back = read_obj(&out, &NoProgress).unwrap();
         assert_eq!(back.content_hash(), g.content_hash());
     }
