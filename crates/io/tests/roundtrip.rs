@@ -188,3 +188,42 @@ fn unknown_extension_is_a_clear_error() {
         "out.xyz: unknown file format (expected one of: .obj, .stl, .ply, .glb, .usda)"
     );
 }
+
+/// `.gltf` JSON files: buffers as base64 data URIs and as external `.bin` files.
+#[test]
+fn gltf_json_with_data_uri_and_external_buffers() {
+    use base64::Engine as _;
+    let g = attributed_torus();
+    let glb =
+        geode_io::write_bytes(&g, geode_io::Format::Glb, Path::new("t.glb"), &NoProgress).unwrap();
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let mut doc: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let bin = &glb[20 + json_len + 8..];
+    let dir = tempfile::tempdir().unwrap();
+
+    doc["buffers"][0]["uri"] = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::engine::general_purpose::STANDARD.encode(bin)
+    )
+    .into();
+    let embedded = dir.path().join("embedded.gltf");
+    std::fs::write(&embedded, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let a = read(&embedded, &NoProgress).unwrap();
+
+    doc["buffers"][0]["uri"] = "mesh.bin".into();
+    std::fs::write(dir.path().join("mesh.bin"), bin).unwrap();
+    let external = dir.path().join("external.gltf");
+    std::fs::write(&external, serde_json::to_vec(&doc).unwrap()).unwrap();
+    let b = read(&external, &NoProgress).unwrap();
+
+    for back in [&a, &b] {
+        assert_eq!(back.positions(), g.positions());
+        assert_eq!(back.num_prims(), 2 * g.num_prims());
+    }
+    std::fs::remove_file(dir.path().join("mesh.bin")).unwrap();
+    let e = read(&external, &NoProgress).unwrap_err().to_string();
+    assert!(
+        e.contains("external.gltf: buffer 0: cannot read") && e.contains("mesh.bin"),
+        "{e}"
+    );
+}
