@@ -1,0 +1,119 @@
+//! Evaluation throughput of the tape evaluators on realistic fields.
+//! Run: cargo bench -p geode-frep --bench eval
+
+use divan::counter::ItemsCount;
+use divan::Bencher;
+use geode_frep::{BatchEval, Field, GradEval, Interval, IntervalEval, PointEval, Tape};
+
+fn main() {
+    divan::main();
+}
+
+const N: usize = 1 << 20;
+
+fn gyroid() -> Field {
+    let (x, y, z) = (Field::x() * 6.0, Field::y() * 6.0, Field::z() * 6.0);
+    x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos()
+}
+
+/// A union of 200 spheres placed on a spiral.
+fn spheres() -> Field {
+    let mut f: Option<Field> = None;
+    for i in 0..200 {
+        let t = i as f64 * 0.1;
+        let (cx, cy, cz) = (t.cos() * 0.6, t.sin() * 0.6, i as f64 / 200.0 - 0.5);
+        let s = 0.01
+            - ((Field::x() - cx).square()
+                + (Field::y() - cy).square()
+                + (Field::z() - cz).square());
+        f = Some(match f {
+            Some(u) => u.max(s),
+            None => s,
+        });
+    }
+    f.expect("200 spheres")
+}
+
+fn colonnade() -> Field {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/corpus/fidget-models/colonnade.vm"
+    ))
+    .unwrap();
+    geode_frep::parse_vm(&text).unwrap()
+}
+
+fn grid() -> (Vec<f32>, Vec<f32>, Vec<f32>) {
+    let n = 128usize;
+    let mut xs = Vec::with_capacity(N);
+    let mut ys = Vec::with_capacity(N);
+    let mut zs = Vec::with_capacity(N);
+    for i in 0..N {
+        xs.push((i % n) as f32 / n as f32 * 2.0 - 1.0);
+        ys.push((i / n % n) as f32 / n as f32 * 2.0 - 1.0);
+        zs.push((i / n / n) as f32 / 64.0 * 2.0 - 1.0);
+    }
+    (xs, ys, zs)
+}
+
+#[divan::bench(args = ["gyroid", "spheres200", "colonnade"], sample_count = 5)]
+fn batch_1m_points(bencher: Bencher, which: &str) {
+    let f = match which {
+        "gyroid" => gyroid(),
+        "spheres200" => spheres(),
+        _ => colonnade(),
+    };
+    let tape = Tape::compile(&f);
+    let (xs, ys, zs) = grid();
+    let mut out = vec![0.0f32; N];
+    let mut ev = BatchEval::new(&tape);
+    bencher
+        .counter(ItemsCount::new(N))
+        .bench_local(|| ev.eval(&xs, &ys, &zs, &mut out));
+}
+
+#[divan::bench(args = ["gyroid", "spheres200"], sample_count = 5)]
+fn point_and_gradient_64k(bencher: Bencher, which: &str) {
+    let f = if which == "gyroid" {
+        gyroid()
+    } else {
+        spheres()
+    };
+    let tape = Tape::compile(&f);
+    let (xs, ys, zs) = grid();
+    let mut p = PointEval::new(&tape);
+    let mut g = GradEval::new(&tape);
+    bencher
+        .counter(ItemsCount::new(1usize << 16))
+        .bench_local(|| {
+            let mut s = 0.0;
+            for i in 0..1 << 16 {
+                let q = [xs[i] as f64, ys[i] as f64, zs[i] as f64];
+                s += p.eval(q) + g.eval(q).d[0];
+            }
+            s
+        });
+}
+
+#[divan::bench(sample_count = 5)]
+fn interval_and_simplify_spheres200(bencher: Bencher) {
+    let tape = Tape::compile(&spheres());
+    let mut iv = IntervalEval::new(&tape);
+    bencher.counter(ItemsCount::new(512usize)).bench_local(|| {
+        let mut kept = 0;
+        for i in 0..512 {
+            let c = [
+                (i % 8) as f64 / 4.0 - 1.0,
+                (i / 8 % 8) as f64 / 4.0 - 1.0,
+                (i / 64) as f64 / 4.0 - 1.0,
+            ];
+            iv.eval(
+                Interval::new(c[0], c[0] + 0.25),
+                Interval::new(c[1], c[1] + 0.25),
+                Interval::new(c[2], c[2] + 0.25),
+            );
+            kept += tape.simplify(iv.choices()).len();
+        }
+        kept
+    });
+}

@@ -1,0 +1,352 @@
+//! Tape evaluators: single point (f64), batches laid out for SIMD (f32 lanes),
+//! intervals over a box (with min/max choices), and exact gradients (forward
+//! automatic differentiation).
+
+use crate::field::{binary, unary, Binary, Unary};
+use crate::interval::{self, Interval};
+use crate::tape::{Choice, Instr, Tape};
+
+/// Evaluates one point at a time, reusing its registers.
+pub struct PointEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<f64>,
+}
+
+impl<'t> PointEval<'t> {
+    pub fn new(tape: &'t Tape) -> PointEval<'t> {
+        PointEval {
+            tape,
+            regs: vec![0.0; tape.slots()],
+        }
+    }
+
+    pub fn eval(&mut self, p: [f64; 3]) -> f64 {
+        let r = &mut self.regs;
+        for ins in self.tape.instrs() {
+            match *ins {
+                Instr::Var { out, axis } => r[out as usize] = p[axis as usize],
+                Instr::Const { out, value } => r[out as usize] = value,
+                Instr::Unary { op, out, a } => r[out as usize] = unary(op, r[a as usize]),
+                Instr::Binary { op, out, a, b } => {
+                    r[out as usize] = binary(op, r[a as usize], r[b as usize])
+                }
+            }
+        }
+        r[self.tape.output()]
+    }
+}
+
+/// Lanes evaluated together: each instruction runs over this many values in
+/// a tight loop the compiler vectorises.
+pub const LANES: usize = 256;
+
+/// Evaluates many points: one instruction at a time over blocks of [`LANES`].
+pub struct BatchEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<f32>,
+}
+
+fn lane_unary(op: Unary, a: &[f32], o: &mut [f32]) {
+    macro_rules! each {
+        ($f:expr) => {
+            for (o, &a) in o.iter_mut().zip(a) {
+                *o = $f(a);
+            }
+        };
+    }
+    match op {
+        Unary::Neg => each!(|a: f32| -a),
+        Unary::Abs => each!(f32::abs),
+        Unary::Sqrt => each!(f32::sqrt),
+        Unary::Square => each!(|a: f32| a * a),
+        Unary::Sin => each!(f32::sin),
+        Unary::Cos => each!(f32::cos),
+        Unary::Tan => each!(f32::tan),
+        Unary::Asin => each!(f32::asin),
+        Unary::Acos => each!(f32::acos),
+        Unary::Atan => each!(f32::atan),
+        Unary::Exp => each!(f32::exp),
+        Unary::Ln => each!(f32::ln),
+        Unary::Floor => each!(f32::floor),
+        Unary::Ceil => each!(f32::ceil),
+        Unary::Round => each!(f32::round),
+        Unary::Not => each!(|a: f32| (a == 0.0) as u8 as f32),
+    }
+}
+
+fn lane_binary(op: Binary, a: &[f32], b: &[f32], o: &mut [f32]) {
+    macro_rules! each {
+        ($f:expr) => {
+            for ((o, &a), &b) in o.iter_mut().zip(a).zip(b) {
+                *o = $f(a, b);
+            }
+        };
+    }
+    match op {
+        Binary::Add => each!(|a: f32, b: f32| a + b),
+        Binary::Sub => each!(|a: f32, b: f32| a - b),
+        Binary::Mul => each!(|a: f32, b: f32| a * b),
+        Binary::Div => each!(|a: f32, b: f32| a / b),
+        Binary::Min => each!(f32::min),
+        Binary::Max => each!(f32::max),
+        Binary::Atan2 => each!(f32::atan2),
+        Binary::Mod => each!(f32::rem_euclid),
+        Binary::Compare => {
+            each!(|a: f32, b: f32| binary(Binary::Compare, a as f64, b as f64) as f32)
+        }
+        Binary::And => each!(|a: f32, b: f32| if a == 0.0 { a } else { b }),
+        Binary::Or => each!(|a: f32, b: f32| if a != 0.0 { a } else { b }),
+    }
+}
+
+impl<'t> BatchEval<'t> {
+    pub fn new(tape: &'t Tape) -> BatchEval<'t> {
+        BatchEval {
+            tape,
+            regs: vec![0.0; tape.slots() * LANES],
+        }
+    }
+
+    /// `out[i] = f(xs[i], ys[i], zs[i])` for any number of points.
+    pub fn eval(&mut self, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) {
+        let n = xs.len();
+        assert!(
+            ys.len() == n && zs.len() == n && out.len() == n,
+            "coordinate slices of equal length"
+        );
+        let mut start = 0;
+        while start < n {
+            let len = (n - start).min(LANES);
+            let axes = [
+                &xs[start..start + len],
+                &ys[start..start + len],
+                &zs[start..start + len],
+            ];
+            self.block(axes, len);
+            let o = self.tape.output() * LANES;
+            out[start..start + len].copy_from_slice(&self.regs[o..o + len]);
+            start += len;
+        }
+    }
+
+    fn block(&mut self, axes: [&[f32]; 3], len: usize) {
+        let regs = &mut self.regs;
+        for ins in self.tape.instrs() {
+            match *ins {
+                Instr::Var { out, axis } => {
+                    let o = out as usize * LANES;
+                    regs[o..o + len].copy_from_slice(axes[axis as usize]);
+                }
+                Instr::Const { out, value } => {
+                    let o = out as usize * LANES;
+                    regs[o..o + len].fill(value as f32);
+                }
+                Instr::Unary { op, out, a } => {
+                    let (o, a) = (out as usize * LANES, a as usize * LANES);
+                    if o == a {
+                        // In place: copy the argument out first.
+                        let tmp: [f32; LANES] =
+                            std::array::from_fn(|i| if i < len { regs[a + i] } else { 0.0 });
+                        lane_unary(op, &tmp[..len], &mut regs[o..o + len]);
+                    } else {
+                        let (src, dst) = split(regs, a, o, len);
+                        lane_unary(op, src, dst);
+                    }
+                }
+                Instr::Binary { op, out, a, b } => {
+                    let (o, a, b) = (out as usize * LANES, a as usize * LANES, b as usize * LANES);
+                    let ta: [f32; LANES] =
+                        std::array::from_fn(|i| if i < len { regs[a + i] } else { 0.0 });
+                    let tb: [f32; LANES] =
+                        std::array::from_fn(|i| if i < len { regs[b + i] } else { 0.0 });
+                    lane_binary(op, &ta[..len], &tb[..len], &mut regs[o..o + len]);
+                }
+            }
+        }
+    }
+}
+
+/// Two disjoint register blocks, one to read and one to write.
+fn split(regs: &mut [f32], src: usize, dst: usize, len: usize) -> (&[f32], &mut [f32]) {
+    if src < dst {
+        let (lo, hi) = regs.split_at_mut(dst);
+        (&lo[src..src + len], &mut hi[..len])
+    } else {
+        let (lo, hi) = regs.split_at_mut(src);
+        (&hi[..len], &mut lo[dst..dst + len])
+    }
+}
+
+/// Evaluates over a box, recording for every instruction which `min`/`max`
+/// argument decides (see [`Tape::simplify`]).
+pub struct IntervalEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<Interval>,
+    choices: Vec<Choice>,
+}
+
+impl<'t> IntervalEval<'t> {
+    pub fn new(tape: &'t Tape) -> IntervalEval<'t> {
+        IntervalEval {
+            tape,
+            regs: vec![Interval::point(0.0); tape.slots()],
+            choices: vec![Choice::Both; tape.len()],
+        }
+    }
+
+    pub fn eval(&mut self, x: Interval, y: Interval, z: Interval) -> Interval {
+        let axes = [x, y, z];
+        let r = &mut self.regs;
+        for (i, ins) in self.tape.instrs().iter().enumerate() {
+            match *ins {
+                Instr::Var { out, axis } => r[out as usize] = axes[axis as usize],
+                Instr::Const { out, value } => r[out as usize] = Interval::point(value),
+                Instr::Unary { op, out, a } => r[out as usize] = interval::unary(op, r[a as usize]),
+                Instr::Binary { op, out, a, b } => {
+                    let (v, c) = interval::binary(op, r[a as usize], r[b as usize]);
+                    r[out as usize] = v;
+                    self.choices[i] = c;
+                }
+            }
+        }
+        r[self.tape.output()]
+    }
+
+    /// The choices of the last evaluation, one per instruction.
+    pub fn choices(&self) -> &[Choice] {
+        &self.choices
+    }
+}
+
+/// A value with its gradient.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Grad {
+    pub v: f64,
+    pub d: [f64; 3],
+}
+
+impl Grad {
+    fn scale(self, k: f64, v: f64) -> Grad {
+        Grad {
+            v,
+            d: self.d.map(|x| x * k),
+        }
+    }
+}
+
+fn grad_unary(op: Unary, a: Grad) -> Grad {
+    let x = a.v;
+    let v = unary(op, x);
+    let k = match op {
+        Unary::Neg => -1.0,
+        Unary::Abs => {
+            if x < 0.0 {
+                -1.0
+            } else {
+                1.0
+            }
+        }
+        Unary::Sqrt => 0.5 / v,
+        Unary::Square => 2.0 * x,
+        Unary::Sin => x.cos(),
+        Unary::Cos => -x.sin(),
+        Unary::Tan => 1.0 + v * v,
+        Unary::Asin => 1.0 / (1.0 - x * x).sqrt(),
+        Unary::Acos => -1.0 / (1.0 - x * x).sqrt(),
+        Unary::Atan => 1.0 / (1.0 + x * x),
+        Unary::Exp => v,
+        Unary::Ln => 1.0 / x,
+        Unary::Floor | Unary::Ceil | Unary::Round | Unary::Not => 0.0,
+    };
+    a.scale(k, v)
+}
+
+fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
+    let v = binary(op, a.v, b.v);
+    let lin = |ka: f64, kb: f64| Grad {
+        v,
+        d: std::array::from_fn(|i| ka * a.d[i] + kb * b.d[i]),
+    };
+    match op {
+        Binary::Add => lin(1.0, 1.0),
+        Binary::Sub => lin(1.0, -1.0),
+        Binary::Mul => lin(b.v, a.v),
+        Binary::Div => lin(1.0 / b.v, -a.v / (b.v * b.v)),
+        Binary::Min => {
+            if a.v <= b.v {
+                Grad { v, ..a }
+            } else {
+                Grad { v, ..b }
+            }
+        }
+        Binary::Max => {
+            if a.v >= b.v {
+                Grad { v, ..a }
+            } else {
+                Grad { v, ..b }
+            }
+        }
+        Binary::Atan2 => {
+            let r2 = a.v * a.v + b.v * b.v;
+            lin(b.v / r2, -a.v / r2)
+        }
+        Binary::Mod => lin(1.0, -(a.v / b.v).floor()),
+        Binary::Compare => Grad { v, d: [0.0; 3] },
+        Binary::And => {
+            if a.v == 0.0 {
+                Grad { v, ..a }
+            } else {
+                Grad { v, ..b }
+            }
+        }
+        Binary::Or => {
+            if a.v != 0.0 {
+                Grad { v, ..a }
+            } else {
+                Grad { v, ..b }
+            }
+        }
+    }
+}
+
+/// Evaluates value and exact gradient (forward-mode automatic differentiation).
+pub struct GradEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<Grad>,
+}
+
+impl<'t> GradEval<'t> {
+    pub fn new(tape: &'t Tape) -> GradEval<'t> {
+        GradEval {
+            tape,
+            regs: vec![Grad::default(); tape.slots()],
+        }
+    }
+
+    pub fn eval(&mut self, p: [f64; 3]) -> Grad {
+        let r = &mut self.regs;
+        for ins in self.tape.instrs() {
+            match *ins {
+                Instr::Var { out, axis } => {
+                    let mut d = [0.0; 3];
+                    d[axis as usize] = 1.0;
+                    r[out as usize] = Grad {
+                        v: p[axis as usize],
+                        d,
+                    };
+                }
+                Instr::Const { out, value } => {
+                    r[out as usize] = Grad {
+                        v: value,
+                        d: [0.0; 3],
+                    }
+                }
+                Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
+                Instr::Binary { op, out, a, b } => {
+                    r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
+                }
+            }
+        }
+        r[self.tape.output()]
+    }
+}

@@ -1,0 +1,301 @@
+//! Fields as expression DAGs: `f(x, y, z) >= 0` inside (HyperFun's convention), built with operators and methods.
+
+use std::ops;
+use std::sync::Arc;
+
+/// One-argument operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Unary {
+    Neg,
+    Abs,
+    Sqrt,
+    Square,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Exp,
+    Ln,
+    Floor,
+    Ceil,
+    Round,
+    /// 1 where the argument is 0, else 0.
+    Not,
+}
+
+/// Two-argument operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Binary {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Min,
+    Max,
+    Atan2,
+    /// Euclidean remainder (always in [0, |b|)).
+    Mod,
+    /// The sign of a - b: -1, 0 or 1.
+    Compare,
+    /// b where a is non-zero, else a (0).
+    And,
+    /// a where a is non-zero, else b.
+    Or,
+}
+
+/// A node of the DAG.
+#[derive(Debug, PartialEq)]
+pub enum Node {
+    X,
+    Y,
+    Z,
+    Const(f64),
+    Unary(Unary, Field),
+    Binary(Binary, Field, Field),
+}
+
+/// A scalar field over space: a shared DAG of [`Node`]s. Cloning shares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field(pub(crate) Arc<Node>);
+
+impl Field {
+    pub fn x() -> Field {
+        Field(Arc::new(Node::X))
+    }
+
+    pub fn y() -> Field {
+        Field(Arc::new(Node::Y))
+    }
+
+    pub fn z() -> Field {
+        Field(Arc::new(Node::Z))
+    }
+
+    pub fn constant(v: f64) -> Field {
+        Field(Arc::new(Node::Const(v)))
+    }
+
+    pub fn node(&self) -> &Node {
+        &self.0
+    }
+
+    pub fn unary(&self, op: Unary) -> Field {
+        Field(Arc::new(Node::Unary(op, self.clone())))
+    }
+
+    pub fn binary(&self, op: Binary, other: impl Into<Field>) -> Field {
+        Field(Arc::new(Node::Binary(op, self.clone(), other.into())))
+    }
+
+    pub fn abs(&self) -> Field {
+        self.unary(Unary::Abs)
+    }
+    pub fn sqrt(&self) -> Field {
+        self.unary(Unary::Sqrt)
+    }
+    pub fn square(&self) -> Field {
+        self.unary(Unary::Square)
+    }
+    pub fn sin(&self) -> Field {
+        self.unary(Unary::Sin)
+    }
+    pub fn cos(&self) -> Field {
+        self.unary(Unary::Cos)
+    }
+    pub fn tan(&self) -> Field {
+        self.unary(Unary::Tan)
+    }
+    pub fn asin(&self) -> Field {
+        self.unary(Unary::Asin)
+    }
+    pub fn acos(&self) -> Field {
+        self.unary(Unary::Acos)
+    }
+    pub fn atan(&self) -> Field {
+        self.unary(Unary::Atan)
+    }
+    pub fn exp(&self) -> Field {
+        self.unary(Unary::Exp)
+    }
+    pub fn ln(&self) -> Field {
+        self.unary(Unary::Ln)
+    }
+    pub fn floor(&self) -> Field {
+        self.unary(Unary::Floor)
+    }
+    pub fn ceil(&self) -> Field {
+        self.unary(Unary::Ceil)
+    }
+    pub fn round(&self) -> Field {
+        self.unary(Unary::Round)
+    }
+    pub fn min(&self, o: impl Into<Field>) -> Field {
+        self.binary(Binary::Min, o)
+    }
+    pub fn max(&self, o: impl Into<Field>) -> Field {
+        self.binary(Binary::Max, o)
+    }
+    pub fn atan2(&self, o: impl Into<Field>) -> Field {
+        self.binary(Binary::Atan2, o)
+    }
+    pub fn modulo(&self, o: impl Into<Field>) -> Field {
+        self.binary(Binary::Mod, o)
+    }
+
+    /// Evaluates by walking the DAG (slow; the reference for the tape evaluators).
+    pub fn eval_tree(&self, p: [f64; 3]) -> f64 {
+        match self.node() {
+            Node::X => p[0],
+            Node::Y => p[1],
+            Node::Z => p[2],
+            Node::Const(c) => *c,
+            Node::Unary(op, a) => unary(*op, a.eval_tree(p)),
+            Node::Binary(op, a, b) => binary(*op, a.eval_tree(p), b.eval_tree(p)),
+        }
+    }
+}
+
+/// Dropping is iterative: a field may be a chain of many thousands of nodes,
+/// which a recursive drop would overflow the stack on.
+impl Drop for Field {
+    fn drop(&mut self) {
+        fn take_children(arc: &mut Arc<Node>, stack: &mut Vec<Field>) {
+            if let Some(node) = Arc::get_mut(arc) {
+                match std::mem::replace(node, Node::X) {
+                    Node::Unary(_, a) => stack.push(a),
+                    Node::Binary(_, a, b) => {
+                        stack.push(a);
+                        stack.push(b);
+                    }
+                    _ => {}
+                }
+            }
+        }
+        let mut stack = Vec::new();
+        take_children(&mut self.0, &mut stack);
+        while let Some(mut f) = stack.pop() {
+            take_children(&mut f.0, &mut stack);
+        }
+    }
+}
+
+/// The scalar semantics every evaluator reproduces.
+pub fn unary(op: Unary, a: f64) -> f64 {
+    match op {
+        Unary::Neg => -a,
+        Unary::Abs => a.abs(),
+        Unary::Sqrt => a.sqrt(),
+        Unary::Square => a * a,
+        Unary::Sin => a.sin(),
+        Unary::Cos => a.cos(),
+        Unary::Tan => a.tan(),
+        Unary::Asin => a.asin(),
+        Unary::Acos => a.acos(),
+        Unary::Atan => a.atan(),
+        Unary::Exp => a.exp(),
+        Unary::Ln => a.ln(),
+        Unary::Floor => a.floor(),
+        Unary::Ceil => a.ceil(),
+        Unary::Round => a.round(),
+        Unary::Not => (a == 0.0) as u8 as f64,
+    }
+}
+
+/// The scalar semantics every evaluator reproduces.
+pub fn binary(op: Binary, a: f64, b: f64) -> f64 {
+    match op {
+        Binary::Add => a + b,
+        Binary::Sub => a - b,
+        Binary::Mul => a * b,
+        Binary::Div => a / b,
+        Binary::Min => a.min(b),
+        Binary::Max => a.max(b),
+        Binary::Atan2 => a.atan2(b),
+        Binary::Mod => a.rem_euclid(b),
+        Binary::Compare => {
+            if a < b {
+                -1.0
+            } else if a > b {
+                1.0
+            } else {
+                0.0
+            }
+        }
+        Binary::And => {
+            if a == 0.0 {
+                a
+            } else {
+                b
+            }
+        }
+        Binary::Or => {
+            if a != 0.0 {
+                a
+            } else {
+                b
+            }
+        }
+    }
+}
+
+impl From<f64> for Field {
+    fn from(v: f64) -> Field {
+        Field::constant(v)
+    }
+}
+
+impl From<&Field> for Field {
+    fn from(f: &Field) -> Field {
+        f.clone()
+    }
+}
+
+macro_rules! binop {
+    ($trait:ident, $method:ident, $op:ident) => {
+        impl<T: Into<Field>> ops::$trait<T> for Field {
+            type Output = Field;
+            fn $method(self, rhs: T) -> Field {
+                self.binary(Binary::$op, rhs)
+            }
+        }
+        impl<T: Into<Field>> ops::$trait<T> for &Field {
+            type Output = Field;
+            fn $method(self, rhs: T) -> Field {
+                self.binary(Binary::$op, rhs)
+            }
+        }
+        impl ops::$trait<Field> for f64 {
+            type Output = Field;
+            fn $method(self, rhs: Field) -> Field {
+                Field::constant(self).binary(Binary::$op, rhs)
+            }
+        }
+        impl ops::$trait<&Field> for f64 {
+            type Output = Field;
+            fn $method(self, rhs: &Field) -> Field {
+                Field::constant(self).binary(Binary::$op, rhs)
+            }
+        }
+    };
+}
+
+binop!(Add, add, Add);
+binop!(Sub, sub, Sub);
+binop!(Mul, mul, Mul);
+binop!(Div, div, Div);
+
+impl ops::Neg for Field {
+    type Output = Field;
+    fn neg(self) -> Field {
+        self.unary(Unary::Neg)
+    }
+}
+
+impl ops::Neg for &Field {
+    type Output = Field;
+    fn neg(self) -> Field {
+        self.unary(Unary::Neg)
+    }
+}

@@ -1,0 +1,313 @@
+//! Compiling a field DAG into a flat tape: deduplicated SSA, constant folding, register allocation, and per-region simplification.
+
+use std::collections::HashMap;
+
+use crate::field::{binary, unary, Binary, Field, Node, Unary};
+
+/// One instruction. Arguments and outputs are registers (after allocation)
+/// or SSA values (in [`Tape::ssa`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Instr {
+    Var {
+        out: u32,
+        axis: u8,
+    },
+    Const {
+        out: u32,
+        value: f64,
+    },
+    Unary {
+        op: Unary,
+        out: u32,
+        a: u32,
+    },
+    Binary {
+        op: Binary,
+        out: u32,
+        a: u32,
+        b: u32,
+    },
+}
+
+impl Instr {
+    pub fn out(&self) -> u32 {
+        match *self {
+            Instr::Var { out, .. }
+            | Instr::Const { out, .. }
+            | Instr::Unary { out, .. }
+            | Instr::Binary { out, .. } => out,
+        }
+    }
+
+    fn args(&self) -> [Option<u32>; 2] {
+        match *self {
+            Instr::Var { .. } | Instr::Const { .. } => [None, None],
+            Instr::Unary { a, .. } => [Some(a), None],
+            Instr::Binary { a, b, .. } => [Some(a), Some(b)],
+        }
+    }
+
+    fn with(&self, out: u32, a: u32, b: u32) -> Instr {
+        match *self {
+            Instr::Var { axis, .. } => Instr::Var { out, axis },
+            Instr::Const { value, .. } => Instr::Const { out, value },
+            Instr::Unary { op, .. } => Instr::Unary { op, out, a },
+            Instr::Binary { op, .. } => Instr::Binary { op, out, a, b },
+        }
+    }
+}
+
+/// Which argument of a `min`/`max` an interval evaluation proved decisive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Choice {
+    /// Not a choice instruction, or both arguments may win.
+    Both,
+    Left,
+    Right,
+}
+
+/// A compiled field: instructions in evaluation order over `slots` registers,
+/// the result in register `output`.
+#[derive(Clone, Debug)]
+pub struct Tape {
+    /// SSA form: instruction `i` writes value `i`.
+    ssa: Vec<Instr>,
+    /// The same instructions with registers allocated (one per SSA instruction).
+    instrs: Vec<Instr>,
+    slots: u32,
+    output: u32,
+}
+
+#[derive(Hash, PartialEq, Eq)]
+enum Key {
+    Var(u8),
+    Const(u64),
+    Unary(Unary, u32),
+    Binary(Binary, u32, u32),
+}
+
+impl Tape {
+    /// Compiles a field: shared and structurally equal sub-expressions are
+    /// computed once, constant sub-expressions are folded.
+    pub fn compile(field: &Field) -> Tape {
+        let mut ssa: Vec<Instr> = Vec::new();
+        let mut by_ptr: HashMap<*const Node, u32> = HashMap::new();
+        let mut by_key: HashMap<Key, u32> = HashMap::new();
+        let consts = |ssa: &Vec<Instr>, v: u32| match ssa[v as usize] {
+            Instr::Const { value, .. } => Some(value),
+            _ => None,
+        };
+        // Iterative post-order: deep DAGs (thousands of ops) must not overflow the stack.
+        let mut stack: Vec<(&Field, bool)> = vec![(field, false)];
+        while let Some((f, children_done)) = stack.pop() {
+            let ptr = std::sync::Arc::as_ptr(&f.0);
+            if by_ptr.contains_key(&ptr) {
+                continue;
+            }
+            if !children_done {
+                stack.push((f, true));
+                match f.node() {
+                    Node::Unary(_, a) => stack.push((a, false)),
+                    Node::Binary(_, a, b) => {
+                        stack.push((b, false));
+                        stack.push((a, false));
+                    }
+                    _ => {}
+                }
+                continue;
+            }
+            let get = |x: &Field| by_ptr[&std::sync::Arc::as_ptr(&x.0)];
+            let (key, instr) = match f.node() {
+                Node::X => (Key::Var(0), Instr::Var { out: 0, axis: 0 }),
+                Node::Y => (Key::Var(1), Instr::Var { out: 0, axis: 1 }),
+                Node::Z => (Key::Var(2), Instr::Var { out: 0, axis: 2 }),
+                Node::Const(c) => (Key::Const(c.to_bits()), Instr::Const { out: 0, value: *c }),
+                Node::Unary(op, a) => {
+                    let a = get(a);
+                    match consts(&ssa, a) {
+                        Some(v) => {
+                            let c = unary(*op, v);
+                            (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+                        }
+                        None => (Key::Unary(*op, a), Instr::Unary { op: *op, out: 0, a }),
+                    }
+                }
+                Node::Binary(op, a, b) => {
+                    let (a, b) = (get(a), get(b));
+                    match (consts(&ssa, a), consts(&ssa, b)) {
+                        (Some(x), Some(y)) => {
+                            let c = binary(*op, x, y);
+                            (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+                        }
+                        _ => (
+                            Key::Binary(*op, a, b),
+                            Instr::Binary {
+                                op: *op,
+                                out: 0,
+                                a,
+                                b,
+                            },
+                        ),
+                    }
+                }
+            };
+            let id = *by_key.entry(key).or_insert_with(|| {
+                let id = ssa.len() as u32;
+                ssa.push(instr.with(
+                    id,
+                    instr.args()[0].unwrap_or(0),
+                    instr.args()[1].unwrap_or(0),
+                ));
+                id
+            });
+            by_ptr.insert(ptr, id);
+        }
+        let output = by_ptr[&std::sync::Arc::as_ptr(&field.0)];
+        Tape::from_ssa(ssa, output)
+    }
+
+    /// Keeps only what the output needs, then allocates registers.
+    fn from_ssa(ssa: Vec<Instr>, output: u32) -> Tape {
+        // Dead-code elimination and renumbering.
+        let mut live = vec![false; ssa.len()];
+        live[output as usize] = true;
+        for i in (0..ssa.len()).rev() {
+            if live[i] {
+                for a in ssa[i].args().into_iter().flatten() {
+                    live[a as usize] = true;
+                }
+            }
+        }
+        let mut new_id = vec![u32::MAX; ssa.len()];
+        let mut compact = Vec::new();
+        for (i, ins) in ssa.iter().enumerate() {
+            if live[i] {
+                let [a, b] = ins.args().map(|x| x.map_or(0, |x| new_id[x as usize]));
+                new_id[i] = compact.len() as u32;
+                compact.push(ins.with(compact.len() as u32, a, b));
+            }
+        }
+        let output = new_id[output as usize];
+        // Linear-scan register allocation: a register is reused after the
+        // last read of its value (an output may take an argument's register:
+        // every evaluator reads arguments before writing).
+        let mut last_use = vec![0usize; compact.len()];
+        for (i, ins) in compact.iter().enumerate() {
+            for a in ins.args().into_iter().flatten() {
+                last_use[a as usize] = i;
+            }
+        }
+        last_use[output as usize] = usize::MAX;
+        let mut reg_of = vec![0u32; compact.len()];
+        let mut free: Vec<u32> = Vec::new();
+        let mut slots = 0u32;
+        let mut instrs = Vec::with_capacity(compact.len());
+        for (i, ins) in compact.iter().enumerate() {
+            let [a, b] = ins.args();
+            let ra = a.map_or(0, |a| reg_of[a as usize]);
+            let rb = b.map_or(0, |b| reg_of[b as usize]);
+            for x in [a, b].into_iter().flatten() {
+                if last_use[x as usize] == i && !free.contains(&reg_of[x as usize]) {
+                    free.push(reg_of[x as usize]);
+                }
+            }
+            let out = free.pop().unwrap_or_else(|| {
+                slots += 1;
+                slots - 1
+            });
+            reg_of[i] = out;
+            instrs.push(ins.with(out, ra, rb));
+        }
+        Tape {
+            ssa: compact,
+            instrs,
+            slots: slots.max(1),
+            output: reg_of[output as usize],
+        }
+    }
+
+    /// Instructions with registers allocated, in evaluation order.
+    pub fn instrs(&self) -> &[Instr] {
+        &self.instrs
+    }
+
+    pub fn slots(&self) -> usize {
+        self.slots as usize
+    }
+
+    pub fn output(&self) -> usize {
+        self.output as usize
+    }
+
+    pub fn len(&self) -> usize {
+        self.instrs.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.instrs.is_empty()
+    }
+
+    /// A shorter tape valid wherever `choices` (one per instruction, from an
+    /// interval evaluation over a region) hold: every decided `min`/`max` is
+    /// replaced by the winning argument and what no longer matters is dropped.
+    pub fn simplify(&self, choices: &[Choice]) -> Tape {
+        assert_eq!(choices.len(), self.ssa.len(), "one choice per instruction");
+        let mut alias: Vec<u32> = (0..self.ssa.len() as u32).collect();
+        let mut ssa: Vec<Instr> = Vec::with_capacity(self.ssa.len());
+        for (i, ins) in self.ssa.iter().enumerate() {
+            let [a, b] = ins.args().map(|x| x.map(|x| alias[x as usize]));
+            match (ins, choices[i]) {
+                (
+                    Instr::Binary {
+                        op: Binary::Min | Binary::Max,
+                        ..
+                    },
+                    Choice::Left,
+                ) => alias[i] = a.expect("binary"),
+                (
+                    Instr::Binary {
+                        op: Binary::Min | Binary::Max,
+                        ..
+                    },
+                    Choice::Right,
+                ) => alias[i] = b.expect("binary"),
+                _ => {}
+            }
+            ssa.push(ins.with(i as u32, a.unwrap_or(0), b.unwrap_or(0)));
+        }
+        let output = alias[self.output_ssa() as usize];
+        Tape::from_ssa(ssa, output)
+    }
+
+    fn output_ssa(&self) -> u32 {
+        (self.ssa.len() - 1) as u32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shared_and_equal_subexpressions_compile_once() {
+        let x = Field::x();
+        let r2 = &x * &x + Field::y() * Field::y();
+        // The same structure built twice dedupes; constants fold.
+        let again = Field::x() * Field::x() + Field::y() * Field::y();
+        let f = (r2.clone() - (Field::constant(2.0) * 3.0)).max(again - 6.0);
+        let t = Tape::compile(&f);
+        // x, y, x*x, y*y, +, const 6, -, max(a, a) = 8 instructions.
+        assert_eq!(t.len(), 8);
+        assert!(t.slots() <= 4, "registers are reused: {}", t.slots());
+    }
+
+    #[test]
+    fn deep_chains_do_not_overflow() {
+        let mut f = Field::x();
+        for i in 0..200_000 {
+            f = f + (i as f64 * 1e-6);
+        }
+        let t = Tape::compile(&f);
+        assert_eq!(t.slots(), 2);
+    }
+}
