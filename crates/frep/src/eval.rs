@@ -142,38 +142,42 @@ impl<'t> BatchEval<'t> {
                     regs[o..o + len].fill(value as f32);
                 }
                 Instr::Unary { op, out, a } => {
-                    let (o, a) = (out as usize * LANES, a as usize * LANES);
-                    if o == a {
-                        // In place: copy the argument out first.
-                        let tmp: [f32; LANES] =
-                            std::array::from_fn(|i| if i < len { regs[a + i] } else { 0.0 });
-                        lane_unary(op, &tmp[..len], &mut regs[o..o + len]);
-                    } else {
-                        let (src, dst) = split(regs, a, o, len);
-                        lane_unary(op, src, dst);
-                    }
+                    let (dst, before, after) = carve(regs, out as usize * LANES);
+                    let o = out as usize * LANES;
+                    lane_unary(
+                        op,
+                        arg(before, after, o, a as usize * LANES, len),
+                        &mut dst[..len],
+                    );
                 }
                 Instr::Binary { op, out, a, b } => {
-                    let (o, a, b) = (out as usize * LANES, a as usize * LANES, b as usize * LANES);
-                    let ta: [f32; LANES] =
-                        std::array::from_fn(|i| if i < len { regs[a + i] } else { 0.0 });
-                    let tb: [f32; LANES] =
-                        std::array::from_fn(|i| if i < len { regs[b + i] } else { 0.0 });
-                    lane_binary(op, &ta[..len], &tb[..len], &mut regs[o..o + len]);
+                    let (dst, before, after) = carve(regs, out as usize * LANES);
+                    let o = out as usize * LANES;
+                    let (a, b) = (
+                        arg(before, after, o, a as usize * LANES, len),
+                        arg(before, after, o, b as usize * LANES, len),
+                    );
+                    lane_binary(op, a, b, &mut dst[..len]);
                 }
             }
         }
     }
 }
 
-/// Two disjoint register blocks, one to read and one to write.
-fn split(regs: &mut [f32], src: usize, dst: usize, len: usize) -> (&[f32], &mut [f32]) {
-    if src < dst {
-        let (lo, hi) = regs.split_at_mut(dst);
-        (&lo[src..src + len], &mut hi[..len])
+/// The output block and the registers before and after it (the tape never
+/// gives an output the register of one of its arguments).
+fn carve(regs: &mut [f32], o: usize) -> (&mut [f32], &[f32], &[f32]) {
+    let (before, rest) = regs.split_at_mut(o);
+    let (dst, after) = rest.split_at_mut(LANES);
+    (dst, before, after)
+}
+
+/// An argument block, found on its side of the output block.
+fn arg<'a>(before: &'a [f32], after: &'a [f32], o: usize, x: usize, len: usize) -> &'a [f32] {
+    if x < o {
+        &before[x..x + len]
     } else {
-        let (lo, hi) = regs.split_at_mut(src);
-        (&hi[..len], &mut lo[dst..dst + len])
+        &after[x - o - LANES..x - o - LANES + len]
     }
 }
 

@@ -189,8 +189,8 @@ impl Tape {
         }
         let output = new_id[output as usize];
         // Linear-scan register allocation: a register is reused after the
-        // last read of its value (an output may take an argument's register:
-        // every evaluator reads arguments before writing).
+        // last read of its value. An output never shares its arguments'
+        // registers, so batch evaluation can borrow them apart.
         let mut last_use = vec![0usize; compact.len()];
         for (i, ins) in compact.iter().enumerate() {
             for a in ins.args().into_iter().flatten() {
@@ -206,15 +206,15 @@ impl Tape {
             let [a, b] = ins.args();
             let ra = a.map_or(0, |a| reg_of[a as usize]);
             let rb = b.map_or(0, |b| reg_of[b as usize]);
+            let out = free.pop().unwrap_or_else(|| {
+                slots += 1;
+                slots - 1
+            });
             for x in [a, b].into_iter().flatten() {
                 if last_use[x as usize] == i && !free.contains(&reg_of[x as usize]) {
                     free.push(reg_of[x as usize]);
                 }
             }
-            let out = free.pop().unwrap_or_else(|| {
-                slots += 1;
-                slots - 1
-            });
             reg_of[i] = out;
             instrs.push(ins.with(out, ra, rb));
         }
@@ -308,6 +308,6 @@ mod tests {
             f = f + (i as f64 * 1e-6);
         }
         let t = Tape::compile(&f);
-        assert_eq!(t.slots(), 2);
+        assert_eq!(t.slots(), 3);
     }
 }
