@@ -8,6 +8,7 @@
 pub mod eval;
 pub mod field;
 pub mod interval;
+pub mod shapes;
 pub mod tape;
 pub mod vm;
 
