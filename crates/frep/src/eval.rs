@@ -250,7 +250,16 @@ fn grad_unary(op: Unary, a: Grad) -> Grad {
                 1.0
             }
         }
-        Unary::Sqrt => 0.5 / v,
+        // At 0 the slope is infinite; when the argument is a sum of squares
+        // its own gradient is 0 there, and 0 (a subgradient) keeps the
+        // product finite instead of inf * 0 = NaN.
+        Unary::Sqrt => {
+            if v == 0.0 {
+                0.0
+            } else {
+                0.5 / v
+            }
+        }
         Unary::Square => 2.0 * x,
         Unary::Sin => x.cos(),
         Unary::Cos => -x.sin(),

@@ -2,12 +2,15 @@
 //! `f >= 0` inside (HyperFun's convention), built as a DAG ([`Field`]),
 //! compiled to a flat register [`Tape`], and evaluated at single points, in
 //! SIMD-friendly batches, over intervals (conservative bounds for pruning,
-//! with per-region tape simplification) and with exact gradients. Knows
-//! nothing of geometry containers, nodes or files.
+//! with per-region tape simplification) and with exact gradients; meshed by
+//! a feature-preserving dual-contouring polygoniser into `geode-geo`
+//! geometry. Knows nothing of nodes, graphs or files.
 
 pub mod eval;
 pub mod field;
 pub mod interval;
+pub mod polygonise;
+mod qef;
 pub mod shapes;
 pub mod tape;
 pub mod vm;
@@ -15,5 +18,6 @@ pub mod vm;
 pub use eval::{BatchEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use interval::Interval;
+pub use polygonise::{polygonise, sample, MeshError, MeshOptions, MeshStats};
 pub use tape::{Choice, Instr, Tape};
 pub use vm::{parse_vm, VmError};

@@ -1,0 +1,142 @@
+//! The quadratic error function of dual contouring: the point closest (in
+//! least squares) to a set of tangent planes, solved with a truncated
+//! pseudo-inverse around the planes' mass point so flat regions stay stable.
+
+/// Accumulates planes `n . x = n . p`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Qef {
+    ata: [[f64; 3]; 3],
+    atb: [f64; 3],
+    mass: [f64; 3],
+    count: u32,
+}
+
+/// Eigen-decomposition of a symmetric 3x3 matrix by cyclic Jacobi rotations:
+/// eigenvalues and the matrix whose columns are the eigenvectors.
+fn symmetric_eigen(mut a: [[f64; 3]; 3]) -> ([f64; 3], [[f64; 3]; 3]) {
+    let mut v = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    for _sweep in 0..32 {
+        let off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
+        if off < 1e-30 {
+            break;
+        }
+        for (p, q) in [(0, 1), (0, 2), (1, 2)] {
+            if a[p][q].abs() < 1e-300 {
+                continue;
+            }
+            let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+            let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+            let t = if theta == 0.0 { 1.0 } else { t };
+            let c = 1.0 / (t * t + 1.0).sqrt();
+            let s = t * c;
+            // A <- J^T A J for the rotation J in the (p, q) plane.
+            for row in a.iter_mut() {
+                let (akp, akq) = (row[p], row[q]);
+                row[p] = c * akp - s * akq;
+                row[q] = s * akp + c * akq;
+            }
+            let (rp, rq) = (a[p], a[q]);
+            for k in 0..3 {
+                a[p][k] = c * rp[k] - s * rq[k];
+                a[q][k] = s * rp[k] + c * rq[k];
+            }
+            for row in v.iter_mut() {
+                let (vp, vq) = (row[p], row[q]);
+                row[p] = c * vp - s * vq;
+                row[q] = s * vp + c * vq;
+            }
+        }
+    }
+    ([a[0][0], a[1][1], a[2][2]], v)
+}
+
+impl Qef {
+    /// Adds the plane through `p` with normal `n` (unit length).
+    pub fn add(&mut self, p: [f64; 3], n: [f64; 3]) {
+        let d = n[0] * p[0] + n[1] * p[1] + n[2] * p[2];
+        for i in 0..3 {
+            for j in 0..3 {
+                self.ata[i][j] += n[i] * n[j];
+            }
+            self.atb[i] += n[i] * d;
+            self.mass[i] += p[i];
+        }
+        self.count += 1;
+    }
+
+    pub fn mass_point(&self) -> [f64; 3] {
+        let k = 1.0 / self.count.max(1) as f64;
+        self.mass.map(|m| m * k)
+    }
+
+    /// The minimiser, with singular values below `truncate` times the
+    /// largest treated as zero (those directions stay at the mass point).
+    pub fn solve(&self, truncate: f64) -> [f64; 3] {
+        let c = self.mass_point();
+        // Solve A^T A y = A^T b - A^T A c for y = x - c.
+        let mut rhs = self.atb;
+        for (i, r) in rhs.iter_mut().enumerate() {
+            *r -= self.ata[i][0] * c[0] + self.ata[i][1] * c[1] + self.ata[i][2] * c[2];
+        }
+        let (w, v) = symmetric_eigen(self.ata);
+        let wmax = w.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mut y = [0.0; 3];
+        for k in 0..3 {
+            if wmax == 0.0 || w[k].abs() < truncate * wmax {
+                continue;
+            }
+            // y += v_k (v_k . rhs) / w_k
+            let proj = v[0][k] * rhs[0] + v[1][k] * rhs[1] + v[2][k] * rhs[2];
+            for i in 0..3 {
+                y[i] += v[i][k] * proj / w[k];
+            }
+        }
+        [c[0] + y[0], c[1] + y[1], c[2] + y[2]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn corner_of_three_planes_is_found() {
+        let mut q = Qef::default();
+        // Three faces of a box meeting at (1, 2, 3), sampled off the corner.
+        q.add([1.0, 0.5, 0.2], [1.0, 0.0, 0.0]);
+        q.add([0.3, 2.0, 0.1], [0.0, 1.0, 0.0]);
+        q.add([0.1, 0.4, 3.0], [0.0, 0.0, 1.0]);
+        let x = q.solve(0.1);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-9 && (x[1] - 2.0).abs() < 1e-9 && (x[2] - 3.0).abs() < 1e-9,
+            "{x:?}"
+        );
+    }
+
+    #[test]
+    fn an_edge_keeps_the_free_direction_at_the_mass_point() {
+        let mut q = Qef::default();
+        let s = std::f64::consts::FRAC_1_SQRT_2;
+        q.add([0.0, 1.0, 0.2], [0.0, 1.0, 0.0]);
+        q.add([1.0, 0.0, 0.6], [1.0, 0.0, 0.0]);
+        q.add([1.5, 0.5, 0.4], [s, s, 0.0]);
+        let x = q.solve(0.1);
+        assert!(
+            (x[0] - 1.0).abs() < 1e-9 && (x[1] - 1.0).abs() < 1e-9,
+            "{x:?}"
+        );
+        assert!((x[2] - 0.4).abs() < 1e-9, "z free: the mass point's");
+    }
+
+    #[test]
+    fn jacobi_diagonalises() {
+        let a = [[4.0, 1.0, 2.0], [1.0, 3.0, 0.5], [2.0, 0.5, 5.0]];
+        let (w, v) = symmetric_eigen(a);
+        for k in 0..3 {
+            for i in 0..3 {
+                let av = a[i][0] * v[0][k] + a[i][1] * v[1][k] + a[i][2] * v[2][k];
+                assert!((av - w[k] * v[i][k]).abs() < 1e-9);
+            }
+        }
+    }
+}

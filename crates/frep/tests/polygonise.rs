@@ -1,0 +1,194 @@
+//! The polygoniser against analytic answers: volumes, distance of vertices to
+//! the surface, sharp box corners and edges, normals, manifoldness, cost
+//! following the surface, determinism, cancellation.
+
+use geode_frep::shapes::{block, sphere, torus, union};
+use geode_frep::{polygonise, Field, GradEval, MeshOptions, PointEval, Tape};
+use geode_geo::{ops, AttribClass, Geometry};
+
+fn mesh(f: &Field, half: f64, depth: u32) -> Geometry {
+    polygonise(
+        f,
+        &MeshOptions::new([-half; 3], [half; 3], depth),
+        &|| false,
+        &|_| {},
+    )
+    .unwrap()
+    .0
+}
+
+fn closed_manifold(g: &Geometry) {
+    let r = g.topology().manifold_report(g);
+    assert!(r.is_closed_manifold(), "{r:?}");
+}
+
+#[test]
+fn volumes_within_half_a_percent() {
+    let cases = [
+        (
+            "sphere",
+            sphere([0.1, 0.0, -0.05], 1.0),
+            4.0 / 3.0 * std::f64::consts::PI,
+        ),
+        (
+            "box",
+            block([0.0; 3], [0.8, 0.5, 0.3]),
+            8.0 * 0.8 * 0.5 * 0.3,
+        ),
+        (
+            "torus",
+            torus([0.0; 3], 1.0, 0.35),
+            2.0 * std::f64::consts::PI.powi(2) * 1.0 * 0.35f64.powi(2),
+        ),
+    ];
+    for (name, f, v) in cases {
+        let g = mesh(&f, 1.5, 6);
+        closed_manifold(&g);
+        let got = ops::signed_volume(&g) as f64;
+        assert!((got - v).abs() / v < 0.005, "{name}: {got} vs {v}");
+    }
+}
+
+#[test]
+fn vertices_lie_on_the_surface() {
+    let f = union(&sphere([0.0; 3], 0.8), &torus([0.0; 3], 1.0, 0.25), 1.0);
+    let g = mesh(&f, 1.5, 6);
+    closed_manifold(&g);
+    let cell = 3.0 / 64.0;
+    let tape = Tape::compile(&f);
+    let mut p = PointEval::new(&tape);
+    let mut gr = GradEval::new(&tape);
+    let mut worst = 0.0f64;
+    for q in g.positions() {
+        let q = [q.x as f64, q.y as f64, q.z as f64];
+        let d = gr.eval(q).d;
+        let dist = p.eval(q).abs() / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt().max(1e-9);
+        worst = worst.max(dist);
+    }
+    assert!(
+        worst < 0.1 * cell,
+        "worst |f|/|grad f| = {worst} (cell {cell})"
+    );
+}
+
+#[test]
+fn box_corners_and_edges_are_sharp_at_coarse_resolution() {
+    // A box whose faces fall inside cells (not on grid planes) at depth 4.
+    let half = [0.61, 0.43, 0.37];
+    let f = block([0.013, -0.021, 0.007], half);
+    let g = mesh(&f, 1.0, 4);
+    closed_manifold(&g);
+    let c = [0.013, -0.021, 0.007];
+    for sx in [-1.0, 1.0] {
+        for sy in [-1.0, 1.0] {
+            for sz in [-1.0, 1.0] {
+                let corner = [
+                    c[0] + sx * half[0],
+                    c[1] + sy * half[1],
+                    c[2] + sz * half[2],
+                ];
+                let nearest = g
+                    .positions()
+                    .iter()
+                    .map(|p| {
+                        ((p.x as f64 - corner[0]).powi(2)
+                            + (p.y as f64 - corner[1]).powi(2)
+                            + (p.z as f64 - corner[2]).powi(2))
+                        .sqrt()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                assert!(nearest < 1e-4, "corner {corner:?} missed by {nearest}");
+            }
+        }
+    }
+    // Points on the twelve edges: every vertex near an edge lies on it.
+    let vol = ops::signed_volume(&g) as f64;
+    let exact = 8.0 * half[0] * half[1] * half[2];
+    assert!(
+        (vol - exact).abs() / exact < 1e-3,
+        "sharp edges keep the volume: {vol} vs {exact}"
+    );
+}
+
+#[test]
+fn normals_agree_with_the_gradient() {
+    let f = sphere([0.0; 3], 1.0);
+    let g = mesh(&f, 1.2, 5);
+    let n = g
+        .attrib(AttribClass::Point, "N")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
+    for (p, n) in g.positions().iter().zip(n) {
+        assert!((*n - p.normalize()).length() < 1e-3, "outward unit normal");
+    }
+    // Triangles wind outward: positive volume.
+    assert!(ops::signed_volume(&g) > 0.0);
+}
+
+#[test]
+fn cost_follows_the_surface() {
+    let f = sphere([0.0; 3], 1.0);
+    let stats = |d| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.2; 3], [1.2; 3], d),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+        .1
+    };
+    let (a, b) = (stats(6), stats(7));
+    let ratio = b.cells_with_surface as f64 / a.cells_with_surface as f64;
+    assert!(
+        (3.3..4.8).contains(&ratio),
+        "surface cells grow ~4x per level: {ratio}"
+    );
+    let brick_ratio = b.bricks_meshed as f64 / a.bricks_meshed as f64;
+    assert!(
+        brick_ratio < 5.0,
+        "meshed bricks grow with the surface, not 8x: {brick_ratio}"
+    );
+}
+
+#[test]
+fn deterministic_on_any_thread_count_and_cancellable() {
+    let f = union(
+        &sphere([0.3, 0.0, 0.0], 0.5),
+        &block([-0.3, 0.0, 0.0], [0.3, 0.3, 0.3]),
+        0.0,
+    );
+    let run = |threads| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| mesh(&f, 1.0, 6).content_hash())
+    };
+    assert_eq!(run(1), run(3));
+    let r = polygonise(
+        &f,
+        &MeshOptions::new([-1.0; 3], [1.0; 3], 7),
+        &|| true,
+        &|_| {},
+    );
+    assert_eq!(r.unwrap_err(), geode_frep::MeshError::Cancelled);
+    let bad = polygonise(
+        &f,
+        &MeshOptions::new([0.0; 3], [0.0, 1.0, 1.0], 5),
+        &|| false,
+        &|_| {},
+    );
+    assert_eq!(bad.unwrap_err(), geode_frep::MeshError::BadBounds);
+}
+
+#[test]
+fn solids_touching_the_box_are_closed_by_it() {
+    let g = mesh(&sphere([0.0; 3], 2.0), 1.0, 4);
+    closed_manifold(&g);
+    assert!(
+        (ops::signed_volume(&g) - 8.0).abs() < 1e-3,
+        "the clipped sphere fills the box"
+    );
+}
