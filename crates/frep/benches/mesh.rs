@@ -1,0 +1,138 @@
+//! Meshing time against octree depth: cost should grow ~4x per level (with the
+//! surface), not 8x (with the volume). Triangle counts are printed once.
+//! Run: cargo bench -p geode-frep --bench mesh
+
+use geode_frep::shapes::{block, sphere, union};
+use geode_frep::{polygonise, Field, MeshOptions};
+
+fn main() {
+    for (name, f, half) in cases() {
+        for depth in [6, 7, 8] {
+            let (g, s) = polygonise(
+                &f,
+                &MeshOptions::new([-half; 3], [half; 3], depth),
+                &|| false,
+                &|_| {},
+            )
+            .unwrap();
+            eprintln!(
+                "{name} depth {depth}: {} triangles, {} surface cells, {} of {} bricks meshed",
+                g.num_prims(),
+                s.cells_with_surface,
+                s.bricks_meshed,
+                s.bricks_total
+            );
+        }
+    }
+    divan::main();
+}
+
+fn gyroid_lattice() -> Field {
+    let (x, y, z) = (Field::x() * 8.0, Field::y() * 8.0, Field::z() * 8.0);
+    let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
+    // A shell of thickness 0.6 (in gyroid units) inside a rounded part.
+    let shell = 0.3 - g.abs();
+    shell.min(block([0.0; 3], [0.8, 0.6, 0.5]))
+}
+
+fn spheres200() -> Field {
+    let mut f = sphere([0.6, 0.0, -0.5], 0.08);
+    for i in 1..200 {
+        let t = i as f64 * 0.1;
+        f = union(
+            &f,
+            &sphere([t.cos() * 0.6, t.sin() * 0.6, i as f64 / 200.0 - 0.5], 0.08),
+            1.0,
+        );
+    }
+    f
+}
+
+fn vm(name: &str) -> Field {
+    let text = std::fs::read_to_string(format!(
+        "{}/../../../shared/corpus/fidget-models/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    geode_frep::parse_vm(&text).unwrap()
+}
+
+fn cases() -> Vec<(&'static str, Field, f64)> {
+    vec![
+        ("sphere", sphere([0.0; 3], 0.9), 1.0),
+        ("gyroid", gyroid_lattice(), 1.0),
+        ("spheres200", spheres200(), 1.0),
+        ("colonnade", vm("colonnade.vm"), 1.0),
+        ("bear", vm("bear.vm"), 1.0),
+    ]
+}
+
+#[divan::bench(args = [6, 7, 8], sample_count = 3)]
+fn sphere_depth(bencher: divan::Bencher, depth: u32) {
+    let f = sphere([0.0; 3], 0.9);
+    bencher.bench(|| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+    });
+}
+
+#[divan::bench(args = [6, 7, 8], sample_count = 3)]
+fn gyroid_depth(bencher: divan::Bencher, depth: u32) {
+    let f = gyroid_lattice();
+    bencher.bench(|| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+    });
+}
+
+#[divan::bench(args = [6, 7, 8], sample_count = 3)]
+fn spheres200_depth(bencher: divan::Bencher, depth: u32) {
+    let f = spheres200();
+    bencher.bench(|| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+    });
+}
+
+#[divan::bench(args = [6, 7, 8], sample_count = 3)]
+fn colonnade_depth(bencher: divan::Bencher, depth: u32) {
+    let f = vm("colonnade.vm");
+    bencher.bench(|| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+    });
+}
+
+#[divan::bench(args = [6, 7, 8], sample_count = 3)]
+fn bear_depth(bencher: divan::Bencher, depth: u32) {
+    let f = vm("bear.vm");
+    bencher.bench(|| {
+        polygonise(
+            &f,
+            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &|| false,
+            &|_| {},
+        )
+        .unwrap()
+    });
+}
