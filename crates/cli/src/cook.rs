@@ -152,10 +152,14 @@ pub fn cook(args: CookArgs) -> Result<()> {
                 .collect();
             anyhow!("the cook failed:\n{}", lines.join("\n"))
         })?;
+        if cancel.is_cancelled() {
+            bail!("interrupted: nothing was written for frame {frame}");
+        }
         if let Some(pattern) = args.output {
             let path = frame_path(pattern, frame);
             match &result.value {
                 Value::Geometry(g) => geode_io::write(g, &path, &geode_io::NoProgress)?,
+                Value::Field(_) => bail!("{target} gives a field; mesh it with a polygonise node to write it"),
                 Value::Bundle(b) => bail!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")),
             }
             bar.suspend(|| eprintln!("frame {frame}: wrote {}", path.display()));

@@ -180,7 +180,7 @@ fn ctrl_c_stops_within_a_fraction_of_a_second_and_writes_nothing_partial() {
     let dir = tempfile::tempdir().unwrap();
     let net = dir.path().join("heavy.json");
     std::fs::write(&net, r#"{"geode": "network", "version": 1, "output": "n", "nodes": {
-        "s": {"type": "sphere", "params": {"rows": 400, "columns": 800, "radius": {"keys": [{"frame": 1, "value": 1}, {"frame": 100000, "value": 2}]}}},
+        "s": {"type": "sphere", "params": {"rows": 60, "columns": 120, "radius": {"keys": [{"frame": 1, "value": 1}, {"frame": 100000, "value": 2}]}}},
         "n": {"type": "normals", "inputs": ["s"]}}}"#).unwrap();
     let pattern = dir.path().join("f.$F.stl");
     let mut child = Command::new(env!("CARGO_BIN_EXE_geode"))
@@ -273,4 +273,56 @@ fn cache_environment_switches() {
         0,
         "a zero budget stores nothing"
     );
+}
+
+/// Every FRep example is closed and manifold at several frames, by geode's
+/// report and by trimesh (installed by tools/test.sh; required in CI).
+#[test]
+fn frep_examples_are_watertight() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut files = Vec::new();
+    for ex in examples().into_iter().filter(|e| e.contains("/frep_")) {
+        for frame in ["1", "24", "48"] {
+            let out = dir
+                .path()
+                .join(format!("{}_{frame}.stl", ex.replace('/', "_")));
+            let o = geode(
+                &["cook", &ex, "--frame", frame, "-o", out.to_str().unwrap()],
+                &[],
+            );
+            assert!(o.status.success(), "{ex}: {}", text(&o));
+            let info = geode(&["info", "--json", out.to_str().unwrap()], &[]);
+            let v: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+            for k in [
+                "boundary_edges",
+                "non_manifold_edges",
+                "inconsistent_edges",
+                "non_manifold_points",
+            ] {
+                assert_eq!(v[k], 0, "{ex} frame {frame}: {k}");
+            }
+            files.push(out);
+        }
+    }
+    assert!(!files.is_empty(), "there are FRep examples");
+    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into());
+    let out = Command::new(python)
+        .arg(root().join("tools/mesh_check.py"))
+        .args(&files)
+        .output();
+    let required = std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1");
+    match out {
+        Ok(o) if o.status.success() => {
+            let report = String::from_utf8_lossy(&o.stdout);
+            assert_eq!(report.lines().count(), files.len());
+            for line in report.lines() {
+                assert!(
+                    line.contains("\"watertight\": true")
+                        && line.contains("\"winding_consistent\": true"),
+                    "{line}"
+                );
+            }
+        }
+        other => assert!(!required, "trimesh check could not run: {other:?}"),
+    }
 }

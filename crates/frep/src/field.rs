@@ -56,37 +56,101 @@ pub enum Node {
     Binary(Binary, Field, Field),
 }
 
+/// A node with its structural hash and size, computed once at construction.
+#[derive(Debug, PartialEq)]
+pub(crate) struct Inner {
+    node: Node,
+    hash: u128,
+    size: u64,
+}
+
 /// A scalar field over space: a shared DAG of [`Node`]s. Cloning shares.
+/// Equal structure gives an equal [`Field::identity`], however it was built.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Field(pub(crate) Arc<Node>);
+pub struct Field(pub(crate) Arc<Inner>);
+
+fn make(node: Node) -> Field {
+    use xxhash_rust::xxh3::Xxh3;
+    let mut h = Xxh3::new();
+    let size = match &node {
+        Node::X => {
+            h.update(b"x");
+            1
+        }
+        Node::Y => {
+            h.update(b"y");
+            1
+        }
+        Node::Z => {
+            h.update(b"z");
+            1
+        }
+        Node::Const(c) => {
+            h.update(b"c");
+            h.update(&c.to_bits().to_le_bytes());
+            1
+        }
+        Node::Unary(op, a) => {
+            h.update(format!("u{op:?}").as_bytes());
+            h.update(&a.0.hash.to_le_bytes());
+            a.0.size.saturating_add(1)
+        }
+        Node::Binary(op, a, b) => {
+            h.update(format!("b{op:?}").as_bytes());
+            h.update(&a.0.hash.to_le_bytes());
+            h.update(&b.0.hash.to_le_bytes());
+            a.0.size.saturating_add(b.0.size).saturating_add(1)
+        }
+    };
+    Field(Arc::new(Inner {
+        node,
+        hash: h.digest128(),
+        size,
+    }))
+}
 
 impl Field {
     pub fn x() -> Field {
-        Field(Arc::new(Node::X))
+        make(Node::X)
     }
 
     pub fn y() -> Field {
-        Field(Arc::new(Node::Y))
+        make(Node::Y)
     }
 
     pub fn z() -> Field {
-        Field(Arc::new(Node::Z))
+        make(Node::Z)
     }
 
     pub fn constant(v: f64) -> Field {
-        Field(Arc::new(Node::Const(v)))
+        make(Node::Const(v))
     }
 
     pub fn node(&self) -> &Node {
-        &self.0
+        &self.0.node
+    }
+
+    /// Structural identity (xxh3-128): equal for structurally equal fields.
+    pub fn identity(&self) -> u128 {
+        self.0.hash
+    }
+
+    /// Nodes of the expanded tree (an upper bound on the DAG's, saturating).
+    pub fn tree_size(&self) -> u64 {
+        self.0.size
+    }
+
+    /// The address identifying this shared node (for memoised traversals).
+    pub(crate) fn ptr(&self) -> *const () {
+        Arc::as_ptr(&self.0) as *const ()
     }
 
     pub fn unary(&self, op: Unary) -> Field {
-        Field(Arc::new(Node::Unary(op, self.clone())))
+        make(Node::Unary(op, self.clone()))
     }
 
     pub fn binary(&self, op: Binary, other: impl Into<Field>) -> Field {
-        Field(Arc::new(Node::Binary(op, self.clone(), other.into())))
+        make(Node::Binary(op, self.clone(), other.into()))
     }
 
     pub fn abs(&self) -> Field {
@@ -161,9 +225,9 @@ impl Field {
 /// which a recursive drop would overflow the stack on.
 impl Drop for Field {
     fn drop(&mut self) {
-        fn take_children(arc: &mut Arc<Node>, stack: &mut Vec<Field>) {
-            if let Some(node) = Arc::get_mut(arc) {
-                match std::mem::replace(node, Node::X) {
+        fn take_children(arc: &mut Arc<Inner>, stack: &mut Vec<Field>) {
+            if let Some(inner) = Arc::get_mut(arc) {
+                match std::mem::replace(&mut inner.node, Node::X) {
                     Node::Unary(_, a) => stack.push(a),
                     Node::Binary(_, a, b) => {
                         stack.push(a);
@@ -297,5 +361,26 @@ impl ops::Neg for &Field {
     type Output = Field;
     fn neg(self) -> Field {
         self.unary(Unary::Neg)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn identity_is_structural() {
+        let a = Field::x() * 2.0 + Field::y().sin();
+        let b = Field::x() * 2.0 + Field::y().sin();
+        assert_eq!(a.identity(), b.identity());
+        assert_ne!(
+            a.identity(),
+            (Field::x() * 2.5 + Field::y().sin()).identity()
+        );
+        assert_ne!(
+            (Field::x() - Field::y()).identity(),
+            (Field::y() - Field::x()).identity()
+        );
+        assert_eq!(a.tree_size(), 6);
     }
 }

@@ -349,8 +349,12 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                     if !x.iter().all(|c| c.is_finite()) {
                         x = q.mass_point();
                     }
+                    // Strictly inside the cell: a feature on a cell boundary (a
+                    // cone's apex on a grid line) must not put the vertices of
+                    // neighbouring cells at one point, or the mesh pinches there.
+                    let margin = 1e-4 * grid.h;
                     for a in 0..3 {
-                        x[a] = x[a].clamp(cmin[a], cmax[a]);
+                        x[a] = x[a].clamp(cmin[a] + margin, cmax[a] - margin);
                     }
                     let n = outward_normal(&mut point, &mut grad, x);
                     let n = Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32);

@@ -157,10 +157,10 @@ impl Field {
     /// The field with x, y and z replaced by other fields (space mapping):
     /// `f.remap(gx, gy, gz)(p) = f(gx(p), gy(p), gz(p))`.
     pub fn remap(&self, x: &Field, y: &Field, z: &Field) -> Field {
-        let mut done: HashMap<*const Node, Field> = HashMap::new();
+        let mut done: HashMap<*const (), Field> = HashMap::new();
         let mut stack: Vec<(&Field, bool)> = vec![(self, false)];
         while let Some((f, ready)) = stack.pop() {
-            let key = std::sync::Arc::as_ptr(&f.0);
+            let key = f.ptr();
             if done.contains_key(&key) {
                 continue;
             }
@@ -176,7 +176,7 @@ impl Field {
                 }
                 continue;
             }
-            let get = |g: &Field| done[&std::sync::Arc::as_ptr(&g.0)].clone();
+            let get = |g: &Field| done[&g.ptr()].clone();
             let new = match f.node() {
                 Node::X => x.clone(),
                 Node::Y => y.clone(),
@@ -187,7 +187,7 @@ impl Field {
             };
             done.insert(key, new);
         }
-        done[&std::sync::Arc::as_ptr(&self.0)].clone()
+        done[&self.ptr()].clone()
     }
 
     /// The solid moved by the affine map `p -> M p + t` (given as the inverse

@@ -91,7 +91,7 @@ impl Tape {
     /// computed once, constant sub-expressions are folded.
     pub fn compile(field: &Field) -> Tape {
         let mut ssa: Vec<Instr> = Vec::new();
-        let mut by_ptr: HashMap<*const Node, u32> = HashMap::new();
+        let mut by_ptr: HashMap<*const (), u32> = HashMap::new();
         let mut by_key: HashMap<Key, u32> = HashMap::new();
         let consts = |ssa: &Vec<Instr>, v: u32| match ssa[v as usize] {
             Instr::Const { value, .. } => Some(value),
@@ -100,7 +100,7 @@ impl Tape {
         // Iterative post-order: deep DAGs (thousands of ops) must not overflow the stack.
         let mut stack: Vec<(&Field, bool)> = vec![(field, false)];
         while let Some((f, children_done)) = stack.pop() {
-            let ptr = std::sync::Arc::as_ptr(&f.0);
+            let ptr = f.ptr();
             if by_ptr.contains_key(&ptr) {
                 continue;
             }
@@ -116,7 +116,7 @@ impl Tape {
                 }
                 continue;
             }
-            let get = |x: &Field| by_ptr[&std::sync::Arc::as_ptr(&x.0)];
+            let get = |x: &Field| by_ptr[&x.ptr()];
             let (key, instr) = match f.node() {
                 Node::X => (Key::Var(0), Instr::Var { out: 0, axis: 0 }),
                 Node::Y => (Key::Var(1), Instr::Var { out: 0, axis: 1 }),
@@ -162,7 +162,7 @@ impl Tape {
             });
             by_ptr.insert(ptr, id);
         }
-        let output = by_ptr[&std::sync::Arc::as_ptr(&field.0)];
+        let output = by_ptr[&field.ptr()];
         Tape::from_ssa(ssa, output)
     }
 

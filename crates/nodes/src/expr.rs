@@ -321,6 +321,111 @@ impl Expr {
     }
 }
 
+/// A small integer constant (exponents that expand into multiplications).
+fn integer(e: &Expr) -> Option<i32> {
+    match e {
+        Expr::Num(k) if k.fract() == 0.0 && k.abs() <= 64.0 => Some(*k as i32),
+        Expr::Neg(inner) => integer(inner).map(|k| -k),
+        _ => None,
+    }
+}
+
+fn rhs_integer(e: &Expr) -> Option<i32> {
+    match e {
+        Expr::Bin(Op::Pow, _, b) => integer(b),
+        _ => None,
+    }
+}
+
+/// `a ^ b`: integer exponents by repeated squaring (exact, and defined for
+/// negative bases, as `powf` is), others through `exp(b ln a)`.
+fn power(a: &geode_frep::Field, b: &geode_frep::Field, int: Option<i32>) -> geode_frep::Field {
+    let Some(k) = int else {
+        return (b * a.ln()).exp();
+    };
+    let mut result: Option<geode_frep::Field> = None;
+    let mut base = a.clone();
+    let mut n = k.unsigned_abs();
+    while n > 0 {
+        if n & 1 == 1 {
+            result = Some(match result {
+                Some(r) => r * &base,
+                None => base.clone(),
+            });
+        }
+        n >>= 1;
+        if n > 0 {
+            base = base.square();
+        }
+    }
+    let r = result.unwrap_or_else(|| geode_frep::Field::constant(1.0));
+    if k < 0 {
+        1.0 / r
+    } else {
+        r
+    }
+}
+
+impl Expr {
+    /// The expression as an FRep field, variables bound to the given fields
+    /// (in the order given to `parse`). `a ^ b` and `pow` use `exp(b ln a)`.
+    pub fn to_field(&self, vars: &[geode_frep::Field]) -> geode_frep::Field {
+        use geode_frep::{Binary as B, Field, Unary as U};
+        match self {
+            Expr::Num(x) => Field::constant(*x),
+            Expr::Var(i) => vars[*i].clone(),
+            Expr::Neg(e) => -e.to_field(vars),
+            Expr::Not(e) => e.to_field(vars).unary(U::Not),
+            Expr::Bin(op, a, b) => {
+                let (a, b) = (a.to_field(vars), b.to_field(vars));
+                let cmp = |x: &Field, y: &Field, want: f64| {
+                    (x.binary(B::Compare, y) - want).abs().unary(U::Not)
+                };
+                match op {
+                    Op::Add => a + b,
+                    Op::Sub => a - b,
+                    Op::Mul => a * b,
+                    Op::Div => a / b,
+                    Op::Rem => a.binary(B::Mod, b),
+                    Op::Pow => power(&a, &b, rhs_integer(self)),
+                    Op::Lt => cmp(&a, &b, -1.0),
+                    Op::Gt => cmp(&a, &b, 1.0),
+                    Op::Eq => cmp(&a, &b, 0.0),
+                    Op::Le => cmp(&a, &b, 1.0).unary(U::Not),
+                    Op::Ge => cmp(&a, &b, -1.0).unary(U::Not),
+                    Op::Ne => cmp(&a, &b, 0.0).unary(U::Not),
+                    // Truth values as 0 and 1, as `eval` gives them.
+                    Op::And => a
+                        .unary(U::Not)
+                        .unary(U::Not)
+                        .binary(B::And, b.unary(U::Not).unary(U::Not)),
+                    Op::Or => a
+                        .unary(U::Not)
+                        .unary(U::Not)
+                        .binary(B::Or, b.unary(U::Not).unary(U::Not)),
+                }
+            }
+            Expr::Call(f, args) => {
+                let a = args[0].to_field(vars);
+                let b = || args[1].to_field(vars);
+                match f {
+                    Func::Sin => a.sin(),
+                    Func::Cos => a.cos(),
+                    Func::Tan => a.tan(),
+                    Func::Abs => a.abs(),
+                    Func::Sqrt => a.sqrt(),
+                    Func::Floor => a.floor(),
+                    Func::Ceil => a.ceil(),
+                    Func::Min => a.min(b()),
+                    Func::Max => a.max(b()),
+                    Func::Pow => power(&a, &b(), args.get(1).and_then(integer)),
+                    Func::Atan2 => a.atan2(b()),
+                }
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -345,6 +450,37 @@ mod tests {
             5.0
         );
         assert!((ev("sin(pi / 2)", &[0.0; 3]) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn fields_from_expressions_agree_with_evaluation() {
+        let vars = [
+            geode_frep::Field::x(),
+            geode_frep::Field::y(),
+            geode_frep::Field::z(),
+        ];
+        for src in [
+            "1 - (x*x + y*y + z*z)",
+            "x > 0 && y <= 0.5 || z == 1",
+            "max(x, abs(y)) % 0.7 + 2 ^ z",
+            "!(x < y) + (x != z)",
+            "x^3 - pow(y, 2) + z^-2 + x^0",
+        ] {
+            let e = Expr::parse(src, &["x", "y", "z"]).unwrap();
+            let f = e.to_field(&vars);
+            for p in [
+                [0.3, -0.2, 1.0],
+                [-1.5, 0.5, 0.25],
+                [0.0, 0.0, 0.0],
+                [2.0, 3.0, -1.0],
+            ] {
+                let (a, b) = (e.eval(&p), f.eval_tree(p));
+                assert!(
+                    a == b || (a - b).abs() < 1e-12,
+                    "{src} at {p:?}: {a} vs {b}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -6,6 +6,7 @@ mod bundles;
 mod expr;
 mod file;
 mod flow;
+mod frep;
 mod groups;
 mod mesh;
 mod primitives;
@@ -23,6 +24,7 @@ pub fn registry() -> Registry {
     primitives::register(&mut r);
     transform::register(&mut r);
     flow::register(&mut r);
+    frep::register(&mut r);
     attributes::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);

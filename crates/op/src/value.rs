@@ -13,6 +13,8 @@ pub enum PortType {
     Geometry,
     /// Several named geometries on one wire (seed 004's streams).
     Bundle,
+    /// An FRep field (`f >= 0` inside), meshed by a polygonise node.
+    Field,
 }
 
 impl fmt::Display for PortType {
@@ -20,6 +22,7 @@ impl fmt::Display for PortType {
         f.write_str(match self {
             PortType::Geometry => "geometry",
             PortType::Bundle => "bundle",
+            PortType::Field => "field",
         })
     }
 }
@@ -35,6 +38,7 @@ pub struct Bundle {
 pub enum Value {
     Geometry(Arc<Geometry>),
     Bundle(Arc<Bundle>),
+    Field(geode_frep::Field),
 }
 
 impl Value {
@@ -46,6 +50,7 @@ impl Value {
         match self {
             Value::Geometry(_) => PortType::Geometry,
             Value::Bundle(_) => PortType::Bundle,
+            Value::Field(_) => PortType::Field,
         }
     }
 
@@ -63,10 +68,18 @@ impl Value {
         }
     }
 
+    pub fn as_field(&self) -> Option<&geode_frep::Field> {
+        match self {
+            Value::Field(f) => Some(f),
+            _ => None,
+        }
+    }
+
     /// Content identity: equal for equal content, whatever produced it.
     pub fn identity(&self) -> u128 {
         match self {
             Value::Geometry(g) => g.content_hash(),
+            Value::Field(f) => f.identity(),
             Value::Bundle(b) => {
                 let mut h = Xxh3::new();
                 h.update(b"bundle");
@@ -85,6 +98,8 @@ impl Value {
         match self {
             Value::Geometry(g) => g.memory_bytes(),
             Value::Bundle(b) => b.entries.values().map(|g| g.memory_bytes()).sum(),
+            // Nodes are shared, so the expanded size over-counts; it is a bound.
+            Value::Field(f) => (f.tree_size().min(1 << 20) as usize) * 64,
         }
     }
 }

@@ -1,0 +1,631 @@
+//! FRep nodes (seed 000): primitives, CSG with alpha, blends, transforms and
+//! space mappings, offset, morph, expression, and the polygonise and sample
+//! nodes that turn fields into geometry. Fields travel on `field` wires.
+
+use geode_frep::shapes;
+use geode_frep::{Field, MeshError, MeshOptions};
+use geode_geo::{AttribClass, AttribData, Attribute, TypeInfo};
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
+};
+
+use crate::expr::Expr;
+use crate::util::input_owned;
+
+const FIELD_IN: InputSpec = InputSpec {
+    name: "field",
+    ty: PortType::Field,
+    required: true,
+};
+const TWO_FIELDS: &[InputSpec] = &[
+    InputSpec {
+        name: "a",
+        ty: PortType::Field,
+        required: true,
+    },
+    InputSpec {
+        name: "b",
+        ty: PortType::Field,
+        required: true,
+    },
+];
+
+fn field_input<'a>(
+    ctx: &CookContext,
+    inputs: &'a [Option<Value>],
+    i: usize,
+) -> Result<&'a Field, CookError> {
+    inputs
+        .get(i)
+        .and_then(|v| v.as_ref())
+        .and_then(|v| v.as_field())
+        .ok_or_else(|| {
+            ctx.error(format!(
+                "input {} needs a field (a mesh cannot be used where a field is expected)",
+                i + 1
+            ))
+        })
+}
+
+fn v3(p: &Params, name: &str) -> Result<[f64; 3], CookError> {
+    p.vector::<3>(name)
+}
+
+fn out(f: Field) -> Result<Value, CookError> {
+    Ok(Value::Field(f))
+}
+
+/// A primitive node: no inputs, parameters to a field.
+struct Primitive {
+    spec: &'static NodeSpec,
+    build: fn(&CookContext, &Params) -> Result<Field, CookError>,
+}
+
+impl Operator for Primitive {
+    fn spec(&self) -> &'static NodeSpec {
+        self.spec
+    }
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        out((self.build)(ctx, p)?)
+    }
+}
+
+const CENTER: P = P::new(
+    "center",
+    "Center",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Centre of the solid.",
+);
+
+static SPHERE: NodeSpec = NodeSpec::new(
+    "frep_sphere",
+    "FRep Sphere",
+    "frep",
+    "A ball: its field is the signed distance to the sphere (positive inside).",
+    &[],
+    &[
+        CENTER,
+        P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0),
+    ],
+)
+.output(PortType::Field);
+static BLOCK: NodeSpec = NodeSpec::new(
+    "frep_box",
+    "FRep Box",
+    "frep",
+    "An axis-aligned box (block); exact signed distance, so its edges and corners are sharp.",
+    &[],
+    &[
+        CENTER,
+        P::new("size", "Size", T::Vec3, D::Vec3([1.0; 3]), "Edge lengths.").at_least(0.0),
+    ],
+)
+.output(PortType::Field);
+static TORUS: NodeSpec = NodeSpec::new(
+    "frep_torus",
+    "FRep Torus",
+    "frep",
+    "A torus around the Y axis.",
+    &[],
+    &[
+        CENTER,
+        P::new(
+            "major_radius",
+            "Major radius",
+            T::Float,
+            D::Float(1.0),
+            "Ring radius.",
+        )
+        .at_least(0.0),
+        P::new(
+            "minor_radius",
+            "Minor radius",
+            T::Float,
+            D::Float(0.25),
+            "Tube radius.",
+        )
+        .at_least(0.0),
+    ],
+)
+.output(PortType::Field);
+static CYLINDER: NodeSpec = NodeSpec::new(
+    "frep_cylinder",
+    "FRep Cylinder",
+    "frep",
+    "A capped cylinder along Y.",
+    &[],
+    &[
+        CENTER,
+        P::new("radius", "Radius", T::Float, D::Float(0.5), "Radius.").at_least(0.0),
+        P::new(
+            "height",
+            "Height",
+            T::Float,
+            D::Float(1.0),
+            "Length along Y.",
+        )
+        .at_least(0.0),
+    ],
+)
+.output(PortType::Field);
+static CONE: NodeSpec = NodeSpec::new(
+    "frep_cone",
+    "FRep Cone",
+    "frep",
+    "A cone along Y with its apex at the top, capped at its base.",
+    &[],
+    &[
+        P::new(
+            "apex",
+            "Apex",
+            T::Vec3,
+            D::Vec3([0.0, 1.0, 0.0]),
+            "Tip of the cone.",
+        ),
+        P::new(
+            "radius",
+            "Base radius",
+            T::Float,
+            D::Float(0.5),
+            "Radius at the base.",
+        )
+        .at_least(0.0),
+        P::new("height", "Height", T::Float, D::Float(1.0), "Apex to base.").at_least(1e-9),
+    ],
+)
+.output(PortType::Field);
+static ELLIPSOID: NodeSpec = NodeSpec::new(
+    "frep_ellipsoid",
+    "FRep Ellipsoid",
+    "frep",
+    "An ellipsoid with the given semi-axes.",
+    &[],
+    &[
+        CENTER,
+        P::new(
+            "radii",
+            "Radii",
+            T::Vec3,
+            D::Vec3([1.0, 0.5, 0.5]),
+            "Semi-axes.",
+        )
+        .at_least(1e-9),
+    ],
+)
+.output(PortType::Field);
+static SUPERELLIPSOID: NodeSpec = NodeSpec::new(
+    "frep_superellipsoid",
+    "FRep Superellipsoid",
+    "frep",
+    "Barr's superellipsoid: exponents of 1 give an ellipsoid, smaller ones a rounded box, larger ones a pinched star.",
+    &[],
+    &[
+        CENTER,
+        P::new("radii", "Radii", T::Vec3, D::Vec3([1.0; 3]), "Semi-axes.").at_least(1e-9),
+        P::new("e1", "North-south exponent", T::Float, D::Float(0.5), "Shape along Y.").range(0.01, 10.0),
+        P::new("e2", "East-west exponent", T::Float, D::Float(0.5), "Shape around Y.").range(0.01, 10.0),
+    ],
+)
+.output(PortType::Field);
+static HALFSPACE: NodeSpec = NodeSpec::new(
+    "frep_halfspace",
+    "FRep Half-space",
+    "frep",
+    "Everything behind a plane: inside where normal . p <= distance.",
+    &[],
+    &[
+        P::new(
+            "normal",
+            "Normal",
+            T::Vec3,
+            D::Vec3([0.0, 1.0, 0.0]),
+            "Plane normal (normalised here).",
+        ),
+        P::new(
+            "distance",
+            "Distance",
+            T::Float,
+            D::Float(0.0),
+            "Offset of the plane along the normal.",
+        ),
+    ],
+)
+.output(PortType::Field);
+
+fn sphere(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::sphere(v3(p, "center")?, p.float("radius")?))
+}
+fn block(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    let s = v3(p, "size")?;
+    Ok(shapes::block(v3(p, "center")?, s.map(|x| x * 0.5)))
+}
+fn torus(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::torus(
+        v3(p, "center")?,
+        p.float("major_radius")?,
+        p.float("minor_radius")?,
+    ))
+}
+fn cylinder(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::cylinder(
+        v3(p, "center")?,
+        p.float("radius")?,
+        0.5 * p.float("height")?,
+    ))
+}
+fn cone(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::cone(
+        v3(p, "apex")?,
+        p.float("radius")?,
+        p.float("height")?,
+    ))
+}
+fn ellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::ellipsoid(v3(p, "center")?, v3(p, "radii")?))
+}
+fn superellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
+    Ok(shapes::superellipsoid(
+        v3(p, "center")?,
+        v3(p, "radii")?,
+        p.float("e1")?,
+        p.float("e2")?,
+    ))
+}
+fn halfspace(ctx: &CookContext, p: &Params) -> Result<Field, CookError> {
+    let n = v3(p, "normal")?;
+    let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if len == 0.0 {
+        return Err(ctx.param_error("normal", "the normal must not be zero"));
+    }
+    Ok(shapes::half_space(n.map(|x| x / len), p.float("distance")?))
+}
+
+const OPS: &[&str] = &["union", "intersection", "subtraction"];
+
+struct Csg;
+static CSG: NodeSpec = NodeSpec::new(
+    "frep_csg",
+    "FRep CSG",
+    "frep",
+    "Union, intersection or subtraction (a minus b) by R-functions. Alpha 1 is exactly max/min (sharp); smaller alphas smooth the result.",
+    TWO_FIELDS,
+    &[P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."), P::new("alpha", "Alpha", T::Float, D::Float(1.0), "R-function parameter in [0, 1].").range(0.0, 1.0)],
+)
+.output(PortType::Field);
+impl Operator for Csg {
+    fn spec(&self) -> &'static NodeSpec {
+        &CSG
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
+        let alpha = p.float("alpha")?;
+        out(match p.string("operation")? {
+            "union" => shapes::union(a, b, alpha),
+            "intersection" => shapes::intersection(a, b, alpha),
+            _ => shapes::subtraction(a, b, alpha),
+        })
+    }
+}
+
+struct Blend;
+static BLEND: NodeSpec = NodeSpec::new(
+    "frep_blend",
+    "FRep Blend",
+    "frep",
+    "Blended union, intersection or subtraction (Pasko's displacement a0 / (1 + (f1/a1)^2 + (f2/a2)^2)): a0 is how much material the blend adds, a1 and a2 how far it reaches along each solid.",
+    TWO_FIELDS,
+    &[
+        P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."),
+        P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount."),
+        P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9),
+        P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9),
+    ],
+)
+.output(PortType::Field);
+impl Operator for Blend {
+    fn spec(&self) -> &'static NodeSpec {
+        &BLEND
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
+        let k = [p.float("a0")?, p.float("a1")?, p.float("a2")?];
+        out(match p.string("operation")? {
+            "union" => shapes::blend_union(a, b, k),
+            "intersection" => shapes::blend_intersection(a, b, k),
+            _ => shapes::blend_subtraction(a, b, k),
+        })
+    }
+}
+
+struct Transform;
+static TRANSFORM: NodeSpec = NodeSpec::new(
+    "frep_transform",
+    "FRep Transform",
+    "frep",
+    "Moves, rotates (degrees, X then Y then Z) and scales a field about a pivot, as the transform node does meshes.",
+    &[FIELD_IN],
+    &[
+        P::new("translate", "Translate", T::Vec3, D::Vec3([0.0; 3]), "Offset applied last."),
+        P::new("rotate", "Rotate", T::Vec3, D::Vec3([0.0; 3]), "Degrees about X, Y, Z."),
+        P::new("scale", "Scale", T::Vec3, D::Vec3([1.0; 3]), "Per-axis scale (non-uniform scaling distorts distances)."),
+        P::new("pivot", "Pivot", T::Vec3, D::Vec3([0.0; 3]), "The fixed point of rotation and scale."),
+    ],
+)
+.output(PortType::Field);
+impl Operator for Transform {
+    fn spec(&self) -> &'static NodeSpec {
+        &TRANSFORM
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        use geode_geo::glam::{DMat4, DQuat, DVec3, EulerRot};
+        let f = field_input(ctx, inputs, 0)?;
+        let r = v3(p, "rotate")?.map(f64::to_radians);
+        let rot = DQuat::from_euler(EulerRot::ZYX, r[2], r[1], r[0]);
+        let s = DVec3::from_array(v3(p, "scale")?);
+        if s.min_element().abs() < 1e-12 {
+            return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
+        }
+        let pivot = DVec3::from_array(v3(p, "pivot")?);
+        let m = DMat4::from_translation(DVec3::from_array(v3(p, "translate")?) + pivot)
+            * DMat4::from_quat(rot)
+            * DMat4::from_scale(s)
+            * DMat4::from_translation(-pivot);
+        // A point p of the result samples the original at M^-1 p.
+        let inv = m.inverse();
+        let rows = [inv.row(0), inv.row(1), inv.row(2)];
+        out(f.affine_inverse(rows.map(|r| [r.x, r.y, r.z]), rows.map(|r| r.w)))
+    }
+}
+
+struct Deform;
+static DEFORM: NodeSpec = NodeSpec::new(
+    "frep_deform",
+    "FRep Deform",
+    "frep",
+    "Space mappings of seed 000: taper (scale X and Z along Y between two heights), twist (about Y, radians per unit), bend (X around an arc of the given radius).",
+    &[FIELD_IN],
+    &[
+        P::new("mode", "Mode", T::Menu(&["taper", "twist", "bend"]), D::Str("twist"), "Which deformation."),
+        P::new("taper_range", "Taper from/to height", T::Vec2, D::Vec2([-1.0, 1.0]), "Y where the scale is start and end."),
+        P::new("taper_scale", "Taper start/end scale", T::Vec2, D::Vec2([1.0, 0.5]), "Scale at each height.").at_least(1e-6),
+        P::new("twist", "Twist rate", T::Float, D::Float(1.0), "Radians per unit of Y."),
+        P::new("bend_radius", "Bend radius", T::Float, D::Float(2.0), "Radius of the arc the X axis follows.").at_least(1e-6),
+    ],
+)
+.output(PortType::Field);
+impl Operator for Deform {
+    fn spec(&self) -> &'static NodeSpec {
+        &DEFORM
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let f = field_input(ctx, inputs, 0)?;
+        out(match p.string("mode")? {
+            "taper" => {
+                let [y0, y1] = p.vector::<2>("taper_range")?;
+                let [s0, s1] = p.vector::<2>("taper_scale")?;
+                if y0 == y1 {
+                    return Err(ctx.param_error("taper_range", "the two heights must differ"));
+                }
+                f.taper_y(y0, y1, s0, s1)
+            }
+            "twist" => f.twist_y(p.float("twist")?),
+            _ => f.bend_x(p.float("bend_radius")?),
+        })
+    }
+}
+
+struct Offset;
+static OFFSET: NodeSpec = NodeSpec::new(
+    "frep_offset",
+    "FRep Offset",
+    "frep",
+    "Grows (positive) or shrinks (negative) a solid by a distance.",
+    &[FIELD_IN],
+    &[P::new(
+        "distance",
+        "Distance",
+        T::Float,
+        D::Float(0.1),
+        "Offset distance.",
+    )],
+)
+.output(PortType::Field);
+impl Operator for Offset {
+    fn spec(&self) -> &'static NodeSpec {
+        &OFFSET
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        out(shapes::offset(
+            field_input(ctx, inputs, 0)?,
+            p.float("distance")?,
+        ))
+    }
+}
+
+struct Morph;
+static MORPH: NodeSpec = NodeSpec::new(
+    "frep_morph",
+    "FRep Metamorphosis",
+    "frep",
+    "Interpolates two solids of any topology: alpha 0 gives a, 1 gives b.",
+    TWO_FIELDS,
+    &[P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0)],
+)
+.output(PortType::Field);
+impl Operator for Morph {
+    fn spec(&self) -> &'static NodeSpec {
+        &MORPH
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        out(shapes::morph(
+            field_input(ctx, inputs, 0)?,
+            field_input(ctx, inputs, 1)?,
+            p.float("alpha")?,
+        ))
+    }
+}
+
+struct Expression;
+static EXPRESSION: NodeSpec = NodeSpec::new(
+    "frep_expression",
+    "FRep Expression",
+    "frep",
+    "A field written as a formula over x, y, z and the parameters a, b, c (>= 0 inside), e.g. `a - (x^2 + y^2 + z^2)`. Same language as group_expression.",
+    &[],
+    &[
+        P::new("expression", "Expression", T::String, D::Str("1 - (x*x + y*y + z*z)"), "The formula."),
+        P::new("a", "a", T::Float, D::Float(1.0), "Parameter a."),
+        P::new("b", "b", T::Float, D::Float(0.0), "Parameter b."),
+        P::new("c", "c", T::Float, D::Float(0.0), "Parameter c."),
+    ],
+)
+.output(PortType::Field);
+impl Operator for Expression {
+    fn spec(&self) -> &'static NodeSpec {
+        &EXPRESSION
+    }
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let e = Expr::parse(p.string("expression")?, &["x", "y", "z", "a", "b", "c"])
+            .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+        let vars = [
+            Field::x(),
+            Field::y(),
+            Field::z(),
+            Field::constant(p.float("a")?),
+            Field::constant(p.float("b")?),
+            Field::constant(p.float("c")?),
+        ];
+        out(e.to_field(&vars))
+    }
+}
+
+struct Polygonise;
+static POLYGONISE: NodeSpec = NodeSpec::new(
+    "polygonise",
+    "Polygonise",
+    "frep",
+    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells.",
+    &[FIELD_IN],
+    &[
+        P::new("min", "Bounds min", T::Vec3, D::Vec3([-1.0; 3]), "Box corner."),
+        P::new("max", "Bounds max", T::Vec3, D::Vec3([1.0; 3]), "Opposite corner."),
+        P::new("depth", "Octree depth", T::Int, D::Int(6), "Resolution: 2^depth cells along the longest side.").range(1.0, 12.0),
+        P::new("sharpness", "Feature threshold", T::Float, D::Float(0.05), "Smaller keeps fainter sharp features.").range(1e-6, 1.0),
+    ],
+);
+impl Operator for Polygonise {
+    fn spec(&self) -> &'static NodeSpec {
+        &POLYGONISE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let f = field_input(ctx, inputs, 0)?;
+        let mut opts = MeshOptions::new(v3(p, "min")?, v3(p, "max")?, p.int("depth")? as u32);
+        opts.sharpness = p.float("sharpness")?;
+        let cancel = || ctx.cancel.is_cancelled();
+        let progress = |x: f32| ctx.progress(x);
+        match geode_frep::polygonise(f, &opts, &cancel, &progress) {
+            Ok((g, _)) => Ok(Value::geometry(g)),
+            Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+            Err(MeshError::BadBounds) => {
+                Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
+            }
+            Err(e) => Err(ctx.param_error("depth", e.to_string())),
+        }
+    }
+}
+
+struct Sample;
+static SAMPLE: NodeSpec = NodeSpec::new(
+    "frep_sample",
+    "FRep Sample",
+    "frep",
+    "Evaluates a field at every point of a geometry into a float point attribute (>= 0 inside the solid).",
+    &[InputSpec { name: "geometry", ty: PortType::Geometry, required: true }, FIELD_IN],
+    &[P::new("name", "Attribute", T::String, D::Str("density"), "Name of the float point attribute to write.")],
+);
+impl Operator for Sample {
+    fn spec(&self) -> &'static NodeSpec {
+        &SAMPLE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let f = field_input(ctx, inputs, 1)?;
+        let values = geode_frep::sample(f, g.positions());
+        g.set_attrib(
+            AttribClass::Point,
+            p.string("name")?,
+            Attribute::from_data(AttribData::Float(values), TypeInfo::None),
+        )
+        .map_err(|e| ctx.param_error("name", e.to_string()))?;
+        Ok(Value::geometry(g))
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    for (spec, build) in [
+        (
+            &SPHERE,
+            sphere as fn(&CookContext, &Params) -> Result<Field, CookError>,
+        ),
+        (&BLOCK, block),
+        (&TORUS, torus),
+        (&CYLINDER, cylinder),
+        (&CONE, cone),
+        (&ELLIPSOID, ellipsoid),
+        (&SUPERELLIPSOID, superellipsoid),
+        (&HALFSPACE, halfspace),
+    ] {
+        r.add(Primitive { spec, build });
+    }
+    r.add(Csg);
+    r.add(Blend);
+    r.add(Transform);
+    r.add(Deform);
+    r.add(Offset);
+    r.add(Morph);
+    r.add(Expression);
+    r.add(Polygonise);
+    r.add(Sample);
+}
