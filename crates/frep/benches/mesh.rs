@@ -67,69 +67,18 @@ fn cases() -> Vec<(&'static str, Field, f64)> {
     ]
 }
 
-#[divan::bench(args = [6, 7, 8], sample_count = 3)]
-fn sphere_depth(bencher: divan::Bencher, depth: u32) {
-    let f = sphere([0.0; 3], 0.9);
-    bencher.bench(|| {
-        polygonise(
-            &f,
-            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
-            &|| false,
-            &|_| {},
-        )
-        .unwrap()
-    });
-}
+const CASES: [&str; 5] = ["sphere", "gyroid", "spheres200", "colonnade", "bear"];
 
-#[divan::bench(args = [6, 7, 8], sample_count = 3)]
-fn gyroid_depth(bencher: divan::Bencher, depth: u32) {
-    let f = gyroid_lattice();
+#[divan::bench(args = CASES, consts = [6, 7, 8], sample_count = 3)]
+fn mesh_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
+    let (_, f, half) = cases()
+        .into_iter()
+        .find(|(n, _, _)| *n == case)
+        .expect("a known case");
     bencher.bench(|| {
         polygonise(
             &f,
-            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
-            &|| false,
-            &|_| {},
-        )
-        .unwrap()
-    });
-}
-
-#[divan::bench(args = [6, 7, 8], sample_count = 3)]
-fn spheres200_depth(bencher: divan::Bencher, depth: u32) {
-    let f = spheres200();
-    bencher.bench(|| {
-        polygonise(
-            &f,
-            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
-            &|| false,
-            &|_| {},
-        )
-        .unwrap()
-    });
-}
-
-#[divan::bench(args = [6, 7, 8], sample_count = 3)]
-fn colonnade_depth(bencher: divan::Bencher, depth: u32) {
-    let f = vm("colonnade.vm");
-    bencher.bench(|| {
-        polygonise(
-            &f,
-            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
-            &|| false,
-            &|_| {},
-        )
-        .unwrap()
-    });
-}
-
-#[divan::bench(args = [6, 7, 8], sample_count = 3)]
-fn bear_depth(bencher: divan::Bencher, depth: u32) {
-    let f = vm("bear.vm");
-    bencher.bench(|| {
-        polygonise(
-            &f,
-            &MeshOptions::new([-1.0; 3], [1.0; 3], depth),
+            &MeshOptions::new([-half; 3], [half; 3], DEPTH),
             &|| false,
             &|_| {},
         )

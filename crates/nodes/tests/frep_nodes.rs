@@ -2,42 +2,11 @@
 //! transforms, deformations, expressions, polygonise and sample, and the
 //! seed's limitations fixed (wrong wire types, bypass, animated alpha).
 
-use std::sync::Arc;
+mod common;
 
+use common::{cook_at as cook, geo as mesh, net};
 use geode_geo::{ops, AttribClass, Geometry};
-use geode_graph::{load_str, Cache, CookOptions, Engine};
-use geode_op::Value;
-
-fn net(nodes: &str, output: &str) -> String {
-    format!(r#"{{"geode": "network", "version": 1, "output": "{output}", "nodes": {{{nodes}}}}}"#)
-}
-
-fn cook(nodes: &str, output: &str, frame: f64) -> Result<Value, String> {
-    let net = load_str(&net(nodes, output), &geode_nodes::registry()).map_err(|e| {
-        e.iter()
-            .map(|e| e.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    })?;
-    let cache = Cache::disabled();
-    Engine::new(net, &cache)
-        .cook_output(&CookOptions::at_frame(frame))
-        .map(|r| r.value)
-        .map_err(|e| {
-            e.iter()
-                .map(|e| e.to_string())
-                .collect::<Vec<_>>()
-                .join("\n")
-        })
-}
-
-fn mesh(nodes: &str, output: &str) -> Arc<Geometry> {
-    cook(nodes, output, 1.0)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .as_geometry()
-        .unwrap()
-        .clone()
-}
+use geode_graph::load_str;
 
 fn poly(input: &str, depth: u32, half: f64) -> String {
     format!(

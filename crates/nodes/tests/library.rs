@@ -1,47 +1,12 @@
 //! Every node type of the library, cooked through the engine and checked
 //! against hand-computed or analytic answers.
 
-use std::sync::Arc;
+mod common;
 
+use common::{cook_at, err, geo};
 use geode_geo::glam::Vec3;
 use geode_geo::{ops, AttribClass, Geometry};
 use geode_graph::{load_str, Cache, CookOptions, Engine};
-use geode_op::Value;
-
-/// Cooks `output` of a network given as `"name": {node}` entries.
-fn cook_at(nodes: &str, output: &str, frame: f64) -> Result<Value, String> {
-    let text = format!(
-        r#"{{"geode": "network", "version": 1, "output": "{output}", "nodes": {{{nodes}}}}}"#
-    );
-    let net = load_str(&text, &geode_nodes::registry()).map_err(|e| {
-        e.iter()
-            .map(|e| e.to_string())
-            .collect::<Vec<_>>()
-            .join("\n")
-    })?;
-    let cache = Cache::disabled();
-    Engine::new(net, &cache)
-        .cook_output(&CookOptions::at_frame(frame))
-        .map(|r| r.value)
-        .map_err(|e| {
-            e.iter()
-                .map(|e| e.to_string())
-                .collect::<Vec<_>>()
-                .join("\n")
-        })
-}
-
-fn geo(nodes: &str, output: &str) -> Arc<Geometry> {
-    cook_at(nodes, output, 1.0)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .as_geometry()
-        .unwrap()
-        .clone()
-}
-
-fn err(nodes: &str, output: &str) -> String {
-    cook_at(nodes, output, 1.0).expect_err("an error")
-}
 
 fn closed(g: &Geometry) -> bool {
     g.topology().manifold_report(g).is_closed_manifold()
