@@ -143,6 +143,25 @@ pub fn blend_subtraction(f1: &Field, f2: &Field, a: [f64; 3]) -> Field {
     blend_intersection(f1, &-f2, a)
 }
 
+/// Bounded blending (after Pasko, Pasko and Kunii 2005): a blended union or
+/// intersection whose added material is confined to the bounding solid `f3`.
+/// With `r1 = (f1/a1)^2 + (f2/a2)^2` and `r2 = (max(f3, 0)/a3)^2`, the
+/// displacement `a0 (1 - r)^2 / (1 + r)` with `r = r1 / (r1 + r2)` vanishes
+/// outside `f3` (where the result is exactly the plain R-function operation)
+/// and fades continuously to zero at its surface.
+pub fn bounded_blend(f1: &Field, f2: &Field, f3: &Field, a: [f64; 4], union_op: bool) -> Field {
+    let r1 = (f1 / a[1]).square() + (f2 / a[2]).square();
+    let r2 = (f3.max(0.0) / a[3]).square();
+    let r = 1.0 - &r2 / (&r1 + &r2 + 1e-300);
+    let disp = a[0] * (1.0 - &r).max(0.0).square() / (1.0 + &r);
+    let base = if union_op {
+        union(f1, f2, 0.0)
+    } else {
+        intersection(f1, f2, 0.0)
+    };
+    base + disp
+}
+
 /// Grows (d > 0) or shrinks (d < 0) a solid by `d` (exact for distance fields).
 pub fn offset(f: &Field, d: f64) -> Field {
     f + d
@@ -222,6 +241,20 @@ impl Field {
         self.remap(&(&x * &c - &z * &s), &y, &(&x * &s + &z * &c))
     }
 
+    /// Deform point (seed 000): pushes space near `center` by `offset`, with a
+    /// smooth falloff `(1 - (d/radius)^2)^2` that is 1 at the centre and 0 from
+    /// `radius` on (the inverse map is approximated by sampling backwards).
+    pub fn deform_point(&self, center: [f64; 3], offset: [f64; 3], radius: f64) -> Field {
+        let (x, y, z) = xyz();
+        let d2 = (&x - center[0]).square() + (&y - center[1]).square() + (&z - center[2]).square();
+        let w = (1.0 - d2 / (radius * radius)).max(0.0).square();
+        self.remap(
+            &(&x - &w * offset[0]),
+            &(&y - &w * offset[1]),
+            &(&z - &w * offset[2]),
+        )
+    }
+
     /// Bends the solid around the Z axis: the X axis becomes an arc of
     /// radius `radius` (the bend of HyperFun, angle grows with x).
     pub fn bend_x(&self, radius: f64) -> Field {
@@ -233,6 +266,44 @@ impl Field {
         let r = (x.square() + dy.square()).sqrt();
         self.remap(&(theta * radius), &(radius - r), &z)
     }
+}
+
+/// A sphere swept along a polyline: the union of capsules, each segment's
+/// radius interpolated linearly between its end points' radii.
+pub fn sphere_sweep(points: &[[f64; 3]], radii: &[f64]) -> Option<Field> {
+    let (x, y, z) = xyz();
+    let mut out: Option<Field> = None;
+    let segments: Vec<(usize, usize)> = if points.len() == 1 {
+        vec![(0, 0)]
+    } else {
+        (0..points.len() - 1).map(|i| (i, i + 1)).collect()
+    };
+    for (i, j) in segments {
+        let (a, b) = (points[i], points[j]);
+        let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+        let (px, py, pz) = (&x - a[0], &y - a[1], &z - a[2]);
+        // Parameter of the closest point on the segment, clamped to it.
+        let t = if len2 > 0.0 {
+            ((&px * ab[0] + &py * ab[1] + &pz * ab[2]) / len2)
+                .max(0.0)
+                .min(1.0)
+        } else {
+            Field::constant(0.0)
+        };
+        let dist = length3(
+            &(&px - &t * ab[0]),
+            &(&py - &t * ab[1]),
+            &(&pz - &t * ab[2]),
+        );
+        let r = radii[i] + &t * (radii[j] - radii[i]);
+        let capsule = r - dist;
+        out = Some(match out {
+            Some(u) => u.max(capsule),
+            None => capsule,
+        });
+    }
+    out
 }
 
 #[cfg(test)]
@@ -332,6 +403,50 @@ mod tests {
         );
         let cut = blend_subtraction(&a, &b, [0.5, 1.0, 1.0]);
         assert!(at(&cut, [0.0; 3]) > 0.0);
+    }
+
+    #[test]
+    fn bounded_blend_stays_inside_its_bounding_solid() {
+        let a = sphere([-0.6, 0.0, 0.0], 0.5);
+        let b = sphere([0.6, 0.0, 0.0], 0.5);
+        let bound = sphere([0.0, 0.0, 0.0], 0.4);
+        let bb = bounded_blend(&a, &b, &bound, [1.0, 0.5, 0.5, 0.5], true);
+        let plain = union(&a, &b, 0.0);
+        // Outside the bounding solid: exactly the plain union.
+        for p in [[0.0, 0.6, 0.0], [-1.0, 0.3, 0.2], [0.9, -0.5, 0.0]] {
+            assert_eq!(at(&bb, p), at(&plain, p), "{p:?}");
+        }
+        // Inside it: material is added (the gap between the spheres fills).
+        assert!(at(&plain, [0.0; 3]) < 0.0 && at(&bb, [0.0; 3]) > 0.0);
+        // Continuous across the bounding surface.
+        let (inside, outside) = (at(&bb, [0.0, 0.399999, 0.0]), at(&bb, [0.0, 0.400001, 0.0]));
+        assert!((inside - outside).abs() < 1e-4);
+    }
+
+    #[test]
+    fn sweeps_and_point_deformation() {
+        let s = sphere_sweep(
+            &[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+            &[0.1, 0.3, 0.2],
+        )
+        .unwrap();
+        assert!(
+            (at(&s, [0.5, 0.0, 0.0]) - 0.2).abs() < 1e-12,
+            "radius interpolated mid-segment"
+        );
+        assert!((at(&s, [1.0, 0.5, 0.6]) - (0.25 - 0.6)).abs() < 1e-12);
+        assert!(at(&s, [0.5, 0.5, 0.0]) < 0.0);
+        let b = sphere([0.0; 3], 0.5);
+        let pushed = b.deform_point([0.5, 0.0, 0.0], [0.3, 0.0, 0.0], 0.4);
+        assert!(
+            at(&b, [0.6, 0.0, 0.0]) < 0.0 && at(&pushed, [0.6, 0.0, 0.0]) > 0.0,
+            "the bump reaches out"
+        );
+        assert_eq!(
+            at(&pushed, [-0.5, 0.0, 0.0]),
+            at(&b, [-0.5, 0.0, 0.0]),
+            "untouched far away"
+        );
     }
 
     #[test]

@@ -349,6 +349,156 @@ impl Operator for Blend {
     }
 }
 
+struct BoundedBlend;
+static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
+    "frep_bounded_blend",
+    "FRep Bounded Blend",
+    "frep",
+    "A blended union or intersection of a and b whose blend exists only inside the bounding solid (third input): local control of where the blend happens (Pasko, Pasko and Kunii 2005).",
+    &[
+        InputSpec { name: "a", ty: PortType::Field, required: true },
+        InputSpec { name: "b", ty: PortType::Field, required: true },
+        InputSpec { name: "bound", ty: PortType::Field, required: true },
+    ],
+    &[
+        P::new("operation", "Operation", T::Menu(&["union", "intersection"]), D::Str("union"), "The set operation."),
+        P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount."),
+        P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9),
+        P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9),
+        P::new("a3", "a3", T::Float, D::Float(1.0), "How fast the blend fades towards the bounding solid's surface.").at_least(1e-9),
+    ],
+)
+.output(PortType::Field);
+impl Operator for BoundedBlend {
+    fn spec(&self) -> &'static NodeSpec {
+        &BOUNDED_BLEND
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let (a, b, c) = (
+            field_input(ctx, inputs, 0)?,
+            field_input(ctx, inputs, 1)?,
+            field_input(ctx, inputs, 2)?,
+        );
+        let k = [
+            p.float("a0")?,
+            p.float("a1")?,
+            p.float("a2")?,
+            p.float("a3")?,
+        ];
+        out(shapes::bounded_blend(
+            a,
+            b,
+            c,
+            k,
+            p.string("operation")? == "union",
+        ))
+    }
+}
+
+struct Sweep;
+static SWEEP: NodeSpec = NodeSpec::new(
+    "frep_sweep",
+    "FRep Sphere Sweep",
+    "frep",
+    "A sphere swept along every polyline of the input: the union of capsules, the radius from a point attribute (pscale by default) or the radius parameter.",
+    &[InputSpec { name: "curves", ty: PortType::Geometry, required: true }],
+    &[
+        P::new("radius", "Radius", T::Float, D::Float(0.1), "Radius where the points have no radius attribute.").at_least(0.0),
+        P::new("radius_attribute", "Radius attribute", T::String, D::Str("pscale"), "Float point attribute giving the radius per point (if present)."),
+    ],
+)
+.output(PortType::Field);
+impl Operator for Sweep {
+    fn spec(&self) -> &'static NodeSpec {
+        &SWEEP
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = crate::util::input(ctx, inputs, 0)?;
+        let attr = g
+            .attrib(AttribClass::Point, p.string("radius_attribute")?)
+            .and_then(|a| a.as_f32());
+        let r = p.float("radius")?;
+        let pos = g.positions();
+        let mut field: Option<Field> = None;
+        for prim in 0..g.num_prims() {
+            if g.prim_kind(prim) != geode_geo::PrimKind::Polyline {
+                continue;
+            }
+            ctx.check()?;
+            let pts = g.prim_points(prim);
+            let points: Vec<[f64; 3]> = pts
+                .iter()
+                .map(|&i| pos[i as usize].as_dvec3().to_array())
+                .collect();
+            let radii: Vec<f64> = pts
+                .iter()
+                .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
+                .collect();
+            if let Some(f) = shapes::sphere_sweep(&points, &radii) {
+                field = Some(match field {
+                    Some(u) => u.max(f),
+                    None => f,
+                });
+            }
+        }
+        field
+            .map(Value::Field)
+            .ok_or_else(|| ctx.error("the input has no polylines to sweep along"))
+    }
+}
+
+struct Instance;
+static INSTANCE: NodeSpec = NodeSpec::new(
+    "frep_instance",
+    "FRep Instancer",
+    "frep",
+    "Copies a field onto every point of the input, placed by the same instance attributes as copy-to-points (P, orient, N and up, rot, pscale, scale, trans, pivot); the copies are united.",
+    &[FIELD_IN, InputSpec { name: "points", ty: PortType::Geometry, required: true }],
+    &[],
+)
+.output(PortType::Field);
+impl Operator for Instance {
+    fn spec(&self) -> &'static NodeSpec {
+        &INSTANCE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        let f = field_input(ctx, inputs, 0)?;
+        let g = crate::util::input(ctx, inputs, 1)?;
+        let mut field: Option<Field> = None;
+        for m in geode_geo::ops::instance_transforms(g) {
+            ctx.check()?;
+            let inv = m.as_dmat4().inverse();
+            if !inv.is_finite() {
+                return Err(ctx.error("an instance has a zero scale"));
+            }
+            let rows = [inv.row(0), inv.row(1), inv.row(2)];
+            let copy = f.affine_inverse(rows.map(|r| [r.x, r.y, r.z]), rows.map(|r| r.w));
+            field = Some(match field {
+                Some(u) => u.max(copy),
+                None => copy,
+            });
+        }
+        field
+            .map(Value::Field)
+            .ok_or_else(|| ctx.error("the input has no points to instance onto"))
+    }
+}
+
 struct Transform;
 static TRANSFORM: NodeSpec = NodeSpec::new(
     "frep_transform",
@@ -399,14 +549,17 @@ static DEFORM: NodeSpec = NodeSpec::new(
     "frep_deform",
     "FRep Deform",
     "frep",
-    "Space mappings of seed 000: taper (scale X and Z along Y between two heights), twist (about Y, radians per unit), bend (X around an arc of the given radius).",
+    "Space mappings of seed 000: taper (scale X and Z along Y between two heights), twist (about Y, radians per unit), bend (X around an arc of the given radius), point (push space near a point by an offset with a smooth falloff).",
     &[FIELD_IN],
     &[
-        P::new("mode", "Mode", T::Menu(&["taper", "twist", "bend"]), D::Str("twist"), "Which deformation."),
+        P::new("mode", "Mode", T::Menu(&["taper", "twist", "bend", "point"]), D::Str("twist"), "Which deformation."),
         P::new("taper_range", "Taper from/to height", T::Vec2, D::Vec2([-1.0, 1.0]), "Y where the scale is start and end."),
         P::new("taper_scale", "Taper start/end scale", T::Vec2, D::Vec2([1.0, 0.5]), "Scale at each height.").at_least(1e-6),
         P::new("twist", "Twist rate", T::Float, D::Float(1.0), "Radians per unit of Y."),
         P::new("bend_radius", "Bend radius", T::Float, D::Float(2.0), "Radius of the arc the X axis follows.").at_least(1e-6),
+        P::new("point", "Deform point", T::Vec3, D::Vec3([0.0; 3]), "Centre of the point deformation."),
+        P::new("offset", "Deform offset", T::Vec3, D::Vec3([0.0, 0.3, 0.0]), "How far space at the centre moves."),
+        P::new("falloff", "Deform radius", T::Float, D::Float(0.5), "Distance at which the deformation fades out.").at_least(1e-6),
     ],
 )
 .output(PortType::Field);
@@ -431,6 +584,7 @@ impl Operator for Deform {
                 f.taper_y(y0, y1, s0, s1)
             }
             "twist" => f.twist_y(p.float("twist")?),
+            "point" => f.deform_point(v3(p, "point")?, v3(p, "offset")?, p.float("falloff")?),
             _ => f.bend_x(p.float("bend_radius")?),
         })
     }
@@ -621,6 +775,9 @@ pub fn register(r: &mut Registry) {
     }
     r.add(Csg);
     r.add(Blend);
+    r.add(BoundedBlend);
+    r.add(Sweep);
+    r.add(Instance);
     r.add(Transform);
     r.add(Deform);
     r.add(Offset);

@@ -218,3 +218,70 @@ fn the_seeds_limitations_are_fixed() {
     let v = cook(r#""s": {"type": "frep_sphere"}"#, "s", 1.0).unwrap();
     assert!(v.as_field().is_some());
 }
+
+#[test]
+fn bounded_blend_sweep_instance_and_point_deform() {
+    let pi = std::f64::consts::PI;
+    // Bounded blend of three spheres: the blend lives only inside the bound.
+    let three = r#""a": {"type": "frep_sphere", "params": {"radius": 0.4, "center": [-0.45, 0, 0]}},
+                   "b": {"type": "frep_sphere", "params": {"radius": 0.4, "center": [0.45, 0, 0]}},
+                   "bound": {"type": "frep_sphere", "params": {"radius": 0.3, "center": [0, 0.3, 0]}},"#;
+    let v = |node: &str| {
+        volume(&mesh(
+            &format!("{three} {node}, {}", poly("c", 6, 1.0)),
+            "mesh",
+        ))
+    };
+    let plain = v(r#""c": {"type": "frep_csg", "inputs": ["a", "b"], "params": {"alpha": 0}}"#);
+    let global = v(
+        r#""c": {"type": "frep_blend", "inputs": ["a", "b"], "params": {"a0": 0.3, "a1": 0.3, "a2": 0.3}}"#,
+    );
+    let bounded = v(
+        r#""c": {"type": "frep_bounded_blend", "inputs": ["a", "b", "bound"], "params": {"a0": 0.3, "a1": 0.3, "a2": 0.3, "a3": 0.3}}"#,
+    );
+    assert!(
+        plain < bounded && bounded < global,
+        "{plain} < {bounded} < {global}"
+    );
+
+    // A sphere swept along a straight line is a capsule.
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("line.obj");
+    std::fs::write(&obj, "v -0.5 0 0\nv 0 0 0\nv 0.5 0 0\nl 1 2 3\n").unwrap();
+    let g = mesh(
+        &format!(
+            r#""l": {{"type": "file", "params": {{"file": "{}"}}}}, "s": {{"type": "frep_sweep", "inputs": ["l"], "params": {{"radius": 0.2}}}}, {}"#,
+            obj.display(),
+            poly("s", 6, 1.0)
+        ),
+        "mesh",
+    );
+    let capsule = pi * 0.04 * 1.0 + 4.0 / 3.0 * pi * 0.008;
+    assert!(
+        (volume(&g) - capsule).abs() / capsule < 0.01,
+        "{} vs {capsule}",
+        volume(&g)
+    );
+
+    // Instancing a ball on the four corners of a grid: four balls.
+    let g = mesh(
+        &format!(
+            r#""pts": {{"type": "grid", "params": {{"size": [1, 1], "rows": 1, "columns": 1}}}}, "ball": {{"type": "frep_sphere", "params": {{"radius": 0.2}}}}, "i": {{"type": "frep_instance", "inputs": ["ball", "pts"]}}, {}"#,
+            poly("i", 6, 1.0)
+        ),
+        "mesh",
+    );
+    let four = 4.0 * 4.0 / 3.0 * pi * 0.008;
+    assert!((volume(&g) - four).abs() / four < 0.01);
+
+    // Deform point pushes a bump out of a ball: more volume, still closed.
+    let ball = r#""s": {"type": "frep_sphere", "params": {"radius": 0.5}},"#;
+    let bumped = volume(&mesh(
+        &format!(
+            r#"{ball} "d": {{"type": "frep_deform", "inputs": ["s"], "params": {{"mode": "point", "point": [0, 0.5, 0], "offset": [0, 0.3, 0], "falloff": 0.4}}}}, {}"#,
+            poly("d", 6, 1.0)
+        ),
+        "mesh",
+    ));
+    assert!(bumped > 4.0 / 3.0 * pi * 0.125 + 0.005);
+}

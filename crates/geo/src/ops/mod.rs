@@ -3,6 +3,7 @@
 mod bounds;
 mod edit;
 mod fuse;
+mod instance;
 mod merge;
 mod normals;
 mod transform;
@@ -13,6 +14,7 @@ mod validate;
 pub use bounds::{bounds, signed_volume, surface_area, Aabb};
 pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};
 pub use fuse::{fuse_points, FuseStats};
+pub use instance::instance_transforms;
 pub use merge::merge;
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use transform::{transform, trs};
