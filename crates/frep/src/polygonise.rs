@@ -2,7 +2,8 @@
 //! arithmetic (each level evaluates a tape simplified for its region), then
 //! dual contouring in the surviving bricks: one vertex per connected surface
 //! component of a cell (faces paired by the asymptotic decider, so the mesh is
-//! the closed, manifold dual of a marching-cubes surface), placed by a QEF
+//! closed; it is manifold except where one sheet crosses an ambiguous face
+//! twice on both sides, see ARCHITECTURE.md), placed by a QEF
 //! over the crossings' tangent planes so sharp edges and corners survive,
 //! with analytic normals from the gradient.
 
