@@ -18,20 +18,14 @@ fn gyroid() -> Field {
 
 /// A union of 200 spheres placed on a spiral.
 fn spheres() -> Field {
-    let mut f: Option<Field> = None;
-    for i in 0..200 {
+    geode_frep::shapes::union_all((0..200).map(|i| {
         let t = i as f64 * 0.1;
         let (cx, cy, cz) = (t.cos() * 0.6, t.sin() * 0.6, i as f64 / 200.0 - 0.5);
-        let s = 0.01
-            - ((Field::x() - cx).square()
-                + (Field::y() - cy).square()
-                + (Field::z() - cz).square());
-        f = Some(match f {
-            Some(u) => u.max(s),
-            None => s,
-        });
-    }
-    f.expect("200 spheres")
+        0.01 - ((Field::x() - cx).square()
+            + (Field::y() - cy).square()
+            + (Field::z() - cz).square())
+    }))
+    .expect("200 spheres")
 }
 
 fn colonnade() -> Field {

@@ -162,6 +162,11 @@ pub fn bounded_blend(f1: &Field, f2: &Field, f3: &Field, a: [f64; 4], union_op: 
     base + disp
 }
 
+/// The union (exact max) of any number of solids; None when there are none.
+pub fn union_all(solids: impl IntoIterator<Item = Field>) -> Option<Field> {
+    solids.into_iter().reduce(|u, f| u.max(f))
+}
+
 /// Grows (d > 0) or shrinks (d < 0) a solid by `d` (exact for distance fields).
 pub fn offset(f: &Field, d: f64) -> Field {
     f + d
@@ -215,6 +220,17 @@ impl Field {
         let (x, y, z) = xyz();
         let row = |r: [f64; 3], o: f64| &x * r[0] + &y * r[1] + &z * r[2] + o;
         self.remap(&row(inv[0], o[0]), &row(inv[1], o[1]), &row(inv[2], o[2]))
+    }
+
+    /// The solid moved by the affine map `m` (None when `m` is not invertible).
+    pub fn transformed(&self, m: &geode_geo::glam::DMat4) -> Option<Field> {
+        let inv = m.inverse();
+        if !inv.is_finite() {
+            return None;
+        }
+        // A point p of the result samples the original at m^-1 p.
+        let rows = [inv.row(0), inv.row(1), inv.row(2)];
+        Some(self.affine_inverse(rows.map(|r| [r.x, r.y, r.z]), rows.map(|r| r.w)))
     }
 
     pub fn translate(&self, t: [f64; 3]) -> Field {
@@ -272,13 +288,12 @@ impl Field {
 /// radius interpolated linearly between its end points' radii.
 pub fn sphere_sweep(points: &[[f64; 3]], radii: &[f64]) -> Option<Field> {
     let (x, y, z) = xyz();
-    let mut out: Option<Field> = None;
     let segments: Vec<(usize, usize)> = if points.len() == 1 {
         vec![(0, 0)]
     } else {
         (0..points.len() - 1).map(|i| (i, i + 1)).collect()
     };
-    for (i, j) in segments {
+    union_all(segments.into_iter().map(|(i, j)| {
         let (a, b) = (points[i], points[j]);
         let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
         let len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
@@ -297,13 +312,8 @@ pub fn sphere_sweep(points: &[[f64; 3]], radii: &[f64]) -> Option<Field> {
             &(&pz - &t * ab[2]),
         );
         let r = radii[i] + &t * (radii[j] - radii[i]);
-        let capsule = r - dist;
-        out = Some(match out {
-            Some(u) => u.max(capsule),
-            None => capsule,
-        });
-    }
-    out
+        r - dist
+    }))
 }
 
 #[cfg(test)]

@@ -4,7 +4,7 @@
 use geode_geo::glam::Vec3;
 use geode_geo::Geometry;
 use geode_graph::{load_str, Cache, CookOptions, Engine};
-use geode_op::{CookContext, CookError, NodeSpec, Operator, Params, PortType, Registry, Value};
+use geode_op::{CookContext, CookError, NodeSpec, Operator, Params, Registry, Value};
 
 fn main() {
     divan::main();
@@ -12,18 +12,7 @@ fn main() {
 
 struct Big;
 
-static BIG: NodeSpec = NodeSpec {
-    name: "big",
-    version: 1,
-    label: "Big",
-    category: "bench",
-    help: "8 million points",
-    inputs: &[],
-    variadic: false,
-    output: PortType::Geometry,
-    params: &[],
-    time_dependent: false,
-};
+static BIG: NodeSpec = NodeSpec::new("big", "Big", "bench", "8 million points", &[], &[]);
 
 impl Operator for Big {
     fn spec(&self) -> &'static NodeSpec {

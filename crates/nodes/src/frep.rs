@@ -429,7 +429,7 @@ impl Operator for Sweep {
             .and_then(|a| a.as_f32());
         let r = p.float("radius")?;
         let pos = g.positions();
-        let mut field: Option<Field> = None;
+        let mut sweeps = Vec::new();
         for prim in 0..g.num_prims() {
             if g.prim_kind(prim) != geode_geo::PrimKind::Polyline {
                 continue;
@@ -444,14 +444,9 @@ impl Operator for Sweep {
                 .iter()
                 .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
                 .collect();
-            if let Some(f) = shapes::sphere_sweep(&points, &radii) {
-                field = Some(match field {
-                    Some(u) => u.max(f),
-                    None => f,
-                });
-            }
+            sweeps.extend(shapes::sphere_sweep(&points, &radii));
         }
-        field
+        shapes::union_all(sweeps)
             .map(Value::Field)
             .ok_or_else(|| ctx.error("the input has no polylines to sweep along"))
     }
@@ -479,21 +474,15 @@ impl Operator for Instance {
     ) -> Result<Value, CookError> {
         let f = field_input(ctx, inputs, 0)?;
         let g = crate::util::input(ctx, inputs, 1)?;
-        let mut field: Option<Field> = None;
+        let mut copies = Vec::new();
         for m in geode_geo::ops::instance_transforms(g) {
             ctx.check()?;
-            let inv = m.as_dmat4().inverse();
-            if !inv.is_finite() {
-                return Err(ctx.error("an instance has a zero scale"));
-            }
-            let rows = [inv.row(0), inv.row(1), inv.row(2)];
-            let copy = f.affine_inverse(rows.map(|r| [r.x, r.y, r.z]), rows.map(|r| r.w));
-            field = Some(match field {
-                Some(u) => u.max(copy),
-                None => copy,
-            });
+            copies.push(
+                f.transformed(&m.as_dmat4())
+                    .ok_or_else(|| ctx.error("an instance has a zero scale"))?,
+            );
         }
-        field
+        shapes::union_all(copies)
             .map(Value::Field)
             .ok_or_else(|| ctx.error("the input has no points to instance onto"))
     }
@@ -524,23 +513,20 @@ impl Operator for Transform {
         inputs: &[Option<Value>],
         p: &Params,
     ) -> Result<Value, CookError> {
-        use geode_geo::glam::{DMat4, DQuat, DVec3, EulerRot};
         let f = field_input(ctx, inputs, 0)?;
-        let r = v3(p, "rotate")?.map(f64::to_radians);
-        let rot = DQuat::from_euler(EulerRot::ZYX, r[2], r[1], r[0]);
-        let s = DVec3::from_array(v3(p, "scale")?);
-        if s.min_element().abs() < 1e-12 {
+        let s = v3(p, "scale")?;
+        if s.iter().any(|x| x.abs() < 1e-12) {
             return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
         }
-        let pivot = DVec3::from_array(v3(p, "pivot")?);
-        let m = DMat4::from_translation(DVec3::from_array(v3(p, "translate")?) + pivot)
-            * DMat4::from_quat(rot)
-            * DMat4::from_scale(s)
-            * DMat4::from_translation(-pivot);
-        // A point p of the result samples the original at M^-1 p.
-        let inv = m.inverse();
-        let rows = [inv.row(0), inv.row(1), inv.row(2)];
-        out(f.affine_inverse(rows.map(|r| [r.x, r.y, r.z]), rows.map(|r| r.w)))
+        let m = crate::transform::trs_about_pivot(
+            v3(p, "translate")?,
+            v3(p, "rotate")?,
+            s,
+            v3(p, "pivot")?,
+        );
+        f.transformed(&m)
+            .map(Value::Field)
+            .ok_or_else(|| ctx.param_error("scale", "the transform is not invertible"))
     }
 }
 

@@ -1,13 +1,13 @@
 //! The transform node: translate, rotate (degrees, XYZ order), scale and uniform scale about a pivot.
 
-use geode_geo::glam::{EulerRot, Mat4, Quat};
+use geode_geo::glam::{DMat4, DQuat, DVec3, EulerRot, Mat4};
 use geode_geo::ops;
 use geode_op::{
     geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
-use crate::util::{geometry, input_owned, vec3};
+use crate::util::{geometry, input_owned};
 
 struct Transform;
 static TRANSFORM: NodeSpec = NodeSpec::new(
@@ -26,21 +26,34 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
     ],
 );
 
+/// Scale, then rotate (degrees about X, then Y, then Z), both about `pivot`,
+/// then translate: the matrix every transform node builds (meshes and fields).
+pub fn trs_about_pivot(
+    translate: [f64; 3],
+    rotate_degrees: [f64; 3],
+    scale: [f64; 3],
+    pivot: [f64; 3],
+) -> DMat4 {
+    let r = rotate_degrees.map(f64::to_radians);
+    let rot = DQuat::from_euler(EulerRot::ZYX, r[2], r[1], r[0]);
+    let pivot = DVec3::from_array(pivot);
+    DMat4::from_translation(DVec3::from_array(translate) + pivot)
+        * DMat4::from_quat(rot)
+        * DMat4::from_scale(DVec3::from_array(scale))
+        * DMat4::from_translation(-pivot)
+}
+
 /// The matrix of the transform node's parameters.
 pub fn matrix(p: &Params) -> Result<Mat4, CookError> {
-    let r = vec3(p, "rotate")?;
-    let rot = Quat::from_euler(
-        EulerRot::ZYX,
-        r.z.to_radians(),
-        r.y.to_radians(),
-        r.x.to_radians(),
-    );
-    let scale = vec3(p, "scale")? * p.float("uniform_scale")? as f32;
-    let pivot = vec3(p, "pivot")?;
-    Ok(Mat4::from_translation(vec3(p, "translate")? + pivot)
-        * Mat4::from_quat(rot)
-        * Mat4::from_scale(scale)
-        * Mat4::from_translation(-pivot))
+    let k = p.float("uniform_scale")?;
+    let scale = p.vector::<3>("scale")?.map(|s| s * k);
+    Ok(trs_about_pivot(
+        p.vector::<3>("translate")?,
+        p.vector::<3>("rotate")?,
+        scale,
+        p.vector::<3>("pivot")?,
+    )
+    .as_mat4())
 }
 
 impl Operator for Transform {

@@ -23,16 +23,13 @@ struct Pack;
 /// `slow`: spins until cancelled.
 struct Slow;
 
-static POINTS: NodeSpec = NodeSpec {
-    name: "points",
-    version: 1,
-    label: "Points",
-    category: "test",
-    help: "",
-    inputs: &[],
-    variadic: false,
-    output: PortType::Geometry,
-    params: &[
+static POINTS: NodeSpec = NodeSpec::new(
+    "points",
+    "Points",
+    "test",
+    "",
+    &[],
+    &[
         ParamSpec::new("count", "Count", ParamType::Int, ParamDefault::Int(3), "")
             .range(0.0, 1000.0),
         ParamSpec::new(
@@ -43,96 +40,71 @@ static POINTS: NodeSpec = NodeSpec {
             "",
         ),
     ],
-    time_dependent: false,
-};
-static OFFSET: NodeSpec = NodeSpec {
-    name: "offset",
-    version: 1,
-    label: "Offset",
-    category: "test",
-    help: "",
-    inputs: &[InputSpec {
+);
+static OFFSET: NodeSpec = NodeSpec::new(
+    "offset",
+    "Offset",
+    "test",
+    "",
+    &[InputSpec {
         name: "geometry",
         ty: PortType::Geometry,
         required: true,
     }],
-    variadic: false,
-    output: PortType::Geometry,
-    params: &[ParamSpec::new(
+    &[ParamSpec::new(
         "by",
         "By",
         ParamType::Vec3,
         ParamDefault::Vec3([0.0; 3]),
         "",
     )],
-    time_dependent: false,
-};
-static CLAMP: NodeSpec = NodeSpec {
-    name: "clamp",
-    version: 1,
-    label: "Clamp",
-    category: "test",
-    help: "",
-    inputs: &[InputSpec {
+);
+static CLAMP: NodeSpec = NodeSpec::new(
+    "clamp",
+    "Clamp",
+    "test",
+    "",
+    &[InputSpec {
         name: "geometry",
         ty: PortType::Geometry,
         required: true,
     }],
-    variadic: false,
-    output: PortType::Geometry,
-    params: &[ParamSpec::new(
+    &[ParamSpec::new(
         "max",
         "Max",
         ParamType::Float,
         ParamDefault::Float(1.0),
         "",
     )],
-    time_dependent: false,
-};
-static JOIN: NodeSpec = NodeSpec {
-    name: "join",
-    version: 1,
-    label: "Join",
-    category: "test",
-    help: "",
-    inputs: &[InputSpec {
+);
+static JOIN: NodeSpec = NodeSpec::new(
+    "join",
+    "Join",
+    "test",
+    "",
+    &[InputSpec {
         name: "geometry",
         ty: PortType::Geometry,
         required: false,
     }],
-    variadic: true,
-    output: PortType::Geometry,
-    params: &[],
-    time_dependent: false,
-};
-static PACK: NodeSpec = NodeSpec {
-    name: "pack",
-    version: 1,
-    label: "Pack",
-    category: "test",
-    help: "",
-    inputs: &[InputSpec {
+    &[],
+)
+.variadic();
+static PACK: NodeSpec = NodeSpec::new(
+    "pack",
+    "Pack",
+    "test",
+    "",
+    &[InputSpec {
         name: "geometry",
         ty: PortType::Geometry,
         required: false,
     }],
-    variadic: true,
-    output: PortType::Bundle,
-    params: &[],
-    time_dependent: false,
-};
-static SLOW: NodeSpec = NodeSpec {
-    name: "slow",
-    version: 1,
-    label: "Slow",
-    category: "test",
-    help: "",
-    inputs: &[],
-    variadic: false,
-    output: PortType::Geometry,
-    params: &[],
-    time_dependent: false,
-};
+    &[],
+)
+.variadic()
+.output(PortType::Bundle);
+static SLOW: NodeSpec = NodeSpec::new("slow", "Slow", "test", "", &[], &[]);
 
 pub static COOKS: AtomicUsize = AtomicUsize::new(0);
 
