@@ -672,6 +672,26 @@ impl Builder<'_> {
                             ),
                         ));
                     }
+                    None if decl.required && k < spec.inputs.len() => {
+                        // Wired to an unconnected subnet input: the op would
+                        // cook without a geometry it cannot do without.
+                        if let Some(Some(at)) = given
+                            .get(k)
+                            .filter(|g| g.as_deref().is_some_and(|g| g.starts_with('@')))
+                        {
+                            let parent = self.nodes[i]
+                                .parent
+                                .map_or_else(String::new, |p| self.nodes[p].path.clone());
+                            self.errors.push(LoadError::node(
+                                &path,
+                                format!(
+                                    "input {} ({}) is required but is wired to `{at}`, and that input of subnet {parent} is not connected",
+                                    k + 1,
+                                    decl.name,
+                                ),
+                            ));
+                        }
+                    }
                     Some(s) => {
                         if let Some(t) = self.output_type(s) {
                             if t != decl.ty {

@@ -223,6 +223,17 @@ fn every_load_error_class_has_an_exact_message_and_all_are_reported() {
 }
 
 #[test]
+fn a_required_input_wired_to_an_unconnected_subnet_input_is_a_load_error() {
+    let text = r#"{"geode": "network", "version": 1, "output": "a", "nodes": {
+        "a": {"type": "subnet", "inputs": [null],
+            "network": {"output": "x", "nodes": {"x": {"type": "offset", "inputs": ["@0"]}}}}}}"#;
+    assert_eq!(
+        errors(text),
+        vec!["/a/x: input 1 (geometry) is required but is wired to `@0`, and that input of subnet /a is not connected"]
+    );
+}
+
+#[test]
 fn cycles_name_their_nodes() {
     let text = r#"{"geode": "network", "version": 1, "nodes": {
         "x": {"type": "points"},
