@@ -9,6 +9,7 @@
 pub mod eval;
 pub mod field;
 pub mod interval;
+mod pinch;
 pub mod polygonise;
 mod qef;
 pub mod shapes;

@@ -2,8 +2,8 @@
 //! arithmetic (each level evaluates a tape simplified for its region), then
 //! dual contouring in the surviving bricks: one vertex per connected surface
 //! component of a cell (faces paired by the asymptotic decider, so the mesh is
-//! closed; it is manifold except where one sheet crosses an ambiguous face
-//! twice on both sides, see ARCHITECTURE.md), placed by a QEF
+//! closed; vertices shared by two sheets are split afterwards, see `pinch`),
+//! placed by a QEF
 //! over the crossings' tangent planes so sharp edges and corners survive,
 //! with analytic normals from the gradient.
 
@@ -18,6 +18,7 @@ use rayon::prelude::*;
 use crate::eval::{BatchEval, GradEval, IntervalEval, PointEval};
 use crate::field::Field;
 use crate::interval::Interval;
+use crate::pinch;
 use crate::qef::Qef;
 use crate::shapes;
 use crate::tape::Tape;
@@ -65,6 +66,8 @@ pub struct MeshStats {
     pub bricks_total: usize,
     pub bricks_meshed: usize,
     pub cells_with_surface: usize,
+    /// Vertices added where one vertex was shared by two sheets.
+    pub vertices_split: usize,
 }
 
 struct Grid {
@@ -86,6 +89,9 @@ struct BrickOut {
     normals: Vec<Vec3>,
     /// (edge key, slot around the edge, local vertex, outward is +axis).
     refs: Vec<(u64, u8, u32, bool)>,
+    /// Local vertices whose component holds both crossings of an ambiguous
+    /// face: the only ones that can be pinched (see `pinch`).
+    pinched: Vec<u32>,
     cells: usize,
 }
 
@@ -103,8 +109,9 @@ fn corner_index(p: [usize; 3]) -> usize {
     p[0] + 2 * p[1] + 4 * p[2]
 }
 
-/// Pairs of local edges joined across each face, from the asymptotic decider.
-fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>) {
+/// Pairs of local edges joined across each face, from the asymptotic
+/// decider; for each ambiguous face, one edge of each of its two segments.
+fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>, ambiguous: &mut Vec<(usize, usize)>) {
     for axis in 0..3 {
         let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
         for side in 0..2 {
@@ -131,6 +138,7 @@ fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>) {
             match crossed.len() {
                 2 => pairs.push((edge(crossed[0]), edge(crossed[1]))),
                 4 => {
+                    ambiguous.push((edge(0), edge(2)));
                     let denom = f[0] + f[2] - f[1] - f[3];
                     let saddle = if denom != 0.0 {
                         (f[0] * f[2] - f[1] * f[3]) / denom
@@ -259,9 +267,11 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
         positions: Vec::new(),
         normals: Vec::new(),
         refs: Vec::new(),
+        pinched: Vec::new(),
         cells: 0,
     };
     let mut pairs = Vec::with_capacity(12);
+    let mut ambiguous = Vec::with_capacity(6);
     for k in 0..B {
         for j in 0..B {
             for i in 0..B {
@@ -290,7 +300,8 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                     }
                 }
                 pairs.clear();
-                face_pairs(&v, &mut pairs);
+                ambiguous.clear();
+                face_pairs(&v, &mut pairs, &mut ambiguous);
                 let mut parent: [usize; 12] = std::array::from_fn(|e| e);
                 for &(a, b) in &pairs {
                     let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
@@ -354,6 +365,13 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                     // cone's apex on a grid line) must not put the vertices of
                     // neighbouring cells at one point, or the mesh pinches there.
                     let margin = 1e-4 * grid.h;
+                    let outside =
+                        (0..3).any(|a| x[a] < cmin[a] + margin || x[a] > cmax[a] - margin);
+                    if outside && qefs.len() > 1 {
+                        // Clamped, two components could meet at one corner of
+                        // the cell; their mass points are distinct and inside.
+                        x = q.mass_point();
+                    }
                     for a in 0..3 {
                         x[a] = x[a].clamp(cmin[a] + margin, cmax[a] - margin);
                     }
@@ -363,6 +381,14 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                     out.positions
                         .push(Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32));
                     out.normals.push(n);
+                }
+                for &(a, b) in &ambiguous {
+                    let root = find(&mut parent, a);
+                    if root == find(&mut parent, b)
+                        && !out.pinched.contains(&component_vertex[root])
+                    {
+                        out.pinched.push(component_vertex[root]);
+                    }
                 }
                 for (e, key, slot, plus) in edge_info {
                     let root = find(&mut parent, e);
@@ -461,6 +487,7 @@ pub fn polygonise(
     let half: [f64; 3] = std::array::from_fn(|k| 0.5 * size[k]);
     let clipped = field.min(shapes::block(center, half));
     let tape = Arc::new(Tape::compile(&clipped));
+    let full_tape = Arc::clone(&tape);
     let top = grid
         .bricks
         .iter()
@@ -495,16 +522,19 @@ pub fn polygonise(
     let mut positions = Vec::new();
     let mut normals = Vec::new();
     let mut refs: Vec<(u64, u8, u32, bool)> = Vec::new();
+    let mut pinched: Vec<u32> = Vec::new();
     let mut stats = MeshStats {
         bricks_total: grid.bricks.iter().product(),
         bricks_meshed: outs.len(),
         cells_with_surface: 0,
+        vertices_split: 0,
     };
     for o in outs {
         let offset = positions.len() as u32;
         positions.extend(o.positions);
         normals.extend(o.normals);
         refs.extend(o.refs.into_iter().map(|(k, s, v, p)| (k, s, v + offset, p)));
+        pinched.extend(o.pinched.into_iter().map(|v| v + offset));
         stats.cells_with_surface += o.cells;
     }
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
@@ -530,6 +560,19 @@ pub fn polygonise(
             triangles.push([q[1], q[2], q[3]]);
         }
     }
+    pinched.sort_unstable();
+    pinched.dedup();
+    stats.vertices_split = pinch::split_pinched_vertices(
+        &mut positions,
+        &mut normals,
+        &mut triangles,
+        &pinched,
+        &full_tape,
+        &pinch::Cells {
+            origin: grid.origin,
+            h: grid.h,
+        },
+    );
     let mut g =
         Geometry::from_triangles(positions, &triangles).map_err(|_| MeshError::BadBounds)?;
     g.set_attrib(

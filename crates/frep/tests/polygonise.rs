@@ -192,3 +192,33 @@ fn solids_touching_the_box_are_closed_by_it() {
         "the clipped sphere fills the box"
     );
 }
+
+/// A thin gyroid shell cut by a superellipsoid: at depth 7 many cell faces
+/// are crossed twice by one sheet that also joins both crossings inside the
+/// cells on either side (a tube thinner than a cell). Dual contouring with
+/// one vertex per cell component puts such a dual edge in four quads; the
+/// mesher must split those vertices so the result stays a closed manifold.
+#[test]
+fn thin_tubes_through_cell_faces_stay_manifold() {
+    let (x, y, z) = (Field::x() * 12.0, Field::y() * 12.0, Field::z() * 12.0);
+    let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
+    let shell = 0.35 - g.abs();
+    let part = geode_frep::shapes::superellipsoid([0.0; 3], [0.9, 0.6, 0.6], 0.3, 0.3);
+    let f = shell.min(part);
+    let opts = MeshOptions::new([-1.0, -0.7, -0.7], [1.0, 0.7, 0.7], 7);
+    let (g, stats) = polygonise(&f, &opts, &|| false, &|_| {}).unwrap();
+    assert!(
+        stats.vertices_split > 0,
+        "the case this test is for: {stats:?}"
+    );
+    closed_manifold(&g);
+    // Split copies are moved apart: no two vertices share a position (a
+    // welding checker such as trimesh would otherwise fuse them back).
+    let mut seen = std::collections::HashSet::new();
+    for p in g.positions() {
+        assert!(
+            seen.insert(p.to_array().map(f32::to_bits)),
+            "duplicate vertex {p}"
+        );
+    }
+}
