@@ -316,6 +316,22 @@ pub fn sphere_sweep(points: &[[f64; 3]], radii: &[f64]) -> Option<Field> {
     }))
 }
 
+/// The exact solid a tagged mesh primitive approximates, in its local frame
+/// (see `geode_geo::analytic`).
+pub fn analytic(shape: &geode_geo::analytic::AnalyticShape) -> Field {
+    use geode_geo::analytic::AnalyticShape as S;
+    match *shape {
+        S::Box { size } => block([0.0; 3], size.map(|s| 0.5 * s as f64)),
+        S::Sphere { radius } => sphere([0.0; 3], radius as f64),
+        S::Torus { major, minor } => torus([0.0; 3], major as f64, minor as f64),
+        S::Tube { radius, y0, y1 } => cylinder(
+            [0.0, 0.5 * (y0 as f64 + y1 as f64), 0.0],
+            radius as f64,
+            0.5 * (y1 as f64 - y0 as f64).abs(),
+        ),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,6 +2,7 @@
 //! attribute columns, groups, packed instances, topology and the operations
 //! every node needs. Knows nothing of files, nodes or graphs.
 
+pub mod analytic;
 pub mod attrib;
 mod error;
 mod geometry;

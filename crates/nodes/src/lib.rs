@@ -7,6 +7,7 @@ mod expr;
 mod file;
 mod flow;
 mod frep;
+mod frep_mesh;
 mod groups;
 mod mesh;
 mod primitives;
@@ -25,6 +26,7 @@ pub fn registry() -> Registry {
     transform::register(&mut r);
     flow::register(&mut r);
     frep::register(&mut r);
+    frep_mesh::register(&mut r);
     attributes::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);

@@ -1,5 +1,6 @@
 //! Mesh primitive nodes: box, sphere, grid, tube, torus (with divisions and a centre).
 
+use geode_geo::analytic::{self, AnalyticShape};
 use geode_geo::glam::{Mat4, Vec2, Vec3};
 use geode_geo::{ops, primitives, Geometry};
 use geode_op::{
@@ -24,6 +25,28 @@ fn placed(mut g: Geometry, center: Vec3) -> Geometry {
     g
 }
 
+const ANALYTIC: P = P::new(
+    "analytic",
+    "Analytic",
+    T::Toggle,
+    D::Toggle(false),
+    "Tag the polygons with the exact solid they approximate (primitive attributes analytic_*), so frep_from_primitives can use this mesh as an FRep input.",
+)
+.not_animatable();
+
+/// Places the mesh at its centre, tagged with its exact solid when asked.
+fn finish(
+    ctx: &CookContext,
+    mut g: Geometry,
+    p: &Params,
+    shape: AnalyticShape,
+) -> Result<Value, CookError> {
+    if p.toggle("analytic")? {
+        analytic::tag(&mut g, shape).map_err(|e| ctx.error(e.to_string()))?;
+    }
+    geometry(placed(g, vec3(p, "center")?))
+}
+
 fn div(p: &Params, name: &str) -> Result<u32, CookError> {
     Ok(p.int(name)?.clamp(1, 1 << 16) as u32)
 }
@@ -39,18 +62,24 @@ static BOX: NodeSpec = NodeSpec::new(
         P::new("size", "Size", T::Vec3, D::Vec3([1.0; 3]), "Edge lengths along X, Y and Z.").at_least(0.0),
         CENTER,
         P::new("divisions", "Divisions", T::Vec3, D::Vec3([1.0; 3]), "Quads along each axis (rounded).").range(1.0, 4096.0),
+        ANALYTIC,
     ],
 );
 impl Operator for BoxNode {
     fn spec(&self) -> &'static NodeSpec {
         &BOX
     }
-    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
-        geometry(placed(
-            primitives::box_mesh(vec3(p, "size")?, d),
-            vec3(p, "center")?,
-        ))
+        let size = vec3(p, "size")?;
+        finish(
+            ctx,
+            primitives::box_mesh(size, d),
+            p,
+            AnalyticShape::Box {
+                size: size.to_array(),
+            },
+        )
     }
 }
 
@@ -80,19 +109,17 @@ static SPHERE: NodeSpec = NodeSpec::new(
             "Longitude segments.",
         )
         .range(3.0, 65536.0),
+        ANALYTIC,
     ],
 );
 impl Operator for Sphere {
     fn spec(&self) -> &'static NodeSpec {
         &SPHERE
     }
-    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let g = primitives::uv_sphere(
-            p.float("radius")? as f32,
-            div(p, "columns")?,
-            div(p, "rows")?,
-        );
-        geometry(placed(g, vec3(p, "center")?))
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let radius = p.float("radius")? as f32;
+        let g = primitives::uv_sphere(radius, div(p, "columns")?, div(p, "rows")?);
+        finish(ctx, g, p, AnalyticShape::Sphere { radius })
     }
 }
 
@@ -163,21 +190,32 @@ static TUBE: NodeSpec = NodeSpec::new(
             D::Toggle(true),
             "Close both ends with polygons.",
         ),
+        ANALYTIC,
     ],
 );
 impl Operator for Tube {
     fn spec(&self) -> &'static NodeSpec {
         &TUBE
     }
-    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let (radius, height) = (p.float("radius")? as f32, p.float("height")? as f32);
         let g = primitives::tube(
-            p.float("radius")? as f32,
-            p.float("height")? as f32,
+            radius,
+            height,
             div(p, "columns")?,
             div(p, "rows")?,
             p.toggle("caps")?,
         );
-        geometry(placed(g, vec3(p, "center")?))
+        finish(
+            ctx,
+            g,
+            p,
+            AnalyticShape::Tube {
+                radius,
+                y0: 0.0,
+                y1: height,
+            },
+        )
     }
 }
 
@@ -222,20 +260,20 @@ static TORUS: NodeSpec = NodeSpec::new(
             "Segments around the axis.",
         )
         .range(3.0, 65536.0),
+        ANALYTIC,
     ],
 );
 impl Operator for Torus {
     fn spec(&self) -> &'static NodeSpec {
         &TORUS
     }
-    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let g = primitives::torus(
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        let (major, minor) = (
             p.float("major_radius")? as f32,
             p.float("minor_radius")? as f32,
-            div(p, "columns")?,
-            div(p, "rows")?,
         );
-        geometry(placed(g, vec3(p, "center")?))
+        let g = primitives::torus(major, minor, div(p, "columns")?, div(p, "rows")?);
+        finish(ctx, g, p, AnalyticShape::Torus { major, minor })
     }
 }
 

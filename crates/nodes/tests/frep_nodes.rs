@@ -285,3 +285,41 @@ fn bounded_blend_sweep_instance_and_point_deform() {
     ));
     assert!(bumped > 4.0 / 3.0 * pi * 0.125 + 0.005);
 }
+
+#[test]
+fn mesh_primitives_feed_frep_networks_as_exact_solids() {
+    let pi = std::f64::consts::PI;
+    // A sphere moved off-centre, a box rotated 45 degrees about a pivot and
+    // a tube: merged meshes become the union of their exact solids.
+    let nodes = format!(
+        r#""ball": {{"type": "sphere", "params": {{"radius": 0.4, "rows": 4, "columns": 5, "analytic": true}}}},
+        "moved": {{"type": "transform", "inputs": ["ball"], "params": {{"translate": [0.5, 0.2, 0]}}}},
+        "brick": {{"type": "box", "params": {{"size": [0.5, 0.3, 0.4], "analytic": true}}}},
+        "turned": {{"type": "transform", "inputs": ["brick"], "params": {{"rotate": [0, 0, 45], "pivot": [0.1, 0, 0], "translate": [-0.5, 0, 0]}}}},
+        "pipe": {{"type": "tube", "params": {{"radius": 0.15, "height": 0.6, "center": [0, -0.8, 0.5], "analytic": true}}}},
+        "all": {{"type": "merge", "inputs": ["moved", "turned", "pipe"]}},
+        "solid": {{"type": "frep_from_primitives", "inputs": ["all"]}},
+        {}"#,
+        poly("solid", 7, 1.2)
+    );
+    let g = mesh(&nodes, "mesh");
+    let v = 4.0 / 3.0 * pi * 0.064 + 0.5 * 0.3 * 0.4 + pi * 0.0225 * 0.6;
+    let got = volume(&g);
+    assert!((got - v).abs() / v < 0.01, "{got} vs {v}");
+    // The sphere's exact centre (not its five-sided mesh's) is where it was moved.
+    let b = ops::bounds(&g).unwrap();
+    assert!((b.max.x - 0.9).abs() < 0.01, "{b:?}");
+    assert!(
+        (b.min.y - -0.8).abs() < 0.01,
+        "tube starts at its centre: {b:?}"
+    );
+    // A polygon with no exact solid is named.
+    let e = common::err(
+        r#""g": {"type": "grid"}, "s": {"type": "frep_from_primitives", "inputs": ["g"]}"#,
+        "s",
+    );
+    assert!(
+        e.contains("/s") && e.contains("primitive 0 has no analytic shape"),
+        "{e}"
+    );
+}
