@@ -168,56 +168,95 @@ fn find(parent: &mut [usize; 12], mut i: usize) -> usize {
     i
 }
 
-/// Where the surface crosses the segment a-b (values of opposite sign):
-/// Illinois false position on the f64 field (fast on smooth fields, and it
-/// cannot stall on the flat stretches of distance fields), then the normal.
-fn crossing(
-    point: &mut PointEval,
-    grad: &mut GradEval,
+/// A crossed grid edge being bracketed: the surface lies between `t0` and
+/// `t1` (parameters along a-b), where the field has values `f0` and `f1`.
+struct Root {
+    key: u64,
     a: [f64; 3],
     b: [f64; 3],
-    va: f32,
-    vb: f32,
-) -> ([f64; 3], [f64; 3]) {
-    let lerp = |t: f64| -> [f64; 3] { std::array::from_fn(|k| a[k] + (b[k] - a[k]) * t) };
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    let (mut f0, mut f1) = (point.eval(a), point.eval(b));
-    let t = if (f0 >= 0.0) != (f1 >= 0.0) {
-        let mut side = 0i8;
-        for _ in 0..60 {
-            if t1 - t0 < 1e-9 {
-                break;
-            }
-            let t = t0 + (t1 - t0) * (f0 / (f0 - f1));
-            let t = if t.is_finite() && t > t0 && t < t1 {
-                t
-            } else {
-                0.5 * (t0 + t1)
-            };
-            let ft = point.eval(lerp(t));
-            if (ft >= 0.0) == (f0 >= 0.0) {
-                t0 = t;
-                f0 = ft;
-                if side == -1 {
-                    f1 *= 0.5;
-                }
-                side = -1;
-            } else {
-                t1 = t;
-                f1 = ft;
-                if side == 1 {
-                    f0 *= 0.5;
-                }
-                side = 1;
-            }
+    t0: f64,
+    f0: f64,
+    t1: f64,
+    f1: f64,
+    /// Which end moved last (-1 low, 1 high): Illinois halves the other.
+    side: i8,
+}
+
+impl Root {
+    fn guess(&self) -> f64 {
+        let t = self.t0 + (self.t1 - self.t0) * (self.f0 / (self.f0 - self.f1));
+        if t.is_finite() && t > self.t0 && t < self.t1 {
+            t
+        } else {
+            0.5 * (self.t0 + self.t1)
         }
-        0.5 * (t0 + t1)
-    } else {
-        // f32 and f64 disagree right at the surface: the corner values decide.
-        va as f64 / (va as f64 - vb as f64)
-    };
-    let p = lerp(t.clamp(0.0, 1.0));
-    (p, outward_normal(point, grad, p))
+    }
+
+    /// Narrows the bracket with the value `ft` at `t`; true once converged.
+    fn update(&mut self, t: f64, ft: f64) -> bool {
+        if ft == 0.0 {
+            (self.t0, self.t1) = (t, t);
+            return true;
+        }
+        if (ft >= 0.0) == (self.f0 >= 0.0) {
+            (self.t0, self.f0) = (t, ft);
+            if self.side == -1 {
+                self.f1 *= 0.5;
+            }
+            self.side = -1;
+        } else {
+            (self.t1, self.f1) = (t, ft);
+            if self.side == 1 {
+                self.f0 *= 0.5;
+            }
+            self.side = 1;
+        }
+        self.t1 - self.t0 < 1e-6
+    }
+
+    fn point(&self) -> [f64; 3] {
+        let t = if self.t1 - self.t0 < 1e-6 {
+            0.5 * (self.t0 + self.t1)
+        } else {
+            self.guess()
+        };
+        std::array::from_fn(|k| self.a[k] + (self.b[k] - self.a[k]) * t)
+    }
+}
+
+/// Where the surface crosses each edge: Illinois false position (fast on
+/// smooth fields, and it cannot stall on the flat stretches of distance
+/// fields) run on all edges of a brick at once, one batch per step, on the
+/// same f32 evaluator that classified the corners (so brackets agree).
+fn solve_roots(batch: &mut BatchEval, roots: &mut [Root]) {
+    let mut active: Vec<usize> = (0..roots.len()).collect();
+    let (mut xs, mut ys, mut zs) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut ts, mut values) = (Vec::new(), Vec::new());
+    for _ in 0..24 {
+        if active.is_empty() {
+            break;
+        }
+        xs.clear();
+        ys.clear();
+        zs.clear();
+        ts.clear();
+        for &i in &active {
+            let r = &roots[i];
+            let t = r.guess();
+            ts.push(t);
+            xs.push((r.a[0] + (r.b[0] - r.a[0]) * t) as f32);
+            ys.push((r.a[1] + (r.b[1] - r.a[1]) * t) as f32);
+            zs.push((r.a[2] + (r.b[2] - r.a[2]) * t) as f32);
+        }
+        values.resize(xs.len(), 0.0);
+        batch.eval(&xs, &ys, &zs, &mut values);
+        let mut k = 0;
+        active.retain(|&i| {
+            let done = roots[i].update(ts[k], values[k] as f64);
+            k += 1;
+            !done
+        });
+    }
 }
 
 /// `-grad f / |grad f|`; central differences where the gradient is
@@ -258,11 +297,51 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
         }
     }
     let mut values = vec![0.0f32; xs.len()];
-    BatchEval::new(tape).eval(&xs, &ys, &zs, &mut values);
+    let mut batch = BatchEval::new(tape);
+    batch.eval(&xs, &ys, &zs, &mut values);
     let at = |c: [usize; 3]| values[c[0] + m * (c[1] + m * c[2])];
     let mut point = PointEval::new(tape);
     let mut grad = GradEval::new(tape);
-    let mut crossings: HashMap<u64, ([f64; 3], [f64; 3])> = HashMap::new();
+    // Every crossed edge of the brick, solved together.
+    let mut roots = Vec::new();
+    for k in 0..m {
+        for j in 0..m {
+            for i in 0..m {
+                let c = [i, j, k];
+                let v0 = at(c);
+                for axis in 0..3 {
+                    if c[axis] + 1 >= m {
+                        continue;
+                    }
+                    let mut d = c;
+                    d[axis] += 1;
+                    let v1 = at(d);
+                    if (v0 >= 0.0) != (v1 >= 0.0) {
+                        let lo = std::array::from_fn(|q| base[q] + c[q]);
+                        let hi = std::array::from_fn(|q| base[q] + d[q]);
+                        roots.push(Root {
+                            key: edge_key(axis, lo),
+                            a: grid.point(lo),
+                            b: grid.point(hi),
+                            t0: 0.0,
+                            f0: v0 as f64,
+                            t1: 1.0,
+                            f1: v1 as f64,
+                            side: 0,
+                        });
+                    }
+                }
+            }
+        }
+    }
+    solve_roots(&mut batch, &mut roots);
+    let crossings: HashMap<u64, ([f64; 3], [f64; 3])> = roots
+        .iter()
+        .map(|r| {
+            let p = r.point();
+            (r.key, (p, outward_normal(&mut point, &mut grad, p)))
+        })
+        .collect();
     let mut out = BrickOut {
         positions: Vec::new(),
         normals: Vec::new(),
@@ -318,21 +397,11 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                         }
                         let e = local_edge(axis, p);
                         let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
-                        let mut hi = lo;
-                        hi[axis] += 1;
                         let key = edge_key(axis, lo);
-                        let (cp, cn) = *crossings.entry(key).or_insert_with(|| {
-                            let l = [lo[0] - base[0], lo[1] - base[1], lo[2] - base[2]];
-                            let h = [hi[0] - base[0], hi[1] - base[1], hi[2] - base[2]];
-                            crossing(
-                                &mut point,
-                                &mut grad,
-                                grid.point(lo),
-                                grid.point(hi),
-                                at(l),
-                                at(h),
-                            )
-                        });
+                        // Every crossed edge of the brick was solved above.
+                        let Some(&(cp, cn)) = crossings.get(&key) else {
+                            continue;
+                        };
                         let root = find(&mut parent, e);
                         match qefs.iter_mut().find(|(r, _)| *r == root) {
                             Some((_, q)) => q.add(cp, cn),
