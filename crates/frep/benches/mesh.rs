@@ -2,7 +2,7 @@
 //! surface), not 8x (with the volume). Triangle counts are printed once.
 //! Run: cargo bench -p geode-frep --bench mesh
 
-use geode_frep::shapes::{block, sphere, union};
+use geode_frep::shapes::{block, cylinder, sphere, union};
 use geode_frep::{polygonise, Field, MeshOptions};
 
 fn main() {
@@ -48,6 +48,19 @@ fn spheres200() -> Field {
     f
 }
 
+/// The seed's screw (figure 5.1): a sharp thread cut by a helical sawtooth,
+/// a slotted head.
+fn screw() -> Field {
+    let (x, y, z) = (Field::x(), Field::y(), Field::z());
+    let turns = z.atan2(x.clone()) / std::f64::consts::TAU + y.clone() / 0.25;
+    let radius = (x.square() + z.square()).sqrt();
+    let thread = 0.42 - radius - 0.3 * (turns.modulo(1.0) - 0.5).abs();
+    let shaft = thread.min(cylinder([0.0; 3], 1.0, 0.8));
+    let head = cylinder([0.0, 0.95, 0.0], 0.6, 0.15);
+    let slot = block([0.0, 1.05, 0.0], [0.7, 0.1, 0.06]);
+    shaft.max(&head.min(&-slot))
+}
+
 fn vm(name: &str) -> Field {
     let text = std::fs::read_to_string(format!(
         "{}/../../../shared/corpus/fidget-models/{name}",
@@ -62,12 +75,20 @@ fn cases() -> Vec<(&'static str, Field, f64)> {
         ("sphere", sphere([0.0; 3], 0.9), 1.0),
         ("gyroid", gyroid_lattice(), 1.0),
         ("spheres200", spheres200(), 1.0),
+        ("screw", screw().translate([0.0, -0.15, 0.0]), 1.0),
         ("colonnade", vm("colonnade.vm"), 1.0),
         ("bear", vm("bear.vm"), 1.0),
     ]
 }
 
-const CASES: [&str; 5] = ["sphere", "gyroid", "spheres200", "colonnade", "bear"];
+const CASES: [&str; 6] = [
+    "sphere",
+    "gyroid",
+    "spheres200",
+    "screw",
+    "colonnade",
+    "bear",
+];
 
 #[divan::bench(args = CASES, consts = [6, 7, 8], sample_count = 3)]
 fn mesh_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
