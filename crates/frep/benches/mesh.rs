@@ -58,7 +58,7 @@ fn screw() -> Field {
     let shaft = thread.min(cylinder([0.0; 3], 1.0, 0.8));
     let head = cylinder([0.0, 0.95, 0.0], 0.6, 0.15);
     let slot = block([0.0, 1.05, 0.0], [0.7, 0.1, 0.06]);
-    shaft.max(&head.min(&-slot))
+    shaft.max(head.min(&-slot))
 }
 
 fn vm(name: &str) -> Field {
