@@ -12,6 +12,8 @@ use crate::geometry::Geometry;
 /// from `N` (the instance's +Z) and `up` (default +Y); `rot` (quaternion)
 /// turns the copy before that rotation. In column-vector form:
 /// `M = T(P + trans) * R_orient * R_rot * S(pscale * scale) * T(-pivot)`.
+/// A `transform` matrix (its linear part) replaces rotation and scale
+/// alike, as in Houdini: `M = T(P + trans) * transform * T(-pivot)`.
 pub fn instance_transforms(g: &Geometry) -> Vec<Mat4> {
     let n = g.num_points();
     let p = g.positions();
@@ -22,6 +24,7 @@ pub fn instance_transforms(g: &Geometry) -> Vec<Mat4> {
     let (normal, up) = (vec3("N"), vec3("up"));
     let (trans, pivot, scale) = (vec3("trans"), vec3("pivot"), vec3("scale"));
     let pscale = a("pscale").and_then(|x| x.as_f32());
+    let xform = a("transform").and_then(|x| x.as_mat4());
     (0..n)
         .map(|i| {
             let r_main = match (orient, normal) {
@@ -33,6 +36,10 @@ pub fn instance_transforms(g: &Geometry) -> Vec<Mat4> {
             let s = scale.map_or(Vec3::ONE, |s| s[i]) * pscale.map_or(1.0, |s| s[i]);
             let t = p[i] + trans.map_or(Vec3::ZERO, |t| t[i]);
             let pv = pivot.map_or(Vec3::ZERO, |v| v[i]);
+            if let Some(m) = xform {
+                let linear = Mat4::from_mat3(Mat3::from_mat4(m[i]));
+                return Mat4::from_translation(t) * linear * Mat4::from_translation(-pv);
+            }
             Mat4::from_translation(t)
                 * Mat4::from_quat(r)
                 * Mat4::from_scale(s)
@@ -120,5 +127,21 @@ mod tests {
             (m.transform_vector3(Vec3::Y) - Vec3::X).length() < 1e-5,
             "Y -> Z by rot, Z -> X by orient"
         );
+        // transform replaces orient, rot, pscale and scale; trans and pivot stay.
+        let shear = Mat4::from_cols_array(&[
+            1.0, 0.0, 0.0, 0.0, 0.5, 2.0, 0.0, 0.0, 0.0, 0.0, 3.0, 0.0, 9.0, 9.0, 9.0, 1.0,
+        ]);
+        let g = point_with(&[
+            ("orient", AttribData::Quat(vec![q90])),
+            ("pscale", AttribData::Float(vec![7.0])),
+            ("transform", AttribData::Mat4(vec![shear])),
+            ("trans", AttribData::Vec3(vec![Vec3::X])),
+            ("pivot", AttribData::Vec3(vec![Vec3::Z])),
+        ]);
+        let m = instance_transforms(&g)[0];
+        // Local (1, 1, 1): minus pivot (1, 1, 0), by the 3x3 (1.5, 2, 0),
+        // plus P + trans (2, 2, 3); the matrix's own translation is ignored.
+        let got = m.transform_point3(Vec3::ONE);
+        assert!((got - Vec3::new(3.5, 4.0, 3.0)).length() < 1e-5, "{got}");
     }
 }

@@ -1,0 +1,190 @@
+//! Copy to points: a copy of the source on every template point, placed by
+//! Houdini's instance attributes (`geode_geo::ops::instance_transforms`),
+//! either as packed instances (one shared geometry, a transform per copy)
+//! or as real geometry; template point attributes travel with the copies;
+//! an integer point attribute can pick which piece of the source each
+//! point gets.
+
+use std::sync::Arc;
+
+use geode_geo::glam::Mat4;
+use geode_geo::{ops, AttribClass, GeoError, Geometry, Group};
+use rayon::prelude::*;
+
+/// Attributes that place copies: consumed, never carried onto them.
+const PLACEMENT: [&str; 10] = [
+    "P",
+    "N",
+    "up",
+    "orient",
+    "rot",
+    "pscale",
+    "scale",
+    "trans",
+    "pivot",
+    "transform",
+];
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct CopyOptions {
+    /// Packed instances (memory per copy is a transform) or real geometry.
+    pub packed: bool,
+    /// A primitive attribute (integer or string) splitting the source into
+    /// pieces, in order of first appearance; empty: the whole source.
+    pub piece_attrib: String,
+    /// An integer template point attribute choosing the piece per point
+    /// (wrapped into range); absent: piece `point % pieces`.
+    pub variant_attrib: String,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum CopyError {
+    #[error(
+        "the piece attribute `{0}` is not an integer or string primitive attribute of the source"
+    )]
+    BadPieceAttrib(String),
+    #[error("the variant attribute `{0}` on the template points is not an integer")]
+    BadVariantAttrib(String),
+    #[error(transparent)]
+    Geo(#[from] GeoError),
+}
+
+/// The source split into pieces by `attrib` (primitive values in order of
+/// first appearance).
+fn pieces(source: &Geometry, attrib: &str) -> Result<Vec<Arc<Geometry>>, CopyError> {
+    if attrib.is_empty() {
+        return Ok(vec![Arc::new(source.clone())]);
+    }
+    let a = source
+        .attrib(AttribClass::Primitive, attrib)
+        .ok_or_else(|| CopyError::BadPieceAttrib(attrib.into()))?;
+    let keys: Vec<i64> = if let Some(v) = a.as_i32() {
+        v.iter().map(|&x| x as i64).collect()
+    } else if let Some(s) = a.as_strings() {
+        s.indices.iter().map(|&x| x as i64).collect()
+    } else {
+        return Err(CopyError::BadPieceAttrib(attrib.into()));
+    };
+    let mut order: Vec<i64> = Vec::new();
+    for k in &keys {
+        if !order.contains(k) {
+            order.push(*k);
+        }
+    }
+    Ok(order
+        .par_iter()
+        .map(|key| {
+            let mut g = source.clone();
+            let others = Group::from_flags(keys.iter().map(|k| k != key));
+            ops::delete_prims(&mut g, &others, true);
+            Arc::new(g)
+        })
+        .collect())
+}
+
+/// Copies `source` onto every point of `template`.
+pub fn copy_to_points(
+    source: &Geometry,
+    template: &Geometry,
+    opts: &CopyOptions,
+) -> Result<Geometry, CopyError> {
+    let pieces = pieces(source, &opts.piece_attrib)?;
+    let n = template.num_points();
+    let choice: Vec<usize> = if opts.variant_attrib.is_empty() || pieces.len() == 1 {
+        vec![0; n]
+    } else {
+        match template.attrib(AttribClass::Point, &opts.variant_attrib) {
+            None => (0..n).map(|i| i % pieces.len()).collect(),
+            Some(a) => a
+                .as_i32()
+                .ok_or_else(|| CopyError::BadVariantAttrib(opts.variant_attrib.clone()))?
+                .iter()
+                .map(|&v| v.rem_euclid(pieces.len() as i32) as usize)
+                .collect(),
+        }
+    };
+    let xforms = ops::instance_transforms(template);
+    let carried: Vec<&str> = template
+        .attribs(AttribClass::Point)
+        .names()
+        .filter(|name| !PLACEMENT.contains(name))
+        .collect();
+    if opts.packed {
+        let mut out = Geometry::new();
+        // Packed world transform = T(point) * local: the point is the copy's
+        // origin, so the local part is the rest of the instance matrix.
+        for (k, piece) in pieces.iter().enumerate() {
+            let members: Vec<usize> = (0..n).filter(|&i| choice[i] == k).collect();
+            if members.is_empty() {
+                continue;
+            }
+            let positions: Vec<_> = members
+                .iter()
+                .map(|&i| xforms[i].w_axis.truncate())
+                .collect();
+            let locals: Vec<Mat4> = members
+                .iter()
+                .map(|&i| Mat4::from_translation(-xforms[i].w_axis.truncate()) * xforms[i])
+                .collect();
+            let first = out.num_points();
+            out.add_packed_many(piece, &positions, &locals)?;
+            let indices: Vec<u32> = members.iter().map(|&i| i as u32).collect();
+            carry(template, &carried, &indices, &mut out, first)?;
+        }
+        return Ok(out);
+    }
+    let copies: Vec<Geometry> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let mut g = (*pieces[choice[i]]).clone();
+            ops::transform(&mut g, xforms[i]);
+            g
+        })
+        .collect();
+    let mut out = ops::merge(&copies.iter().collect::<Vec<_>>())?;
+    // Each copy's points get its template point's values.
+    let indices: Vec<u32> = copies
+        .iter()
+        .enumerate()
+        .flat_map(|(i, g)| std::iter::repeat_n(i as u32, g.num_points()))
+        .collect();
+    carry(template, &carried, &indices, &mut out, 0)?;
+    Ok(out)
+}
+
+/// Sets point attributes `names` of `out` from `from`'s points: output point
+/// `first + k` takes template point `indices[k]` (others keep defaults).
+fn carry(
+    from: &Geometry,
+    names: &[&str],
+    indices: &[u32],
+    out: &mut Geometry,
+    first: usize,
+) -> Result<(), GeoError> {
+    for name in names {
+        let Some(a) = from.attrib(AttribClass::Point, name) else {
+            continue;
+        };
+        let values = a.data().gather(indices);
+        let total = out.num_points();
+        let column = out.attribs_mut(AttribClass::Point).get_or_create(
+            name,
+            a.default_value().clone(),
+            a.type_info,
+        )?;
+        let mut column = column.values_mut();
+        for (k, i) in (first..first + indices.len()).enumerate() {
+            if i < total {
+                column
+                    .set(i, &values.get(k))
+                    .map_err(|found| GeoError::AttribType {
+                        class: AttribClass::Point,
+                        name: (*name).into(),
+                        expected: a.attrib_type(),
+                        found,
+                    })?;
+            }
+        }
+    }
+    Ok(())
+}
