@@ -10,6 +10,7 @@ mod group;
 mod hash;
 pub mod ops;
 pub mod primitives;
+pub mod random;
 pub mod topology;
 
 pub use attrib::{

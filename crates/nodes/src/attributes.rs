@@ -95,18 +95,6 @@ impl Operator for Create {
     }
 }
 
-/// A uniform value in [0, 1) from (seed, element, component): SplitMix64, so
-/// each element's value is independent of how the work is split.
-pub fn unit_random(seed: u64, element: u64, component: u64) -> f32 {
-    let mut z = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        ^ element.wrapping_mul(0xBF58_476D_1CE4_E5B9)
-        ^ component.wrapping_mul(0x94D0_49BB_1331_11EB);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    (z >> 40) as f32 / (1u64 << 24) as f32
-}
-
 struct Randomize;
 static RANDOMIZE: NodeSpec = NodeSpec::new(
     "attribute_randomize",
@@ -140,7 +128,7 @@ impl Operator for Randomize {
         let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
         let seed = p.int("seed")? as u64;
         let n = count(&g, c) as u64;
-        let r = |e: u64, k: u64| unit_random(seed, e, k);
+        let r = |e: u64, k: u64| geode_geo::random::unit(seed, e, k);
         let (data, info) = match p.string("type")? {
             "float" => (
                 AttribData::Float((0..n).map(|e| lo.x + (hi.x - lo.x) * r(e, 0)).collect()),
@@ -168,17 +156,4 @@ impl Operator for Randomize {
 pub fn register(r: &mut Registry) {
     r.add(Create);
     r.add(Randomize);
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn random_is_uniform_enough_and_seeded() {
-        let v: Vec<f32> = (0..100_000).map(|i| super::unit_random(7, i, 0)).collect();
-        let mean = v.iter().sum::<f32>() / v.len() as f32;
-        assert!((mean - 0.5).abs() < 0.01, "{mean}");
-        assert!(v.iter().all(|x| (0.0..1.0).contains(x)));
-        assert_ne!(super::unit_random(7, 1, 0), super::unit_random(8, 1, 0));
-        assert_eq!(super::unit_random(7, 1, 0), super::unit_random(7, 1, 0));
-    }
 }
