@@ -8,6 +8,7 @@
 pub mod copy;
 pub mod frames;
 pub mod polyline;
+pub mod rebuild;
 pub mod resample;
 pub mod shapes;
 pub mod sweep;
@@ -15,5 +16,6 @@ pub mod sweep;
 pub use copy::{copy_to_points, CopyError, CopyOptions};
 pub use frames::{frames, tangents, Frame, FrameMethod, TangentMode};
 pub use polyline::{curves, Curve};
+pub use rebuild::{rebuild, CurveOut};
 pub use resample::{carve, resample_by_count, resample_by_length, smooth, Sample};
 pub use sweep::{sweep, SweepOptions};

@@ -301,6 +301,34 @@ impl AttribData {
         }
     }
 
+    /// A new column of blends `(a, b, t)`: `(1 - t) a + t b` for numbers and
+    /// vectors, a normalized slerp for quaternions, and the nearer element
+    /// for integers, matrices and strings (they do not interpolate).
+    pub fn blend(&self, pairs: &[(u32, u32, f32)]) -> AttribData {
+        fn mix<T: Copy>(v: &[T], pairs: &[(u32, u32, f32)], f: impl Fn(T, T, f32) -> T) -> Vec<T> {
+            pairs
+                .iter()
+                .map(|&(a, b, t)| f(v[a as usize], v[b as usize], t))
+                .collect()
+        }
+        let nearest: Vec<u32> = pairs
+            .iter()
+            .map(|&(a, b, t)| if t < 0.5 { a } else { b })
+            .collect();
+        match self {
+            AttribData::Float(v) => AttribData::Float(mix(v, pairs, |a, b, t| a + (b - a) * t)),
+            AttribData::Vec2(v) => AttribData::Vec2(mix(v, pairs, |a, b, t| a.lerp(b, t))),
+            AttribData::Vec3(v) => AttribData::Vec3(mix(v, pairs, |a, b, t| a.lerp(b, t))),
+            AttribData::Vec4(v) => AttribData::Vec4(mix(v, pairs, |a, b, t| a.lerp(b, t))),
+            AttribData::Quat(v) => {
+                AttribData::Quat(mix(v, pairs, |a, b, t| a.slerp(b, t).normalize()))
+            }
+            AttribData::Int(_) | AttribData::Mat4(_) | AttribData::String(_) => {
+                self.gather(&nearest)
+            }
+        }
+    }
+
     /// Appends `other`'s elements; false when the types differ.
     pub(crate) fn append(&mut self, other: &AttribData) -> bool {
         match (self, other) {

@@ -3,14 +3,20 @@
 
 mod attributes;
 mod bundles;
+mod curve_ops;
+mod curves;
 mod expr;
 mod file;
 mod flow;
+mod frames;
 mod frep;
 mod frep_mesh;
 mod groups;
+mod growth;
+mod instancing;
 mod mesh;
 mod primitives;
+mod scatter;
 mod transform;
 mod util;
 
@@ -31,5 +37,11 @@ pub fn registry() -> Registry {
     groups::register(&mut r);
     mesh::register(&mut r);
     bundles::register(&mut r);
+    curves::register(&mut r);
+    curve_ops::register(&mut r);
+    frames::register(&mut r);
+    instancing::register(&mut r);
+    scatter::register(&mut r);
+    growth::register(&mut r);
     r
 }

@@ -1,0 +1,246 @@
+//! Curve edits: resample by length or count, smooth, carve a range,
+//! reverse, join. Resampling and carving blend every point attribute
+//! between the points a new point falls between.
+
+use geode_curve::polyline::glam_d::DVec3;
+use geode_curve::resample::{self, Sample};
+use geode_curve::{curves, rebuild, Curve, CurveOut};
+use geode_geo::{ops, Geometry};
+use geode_op::{
+    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
+};
+
+use crate::util::{geometry, input, input_owned};
+
+fn positions(g: &Geometry, c: &Curve) -> Vec<DVec3> {
+    let p = g.positions();
+    c.points.iter().map(|&i| p[i as usize].as_dvec3()).collect()
+}
+
+/// Rebuilds every curve of `g` from the samples `f` picks on it; other
+/// primitives are dropped (an error if there are no curves at all).
+fn rebuild_curves(
+    ctx: &CookContext,
+    g: &Geometry,
+    f: impl Fn(&Curve, &[DVec3]) -> (Vec<Sample>, bool),
+) -> Result<Value, CookError> {
+    let cs = curves(g);
+    if cs.is_empty() {
+        return Err(ctx.error("input 1 has no curves (polylines or polygons)"));
+    }
+    let outs: Vec<CurveOut> = cs
+        .iter()
+        .map(|c| {
+            let pts = positions(g, c);
+            let (samples, closed) = f(c, &pts);
+            let n = c.points.len();
+            let points = samples
+                .iter()
+                .map(|s| {
+                    let (a, b) = s.ends(n);
+                    (c.points[a], c.points[b], s.t as f32)
+                })
+                .collect();
+            CurveOut {
+                prim: c.prim,
+                closed,
+                points,
+            }
+        })
+        .collect();
+    geometry(rebuild(g, &outs).map_err(|e| ctx.error(e.to_string()))?)
+}
+
+struct Resample;
+static RESAMPLE: NodeSpec = NodeSpec::new(
+    "resample",
+    "Resample",
+    "curve",
+    "Evenly spaced points along every curve, by segment length or by count; point attributes are interpolated.",
+    &[geometry_input("curves")],
+    &[
+        P::new("mode", "Mode", T::Menu(&["length", "count"]), D::Str("length"), "length: segments of about `length` (evened out so the ends land exactly); count: `count` points per curve."),
+        P::new("length", "Length", T::Float, D::Float(0.1), "Segment length.").at_least(1e-9),
+        P::new("count", "Count", T::Int, D::Int(20), "Points per curve.").range(2.0, 16_777_216.0),
+    ],
+);
+impl Operator for Resample {
+    fn spec(&self) -> &'static NodeSpec {
+        &RESAMPLE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input(ctx, inputs, 0)?;
+        let by_count = p.string("mode")? == "count";
+        let (length, count) = (p.float("length")?, p.int("count")? as usize);
+        rebuild_curves(ctx, g, |c, pts| {
+            let s = if by_count {
+                resample::resample_by_count(pts, c.closed, count)
+            } else {
+                resample::resample_by_length(pts, c.closed, length)
+            };
+            (s, c.closed)
+        })
+    }
+}
+
+struct Carve;
+static CARVE: NodeSpec = NodeSpec::new(
+    "carve",
+    "Carve",
+    "curve",
+    "Keeps the part of every curve between two fractions of its length (a closed curve is cut open at its first point).",
+    &[geometry_input("curves")],
+    &[
+        P::new("from", "From", T::Float, D::Float(0.0), "Start, as a fraction of the length.").range(0.0, 1.0),
+        P::new("to", "To", T::Float, D::Float(1.0), "End, as a fraction of the length.").range(0.0, 1.0),
+    ],
+);
+impl Operator for Carve {
+    fn spec(&self) -> &'static NodeSpec {
+        &CARVE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input(ctx, inputs, 0)?;
+        let (from, to) = (p.float("from")?, p.float("to")?);
+        rebuild_curves(ctx, g, |c, pts| {
+            if c.closed {
+                // Open the loop: the first point again at the end (its last
+                // segment is the closing one, which `ends` wraps to point 0).
+                let mut open = pts.to_vec();
+                open.push(pts[0]);
+                (resample::carve(&open, from, to), false)
+            } else {
+                (resample::carve(pts, from, to), false)
+            }
+        })
+    }
+}
+
+struct Smooth;
+static SMOOTH: NodeSpec = NodeSpec::new(
+    "curve_smooth",
+    "Smooth Curve",
+    "curve",
+    "Moves each point toward the mean of its neighbours (Laplacian smoothing); open curves keep their ends.",
+    &[geometry_input("curves")],
+    &[
+        P::new("strength", "Strength", T::Float, D::Float(0.5), "How far toward the mean per pass.").range(0.0, 1.0),
+        P::new("iterations", "Iterations", T::Int, D::Int(10), "Passes.").range(0.0, 100_000.0),
+    ],
+);
+impl Operator for Smooth {
+    fn spec(&self) -> &'static NodeSpec {
+        &SMOOTH
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        let (strength, iterations) = (p.float("strength")?, p.int("iterations")? as usize);
+        for c in curves(&g) {
+            ctx.check()?;
+            let smoothed = resample::smooth(&positions(&g, &c), c.closed, strength, iterations);
+            let pos = g.positions_mut();
+            for (&i, q) in c.points.iter().zip(smoothed) {
+                pos[i as usize] = q.as_vec3();
+            }
+        }
+        geometry(g)
+    }
+}
+
+struct Reverse;
+static REVERSE: NodeSpec = NodeSpec::new(
+    "reverse",
+    "Reverse",
+    "curve",
+    "Reverses the vertex order of every primitive: curves run the other way, polygons face the other side.",
+    &[geometry_input("geometry")],
+    &[],
+);
+impl Operator for Reverse {
+    fn spec(&self) -> &'static NodeSpec {
+        &REVERSE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        let mut g = input_owned(ctx, inputs, 0)?;
+        ops::reverse_prims(&mut g, None);
+        geometry(g)
+    }
+}
+
+struct Join;
+static JOIN: NodeSpec = NodeSpec::new(
+    "join",
+    "Join Curves",
+    "curve",
+    "Joins all open curves into one, in primitive order, each continuing from the end of the previous (a shared end point is used once).",
+    &[geometry_input("curves")],
+    &[P::new("close", "Close", T::Toggle, D::Toggle(false), "Close the joined curve.")],
+);
+impl Operator for Join {
+    fn spec(&self) -> &'static NodeSpec {
+        &JOIN
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input(ctx, inputs, 0)?;
+        let open: Vec<Curve> = curves(g).into_iter().filter(|c| !c.closed).collect();
+        let Some(first) = open.first() else {
+            return Err(ctx.error("input 1 has no open curves to join"));
+        };
+        let pos = g.positions();
+        let mut points: Vec<(u32, u32, f32)> = Vec::new();
+        for c in &open {
+            for &i in &c.points {
+                let repeat = points
+                    .last()
+                    .is_some_and(|&(j, _, _)| pos[j as usize] == pos[i as usize]);
+                if !repeat {
+                    points.push((i, i, 0.0));
+                }
+            }
+        }
+        let closed = p.toggle("close")?;
+        let out = CurveOut {
+            prim: first.prim,
+            closed,
+            points,
+        };
+        if out.points.len() < if closed { 3 } else { 2 } {
+            return Err(ctx.error("the joined curve has too few distinct points"));
+        }
+        geometry(rebuild(g, &[out]).map_err(|e| ctx.error(e.to_string()))?)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Resample);
+    r.add(Carve);
+    r.add(Smooth);
+    r.add(Reverse);
+    r.add(Join);
+}

@@ -1,0 +1,225 @@
+//! Scatter nodes: seeded points inside a closed mesh (winding number), on
+//! its surface (by area), or inside a field (f >= 0); uniform or blue noise
+//! (sample elimination), exact in count.
+
+use geode_frep::polygonise::sample as sample_field;
+use geode_geo::glam::Vec3;
+use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
+use geode_growth::scatter::{self, ScatterError};
+use geode_growth::InsideTest;
+use geode_op::{
+    geometry_input, CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D,
+    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
+};
+use rayon::prelude::*;
+
+use crate::util::{geometry, input, vec3};
+
+const COUNT: P = P::new(
+    "count",
+    "Count",
+    T::Int,
+    D::Int(1000),
+    "Exact number of points.",
+)
+.range(0.0, 100_000_000.0);
+const SEED: P = P::new(
+    "seed",
+    "Seed",
+    T::Int,
+    D::Int(0),
+    "Random seed: the same seed gives the same points on any machine and thread count.",
+);
+const RELAX: P = P::new("relax", "Blue noise", T::Toggle, D::Toggle(false), "Spread the points evenly (five times the candidates, the most crowded removed one by one) instead of uniform random.");
+
+/// Blue noise keeps `count` of five times as many candidates.
+const OVERSAMPLE: usize = 5;
+
+fn scatter_error(ctx: &CookContext, e: ScatterError) -> CookError {
+    match e {
+        ScatterError::Cancelled => ctx.error("cancelled"),
+        other => ctx.error(other.to_string()),
+    }
+}
+
+fn points(ctx: &CookContext, pts: Vec<Vec3>) -> Result<Value, CookError> {
+    let mut g = Geometry::new();
+    g.add_points(&pts);
+    let _ = ctx;
+    geometry(g)
+}
+
+/// Points inside a solid given by its bounds and an inside test.
+fn inside(
+    ctx: &CookContext,
+    p: &Params,
+    lo: Vec3,
+    hi: Vec3,
+    test: &(dyn Fn(&[Vec3]) -> Vec<bool> + Sync),
+) -> Result<Vec<Vec3>, CookError> {
+    let count = p.int("count")? as usize;
+    let seed = p.int("seed")? as u64;
+    let relax = p.toggle("relax")?;
+    let wanted = if relax { count * OVERSAMPLE } else { count };
+    let cancel = || ctx.cancel.is_cancelled();
+    let (cands, share) =
+        scatter::inside(lo, hi, wanted, seed, test, &cancel).map_err(|e| scatter_error(ctx, e))?;
+    if !relax {
+        return Ok(cands);
+    }
+    let volume = (hi - lo).as_dvec3().element_product() * share;
+    Ok(scatter::eliminate(&cands, count, volume, 3)
+        .into_iter()
+        .map(|i| cands[i])
+        .collect())
+}
+
+fn triangles(g: &Geometry) -> Vec<[Vec3; 3]> {
+    let p = g.positions();
+    let mut tris = Vec::new();
+    for prim in 0..g.num_prims() {
+        if g.prim_kind(prim) != PrimKind::Polygon {
+            continue;
+        }
+        let pts = g.prim_points(prim);
+        for k in 1..pts.len().saturating_sub(1) {
+            tris.push([
+                p[pts[0] as usize],
+                p[pts[k] as usize],
+                p[pts[k + 1] as usize],
+            ]);
+        }
+    }
+    tris
+}
+
+struct Scatter;
+static SCATTER: NodeSpec = NodeSpec::new(
+    "scatter",
+    "Scatter",
+    "scatter",
+    "Seeded points inside a closed polygon mesh (its winding number decides, so holes and nested shells count right) or on its surface (uniform by area, with the face normal as N).",
+    &[geometry_input("geometry")],
+    &[
+        P::new("mode", "Mode", T::Menu(&["inside", "surface"]), D::Str("inside"), "Fill the solid or cover the surface."),
+        COUNT,
+        SEED,
+        RELAX,
+    ],
+);
+impl Operator for Scatter {
+    fn spec(&self) -> &'static NodeSpec {
+        &SCATTER
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input(ctx, inputs, 0)?;
+        let tris = triangles(g);
+        if tris.is_empty() {
+            return Err(ctx.error("input 1 has no polygons to scatter in or on"));
+        }
+        if p.string("mode")? == "inside" {
+            let b = ops::bounds(g).ok_or_else(|| ctx.error("input 1 is empty"))?;
+            let test = InsideTest::new(tris);
+            let pts = inside(ctx, p, b.min, b.max, &|c: &[Vec3]| {
+                c.par_iter().map(|q| test.contains(*q)).collect()
+            })?;
+            return points(ctx, pts);
+        }
+        let count = p.int("count")? as usize;
+        let seed = p.int("seed")? as u64;
+        let relax = p.toggle("relax")?;
+        let wanted = if relax { count * OVERSAMPLE } else { count };
+        let mut found =
+            scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
+        if relax {
+            let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
+            let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2);
+            found = keep.into_iter().map(|i| found[i]).collect();
+        }
+        let mut out = Geometry::new();
+        out.add_points(&found.iter().map(|x| x.0).collect::<Vec<_>>());
+        let normals = found
+            .iter()
+            .map(|&(_, t)| {
+                let t = &tris[t as usize];
+                (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
+            })
+            .collect();
+        out.set_attrib(
+            AttribClass::Point,
+            "N",
+            Attribute::from_data(AttribData::Vec3(normals), TypeInfo::Normal),
+        )
+        .map_err(|e| ctx.error(e.to_string()))?;
+        geometry(out)
+    }
+}
+
+struct ScatterField;
+static SCATTER_FIELD: NodeSpec = NodeSpec::new(
+    "scatter_field",
+    "Scatter in Field",
+    "scatter",
+    "Seeded points where a field is >= 0 (inside its solid), within a box.",
+    &[InputSpec {
+        name: "field",
+        ty: PortType::Field,
+        required: true,
+    }],
+    &[
+        P::new(
+            "min",
+            "Bounds min",
+            T::Vec3,
+            D::Vec3([-1.0; 3]),
+            "Box corner.",
+        ),
+        P::new(
+            "max",
+            "Bounds max",
+            T::Vec3,
+            D::Vec3([1.0; 3]),
+            "Opposite corner.",
+        ),
+        COUNT,
+        SEED,
+        RELAX,
+    ],
+);
+impl Operator for ScatterField {
+    fn spec(&self) -> &'static NodeSpec {
+        &SCATTER_FIELD
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let f = inputs
+            .first()
+            .and_then(|v| v.as_ref())
+            .and_then(|v| v.as_field())
+            .ok_or_else(|| ctx.error("input 1 needs a field"))?;
+        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+        if (hi - lo).cmple(Vec3::ZERO).any() {
+            return Err(
+                ctx.param_error("max", "the box is empty: max must exceed min on every axis")
+            );
+        }
+        let pts = inside(ctx, p, lo, hi, &|c: &[Vec3]| {
+            sample_field(f, c).into_iter().map(|v| v >= 0.0).collect()
+        })?;
+        points(ctx, pts)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Scatter);
+    r.add(ScatterField);
+}
