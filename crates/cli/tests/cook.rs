@@ -43,6 +43,9 @@ fn every_example_checks_and_cooks() {
     for ex in examples() {
         let o = geode(&["check", &ex], &[]);
         assert!(o.status.success(), "{ex}: {}", text(&o));
+        if ex.contains("million") {
+            continue; // a million instances: see its own test
+        }
         let out = dir.path().join("out.glb");
         let o = geode(&["cook", &ex, "-o", out.to_str().unwrap()], &[]);
         assert!(o.status.success(), "{ex}: {}", text(&o));
@@ -275,13 +278,45 @@ fn cache_environment_switches() {
     );
 }
 
-/// Every FRep example is closed and manifold at several frames, by geode's
-/// report and by trimesh (installed by tools/test.sh; required in CI).
+/// A million packed copies of a 10k-triangle sphere cost a transform each:
+/// the cooked geometry stays near 100 bytes per copy (real copies would take
+/// the sphere's 200 kB each, 200 GB in all).
 #[test]
-fn frep_examples_are_watertight() {
+fn a_million_packed_copies_cost_about_a_transform_each() {
+    let o = geode(&["cook", "examples/instances_million.json", "--stats"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    let bytes = |node: &str| -> f64 {
+        let line = out
+            .lines()
+            .find(|l| l.trim_start().starts_with(node))
+            .unwrap_or_else(|| panic!("{node} in {out}"));
+        line.split_whitespace()
+            .rev()
+            .nth(1)
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (copies, sphere) = (bytes("/copies "), bytes("/ball "));
+    assert!(sphere > 150_000.0, "a 10k-triangle source: {sphere}");
+    assert!(copies / 1e6 < 200.0, "{copies} bytes for a million copies");
+    assert!(
+        copies < sphere * 1e6 / 1000.0,
+        "a thousand times less than real copies"
+    );
+}
+
+/// Every FRep example, the coral and the chain are closed and manifold at
+/// several frames, by geode's report and by trimesh (installed by
+/// tools/test.sh; required in CI).
+#[test]
+fn mesh_examples_are_watertight() {
     let dir = tempfile::tempdir().unwrap();
     let mut files = Vec::new();
-    for ex in examples().into_iter().filter(|e| e.contains("/frep_")) {
+    for ex in examples().into_iter().filter(|e| {
+        e.contains("/frep_") || e.ends_with("/coral.json") || e.ends_with("/chain.json")
+    }) {
         for frame in ["1", "24", "48"] {
             let out = dir
                 .path()

@@ -363,3 +363,66 @@ impl<'t> GradEval<'t> {
         r[self.tape.output()]
     }
 }
+
+/// Values and exact gradients of many points: [`GradEval`]'s arithmetic run
+/// one instruction at a time over blocks of [`LANES`] points, so the
+/// interpreter's dispatch is paid once per block, not per point.
+pub struct BatchGradEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<Grad>,
+}
+
+impl<'t> BatchGradEval<'t> {
+    pub fn new(tape: &'t Tape) -> BatchGradEval<'t> {
+        BatchGradEval {
+            tape,
+            regs: vec![Grad::default(); tape.slots() * LANES],
+        }
+    }
+
+    /// `out[i]` = value and gradient at `points[i]`.
+    pub fn eval(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
+        assert_eq!(points.len(), out.len(), "a result per point");
+        for (pts, res) in points.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let len = pts.len();
+            let regs = &mut self.regs;
+            for ins in self.tape.instrs() {
+                match *ins {
+                    Instr::Var { out, axis } => {
+                        let o = out as usize * LANES;
+                        let mut d = [0.0; 3];
+                        d[axis as usize] = 1.0;
+                        for (r, p) in regs[o..o + len].iter_mut().zip(pts) {
+                            *r = Grad {
+                                v: p[axis as usize],
+                                d,
+                            };
+                        }
+                    }
+                    Instr::Const { out, value } => {
+                        let o = out as usize * LANES;
+                        regs[o..o + len].fill(Grad {
+                            v: value,
+                            d: [0.0; 3],
+                        });
+                    }
+                    Instr::Unary { op, out, a } => {
+                        let (o, a) = (out as usize * LANES, a as usize * LANES);
+                        for i in 0..len {
+                            regs[o + i] = grad_unary(op, regs[a + i]);
+                        }
+                    }
+                    Instr::Binary { op, out, a, b } => {
+                        let (o, a, b) =
+                            (out as usize * LANES, a as usize * LANES, b as usize * LANES);
+                        for i in 0..len {
+                            regs[o + i] = grad_binary(op, regs[a + i], regs[b + i]);
+                        }
+                    }
+                }
+            }
+            let o = self.tape.output() * LANES;
+            res.copy_from_slice(&regs[o..o + len]);
+        }
+    }
+}

@@ -16,7 +16,7 @@ pub mod shapes;
 pub mod tape;
 pub mod vm;
 
-pub use eval::{BatchEval, Grad, GradEval, IntervalEval, PointEval, LANES};
+pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use interval::Interval;
 pub use polygonise::{polygonise, sample, MeshError, MeshOptions, MeshStats};

@@ -19,22 +19,23 @@ pub(crate) struct Cells {
     pub h: f64,
 }
 
-/// Splits each vertex of `candidates` (ascending, deduplicated) whose link
-/// is not a simple cycle.
+/// Splits each vertex of `candidates` (ascending, deduplicated, each with
+/// the index of its brick's tape in `tapes`) whose link is not a simple
+/// cycle.
 /// Returns how many vertices were added.
 pub(crate) fn split_pinched_vertices(
     positions: &mut Vec<Vec3>,
     normals: &mut Vec<Vec3>,
     triangles: &mut [[u32; 3]],
-    candidates: &[u32],
-    tape: &Tape,
+    candidates: &[(u32, u32)],
+    tapes: &[&Tape],
     cells: &Cells,
 ) -> usize {
     if candidates.is_empty() {
         return 0;
     }
     let mut incident: HashMap<u32, Vec<u32>> =
-        candidates.iter().map(|&v| (v, Vec::new())).collect();
+        candidates.iter().map(|&(v, _)| (v, Vec::new())).collect();
     for (t, tri) in triangles.iter().enumerate() {
         for v in tri {
             if let Some(list) = incident.get_mut(v) {
@@ -42,15 +43,17 @@ pub(crate) fn split_pinched_vertices(
             }
         }
     }
-    let mut point = PointEval::new(tape);
-    let mut grad = GradEval::new(tape);
     let before = positions.len();
-    for &v in candidates {
+    for &(v, brick) in candidates {
         let tris = &incident[&v];
         let fans = fans_around(v, tris, triangles);
         if fans.len() < 2 {
             continue;
         }
+        // The brick's tape: simplified for its region, which holds the
+        // vertex's cell and so every copy.
+        let tape = tapes[brick as usize];
+        let (mut point, mut grad) = (PointEval::new(tape), GradEval::new(tape));
         let origin = positions[v as usize];
         let mut placed: Vec<Vec3> = Vec::with_capacity(fans.len());
         for (k, fan) in fans.iter().enumerate() {

@@ -15,7 +15,7 @@ use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use rayon::prelude::*;
 
-use crate::eval::{BatchEval, GradEval, IntervalEval, PointEval};
+use crate::eval::{BatchEval, BatchGradEval, Grad, IntervalEval, PointEval};
 use crate::field::Field;
 use crate::interval::Interval;
 use crate::pinch;
@@ -261,12 +261,12 @@ fn solve_roots(batch: &mut BatchEval, roots: &mut [Root]) {
 
 /// `-grad f / |grad f|`; central differences where the gradient is
 /// singular (a kink exactly at the point), the segment direction never.
-fn outward_normal(point: &mut PointEval, grad: &mut GradEval, p: [f64; 3]) -> [f64; 3] {
+fn outward_normal(point: &mut PointEval, gradient: [f64; 3], p: [f64; 3]) -> [f64; 3] {
     let unit = |g: [f64; 3]| {
         let len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
         (len > 0.0 && len.is_finite()).then(|| g.map(|x| -x / len))
     };
-    if let Some(n) = unit(grad.eval(p).d) {
+    if let Some(n) = unit(gradient) {
         return n;
     }
     let h = 1e-7 * (1.0 + p.iter().fold(0.0f64, |m, x| m.max(x.abs())));
@@ -277,6 +277,22 @@ fn outward_normal(point: &mut PointEval, grad: &mut GradEval, p: [f64; 3]) -> [f
         (point.eval(b) - point.eval(a)) / (2.0 * h)
     });
     unit(g).unwrap_or([0.0, 1.0, 0.0])
+}
+
+/// Outward unit normals at many points: exact gradients in one batch, the
+/// scalar fallback only where a gradient vanishes.
+fn outward_normals(
+    point: &mut PointEval,
+    grads: &mut BatchGradEval,
+    points: &[[f64; 3]],
+) -> Vec<[f64; 3]> {
+    let mut g = vec![Grad::default(); points.len()];
+    grads.eval(points, &mut g);
+    points
+        .iter()
+        .zip(&g)
+        .map(|(p, g)| outward_normal(point, g.d, *p))
+        .collect()
 }
 
 fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> BrickOut {
@@ -301,7 +317,8 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
     batch.eval(&xs, &ys, &zs, &mut values);
     let at = |c: [usize; 3]| values[c[0] + m * (c[1] + m * c[2])];
     let mut point = PointEval::new(tape);
-    let mut grad = GradEval::new(tape);
+    let mut grads = BatchGradEval::new(tape);
+    let mut vertex_points: Vec<[f64; 3]> = Vec::new();
     // Every crossed edge of the brick, solved together.
     let mut roots = Vec::new();
     for k in 0..m {
@@ -335,12 +352,12 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
         }
     }
     solve_roots(&mut batch, &mut roots);
+    let root_points: Vec<[f64; 3]> = roots.iter().map(Root::point).collect();
+    let root_normals = outward_normals(&mut point, &mut grads, &root_points);
     let crossings: HashMap<u64, ([f64; 3], [f64; 3])> = roots
         .iter()
-        .map(|r| {
-            let p = r.point();
-            (r.key, (p, outward_normal(&mut point, &mut grad, p)))
-        })
+        .zip(root_points.into_iter().zip(root_normals))
+        .map(|(r, pn)| (r.key, pn))
         .collect();
     let mut out = BrickOut {
         positions: Vec::new(),
@@ -444,12 +461,10 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
                     for a in 0..3 {
                         x[a] = x[a].clamp(cmin[a] + margin, cmax[a] - margin);
                     }
-                    let n = outward_normal(&mut point, &mut grad, x);
-                    let n = Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32);
                     component_vertex[*root] = out.positions.len() as u32;
                     out.positions
                         .push(Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32));
-                    out.normals.push(n);
+                    vertex_points.push(x);
                 }
                 for &(a, b) in &ambiguous {
                     let root = find(&mut parent, a);
@@ -466,6 +481,10 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
             }
         }
     }
+    out.normals = outward_normals(&mut point, &mut grads, &vertex_points)
+        .into_iter()
+        .map(|n| Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32))
+        .collect();
     out
 }
 
@@ -556,7 +575,6 @@ pub fn polygonise(
     let half: [f64; 3] = std::array::from_fn(|k| 0.5 * size[k]);
     let clipped = field.min(shapes::block(center, half));
     let tape = Arc::new(Tape::compile(&clipped));
-    let full_tape = Arc::clone(&tape);
     let top = grid
         .bricks
         .iter()
@@ -591,19 +609,20 @@ pub fn polygonise(
     let mut positions = Vec::new();
     let mut normals = Vec::new();
     let mut refs: Vec<(u64, u8, u32, bool)> = Vec::new();
-    let mut pinched: Vec<u32> = Vec::new();
+    // Pinch candidates with the brick whose (simplified) tape is valid there.
+    let mut pinched: Vec<(u32, u32)> = Vec::new();
     let mut stats = MeshStats {
         bricks_total: grid.bricks.iter().product(),
         bricks_meshed: outs.len(),
         cells_with_surface: 0,
         vertices_split: 0,
     };
-    for o in outs {
+    for (brick, o) in outs.into_iter().enumerate() {
         let offset = positions.len() as u32;
         positions.extend(o.positions);
         normals.extend(o.normals);
         refs.extend(o.refs.into_iter().map(|(k, s, v, p)| (k, s, v + offset, p)));
-        pinched.extend(o.pinched.into_iter().map(|v| v + offset));
+        pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
         stats.cells_with_surface += o.cells;
     }
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
@@ -630,13 +649,14 @@ pub fn polygonise(
         }
     }
     pinched.sort_unstable();
-    pinched.dedup();
+    pinched.dedup_by_key(|c| c.0);
+    let tapes: Vec<&Tape> = bricks.iter().map(|(_, t)| t.as_ref()).collect();
     stats.vertices_split = pinch::split_pinched_vertices(
         &mut positions,
         &mut normals,
         &mut triangles,
         &pinched,
-        &full_tape,
+        &tapes,
         &pinch::Cells {
             origin: grid.origin,
             h: grid.h,

@@ -4,7 +4,8 @@
 //! contain the point values, and simplified tapes agree inside their region.
 
 use geode_frep::{
-    BatchEval, Binary, Field, GradEval, Interval, IntervalEval, PointEval, Tape, Unary,
+    BatchEval, BatchGradEval, Binary, Field, Grad, GradEval, Interval, IntervalEval, PointEval,
+    Tape, Unary,
 };
 use proptest::prelude::*;
 
@@ -160,6 +161,25 @@ fn gradients_are_exact() {
                         gr.d[axis]
                     );
                 }
+            }
+        }
+    }
+}
+
+#[test]
+fn batch_gradients_equal_point_gradients() {
+    let pts = points(700);
+    for (name, f) in cases() {
+        let tape = Tape::compile(&f);
+        let mut one = GradEval::new(&tape);
+        let mut many = BatchGradEval::new(&tape);
+        let mut out = vec![Grad::default(); pts.len()];
+        many.eval(&pts, &mut out);
+        for (pt, got) in pts.iter().zip(&out) {
+            let want = one.eval(*pt);
+            assert!(same(got.v, want.v), "{name}: value at {pt:?}");
+            for k in 0..3 {
+                assert!(same(got.d[k], want.d[k]), "{name}: d{k} at {pt:?}");
             }
         }
     }
