@@ -114,6 +114,15 @@ mod tests {
             (m.transform_vector3(Vec3::Y) - Vec3::Y).length() < 1e-6,
             "up stays up"
         );
+        // With up, +Y turns toward it (made perpendicular to N).
+        let g = point_with(&[
+            ("N", AttribData::Vec3(vec![Vec3::X])),
+            ("up", AttribData::Vec3(vec![Vec3::new(0.5, 0.0, 1.0)])),
+        ]);
+        let m = instance_transforms(&g)[0];
+        assert!((m.transform_vector3(Vec3::Z) - Vec3::X).length() < 1e-6);
+        assert!((m.transform_vector3(Vec3::Y) - Vec3::Z).length() < 1e-6);
+        assert!((m.transform_vector3(Vec3::X) - Vec3::Y).length() < 1e-6, "right-handed");
         // rot turns the copy before orient.
         let g = point_with(&[
             ("orient", AttribData::Quat(vec![q90])),
