@@ -30,6 +30,14 @@ const SEED: P = P::new(
     D::Int(0),
     "Random seed: the same seed gives the same points on any machine and thread count.",
 );
+const DENSITY: P = P::new(
+    "density",
+    "Density",
+    T::Float,
+    D::Float(0.0),
+    "Points per unit volume (inside) or area (surface); when above 0 it sets the count.",
+)
+.at_least(0.0);
 const RELAX: P = P::new("relax", "Blue noise", T::Toggle, D::Toggle(false), "Spread the points evenly (five times the candidates, the most crowded removed one by one) instead of uniform random.");
 
 /// Blue noise keeps `count` of five times as many candidates.
@@ -42,11 +50,46 @@ fn scatter_error(ctx: &CookContext, e: ScatterError) -> CookError {
     }
 }
 
-fn points(ctx: &CookContext, pts: Vec<Vec3>) -> Result<Value, CookError> {
+fn points(pts: Vec<Vec3>) -> Result<Value, CookError> {
     let mut g = Geometry::new();
     g.add_points(&pts);
-    let _ = ctx;
     geometry(g)
+}
+
+/// The point count: `density` x the measure (volume or area) when density
+/// is set, else `count`.
+fn target_count(
+    ctx: &CookContext,
+    p: &Params,
+    measure: impl FnOnce() -> f64,
+) -> Result<usize, CookError> {
+    let density = p.float("density")?;
+    if density <= 0.0 {
+        return Ok(p.int("count")? as usize);
+    }
+    let n = (density * measure()).round();
+    if !(0.0..=1e8).contains(&n) {
+        return Err(ctx.param_error("density", format!("gives {n} points; at most 100000000")));
+    }
+    Ok(n as usize)
+}
+
+/// The share of the box `lo..hi` that passes `test`, from a fixed probe of
+/// candidates (seeded apart from the scatter's own).
+fn probe_share(lo: Vec3, hi: Vec3, seed: u64, test: &(dyn Fn(&[Vec3]) -> Vec<bool> + Sync)) -> f64 {
+    const PROBE: u64 = 1 << 16;
+    let probe_seed = seed ^ 0x5EED_0F_DE45_17E5;
+    let cands: Vec<Vec3> = (0..PROBE)
+        .map(|i| {
+            lo + (hi - lo)
+                * Vec3::new(
+                    geode_geo::random::unit(probe_seed, i, 0),
+                    geode_geo::random::unit(probe_seed, i, 1),
+                    geode_geo::random::unit(probe_seed, i, 2),
+                )
+        })
+        .collect();
+    test(&cands).into_iter().filter(|&b| b).count() as f64 / PROBE as f64
 }
 
 /// Points inside a solid given by its bounds and an inside test.
@@ -56,8 +99,8 @@ fn inside(
     lo: Vec3,
     hi: Vec3,
     test: &(dyn Fn(&[Vec3]) -> Vec<bool> + Sync),
+    count: usize,
 ) -> Result<Vec<Vec3>, CookError> {
-    let count = p.int("count")? as usize;
     let seed = p.int("seed")? as u64;
     let relax = p.toggle("relax")?;
     let wanted = if relax { count * OVERSAMPLE } else { count };
@@ -103,6 +146,7 @@ static SCATTER: NodeSpec = NodeSpec::new(
     &[
         P::new("mode", "Mode", T::Menu(&["inside", "surface"]), D::Str("inside"), "Fill the solid or cover the surface."),
         COUNT,
+        DENSITY,
         SEED,
         RELAX,
     ],
@@ -124,13 +168,19 @@ impl Operator for Scatter {
         }
         if p.string("mode")? == "inside" {
             let b = ops::bounds(g).ok_or_else(|| ctx.error("input 1 is empty"))?;
+            let count = target_count(ctx, p, || ops::signed_volume(g).abs() as f64)?;
             let test = InsideTest::new(tris);
-            let pts = inside(ctx, p, b.min, b.max, &|c: &[Vec3]| {
-                c.par_iter().map(|q| test.contains(*q)).collect()
-            })?;
-            return points(ctx, pts);
+            let pts = inside(
+                ctx,
+                p,
+                b.min,
+                b.max,
+                &|c: &[Vec3]| c.par_iter().map(|q| test.contains(*q)).collect(),
+                count,
+            )?;
+            return points(pts);
         }
-        let count = p.int("count")? as usize;
+        let count = target_count(ctx, p, || scatter::area(&tris))?;
         let seed = p.int("seed")? as u64;
         let relax = p.toggle("relax")?;
         let wanted = if relax { count * OVERSAMPLE } else { count };
@@ -187,6 +237,7 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
             "Opposite corner.",
         ),
         COUNT,
+        DENSITY,
         SEED,
         RELAX,
     ],
@@ -212,10 +263,15 @@ impl Operator for ScatterField {
                 ctx.param_error("max", "the box is empty: max must exceed min on every axis")
             );
         }
-        let pts = inside(ctx, p, lo, hi, &|c: &[Vec3]| {
+        let test = |c: &[Vec3]| -> Vec<bool> {
             sample_field(f, c).into_iter().map(|v| v >= 0.0).collect()
+        };
+        let seed = p.int("seed")? as u64;
+        let count = target_count(ctx, p, || {
+            (hi - lo).as_dvec3().element_product() * probe_share(lo, hi, seed, &test)
         })?;
-        points(ctx, pts)
+        let pts = inside(ctx, p, lo, hi, &test, count)?;
+        points(pts)
     }
 }
 

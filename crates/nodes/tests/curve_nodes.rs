@@ -200,3 +200,15 @@ fn colonization_terminates_grows_by_frame_and_thickens_to_the_root() {
         }
     }
 }
+
+#[test]
+fn density_sets_the_count_from_volume_or_area() {
+    let count = |mode: &str, density: f64| {
+        geo(&format!(r#""b": {{"type": "box", "params": {{"size": [2, 2, 2]}}}}, "s": {{"type": "scatter", "inputs": ["b"], "params": {{"mode": "{mode}", "density": {density}}}}}"#), "s").num_points()
+    };
+    assert_eq!(count("inside", 100.0), 800, "volume 8");
+    assert_eq!(count("surface", 10.0), 240, "area 24");
+    let n = geo(r#""f": {"type": "frep_sphere", "params": {"radius": 1}}, "s": {"type": "scatter_field", "inputs": ["f"], "params": {"min": [-1, -1, -1], "max": [1, 1, 1], "density": 1000}}"#, "s").num_points();
+    let want = 4000.0 * std::f64::consts::PI / 3.0;
+    assert!((n as f64 - want).abs() / want < 0.02, "{n} vs {want}");
+}

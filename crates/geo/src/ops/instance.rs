@@ -122,7 +122,10 @@ mod tests {
         let m = instance_transforms(&g)[0];
         assert!((m.transform_vector3(Vec3::Z) - Vec3::X).length() < 1e-6);
         assert!((m.transform_vector3(Vec3::Y) - Vec3::Z).length() < 1e-6);
-        assert!((m.transform_vector3(Vec3::X) - Vec3::Y).length() < 1e-6, "right-handed");
+        assert!(
+            (m.transform_vector3(Vec3::X) - Vec3::Y).length() < 1e-6,
+            "right-handed"
+        );
         // rot turns the copy before orient.
         let g = point_with(&[
             ("orient", AttribData::Quat(vec![q90])),
