@@ -78,7 +78,7 @@ fn target_count(
 /// candidates (seeded apart from the scatter's own).
 fn probe_share(lo: Vec3, hi: Vec3, seed: u64, test: &(dyn Fn(&[Vec3]) -> Vec<bool> + Sync)) -> f64 {
     const PROBE: u64 = 1 << 16;
-    let probe_seed = seed ^ 0x5EED_0F_DE45_17E5;
+    let probe_seed = seed ^ 0x005E_ED0F_DE45_17E5;
     let cands: Vec<Vec3> = (0..PROBE)
         .map(|i| {
             lo + (hi - lo)
