@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every test of the workspace, with the external reference validators
-# (Khronos glTF validator from npm, Pixar's usd-core and trimesh from PyPI)
-# installed into tools/ first, so that nothing has to be installed by hand.
+# (Khronos glTF validator from npm, Pixar's usd-core and trimesh from PyPI,
+# OpenSubdiv from Debian for tools/osd_ref) installed first, so that nothing
+# has to be installed by hand.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -15,6 +16,19 @@ if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, t
   tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh >&2
 fi
 
+# OpenSubdiv (Debian's libosd-dev) for the Catmull-Clark reference program.
+if [ ! -f /usr/include/opensubdiv/far/topologyRefiner.h ]; then
+  echo "installing libosd-dev (Debian) for tools/osd_ref" >&2
+  if [ "$(id -u)" = 0 ]; then apt_get=apt-get; else apt_get="sudo apt-get"; fi
+  DEBIAN_FRONTEND=noninteractive $apt_get install -y -q libosd-dev >&2 \
+    || { DEBIAN_FRONTEND=noninteractive $apt_get update -q >&2 && DEBIAN_FRONTEND=noninteractive $apt_get install -y -q libosd-dev >&2; }
+fi
+if [ ! -x tools/osd_ref/osd_ref ] || [ tools/osd_ref/osd_ref.cpp -nt tools/osd_ref/osd_ref ]; then
+  echo "building tools/osd_ref against OpenSubdiv" >&2
+  g++ -O2 -o tools/osd_ref/osd_ref tools/osd_ref/osd_ref.cpp -losdCPU >&2
+fi
+
+export GEODE_OSD_REF="$PWD/tools/osd_ref/osd_ref"
 export GEODE_PYTHON="$PWD/tools/.venv/bin/python"
 export GEODE_REQUIRE_VALIDATORS=1
 exec cargo test --workspace "$@"

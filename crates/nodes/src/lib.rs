@@ -17,6 +17,7 @@ mod instancing;
 mod mesh;
 mod primitives;
 mod scatter;
+mod subd;
 mod transform;
 mod util;
 
@@ -43,5 +44,6 @@ pub fn registry() -> Registry {
     instancing::register(&mut r);
     scatter::register(&mut r);
     growth::register(&mut r);
+    subd::register(&mut r);
     r
 }

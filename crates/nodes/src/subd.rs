@@ -1,0 +1,66 @@
+//! Catmull-Clark subdivision as a node, reading OpenSubdiv's tags as the
+//! OBJ reader stores them (creases, corners, holes, boundary and crease
+//! method), each overridable here.
+
+use geode_op::{
+    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
+};
+use geode_spline::subd::{subdivide, BoundaryMode, CreaseMethod, SubdError, SubdOptions};
+
+use crate::util::{geometry, input};
+
+struct Subdivide;
+static SUBDIVIDE: NodeSpec = NodeSpec::new(
+    "subdivide",
+    "Subdivide",
+    "mesh",
+    "Catmull-Clark subdivision with OpenSubdiv's rules: semi-sharp creases (vertex attribute creaseweight, per edge), corners (point attribute cornerweight), holes (primitive attribute subd_hole), boundary interpolation and uniform or Chaikin crease decay. Point attributes are refined like P, vertex attributes (uv) linearly per face, primitive attributes inherited. With `limit`, points move to the limit surface and get exact limit normals N.",
+    &[geometry_input("mesh")],
+    &[
+        P::new("levels", "Levels", T::Int, D::Int(2), "Refinement levels (each quadruples the faces).").range(0.0, 8.0),
+        P::new("boundary", "Boundary", T::Menu(&["from_geometry", "none", "edge_only", "edge_and_corner"]), D::Str("from_geometry"), "How boundaries interpolate: from the subd_boundary tag (edge only when absent), or forced."),
+        P::new("crease_method", "Crease method", T::Menu(&["from_geometry", "uniform", "chaikin"]), D::Str("from_geometry"), "How semi-sharp creases decay: from the subd_creasemethod tag (uniform when absent), or forced."),
+        P::new("limit", "Push to limit", T::Toggle, D::Toggle(false), "Move points to the limit surface and write limit normals N."),
+    ],
+);
+impl Operator for Subdivide {
+    fn spec(&self) -> &'static NodeSpec {
+        &SUBDIVIDE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g = input(ctx, inputs, 0)?;
+        let opts = SubdOptions {
+            levels: p.int("levels")? as u32,
+            boundary: match p.string("boundary")? {
+                "none" => Some(BoundaryMode::None),
+                "edge_only" => Some(BoundaryMode::EdgeOnly),
+                "edge_and_corner" => Some(BoundaryMode::EdgeAndCorner),
+                _ => None,
+            },
+            crease: match p.string("crease_method")? {
+                "uniform" => Some(CreaseMethod::Uniform),
+                "chaikin" => Some(CreaseMethod::Chaikin),
+                _ => None,
+            },
+            limit: p.toggle("limit")?,
+        };
+        let cancel = || ctx.cancel.is_cancelled();
+        let out = subdivide(g, &opts, &cancel).map_err(|e| match e {
+            SubdError::NotPolygon(prim) => ctx.error(format!(
+                "input 1: primitive {prim} is not a polygon; subdivide needs a polygon mesh"
+            )),
+            other => ctx.error(other.to_string()),
+        })?;
+        geometry(out)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Subdivide);
+}

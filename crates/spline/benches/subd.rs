@@ -1,0 +1,91 @@
+//! Catmull-Clark at scale: a 100k-quad sphere refined to levels 2 and 3
+//! (topology and positions), next to OpenSubdiv's uniform refinement of the
+//! same mesh on the same machine when `GEODE_OSD_REF` names the reference
+//! program (tools/test.sh builds tools/osd_ref/osd_ref).
+//! Run: GEODE_OSD_REF=tools/osd_ref/osd_ref cargo bench -p geode-spline --bench subd
+
+use geode_geo::primitives;
+use geode_spline::subd::{base_level, refine_levels, SubdOptions};
+
+fn sphere() -> geode_geo::Geometry {
+    primitives::uv_sphere(1.0, 400, 250)
+}
+
+fn flat(g: &geode_geo::Geometry) -> Vec<f64> {
+    g.positions()
+        .iter()
+        .flat_map(|p| p.as_dvec3().to_array())
+        .collect()
+}
+
+fn opts() -> SubdOptions {
+    SubdOptions {
+        levels: 0,
+        boundary: None,
+        crease: None,
+        limit: false,
+    }
+}
+
+fn opensubdiv_ms(g: &geode_geo::Geometry, levels: u32) -> Option<String> {
+    use std::io::Write;
+    let bin = std::env::var("GEODE_OSD_REF").ok()?;
+    let mut text = format!(
+        "boundary 1 crease 0 levels {levels}\nverts {}\n",
+        g.num_points()
+    );
+    for p in g.positions() {
+        text += &format!("{} {} {}\n", p.x, p.y, p.z);
+    }
+    text += &format!("faces {}\n", g.num_prims());
+    for f in 0..g.num_prims() {
+        let pts = g.prim_points(f);
+        text += &pts.len().to_string();
+        for p in pts {
+            text += &format!(" {p}");
+        }
+        text += "\n";
+    }
+    text += "creases 0\ncorners 0\nholes 0\n";
+    let mut child = std::process::Command::new(bin)
+        .env("OSD_REF_TIME", "5")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .ok()?;
+    child.stdin.take()?.write_all(text.as_bytes()).ok()?;
+    let out = child.wait_with_output().ok()?;
+    Some(String::from_utf8_lossy(&out.stdout).trim().to_owned())
+}
+
+fn main() {
+    let g = sphere();
+    for levels in [2, 3] {
+        if let Some(ms) = opensubdiv_ms(&g, levels) {
+            eprintln!(
+                "OpenSubdiv (Far, one thread): {} faces to level {levels}: {ms} ms (median of 5)",
+                g.num_prims()
+            );
+        }
+    }
+    let t = std::time::Instant::now();
+    let (base, _, method) = base_level(&g, &opts()).unwrap();
+    let build = t.elapsed();
+    let t = std::time::Instant::now();
+    let _ = refine_levels(base, flat(&g), 2, method);
+    eprintln!(
+        "geode: base level {:.1} ms, two levels {:.1} ms",
+        build.as_secs_f64() * 1e3,
+        t.elapsed().as_secs_f64() * 1e3
+    );
+    divan::main();
+}
+
+#[divan::bench(args = [2, 3], sample_count = 5)]
+fn refine_100k_quads(bencher: divan::Bencher, levels: u32) {
+    let g = sphere();
+    bencher.bench(|| {
+        let (base, _, method) = base_level(&g, &opts()).unwrap();
+        refine_levels(base, flat(&g), levels, method)
+    });
+}

@@ -1,0 +1,334 @@
+//! Catmull-Clark subdivision of geode geometry (OpenSubdiv's Catmark rules):
+//! reads the OpenSubdiv tags geode-io puts on OBJ meshes (`creaseweight`
+//! per vertex, `cornerweight` per point, `subd_hole` per primitive,
+//! `subd_boundary` and `subd_creasemethod` on the detail), refines
+//! uniformly, and optionally pushes points to the limit surface with exact
+//! limit normals.
+
+mod level;
+mod limit;
+mod refine;
+
+use geode_geo::glam::{DVec3, Vec3};
+use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
+
+pub use level::{Level, Rows, INFINITE};
+pub use limit::{limit_normals, limit_positions};
+pub use refine::{plan, refine_topology, refine_values, Rule};
+
+/// OpenSubdiv's vertex boundary interpolation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoundaryMode {
+    /// Boundary edges sharp; boundary faces are not part of the limit
+    /// surface in OpenSubdiv (refined positions equal edge-only).
+    None,
+    EdgeOnly,
+    /// Also corners (one face, two edges) infinitely sharp.
+    EdgeAndCorner,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CreaseMethod {
+    Uniform,
+    Chaikin,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct SubdOptions {
+    pub levels: u32,
+    /// None: from the geometry's `subd_boundary` (0 none, 1 edge and
+    /// corner, 2 edge only), else edge only.
+    pub boundary: Option<BoundaryMode>,
+    /// None: from `subd_creasemethod` (`chaikin`), else uniform.
+    pub crease: Option<CreaseMethod>,
+    /// Push points to the limit surface and write limit normals `N`.
+    pub limit: bool,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SubdError {
+    #[error("primitive {0} is not a polygon (subdivision needs a polygon mesh)")]
+    NotPolygon(usize),
+    #[error("cancelled")]
+    Cancelled,
+    #[error(transparent)]
+    Geo(#[from] GeoError),
+}
+
+/// The base level and options of a geometry.
+pub fn base_level(
+    g: &Geometry,
+    opts: &SubdOptions,
+) -> Result<(Level, BoundaryMode, CreaseMethod), SubdError> {
+    for prim in 0..g.num_prims() {
+        if g.prim_kind(prim) != PrimKind::Polygon {
+            return Err(SubdError::NotPolygon(prim));
+        }
+    }
+    let faces = Rows {
+        offsets: g.prim_offsets().to_vec(),
+        items: g.vertex_points().to_vec(),
+    };
+    let crease = g
+        .attrib(AttribClass::Vertex, "creaseweight")
+        .and_then(|a| a.as_f32());
+    let mut level = Level::from_faces(g.num_points(), faces, |corner| {
+        crease.map_or(0.0, |c| c[corner])
+    });
+    if let Some(c) = g
+        .attrib(AttribClass::Point, "cornerweight")
+        .and_then(|a| a.as_f32())
+    {
+        level.vertex_sharpness = c.to_vec();
+    }
+    if let Some(h) = g
+        .attrib(AttribClass::Primitive, "subd_hole")
+        .and_then(|a| a.as_i32())
+    {
+        level.hole = h.iter().map(|&x| x != 0).collect();
+    }
+    let detail_int = |name: &str| {
+        g.attrib(AttribClass::Detail, name)
+            .and_then(|a| a.as_i32())
+            .map(|v| v[0])
+    };
+    let boundary = opts.boundary.unwrap_or(match detail_int("subd_boundary") {
+        Some(0) => BoundaryMode::None,
+        Some(1) => BoundaryMode::EdgeAndCorner,
+        _ => BoundaryMode::EdgeOnly,
+    });
+    let method = g
+        .attrib(AttribClass::Detail, "subd_creasemethod")
+        .and_then(|a| a.as_strings())
+        .map(|s| s.get(0).to_owned());
+    let crease_method = opts
+        .crease
+        .unwrap_or(if method.as_deref() == Some("chaikin") {
+            CreaseMethod::Chaikin
+        } else {
+            CreaseMethod::Uniform
+        });
+    level.sharpen_boundaries(boundary == BoundaryMode::EdgeAndCorner);
+    Ok((level, boundary, crease_method))
+}
+
+/// Numeric point attributes as flat f64 columns (name, type info, width,
+/// values); integers, quaternions, matrices and strings do not blend.
+fn point_columns(g: &Geometry) -> Vec<(String, TypeInfo, usize, Vec<f64>)> {
+    g.attribs(AttribClass::Point)
+        .iter()
+        .filter_map(|(name, a)| {
+            let (dim, vals): (usize, Vec<f64>) = match a.data() {
+                AttribData::Float(v) => (1, v.iter().map(|&x| x as f64).collect()),
+                AttribData::Vec2(v) => (
+                    2,
+                    v.iter().flat_map(|x| x.to_array()).map(f64::from).collect(),
+                ),
+                AttribData::Vec3(v) => (
+                    3,
+                    v.iter().flat_map(|x| x.to_array()).map(f64::from).collect(),
+                ),
+                AttribData::Vec4(v) => (
+                    4,
+                    v.iter().flat_map(|x| x.to_array()).map(f64::from).collect(),
+                ),
+                _ => return None,
+            };
+            Some((name.to_owned(), a.type_info, dim, vals))
+        })
+        .collect()
+}
+
+fn column(dim: usize, v: &[f64]) -> AttribData {
+    let f = |i: usize| v[i] as f32;
+    let n = v.len() / dim.max(1);
+    match dim {
+        1 => AttribData::Float((0..n).map(f).collect()),
+        2 => AttribData::Vec2(
+            (0..n)
+                .map(|i| geode_geo::glam::Vec2::new(f(2 * i), f(2 * i + 1)))
+                .collect(),
+        ),
+        3 => AttribData::Vec3(
+            (0..n)
+                .map(|i| Vec3::new(f(3 * i), f(3 * i + 1), f(3 * i + 2)))
+                .collect(),
+        ),
+        _ => AttribData::Vec4(
+            (0..n)
+                .map(|i| {
+                    geode_geo::glam::Vec4::new(f(4 * i), f(4 * i + 1), f(4 * i + 2), f(4 * i + 3))
+                })
+                .collect(),
+        ),
+    }
+}
+
+/// Face-varying values (one per face corner) refined linearly: each child
+/// quad's corners take the corner, the two edge midpoints and the face
+/// centre of its parent corner (OpenSubdiv's "linear all").
+fn refine_corners(p: &Level, vals: &[f64], dim: usize) -> Vec<f64> {
+    let mut out = Vec::with_capacity(vals.len() * 4);
+    for f in 0..p.faces.len() {
+        let base = p.faces.offsets[f] as usize;
+        let n = p.faces.row(f).len();
+        let at = |k: usize| &vals[(base + k % n) * dim..(base + k % n + 1) * dim];
+        let centre: Vec<f64> = (0..dim)
+            .map(|d| (0..n).map(|k| at(k)[d]).sum::<f64>() / n as f64)
+            .collect();
+        for k in 0..n {
+            let (c, next, prev) = (at(k), at(k + 1), at(k + n - 1));
+            out.extend_from_slice(c);
+            out.extend((0..dim).map(|d| 0.5 * (c[d] + next[d])));
+            out.extend_from_slice(&centre);
+            out.extend((0..dim).map(|d| 0.5 * (c[d] + prev[d])));
+        }
+    }
+    out
+}
+
+/// Positions of every refined level (level 0 first) as flat `x y z` runs,
+/// and the last level's topology.
+pub fn refine_levels(
+    base: Level,
+    positions: Vec<f64>,
+    levels: u32,
+    method: CreaseMethod,
+) -> (Vec<Vec<f64>>, Level) {
+    let mut level = base;
+    let mut all = vec![positions];
+    for _ in 0..levels {
+        let child = refine_topology(&level, method == CreaseMethod::Chaikin);
+        let pl = plan(&level, &child, method == CreaseMethod::Chaikin);
+        let out = refine_values(&level, &child, &pl, all.last().expect("a level"), 3);
+        all.push(out);
+        level = child;
+    }
+    (all, level)
+}
+
+/// Flat `x y z` runs as points.
+pub fn points(flat: &[f64]) -> Vec<DVec3> {
+    flat.chunks(3)
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect()
+}
+
+/// Subdivides `g` by `opts.levels` levels (at least one when `limit` is
+/// asked: the limit masks need quads). Hole faces are refined but not
+/// output.
+pub fn subdivide(
+    g: &Geometry,
+    opts: &SubdOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Geometry, SubdError> {
+    let (mut level, _, method) = base_level(g, opts)?;
+    let chaikin = method == CreaseMethod::Chaikin;
+    let levels = if opts.limit {
+        opts.levels.max(1)
+    } else {
+        opts.levels
+    };
+    let mut positions: Vec<f64> = g
+        .positions()
+        .iter()
+        .flat_map(|p| p.as_dvec3().to_array())
+        .collect();
+    let mut points: Vec<(String, TypeInfo, usize, Vec<f64>)> = point_columns(g)
+        .into_iter()
+        .filter(|c| c.0 != "P")
+        .collect();
+    let mut corners: Vec<(String, TypeInfo, usize, Vec<f64>)> = g
+        .attribs(AttribClass::Vertex)
+        .iter()
+        .filter(|(name, _)| *name != "creaseweight")
+        .filter_map(|(name, a)| {
+            let mut tmp = Geometry::new();
+            tmp.add_points(&vec![Vec3::ZERO; a.len()]);
+            tmp.set_attrib(AttribClass::Point, name, a.clone()).ok()?;
+            point_columns(&tmp).into_iter().find(|c| c.0 == name)
+        })
+        .collect();
+    let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
+    for _ in 0..levels {
+        if cancel() {
+            return Err(SubdError::Cancelled);
+        }
+        let child = refine_topology(&level, chaikin);
+        let pl = plan(&level, &child, chaikin);
+        positions = refine_values(&level, &child, &pl, &positions, 3);
+        for c in points.iter_mut() {
+            c.3 = refine_values(&level, &child, &pl, &c.3, c.2);
+        }
+        for c in corners.iter_mut() {
+            c.3 = refine_corners(&level, &c.3, c.2);
+        }
+        prim_of = (0..level.faces.len())
+            .flat_map(|f| std::iter::repeat_n(prim_of[f], level.faces.row(f).len()))
+            .collect();
+        level = child;
+    }
+    let mut pos: Vec<DVec3> = positions
+        .chunks(3)
+        .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect();
+    let normals = if opts.limit {
+        pos = limit_positions(&level, &pos);
+        Some(limit_normals(&level, &pos))
+    } else {
+        None
+    };
+    // Output the non-hole faces.
+    let keep: Vec<usize> = (0..level.faces.len()).filter(|&f| !level.hole[f]).collect();
+    let mut flat = Vec::with_capacity(keep.len() * 4);
+    let mut counts = Vec::with_capacity(keep.len());
+    let mut corner_ids = Vec::with_capacity(keep.len() * 4);
+    for &f in &keep {
+        let r = level.faces.row(f);
+        flat.extend_from_slice(r);
+        counts.push(r.len() as u32);
+        corner_ids.extend(level.faces.offsets[f]..level.faces.offsets[f + 1]);
+    }
+    let mut out =
+        Geometry::from_polygons(pos.iter().map(|p| p.as_vec3()).collect(), flat, &counts)?;
+    for (name, info, dim, vals) in points {
+        out.set_attrib(
+            AttribClass::Point,
+            &name,
+            Attribute::from_data(column(dim, &vals), info),
+        )?;
+    }
+    if let Some(n) = normals {
+        out.set_attrib(
+            AttribClass::Point,
+            "N",
+            Attribute::from_data(
+                AttribData::Vec3(n.iter().map(|v| v.as_vec3()).collect()),
+                TypeInfo::Normal,
+            ),
+        )?;
+    }
+    for (name, info, dim, vals) in corners {
+        let all = column(dim, &vals);
+        out.set_attrib(
+            AttribClass::Vertex,
+            &name,
+            Attribute::from_data(all.gather(&corner_ids), info),
+        )?;
+    }
+    let kept_prims: Vec<u32> = keep.iter().map(|&f| prim_of[f]).collect();
+    for (name, a) in g.attribs(AttribClass::Primitive).iter() {
+        if name == "subd_hole" {
+            continue;
+        }
+        out.set_attrib(
+            AttribClass::Primitive,
+            name,
+            Attribute::from_data(a.data().gather(&kept_prims), a.type_info),
+        )?;
+    }
+    for (name, a) in g.attribs(AttribClass::Detail).iter() {
+        out.set_attrib(AttribClass::Detail, name, a.clone())?;
+    }
+    Ok(out)
+}

@@ -1,0 +1,372 @@
+//! One level of Catmull-Clark refinement with OpenSubdiv's Catmark rules:
+//! the child topology (a quad per face corner), child sharpness (uniform
+//! decrement or Chaikin), and values refined by the face, edge and vertex
+//! masks, semi-sharp transitions blended by their fractional weights.
+
+use rayon::prelude::*;
+
+use super::level::{decrement, is_sharp, Level, Rows, INFINITE};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rule {
+    Smooth,
+    Dart,
+    Crease,
+    Corner,
+}
+
+impl Rule {
+    fn of(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
+        if is_sharp(vertex_sharpness) {
+            return Rule::Corner;
+        }
+        match sharp_edges {
+            0 => Rule::Smooth,
+            1 => Rule::Dart,
+            2 => Rule::Crease,
+            _ => Rule::Corner,
+        }
+    }
+}
+
+/// How each parent vertex and edge is refined.
+pub struct Plan {
+    pub parent_rule: Vec<Rule>,
+    pub child_rule: Vec<Rule>,
+    /// Parent-rule weight where the rules differ (OpenSubdiv's fractional weight).
+    pub vertex_weight: Vec<f32>,
+    /// Crease weight of each edge point: 0 smooth, 1 crease, between: blend.
+    pub edge_weight: Vec<f32>,
+}
+
+/// Chaikin's child sharpness for edge sharpness `s` at a vertex whose
+/// incident edges have sharpnesses `around` (OpenSubdiv's rule).
+fn chaikin(s: f32, around: &[f32]) -> f32 {
+    if around.len() < 2 {
+        return decrement(s);
+    }
+    if !is_sharp(s) {
+        return 0.0;
+    }
+    if s >= INFINITE {
+        return INFINITE;
+    }
+    let semi: Vec<f32> = around
+        .iter()
+        .copied()
+        .filter(|&x| x > 0.0 && x < INFINITE)
+        .collect();
+    let mut s = s;
+    if semi.len() > 1 {
+        let others = (semi.iter().sum::<f32>() - s) / (semi.len() - 1) as f32;
+        s = 0.75 * s + 0.25 * others;
+    }
+    s -= 1.0;
+    if is_sharp(s) {
+        s
+    } else {
+        0.0
+    }
+}
+
+/// Child sharpness of the half of edge `e` at its end `v`.
+fn child_edge_sharpness(p: &Level, e: u32, v: u32, chaikin_rule: bool) -> f32 {
+    let s = p.edge_sharpness[e as usize];
+    if !chaikin_rule {
+        return decrement(s);
+    }
+    let around: Vec<f32> = p
+        .vertex_edges
+        .row(v as usize)
+        .iter()
+        .map(|&x| p.edge_sharpness[x as usize])
+        .collect();
+    chaikin(s, &around)
+}
+
+/// The child level of `p` (vertices: parent vertices' children, then faces',
+/// then edges'; a quad per parent face corner).
+pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
+    let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
+    let vc = |v: u32| v;
+    let fc = |f: usize| (nv + f) as u32;
+    let ec = |e: u32| (nv + nf) as u32 + e;
+    let corners = p.faces.items.len();
+    let half = |e: u32, v: u32| -> u32 { 2 * e + u32::from(p.edge_verts[e as usize][0] != v) };
+    let interior = |corner: usize| (2 * ne + corner) as u32;
+    // Every array is filled in parallel: each parent edge makes two child
+    // edges, each parent face corner an interior edge and a quad.
+    let mut edge_verts = vec![[0u32; 2]; 2 * ne + corners];
+    let mut edge_sharpness = vec![0.0f32; 2 * ne + corners];
+    let (halves, inner) = edge_verts.split_at_mut(2 * ne);
+    halves
+        .par_chunks_mut(2)
+        .zip(edge_sharpness[..2 * ne].par_chunks_mut(2))
+        .enumerate()
+        .for_each(|(e, (ev, es))| {
+            let [a, b] = p.edge_verts[e];
+            let e = e as u32;
+            ev[0] = [vc(a), ec(e)];
+            ev[1] = [vc(b), ec(e)];
+            es[0] = child_edge_sharpness(p, e, a, chaikin_rule);
+            es[1] = child_edge_sharpness(p, e, b, chaikin_rule);
+        });
+    let face_of: Vec<u32> = (0..nf)
+        .into_par_iter()
+        .flat_map_iter(|f| std::iter::repeat_n(f as u32, p.faces.row(f).len()))
+        .collect();
+    inner.par_iter_mut().enumerate().for_each(|(c, ev)| {
+        *ev = [ec(p.face_edges[c]), fc(face_of[c] as usize)];
+    });
+    let mut face_verts = vec![0u32; 4 * corners];
+    let mut face_edges = vec![0u32; 4 * corners];
+    face_verts
+        .par_chunks_mut(4)
+        .zip(face_edges.par_chunks_mut(4))
+        .enumerate()
+        .for_each(|(c, (fv, fe))| {
+            let f = face_of[c] as usize;
+            let base = p.faces.offsets[f] as usize;
+            let n = p.faces.offsets[f + 1] as usize - base;
+            let k = c - base;
+            let prev = base + (k + n - 1) % n;
+            let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
+            let v = p.faces.items[c];
+            fv.copy_from_slice(&[vc(v), ec(e_next), fc(f), ec(e_prev)]);
+            fe.copy_from_slice(&[
+                half(e_next, v),
+                interior(c),
+                interior(prev),
+                half(e_prev, v),
+            ]);
+        });
+    let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
+    let mut child = Level {
+        num_vertices: nv + nf + ne,
+        faces: Rows {
+            offsets: (0..=corners as u32).map(|i| 4 * i).collect(),
+            items: face_verts,
+        },
+        face_edges,
+        hole,
+        edge_verts,
+        edge_sharpness,
+        vertex_sharpness: (0..nv + nf + ne)
+            .map(|i| {
+                if i < nv {
+                    decrement(p.vertex_sharpness[i])
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+        ..Level::default()
+    };
+    child.derive();
+    child
+}
+
+/// The rules of every parent vertex and edge, from parent and child sharpness.
+pub fn plan(p: &Level, c: &Level, chaikin_rule: bool) -> Plan {
+    let nv = p.num_vertices;
+    let per_vertex: Vec<(Rule, Rule, f32)> = (0..nv)
+        .into_par_iter()
+        .map(|v| {
+            let edges = p.vertex_edges.row(v);
+            let (pv, cv) = (p.vertex_sharpness[v], c.vertex_sharpness[v]);
+            let child_of = |e: u32| {
+                c.edge_sharpness
+                    [(2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32)) as usize]
+            };
+            // The common case: nothing sharp around the vertex.
+            if !is_sharp(pv)
+                && edges
+                    .iter()
+                    .all(|&e| !is_sharp(p.edge_sharpness[e as usize]))
+            {
+                return (Rule::Smooth, Rule::Smooth, 0.0);
+            }
+            let (mut parent_sharp, mut child_sharp) = (0, 0);
+            // OpenSubdiv's ComputeFractionalWeightAtVertex.
+            let (mut count, mut sum) = (0, 0.0f32);
+            if is_sharp(pv) && !is_sharp(cv) {
+                count += 1;
+                sum += pv;
+            }
+            for &e in edges {
+                let (a, b) = (p.edge_sharpness[e as usize], child_of(e));
+                parent_sharp += usize::from(is_sharp(a));
+                child_sharp += usize::from(is_sharp(b));
+                if is_sharp(a) && !is_sharp(b) {
+                    count += 1;
+                    sum += a;
+                }
+            }
+            let pr = Rule::of(pv, parent_sharp);
+            let cr = Rule::of(cv, child_sharp);
+            let w = if count == 0 {
+                0.0
+            } else {
+                (sum / count as f32).min(1.0)
+            };
+            (pr, cr, w)
+        })
+        .collect();
+    let edge_weight = (0..p.edge_verts.len())
+        .into_par_iter()
+        .map(|e| {
+            let s = p.edge_sharpness[e];
+            // A full crease at sharpness 1 or more, or (Chaikin) where both
+            // child halves stay sharp; a transition blend below that.
+            let full = s >= 1.0
+                || (chaikin_rule
+                    && is_sharp(c.edge_sharpness[2 * e])
+                    && is_sharp(c.edge_sharpness[2 * e + 1]));
+            if !is_sharp(s) {
+                0.0
+            } else if full {
+                1.0
+            } else {
+                s
+            }
+        })
+        .collect();
+    Plan {
+        parent_rule: per_vertex.iter().map(|x| x.0).collect(),
+        child_rule: per_vertex.iter().map(|x| x.1).collect(),
+        vertex_weight: per_vertex.iter().map(|x| x.2).collect(),
+        edge_weight,
+    }
+}
+
+/// Refines values of `dim` components per parent vertex into child values.
+pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize) -> Vec<f64> {
+    let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
+    let mut out = vec![0.0f64; (nv + nf + ne) * dim];
+    let (vertex_part, rest) = out.split_at_mut(nv * dim);
+    let (face_part, edge_part) = rest.split_at_mut(nf * dim);
+    let at = |i: u32| &src[i as usize * dim..(i as usize + 1) * dim];
+    face_part
+        .par_chunks_mut(dim)
+        .enumerate()
+        .for_each(|(f, o)| {
+            let verts = p.faces.row(f);
+            let w = 1.0 / verts.len() as f64;
+            for &v in verts {
+                for (o, x) in o.iter_mut().zip(at(v)) {
+                    *o += w * x;
+                }
+            }
+        });
+    let face_points: &[f64] = face_part;
+    let face_point = |f: u32| &face_points[f as usize * dim..(f as usize + 1) * dim];
+    edge_part
+        .par_chunks_mut(dim)
+        .enumerate()
+        .for_each(|(e, o)| {
+            let [a, b] = p.edge_verts[e];
+            let crease = plan.edge_weight[e] as f64;
+            let faces = p.edge_faces.row(e);
+            // Smooth: the ends a quarter each, the face points sharing the rest.
+            let (end_w, face_w) = if faces.is_empty() || crease >= 1.0 {
+                (0.5, 0.0)
+            } else {
+                let smooth_face = 0.5 / faces.len() as f64;
+                (
+                    crease * 0.5 + (1.0 - crease) * 0.25,
+                    (1.0 - crease) * smooth_face,
+                )
+            };
+            for ((o, x), y) in o.iter_mut().zip(at(a)).zip(at(b)) {
+                *o = end_w * (x + y);
+            }
+            if face_w > 0.0 {
+                for &f in faces {
+                    for (o, x) in o.iter_mut().zip(face_point(f)) {
+                        *o += face_w * x;
+                    }
+                }
+            }
+        });
+    vertex_part
+        .par_chunks_mut(dim)
+        .enumerate()
+        .for_each(|(v, o)| {
+            let edges = p.vertex_edges.row(v);
+            let me = at(v as u32);
+            if edges.is_empty() {
+                o.copy_from_slice(me);
+                return;
+            }
+            let (pr, cr, w) = (
+                plan.parent_rule[v],
+                plan.child_rule[v],
+                plan.vertex_weight[v] as f64,
+            );
+            let mask =
+                |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, o: &mut [f64]| match rule {
+                    Rule::Corner => {
+                        for k in 0..dim {
+                            o[k] += scale * me[k];
+                        }
+                    }
+                    Rule::Crease => {
+                        for k in 0..dim {
+                            o[k] += scale * 0.75 * me[k];
+                        }
+                        for &e in edges.iter().filter(|&&e| sharp(e)) {
+                            let other = at(p.other_end(e, v as u32));
+                            for k in 0..dim {
+                                o[k] += scale * 0.125 * other[k];
+                            }
+                        }
+                    }
+                    Rule::Smooth | Rule::Dart => {
+                        let n = edges.len() as f64;
+                        let faces = p.vertex_faces.row(v);
+                        for k in 0..dim {
+                            o[k] += scale * (n - 2.0) / n * me[k];
+                        }
+                        let w = scale / (n * n);
+                        for &e in edges {
+                            let other = at(p.other_end(e, v as u32));
+                            for k in 0..dim {
+                                o[k] += w * other[k];
+                            }
+                        }
+                        for &f in faces {
+                            for (o, x) in o.iter_mut().zip(face_point(f)) {
+                                *o += w * x;
+                            }
+                        }
+                    }
+                };
+            let parent_sharp = |e: u32| is_sharp(p.edge_sharpness[e as usize]);
+            let child_sharp = |e: u32| {
+                let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32);
+                is_sharp(c.edge_sharpness[half as usize])
+            };
+            if matches!(pr, Rule::Smooth | Rule::Dart) || pr == cr {
+                mask(pr, &parent_sharp, 1.0, o);
+            } else {
+                mask(pr, &parent_sharp, w, o);
+                mask(cr, &child_sharp, 1.0 - w, o);
+            }
+        });
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chaikin_follows_opensubdiv() {
+        // One semi-sharp edge at the vertex: plain decrement.
+        assert_eq!(chaikin(2.5, &[2.5, 0.0, 0.0]), 1.5);
+        // Two: 3/4 own + 1/4 the other's, minus one.
+        assert!((chaikin(2.0, &[2.0, 4.0, 0.0]) - (0.75 * 2.0 + 0.25 * 4.0 - 1.0)).abs() < 1e-6);
+        assert_eq!(chaikin(INFINITE, &[INFINITE, 2.0]), INFINITE);
+        assert_eq!(chaikin(0.5, &[0.5, 0.5]), 0.0);
+    }
+}

@@ -1,0 +1,149 @@
+//! Catmull-Clark behaviour beyond OpenSubdiv's positions: limit normals,
+//! holes, interpolated attributes, errors.
+
+use geode_geo::glam::{Vec2, Vec3};
+use geode_geo::{ops, primitives, AttribClass, AttribData, Attribute, Geometry, TypeInfo};
+use geode_spline::subd::{subdivide, SubdError, SubdOptions};
+
+fn opts(levels: u32, limit: bool) -> SubdOptions {
+    SubdOptions {
+        levels,
+        boundary: None,
+        crease: None,
+        limit,
+    }
+}
+
+#[test]
+fn a_cube_becomes_a_closed_smooth_surface_with_outward_limit_normals() {
+    let cube = primitives::cube(2.0);
+    let g = subdivide(&cube, &opts(4, true), &|| false).unwrap();
+    assert_eq!(g.num_prims(), 6 * 4usize.pow(4));
+    assert!(g.topology().manifold_report(&g).is_closed_manifold());
+    let n = g
+        .attrib(AttribClass::Point, "N")
+        .unwrap()
+        .as_vec3()
+        .unwrap()
+        .to_vec();
+    // Limit normals against the normals of the limit mesh's faces around
+    // each point (which converge to them): within a few degrees at level 4.
+    let mesh_normals = ops::point_normals(&g);
+    let mut worst = 0.0f32;
+    for (i, p) in g.positions().iter().enumerate() {
+        assert!((n[i].length() - 1.0).abs() < 1e-5);
+        assert!(n[i].dot(*p) > 0.0, "outward at {p}");
+        worst = worst.max(n[i].angle_between(mesh_normals[i]));
+    }
+    assert!(worst.to_degrees() < 3.0, "worst {}", worst.to_degrees());
+    // The limit surface of a cube lies inside it and is symmetric.
+    let b = ops::bounds(&g).unwrap();
+    assert!((b.max.x + b.min.x).abs() < 1e-5 && b.max.x < 1.0 && b.max.x > 0.5);
+}
+
+#[test]
+fn holes_are_refined_but_not_output_and_attributes_follow() {
+    let mut grid = primitives::grid(Vec2::splat(2.0), 2, 2);
+    let n = grid.num_prims();
+    grid.set_attrib(
+        AttribClass::Primitive,
+        "subd_hole",
+        Attribute::from_data(
+            AttribData::Int((0..n as i32).map(|i| i32::from(i == 0)).collect()),
+            TypeInfo::None,
+        ),
+    )
+    .unwrap();
+    grid.set_attrib(
+        AttribClass::Primitive,
+        "id",
+        Attribute::from_data(AttribData::Int((0..n as i32).collect()), TypeInfo::None),
+    )
+    .unwrap();
+    let np = grid.num_points();
+    grid.set_attrib(
+        AttribClass::Point,
+        "Cd",
+        Attribute::from_data(
+            AttribData::Vec3(vec![Vec3::new(0.2, 0.4, 0.6); np]),
+            TypeInfo::Color,
+        ),
+    )
+    .unwrap();
+    let g = subdivide(&grid, &opts(2, false), &|| false).unwrap();
+    assert_eq!(g.num_prims(), 3 * 16, "the hole's 16 children are left out");
+    let id = g
+        .attrib(AttribClass::Primitive, "id")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    assert!(id.iter().all(|&i| i != 0) && id.iter().filter(|&&i| i == 3).count() == 16);
+    let cd = g
+        .attrib(AttribClass::Point, "Cd")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
+    assert!(
+        cd.iter()
+            .all(|c| (*c - Vec3::new(0.2, 0.4, 0.6)).length() < 1e-6),
+        "affine masks keep constants"
+    );
+}
+
+#[test]
+fn face_varying_uvs_are_interpolated_linearly_per_face() {
+    // A grid with uvs equal to the XZ position on each corner: bilinear per
+    // face, so every refined corner's uv is its own parametric position.
+    let mut grid = primitives::grid(Vec2::splat(2.0), 3, 3);
+    let uv: Vec<Vec2> = grid
+        .vertex_points()
+        .iter()
+        .map(|&p| {
+            let q = grid.positions()[p as usize];
+            Vec2::new(q.x, q.z)
+        })
+        .collect();
+    grid.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
+    )
+    .unwrap();
+    let g = subdivide(&grid, &opts(2, false), &|| false).unwrap();
+    let uv = g
+        .attrib(AttribClass::Vertex, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
+    assert_eq!(uv.len(), g.num_vertices());
+    // A refined interior face-corner sits where its uv says on the flat grid,
+    // except along the boundary where creases pull points; check interior ones.
+    let mut checked = 0;
+    for (v, &p) in g.vertex_points().iter().enumerate() {
+        let q = g.positions()[p as usize];
+        if q.x.abs() < 0.3 && q.z.abs() < 0.3 {
+            assert!(
+                (Vec2::new(q.x, q.z) - uv[v]).length() < 0.05,
+                "{q} vs {}",
+                uv[v]
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 10);
+}
+
+#[test]
+fn non_polygons_are_refused() {
+    let mut g = Geometry::new();
+    g.add_points(&[Vec3::ZERO, Vec3::X]);
+    g.add_polyline(&[0, 1]).unwrap();
+    assert_eq!(
+        subdivide(&g, &opts(1, false), &|| false).unwrap_err(),
+        SubdError::NotPolygon(0)
+    );
+    assert_eq!(
+        subdivide(&primitives::cube(1.0), &opts(1, false), &|| true).unwrap_err(),
+        SubdError::Cancelled
+    );
+}

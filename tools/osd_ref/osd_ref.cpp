@@ -1,0 +1,148 @@
+// Reference Catmull-Clark refinement by OpenSubdiv (Debian libosd-dev), for
+// geode's tests: reads a mesh description on stdin, refines it uniformly
+// with Far::TopologyRefiner and Far::PrimvarRefiner, and prints the
+// positions of every level and the limit positions of the last.
+//
+// Input (whitespace separated):
+//   boundary B crease C levels L        (B: 0 none, 1 edge only, 2 edge and
+//                                        corner; C: 0 uniform, 1 Chaikin)
+//   verts N      then N lines "x y z"
+//   faces F      then F lines "n i0 ... i(n-1)"
+//   creases K    then K lines "a b sharpness"
+//   corners M    then M lines "v sharpness"
+//   holes H      then H face indices
+// Output: "level k n" then n lines "x y z", for k = 1..L; then "limit n"
+// and n lines.
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <string>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+struct Vertex {
+    double p[3];
+    void Clear(void * = 0) { p[0] = p[1] = p[2] = 0.0; }
+    void AddWithWeight(Vertex const & src, float weight) {
+        for (int k = 0; k < 3; ++k) p[k] += weight * src.p[k];
+    }
+};
+
+static bool expect(std::istream & in, char const * word) {
+    std::string w;
+    if (!(in >> w) || w != word) {
+        std::fprintf(stderr, "expected `%s`, found `%s`\n", word, w.c_str());
+        return false;
+    }
+    return true;
+}
+
+int main() {
+    std::istream & in = std::cin;
+    int boundary = 1, crease = 0, levels = 1;
+    if (!expect(in, "boundary") || !(in >> boundary) || !expect(in, "crease") || !(in >> crease) ||
+        !expect(in, "levels") || !(in >> levels)) return 2;
+    int nv = 0, nf = 0, nc = 0, nk = 0, nh = 0;
+    if (!expect(in, "verts") || !(in >> nv)) return 2;
+    std::vector<Vertex> coarse(nv);
+    for (auto & v : coarse) in >> v.p[0] >> v.p[1] >> v.p[2];
+    if (!expect(in, "faces") || !(in >> nf)) return 2;
+    std::vector<int> counts(nf), indices;
+    for (int f = 0; f < nf; ++f) {
+        in >> counts[f];
+        for (int k = 0; k < counts[f]; ++k) { int i; in >> i; indices.push_back(i); }
+    }
+    if (!expect(in, "creases") || !(in >> nc)) return 2;
+    std::vector<int> creasePairs(2 * nc);
+    std::vector<float> creaseWeights(nc);
+    for (int i = 0; i < nc; ++i) in >> creasePairs[2 * i] >> creasePairs[2 * i + 1] >> creaseWeights[i];
+    if (!expect(in, "corners") || !(in >> nk)) return 2;
+    std::vector<int> cornerVerts(nk);
+    std::vector<float> cornerWeights(nk);
+    for (int i = 0; i < nk; ++i) in >> cornerVerts[i] >> cornerWeights[i];
+    if (!expect(in, "holes") || !(in >> nh)) return 2;
+    std::vector<int> holes(nh);
+    for (int i = 0; i < nh; ++i) in >> holes[i];
+    if (!in) { std::fprintf(stderr, "truncated input\n"); return 2; }
+
+    Sdc::Options options;
+    options.SetVtxBoundaryInterpolation(boundary == 0 ? Sdc::Options::VTX_BOUNDARY_NONE
+                                        : boundary == 2 ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
+                                                        : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    options.SetCreasingMethod(crease ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
+
+    Far::TopologyDescriptor desc;
+    desc.numVertices = nv;
+    desc.numFaces = nf;
+    desc.numVertsPerFace = counts.data();
+    desc.vertIndicesPerFace = indices.data();
+    desc.numCreases = nc;
+    desc.creaseVertexIndexPairs = creasePairs.data();
+    desc.creaseWeights = creaseWeights.data();
+    desc.numCorners = nk;
+    desc.cornerVertexIndices = cornerVerts.data();
+    desc.cornerWeights = cornerWeights.data();
+    desc.numHoles = nh;
+    desc.holeIndices = holes.data();
+
+    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
+
+    // Timing mode (OSD_REF_TIME=runs): build, refine and interpolate every
+    // level `runs` times and print the median milliseconds, nothing else.
+    if (char const * runsText = std::getenv("OSD_REF_TIME")) {
+        int runs = std::atoi(runsText);
+        std::vector<double> times;
+        for (int r = 0; r < runs; ++r) {
+            auto start = std::chrono::steady_clock::now();
+            Far::TopologyRefiner * t = Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, options));
+            t->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+            std::vector<Vertex> buf(t->GetNumVerticesTotal());
+            for (int i = 0; i < nv; ++i) buf[i] = coarse[i];
+            Far::PrimvarRefiner pr(*t);
+            Vertex * s = buf.data();
+            for (int level = 1; level <= levels; ++level) {
+                Vertex * d = s + t->GetLevel(level - 1).GetNumVertices();
+                pr.Interpolate(level, s, d);
+                s = d;
+            }
+            times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+            delete t;
+        }
+        std::sort(times.begin(), times.end());
+        std::printf("%.3f\n", times[times.size() / 2]);
+        return 0;
+    }
+
+    Far::TopologyRefiner * refiner =
+        Factory::Create(desc, Factory::Options(Sdc::SCHEME_CATMARK, options));
+    if (!refiner) { std::fprintf(stderr, "OpenSubdiv rejected the topology\n"); return 3; }
+    Far::TopologyRefiner::UniformOptions uniform(levels);
+    uniform.fullTopologyInLastLevel = true;  // Limit() needs the last level's edges
+    refiner->RefineUniform(uniform);
+
+    std::vector<Vertex> buffer(refiner->GetNumVerticesTotal());
+    for (int i = 0; i < nv; ++i) buffer[i] = coarse[i];
+    Far::PrimvarRefiner primvar(*refiner);
+    Vertex * src = buffer.data();
+    for (int level = 1; level <= levels; ++level) {
+        Vertex * dst = src + refiner->GetLevel(level - 1).GetNumVertices();
+        primvar.Interpolate(level, src, dst);
+        src = dst;
+        int n = refiner->GetLevel(level).GetNumVertices();
+        std::printf("level %d %d\n", level, n);
+        for (int i = 0; i < n; ++i) std::printf("%.10g %.10g %.10g\n", src[i].p[0], src[i].p[1], src[i].p[2]);
+    }
+    int n = refiner->GetLevel(levels).GetNumVertices();
+    std::vector<Vertex> limit(n);
+    primvar.Limit(src, limit);
+    std::printf("limit %d\n", n);
+    for (int i = 0; i < n; ++i) std::printf("%.10g %.10g %.10g\n", limit[i].p[0], limit[i].p[1], limit[i].p[2]);
+    delete refiner;
+    return 0;
+}
