@@ -15,6 +15,7 @@ mod groups;
 mod growth;
 mod instancing;
 mod mesh;
+mod nurbs;
 mod primitives;
 mod scatter;
 mod subd;
@@ -45,5 +46,6 @@ pub fn registry() -> Registry {
     scatter::register(&mut r);
     growth::register(&mut r);
     subd::register(&mut r);
+    nurbs::register(&mut r);
     r
 }

@@ -47,3 +47,45 @@ fn subdividing_a_creased_box_keeps_its_creases_and_closes() {
     );
     assert!(e.contains("/s") && e.contains("not a polygon"), "{e}");
 }
+
+#[test]
+fn nurbs_surfaces_are_exact_and_patches_interpolate_their_corners() {
+    let s = geo(
+        r#""s": {"type": "nurbs_surface", "params": {"radius": 1.5, "samples": [20, 40]}}"#,
+        "s",
+    );
+    assert_eq!(s.num_points(), 800);
+    let n = s
+        .attrib(AttribClass::Point, "N")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
+    for (p, n) in s.positions().iter().zip(n) {
+        assert!((p.length() - 1.5).abs() < 1e-5);
+        assert!(
+            n.dot(*p / 1.5) > 0.9999,
+            "outward radial normals, poles included: {n} at {p}"
+        );
+    }
+    let nodes = r#""g": {"type": "grid", "params": {"size": [3, 3], "rows": 3, "columns": 3}},
+        "patch": {"type": "nurbs_surface", "inputs": ["g"], "params": {"shape": "patch", "rows": 4, "columns": 4, "samples": [9, 9]}}"#;
+    let grid = geo(nodes, "g");
+    let patch = geo(nodes, "patch");
+    for corner in [grid.positions()[0], grid.positions()[15]] {
+        assert!(
+            patch
+                .positions()
+                .iter()
+                .any(|p| (*p - corner).length() < 1e-6),
+            "clamped: passes through {corner}"
+        );
+    }
+    let e = err(
+        r#""g": {"type": "grid"}, "p": {"type": "nurbs_surface", "inputs": ["g"], "params": {"shape": "patch", "rows": 3, "columns": 3}}"#,
+        "p",
+    );
+    assert!(
+        e.contains("/p") && e.contains("rows") && e.contains("121 points"),
+        "{e}"
+    );
+}

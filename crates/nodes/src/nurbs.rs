@@ -1,0 +1,156 @@
+//! NURBS surfaces as a node: exact quadrics by revolution, or a B-spline
+//! patch over the points of an input grid, tessellated with normals and UVs.
+
+use geode_geo::glam::DVec3;
+use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
+};
+use geode_spline::bspline::{Knots, NurbsCurve, NurbsSurface};
+
+use crate::util::{geometry, vec3};
+
+struct Nurbs;
+static NURBS: NodeSpec = NodeSpec::new(
+    "nurbs_surface",
+    "NURBS Surface",
+    "spline",
+    "A NURBS surface tessellated into quads with exact normals N and parametric uv: an exact sphere, cylinder or torus (rational circles revolved about +Y), or a clamped B-spline patch with the input's points as its control grid (`rows` x `columns`, in point order).",
+    &[InputSpec { name: "control grid", ty: PortType::Geometry, required: false }],
+    &[
+        P::new("shape", "Shape", T::Menu(&["sphere", "cylinder", "torus", "patch"]), D::Str("sphere"), "Which surface."),
+        P::new("radius", "Radius", T::Float, D::Float(1.0), "Sphere and cylinder radius; torus major radius.").at_least(0.0),
+        P::new("minor_radius", "Minor radius", T::Float, D::Float(0.25), "Torus tube radius.").at_least(0.0),
+        P::new("height", "Height", T::Float, D::Float(2.0), "Cylinder height (centred).").at_least(0.0),
+        P::new("rows", "Rows", T::Int, D::Int(4), "Patch control rows (along u).").range(2.0, 100_000.0),
+        P::new("columns", "Columns", T::Int, D::Int(4), "Patch control columns (along v).").range(2.0, 100_000.0),
+        P::new("degree", "Degree", T::Int, D::Int(3), "Patch degree in both directions (clamped to the control counts).").range(1.0, 10.0),
+        P::new("samples", "Samples", T::Vec2, D::Vec2([33.0, 65.0]), "Tessellation samples along u and v.").range(2.0, 10_000.0),
+        P::new("center", "Center", T::Vec3, D::Vec3([0.0; 3]), "Offset."),
+    ],
+);
+
+fn circle_profile(points: &[(f64, f64)], full: bool) -> NurbsCurve {
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let pts: Vec<DVec3> = points.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect();
+    let weights: Vec<f64> = (0..pts.len())
+        .map(|i| if i % 2 == 1 { w } else { 1.0 })
+        .collect();
+    let knots = if full {
+        vec![
+            0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+        ]
+    } else {
+        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0]
+    };
+    NurbsCurve::new(2, &pts, Some(&weights), Some(knots)).expect("valid circle knots")
+}
+
+impl Operator for Nurbs {
+    fn spec(&self) -> &'static NodeSpec {
+        &NURBS
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let (r, minor, h) = (
+            p.float("radius")?,
+            p.float("minor_radius")?,
+            p.float("height")?,
+        );
+        let surface = match p.string("shape")? {
+            "cylinder" => {
+                let line = NurbsCurve::new(
+                    1,
+                    &[DVec3::new(r, -h / 2.0, 0.0), DVec3::new(r, h / 2.0, 0.0)],
+                    None,
+                    None,
+                )
+                .expect("a line");
+                NurbsSurface::revolve(&line)
+            }
+            "torus" => {
+                let c = [
+                    (1.0, 0.0),
+                    (1.0, 1.0),
+                    (0.0, 1.0),
+                    (-1.0, 1.0),
+                    (-1.0, 0.0),
+                    (-1.0, -1.0),
+                    (0.0, -1.0),
+                    (1.0, -1.0),
+                    (1.0, 0.0),
+                ];
+                let pts: Vec<(f64, f64)> =
+                    c.iter().map(|(x, y)| (r + minor * x, minor * y)).collect();
+                NurbsSurface::revolve(&circle_profile(&pts, true))
+            }
+            "patch" => {
+                let grid = inputs
+                    .first()
+                    .and_then(|v| v.as_ref())
+                    .and_then(|v| v.as_geometry())
+                    .ok_or_else(|| ctx.error("a patch needs its control grid on input 1"))?;
+                let (rows, cols) = (p.int("rows")? as usize, p.int("columns")? as usize);
+                if grid.num_points() != rows * cols {
+                    return Err(ctx.param_error(
+                        "rows",
+                        format!(
+                            "rows x columns = {} but input 1 has {} points",
+                            rows * cols,
+                            grid.num_points()
+                        ),
+                    ));
+                }
+                let degree = p.int("degree")? as usize;
+                let (du, dv) = (degree.min(rows - 1), degree.min(cols - 1));
+                let points = grid
+                    .positions()
+                    .iter()
+                    .map(|q| q.as_dvec3().extend(1.0))
+                    .collect();
+                NurbsSurface::new(
+                    Knots::clamped_uniform(du, rows),
+                    Knots::clamped_uniform(dv, cols),
+                    points,
+                )
+                .map_err(|e| ctx.error(e.to_string()))?
+            }
+            _ => NurbsSurface::revolve(&circle_profile(
+                &[(0.0, -r), (r, -r), (r, 0.0), (r, r), (0.0, r)],
+                false,
+            )),
+        };
+        let [su, sv] = p.vector::<2>("samples")?;
+        let t = surface.tessellate(su as usize, sv as usize);
+        let offset = vec3(p, "center")?;
+        let flat: Vec<u32> = t.quads.iter().flatten().copied().collect();
+        let mut g = Geometry::from_polygons(
+            t.positions.iter().map(|q| *q + offset).collect(),
+            flat,
+            &vec![4; t.quads.len()],
+        )
+        .map_err(|e| ctx.error(e.to_string()))?;
+        g.set_attrib(
+            AttribClass::Point,
+            "N",
+            Attribute::from_data(AttribData::Vec3(t.normals), TypeInfo::Normal),
+        )
+        .map_err(|e| ctx.error(e.to_string()))?;
+        g.set_attrib(
+            AttribClass::Point,
+            "uv",
+            Attribute::from_data(AttribData::Vec2(t.uvs), TypeInfo::TexCoord),
+        )
+        .map_err(|e| ctx.error(e.to_string()))?;
+        geometry(g)
+    }
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Nurbs);
+}
