@@ -183,8 +183,8 @@ impl Knots {
             }
         }
         let mut factor = p as f64;
-        for kk in 1..=n.min(p) {
-            for v in ders[kk].iter_mut() {
+        for (kk, row) in ders.iter_mut().enumerate().take(n.min(p) + 1).skip(1) {
+            for v in row.iter_mut() {
                 *v *= factor;
             }
             factor *= (p - kk) as f64;

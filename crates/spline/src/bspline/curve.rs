@@ -110,9 +110,7 @@ impl NurbsCurve {
         knots.extend_from_slice(&uk[k + 1..]);
         let mut q = vec![DVec4::ZERO; np + r];
         q[..=k - p].copy_from_slice(&pts[..=k - p]);
-        for i in k - s..np {
-            q[i + r] = pts[i];
-        }
+        q[k - s + r..np + r].copy_from_slice(&pts[k - s..np]);
         let mut tmp: Vec<DVec4> = (0..=p - s).map(|i| pts[k - p + i]).collect();
         let mut l = 0;
         for j in 1..=r {
@@ -124,8 +122,8 @@ impl NurbsCurve {
             q[l] = tmp[0];
             q[k + r - j - s] = tmp[p - j - s];
         }
-        for i in l + 1..k - s {
-            q[i] = tmp[i - l];
+        if l + 1 < k - s {
+            q[l + 1..k - s].copy_from_slice(&tmp[1..k - s - l]);
         }
         NurbsCurve {
             knots: Knots { degree: p, knots },

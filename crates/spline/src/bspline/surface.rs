@@ -53,12 +53,12 @@ impl NurbsSurface {
         let (du, dv) = (self.u.derivatives(su, u, 1), self.v.derivatives(sv, v, 1));
         let nv = self.nv();
         let mut out = [DVec4::ZERO; 3];
-        for a in 0..=pu {
-            for b in 0..=pv {
+        for (a, (nu, nu1)) in du[0].iter().zip(&du[1]).enumerate() {
+            for (b, (nv0, nv1)) in dv[0].iter().zip(&dv[1]).enumerate() {
                 let p = self.points[(su - pu + a) * nv + sv - pv + b];
-                out[0] += p * (du[0][a] * dv[0][b]);
-                out[1] += p * (du[1][a] * dv[0][b]);
-                out[2] += p * (du[0][a] * dv[1][b]);
+                out[0] += p * (nu * nv0);
+                out[1] += p * (nu1 * nv0);
+                out[2] += p * (nu * nv1);
             }
         }
         out
