@@ -85,22 +85,7 @@ impl InsideTest {
 
     /// From a polygon mesh (polygons fanned into triangles; other primitives ignored).
     pub fn from_geometry(g: &geode_geo::Geometry) -> InsideTest {
-        let p = g.positions();
-        let mut tris = Vec::new();
-        for prim in 0..g.num_prims() {
-            if g.prim_kind(prim) != geode_geo::PrimKind::Polygon {
-                continue;
-            }
-            let pts = g.prim_points(prim);
-            for k in 1..pts.len().saturating_sub(1) {
-                tris.push([
-                    p[pts[0] as usize],
-                    p[pts[k] as usize],
-                    p[pts[k + 1] as usize],
-                ]);
-            }
-        }
-        InsideTest::new(tris)
+        InsideTest::new(triangles(g))
     }
 
     /// The winding number of the mesh around `q` (0 outside a closed,
@@ -123,6 +108,26 @@ impl InsideTest {
     pub fn contains(&self, q: Vec3) -> bool {
         self.winding(q) != 0
     }
+}
+
+/// The polygons of `g` fanned into triangles (other primitives ignored).
+pub fn triangles(g: &geode_geo::Geometry) -> Vec<[Vec3; 3]> {
+    let p = g.positions();
+    let mut tris = Vec::new();
+    for prim in 0..g.num_prims() {
+        if g.prim_kind(prim) != geode_geo::PrimKind::Polygon {
+            continue;
+        }
+        let pts = g.prim_points(prim);
+        for k in 1..pts.len().saturating_sub(1) {
+            tris.push([
+                p[pts[0] as usize],
+                p[pts[k] as usize],
+                p[pts[k + 1] as usize],
+            ]);
+        }
+    }
+    tris
 }
 
 /// +1 where the ray from `q` along +X leaves through the triangle, -1 where

@@ -1,13 +1,12 @@
 //! NURBS surfaces as a node: exact quadrics by revolution, or a B-spline
 //! patch over the points of an input grid, tessellated with normals and UVs.
 
-use geode_geo::glam::DVec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_op::{
     CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, PortType, Registry, Value,
 };
-use geode_spline::bspline::{Knots, NurbsCurve, NurbsSurface};
+use geode_spline::bspline::{Knots, NurbsSurface};
 
 use crate::util::{geometry, vec3};
 
@@ -31,22 +30,6 @@ static NURBS: NodeSpec = NodeSpec::new(
     ],
 );
 
-fn circle_profile(points: &[(f64, f64)], full: bool) -> NurbsCurve {
-    let w = std::f64::consts::FRAC_1_SQRT_2;
-    let pts: Vec<DVec3> = points.iter().map(|&(x, y)| DVec3::new(x, y, 0.0)).collect();
-    let weights: Vec<f64> = (0..pts.len())
-        .map(|i| if i % 2 == 1 { w } else { 1.0 })
-        .collect();
-    let knots = if full {
-        vec![
-            0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
-        ]
-    } else {
-        vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0]
-    };
-    NurbsCurve::new(2, &pts, Some(&weights), Some(knots)).expect("valid circle knots")
-}
-
 impl Operator for Nurbs {
     fn spec(&self) -> &'static NodeSpec {
         &NURBS
@@ -63,32 +46,8 @@ impl Operator for Nurbs {
             p.float("height")?,
         );
         let surface = match p.string("shape")? {
-            "cylinder" => {
-                let line = NurbsCurve::new(
-                    1,
-                    &[DVec3::new(r, -h / 2.0, 0.0), DVec3::new(r, h / 2.0, 0.0)],
-                    None,
-                    None,
-                )
-                .expect("a line");
-                NurbsSurface::revolve(&line)
-            }
-            "torus" => {
-                let c = [
-                    (1.0, 0.0),
-                    (1.0, 1.0),
-                    (0.0, 1.0),
-                    (-1.0, 1.0),
-                    (-1.0, 0.0),
-                    (-1.0, -1.0),
-                    (0.0, -1.0),
-                    (1.0, -1.0),
-                    (1.0, 0.0),
-                ];
-                let pts: Vec<(f64, f64)> =
-                    c.iter().map(|(x, y)| (r + minor * x, minor * y)).collect();
-                NurbsSurface::revolve(&circle_profile(&pts, true))
-            }
+            "cylinder" => NurbsSurface::cylinder(r, h),
+            "torus" => NurbsSurface::torus(r, minor),
             "patch" => {
                 let grid = inputs
                     .first()
@@ -120,10 +79,7 @@ impl Operator for Nurbs {
                 )
                 .map_err(|e| ctx.error(e.to_string()))?
             }
-            _ => NurbsSurface::revolve(&circle_profile(
-                &[(0.0, -r), (r, -r), (r, 0.0), (r, r), (0.0, r)],
-                false,
-            )),
+            _ => NurbsSurface::sphere(r),
         };
         let [su, sv] = p.vector::<2>("samples")?;
         let t = surface.tessellate(su as usize, sv as usize);

@@ -4,7 +4,7 @@
 
 use geode_frep::polygonise::sample as sample_field;
 use geode_geo::glam::Vec3;
-use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
+use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_growth::scatter::{self, ScatterError};
 use geode_growth::InsideTest;
 use geode_op::{
@@ -117,25 +117,6 @@ fn inside(
         .collect())
 }
 
-fn triangles(g: &Geometry) -> Vec<[Vec3; 3]> {
-    let p = g.positions();
-    let mut tris = Vec::new();
-    for prim in 0..g.num_prims() {
-        if g.prim_kind(prim) != PrimKind::Polygon {
-            continue;
-        }
-        let pts = g.prim_points(prim);
-        for k in 1..pts.len().saturating_sub(1) {
-            tris.push([
-                p[pts[0] as usize],
-                p[pts[k] as usize],
-                p[pts[k + 1] as usize],
-            ]);
-        }
-    }
-    tris
-}
-
 struct Scatter;
 static SCATTER: NodeSpec = NodeSpec::new(
     "scatter",
@@ -162,7 +143,7 @@ impl Operator for Scatter {
         p: &Params,
     ) -> Result<Value, CookError> {
         let g = input(ctx, inputs, 0)?;
-        let tris = triangles(g);
+        let tris = geode_growth::inside::triangles(g);
         if tris.is_empty() {
             return Err(ctx.error("input 1 has no polygons to scatter in or on"));
         }

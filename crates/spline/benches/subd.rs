@@ -90,37 +90,11 @@ fn refine_100k_quads(bencher: divan::Bencher, levels: u32) {
     });
 }
 
-fn torus() -> geode_spline::bspline::NurbsSurface {
-    use geode_geo::glam::DVec3;
-    use geode_spline::bspline::{NurbsCurve, NurbsSurface};
-    let w = std::f64::consts::FRAC_1_SQRT_2;
-    let c = [
-        (1.0, 0.0),
-        (1.0, 1.0),
-        (0.0, 1.0),
-        (-1.0, 1.0),
-        (-1.0, 0.0),
-        (-1.0, -1.0),
-        (0.0, -1.0),
-        (1.0, -1.0),
-        (1.0, 0.0),
-    ];
-    let pts: Vec<DVec3> = c
-        .iter()
-        .map(|(x, y)| DVec3::new(1.5 + 0.5 * x, 0.5 * y, 0.0))
-        .collect();
-    let weights: Vec<f64> = (0..9).map(|i| if i % 2 == 1 { w } else { 1.0 }).collect();
-    let knots = vec![
-        0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
-    ];
-    NurbsSurface::revolve(&NurbsCurve::new(2, &pts, Some(&weights), Some(knots)).unwrap())
-}
-
 /// NURBS evaluation throughput: a million points with normals on an exact
 /// rational torus (tessellated as a 1000 x 1000 grid, in parallel).
 #[divan::bench(sample_count = 5)]
 fn nurbs_torus_1m_points_with_normals(bencher: divan::Bencher) {
-    let s = torus();
+    let s = geode_spline::bspline::NurbsSurface::torus(1.5, 0.5);
     bencher
         .counter(divan::counter::ItemsCount::new(1_000_000usize))
         .bench(|| s.tessellate(1000, 1000));

@@ -69,6 +69,47 @@ impl NurbsCurve {
         self.knots.domain()
     }
 
+    /// An exact circle in the XY plane from +X, counter-clockwise: the
+    /// nine-point rational quadratic.
+    pub fn circle(centre: DVec3, radius: f64) -> NurbsCurve {
+        Self::arcs(centre, radius, 4)
+    }
+
+    /// `quarters` quarter circles in the XY plane from -Y (1 to 4; two make
+    /// the right half, a sphere's profile).
+    pub fn arcs(centre: DVec3, radius: f64, quarters: usize) -> NurbsCurve {
+        let quarters = quarters.clamp(1, 4);
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        // Control points around the square, starting at -Y when not a full circle.
+        let start = if quarters == 4 { 0 } else { 6 };
+        let square = [
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (-1.0, 1.0),
+            (-1.0, 0.0),
+            (-1.0, -1.0),
+            (0.0, -1.0),
+            (1.0, -1.0),
+        ];
+        let pts: Vec<DVec3> = (0..=2 * quarters)
+            .map(|k| {
+                let (x, y) = square[(start + k) % 8];
+                centre + DVec3::new(x, y, 0.0) * radius
+            })
+            .collect();
+        let weights: Vec<f64> = (0..pts.len())
+            .map(|i| if i % 2 == 1 { w } else { 1.0 })
+            .collect();
+        let mut knots = vec![0.0; 3];
+        for q in 1..quarters {
+            let t = q as f64 / quarters as f64;
+            knots.extend([t, t]);
+        }
+        knots.extend([1.0; 3]);
+        NurbsCurve::new(2, &pts, Some(&weights), Some(knots)).expect("circle knots are valid")
+    }
+
     /// Homogeneous point and derivatives up to order `n` at `u`.
     fn homogeneous(&self, u: f64, n: usize) -> Vec<DVec4> {
         let p = self.knots.degree;

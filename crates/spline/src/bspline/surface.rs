@@ -175,6 +175,31 @@ impl NurbsSurface {
         }
     }
 
+    /// An exact sphere about the origin.
+    pub fn sphere(radius: f64) -> NurbsSurface {
+        Self::revolve(&NurbsCurve::arcs(DVec3::ZERO, radius, 2))
+    }
+
+    /// An exact torus about +Y.
+    pub fn torus(major: f64, minor: f64) -> NurbsSurface {
+        Self::revolve(&NurbsCurve::circle(DVec3::new(major, 0.0, 0.0), minor))
+    }
+
+    /// An exact open cylinder about +Y, centred.
+    pub fn cylinder(radius: f64, height: f64) -> NurbsSurface {
+        let line = NurbsCurve::new(
+            1,
+            &[
+                DVec3::new(radius, -height / 2.0, 0.0),
+                DVec3::new(radius, height / 2.0, 0.0),
+            ],
+            None,
+            None,
+        )
+        .expect("a line has valid knots");
+        Self::revolve(&line)
+    }
+
     /// `su` x `sv` samples over the domain: points, normals, (u, v) scaled
     /// to [0, 1], and quads facing along the normal.
     pub fn tessellate(&self, su: usize, sv: usize) -> Tessellation {
@@ -212,28 +237,9 @@ impl NurbsSurface {
 mod tests {
     use super::*;
 
-    fn semicircle(r: f64, centre_x: f64) -> NurbsCurve {
-        // Two rational quarter circles from the bottom to the top, in XY.
-        let w = std::f64::consts::FRAC_1_SQRT_2;
-        let pts = [
-            DVec3::new(centre_x, -r, 0.0),
-            DVec3::new(centre_x + r, -r, 0.0),
-            DVec3::new(centre_x + r, 0.0, 0.0),
-            DVec3::new(centre_x + r, r, 0.0),
-            DVec3::new(centre_x, r, 0.0),
-        ];
-        NurbsCurve::new(
-            2,
-            &pts,
-            Some(&[1.0, w, 1.0, w, 1.0]),
-            Some(vec![0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0]),
-        )
-        .unwrap()
-    }
-
     #[test]
     fn a_revolved_semicircle_is_exactly_a_sphere_with_radial_normals() {
-        let s = NurbsSurface::revolve(&semicircle(2.0, 0.0));
+        let s = NurbsSurface::sphere(2.0);
         for i in 0..=40 {
             for j in 0..=40 {
                 let (u, v) = (0.01 + 0.98 * i as f64 / 40.0, j as f64 / 40.0);
@@ -257,33 +263,7 @@ mod tests {
 
     #[test]
     fn a_torus_tessellates_into_a_closed_grid_of_the_right_area() {
-        // A full circle profile (centre 1.5, radius 0.5) revolved: a torus.
-        let w = std::f64::consts::FRAC_1_SQRT_2;
-        let c = [
-            (1.0, 0.0),
-            (1.0, 1.0),
-            (0.0, 1.0),
-            (-1.0, 1.0),
-            (-1.0, 0.0),
-            (-1.0, -1.0),
-            (0.0, -1.0),
-            (1.0, -1.0),
-            (1.0, 0.0),
-        ];
-        let pts: Vec<DVec3> = c
-            .iter()
-            .map(|(x, y)| DVec3::new(1.5 + 0.5 * x, 0.5 * y, 0.0))
-            .collect();
-        let profile = NurbsCurve::new(
-            2,
-            &pts,
-            Some(&[1.0, w, 1.0, w, 1.0, w, 1.0, w, 1.0]),
-            Some(vec![
-                0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
-            ]),
-        )
-        .unwrap();
-        let s = NurbsSurface::revolve(&profile);
+        let s = NurbsSurface::torus(1.5, 0.5);
         let t = s.tessellate(200, 200);
         let mut area = 0.0f64;
         for q in &t.quads {
