@@ -147,3 +147,68 @@ fn non_polygons_are_refused() {
         SubdError::Cancelled
     );
 }
+
+/// A periodic uniform bicubic B-spline over a torus-shaped control grid is
+/// the Catmull-Clark limit surface of that grid as a quad mesh: at every
+/// control vertex, the spline's point at the matching knot equals the
+/// subdivision limit position (the bicubic node point).
+#[test]
+fn a_bicubic_torus_equals_the_catmull_clark_limit_of_its_control_mesh() {
+    use geode_geo::glam::DVec3;
+    use geode_spline::bspline::{Knots, NurbsSurface};
+    let (nu, nv) = (8, 12);
+    let grid: Vec<DVec3> = (0..nu * nv)
+        .map(|k| {
+            let (i, j) = (k / nv, k % nv);
+            let (a, b) = (
+                std::f64::consts::TAU * i as f64 / nu as f64,
+                std::f64::consts::TAU * j as f64 / nv as f64,
+            );
+            // A lumpy torus so that no symmetry hides a mistake.
+            let r = 0.5 + 0.1 * (3.0 * b).sin();
+            DVec3::new(
+                (2.0 + r * a.cos()) * b.cos(),
+                r * a.sin() + 0.2 * (2.0 * b).cos(),
+                (2.0 + r * a.cos()) * b.sin(),
+            )
+        })
+        .collect();
+    // The spline: wrap three rows and columns for periodic uniform knots.
+    let wrapped: Vec<_> = (0..(nu + 3) * (nv + 3))
+        .map(|k| grid[((k / (nv + 3)) % nu) * nv + (k % (nv + 3)) % nv].extend(1.0))
+        .collect();
+    let s = NurbsSurface::new(
+        Knots::uniform(3, nu + 3),
+        Knots::uniform(3, nv + 3),
+        wrapped,
+    )
+    .unwrap();
+    // The mesh: quads (i, j) (i+1, j) (i+1, j+1) (i, j+1), wrapping.
+    let mut faces = Vec::new();
+    for i in 0..nu {
+        for j in 0..nv {
+            let id = |a: usize, b: usize| ((a % nu) * nv + b % nv) as u32;
+            faces.extend_from_slice(&[id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mesh = Geometry::from_polygons(
+        grid.iter().map(|p| p.as_vec3()).collect(),
+        faces,
+        &vec![4; nu * nv],
+    )
+    .unwrap();
+    let limit = subdivide(&mesh, &opts(1, true), &|| false).unwrap();
+    // The children of the original vertices come first, in order.
+    let mut worst = 0.0f64;
+    for i in 0..nu {
+        for j in 0..nv {
+            // Wrapped control point k peaks (weight 4/6) at knot k + 2; the
+            // domain is [3, n + 3], so vertex 0 is taken as wrapped n.
+            let (ku, kv) = ((i + nu - 1) % nu + 1, (j + nv - 1) % nv + 1);
+            let spline = s.point((ku + 2) as f64, (kv + 2) as f64);
+            let sub = limit.positions()[i * nv + j].as_dvec3();
+            worst = worst.max((spline - sub).length());
+        }
+    }
+    assert!(worst < 2e-6, "to float precision: worst {worst}");
+}
