@@ -162,8 +162,155 @@ pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
             .collect(),
         ..Level::default()
     };
-    child.derive();
+    let (edge_faces, (vertex_faces, vertex_edges)) = rayon::join(
+        || child_edge_faces(p),
+        || rayon::join(|| child_vertex_faces(p), || child_vertex_edges(p)),
+    );
+    child.edge_faces = edge_faces;
+    child.vertex_faces = vertex_faces;
+    child.vertex_edges = vertex_edges;
     child
+}
+
+/// Rows written in order: each call of `row` appends one row's items.
+struct RowWriter {
+    rows: Rows,
+}
+
+impl RowWriter {
+    fn with_capacity(rows: usize, items: usize) -> RowWriter {
+        let mut offsets = Vec::with_capacity(rows + 1);
+        offsets.push(0);
+        RowWriter { rows: Rows { offsets, items: Vec::with_capacity(items) } }
+    }
+
+    fn push(&mut self, item: u32) {
+        self.rows.items.push(item);
+    }
+
+    fn end_row(&mut self) {
+        self.rows.offsets.push(self.rows.items.len() as u32);
+    }
+}
+
+/// The corner of parent face `f` whose edge (to the next corner) is `e`.
+fn corner_of_edge(p: &Level, f: u32, e: u32) -> usize {
+    let range = p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize;
+    range.clone().find(|&c| p.face_edges[c] == e).unwrap_or(range.start)
+}
+
+/// The next corner of `c` around its face.
+fn next_corner(p: &Level, f: u32, c: usize) -> usize {
+    let (start, end) = (p.faces.offsets[f as usize] as usize, p.faces.offsets[f as usize + 1] as usize);
+    if c + 1 == end {
+        start
+    } else {
+        c + 1
+    }
+}
+
+/// Child edges' faces, built from the parent's (no search over the child):
+/// a half of parent edge `e` lies in the quads at its end's corner of each
+/// face of `e`; an interior edge of corner `c` in the quads of `c` and the
+/// next corner.
+fn child_edge_faces(p: &Level) -> Rows {
+    let corners = p.faces.items.len();
+    let mut w = RowWriter::with_capacity(2 * p.edge_verts.len() + corners, 2 * p.edge_faces.items.len() + 2 * corners);
+    for (e, ends) in p.edge_verts.iter().enumerate() {
+        for end in ends {
+            for &f in p.edge_faces.row(e) {
+                let c = corner_of_edge(p, f, e as u32);
+                // The corner at this end: where the edge starts, or the next.
+                let at = if p.faces.items[c] == *end { c } else { next_corner(p, f, c) };
+                w.push(at as u32);
+            }
+            w.end_row();
+        }
+    }
+    for f in 0..p.faces.len() {
+        for c in p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize {
+            w.push(c as u32);
+            w.push(next_corner(p, f as u32, c) as u32);
+            w.end_row();
+        }
+    }
+    w.rows
+}
+
+/// Child vertices' faces: a vertex child lies in the quad of each of its
+/// parent's corners, a face child in its face's quads, an edge child in the
+/// quads at both ends of each face of its edge.
+fn child_vertex_faces(p: &Level) -> Rows {
+    let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
+    let corners = p.faces.items.len();
+    let mut w = RowWriter::with_capacity(nv + nf + ne, 2 * corners + 2 * p.edge_faces.items.len());
+    // Corners of each parent vertex, grouped (faces in the parent's order).
+    for v in 0..nv {
+        let mut last = u32::MAX;
+        for &f in p.vertex_faces.row(v) {
+            if f == last {
+                continue; // a face touching the vertex twice is listed once per corner below
+            }
+            last = f;
+            for c in p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize {
+                if p.faces.items[c] == v as u32 {
+                    w.push(c as u32);
+                }
+            }
+        }
+        w.end_row();
+    }
+    for f in 0..nf {
+        for c in p.faces.offsets[f]..p.faces.offsets[f + 1] {
+            w.push(c);
+        }
+        w.end_row();
+    }
+    for e in 0..ne {
+        for &f in p.edge_faces.row(e) {
+            let c = corner_of_edge(p, f, e as u32);
+            w.push(c as u32);
+            w.push(next_corner(p, f, c) as u32);
+        }
+        w.end_row();
+    }
+    w.rows
+}
+
+/// Child vertices' edges: a vertex child's are the halves of its parent's
+/// edges at it, a face child's its interior edges, an edge child's its two
+/// halves and the interior edge in each face of its edge.
+fn child_vertex_edges(p: &Level) -> Rows {
+    let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
+    let corners = p.faces.items.len();
+    let mut w = RowWriter::with_capacity(nv + nf + ne, p.vertex_edges.items.len() + corners + 2 * ne + p.edge_faces.items.len());
+    for v in 0..nv {
+        for &e in p.vertex_edges.row(v) {
+            let [a, b] = p.edge_verts[e as usize];
+            if a == v as u32 {
+                w.push(2 * e);
+            }
+            if b == v as u32 {
+                w.push(2 * e + 1);
+            }
+        }
+        w.end_row();
+    }
+    for f in 0..nf {
+        for c in p.faces.offsets[f]..p.faces.offsets[f + 1] {
+            w.push((2 * ne) as u32 + c);
+        }
+        w.end_row();
+    }
+    for e in 0..ne {
+        w.push(2 * e as u32);
+        w.push(2 * e as u32 + 1);
+        for &f in p.edge_faces.row(e) {
+            w.push((2 * ne + corner_of_edge(p, f, e as u32)) as u32);
+        }
+        w.end_row();
+    }
+    w.rows
 }
 
 /// The rules of every parent vertex and edge, from parent and child sharpness.
