@@ -181,7 +181,12 @@ impl RowWriter {
     fn with_capacity(rows: usize, items: usize) -> RowWriter {
         let mut offsets = Vec::with_capacity(rows + 1);
         offsets.push(0);
-        RowWriter { rows: Rows { offsets, items: Vec::with_capacity(items) } }
+        RowWriter {
+            rows: Rows {
+                offsets,
+                items: Vec::with_capacity(items),
+            },
+        }
     }
 
     fn push(&mut self, item: u32) {
@@ -196,12 +201,18 @@ impl RowWriter {
 /// The corner of parent face `f` whose edge (to the next corner) is `e`.
 fn corner_of_edge(p: &Level, f: u32, e: u32) -> usize {
     let range = p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize;
-    range.clone().find(|&c| p.face_edges[c] == e).unwrap_or(range.start)
+    range
+        .clone()
+        .find(|&c| p.face_edges[c] == e)
+        .unwrap_or(range.start)
 }
 
 /// The next corner of `c` around its face.
 fn next_corner(p: &Level, f: u32, c: usize) -> usize {
-    let (start, end) = (p.faces.offsets[f as usize] as usize, p.faces.offsets[f as usize + 1] as usize);
+    let (start, end) = (
+        p.faces.offsets[f as usize] as usize,
+        p.faces.offsets[f as usize + 1] as usize,
+    );
     if c + 1 == end {
         start
     } else {
@@ -215,13 +226,20 @@ fn next_corner(p: &Level, f: u32, c: usize) -> usize {
 /// next corner.
 fn child_edge_faces(p: &Level) -> Rows {
     let corners = p.faces.items.len();
-    let mut w = RowWriter::with_capacity(2 * p.edge_verts.len() + corners, 2 * p.edge_faces.items.len() + 2 * corners);
+    let mut w = RowWriter::with_capacity(
+        2 * p.edge_verts.len() + corners,
+        2 * p.edge_faces.items.len() + 2 * corners,
+    );
     for (e, ends) in p.edge_verts.iter().enumerate() {
         for end in ends {
             for &f in p.edge_faces.row(e) {
                 let c = corner_of_edge(p, f, e as u32);
                 // The corner at this end: where the edge starts, or the next.
-                let at = if p.faces.items[c] == *end { c } else { next_corner(p, f, c) };
+                let at = if p.faces.items[c] == *end {
+                    c
+                } else {
+                    next_corner(p, f, c)
+                };
                 w.push(at as u32);
             }
             w.end_row();
@@ -252,7 +270,8 @@ fn child_vertex_faces(p: &Level) -> Rows {
                 continue; // a face touching the vertex twice is listed once per corner below
             }
             last = f;
-            for c in p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize {
+            for c in p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize
+            {
                 if p.faces.items[c] == v as u32 {
                     w.push(c as u32);
                 }
@@ -283,7 +302,10 @@ fn child_vertex_faces(p: &Level) -> Rows {
 fn child_vertex_edges(p: &Level) -> Rows {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let corners = p.faces.items.len();
-    let mut w = RowWriter::with_capacity(nv + nf + ne, p.vertex_edges.items.len() + corners + 2 * ne + p.edge_faces.items.len());
+    let mut w = RowWriter::with_capacity(
+        nv + nf + ne,
+        p.vertex_edges.items.len() + corners + 2 * ne + p.edge_faces.items.len(),
+    );
     for v in 0..nv {
         for &e in p.vertex_edges.row(v) {
             let [a, b] = p.edge_verts[e as usize];
