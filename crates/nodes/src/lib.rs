@@ -13,6 +13,7 @@ mod frep;
 mod frep_mesh;
 mod groups;
 mod growth;
+mod hspline;
 mod instancing;
 mod mesh;
 mod nurbs;
@@ -47,5 +48,6 @@ pub fn registry() -> Registry {
     growth::register(&mut r);
     subd::register(&mut r);
     nurbs::register(&mut r);
+    hspline::register(&mut r);
     r
 }

@@ -89,3 +89,42 @@ fn nurbs_surfaces_are_exact_and_patches_interpolate_their_corners() {
         "{e}"
     );
 }
+
+#[test]
+fn hspline_edits_are_keyframable_symmetric_and_checked() {
+    let nodes = r#""h": {"type": "hspline", "params": {"levels": 2, "samples": [21, 21], "symmetric": true,
+        "edit_level": 2, "edit_vertex": [6, 8],
+        "edit_move": [0, {"keys": [{"frame": 1, "value": 0}, {"frame": 10, "value": 0.5, "interp": "linear"}]}, 0]}}"#;
+    let flat = common::cook_at(nodes, "h", 1.0).unwrap();
+    let raised = common::cook_at(nodes, "h", 10.0).unwrap();
+    let (flat, raised) = (flat.as_geometry().unwrap(), raised.as_geometry().unwrap());
+    assert!(
+        flat.positions().iter().all(|p| p.y.abs() < 1e-6),
+        "no edit at frame 1: the plane"
+    );
+    let top = raised
+        .positions()
+        .iter()
+        .map(|p| p.y)
+        .fold(0.0f32, f32::max);
+    assert!(top > 0.05, "the edit raises the surface at frame 10: {top}");
+    // Symmetric across X = 0: every raised point has a mirror twin.
+    for p in raised.positions().iter().filter(|p| p.y > 1e-3) {
+        assert!(
+            raised.positions().iter().any(|q| (q.x + p.x).abs() < 1e-4
+                && (q.y - p.y).abs() < 1e-4
+                && (q.z - p.z).abs() < 1e-4),
+            "{p}"
+        );
+    }
+    let e = err(
+        r#""h": {"type": "hspline", "params": {"levels": 1, "region": [2, 5, 2, 5], "edits": "2 0 0 0 1 0"}}"#,
+        "h",
+    );
+    assert!(e.contains("edits") && e.contains("not movable"), "{e}");
+    let e = err(
+        r#""h": {"type": "hspline", "params": {"edits": "1 2 x 0 0 0"}}"#,
+        "h",
+    );
+    assert!(e.contains("edit 1 `1 2 x 0 0 0`"), "{e}");
+}

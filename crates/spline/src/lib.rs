@@ -6,6 +6,7 @@
 //! interpolated, limit positions and normals. Depends on `geode-geo` only.
 
 pub mod bspline;
+pub mod hspline;
 pub mod subd;
 
 pub use subd::{subdivide, BoundaryMode, CreaseMethod, SubdError, SubdOptions};

@@ -1,0 +1,490 @@
+//! Hierarchical B-spline surfaces (Forsey and Bartels 1988): a uniform
+//! bicubic surface of plane, cylinder (wrapped in v) or torus topology,
+//! refined level by level; each finer level's control vertices are the
+//! refined coarser ones plus offsets stored in the coarser surface's local
+//! frame (normal, u tangent, v tangent) at the vertex's parameter, so
+//! detail follows when a coarser level is edited. Offsets live only inside
+//! a level's overlay rectangle and only on its movable vertices (at least
+//! two from the overlay's edge, so the surface stays continuous).
+
+use geode_geo::glam::DVec3;
+
+/// How the control grid wraps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Topology {
+    Plane,
+    /// Wrapped in v.
+    Cylinder,
+    /// Wrapped in u and v.
+    Torus,
+}
+
+impl Topology {
+    fn wraps(self) -> (bool, bool) {
+        match self {
+            Topology::Plane => (false, false),
+            Topology::Cylinder => (false, true),
+            Topology::Torus => (true, true),
+        }
+    }
+}
+
+/// A control grid, `v` fastest.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    pub nu: usize,
+    pub nv: usize,
+    pub points: Vec<DVec3>,
+}
+
+impl Grid {
+    pub fn at(&self, i: usize, j: usize) -> DVec3 {
+        self.points[i * self.nv + j]
+    }
+}
+
+/// A refined level's editable rectangle (in its own indices, half-open)
+/// and the offsets of its vertices (local frame: normal, u, v).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Overlay {
+    pub u: (usize, usize),
+    pub v: (usize, usize),
+    pub offsets: Vec<DVec3>,
+}
+
+impl Overlay {
+    fn index(&self, i: usize, j: usize) -> Option<usize> {
+        let inside = (self.u.0..self.u.1).contains(&i) && (self.v.0..self.v.1).contains(&j);
+        inside.then(|| (i - self.u.0) * (self.v.1 - self.v.0) + (j - self.v.0))
+    }
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum HsplineError {
+    #[error("level {0} does not exist (the hierarchy has {1})")]
+    NoLevel(usize, usize),
+    #[error("vertex ({i}, {j}) of level {level} is not movable (outside its overlay or within two of its edge)")]
+    NotMovable { level: usize, i: usize, j: usize },
+    #[error("the region is empty or outside the level")]
+    BadRegion,
+    #[error("a {0:?} needs at least {1} control vertices each way")]
+    TooSmall(Topology, usize),
+}
+
+/// Refines one row of uniform cubic control points (Lane-Riesenfeld):
+/// edge points (P_i + P_i+1) / 2 and vertex points (P_i-1 + 6 P_i + P_i+1) / 8.
+/// A closed row of n gives 2n; an open one 2n - 3 (E0 V1 E1 ... V(n-2) E(n-2)).
+pub fn refine_row(p: &[DVec3], closed: bool) -> Vec<DVec3> {
+    let n = p.len();
+    let e = |i: usize| (p[i % n] + p[(i + 1) % n]) * 0.5;
+    let v = |i: usize| (p[(i + n - 1) % n] + p[i] * 6.0 + p[(i + 1) % n]) / 8.0;
+    if closed {
+        (0..n).flat_map(|i| [v(i), e(i)]).collect()
+    } else {
+        let mut out = vec![e(0)];
+        for i in 1..n - 1 {
+            out.push(v(i));
+            out.push(e(i));
+        }
+        out
+    }
+}
+
+/// Refines a grid in both directions.
+fn refine_grid(g: &Grid, wrap: (bool, bool)) -> Grid {
+    let rows: Vec<Vec<DVec3>> = (0..g.nu)
+        .map(|i| refine_row(&g.points[i * g.nv..(i + 1) * g.nv], wrap.1))
+        .collect();
+    let nv = rows[0].len();
+    let cols: Vec<Vec<DVec3>> = (0..nv)
+        .map(|j| refine_row(&rows.iter().map(|r| r[j]).collect::<Vec<_>>(), wrap.0))
+        .collect();
+    let nu = cols[0].len();
+    let mut points = vec![DVec3::ZERO; nu * nv];
+    for (j, col) in cols.iter().enumerate() {
+        for (i, p) in col.iter().enumerate() {
+            points[i * nv + j] = *p;
+        }
+    }
+    Grid { nu, nv, points }
+}
+
+/// The uniform cubic B-spline weights of the four vertices m-1..m+2 at
+/// fraction t of span m.
+fn weights(t: f64) -> ([f64; 4], [f64; 4]) {
+    let (t2, t3) = (t * t, t * t * t);
+    let w = [
+        (1.0 - t).powi(3) / 6.0,
+        (3.0 * t3 - 6.0 * t2 + 4.0) / 6.0,
+        (-3.0 * t3 + 3.0 * t2 + 3.0 * t + 1.0) / 6.0,
+        t3 / 6.0,
+    ];
+    let d = [
+        -(1.0 - t).powi(2) / 2.0,
+        (3.0 * t2 - 4.0 * t) / 2.0,
+        (-3.0 * t2 + 2.0 * t + 1.0) / 2.0,
+        t2 / 2.0,
+    ];
+    (w, d)
+}
+
+/// Position along one direction: the span and fraction of normalized `s`
+/// (0..1), and the scale from s to vertex units.
+fn locate(s: f64, n: usize, closed: bool) -> (isize, f64, f64) {
+    let (x, scale) = if closed {
+        (s * n as f64, n as f64)
+    } else {
+        (1.0 + s * (n as f64 - 3.0), n as f64 - 3.0)
+    };
+    let hi = if closed { n as f64 } else { n as f64 - 2.0 };
+    let m = x.floor().min(hi - 1.0);
+    (m as isize, x - m, scale)
+}
+
+/// Point and derivatives (per unit normalized parameter) of a grid's surface.
+pub fn evaluate(g: &Grid, wrap: (bool, bool), s: f64, t: f64) -> (DVec3, DVec3, DVec3) {
+    let (mu, fu, su) = locate(s, g.nu, wrap.0);
+    let (mv, fv, sv) = locate(t, g.nv, wrap.1);
+    let ((wu, du), (wv, dv)) = (weights(fu), weights(fv));
+    let idx = |m: isize, k: usize, n: usize| (m - 1 + k as isize).rem_euclid(n as isize) as usize;
+    let (mut p, mut pu, mut pv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+    for a in 0..4 {
+        for b in 0..4 {
+            let q = g.at(idx(mu, a, g.nu), idx(mv, b, g.nv));
+            p += q * (wu[a] * wv[b]);
+            pu += q * (du[a] * wv[b] * su);
+            pv += q * (wu[a] * dv[b] * sv);
+        }
+    }
+    (p, pu, pv)
+}
+
+/// An orthonormal frame (normal, u tangent, v tangent) from derivatives.
+fn frame(pu: DVec3, pv: DVec3) -> [DVec3; 3] {
+    let n = pu.cross(pv).normalize_or_zero();
+    let tu = pu.normalize_or_zero();
+    [n, tu, n.cross(tu)]
+}
+
+/// Normalized parameter of vertex `k` of an `n`-vertex direction.
+fn parameter(k: usize, n: usize, closed: bool) -> f64 {
+    if closed {
+        k as f64 / n as f64
+    } else {
+        ((k as f64 - 1.0) / (n as f64 - 3.0)).clamp(0.0, 1.0)
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hspline {
+    pub topology: Topology,
+    pub base: Grid,
+    /// Overlay `k` belongs to level `k + 1`.
+    pub overlays: Vec<Overlay>,
+}
+
+impl Hspline {
+    /// A surface of `nu` x `nv` control vertices: a plane in XZ of the given
+    /// size, a cylinder (radius size.x / 2, height size.y) or a torus (major
+    /// size.x / 2, minor size.y / 2).
+    pub fn new(
+        topology: Topology,
+        nu: usize,
+        nv: usize,
+        size: [f64; 2],
+    ) -> Result<Hspline, HsplineError> {
+        // A uniform cubic needs four vertices per span, wrapped or not.
+        let min = 4;
+        if nu < min || nv < min {
+            return Err(HsplineError::TooSmall(topology, min));
+        }
+        let tau = std::f64::consts::TAU;
+        let points = (0..nu * nv)
+            .map(|k| {
+                let (i, j) = (k / nv, k % nv);
+                let (a, b) = (i as f64 / nu as f64, j as f64 / nv as f64);
+                match topology {
+                    Topology::Plane => DVec3::new(
+                        size[0] * (i as f64 / (nu - 1) as f64 - 0.5),
+                        0.0,
+                        size[1] * (j as f64 / (nv - 1) as f64 - 0.5),
+                    ),
+                    Topology::Cylinder => DVec3::new(
+                        0.5 * size[0] * (tau * b).cos(),
+                        size[1] * (i as f64 / (nu - 1) as f64 - 0.5),
+                        0.5 * size[0] * (tau * b).sin(),
+                    ),
+                    Topology::Torus => {
+                        let r = 0.5 * size[0] + 0.5 * size[1] * (tau * a).cos();
+                        DVec3::new(
+                            r * (tau * b).cos(),
+                            0.5 * size[1] * (tau * a).sin(),
+                            r * (tau * b).sin(),
+                        )
+                    }
+                }
+            })
+            .collect();
+        Ok(Hspline {
+            topology,
+            base: Grid { nu, nv, points },
+            overlays: Vec::new(),
+        })
+    }
+
+    pub fn levels(&self) -> usize {
+        self.overlays.len() + 1
+    }
+
+    fn wrap(&self) -> (bool, bool) {
+        self.topology.wraps()
+    }
+
+    /// World control grid of `level`: the coarser level refined, plus each
+    /// offset turned into world space by the coarser surface's frame.
+    pub fn grid(&self, level: usize) -> Result<Grid, HsplineError> {
+        if level >= self.levels() {
+            return Err(HsplineError::NoLevel(level, self.levels()));
+        }
+        let wrap = self.wrap();
+        let mut g = self.base.clone();
+        for overlay in &self.overlays[..level] {
+            let parent = g;
+            g = refine_grid(&parent, wrap);
+            for i in overlay.u.0..overlay.u.1 {
+                for j in overlay.v.0..overlay.v.1 {
+                    let o = overlay.offsets[overlay.index(i, j).expect("inside")];
+                    if o == DVec3::ZERO {
+                        continue;
+                    }
+                    let (_, pu, pv) = evaluate(
+                        &parent,
+                        wrap,
+                        parameter(i, g.nu, wrap.0),
+                        parameter(j, g.nv, wrap.1),
+                    );
+                    let [n, tu, tv] = frame(pu, pv);
+                    g.points[i * g.nv + j] += n * o.x + tu * o.y + tv * o.z;
+                }
+            }
+        }
+        Ok(g)
+    }
+
+    /// Refines the finest level over the rectangle `u` x `v` of its vertex
+    /// indices (None: everywhere), adding a level with zero offsets there.
+    pub fn refine(
+        &mut self,
+        region: Option<((usize, usize), (usize, usize))>,
+    ) -> Result<(), HsplineError> {
+        let finest = self.grid(self.levels() - 1)?;
+        let child = refine_grid(&finest, self.wrap());
+        let (u, v) = match region {
+            None => ((0, child.nu), (0, child.nv)),
+            Some(((u0, u1), (v0, v1))) => {
+                if u0 >= u1 || v0 >= v1 || u1 > finest.nu || v1 > finest.nv {
+                    return Err(HsplineError::BadRegion);
+                }
+                // Child vertices over the parent range, with the support margin.
+                let map =
+                    |a: usize, b: usize, n: usize| ((2 * a).saturating_sub(2), (2 * b + 1).min(n));
+                (map(u0, u1, child.nu), map(v0, v1, child.nv))
+            }
+        };
+        let count = (u.1 - u.0) * (v.1 - v.0);
+        self.overlays.push(Overlay {
+            u,
+            v,
+            offsets: vec![DVec3::ZERO; count],
+        });
+        Ok(())
+    }
+
+    /// Whether vertex (i, j) of `level` may carry an offset: inside the
+    /// overlay and at least two vertices from any of its edges that is not
+    /// the (wrapping or outer) edge of the whole surface.
+    pub fn movable(&self, level: usize, i: usize, j: usize) -> bool {
+        if level == 0 {
+            return i < self.base.nu && j < self.base.nv;
+        }
+        let Some(o) = self.overlays.get(level - 1) else {
+            return false;
+        };
+        let Ok(g) = self.grid_size(level) else {
+            return false;
+        };
+        let ok = |k: usize, (lo, hi): (usize, usize), n: usize| {
+            (lo..hi).contains(&k) && (lo == 0 || k >= lo + 2) && (hi == n || k + 2 < hi)
+        };
+        ok(i, o.u, g.0) && ok(j, o.v, g.1)
+    }
+
+    fn grid_size(&self, level: usize) -> Result<(usize, usize), HsplineError> {
+        if level >= self.levels() {
+            return Err(HsplineError::NoLevel(level, self.levels()));
+        }
+        let (mut nu, mut nv) = (self.base.nu, self.base.nv);
+        let (wu, wv) = self.wrap();
+        for _ in 0..level {
+            nu = if wu { 2 * nu } else { 2 * nu - 3 };
+            nv = if wv { 2 * nv } else { 2 * nv - 3 };
+        }
+        Ok((nu, nv))
+    }
+
+    /// Moves vertex (i, j) of `level` by the world vector `delta` (level 0:
+    /// the vertex itself; finer: its offset, in the local frame).
+    pub fn move_cv(
+        &mut self,
+        level: usize,
+        i: usize,
+        j: usize,
+        delta: DVec3,
+    ) -> Result<(), HsplineError> {
+        if !self.movable(level, i, j) {
+            return Err(HsplineError::NotMovable { level, i, j });
+        }
+        if level == 0 {
+            let nv = self.base.nv;
+            self.base.points[i * nv + j] += delta;
+            return Ok(());
+        }
+        let parent = self.grid(level - 1)?;
+        let (nu, nv) = self.grid_size(level)?;
+        let wrap = self.wrap();
+        let (_, pu, pv) = evaluate(
+            &parent,
+            wrap,
+            parameter(i, nu, wrap.0),
+            parameter(j, nv, wrap.1),
+        );
+        let [n, tu, tv] = frame(pu, pv);
+        let o = &mut self.overlays[level - 1];
+        let k = o.index(i, j).expect("movable means inside");
+        o.offsets[k] += DVec3::new(delta.dot(n), delta.dot(tu), delta.dot(tv));
+        Ok(())
+    }
+
+    /// The offset of vertex (i, j) of a refined level, if it is in the overlay.
+    pub fn offset(&self, level: usize, i: usize, j: usize) -> Option<DVec3> {
+        let o = self.overlays.get(level.checked_sub(1)?)?;
+        o.index(i, j).map(|k| o.offsets[k])
+    }
+
+    /// Vertices of `level` with a non-zero offset.
+    pub fn nonzero_offsets(&self, level: usize) -> Vec<(usize, usize)> {
+        let Some(o) = level.checked_sub(1).and_then(|l| self.overlays.get(l)) else {
+            return Vec::new();
+        };
+        (o.u.0..o.u.1)
+            .flat_map(|i| (o.v.0..o.v.1).map(move |j| (i, j)))
+            .filter(|&(i, j)| o.offsets[o.index(i, j).expect("inside")] != DVec3::ZERO)
+            .collect()
+    }
+
+    pub fn zero_offsets(&mut self, level: usize) {
+        if let Some(o) = level.checked_sub(1).and_then(|l| self.overlays.get_mut(l)) {
+            o.offsets.iter_mut().for_each(|x| *x = DVec3::ZERO);
+        }
+    }
+
+    /// Removes what carries no detail: every finest level whose offsets
+    /// are all zero, and on the others the overlay rows and columns beyond
+    /// the support (two vertices) of their non-zero offsets. The surface
+    /// does not change.
+    pub fn unrefine(&mut self) {
+        while self
+            .overlays
+            .last()
+            .is_some_and(|o| o.offsets.iter().all(|x| *x == DVec3::ZERO))
+        {
+            self.overlays.pop();
+        }
+        for level in 1..self.levels() {
+            let nz = self.nonzero_offsets(level);
+            if nz.is_empty() {
+                continue;
+            }
+            let (nu, nv) = self.grid_size(level).expect("a level");
+            let o = &self.overlays[level - 1];
+            let (u0, u1) = (
+                nz.iter().map(|x| x.0).min().unwrap_or(0),
+                nz.iter().map(|x| x.0).max().unwrap_or(0),
+            );
+            let (v0, v1) = (
+                nz.iter().map(|x| x.1).min().unwrap_or(0),
+                nz.iter().map(|x| x.1).max().unwrap_or(0),
+            );
+            let nu_range = (u0.saturating_sub(2).max(o.u.0), (u1 + 3).min(o.u.1).min(nu));
+            let nv_range = (v0.saturating_sub(2).max(o.v.0), (v1 + 3).min(o.v.1).min(nv));
+            let mut offsets =
+                Vec::with_capacity((nu_range.1 - nu_range.0) * (nv_range.1 - nv_range.0));
+            for i in nu_range.0..nu_range.1 {
+                for j in nv_range.0..nv_range.1 {
+                    offsets.push(o.offsets[o.index(i, j).expect("inside")]);
+                }
+            }
+            self.overlays[level - 1] = Overlay {
+                u: nu_range,
+                v: nv_range,
+                offsets,
+            };
+        }
+    }
+
+    /// The surface point and normal at normalized (s, t), on the finest level.
+    pub fn point(&self, s: f64, t: f64) -> (DVec3, DVec3) {
+        let g = self
+            .grid(self.levels() - 1)
+            .expect("the finest level exists");
+        let (p, pu, pv) = evaluate(&g, self.wrap(), s, t);
+        (p, frame(pu, pv)[0])
+    }
+}
+
+impl Hspline {
+    /// The finest level as quads: `su` x `sv` samples (a wrapped direction
+    /// closes on itself, so a torus is a closed mesh), with unit normals and
+    /// the normalized parameters as uv. One level is tessellated, so no
+    /// coarser level shows through and no crack opens.
+    pub fn tessellate(&self, su: usize, sv: usize) -> crate::bspline::Tessellation {
+        use geode_geo::glam::Vec2;
+        let g = self
+            .grid(self.levels() - 1)
+            .expect("the finest level exists");
+        let wrap = self.wrap();
+        let (su, sv) = (su.max(3), sv.max(3));
+        let param = |k: usize, n: usize, closed: bool| {
+            if closed {
+                k as f64 / n as f64
+            } else {
+                k as f64 / (n - 1) as f64
+            }
+        };
+        let mut t = crate::bspline::Tessellation::default();
+        for i in 0..su {
+            for j in 0..sv {
+                let (s, v) = (param(i, su, wrap.0), param(j, sv, wrap.1));
+                let (p, pu, pv) = evaluate(&g, wrap, s, v);
+                t.positions.push(p.as_vec3());
+                t.normals.push(frame(pu, pv)[0].as_vec3());
+                t.uvs.push(Vec2::new(s as f32, v as f32));
+            }
+        }
+        let (cu, cv) = (
+            if wrap.0 { su } else { su - 1 },
+            if wrap.1 { sv } else { sv - 1 },
+        );
+        let id = |i: usize, j: usize| ((i % su) * sv + j % sv) as u32;
+        for i in 0..cu {
+            for j in 0..cv {
+                t.quads
+                    .push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+            }
+        }
+        t
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,192 @@
+//! Hierarchy properties: refinement reproduces the parent exactly, finer
+//! detail follows coarse edits in the local frame, unrefine never changes
+//! the surface, refine then unrefine restores an unedited hierarchy, and
+//! the torus at level 0 is the Catmull-Clark limit of its control mesh.
+
+use super::*;
+use geode_geo::random::unit_f64;
+
+fn lumpy(topology: Topology, seed: u64) -> Hspline {
+    let mut h = Hspline::new(topology, 7, 9, [3.0, 1.0]).unwrap();
+    for (k, p) in h.base.points.iter_mut().enumerate() {
+        *p += DVec3::new(
+            unit_f64(seed, k as u64, 0),
+            unit_f64(seed, k as u64, 1),
+            unit_f64(seed, k as u64, 2),
+        ) * 0.2;
+    }
+    h
+}
+
+fn max_deviation(a: &Grid, b: &Grid, wrap: (bool, bool)) -> f64 {
+    let mut worst = 0.0f64;
+    for i in 0..=40 {
+        for j in 0..=40 {
+            let (s, t) = (i as f64 / 40.0, j as f64 / 40.0);
+            worst = worst.max((evaluate(a, wrap, s, t).0 - evaluate(b, wrap, s, t).0).length());
+        }
+    }
+    worst
+}
+
+#[test]
+fn refinement_reproduces_the_parent_exactly() {
+    for topology in [Topology::Plane, Topology::Cylinder, Topology::Torus] {
+        for seed in 0..5 {
+            let mut h = lumpy(topology, seed);
+            h.refine(None).unwrap();
+            h.refine(Some(((3, 9), (4, 12)))).unwrap();
+            let w = topology.wraps();
+            for level in 1..h.levels() {
+                let d = max_deviation(&h.grid(level - 1).unwrap(), &h.grid(level).unwrap(), w);
+                assert!(d < 1e-9, "{topology:?} seed {seed} level {level}: {d}");
+            }
+        }
+    }
+}
+
+#[test]
+fn finer_detail_follows_a_coarse_edit_in_the_local_frame() {
+    let mut h = lumpy(Topology::Torus, 1);
+    h.refine(None).unwrap();
+    h.refine(None).unwrap();
+    let (i, j) = (20, 25);
+    h.move_cv(2, i, j, DVec3::new(0.0, 0.3, 0.1)).unwrap();
+    let displacement = |h: &Hspline| {
+        let fine = h.grid(2).unwrap();
+        let reference = refine_grid(&h.grid(1).unwrap(), h.topology.wraps());
+        fine.at(i, j) - reference.at(i, j)
+    };
+    let before = displacement(&h);
+    assert!(
+        (before - DVec3::new(0.0, 0.3, 0.1)).length() < 1e-12,
+        "the edit moved the vertex by the vector asked"
+    );
+    // Turn the whole coarse surface: the detail turns with it.
+    let r =
+        geode_geo::glam::DQuat::from_rotation_y(0.7) * geode_geo::glam::DQuat::from_rotation_x(0.3);
+    for p in h.base.points.iter_mut() {
+        *p = r * *p + DVec3::new(1.0, -2.0, 0.5);
+    }
+    let after = displacement(&h);
+    assert!(
+        (after - r * before).length() < 1e-9,
+        "{after} vs {}",
+        r * before
+    );
+    // The stored offset itself is untouched by the coarse edit.
+    assert_eq!(h.nonzero_offsets(2), vec![(i, j)]);
+}
+
+#[test]
+fn unrefine_never_changes_the_surface_and_undoes_an_unedited_refinement() {
+    for seed in 0..5 {
+        let original = lumpy(Topology::Plane, seed);
+        let mut h = original.clone();
+        h.refine(None).unwrap();
+        h.refine(None).unwrap();
+        h.unrefine();
+        assert_eq!(
+            h, original,
+            "refine then unrefine with no edit restores the hierarchy"
+        );
+        h.refine(None).unwrap();
+        h.refine(Some(((2, 8), (3, 10)))).unwrap();
+        let n = h.grid(2).unwrap();
+        let k = (unit_f64(seed, 9, 0) * 4.0) as usize;
+        let (i, j) = (n.nu / 2 + k % 2, n.nv / 2 - k % 3);
+        h.move_cv(2, i, j, DVec3::new(0.1, 0.2, -0.1)).unwrap();
+        let before = h.grid(2).unwrap();
+        h.unrefine();
+        assert_eq!(h.levels(), 3, "an edited level stays");
+        let after = h.grid(2).unwrap();
+        assert!(max_deviation(&before, &after, h.topology.wraps()) < 1e-12);
+        assert!(
+            h.overlays[1].offsets.len() <= 5 * 5,
+            "trimmed to the support of the one offset"
+        );
+        h.zero_offsets(2);
+        h.unrefine();
+        assert_eq!(h.levels(), 1);
+        assert!(
+            max_deviation(
+                &h.grid(0).unwrap(),
+                &original.grid(0).unwrap(),
+                (false, false)
+            ) < 1e-12
+        );
+    }
+}
+
+#[test]
+fn only_movable_vertices_take_offsets() {
+    let mut h = lumpy(Topology::Plane, 3);
+    h.refine(Some(((2, 5), (2, 6)))).unwrap();
+    let o = h.overlays[0].clone();
+    assert!(h.movable(1, o.u.0 + 2, o.v.0 + 2));
+    assert!(!h.movable(1, o.u.0, o.v.0 + 2), "on the overlay's edge");
+    assert_eq!(
+        h.move_cv(1, o.u.0 + 1, o.v.0 + 2, DVec3::X),
+        Err(HsplineError::NotMovable {
+            level: 1,
+            i: o.u.0 + 1,
+            j: o.v.0 + 2
+        })
+    );
+    assert_eq!(h.grid(5).unwrap_err(), HsplineError::NoLevel(5, 2));
+}
+
+#[test]
+fn the_torus_at_level_0_is_the_catmull_clark_limit_of_its_control_mesh() {
+    let h = lumpy(Topology::Torus, 7);
+    let g = &h.base;
+    let mut faces = Vec::new();
+    for i in 0..g.nu {
+        for j in 0..g.nv {
+            let id = |a: usize, b: usize| ((a % g.nu) * g.nv + b % g.nv) as u32;
+            faces.extend_from_slice(&[id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+        }
+    }
+    let mesh = geode_geo::Geometry::from_polygons(
+        g.points.iter().map(|p| p.as_vec3()).collect(),
+        faces,
+        &vec![4; g.nu * g.nv],
+    )
+    .unwrap();
+    let opts = crate::subd::SubdOptions {
+        levels: 1,
+        boundary: None,
+        crease: None,
+        limit: true,
+    };
+    let limit = crate::subd::subdivide(&mesh, &opts, &|| false).unwrap();
+    let mut worst = 0.0f64;
+    for i in 0..g.nu {
+        for j in 0..g.nv {
+            let (p, _, _) = evaluate(
+                g,
+                (true, true),
+                i as f64 / g.nu as f64,
+                j as f64 / g.nv as f64,
+            );
+            worst = worst.max((p - limit.positions()[i * g.nv + j].as_dvec3()).length());
+        }
+    }
+    assert!(worst < 2e-6, "to float precision: {worst}");
+}
+
+#[test]
+fn a_refined_and_edited_torus_tessellates_closed() {
+    let mut h = lumpy(Topology::Torus, 2);
+    h.refine(None).unwrap();
+    h.refine(Some(((4, 10), (6, 14)))).unwrap();
+    let o = h.overlays[1].clone();
+    h.move_cv(2, o.u.0 + 3, o.v.0 + 3, DVec3::new(0.4, 0.0, 0.0))
+        .unwrap();
+    let t = h.tessellate(48, 64);
+    let flat: Vec<u32> = t.quads.iter().flatten().copied().collect();
+    let g = geode_geo::Geometry::from_polygons(t.positions.clone(), flat, &vec![4; t.quads.len()])
+        .unwrap();
+    assert!(g.topology().manifold_report(&g).is_closed_manifold());
+    assert!(t.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4));
+}
