@@ -99,3 +99,20 @@ fn nurbs_torus_1m_points_with_normals(bencher: divan::Bencher) {
         .counter(divan::counter::ItemsCount::new(1_000_000usize))
         .bench(|| s.tessellate(1000, 1000));
 }
+
+/// Hierarchical spline throughput: a torus of 8 x 12 vertices refined three
+/// times (a 64 x 96 finest grid, one local edit), its finest level
+/// tessellated at 512 x 512 points with normals.
+#[divan::bench(sample_count = 5)]
+fn hspline_torus_3_levels_512x512(bencher: divan::Bencher) {
+    use geode_spline::hspline::{Hspline, Topology};
+    let mut h = Hspline::new(Topology::Torus, 8, 12, [3.0, 1.0]).unwrap();
+    for _ in 0..3 {
+        h.refine(None).unwrap();
+    }
+    h.move_cv(3, 30, 40, geode_geo::glam::DVec3::new(0.2, 0.0, 0.1))
+        .unwrap();
+    bencher
+        .counter(divan::counter::ItemsCount::new(512usize * 512))
+        .bench(|| h.tessellate(512, 512));
+}
