@@ -12,7 +12,7 @@ use crate::util::{geometry, input};
 
 /// Expands `$HIP` (the folder of the network being cooked, set by the CLI as
 /// Houdini does) so networks can refer to files beside them.
-fn expand(path: &str) -> String {
+pub(crate) fn expand(path: &str) -> String {
     match std::env::var("HIP") {
         Ok(hip) => path.replace("$HIP", &hip),
         Err(_) => path.replace("$HIP", "."),

@@ -9,7 +9,7 @@ use geode_op::{
     CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
     Params, Registry, Value,
 };
-use geode_spline::hspline::{Hspline, HsplineError, Topology};
+use geode_spline::hspline::{file, Hspline, HsplineError, Topology};
 
 use crate::util::geometry;
 
@@ -33,6 +33,9 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("edits", "More edits", T::String, D::Str(""), "`level i j dx dy dz` entries separated by `;`."),
         P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane)."),
         P::new("samples", "Samples", T::Vec2, D::Vec2([48.0, 48.0]), "Tessellation samples along u and v.").range(3.0, 10_000.0),
+        P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder."),
+        P::new("save", "Save .hs", T::File, D::Str(""), "Write the hierarchy (after refinements and edits) to this .hs file, atomically."),
+        P::new("optimize", "Optimize for space", T::Toggle, D::Toggle(true), "Leave zero offsets out of the saved file."),
     ],
 );
 
@@ -72,6 +75,11 @@ impl Operator for HsplineNode {
     fn spec(&self) -> &'static NodeSpec {
         &HSPLINE
     }
+    fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
+        // The loaded file's content is part of the key: editing it recooks.
+        let load = crate::file::expand(p.string("load")?);
+        Ok(std::fs::read(load).ok().map(|b| geode_geo::hash_bytes(&b)))
+    }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let topology = match p.string("topology")? {
             "cylinder" => Topology::Cylinder,
@@ -80,13 +88,20 @@ impl Operator for HsplineNode {
         };
         let err = |e: HsplineError| ctx.error(e.to_string());
         let [sx, sy] = p.vector::<2>("size")?;
-        let mut h = Hspline::new(
-            topology,
-            p.int("rows")? as usize,
-            p.int("columns")? as usize,
-            [sx, sy],
-        )
-        .map_err(err)?;
+        let load = crate::file::expand(p.string("load")?);
+        let mut h = if load.is_empty() {
+            Hspline::new(
+                topology,
+                p.int("rows")? as usize,
+                p.int("columns")? as usize,
+                [sx, sy],
+            )
+            .map_err(err)?
+        } else {
+            let text = std::fs::read_to_string(&load)
+                .map_err(|e| ctx.param_error("load", format!("{load}: {e}")))?;
+            file::load(&text).map_err(|e| ctx.param_error("load", format!("{load}: {e}")))?
+        };
         for _ in 0..p.int("levels")? {
             ctx.check()?;
             h.refine(None).map_err(err)?;
@@ -117,6 +132,16 @@ impl Operator for HsplineNode {
                         .map_err(|e| ctx.param_error("symmetric", e.to_string()))?;
                 }
             }
+        }
+        let save = crate::file::expand(p.string("save")?);
+        if !save.is_empty() {
+            let text = file::save(&h, p.toggle("optimize")?);
+            let path = std::path::Path::new(&save);
+            geode_io::write_atomic(path, |w| {
+                w.write_all(text.as_bytes())
+                    .map_err(|e| geode_io::IoError::os(path, e))
+            })
+            .map_err(|e| ctx.param_error("save", e.to_string()))?;
         }
         let [su, sv] = p.vector::<2>("samples")?;
         let t = h.tessellate(su as usize, sv as usize);

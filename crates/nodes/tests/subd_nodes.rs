@@ -128,3 +128,33 @@ fn hspline_edits_are_keyframable_symmetric_and_checked() {
     );
     assert!(e.contains("edit 1 `1 2 x 0 0 0`"), "{e}");
 }
+
+#[test]
+fn an_hspline_saved_to_hs_loads_back_to_the_same_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("edited.hs");
+    let f = file.to_str().unwrap();
+    let saved = geo(
+        &format!(
+            r#""h": {{"type": "hspline", "params": {{"topology": "torus", "levels": 2, "edits": "2 10 12 0.2 0 0; 1 3 4 0 0.1 0", "save": "{f}"}}}}"#
+        ),
+        "h",
+    );
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(
+        text.starts_with("hspline 1\ntopology torus\n")
+            && text.lines().filter(|l| l.starts_with("o ")).count() == 2,
+        "{text}"
+    );
+    let loaded = geo(
+        &format!(r#""h": {{"type": "hspline", "params": {{"levels": 0, "load": "{f}"}}}}"#),
+        "h",
+    );
+    assert_eq!(loaded.positions(), saved.positions());
+    std::fs::write(&file, "hspline 1\ntopology torus\nbase 4 x\n").unwrap();
+    let e = err(
+        &format!(r#""h": {{"type": "hspline", "params": {{"load": "{f}"}}}}"#),
+        "h",
+    );
+    assert!(e.contains("load") && e.contains("line 3"), "{e}");
+}

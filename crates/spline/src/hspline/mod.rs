@@ -9,6 +9,8 @@
 
 use geode_geo::glam::DVec3;
 
+pub mod file;
+
 /// How the control grid wraps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Topology {
