@@ -112,10 +112,10 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
         ["base", a, c] => (int(n, a)?, int(n, c)?),
         _ => return Err(err(n, "expected `base nu nv`")),
     };
-    if nu < 4 || nv < 4 || nu.saturating_mul(nv) > 1 << 24 {
+    if nu < 4 || nv < 4 || nu.saturating_mul(nv) > 1 << 22 {
         return Err(err(
             n,
-            format!("a base of {nu} x {nv}: each side needs 4 to 16M vertices in all"),
+            format!("a base of {nu} x {nv}: each side needs 4, and 4M vertices at most in all"),
         ));
     }
     let mut points = Vec::with_capacity(nu * nv);
@@ -145,8 +145,8 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
                 if u.0 >= u.1 || v.0 >= v.1 || u.1 > gu || v.1 > gv {
                     return Err(err(n, format!("overlay u {u:?} v {v:?} is empty or outside the level's {gu} x {gv} vertices")));
                 }
-                if (u.1 - u.0).saturating_mul(v.1 - v.0) > 1 << 26 {
-                    return Err(err(n, "an overlay of more than 64M vertices"));
+                if (u.1 - u.0).saturating_mul(v.1 - v.0) > 1 << 22 {
+                    return Err(err(n, "an overlay of more than 4M vertices"));
                 }
                 h.overlays.push(Overlay {
                     u,
