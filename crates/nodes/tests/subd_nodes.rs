@@ -158,3 +158,38 @@ fn an_hspline_saved_to_hs_loads_back_to_the_same_surface() {
     );
     assert!(e.contains("load") && e.contains("line 3"), "{e}");
 }
+
+#[test]
+fn hspline_enveloping_bends_with_the_skeleton_and_names_bad_joints() {
+    let arm = |bend: f64, level: i64| {
+        geo(
+            &format!(
+                r#""h": {{"type": "hspline", "params": {{"topology": "cylinder", "rows": 8, "columns": 12, "size": [0.4, 2.0], "levels": 2,
+                    "envelope": "dual_quaternion", "envelope_level": {level},
+                    "skeleton": "shoulder - 0 -1 0; elbow shoulder 0 0 0; wrist elbow 0 1 0", "bend_joint": "elbow", "bend": [0, 0, {bend}]}}}}"#
+            ),
+            "h",
+        )
+    };
+    let straight = arm(0.0, 1);
+    let bent = arm(90.0, 1);
+    let top = |g: &geode_geo::Geometry| g.positions().iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    assert!(
+        (top(&straight) - top(&arm(0.0, 2))).abs() < 1e-6,
+        "at rest the level does not matter"
+    );
+    assert!(
+        top(&bent) < top(&straight) - 0.3,
+        "the forearm swings down: {} vs {}",
+        top(&bent),
+        top(&straight)
+    );
+    let e = err(
+        r#""h": {"type": "hspline", "params": {"envelope": "linear", "skeleton": "a - 0 0 0; b c 0 1 0"}}"#,
+        "h",
+    );
+    assert!(
+        e.contains("skeleton") && e.contains("joint 2 `b c 0 1 0`"),
+        "{e}"
+    );
+}

@@ -7,6 +7,7 @@
 
 pub mod bspline;
 pub mod hspline;
+pub mod skin;
 pub mod subd;
 
 pub use subd::{subdivide, BoundaryMode, CreaseMethod, SubdError, SubdOptions};

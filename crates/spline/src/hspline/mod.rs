@@ -245,12 +245,19 @@ impl Hspline {
     /// World control grid of `level`: the coarser level refined, plus each
     /// offset turned into world space by the coarser surface's frame.
     pub fn grid(&self, level: usize) -> Result<Grid, HsplineError> {
-        if level >= self.levels() {
+        self.grid_from(0, self.base.clone(), level)
+    }
+
+    /// The world grid of `level`, starting from `start` taken as the world
+    /// grid of level `from` (for example a deformed one: enveloping a
+    /// coarse level lets the finer offsets follow in the deformed frames).
+    pub fn grid_from(&self, from: usize, start: Grid, level: usize) -> Result<Grid, HsplineError> {
+        if level >= self.levels() || from > level {
             return Err(HsplineError::NoLevel(level, self.levels()));
         }
         let wrap = self.wrap();
-        let mut g = self.base.clone();
-        for overlay in &self.overlays[..level] {
+        let mut g = start;
+        for overlay in &self.overlays[from..level] {
             let parent = g;
             g = refine_grid(&parent, wrap);
             for i in overlay.u.0..overlay.u.1 {
@@ -450,10 +457,15 @@ impl Hspline {
     /// the normalized parameters as uv. One level is tessellated, so no
     /// coarser level shows through and no crack opens.
     pub fn tessellate(&self, su: usize, sv: usize) -> crate::bspline::Tessellation {
-        use geode_geo::glam::Vec2;
         let g = self
             .grid(self.levels() - 1)
             .expect("the finest level exists");
+        self.tessellate_grid(&g, su, sv)
+    }
+
+    /// Tessellates a finest-level grid computed elsewhere (e.g. enveloped).
+    pub fn tessellate_grid(&self, g: &Grid, su: usize, sv: usize) -> crate::bspline::Tessellation {
+        use geode_geo::glam::Vec2;
         let wrap = self.wrap();
         let (su, sv) = (su.max(3), sv.max(3));
         let param = |k: usize, n: usize, closed: bool| {
@@ -467,7 +479,7 @@ impl Hspline {
         for i in 0..su {
             for j in 0..sv {
                 let (s, v) = (param(i, su, wrap.0), param(j, sv, wrap.1));
-                let (p, pu, pv) = evaluate(&g, wrap, s, v);
+                let (p, pu, pv) = evaluate(g, wrap, s, v);
                 t.positions.push(p.as_vec3());
                 t.normals.push(frame(pu, pv)[0].as_vec3());
                 t.uvs.push(Vec2::new(s as f32, v as f32));

@@ -190,3 +190,59 @@ fn a_refined_and_edited_torus_tessellates_closed() {
     assert!(g.topology().manifold_report(&g).is_closed_manifold());
     assert!(t.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-4));
 }
+
+#[test]
+fn enveloping_a_coarse_level_carries_finer_detail_in_the_deformed_frames() {
+    use crate::skin::{skin, Joint, Skeleton, SkinMethod};
+    use geode_geo::glam::DQuat;
+    // An arm: a cylinder along Y from -1 to 1 with a bump near the elbow.
+    let mut h = Hspline::new(Topology::Cylinder, 8, 12, [0.4, 2.0]).unwrap();
+    h.refine(None).unwrap();
+    h.refine(None).unwrap();
+    let g2 = h.grid(2).unwrap();
+    let (i, j) = (g2.nu / 2 + 1, 3);
+    h.move_cv(2, i, j, DVec3::ZERO).unwrap();
+    let o = h.overlays[1].index(i, j).unwrap();
+    h.overlays[1].offsets[o] = DVec3::new(0.08, 0.0, 0.0); // outward along the normal
+    let joint = |name: &str, parent, y: f64, rotation| Joint {
+        name: name.into(),
+        parent,
+        rest: DVec3::new(0.0, y, 0.0),
+        rotation,
+    };
+    let skeleton = Skeleton::new(vec![
+        joint("shoulder", None, -1.0, DQuat::IDENTITY),
+        joint("elbow", Some(0), 0.0, DQuat::from_rotation_z(1.2)),
+        joint("wrist", Some(1), 1.0, DQuat::IDENTITY),
+    ])
+    .unwrap();
+    let motions = skeleton.motions();
+    // Hierarchical: envelope level 1, then let level 2's offsets follow.
+    let g1 = h.grid(1).unwrap();
+    let w1 = skeleton.auto_weights(&g1.points);
+    let bent1 = Grid {
+        points: skin(&g1.points, &w1, &motions, SkinMethod::Linear),
+        ..g1.clone()
+    };
+    let hierarchical = h.grid_from(1, bent1.clone(), 2).unwrap();
+    // The bump stands exactly its offset off the bent coarser surface.
+    let reference = refine_grid(&bent1, h.topology.wraps());
+    let (_, pu, pv) = evaluate(
+        &bent1,
+        h.topology.wraps(),
+        parameter(i, hierarchical.nu, false),
+        parameter(j, hierarchical.nv, true),
+    );
+    let n = frame(pu, pv)[0];
+    let height = (hierarchical.at(i, j) - reference.at(i, j)).dot(n);
+    assert!((height - 0.08).abs() < 1e-12, "{height}");
+    // Enveloping the finest level instead blends the bump with the bend.
+    let w2 = skeleton.auto_weights(&g2.points);
+    let flat = skin(
+        &h.grid(2).unwrap().points,
+        &w2,
+        &motions,
+        SkinMethod::Linear,
+    );
+    assert!(flat[i * hierarchical.nv + j].distance(hierarchical.at(i, j)) > 1e-4);
+}
