@@ -167,8 +167,8 @@ pub fn skin(
                         DQuat::from_xyzw(m.translation.x, m.translation.y, m.translation.z, 0.0)
                             * m.rotation
                             * 0.5;
-                    real = real + m.rotation * s;
-                    dual = dual + d * s;
+                    real += m.rotation * s;
+                    dual += d * s;
                 }
                 let len = real.length();
                 if len == 0.0 {
