@@ -374,6 +374,98 @@ impl Hspline {
         Ok(())
     }
 
+    /// Moves the surface point at normalized (s, t) by the world vector
+    /// `delta`, exactly, through the movable vertex of `level` with the most
+    /// weight there (its edit point): that vertex moves by delta / weight.
+    pub fn move_surface_point(
+        &mut self,
+        level: usize,
+        s: f64,
+        t: f64,
+        delta: DVec3,
+    ) -> Result<(usize, usize), HsplineError> {
+        let (nu, nv) = self.grid_size(level)?;
+        let wrap = self.wrap();
+        let (mu, fu, _) = locate(s, nu, wrap.0);
+        let (mv, fv, _) = locate(t, nv, wrap.1);
+        let ((wu, _), (wv, _)) = (weights(fu), weights(fv));
+        let idx =
+            |m: isize, k: usize, n: usize| (m - 1 + k as isize).rem_euclid(n as isize) as usize;
+        let mut best: Option<(f64, usize, usize)> = None;
+        for a in 0..4 {
+            for b in 0..4 {
+                let (i, j, w) = (idx(mu, a, nu), idx(mv, b, nv), wu[a] * wv[b]);
+                if self.movable(level, i, j) && best.is_none_or(|x| w > x.0) {
+                    best = Some((w, i, j));
+                }
+            }
+        }
+        let (w, i, j) = best.ok_or(HsplineError::NotMovable {
+            level,
+            i: mu.max(0) as usize,
+            j: mv.max(0) as usize,
+        })?;
+        self.move_cv(level, i, j, delta / w)?;
+        Ok((i, j))
+    }
+
+    /// The vertices next to (i, j) on `level` (four at most; wrapping where
+    /// the topology wraps).
+    pub fn neighbours(&self, level: usize, i: usize, j: usize) -> Vec<(usize, usize)> {
+        let Ok((nu, nv)) = self.grid_size(level) else {
+            return Vec::new();
+        };
+        let (wu, wv) = self.wrap();
+        let mut out = Vec::new();
+        let step = |k: usize, d: isize, n: usize, wraps: bool| -> Option<usize> {
+            let x = k as isize + d;
+            if wraps {
+                Some(x.rem_euclid(n as isize) as usize)
+            } else {
+                (0..n as isize).contains(&x).then_some(x as usize)
+            }
+        };
+        for (du, dv) in [(-1, 0), (1, 0), (0, -1), (0, 1)] {
+            if let (Some(a), Some(b)) = (step(i, du, nu, wu), step(j, dv, nv, wv)) {
+                if (a, b) != (i, j) && !out.contains(&(a, b)) {
+                    out.push((a, b));
+                }
+            }
+        }
+        out
+    }
+
+    /// The vertices of row `i` (along v) or column `j` (along u) of `level`.
+    pub fn along_v(&self, level: usize, i: usize) -> Vec<(usize, usize)> {
+        self.grid_size(level)
+            .map(|(_, nv)| (0..nv).map(|j| (i, j)).collect())
+            .unwrap_or_default()
+    }
+
+    pub fn along_u(&self, level: usize, j: usize) -> Vec<(usize, usize)> {
+        self.grid_size(level)
+            .map(|(nu, _)| (0..nu).map(|i| (i, j)).collect())
+            .unwrap_or_default()
+    }
+
+    /// Whether the region under vertex (i, j) of `level` is refined: it
+    /// lies in the next level's overlay.
+    pub fn refined(&self, level: usize, i: usize, j: usize) -> bool {
+        let Some(o) = self.overlays.get(level) else {
+            return false;
+        };
+        let (wu, wv) = self.wrap();
+        // Child index of parent vertex k: 2k closed, 2k - 1 open.
+        let child = |k: usize, wraps: bool| {
+            if wraps {
+                2 * k
+            } else {
+                (2 * k).saturating_sub(1)
+            }
+        };
+        (o.u.0..o.u.1).contains(&child(i, wu)) && (o.v.0..o.v.1).contains(&child(j, wv))
+    }
+
     /// The offset of vertex (i, j) of a refined level, if it is in the overlay.
     pub fn offset(&self, level: usize, i: usize, j: usize) -> Option<DVec3> {
         let o = self.overlays.get(level.checked_sub(1)?)?;

@@ -246,3 +246,36 @@ fn enveloping_a_coarse_level_carries_finer_detail_in_the_deformed_frames() {
     );
     assert!(flat[i * hierarchical.nv + j].distance(hierarchical.at(i, j)) > 1e-4);
 }
+
+#[test]
+fn a_surface_point_moves_exactly_through_its_edit_point() {
+    let mut h = lumpy(Topology::Plane, 4);
+    h.refine(None).unwrap();
+    let (s, t) = (0.43, 0.58);
+    let before = evaluate(&h.grid(1).unwrap(), (false, false), s, t).0;
+    let delta = DVec3::new(0.1, 0.25, -0.05);
+    h.move_surface_point(1, s, t, delta).unwrap();
+    let after = evaluate(&h.grid(1).unwrap(), (false, false), s, t).0;
+    // The offset is stored in the local frame, so the move is exact only up
+    // to that frame's round trip.
+    assert!(
+        (after - before - delta).length() < 1e-12,
+        "{}",
+        after - before
+    );
+}
+
+#[test]
+fn tag_helpers_answer_neighbours_rows_columns_and_refinement() {
+    let mut h = lumpy(Topology::Cylinder, 5);
+    assert_eq!(
+        h.neighbours(0, 0, 0),
+        vec![(1, 0), (0, 8), (0, 1)],
+        "wraps in v only"
+    );
+    assert_eq!(h.along_v(0, 2).len(), 9);
+    assert_eq!(h.along_u(0, 3).len(), 7);
+    h.refine(Some(((1, 4), (2, 6)))).unwrap();
+    assert!(h.refined(0, 2, 3));
+    assert!(!h.refined(0, 6, 8));
+}
