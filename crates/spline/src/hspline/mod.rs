@@ -392,9 +392,9 @@ impl Hspline {
         let idx =
             |m: isize, k: usize, n: usize| (m - 1 + k as isize).rem_euclid(n as isize) as usize;
         let mut best: Option<(f64, usize, usize)> = None;
-        for a in 0..4 {
-            for b in 0..4 {
-                let (i, j, w) = (idx(mu, a, nu), idx(mv, b, nv), wu[a] * wv[b]);
+        for (a, wa) in wu.iter().enumerate() {
+            for (b, wb) in wv.iter().enumerate() {
+                let (i, j, w) = (idx(mu, a, nu), idx(mv, b, nv), wa * wb);
                 if self.movable(level, i, j) && best.is_none_or(|x| w > x.0) {
                     best = Some((w, i, j));
                 }
