@@ -5,7 +5,6 @@
 
 use geode_geo::glam::DQuat;
 use geode_geo::glam::DVec3;
-use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_op::{
     CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
     Params, Registry, Value,
@@ -258,22 +257,7 @@ impl Operator for HsplineNode {
             }
         };
         let t = h.tessellate_grid(&grid, su as usize, sv as usize);
-        let flat: Vec<u32> = t.quads.iter().flatten().copied().collect();
-        let mut g = Geometry::from_polygons(t.positions, flat, &vec![4; t.quads.len()])
-            .map_err(|e| ctx.error(e.to_string()))?;
-        g.set_attrib(
-            AttribClass::Point,
-            "N",
-            Attribute::from_data(AttribData::Vec3(t.normals), TypeInfo::Normal),
-        )
-        .map_err(|e| ctx.error(e.to_string()))?;
-        g.set_attrib(
-            AttribClass::Point,
-            "uv",
-            Attribute::from_data(AttribData::Vec2(t.uvs), TypeInfo::TexCoord),
-        )
-        .map_err(|e| ctx.error(e.to_string()))?;
-        geometry(g)
+        geometry(t.into_geometry().map_err(|e| ctx.error(e.to_string()))?)
     }
 }
 

@@ -1,7 +1,6 @@
 //! NURBS surfaces as a node: exact quadrics by revolution, or a B-spline
 //! patch over the points of an input grid, tessellated with normals and UVs.
 
-use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_op::{
     CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, PortType, Registry, Value,
@@ -84,26 +83,9 @@ impl Operator for Nurbs {
         let [su, sv] = p.vector::<2>("samples")?;
         let t = surface.tessellate(su as usize, sv as usize);
         let offset = vec3(p, "center")?;
-        let flat: Vec<u32> = t.quads.iter().flatten().copied().collect();
-        let mut g = Geometry::from_polygons(
-            t.positions.iter().map(|q| *q + offset).collect(),
-            flat,
-            &vec![4; t.quads.len()],
-        )
-        .map_err(|e| ctx.error(e.to_string()))?;
-        g.set_attrib(
-            AttribClass::Point,
-            "N",
-            Attribute::from_data(AttribData::Vec3(t.normals), TypeInfo::Normal),
-        )
-        .map_err(|e| ctx.error(e.to_string()))?;
-        g.set_attrib(
-            AttribClass::Point,
-            "uv",
-            Attribute::from_data(AttribData::Vec2(t.uvs), TypeInfo::TexCoord),
-        )
-        .map_err(|e| ctx.error(e.to_string()))?;
-        geometry(g)
+        let mut t = t;
+        t.positions.iter_mut().for_each(|q| *q += offset);
+        geometry(t.into_geometry().map_err(|e| ctx.error(e.to_string()))?)
     }
 }
 

@@ -28,6 +28,26 @@ pub struct Tessellation {
     pub quads: Vec<[u32; 4]>,
 }
 
+impl Tessellation {
+    /// The quads as geode geometry with point `N` and `uv`.
+    pub fn into_geometry(self) -> Result<geode_geo::Geometry, geode_geo::GeoError> {
+        use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
+        let flat: Vec<u32> = self.quads.iter().flatten().copied().collect();
+        let mut g = Geometry::from_polygons(self.positions, flat, &vec![4; self.quads.len()])?;
+        g.set_attrib(
+            AttribClass::Point,
+            "N",
+            Attribute::from_data(AttribData::Vec3(self.normals), TypeInfo::Normal),
+        )?;
+        g.set_attrib(
+            AttribClass::Point,
+            "uv",
+            Attribute::from_data(AttribData::Vec2(self.uvs), TypeInfo::TexCoord),
+        )?;
+        Ok(g)
+    }
+}
+
 impl NurbsSurface {
     pub fn new(u: Knots, v: Knots, points: Vec<DVec4>) -> Result<NurbsSurface, KnotError> {
         let (nu, nv) = (u.points(), v.points());
