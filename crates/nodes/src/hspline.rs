@@ -49,7 +49,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
 type Edit = (usize, usize, usize, DVec3);
 
 /// The skeleton and pose parameters as joints (rest positions, rotations).
-fn parse_skeleton(
+pub(crate) fn parse_skeleton(
     skeleton: &str,
     pose: &str,
     bend: Option<(&str, [f64; 3])>,

@@ -19,6 +19,7 @@ mod mesh;
 mod nurbs;
 mod primitives;
 mod scatter;
+mod skin;
 mod subd;
 mod transform;
 mod util;
@@ -49,5 +50,6 @@ pub fn registry() -> Registry {
     subd::register(&mut r);
     nurbs::register(&mut r);
     hspline::register(&mut r);
+    skin::register(&mut r);
     r
 }

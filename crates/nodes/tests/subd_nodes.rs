@@ -193,3 +193,40 @@ fn hspline_enveloping_bends_with_the_skeleton_and_names_bad_joints() {
         "{e}"
     );
 }
+
+#[test]
+fn skin_bends_a_mesh_at_its_elbow_with_automatic_or_given_weights() {
+    let skeleton = "shoulder - 0 0 0; elbow shoulder 0 1 0; wrist elbow 0 2 0";
+    let nodes = format!(
+        r#""t": {{"type": "tube", "params": {{"radius": 0.15, "height": 2, "rows": 40, "columns": 16}}}},
+            "auto": {{"type": "skin", "inputs": ["t"], "params": {{"skeleton": "{skeleton}", "bend_joint": "elbow", "bend": [0, 0, 90]}}}},
+            "w": {{"type": "attribute_create", "inputs": ["t"], "params": {{"name": "w_elbow", "type": "float", "value": [1, 0, 0, 0]}}}},
+            "given": {{"type": "skin", "inputs": ["w"], "params": {{"skeleton": "{skeleton}", "bend_joint": "elbow", "bend": [0, 0, 90], "method": "linear"}}}}"#
+    );
+    let tube = geo(&nodes, "t");
+    let bent = geo(&nodes, "auto");
+    // The top ring (y = 2) swings about the elbow (0, 1, 0) to x = -1, y = 1.
+    let top: Vec<usize> = (0..tube.num_points())
+        .filter(|&i| (tube.positions()[i].y - 2.0).abs() < 1e-5)
+        .collect();
+    let centre = top
+        .iter()
+        .map(|&i| bent.positions()[i])
+        .sum::<geode_geo::glam::Vec3>()
+        / top.len() as f32;
+    assert!(
+        (centre - geode_geo::glam::Vec3::new(-1.0, 1.0, 0.0)).length() < 0.05,
+        "{centre}"
+    );
+    // The bottom ring stays.
+    let bottom = (0..tube.num_points()).filter(|&i| tube.positions()[i].y.abs() < 1e-5);
+    assert!(bottom
+        .into_iter()
+        .all(|i| (bent.positions()[i] - tube.positions()[i]).length() < 0.01));
+    // Every point weighted fully to the elbow: the whole tube turns rigidly about it.
+    let given = geo(&nodes, "given");
+    for (a, b) in tube.positions().iter().zip(given.positions()) {
+        let want = geode_geo::glam::Vec3::new(-(a.y - 1.0), 1.0 + a.x, a.z);
+        assert!((*b - want).length() < 1e-5, "{a} -> {b}, want {want}");
+    }
+}
