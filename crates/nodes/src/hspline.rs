@@ -19,7 +19,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
     "spline",
-    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are listed as `level i j dx dy dz; ...`. With `symmetric` (plane only) every edit is mirrored across X = 0. Output: the finest level as quads with N and uv.",
+    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are listed as `level i j dx dy dz; ...`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv.",
     &[],
     &[
         P::new("topology", "Topology", T::Menu(&["plane", "cylinder", "torus"]), D::Str("plane"), "Plane (open), cylinder (wrapped around) or torus (wrapped both ways)."),
@@ -32,7 +32,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("edit_vertex", "Edit vertex", T::Vec2, D::Vec2([0.0, 0.0]), "i j of the animatable edit."),
         P::new("edit_move", "Edit move", T::Vec3, D::Vec3([0.0; 3]), "World vector the vertex moves by (zero: no edit)."),
         P::new("edits", "More edits", T::String, D::Str(""), "`level i j dx dy dz` entries separated by `;`."),
-        P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane)."),
+        P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane, cylinder or torus; wrapped directions need an even vertex count)."),
         P::new("samples", "Samples", T::Vec2, D::Vec2([48.0, 48.0]), "Tessellation samples along u and v.").range(3.0, 10_000.0),
         P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder."),
         P::new("save", "Save .hs", T::File, D::Str(""), "Write the hierarchy (after refinements and edits) to this .hs file, atomically."),
@@ -201,15 +201,30 @@ impl Operator for HsplineNode {
                 (p.int("edit_level")? as usize, i, j, DVec3::from_array(mv)),
             );
         }
-        let symmetric = p.toggle("symmetric")? && topology == Topology::Plane;
+        let symmetric = p.toggle("symmetric")?;
         for (level, i, j, d) in edits {
             h.move_cv(level, i, j, d)
                 .map_err(|e| ctx.param_error("edits", e.to_string()))?;
             if symmetric {
-                let nu = h.grid(level).map_err(err)?.nu;
-                let mirror = nu - 1 - i;
-                if mirror != i {
-                    h.move_cv(level, mirror, j, DVec3::new(-d.x, d.y, d.z))
+                // The vertex across X = 0: a plane's columns run along X; a
+                // cylinder's or torus's vertices go round Y from +X, so the
+                // mirror of angle a is pi - a.
+                let g = h.grid(level).map_err(err)?;
+                let (mi, mj) = if h.topology == Topology::Plane {
+                    (g.nu - 1 - i, j)
+                } else if g.nv % 2 == 0 {
+                    (i, (g.nv / 2 + g.nv - j % g.nv) % g.nv)
+                } else {
+                    return Err(ctx.param_error(
+                        "symmetric",
+                        format!(
+                            "level {level} has {} vertices around: mirroring needs an even count",
+                            g.nv
+                        ),
+                    ));
+                };
+                if (mi, mj) != (i, j) {
+                    h.move_cv(level, mi, mj, DVec3::new(-d.x, d.y, d.z))
                         .map_err(|e| ctx.param_error("symmetric", e.to_string()))?;
                 }
             }

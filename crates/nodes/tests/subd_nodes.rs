@@ -230,3 +230,23 @@ fn skin_bends_a_mesh_at_its_elbow_with_automatic_or_given_weights() {
         assert!((*b - want).length() < 1e-5, "{a} -> {b}, want {want}");
     }
 }
+
+#[test]
+fn symmetric_edits_mirror_across_x_on_wrapped_surfaces_too() {
+    let g = geo(
+        r#""h": {"type": "hspline", "params": {"topology": "torus", "rows": 8, "columns": 12, "size": [3, 1], "levels": 1,
+            "symmetric": true, "edits": "1 4 3 0.1 0.3 0.05", "samples": [32, 48]}}"#,
+        "h",
+    );
+    // Above the plain torus (tube radius 0.5): only the bump and its mirror.
+    let bumped: Vec<_> = g.positions().iter().filter(|p| p.y > 0.52).collect();
+    assert!(!bumped.is_empty());
+    for p in bumped {
+        assert!(
+            g.positions().iter().any(|q| (q.x + p.x).abs() < 1e-4
+                && (q.y - p.y).abs() < 1e-4
+                && (q.z - p.z).abs() < 1e-4),
+            "{p} has no mirror"
+        );
+    }
+}
