@@ -26,8 +26,9 @@ pub enum ScatterError {
     Cancelled,
 }
 
-/// Candidate `i` in the box.
-fn candidate(lo: Vec3, hi: Vec3, seed: u64, i: u64) -> Vec3 {
+/// Candidate `i` in the box `lo..hi`: a hash of (seed, i), so any caller
+/// drawing from the same stream sees the same points.
+pub fn candidate(lo: Vec3, hi: Vec3, seed: u64, i: u64) -> Vec3 {
     lo + (hi - lo) * Vec3::new(unit(seed, i, 0), unit(seed, i, 1), unit(seed, i, 2))
 }
 
@@ -107,7 +108,7 @@ pub fn on_surface(
     Ok((0..count as u64)
         .into_par_iter()
         .map(|i| {
-            let target = unit_f64_of(seed, i) * total;
+            let target = geode_geo::random::unit_f64(seed, i, 0) * total;
             let k = cdf
                 .partition_point(|&c| c <= target)
                 .min(triangles.len() - 1);
@@ -118,10 +119,6 @@ pub fn on_surface(
             (p, k as u32)
         })
         .collect())
-}
-
-fn unit_f64_of(seed: u64, i: u64) -> f64 {
-    geode_geo::random::unit_f64(seed, i, 0)
 }
 
 /// Total area of triangles.

@@ -3,14 +3,15 @@
 //! keyframed, which the thesis's host could not do), tessellated from the
 //! finest level.
 
-use geode_geo::glam::DQuat;
 use geode_geo::glam::DVec3;
 use geode_op::{
     CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
     Params, Registry, Value,
 };
 use geode_spline::hspline::{file, Grid, Hspline, HsplineError, Topology};
-use geode_spline::skin::{skin, Joint, Skeleton, SkinMethod};
+use geode_spline::skin::{skin, SkinMethod};
+
+use crate::skin::{skeleton_from_params, BEND, BEND_JOINT, POSE, SKELETON};
 
 use crate::util::geometry;
 
@@ -39,88 +40,14 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("optimize", "Optimize for space", T::Toggle, D::Toggle(true), "Leave zero offsets out of the saved file."),
         P::new("envelope", "Envelope", T::Menu(&["none", "linear", "dual_quaternion"]), D::Str("none"), "Skin the surface with the skeleton: linear blend or dual quaternions (weights automatic from the distance to the bones)."),
         P::new("envelope_level", "Envelope level", T::Int, D::Int(0), "The level whose control vertices are skinned; finer offsets then follow in the deformed frames (the finest level or above: no hierarchy effect).").range(0.0, 16.0),
-        P::new("skeleton", "Skeleton", T::String, D::Str(""), "Joints `name parent x y z` separated by `;` (parent `-` for the root; parents first), at rest."),
-        P::new("pose", "Pose", T::String, D::Str(""), "Joint rotations `name rx ry rz` in degrees (X, then Y, then Z), separated by `;`."),
-        P::new("bend_joint", "Bend joint", T::String, D::Str(""), "A joint whose rotation the animatable `bend` adds to."),
-        P::new("bend", "Bend", T::Vec3, D::Vec3([0.0; 3]), "Degrees about X, Y, Z added to the bend joint (keyframable)."),
+        SKELETON,
+        POSE,
+        BEND_JOINT,
+        BEND,
     ],
 );
 
 type Edit = (usize, usize, usize, DVec3);
-
-/// The skeleton and pose parameters as joints (rest positions, rotations).
-pub(crate) fn parse_skeleton(
-    skeleton: &str,
-    pose: &str,
-    bend: Option<(&str, [f64; 3])>,
-) -> Result<Skeleton, (&'static str, String)> {
-    let mut joints: Vec<Joint> = Vec::new();
-    for (k, entry) in skeleton
-        .split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let w: Vec<&str> = entry.split_whitespace().collect();
-        let bad = |why: &str| ("skeleton", format!("joint {} `{entry}`: {why}", k + 1));
-        if w.len() != 5 {
-            return Err(bad("expected `name parent x y z`"));
-        }
-        let parent = match w[1] {
-            "-" => None,
-            name => Some(
-                joints
-                    .iter()
-                    .position(|j| j.name == name)
-                    .ok_or_else(|| bad("the parent must be an earlier joint"))?,
-            ),
-        };
-        let num = |s: &str| s.parse::<f64>().ok().filter(|x| x.is_finite());
-        let (Some(x), Some(y), Some(z)) = (num(w[2]), num(w[3]), num(w[4])) else {
-            return Err(bad("x y z must be numbers"));
-        };
-        joints.push(Joint {
-            name: w[0].to_owned(),
-            parent,
-            rest: DVec3::new(x, y, z),
-            rotation: DQuat::IDENTITY,
-        });
-    }
-    let euler = |d: [f64; 3]| {
-        DQuat::from_euler(
-            geode_geo::glam::EulerRot::ZYX,
-            d[2].to_radians(),
-            d[1].to_radians(),
-            d[0].to_radians(),
-        )
-    };
-    for (k, entry) in pose
-        .split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let w: Vec<&str> = entry.split_whitespace().collect();
-        let bad = |why: &str| ("pose", format!("entry {} `{entry}`: {why}", k + 1));
-        let nums: Vec<f64> = w.iter().skip(1).filter_map(|s| s.parse().ok()).collect();
-        if w.len() != 4 || nums.len() != 3 {
-            return Err(bad("expected `name rx ry rz`"));
-        }
-        let j = joints
-            .iter_mut()
-            .find(|j| j.name == w[0])
-            .ok_or_else(|| bad("no such joint"))?;
-        j.rotation = euler([nums[0], nums[1], nums[2]]) * j.rotation;
-    }
-    if let Some((name, d)) = bend.filter(|(n, _)| !n.is_empty()) {
-        let j = joints
-            .iter_mut()
-            .find(|j| j.name == name)
-            .ok_or(("bend_joint", format!("no joint named `{name}`")))?;
-        j.rotation = euler(d) * j.rotation;
-    }
-    Skeleton::new(joints).map_err(|e| ("skeleton", e.to_string()))
-}
 
 fn parse_edits(text: &str) -> Result<Vec<Edit>, String> {
     let mut out = Vec::new();
@@ -209,17 +136,16 @@ impl Operator for HsplineNode {
                 // The vertex across X = 0: a plane's columns run along X; a
                 // cylinder's or torus's vertices go round Y from +X, so the
                 // mirror of angle a is pi - a.
-                let g = h.grid(level).map_err(err)?;
+                let (nu, nv) = h.grid_size(level).map_err(err)?;
                 let (mi, mj) = if h.topology == Topology::Plane {
-                    (g.nu - 1 - i, j)
-                } else if g.nv % 2 == 0 {
-                    (i, (g.nv / 2 + g.nv - j % g.nv) % g.nv)
+                    (nu - 1 - i, j)
+                } else if nv % 2 == 0 {
+                    (i, (nv / 2 + nv - j % nv) % nv)
                 } else {
                     return Err(ctx.param_error(
                         "symmetric",
                         format!(
-                            "level {level} has {} vertices around: mirroring needs an even count",
-                            g.nv
+                            "level {level} has {nv} vertices around: mirroring needs an even count"
                         ),
                     ));
                 };
@@ -244,13 +170,7 @@ impl Operator for HsplineNode {
         let grid = match p.string("envelope")? {
             "none" => h.grid(finest).map_err(err)?,
             method => {
-                let bend = p.vector::<3>("bend")?;
-                let skeleton = parse_skeleton(
-                    p.string("skeleton")?,
-                    p.string("pose")?,
-                    Some((p.string("bend_joint")?, bend)),
-                )
-                .map_err(|(param, why)| ctx.param_error(param, why))?;
+                let skeleton = skeleton_from_params(ctx, p)?;
                 let level = (p.int("envelope_level")? as usize).min(finest);
                 let coarse = h.grid(level).map_err(err)?;
                 let weights = skeleton.auto_weights(&coarse.points);

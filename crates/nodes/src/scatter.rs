@@ -80,14 +80,7 @@ fn probe_share(lo: Vec3, hi: Vec3, seed: u64, test: &(dyn Fn(&[Vec3]) -> Vec<boo
     const PROBE: u64 = 1 << 16;
     let probe_seed = seed ^ 0x005E_ED0F_DE45_17E5;
     let cands: Vec<Vec3> = (0..PROBE)
-        .map(|i| {
-            lo + (hi - lo)
-                * Vec3::new(
-                    geode_geo::random::unit(probe_seed, i, 0),
-                    geode_geo::random::unit(probe_seed, i, 1),
-                    geode_geo::random::unit(probe_seed, i, 2),
-                )
-        })
+        .map(|i| scatter::candidate(lo, hi, probe_seed, i))
         .collect();
     test(&cands).into_iter().filter(|&b| b).count() as f64 / PROBE as f64
 }

@@ -140,7 +140,8 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
                 if int(n, k)? != h.overlays.len() + 1 {
                     return Err(err(n, format!("expected level {}", h.overlays.len() + 1)));
                 }
-                let (gu, gv) = h.grid_size_after(h.overlays.len() + 1);
+                let (gu, gv) = super::level_size((nu, nv), topology.wraps(), h.overlays.len() + 1)
+                    .ok_or_else(|| err(n, "a level past 16M vertices a side"))?;
                 let (u, v) = ((int(n, u0)?, int(n, u1)?), (int(n, v0)?, int(n, v1)?));
                 if u.0 >= u.1 || v.0 >= v.1 || u.1 > gu || v.1 > gv {
                     return Err(err(n, format!("overlay u {u:?} v {v:?} is empty or outside the level's {gu} x {gv} vertices")));
@@ -171,22 +172,6 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
         return Err(err(n, format!("`{l}` after `end`")));
     }
     Ok(h)
-}
-
-impl Hspline {
-    /// Vertex counts of `level` (refining the base that many times).
-    fn grid_size_after(&self, level: usize) -> (usize, usize) {
-        let (mut nu, mut nv) = (self.base.nu, self.base.nv);
-        let (wu, wv) = self.topology.wraps();
-        for _ in 0..level {
-            nu = if wu { 2 * nu } else { 2 * nu - 3 };
-            nv = if wv { 2 * nv } else { 2 * nv - 3 };
-            if nu > 1 << 24 || nv > 1 << 24 {
-                return (usize::MAX / 2, usize::MAX / 2);
-            }
-        }
-        (nu, nv)
-    }
 }
 
 #[cfg(test)]

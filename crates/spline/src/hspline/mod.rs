@@ -143,22 +143,45 @@ fn locate(s: f64, n: usize, closed: bool) -> (isize, f64, f64) {
     (m as isize, x - m, scale)
 }
 
+/// Vertex `k` (0..4) of span `m` among `n` (wrapping; an open direction's
+/// spans never reach past its ends).
+fn span_vertex(m: isize, k: usize, n: usize) -> usize {
+    (m - 1 + k as isize).rem_euclid(n as isize) as usize
+}
+
 /// Point and derivatives (per unit normalized parameter) of a grid's surface.
 pub fn evaluate(g: &Grid, wrap: (bool, bool), s: f64, t: f64) -> (DVec3, DVec3, DVec3) {
     let (mu, fu, su) = locate(s, g.nu, wrap.0);
     let (mv, fv, sv) = locate(t, g.nv, wrap.1);
     let ((wu, du), (wv, dv)) = (weights(fu), weights(fv));
-    let idx = |m: isize, k: usize, n: usize| (m - 1 + k as isize).rem_euclid(n as isize) as usize;
     let (mut p, mut pu, mut pv) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
     for a in 0..4 {
         for b in 0..4 {
-            let q = g.at(idx(mu, a, g.nu), idx(mv, b, g.nv));
+            let q = g.at(span_vertex(mu, a, g.nu), span_vertex(mv, b, g.nv));
             p += q * (wu[a] * wv[b]);
             pu += q * (du[a] * wv[b] * su);
             pv += q * (wu[a] * dv[b] * sv);
         }
     }
     (p, pu, pv)
+}
+
+/// Vertex counts after refining a `base` grid `level` times: a wrapped
+/// direction doubles, an open one becomes 2n - 3; None past 2^24.
+pub(crate) fn level_size(
+    base: (usize, usize),
+    wrap: (bool, bool),
+    level: usize,
+) -> Option<(usize, usize)> {
+    let (mut nu, mut nv) = base;
+    for _ in 0..level {
+        nu = if wrap.0 { 2 * nu } else { 2 * nu - 3 };
+        nv = if wrap.1 { 2 * nv } else { 2 * nv - 3 };
+        if nu > 1 << 24 || nv > 1 << 24 {
+            return None;
+        }
+    }
+    Some((nu, nv))
 }
 
 /// An orthonormal frame (normal, u tangent, v tangent) from derivatives.
@@ -328,17 +351,13 @@ impl Hspline {
         ok(i, o.u, g.0) && ok(j, o.v, g.1)
     }
 
-    fn grid_size(&self, level: usize) -> Result<(usize, usize), HsplineError> {
+    /// Vertex counts of `level`.
+    pub fn grid_size(&self, level: usize) -> Result<(usize, usize), HsplineError> {
         if level >= self.levels() {
             return Err(HsplineError::NoLevel(level, self.levels()));
         }
-        let (mut nu, mut nv) = (self.base.nu, self.base.nv);
-        let (wu, wv) = self.wrap();
-        for _ in 0..level {
-            nu = if wu { 2 * nu } else { 2 * nu - 3 };
-            nv = if wv { 2 * nv } else { 2 * nv - 3 };
-        }
-        Ok((nu, nv))
+        Ok(level_size((self.base.nu, self.base.nv), self.wrap(), level)
+            .expect("levels that exist fit in memory"))
     }
 
     /// Moves vertex (i, j) of `level` by the world vector `delta` (level 0:
@@ -389,12 +408,10 @@ impl Hspline {
         let (mu, fu, _) = locate(s, nu, wrap.0);
         let (mv, fv, _) = locate(t, nv, wrap.1);
         let ((wu, _), (wv, _)) = (weights(fu), weights(fv));
-        let idx =
-            |m: isize, k: usize, n: usize| (m - 1 + k as isize).rem_euclid(n as isize) as usize;
         let mut best: Option<(f64, usize, usize)> = None;
         for (a, wa) in wu.iter().enumerate() {
             for (b, wb) in wv.iter().enumerate() {
-                let (i, j, w) = (idx(mu, a, nu), idx(mv, b, nv), wa * wb);
+                let (i, j, w) = (span_vertex(mu, a, nu), span_vertex(mv, b, nv), wa * wb);
                 if self.movable(level, i, j) && best.is_none_or(|x| w > x.0) {
                     best = Some((w, i, j));
                 }

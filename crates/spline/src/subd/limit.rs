@@ -66,17 +66,7 @@ fn rule_at(l: &Level, v: usize) -> (Rule, Vec<u32>) {
         .filter(|&&e| is_sharp(l.edge_sharpness[e as usize]))
         .map(|&e| l.other_end(e, v as u32))
         .collect();
-    let rule = if is_sharp(l.vertex_sharpness[v]) {
-        Rule::Corner
-    } else {
-        match sharp.len() {
-            0 => Rule::Smooth,
-            1 => Rule::Dart,
-            2 => Rule::Crease,
-            _ => Rule::Corner,
-        }
-    };
-    (rule, sharp)
+    (Rule::of(l.vertex_sharpness[v], sharp.len()), sharp)
 }
 
 /// Limit positions of every vertex of an all-quad level.
@@ -139,7 +129,7 @@ pub fn limit_normals(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
             let pv = p[v];
             let e = |i: usize| p[edges[i] as usize];
             let f = |i: usize| p[faces[i] as usize];
-            let (rule, _) = rule_at(l, v);
+            let (rule, sharp_ends) = rule_at(l, v);
             let (t1, t2) = match rule {
                 Rule::Smooth | Rule::Dart if faces.len() > 2 && edges.len() == faces.len() => {
                     let n = faces.len();
@@ -162,13 +152,9 @@ pub fn limit_normals(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
                     (t1, t2)
                 }
                 Rule::Crease => {
+                    // The crease ends' places in the ordered ring.
                     let sharp: Vec<usize> = (0..edges.len())
-                        .filter(|&i| {
-                            l.vertex_edges.row(v).iter().any(|&x| {
-                                l.other_end(x, v as u32) == edges[i]
-                                    && is_sharp(l.edge_sharpness[x as usize])
-                            })
-                        })
+                        .filter(|&i| sharp_ends.contains(&edges[i]))
                         .collect();
                     if sharp.len() != 2 {
                         return fallback();

@@ -112,10 +112,10 @@ pub fn base_level(
     Ok((level, boundary, crease_method))
 }
 
-/// Numeric point attributes as flat f64 columns (name, type info, width,
-/// values); integers, quaternions, matrices and strings do not blend.
-fn point_columns(g: &Geometry) -> Vec<(String, TypeInfo, usize, Vec<f64>)> {
-    g.attribs(AttribClass::Point)
+/// Numeric attributes of one class as flat f64 columns (name, type info,
+/// width, values); integers, quaternions, matrices and strings do not blend.
+fn columns(g: &Geometry, class: AttribClass) -> Vec<(String, TypeInfo, usize, Vec<f64>)> {
+    g.attribs(class)
         .iter()
         .filter_map(|(name, a)| {
             let (dim, vals): (usize, Vec<f64>) = match a.data() {
@@ -234,20 +234,13 @@ pub fn subdivide(
         .iter()
         .flat_map(|p| p.as_dvec3().to_array())
         .collect();
-    let mut points: Vec<(String, TypeInfo, usize, Vec<f64>)> = point_columns(g)
+    let mut points: Vec<(String, TypeInfo, usize, Vec<f64>)> = columns(g, AttribClass::Point)
         .into_iter()
         .filter(|c| c.0 != "P")
         .collect();
-    let mut corners: Vec<(String, TypeInfo, usize, Vec<f64>)> = g
-        .attribs(AttribClass::Vertex)
-        .iter()
-        .filter(|(name, _)| *name != "creaseweight")
-        .filter_map(|(name, a)| {
-            let mut tmp = Geometry::new();
-            tmp.add_points(&vec![Vec3::ZERO; a.len()]);
-            tmp.set_attrib(AttribClass::Point, name, a.clone()).ok()?;
-            point_columns(&tmp).into_iter().find(|c| c.0 == name)
-        })
+    let mut corners: Vec<(String, TypeInfo, usize, Vec<f64>)> = columns(g, AttribClass::Vertex)
+        .into_iter()
+        .filter(|c| c.0 != "creaseweight")
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
     for _ in 0..levels {

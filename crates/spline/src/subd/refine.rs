@@ -16,7 +16,7 @@ pub enum Rule {
 }
 
 impl Rule {
-    fn of(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
+    pub(crate) fn of(vertex_sharpness: f32, sharp_edges: usize) -> Rule {
         if is_sharp(vertex_sharpness) {
             return Rule::Corner;
         }
