@@ -71,6 +71,8 @@ pub enum HsplineError {
     BadRegion,
     #[error("a {0:?} needs at least {1} control vertices each way")]
     TooSmall(Topology, usize),
+    #[error("level {0} would pass 16M vertices a side")]
+    TooLarge(usize),
 }
 
 /// Refines one row of uniform cubic control points (Lane-Riesenfeld):
@@ -309,6 +311,9 @@ impl Hspline {
         &mut self,
         region: Option<((usize, usize), (usize, usize))>,
     ) -> Result<(), HsplineError> {
+        if level_size((self.base.nu, self.base.nv), self.wrap(), self.levels()).is_none() {
+            return Err(HsplineError::TooLarge(self.levels()));
+        }
         let finest = self.grid(self.levels() - 1)?;
         let child = refine_grid(&finest, self.wrap());
         let (u, v) = match region {

@@ -279,3 +279,16 @@ fn tag_helpers_answer_neighbours_rows_columns_and_refinement() {
     assert!(h.refined(0, 2, 3));
     assert!(!h.refined(0, 6, 8));
 }
+
+#[test]
+fn refining_past_the_size_limit_is_an_error_not_a_panic() {
+    let mut h = Hspline::new(Topology::Torus, 4, 1 << 20, [3.0, 1.0]).unwrap();
+    h.overlays = (0..4)
+        .map(|_| Overlay {
+            u: (0, 1),
+            v: (0, 1),
+            offsets: vec![DVec3::ZERO],
+        })
+        .collect();
+    assert_eq!(h.refine(None), Err(HsplineError::TooLarge(5)));
+}
