@@ -1,7 +1,7 @@
 // Reference Catmull-Clark refinement by OpenSubdiv (Debian libosd-dev), for
 // geode's tests: reads a mesh description on stdin, refines it uniformly
 // with Far::TopologyRefiner and Far::PrimvarRefiner, and prints the
-// positions of every level and the limit positions of the last.
+// positions of every level and the limit positions and normals of the last.
 //
 // Input (whitespace separated):
 //   boundary B crease C levels L        (B: 0 none, 1 edge only, 2 edge and
@@ -12,12 +12,13 @@
 //   corners M    then M lines "v sharpness"
 //   holes H      then H face indices
 // Output: "level k n" then n lines "x y z", for k = 1..L; then "limit n"
-// and n lines.
+// and n lines; then "normal n" and n unit normals (du x dv).
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -139,10 +140,29 @@ int main() {
         for (int i = 0; i < n; ++i) std::printf("%.10g %.10g %.10g\n", src[i].p[0], src[i].p[1], src[i].p[2]);
     }
     int n = refiner->GetLevel(levels).GetNumVertices();
-    std::vector<Vertex> limit(n);
-    primvar.Limit(src, limit);
+    std::vector<Vertex> limit(n), du(n), dv(n);
+    // Far's limit tangents crash on non-manifold vertices: positions only
+    // there, and zero normals (which the tests leave out).
+    Far::TopologyLevel const & last = refiner->GetLevel(levels);
+    bool manifold = true;
+    for (int i = 0; i < n; ++i) manifold = manifold && !last.IsVertexNonManifold(i);
+    if (manifold) {
+        primvar.Limit(src, limit, du, dv);
+    } else {
+        primvar.Limit(src, limit);
+    }
     std::printf("limit %d\n", n);
     for (int i = 0; i < n; ++i) std::printf("%.10g %.10g %.10g\n", limit[i].p[0], limit[i].p[1], limit[i].p[2]);
+    // Unit normals from the limit tangents (zero where they are parallel).
+    std::printf("normal %d\n", n);
+    for (int i = 0; i < n; ++i) {
+        double const * a = du[i].p;
+        double const * b = dv[i].p;
+        double c[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+        double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+        if (len > 0) for (int k = 0; k < 3; ++k) c[k] /= len;
+        std::printf("%.10g %.10g %.10g\n", c[0], c[1], c[2]);
+    }
     delete refiner;
     return 0;
 }

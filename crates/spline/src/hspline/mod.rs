@@ -9,6 +9,7 @@
 
 use geode_geo::glam::DVec3;
 
+pub mod attach;
 pub mod file;
 
 /// How the control grid wraps.

@@ -106,6 +106,54 @@ pub fn limit_positions(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
         .collect()
 }
 
+/// The two limit tangents of an interior smooth vertex of valence `n`
+/// from its ordered ring (edge ends `e`, opposite face corners `f`): the
+/// first along edge 0, the second a quarter turn on.
+fn smooth_tangents(
+    n: usize,
+    e: impl Fn(usize) -> DVec3,
+    f: impl Fn(usize) -> DVec3,
+) -> (DVec3, DVec3) {
+    let theta = std::f64::consts::TAU / n as f64;
+    let lambda = 5.0 / 16.0
+        + (theta.cos() + (theta * 0.5).cos() * (2.0 * (9.0 + theta.cos())).sqrt()) / 16.0;
+    let fs = if n == 4 {
+        1.0
+    } else {
+        1.0 / (4.0 * lambda - 1.0)
+    };
+    let (mut t1, mut t2) = (DVec3::ZERO, DVec3::ZERO);
+    for i in 0..n {
+        let (c0, c1) = ((i as f64 * theta).cos(), ((i + 1) as f64 * theta).cos());
+        let (s0, s1) = ((i as f64 * theta).sin(), ((i + 1) as f64 * theta).sin());
+        t1 += e(i) * (4.0 * c0) + f(i) * (fs * (c0 + c1));
+        t2 += e(i) * (4.0 * s0) + f(i) * (fs * (s0 + s1));
+    }
+    (t1, t2)
+}
+
+/// The orthonormal limit frame (normal, first tangent, second tangent) of
+/// interior smooth vertex `v` with the first tangent pointing along its
+/// edge to `toward`; `flip` points it the opposite way. The normal follows
+/// the face winding. None where `v` is not an interior smooth vertex of
+/// quads or `toward` is not a neighbour.
+pub fn limit_frame(l: &Level, p: &[DVec3], v: u32, toward: u32, flip: bool) -> Option<[DVec3; 3]> {
+    let (edges, faces) = ring(l, v)?;
+    let n = faces.len();
+    if n < 3 || edges.len() != n || rule_at(l, v as usize).0 != Rule::Smooth {
+        return None;
+    }
+    let k = edges.iter().position(|&x| x == toward)?;
+    let (t1, t2) = smooth_tangents(
+        n,
+        |i| p[edges[(i + k) % n] as usize],
+        |i| p[faces[(i + k) % n] as usize],
+    );
+    let normal = t1.cross(t2).normalize_or_zero();
+    let tu = if flip { -t1 } else { t1 }.normalize_or_zero();
+    (normal != DVec3::ZERO && tu != DVec3::ZERO).then(|| [normal, tu, normal.cross(tu)])
+}
+
 /// Unit limit normals (tangent masks on the ordered ring; where a vertex
 /// has no single fan of quads, the mean of its faces' normals).
 pub fn limit_normals(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
@@ -132,24 +180,7 @@ pub fn limit_normals(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
             let (rule, sharp_ends) = rule_at(l, v);
             let (t1, t2) = match rule {
                 Rule::Smooth | Rule::Dart if faces.len() > 2 && edges.len() == faces.len() => {
-                    let n = faces.len();
-                    let theta = std::f64::consts::TAU / n as f64;
-                    let lambda = 5.0 / 16.0
-                        + (theta.cos() + (theta * 0.5).cos() * (2.0 * (9.0 + theta.cos())).sqrt())
-                            / 16.0;
-                    let fs = if n == 4 {
-                        1.0
-                    } else {
-                        1.0 / (4.0 * lambda - 1.0)
-                    };
-                    let (mut t1, mut t2) = (DVec3::ZERO, DVec3::ZERO);
-                    for i in 0..n {
-                        let (c0, c1) = ((i as f64 * theta).cos(), ((i + 1) as f64 * theta).cos());
-                        let (s0, s1) = ((i as f64 * theta).sin(), ((i + 1) as f64 * theta).sin());
-                        t1 += e(i) * (4.0 * c0) + f(i) * (fs * (c0 + c1));
-                        t2 += e(i) * (4.0 * s0) + f(i) * (fs * (s0 + s1));
-                    }
-                    (t1, t2)
+                    smooth_tangents(faces.len(), e, f)
                 }
                 Rule::Crease => {
                     // The crease ends' places in the ordered ring.

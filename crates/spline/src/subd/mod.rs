@@ -13,7 +13,7 @@ use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
 
 pub use level::{Level, Rows, INFINITE};
-pub use limit::{limit_normals, limit_positions};
+pub use limit::{limit_frame, limit_normals, limit_positions};
 pub use refine::{plan, refine_topology, refine_values, Rule};
 
 /// OpenSubdiv's vertex boundary interpolation.
@@ -266,8 +266,10 @@ pub fn subdivide(
         .map(|c| DVec3::new(c[0], c[1], c[2]))
         .collect();
     let normals = if opts.limit {
+        // Tangent masks weigh the control points, not the limit points.
+        let normals = limit_normals(&level, &pos);
         pos = limit_positions(&level, &pos);
-        Some(limit_normals(&level, &pos))
+        Some(normals)
     } else {
         None
     };
