@@ -20,7 +20,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
     "spline",
-    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are listed as `level i j dx dy dz; ...`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv.",
+    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are listed as `level i j dx dy dz; ...`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (its .hs text in the detail attribute `hspline`) for the attach node when it is not enveloped.",
     &[],
     &[
         P::new("topology", "Topology", T::Menu(&["plane", "cylinder", "torus"]), D::Str("plane"), "Plane (open), cylinder (wrapped around) or torus (wrapped both ways)."),
@@ -167,6 +167,7 @@ impl Operator for HsplineNode {
         }
         let [su, sv] = p.vector::<2>("samples")?;
         let finest = h.levels() - 1;
+        let enveloped = p.string("envelope")? != "none";
         let grid = match p.string("envelope")? {
             "none" => h.grid(finest).map_err(err)?,
             method => {
@@ -192,7 +193,11 @@ impl Operator for HsplineNode {
             }
         };
         let t = h.tessellate_grid(&grid, su as usize, sv as usize);
-        geometry(t.into_geometry().map_err(|e| ctx.error(e.to_string()))?)
+        let mut g = t.into_geometry().map_err(|e| ctx.error(e.to_string()))?;
+        if !enveloped {
+            crate::attach::carry_hierarchy(&mut g, &h).map_err(|e| ctx.error(e.to_string()))?;
+        }
+        geometry(g)
     }
 }
 

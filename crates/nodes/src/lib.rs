@@ -1,6 +1,7 @@
 //! geode's node library: every node type, one file per family, each declaring
 //! its parameters once (`NodeSpec`) for the cook, the docs and the CLI.
 
+mod attach;
 mod attributes;
 mod bundles;
 mod curve_ops;
@@ -50,6 +51,7 @@ pub fn registry() -> Registry {
     subd::register(&mut r);
     nurbs::register(&mut r);
     hspline::register(&mut r);
+    attach::register(&mut r);
     skin::register(&mut r);
     r
 }

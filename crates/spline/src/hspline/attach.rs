@@ -19,12 +19,14 @@ use crate::subd::{
 };
 use crate::subd::{Level, Rows};
 
-/// A cylinder hspline joined at its first rows to parent faces
-/// `u0..u1` x `v0..v1` (half-open, level-0 face indices).
+/// Parent faces `u0..u1` x `v0..v1` (half-open, level-0 face indices).
+pub type Region = ((usize, usize), (usize, usize));
+
+/// A cylinder hspline joined at its first rows to a parent region.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Limb {
     pub surface: Hspline,
-    pub region: ((usize, usize), (usize, usize)),
+    pub region: Region,
 }
 
 #[derive(Debug, thiserror::Error, PartialEq)]
@@ -166,7 +168,7 @@ fn face(l: &Level, c: [Option<u32>; 4]) -> Option<u32> {
 /// The parent vertices around a region, in the direction of the parent
 /// faces' edges along it (u0 side along +v, then the v1 side along +u,
 /// the u1 side along -v, the v0 side along -u).
-fn ring(((u0, u1), (v0, v1)): ((usize, usize), (usize, usize))) -> Vec<(usize, usize)> {
+fn ring(((u0, u1), (v0, v1)): Region) -> Vec<(usize, usize)> {
     let mut out = Vec::new();
     out.extend((v0..v1).map(|j| (u0, j)));
     out.extend((u0..u1).map(|i| (i, v1)));

@@ -1,0 +1,213 @@
+//! The attach node: cylinder hsplines (limbs) joined to rectangular regions
+//! of a parent hspline through one Catmull-Clark control mesh, and the
+//! convention by which an hspline travels between nodes (its .hs text in a
+//! detail attribute, with a key of the points it was tessellated to, so a
+//! surface moved after its hspline node is an error, never a silent use of
+//! the old hierarchy).
+
+use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, StringColumn, TypeInfo};
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
+};
+use geode_spline::hspline::attach::{attach, Attached, Limb, Region};
+use geode_spline::hspline::{file, Hspline};
+
+use crate::util::geometry;
+
+/// The detail attribute holding an hspline's hierarchy as .hs text.
+pub const HIERARCHY: &str = "hspline";
+/// The detail attribute holding the hash of the points it was tessellated to.
+const HIERARCHY_KEY: &str = "hspline_key";
+
+fn points_key(g: &Geometry) -> String {
+    let bytes: Vec<u8> = g
+        .positions()
+        .iter()
+        .flat_map(|p| p.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    format!("{:032x}", geode_geo::hash_bytes(&bytes))
+}
+
+fn detail_string(text: String) -> Attribute {
+    Attribute::from_data(
+        AttribData::String(StringColumn {
+            table: vec![text],
+            indices: vec![0],
+        }),
+        TypeInfo::None,
+    )
+}
+
+/// Stores `h` on its tessellation `g`.
+pub fn carry_hierarchy(g: &mut Geometry, h: &Hspline) -> Result<(), GeoError> {
+    let key = points_key(g);
+    g.set_attrib(
+        AttribClass::Detail,
+        HIERARCHY,
+        detail_string(file::save(h, true)),
+    )?;
+    g.set_attrib(AttribClass::Detail, HIERARCHY_KEY, detail_string(key))
+}
+
+/// The hierarchy an input carries, checked against its points.
+fn hierarchy(ctx: &CookContext, g: &Geometry, input: &str) -> Result<Hspline, CookError> {
+    let text = |name: &str| {
+        g.attrib(AttribClass::Detail, name)
+            .and_then(|a| a.as_strings())
+            .map(|s| s.get(0).to_owned())
+    };
+    let Some(hs) = text(HIERARCHY) else {
+        return Err(ctx.error(format!(
+            "input `{input}` carries no hspline (wire an hspline node, not enveloped, straight in)"
+        )));
+    };
+    if text(HIERARCHY_KEY).as_deref() != Some(points_key(g).as_str()) {
+        return Err(ctx.error(format!(
+            "input `{input}`: its points changed after its hspline node, so the hierarchy it carries no longer describes it (edit the surface in the hspline node; limbs are placed by `place`)"
+        )));
+    }
+    file::load(&hs).map_err(|e| ctx.error(format!("input `{input}`: {e}")))
+}
+
+fn parse_regions(text: &str) -> Result<Vec<Region>, String> {
+    text.split(';')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .enumerate()
+        .map(|(k, entry)| {
+            let bad = || {
+                format!(
+                    "region {} `{entry}`: expected `u0 u1 v0 v1` (parent faces, half-open)",
+                    k + 1
+                )
+            };
+            let w: Vec<usize> = entry
+                .split_whitespace()
+                .map(|x| x.parse().map_err(|_| bad()))
+                .collect::<Result<_, _>>()?;
+            match w[..] {
+                [u0, u1, v0, v1] => Ok(((u0, u1), (v0, v1))),
+                _ => Err(bad()),
+            }
+        })
+        .collect()
+}
+
+struct Attach;
+static ATTACH: NodeSpec = NodeSpec::new(
+    "attach",
+    "Attach Limbs",
+    "spline",
+    "Arbitrary-topology attachments (Forsey's hsplines): each limb input, a cylinder hspline, replaces a rectangle of the parent hspline's level-0 faces; its rim row is bound to the parent vertices around the hole (corners get five edges, limbs side by side six) and the whole control mesh is one Catmull-Clark surface, refined to the finest level of any input with every level's offsets applied in the local frames, so detail on either side of the joint follows and the joint can be edited from both. Away from the joint the result is each hspline exactly. Output: the limit surface as quads with N, uv per corner and the primitive attribute `surface` (0 the parent, then the limbs), or the level-0 control mesh.",
+    &[
+        InputSpec { name: "parent", ty: PortType::Geometry, required: true },
+        InputSpec { name: "limbs", ty: PortType::Geometry, required: true },
+    ],
+    &[
+        P::new("regions", "Regions", T::String, D::Str("2 4 2 4"), "One `u0 u1 v0 v1` per limb input, separated by `;`: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around."),
+        P::new("place", "Place limbs", T::Toggle, D::Toggle(true), "Move each limb rigidly onto its region: rim centre on the hole's centre, axis along the parent's normal, turned to fit the rim (its offsets follow). Off: limbs stay where they are."),
+        P::new("subdivisions", "Subdivisions", T::Int, D::Int(2), "Levels of refinement past the finest hspline level, for a smoother tessellation.").range(0.0, 6.0),
+        P::new("output", "Output", T::Menu(&["surface", "control_mesh"]), D::Str("surface"), "The limit surface, or the level-0 Catmull-Clark control mesh."),
+    ],
+)
+.variadic();
+
+impl Operator for Attach {
+    fn spec(&self) -> &'static NodeSpec {
+        &ATTACH
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let parent = hierarchy(ctx, crate::util::input(ctx, inputs, 0)?, "parent")?;
+        let regions =
+            parse_regions(p.string("regions")?).map_err(|e| ctx.param_error("regions", e))?;
+        let limb_inputs: Vec<_> = inputs.iter().skip(1).flatten().collect();
+        if regions.len() != limb_inputs.len() {
+            return Err(ctx.param_error(
+                "regions",
+                format!(
+                    "{} regions for {} limb inputs",
+                    regions.len(),
+                    limb_inputs.len()
+                ),
+            ));
+        }
+        let mut limbs = Vec::with_capacity(regions.len());
+        for (k, (value, region)) in limb_inputs.iter().zip(regions).enumerate() {
+            let g = value
+                .as_geometry()
+                .ok_or_else(|| ctx.error(format!("limb {k} needs geometry")))?;
+            limbs.push(Limb {
+                surface: hierarchy(ctx, g, &format!("limb {k}"))?,
+                region,
+            });
+        }
+        ctx.check()?;
+        let a = attach(
+            &parent,
+            &limbs,
+            p.toggle("place")?,
+            p.int("subdivisions")? as usize,
+        )
+        .map_err(|e| ctx.param_error("regions", e.to_string()))?;
+        let g = if p.string("output")? == "control_mesh" {
+            cage(&a)
+        } else {
+            surface(&a)
+        };
+        geometry(g.map_err(|e| ctx.error(e.to_string()))?)
+    }
+}
+
+fn cage(a: &Attached) -> Result<Geometry, GeoError> {
+    let points = a.cage_points.iter().map(|p| p.as_vec3()).collect();
+    let flat = a.cage_quads.iter().flatten().copied().collect();
+    Geometry::from_polygons(points, flat, &vec![4; a.cage_quads.len()])
+}
+
+fn surface(a: &Attached) -> Result<Geometry, GeoError> {
+    use geode_geo::glam::Vec2;
+    let points = a.positions.iter().map(|p| p.as_vec3()).collect();
+    let flat = a.quads.iter().flatten().copied().collect();
+    let mut g = Geometry::from_polygons(points, flat, &vec![4; a.quads.len()])?;
+    g.set_attrib(
+        AttribClass::Point,
+        "N",
+        Attribute::from_data(
+            AttribData::Vec3(a.normals.iter().map(|n| n.as_vec3()).collect()),
+            TypeInfo::Normal,
+        ),
+    )?;
+    g.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(
+            AttribData::Vec2(
+                a.uvs
+                    .iter()
+                    .map(|&[u, v]| Vec2::new(u as f32, v as f32))
+                    .collect(),
+            ),
+            TypeInfo::TexCoord,
+        ),
+    )?;
+    g.set_attrib(
+        AttribClass::Primitive,
+        "surface",
+        Attribute::from_data(
+            AttribData::Int(a.surface.iter().map(|&s| s as i32).collect()),
+            TypeInfo::None,
+        ),
+    )?;
+    Ok(g)
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Attach);
+}
