@@ -2,13 +2,59 @@
 
 Usage: usd_check.py FILE [EXPECT_JSON]...
 Each FILE may be followed by a JSON object of expectations:
-{"points": N, "faces": N, "curves": N, "instances": N}. Prints one JSON line per
-file and exits 1 on any composition error or unmet expectation.
+{"points": N, "faces": N, "curves": N, "instances": N, "patches": N}. Prints
+one JSON line per file (with each NurbsPatch's point at the centre of its
+range, evaluated here by Cox-de Boor with u varying fastest, as RenderMan's
+RiNuPatch and USD lay points out) and exits 1 on any composition error or
+unmet expectation.
 """
 import json
 import sys
 
 from pxr import Tf, Usd, UsdGeom
+
+
+def basis(knots, order, t):
+    """Values of every B-spline basis function of `order` at t (Cox-de Boor)."""
+    n = len(knots) - order
+    hi = knots[n]
+    # Degree 0: the span holding t (the last non-empty span at the end).
+    N = [0.0] * (len(knots) - 1)
+    for i in range(len(knots) - 1):
+        if knots[i] <= t < knots[i + 1] or (t == hi and knots[i] < knots[i + 1] == hi):
+            N[i] = 1.0
+            break
+    for k in range(2, order + 1):
+        M = [0.0] * (len(knots) - k)
+        for i in range(len(M)):
+            a = knots[i + k - 1] - knots[i]
+            b = knots[i + k] - knots[i + 1]
+            if a > 0:
+                M[i] += (t - knots[i]) / a * N[i]
+            if b > 0:
+                M[i] += (knots[i + k] - t) / b * N[i + 1]
+        N = M
+    return N[:n]
+
+
+def patch_centre(patch):
+    nu, nv = patch.GetUVertexCountAttr().Get(), patch.GetVVertexCountAttr().Get()
+    ou, ov = patch.GetUOrderAttr().Get(), patch.GetVOrderAttr().Get()
+    ku, kv = list(patch.GetUKnotsAttr().Get()), list(patch.GetVKnotsAttr().Get())
+    pts = patch.GetPointsAttr().Get()
+    w = patch.GetPointWeightsAttr().Get() or [1.0] * len(pts)
+    ru, rv = patch.GetURangeAttr().Get(), patch.GetVRangeAttr().Get()
+    bu = basis(ku, ou, 0.5 * (ru[0] + ru[1]))
+    bv = basis(kv, ov, 0.5 * (rv[0] + rv[1]))
+    acc, wsum = [0.0, 0.0, 0.0], 0.0
+    for j in range(nv):
+        for i in range(nu):
+            k = j * nu + i
+            c = bu[i] * bv[j] * w[k]
+            wsum += c
+            for d in range(3):
+                acc[d] += c * pts[k][d]
+    return [a / wsum for a in acc]
 
 
 def check(path, expect):
@@ -18,7 +64,8 @@ def check(path, expect):
         return {"file": path, "ok": False, "errors": ["could not open"]}
     for err in stage.GetCompositionErrors():
         errors.append(str(err))
-    counts = {"points": 0, "faces": 0, "curves": 0, "instances": 0}
+    counts = {"points": 0, "faces": 0, "curves": 0, "instances": 0, "patches": 0}
+    centres = []
     # Instance proxies are visited so nested instances count; geometry is
     # counted once, where it is authored (not once per instance).
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
@@ -45,12 +92,30 @@ def check(path, expect):
                 want = {"vertex": len(pts), "faceVarying": len(fvi), "uniform": len(fvc), "constant": 1}.get(interp)
                 if want is not None and n != want:
                     errors.append(f"{prim.GetPath()} {pv.GetName()}: {n} values for {interp} (want {want})")
+        if prim.IsA(UsdGeom.NurbsPatch):
+            patch = UsdGeom.NurbsPatch(prim)
+            counts["patches"] += 1
+            nu, nv = patch.GetUVertexCountAttr().Get(), patch.GetVVertexCountAttr().Get()
+            pts = patch.GetPointsAttr().Get() or []
+            if len(pts) != nu * nv:
+                errors.append(f"{prim.GetPath()}: {len(pts)} points for {nu} x {nv}")
+            for side, n, order, knots in [
+                ("u", nu, patch.GetUOrderAttr().Get(), patch.GetUKnotsAttr().Get()),
+                ("v", nv, patch.GetVOrderAttr().Get(), patch.GetVKnotsAttr().Get()),
+            ]:
+                if len(knots) != n + order:
+                    errors.append(f"{prim.GetPath()}: {len(knots)} {side} knots for {n} points of order {order}")
+            weights = patch.GetPointWeightsAttr().Get()
+            if weights is not None and len(weights) != len(pts):
+                errors.append(f"{prim.GetPath()}: {len(weights)} weights for {len(pts)} points")
+            if not errors:
+                centres.append(patch_centre(patch))
         if prim.IsA(UsdGeom.BasisCurves):
             counts["curves"] += len(UsdGeom.BasisCurves(prim).GetCurveVertexCountsAttr().Get() or [])
     for k, v in expect.items():
         if counts.get(k) != v:
             errors.append(f"expected {k}={v}, found {counts.get(k)}")
-    return {"file": path, "ok": not errors, "errors": errors, "counts": counts}
+    return {"file": path, "ok": not errors, "errors": errors, "counts": counts, "patch_centres": centres}
 
 
 def main(argv):

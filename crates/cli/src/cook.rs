@@ -158,7 +158,10 @@ pub fn cook(args: CookArgs) -> Result<()> {
         if let Some(pattern) = args.output {
             let path = frame_path(pattern, frame);
             match &result.value {
-                Value::Geometry(g) => geode_io::write(g, &path, &geode_io::NoProgress)?,
+                Value::Geometry(g) => {
+                    let g = geode_nodes::for_file(g, &path)?;
+                    geode_io::write(&g, &path, &geode_io::NoProgress)?
+                }
                 Value::Field(_) => bail!("{target} gives a field; mesh it with a polygonise node to write it"),
                 Value::Bundle(b) => bail!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")),
             }

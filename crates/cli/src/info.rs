@@ -12,6 +12,7 @@ pub struct Report {
     polygons: usize,
     polylines: usize,
     packed: usize,
+    patches: usize,
     bounds: Option<ops::Aabb>,
     attributes: Vec<(AttribClass, String, String, String)>,
     groups: Vec<(&'static str, String, usize)>,
@@ -52,6 +53,7 @@ impl Report {
             polygons: count(|k| *k == PrimKind::Polygon),
             polylines: count(|k| *k == PrimKind::Polyline),
             packed: count(|k| matches!(k, PrimKind::Packed(_))),
+            patches: count(|k| matches!(k, PrimKind::Patch(_))),
             bounds: ops::bounds(g),
             attributes,
             groups,
@@ -67,11 +69,12 @@ impl Report {
         let _ = writeln!(s, "vertices:    {}", self.vertices);
         let _ = writeln!(
             s,
-            "primitives:  {} ({} polygons, {} polylines, {} packed)",
-            self.polygons + self.polylines + self.packed,
+            "primitives:  {} ({} polygons, {} polylines, {} packed, {} patches)",
+            self.polygons + self.polylines + self.packed + self.patches,
             self.polygons,
             self.polylines,
-            self.packed
+            self.packed,
+            self.patches
         );
         match &self.bounds {
             Some(b) => {
@@ -130,6 +133,7 @@ impl Report {
             "polygons": self.polygons,
             "polylines": self.polylines,
             "packed": self.packed,
+            "patches": self.patches,
             "bounds": self.bounds.map(|b| serde_json::json!({"min": b.min.to_array(), "max": b.max.to_array()})),
             "attributes": self.attributes.iter().map(|(c, n, t, i)| serde_json::json!({"class": c.to_string(), "name": n, "type": t, "typeinfo": i})).collect::<Vec<_>>(),
             "groups": self.groups.iter().map(|(k, n, c)| serde_json::json!({"kind": k, "name": n, "members": c})).collect::<Vec<_>>(),

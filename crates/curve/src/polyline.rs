@@ -19,7 +19,7 @@ pub fn curves(g: &Geometry) -> Vec<Curve> {
             let closed = match g.prim_kind(prim) {
                 PrimKind::Polyline => false,
                 PrimKind::Polygon => true,
-                PrimKind::Packed(_) => return None,
+                PrimKind::Packed(_) | PrimKind::Patch(_) => return None,
             };
             Some(Curve {
                 prim,

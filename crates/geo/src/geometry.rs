@@ -23,6 +23,9 @@ pub enum PrimKind {
     /// A packed instance: one vertex (its point gives the translation) and an
     /// entry in the instance table.
     Packed(u32),
+    /// A spline patch: a control grid of vertices (v fastest) and an entry
+    /// in the patch table (its knots).
+    Patch(u32),
 }
 
 impl PrimKind {
@@ -31,6 +34,7 @@ impl PrimKind {
             PrimKind::Polygon => "polygon",
             PrimKind::Polyline => "polyline",
             PrimKind::Packed(_) => "packed",
+            PrimKind::Patch(_) => "patch",
         }
     }
 }
@@ -56,6 +60,7 @@ pub struct Geometry {
     pub(crate) prim_offsets: Vec<u32>,
     pub(crate) prim_kinds: Vec<PrimKind>,
     pub(crate) packed: Vec<PackedInstance>,
+    pub(crate) patches: Vec<crate::patch::PatchBasis>,
     pub(crate) point_groups: BTreeMap<String, Group>,
     pub(crate) prim_groups: BTreeMap<String, Group>,
     pub(crate) topology: OnceLock<Arc<Topology>>,
@@ -97,6 +102,7 @@ impl Geometry {
             prim_offsets: vec![0],
             prim_kinds: Vec::new(),
             packed: Vec::new(),
+            patches: Vec::new(),
             point_groups: BTreeMap::new(),
             prim_groups: BTreeMap::new(),
             topology: OnceLock::new(),
@@ -147,10 +153,11 @@ impl Geometry {
             match kind {
                 PrimKind::Polygon if c < 3 => return Err(GeoError::PolygonTooSmall(c as usize)),
                 PrimKind::Polyline if c < 2 => return Err(GeoError::PolylineTooSmall(c as usize)),
-                PrimKind::Packed(_) => {
-                    return Err(GeoError::Invalid(
-                        "packed primitives cannot be built in bulk from indices".into(),
-                    ))
+                PrimKind::Packed(_) | PrimKind::Patch(_) => {
+                    return Err(GeoError::Invalid(format!(
+                        "{} primitives cannot be built in bulk from indices",
+                        kind.name()
+                    )))
                 }
                 _ => {}
             }
@@ -420,7 +427,7 @@ impl Geometry {
         first as u32
     }
 
-    fn push_prim(&mut self, kind: PrimKind, points: &[u32]) -> Result<u32, GeoError> {
+    pub(crate) fn push_prim(&mut self, kind: PrimKind, points: &[u32]) -> Result<u32, GeoError> {
         let n = self.num_points();
         if let Some(&bad) = points.iter().find(|&&p| p as usize >= n) {
             return Err(GeoError::PointOutOfRange {

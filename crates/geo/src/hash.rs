@@ -100,6 +100,7 @@ pub(crate) fn compute(g: &Geometry) -> u128 {
             PrimKind::Polygon => 0u8,
             PrimKind::Polyline => 1,
             PrimKind::Packed(_) => 2,
+            PrimKind::Patch(_) => 3,
         })
         .collect();
     h.update(&hash_bytes(&kinds).to_le_bytes());
@@ -108,6 +109,14 @@ pub(crate) fn compute(g: &Geometry) -> u128 {
             let inst = &g.packed[*i as usize];
             h.update(&inst.source.content_hash().to_le_bytes());
             h.update(bytemuck::bytes_of(&inst.transform));
+        }
+        if let PrimKind::Patch(i) = k {
+            let basis = &g.patches[*i as usize];
+            for side in [&basis.u, &basis.v] {
+                h.update(&side.order.to_le_bytes());
+                h.update(&(side.knots.len() as u64).to_le_bytes());
+                h.update(bytemuck::cast_slice(&side.knots));
+            }
         }
     }
     for (kind, groups) in [("point", &g.point_groups), ("prim", &g.prim_groups)] {

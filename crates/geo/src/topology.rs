@@ -101,7 +101,7 @@ impl Topology {
             let closed = match g.prim_kind(prim) {
                 PrimKind::Polygon => true,
                 PrimKind::Polyline => false,
-                PrimKind::Packed(_) => continue,
+                PrimKind::Packed(_) | PrimKind::Patch(_) => continue,
             };
             let n = r.len();
             let segs = if closed { n } else { n.saturating_sub(1) };

@@ -187,6 +187,14 @@ fn encode(
     } else {
         g
     };
+    if format != Format::Usda && has_patches(g) {
+        return Err(IoError::Unsupported {
+            path: path.to_owned(),
+            message: format!(
+                "{format} cannot hold spline patches: convert them to polygons first (node `convert`; `geode cook` does it for you), or write .usda, which keeps them"
+            ),
+        });
+    }
     match format {
         Format::Obj => obj::write_obj(g, w, path, progress),
         Format::Stl => stl::write_stl(g, w, path, progress),
@@ -198,6 +206,11 @@ fn encode(
             expected: list(Format::can_write),
         }),
     }
+}
+
+/// Whether `g` or any geometry it instances has a spline patch.
+pub fn has_patches(g: &Geometry) -> bool {
+    g.has_patches() || g.packed_instances().iter().any(|i| has_patches(&i.source))
 }
 
 /// Writes a geometry file atomically, the format chosen by the extension.

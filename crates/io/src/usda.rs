@@ -198,6 +198,7 @@ impl Writer<'_> {
             )?;
             let _ = writeln!(self.buf, "{inner}float[] widths = [0.01] (\n{inner}    interpolation = \"constant\"\n{inner})\n{indent}}}");
         }
+        self.patches(g, indent)?;
         let mut k = 0;
         for prim in 0..g.num_prims() {
             if !matches!(g.prim_kind(prim), PrimKind::Packed(_)) {
@@ -212,6 +213,75 @@ impl Writer<'_> {
                 usd_matrix(&world)
             );
             k += 1;
+            self.flush_if_big()?;
+        }
+        Ok(())
+    }
+}
+
+impl Writer<'_> {
+    /// One NurbsPatch per spline patch. USD follows RenderMan's RiNuPatch:
+    /// u varies fastest in `points`, where geode's grids run v fastest.
+    fn patches(&mut self, g: &Geometry, indent: &str) -> Result<(), IoError> {
+        let p = g.positions();
+        let weights = g
+            .attrib(AttribClass::Point, geode_geo::WEIGHT)
+            .and_then(|a| a.as_f32());
+        for (k, prim) in g
+            .prims_where(|kind| matches!(kind, PrimKind::Patch(_)))
+            .into_iter()
+            .enumerate()
+        {
+            let basis = g.patch_basis(prim).expect("a patch has knots");
+            let (nu, nv) = (basis.u.count(), basis.v.count());
+            let grid = g.prim_points(prim);
+            let order: Vec<u32> = (0..nv)
+                .flat_map(|j| (0..nu).map(move |i| grid[i * nv + j]))
+                .collect();
+            let inner = format!("{indent}    ");
+            let _ = writeln!(self.buf, "{indent}def NurbsPatch \"patch_{k}\"\n{indent}{{");
+            for (side, b) in [("u", &basis.u), ("v", &basis.v)] {
+                let o = b.order as usize;
+                let range = (b.knots[o - 1], b.knots[b.knots.len() - o]);
+                let _ = writeln!(
+                    self.buf,
+                    "{inner}int {side}VertexCount = {}\n{inner}int {side}Order = {o}\n{inner}uniform token {side}Form = \"open\"\n{inner}double2 {side}Range = ({}, {})",
+                    b.count(),
+                    range.0,
+                    range.1
+                );
+                self.array(
+                    &inner,
+                    &format!("double[] {side}Knots"),
+                    &b.knots,
+                    |s, x| {
+                        let _ = write!(s, "{x}");
+                    },
+                    "",
+                )?;
+            }
+            self.array(
+                &inner,
+                "point3f[] points",
+                &order,
+                |s, &i| {
+                    let v = p[i as usize];
+                    let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
+                },
+                "",
+            )?;
+            if let Some(w) = weights {
+                self.array(
+                    &inner,
+                    "double[] pointWeights",
+                    &order,
+                    |s, &i| {
+                        let _ = write!(s, "{}", w[i as usize]);
+                    },
+                    "",
+                )?;
+            }
+            let _ = writeln!(self.buf, "{indent}}}");
             self.flush_if_big()?;
         }
         Ok(())

@@ -158,3 +158,82 @@ fn manifold_report_agrees_with_trimesh() {
         }
     }
 }
+
+/// A bilinear-by-quadratic patch on a 2 x 3 grid with one weight off 1:
+/// its centre, known by hand, tells a transposed grid from a right one.
+fn patch_sample() -> (Geometry, Vec3) {
+    use geode_geo::{AttribClass, AttribData, Attribute, KnotVector, PatchBasis, TypeInfo};
+    let mut g = Geometry::new();
+    let pts = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 1.0, 1.0),
+        Vec3::new(0.0, 0.0, 2.0),
+        Vec3::new(3.0, 0.0, 0.0),
+        Vec3::new(3.0, 2.0, 1.0),
+        Vec3::new(3.0, 0.0, 2.0),
+    ];
+    g.add_points(&pts);
+    let weights = vec![1.0, 2.0, 1.0, 1.0, 2.0, 1.0];
+    g.set_attrib(
+        AttribClass::Point,
+        geode_geo::WEIGHT,
+        Attribute::from_data(AttribData::Float(weights.clone()), TypeInfo::None),
+    )
+    .unwrap();
+    g.add_patch(
+        &[0, 1, 2, 3, 4, 5],
+        PatchBasis {
+            u: KnotVector {
+                order: 2,
+                knots: vec![0.0, 0.0, 1.0, 1.0],
+            },
+            v: KnotVector {
+                order: 3,
+                knots: vec![0.0, 0.0, 0.0, 2.0, 2.0, 2.0],
+            },
+        },
+    )
+    .unwrap();
+    // Centre: half of each row; each row a rational quadratic at 1/2 with
+    // Bernstein weights 1/4, 1/2, 1/4.
+    let row = |k: usize| {
+        let b = [0.25, 0.5, 0.25];
+        let mut acc = Vec3::ZERO;
+        let mut w = 0.0;
+        for j in 0..3 {
+            acc += pts[3 * k + j] * (b[j] * weights[3 * k + j]);
+            w += b[j] * weights[3 * k + j];
+        }
+        (acc, w)
+    };
+    let ((a, wa), (b, wb)) = (row(0), row(1));
+    (g, (a * 0.5 + b * 0.5) / (0.5 * wa + 0.5 * wb))
+}
+
+#[test]
+fn usda_keeps_spline_patches_and_mesh_formats_refuse_them_clearly() {
+    let (g, centre) = patch_sample();
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["glb", "obj", "stl", "ply"] {
+        let path = dir.path().join(format!("patch.{ext}"));
+        let e = write(&g, &path, &NoProgress).unwrap_err().to_string();
+        assert!(e.contains("patch.") && e.contains("convert"), "{e}");
+        assert!(!path.exists());
+    }
+    let path = dir.path().join("patch.usda");
+    write(&g, &path, &NoProgress).unwrap();
+    let mut cmd = Command::new(std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into()));
+    cmd.arg(repo_root().join("tools/usd_check.py"))
+        .arg(&path)
+        .arg("{\"patches\": 1, \"faces\": 0}");
+    if let Some(report) = run_validator(cmd, "usd-core (pip)") {
+        let line: serde_json::Value = serde_json::from_str(report.lines().next().unwrap()).unwrap();
+        let c = &line["patch_centres"][0];
+        let got = Vec3::new(
+            c[0].as_f64().unwrap() as f32,
+            c[1].as_f64().unwrap() as f32,
+            c[2].as_f64().unwrap() as f32,
+        );
+        assert!(got.distance(centre) < 1e-5, "usd-core's centre {got} vs {centre}");
+    }
+}

@@ -18,6 +18,7 @@ mod hspline;
 mod instancing;
 mod mesh;
 mod nurbs;
+mod patches;
 mod primitives;
 mod scatter;
 mod skin;
@@ -26,6 +27,7 @@ mod transform;
 mod util;
 
 pub use expr::{Expr, ExprError};
+pub use patches::for_file;
 
 use geode_op::Registry;
 
@@ -50,6 +52,7 @@ pub fn registry() -> Registry {
     growth::register(&mut r);
     subd::register(&mut r);
     nurbs::register(&mut r);
+    patches::register(&mut r);
     hspline::register(&mut r);
     attach::register(&mut r);
     skin::register(&mut r);

@@ -26,6 +26,7 @@ static NURBS: NodeSpec = NodeSpec::new(
         P::new("degree", "Degree", T::Int, D::Int(3), "Patch degree in both directions (clamped to the control counts).").range(1.0, 10.0),
         P::new("samples", "Samples", T::Vec2, D::Vec2([33.0, 65.0]), "Tessellation samples along u and v.").range(2.0, 10_000.0),
         P::new("center", "Center", T::Vec3, D::Vec3([0.0; 3]), "Offset."),
+        P::new("output", "Output", T::Menu(&["polygons", "patch"]), D::Str("polygons"), "Tessellated quads, or one spline patch primitive (control points as points, weights in `Pw`) that transforms and merges keep exact; the convert node or `geode cook` tessellates it."),
     ],
 );
 
@@ -80,9 +81,20 @@ impl Operator for Nurbs {
             }
             _ => NurbsSurface::sphere(r),
         };
+        let offset = vec3(p, "center")?;
+        if p.string("output")? == "patch" {
+            let mut surface = surface;
+            let shift = offset.as_dvec3();
+            for h in surface.points.iter_mut() {
+                *h += (shift * h.w).extend(0.0);
+            }
+            let mut g = geode_geo::Geometry::new();
+            geode_spline::bspline::patch::add_patch(&mut g, &surface)
+                .map_err(|e| ctx.error(e.to_string()))?;
+            return geometry(g);
+        }
         let [su, sv] = p.vector::<2>("samples")?;
         let t = surface.tessellate(su as usize, sv as usize);
-        let offset = vec3(p, "center")?;
         let mut t = t;
         t.positions.iter_mut().for_each(|q| *q += offset);
         geometry(t.into_geometry().map_err(|e| ctx.error(e.to_string()))?)

@@ -250,3 +250,33 @@ fn symmetric_edits_mirror_across_x_on_wrapped_surfaces_too() {
         );
     }
 }
+
+#[test]
+fn nurbs_patches_stay_exact_through_transforms_and_merges_until_converted() {
+    // A unit sphere as one rational patch, squashed to an ellipsoid and
+    // merged with a box, then converted: the quads lie on the ellipsoid.
+    let nodes = r#""s": {"type": "nurbs_surface", "params": {"output": "patch"}},
+        "squash": {"type": "transform", "inputs": ["s"], "params": {"scale": [2, 0.5, 1], "translate": [0, 1, 0]}},
+        "b": {"type": "box"},
+        "both": {"type": "merge", "inputs": ["b", "squash"]},
+        "mesh": {"type": "convert", "inputs": ["both"], "params": {"level_of_detail": 6}}"#;
+    let merged = geo(nodes, "both");
+    assert!(merged.has_patches());
+    assert_eq!(
+        merged.prim_kind(merged.num_prims() - 1),
+        geode_geo::PrimKind::Patch(0)
+    );
+    let mesh = geo(nodes, "mesh");
+    assert!(!mesh.has_patches());
+    let box_points = geo(nodes, "b").num_points();
+    let on = mesh.positions()[box_points..]
+        .iter()
+        .map(|p| {
+            let q = geode_geo::glam::Vec3::new(p.x / 2.0, (p.y - 1.0) / 0.5, p.z);
+            (q.length() - 1.0).abs()
+        })
+        .fold(0.0f32, f32::max);
+    assert!(on < 1e-5, "off the ellipsoid by {on}");
+    // The sphere's knots have 2 spans along u and 4 around: 6 quads a span.
+    assert_eq!(mesh.num_prims(), 6 + (2 * 6) * (4 * 6));
+}

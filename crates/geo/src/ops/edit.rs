@@ -11,6 +11,7 @@ fn keep_prims(g: &mut Geometry, keep: &[bool]) {
     let mut offsets = vec![0u32];
     let mut kinds = Vec::new();
     let mut packed = Vec::new();
+    let mut patches = Vec::new();
     for (prim, &k) in keep.iter().enumerate() {
         if !k {
             continue;
@@ -22,6 +23,10 @@ fn keep_prims(g: &mut Geometry, keep: &[bool]) {
             PrimKind::Packed(i) => {
                 packed.push(g.packed[i as usize].clone());
                 PrimKind::Packed(packed.len() as u32 - 1)
+            }
+            PrimKind::Patch(i) => {
+                patches.push(g.patches[i as usize].clone());
+                PrimKind::Patch(patches.len() as u32 - 1)
             }
             other => other,
         });
@@ -35,6 +40,7 @@ fn keep_prims(g: &mut Geometry, keep: &[bool]) {
     g.prim_offsets = offsets;
     g.prim_kinds = kinds;
     g.packed = packed;
+    g.patches = patches;
     for grp in g.prim_groups.values_mut() {
         *grp = grp.gather(&prim_keep);
     }
@@ -110,7 +116,8 @@ pub fn reverse_prims(g: &mut Geometry, group: Option<&Group>) {
         match g.prim_kinds[prim] {
             PrimKind::Polygon => order[r.start + 1..r.end].reverse(),
             PrimKind::Polyline => order[r].reverse(),
-            PrimKind::Packed(_) => {}
+            // A patch's grid order is its parameterisation.
+            PrimKind::Packed(_) | PrimKind::Patch(_) => {}
         }
     }
     g.vertex_point = order.iter().map(|&v| g.vertex_point[v as usize]).collect();

@@ -125,6 +125,12 @@ fn collapse_repeated_points(g: &mut Geometry) -> usize {
         let r = g.prim_vertex_range(prim);
         let kind = g.prim_kinds[prim];
         let start = keep_vertices.len();
+        if let PrimKind::Patch(_) = kind {
+            // A control grid keeps every vertex, repeated points included.
+            keep_vertices.extend(r.map(|v| v as u32));
+            new_counts.push((keep_vertices.len() - start) as u32);
+            continue;
+        }
         for v in r.clone() {
             let p = g.vertex_point[v];
             if let Some(&last) = keep_vertices[start..].last() {
@@ -145,6 +151,7 @@ fn collapse_repeated_points(g: &mut Geometry) -> usize {
             PrimKind::Polygon => 3,
             PrimKind::Polyline => 2,
             PrimKind::Packed(_) => 1,
+            PrimKind::Patch(_) => 0,
         };
         if keep_vertices.len() - start < min {
             keep_vertices.truncate(start);

@@ -42,6 +42,7 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
         let point_base = out.num_points() as u32;
         let vertex_base = out.num_vertices() as u32;
         let packed_base = out.packed.len() as u32;
+        let patch_base = out.patches.len() as u32;
         let (old_points, old_prims) = (out.num_points(), out.num_prims());
         out.points.append(&g.points)?;
         out.vertices.append(&g.vertices)?;
@@ -53,9 +54,11 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
             .extend(g.prim_offsets[1..].iter().map(|&o| o + vertex_base));
         out.prim_kinds.extend(g.prim_kinds.iter().map(|k| match k {
             PrimKind::Packed(i) => PrimKind::Packed(i + packed_base),
+            PrimKind::Patch(i) => PrimKind::Patch(i + patch_base),
             other => *other,
         }));
         out.packed.extend(g.packed.iter().cloned());
+        out.patches.extend(g.patches.iter().cloned());
         append_groups(
             &mut out.point_groups,
             &g.point_groups,

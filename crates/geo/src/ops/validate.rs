@@ -23,6 +23,15 @@ pub enum ValidationIssue {
         prim: usize,
         index: u32,
     },
+    PatchOutOfRange {
+        prim: usize,
+        index: u32,
+    },
+    PatchGrid {
+        prim: usize,
+        count: usize,
+        expected: usize,
+    },
     AttribLength {
         class: AttribClass,
         name: String,
@@ -54,6 +63,17 @@ impl fmt::Display for ValidationIssue {
             ValidationIssue::TooFewVertices { prim, kind, count } => {
                 write!(f, "{kind} {prim} has only {count} vertices")
             }
+            ValidationIssue::PatchOutOfRange { prim, index } => {
+                write!(f, "patch primitive {prim} references missing knots {index}")
+            }
+            ValidationIssue::PatchGrid {
+                prim,
+                count,
+                expected,
+            } => write!(
+                f,
+                "patch primitive {prim} has {count} vertices but its knots need {expected}"
+            ),
             ValidationIssue::PackedOutOfRange { prim, index } => {
                 write!(
                     f,
@@ -127,6 +147,20 @@ pub fn validate(g: &Geometry) -> Vec<ValidationIssue> {
                     out.push(ValidationIssue::PackedOutOfRange { prim, index: *i });
                 }
                 1
+            }
+            PrimKind::Patch(i) => {
+                match g.patches.get(*i as usize) {
+                    None => out.push(ValidationIssue::PatchOutOfRange { prim, index: *i }),
+                    Some(b) if b.u.count() * b.v.count() != count => {
+                        out.push(ValidationIssue::PatchGrid {
+                            prim,
+                            count,
+                            expected: b.u.count() * b.v.count(),
+                        })
+                    }
+                    Some(_) => {}
+                }
+                0
             }
         };
         if count < min {

@@ -75,10 +75,10 @@ pub fn write_obj(
         let kw = match g.prim_kind(prim) {
             PrimKind::Polygon => "f",
             PrimKind::Polyline => "l",
-            PrimKind::Packed(_) => {
+            PrimKind::Packed(_) | PrimKind::Patch(_) => {
                 return Err(IoError::Unsupported {
                     path: path.to_owned(),
-                    message: "OBJ cannot hold packed primitives; unpack them first".into(),
+                    message: "OBJ here holds polygons and polylines; unpack packed primitives and convert patches first".into(),
                 })
             }
         };

@@ -3,6 +3,7 @@
 
 pub mod basis;
 pub mod curve;
+pub mod patch;
 pub mod surface;
 
 pub use basis::{KnotError, Knots};
