@@ -234,6 +234,9 @@ fn usda_keeps_spline_patches_and_mesh_formats_refuse_them_clearly() {
             c[1].as_f64().unwrap() as f32,
             c[2].as_f64().unwrap() as f32,
         );
-        assert!(got.distance(centre) < 1e-5, "usd-core's centre {got} vs {centre}");
+        assert!(
+            got.distance(centre) < 1e-5,
+            "usd-core's centre {got} vs {centre}"
+        );
     }
 }

@@ -8,10 +8,10 @@ use geode_op::{
     CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
     Params, Registry, Value,
 };
-use geode_spline::hspline::{file, Grid, Hspline, HsplineError, Topology};
-use geode_spline::skin::{skin, SkinMethod};
+use geode_spline::hspline::{file, Hspline, HsplineError, Topology};
+use geode_spline::skin::SkinMethod;
 
-use crate::skin::{skeleton_from_params, BEND, BEND_JOINT, POSE, SKELETON};
+use crate::skin::{posed_skeleton, skeleton_from_params, BEND, BEND_JOINT, POSE, SKELETON};
 
 use crate::util::geometry;
 
@@ -38,7 +38,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder."),
         P::new("save", "Save .hs", T::File, D::Str(""), "Write the hierarchy (after refinements and edits) to this .hs file, atomically."),
         P::new("optimize", "Optimize for space", T::Toggle, D::Toggle(true), "Leave zero offsets out of the saved file."),
-        P::new("envelope", "Envelope", T::Menu(&["none", "linear", "dual_quaternion"]), D::Str("none"), "Skin the surface with the skeleton: linear blend or dual quaternions (weights automatic from the distance to the bones)."),
+        P::new("envelope", "Envelope", T::Menu(&["none", "linear", "dual_quaternion", "from_file"]), D::Str("none"), "Skin the surface with the skeleton: linear blend or dual quaternions (weights automatic from the distance to the bones; skeleton and weights are saved in the .hs file), or with the skeleton, weights, level and method of the loaded .hs file (posed by `pose` and `bend`)."),
         P::new("envelope_level", "Envelope level", T::Int, D::Int(0), "The level whose control vertices are skinned; finer offsets then follow in the deformed frames (the finest level or above: no hierarchy effect).").range(0.0, 16.0),
         SKELETON,
         POSE,
@@ -155,6 +155,31 @@ impl Operator for HsplineNode {
                 }
             }
         }
+        // Enveloping: the skeleton and weights join the hierarchy (and its
+        // .hs file); the pose comes from the parameters.
+        let finest = h.levels() - 1;
+        let motions = match p.string("envelope")? {
+            "none" => None,
+            "from_file" => {
+                let Some(e) = &h.envelope else {
+                    return Err(ctx.param_error(
+                        "envelope",
+                        "`from_file` needs a loaded .hs file with enveloping data",
+                    ));
+                };
+                Some(posed_skeleton(ctx, p, &e.joints)?.motions())
+            }
+            method => {
+                let skeleton = skeleton_from_params(ctx, p)?;
+                let method = if method == "linear" {
+                    SkinMethod::Linear
+                } else {
+                    SkinMethod::DualQuaternion
+                };
+                h.set_envelope(p.int("envelope_level")? as usize, method, &skeleton);
+                Some(skeleton.motions())
+            }
+        };
         let save = crate::file::expand(p.string("save")?);
         if !save.is_empty() {
             let text = file::save(&h, p.toggle("optimize")?);
@@ -166,31 +191,10 @@ impl Operator for HsplineNode {
             .map_err(|e| ctx.param_error("save", e.to_string()))?;
         }
         let [su, sv] = p.vector::<2>("samples")?;
-        let finest = h.levels() - 1;
-        let enveloped = p.string("envelope")? != "none";
-        let grid = match p.string("envelope")? {
-            "none" => h.grid(finest).map_err(err)?,
-            method => {
-                let skeleton = skeleton_from_params(ctx, p)?;
-                let level = (p.int("envelope_level")? as usize).min(finest);
-                let coarse = h.grid(level).map_err(err)?;
-                let weights = skeleton.auto_weights(&coarse.points);
-                let method = if method == "linear" {
-                    SkinMethod::Linear
-                } else {
-                    SkinMethod::DualQuaternion
-                };
-                let moved = skin(&coarse.points, &weights, &skeleton.motions(), method);
-                h.grid_from(
-                    level,
-                    Grid {
-                        points: moved,
-                        ..coarse
-                    },
-                    finest,
-                )
-                .map_err(err)?
-            }
+        let enveloped = motions.is_some();
+        let grid = match motions {
+            None => h.grid(finest).map_err(err)?,
+            Some(m) => h.enveloped_grid(&m).map_err(err)?,
         };
         let t = h.tessellate_grid(&grid, su as usize, sv as usize);
         let mut g = t.into_geometry().map_err(|e| ctx.error(e.to_string()))?;

@@ -47,6 +47,28 @@ pub(crate) fn skeleton_from_params(ctx: &CookContext, p: &Params) -> Result<Skel
     .map_err(|(param, why)| ctx.param_error(param, why))
 }
 
+/// Joints at rest (from an .hs file) posed by the `pose` and `bend` parameters.
+pub(crate) fn posed_skeleton(
+    ctx: &CookContext,
+    p: &Params,
+    joints: &[Joint],
+) -> Result<Skeleton, CookError> {
+    let text: Vec<String> = joints
+        .iter()
+        .map(|j| {
+            let parent = j.parent.map_or("-", |k| joints[k].name.as_str());
+            format!("{} {parent} {} {} {}", j.name, j.rest.x, j.rest.y, j.rest.z)
+        })
+        .collect();
+    let bend = p.vector::<3>("bend")?;
+    parse_skeleton(
+        &text.join("; "),
+        p.string("pose")?,
+        Some((p.string("bend_joint")?, bend)),
+    )
+    .map_err(|(param, why)| ctx.param_error(param, why))
+}
+
 /// The skeleton and pose parameters as joints (rest positions, rotations).
 fn parse_skeleton(
     skeleton: &str,

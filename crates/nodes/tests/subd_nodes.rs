@@ -142,7 +142,7 @@ fn an_hspline_saved_to_hs_loads_back_to_the_same_surface() {
     );
     let text = std::fs::read_to_string(&file).unwrap();
     assert!(
-        text.starts_with("hspline 1\ntopology torus\n")
+        text.starts_with("hspline 2\ntopology torus\n")
             && text.lines().filter(|l| l.starts_with("o ")).count() == 2,
         "{text}"
     );
@@ -190,6 +190,46 @@ fn hspline_enveloping_bends_with_the_skeleton_and_names_bad_joints() {
     );
     assert!(
         e.contains("skeleton") && e.contains("joint 2 `b c 0 1 0`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn an_enveloped_hspline_saves_its_skeleton_and_weights_and_bends_alike_when_loaded() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("arm.hs");
+    let f = file.to_str().unwrap();
+    let skeleton = "shoulder - 0 -1 0; elbow shoulder 0 0 0; wrist elbow 0 1 0";
+    let saved = geo(
+        &format!(
+            r#""h": {{"type": "hspline", "params": {{"topology": "cylinder", "rows": 8, "columns": 12, "size": [0.4, 2.0], "levels": 2,
+                "edits": "2 11 0 0.06 0 0", "envelope": "linear", "envelope_level": 1,
+                "skeleton": "{skeleton}", "bend_joint": "elbow", "bend": [0, 0, 70], "save": "{f}"}}}}"#
+        ),
+        "h",
+    );
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(
+        text.contains("envelope level 1 method linear") && text.contains("joint wrist elbow 0 1 0"),
+        "{text}"
+    );
+    // Loaded with the file's envelope, posed by the same bend: the same arm.
+    let loaded = |bend: f64| {
+        geo(
+            &format!(
+                r#""h": {{"type": "hspline", "params": {{"levels": 0, "load": "{f}", "envelope": "from_file", "bend_joint": "elbow", "bend": [0, 0, {bend}]}}}}"#
+            ),
+            "h",
+        )
+    };
+    assert_eq!(loaded(70.0).positions(), saved.positions());
+    assert_ne!(loaded(0.0).positions(), saved.positions());
+    let e = err(
+        r#""h": {"type": "hspline", "params": {"envelope": "from_file"}}"#,
+        "h",
+    );
+    assert!(
+        e.contains("envelope") && e.contains("needs a loaded .hs file"),
         "{e}"
     );
 }

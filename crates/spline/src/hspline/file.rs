@@ -7,9 +7,11 @@ use std::fmt::Write as _;
 
 use geode_geo::glam::DVec3;
 
-use super::{Grid, Hspline, Overlay, Topology};
+use super::{Envelope, Grid, Hspline, Overlay, Topology};
+use crate::skin::{Joint, SkinMethod};
 
-pub const VERSION: u32 = 1;
+/// Version 2 adds enveloping data; version 1 files still load.
+pub const VERSION: u32 = 2;
 
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 #[error("line {line}: {message}")]
@@ -57,6 +59,29 @@ pub fn save(h: &Hspline, optimize: bool) -> String {
             }
         }
     }
+    if let Some(e) = &h.envelope {
+        let method = match e.method {
+            SkinMethod::Linear => "linear",
+            SkinMethod::DualQuaternion => "dual_quaternion",
+        };
+        let _ = writeln!(s, "envelope level {} method {method}", e.level);
+        for j in &e.joints {
+            let parent = j.parent.map_or("-", |p| e.joints[p].name.as_str());
+            let _ = writeln!(
+                s,
+                "joint {} {parent} {} {} {}",
+                j.name, j.rest.x, j.rest.y, j.rest.z
+            );
+        }
+        let nv = h.grid_size(e.level).map_or(1, |g| g.1);
+        for (k, w) in e.weights.iter().enumerate() {
+            let _ = write!(s, "w {} {}", k / nv, k % nv);
+            for (joint, x) in w {
+                let _ = write!(s, " {joint} {x}");
+            }
+            s.push('\n');
+        }
+    }
     s.push_str("end\n");
     s
 }
@@ -79,7 +104,7 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
     let (n, head) = next("`hspline 1`")?;
     match head.split_whitespace().collect::<Vec<_>>()[..] {
         ["hspline", v] => match v.parse::<u32>() {
-            Ok(VERSION) => {}
+            Ok(1..=VERSION) => {}
             Ok(v) if v > VERSION => {
                 return Err(err(
                     n,
@@ -130,12 +155,90 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
         topology,
         base: Grid { nu, nv, points },
         overlays: Vec::new(),
+        envelope: None,
     };
+    // Enveloping data: the `envelope` line, its joints, and weight lines
+    // (checked against the level's size at `end`).
+    let mut envelope: Option<(usize, usize, SkinMethod, Vec<Joint>)> = None;
+    let mut weight_lines: Vec<(usize, usize, usize, Vec<(usize, f64)>)> = Vec::new();
     loop {
         let (n, l) = next("`level` or `end`")?;
         let w: Vec<&str> = l.split_whitespace().collect();
         match w[..] {
-            ["end"] => break,
+            ["end"] => {
+                if let Some((line, level, method, joints)) = envelope.take() {
+                    h.envelope = Some(finish_envelope(
+                        &h,
+                        line,
+                        level,
+                        method,
+                        joints,
+                        weight_lines,
+                    )?);
+                }
+                break;
+            }
+            ["envelope", "level", k, "method", m] => {
+                if envelope.is_some() {
+                    return Err(err(n, "a second `envelope`"));
+                }
+                let method = match m {
+                    "linear" => SkinMethod::Linear,
+                    "dual_quaternion" => SkinMethod::DualQuaternion,
+                    _ => {
+                        return Err(err(
+                            n,
+                            format!("method `{m}`: expected linear or dual_quaternion"),
+                        ))
+                    }
+                };
+                envelope = Some((n, int(n, k)?, method, Vec::new()));
+            }
+            ["joint", name, parent, x, y, z] => {
+                let Some((_, _, _, joints)) = envelope.as_mut() else {
+                    return Err(err(n, "a joint before `envelope`"));
+                };
+                if joints.iter().any(|j| j.name == name) {
+                    return Err(err(n, format!("joint `{name}` twice")));
+                }
+                let parent =
+                    match parent {
+                        "-" => None,
+                        p => Some(joints.iter().position(|j| j.name == p).ok_or_else(|| {
+                            err(n, format!("parent `{p}` is not an earlier joint"))
+                        })?),
+                    };
+                joints.push(Joint {
+                    name: name.to_owned(),
+                    parent,
+                    rest: DVec3::new(num(n, x)?, num(n, y)?, num(n, z)?),
+                    rotation: geode_geo::glam::DQuat::IDENTITY,
+                });
+            }
+            ["w", i, j, ref pairs @ ..] => {
+                let Some((_, _, _, joints)) = envelope.as_ref() else {
+                    return Err(err(n, "weights before `envelope`"));
+                };
+                if pairs.len() % 2 != 0 {
+                    return Err(err(n, "expected `w i j` then `joint weight` pairs"));
+                }
+                let mut weights = Vec::with_capacity(pairs.len() / 2);
+                for pair in pairs.chunks(2) {
+                    let joint = int(n, pair[0])?;
+                    if joint >= joints.len() {
+                        return Err(err(
+                            n,
+                            format!("joint {joint} does not exist ({} listed)", joints.len()),
+                        ));
+                    }
+                    let x = num(n, pair[1])?;
+                    if x < 0.0 {
+                        return Err(err(n, format!("weight {x} is negative")));
+                    }
+                    weights.push((joint, x));
+                }
+                weight_lines.push((n, int(n, i)?, int(n, j)?, weights));
+            }
             ["level", k, "u", u0, u1, "v", v0, v1] => {
                 if int(n, k)? != h.overlays.len() + 1 {
                     return Err(err(n, format!("expected level {}", h.overlays.len() + 1)));
@@ -174,6 +277,64 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
     Ok(h)
 }
 
+/// The envelope read so far, checked against its level once the levels
+/// are known: every vertex of the level has one weight line.
+fn finish_envelope(
+    h: &Hspline,
+    line: usize,
+    level: usize,
+    method: SkinMethod,
+    joints: Vec<Joint>,
+    weight_lines: Vec<(usize, usize, usize, Vec<(usize, f64)>)>,
+) -> Result<Envelope, HsError> {
+    let (nu, nv) = h.grid_size(level).map_err(|_| {
+        err(
+            line,
+            format!(
+                "envelope level {level} does not exist ({} levels)",
+                h.levels()
+            ),
+        )
+    })?;
+    if joints.is_empty() {
+        return Err(err(line, "an envelope without joints"));
+    }
+    let mut weights: Vec<Option<Vec<(usize, f64)>>> = vec![None; nu * nv];
+    for (n, i, j, w) in weight_lines {
+        if i >= nu || j >= nv {
+            return Err(err(
+                n,
+                format!("vertex ({i}, {j}) is outside level {level}'s {nu} x {nv}"),
+            ));
+        }
+        if weights[i * nv + j].replace(w).is_some() {
+            return Err(err(n, format!("vertex ({i}, {j}) weighted twice")));
+        }
+    }
+    let weights = weights
+        .into_iter()
+        .enumerate()
+        .map(|(k, w)| {
+            w.ok_or_else(|| {
+                err(
+                    line,
+                    format!(
+                        "vertex ({}, {}) of level {level} has no weights",
+                        k / nv,
+                        k % nv
+                    ),
+                )
+            })
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(Envelope {
+        level,
+        method,
+        joints,
+        weights,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -201,6 +362,65 @@ mod tests {
     }
 
     #[test]
+    fn enveloping_data_round_trips_and_bends_the_loaded_surface_alike() {
+        use crate::skin::{Joint, Skeleton};
+        let mut h = edited();
+        let skeleton = Skeleton::new(vec![
+            Joint {
+                name: "hip".into(),
+                parent: None,
+                rest: DVec3::new(0.0, -1.5, 0.0),
+                rotation: geode_geo::glam::DQuat::IDENTITY,
+            },
+            Joint {
+                name: "knee".into(),
+                parent: Some(0),
+                rest: DVec3::ZERO,
+                rotation: geode_geo::glam::DQuat::IDENTITY,
+            },
+        ])
+        .unwrap();
+        h.set_envelope(1, SkinMethod::DualQuaternion, &skeleton);
+        let text = save(&h, true);
+        assert!(text.starts_with("hspline 2\n") && text.contains("joint knee hip 0 0 0"));
+        let back = load(&text).unwrap();
+        assert_eq!(back, h);
+        // The loaded envelope bends the surface exactly as the original.
+        let mut posed = skeleton.clone();
+        posed.joints[1].rotation = geode_geo::glam::DQuat::from_rotation_z(1.2);
+        let motions = posed.motions();
+        assert_eq!(back.enveloped_grid(&motions), h.enveloped_grid(&motions));
+        assert_ne!(h.enveloped_grid(&motions).unwrap(), h.grid(2).unwrap());
+        // Errors name their line.
+        let cases = [
+            (
+                text.replacen("method dual_quaternion", "method squash", 1),
+                "method `squash`",
+            ),
+            (
+                text.replacen("joint knee hip", "joint knee thigh", 1),
+                "parent `thigh`",
+            ),
+            (
+                text.replacen("w 0 0 0", "w 0 0 7", 1),
+                "joint 7 does not exist",
+            ),
+            (
+                text.replacen("envelope level 1", "envelope level 5", 1),
+                "envelope level 5 does not exist",
+            ),
+            (text.replacen("\nw 0 0 ", "\nw 0 1 ", 1), "weighted twice"),
+        ];
+        for (bad, want) in cases {
+            let e = load(&bad).unwrap_err().to_string();
+            assert!(
+                e.starts_with("line ") && e.contains(want),
+                "{e} (wanted {want})"
+            );
+        }
+    }
+
+    #[test]
     fn the_fuzz_seed_loads() {
         let text = include_str!("../../../../fuzz/seeds/read_hs/plane.hs");
         let h = load(text).unwrap();
@@ -209,11 +429,21 @@ mod tests {
     }
 
     #[test]
+    fn the_enveloped_fuzz_seed_loads_and_round_trips() {
+        let text = include_str!("../../../../fuzz/seeds/read_hs/enveloped.hs");
+        let h = load(text).unwrap();
+        let e = h.envelope.as_ref().unwrap();
+        assert_eq!((e.level, e.joints.len(), e.weights.len()), (0, 2, 16));
+        assert_eq!(e.weights[5], vec![(0, 0.75), (1, 0.25)]);
+        assert_eq!(load(&save(&h, true)).unwrap(), h);
+    }
+
+    #[test]
     fn malformed_files_name_their_line() {
         let good = save(&edited(), true);
         let cases = [
             (
-                good.replacen("hspline 1", "hspline 9", 1),
+                good.replacen("hspline 2", "hspline 9", 1),
                 "line 1: version 9 is newer",
             ),
             (

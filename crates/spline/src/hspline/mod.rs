@@ -7,7 +7,9 @@
 //! a level's overlay rectangle and only on its movable vertices (at least
 //! two from the overlay's edge, so the surface stays continuous).
 
-use geode_geo::glam::DVec3;
+use geode_geo::glam::{DQuat, DVec3};
+
+use crate::skin::{skin, Joint, Rigid, Skeleton, SkinMethod};
 
 pub mod attach;
 pub mod file;
@@ -203,12 +205,24 @@ fn parameter(k: usize, n: usize, closed: bool) -> f64 {
     }
 }
 
+/// The enveloping a hierarchy carries: the level whose control vertices
+/// are skinned, the method, the skeleton at rest and every vertex's joint
+/// weights (v fastest). The pose is animation and lives in the network.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Envelope {
+    pub level: usize,
+    pub method: SkinMethod,
+    pub joints: Vec<Joint>,
+    pub weights: Vec<Vec<(usize, f64)>>,
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub struct Hspline {
     pub topology: Topology,
     pub base: Grid,
     /// Overlay `k` belongs to level `k + 1`.
     pub overlays: Vec<Overlay>,
+    pub envelope: Option<Envelope>,
 }
 
 impl Hspline {
@@ -257,6 +271,7 @@ impl Hspline {
             topology,
             base: Grid { nu, nv, points },
             overlays: Vec::new(),
+            envelope: None,
         })
     }
 
@@ -554,6 +569,44 @@ impl Hspline {
                 offsets,
             };
         }
+    }
+
+    /// Carries `skeleton` (at rest) and automatic weights for the vertices
+    /// of `level` (clamped to the finest), skinned by `method`.
+    pub fn set_envelope(&mut self, level: usize, method: SkinMethod, skeleton: &Skeleton) {
+        let level = level.min(self.levels() - 1);
+        let grid = self.grid(level).expect("the level exists");
+        self.envelope = Some(Envelope {
+            level,
+            method,
+            joints: skeleton
+                .joints
+                .iter()
+                .map(|j| Joint {
+                    rotation: DQuat::IDENTITY,
+                    ..j.clone()
+                })
+                .collect(),
+            weights: skeleton.auto_weights(&grid.points),
+        });
+    }
+
+    /// The finest grid with the envelope level's vertices moved by
+    /// `motions` (one per envelope joint) and the finer offsets following
+    /// in the deformed frames; vertices without weights stay.
+    pub fn enveloped_grid(&self, motions: &[Rigid]) -> Result<Grid, HsplineError> {
+        let Some(e) = &self.envelope else {
+            return self.grid(self.levels() - 1);
+        };
+        let coarse = self.grid(e.level)?;
+        let moved = skin(&coarse.points, &e.weights, motions, e.method);
+        let points = moved
+            .into_iter()
+            .zip(&coarse.points)
+            .zip(&e.weights)
+            .map(|((m, p), w)| if w.is_empty() { *p } else { m })
+            .collect();
+        self.grid_from(e.level, Grid { points, ..coarse }, self.levels() - 1)
     }
 
     /// The surface point and normal at normalized (s, t), on the finest level.
