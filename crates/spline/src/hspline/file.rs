@@ -160,7 +160,7 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
     // Enveloping data: the `envelope` line, its joints, and weight lines
     // (checked against the level's size at `end`).
     let mut envelope: Option<(usize, usize, SkinMethod, Vec<Joint>)> = None;
-    let mut weight_lines: Vec<(usize, usize, usize, Vec<(usize, f64)>)> = Vec::new();
+    let mut weight_lines: Vec<WeightLine> = Vec::new();
     loop {
         let (n, l) = next("`level` or `end`")?;
         let w: Vec<&str> = l.split_whitespace().collect();
@@ -277,6 +277,9 @@ pub fn load(text: &str) -> Result<Hspline, HsError> {
     Ok(h)
 }
 
+/// A `w` line: its line number, the vertex (i, j) and its weights.
+type WeightLine = (usize, usize, usize, Vec<(usize, f64)>);
+
 /// The envelope read so far, checked against its level once the levels
 /// are known: every vertex of the level has one weight line.
 fn finish_envelope(
@@ -285,7 +288,7 @@ fn finish_envelope(
     level: usize,
     method: SkinMethod,
     joints: Vec<Joint>,
-    weight_lines: Vec<(usize, usize, usize, Vec<(usize, f64)>)>,
+    weight_lines: Vec<WeightLine>,
 ) -> Result<Envelope, HsError> {
     let (nu, nv) = h.grid_size(level).map_err(|_| {
         err(
