@@ -66,7 +66,7 @@ impl Group {
         self.words.resize(len.div_ceil(64), 0);
         self.len = len;
         // Keep the bits past `len` zero so equal sets hash equally.
-        if len % 64 != 0 {
+        if !len.is_multiple_of(64) {
             if let Some(last) = self.words.last_mut() {
                 *last &= (1u64 << (len % 64)) - 1;
             }

@@ -72,7 +72,7 @@ fn main() {
     let (base, _, method) = base_level(&g, &opts()).unwrap();
     let build = t.elapsed();
     let t = std::time::Instant::now();
-    let _ = refine_levels(base, flat(&g), 2, method);
+    let _ = refine_levels(base, flat(&g), 2, method, false);
     eprintln!(
         "geode: base level {:.1} ms, two levels {:.1} ms",
         build.as_secs_f64() * 1e3,
@@ -86,7 +86,7 @@ fn refine_100k_quads(bencher: divan::Bencher, levels: u32) {
     let g = sphere();
     bencher.bench(|| {
         let (base, _, method) = base_level(&g, &opts()).unwrap();
-        refine_levels(base, flat(&g), levels, method)
+        refine_levels(base, flat(&g), levels, method, false)
     });
 }
 

@@ -294,7 +294,7 @@ fn catmull_clark_matches_opensubdiv_on_its_regression_shapes() {
             .iter()
             .flat_map(|p| p.as_dvec3().to_array())
             .collect();
-        let (ours, last) = refine_levels(base, flat, 3, method);
+        let (ours, last) = refine_levels(base, flat, 3, method, true);
         let ours: Vec<Vec<DVec3>> = ours.iter().map(|l| points(l)).collect();
         let ours_limit = limit_positions(&last, ours.last().unwrap());
         let ours_normals = limit_normals(&last, ours.last().unwrap());

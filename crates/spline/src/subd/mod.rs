@@ -14,7 +14,7 @@ use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind
 
 pub use level::{Level, Rows, INFINITE};
 pub use limit::{limit_frame, limit_normals, limit_positions};
-pub use refine::{plan, refine_topology, refine_values, Rule};
+pub use refine::{plan, refine_topology, refine_topology_with, refine_values, Rule};
 
 /// OpenSubdiv's vertex boundary interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -188,17 +188,20 @@ fn refine_corners(p: &Level, vals: &[f64], dim: usize) -> Vec<f64> {
 }
 
 /// Positions of every refined level (level 0 first) as flat `x y z` runs,
-/// and the last level's topology.
+/// and the last level's topology (its adjacency only with `full_last`, which
+/// limit masks need).
 pub fn refine_levels(
     base: Level,
     positions: Vec<f64>,
     levels: u32,
     method: CreaseMethod,
+    full_last: bool,
 ) -> (Vec<Vec<f64>>, Level) {
     let mut level = base;
     let mut all = vec![positions];
-    for _ in 0..levels {
-        let child = refine_topology(&level, method == CreaseMethod::Chaikin);
+    for k in 0..levels {
+        let adjacency = full_last || k + 1 < levels;
+        let child = refine_topology_with(&level, method == CreaseMethod::Chaikin, adjacency);
         let pl = plan(&level, &child, method == CreaseMethod::Chaikin);
         let out = refine_values(&level, &child, &pl, all.last().expect("a level"), 3);
         all.push(out);
@@ -243,11 +246,11 @@ pub fn subdivide(
         .filter(|c| c.0 != "creaseweight")
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
-    for _ in 0..levels {
+    for k in 0..levels {
         if cancel() {
             return Err(SubdError::Cancelled);
         }
-        let child = refine_topology(&level, chaikin);
+        let child = refine_topology_with(&level, chaikin, opts.limit || k + 1 < levels);
         let pl = plan(&level, &child, chaikin);
         positions = refine_values(&level, &child, &pl, &positions, 3);
         for c in points.iter_mut() {

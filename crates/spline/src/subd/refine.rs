@@ -87,6 +87,14 @@ fn child_edge_sharpness(p: &Level, e: u32, v: u32, chaikin_rule: bool) -> f32 {
 /// The child level of `p` (vertices: parent vertices' children, then faces',
 /// then edges'; a quad per parent face corner).
 pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
+    refine_topology_with(p, chaikin_rule, true)
+}
+
+/// The child level, with its adjacency rows (edges' faces, vertices' faces
+/// and edges) only when `adjacency`: a last level that is only output (not
+/// refined further, no limit masks) does without them, as OpenSubdiv's
+/// uniform refinement does by default.
+pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> Level {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let vc = |v: u32| v;
     let fc = |f: usize| (nv + f) as u32;
@@ -144,7 +152,10 @@ pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
     let mut child = Level {
         num_vertices: nv + nf + ne,
         faces: Rows {
-            offsets: (0..=corners as u32).map(|i| 4 * i).collect(),
+            offsets: (0..=corners as u32)
+                .into_par_iter()
+                .map(|i| 4 * i)
+                .collect(),
             items: face_verts,
         },
         face_edges,
@@ -152,6 +163,7 @@ pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
         edge_verts,
         edge_sharpness,
         vertex_sharpness: (0..nv + nf + ne)
+            .into_par_iter()
             .map(|i| {
                 if i < nv {
                     decrement(p.vertex_sharpness[i])
@@ -162,6 +174,9 @@ pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
             .collect(),
         ..Level::default()
     };
+    if !adjacency {
+        return child;
+    }
     let (edge_faces, (vertex_faces, vertex_edges)) = rayon::join(
         || child_edge_faces(p),
         || rayon::join(|| child_vertex_faces(p), || child_vertex_edges(p)),
@@ -410,27 +425,60 @@ pub fn plan(p: &Level, c: &Level, chaikin_rule: bool) -> Plan {
 
 /// Refines values of `dim` components per parent vertex into child values.
 pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize) -> Vec<f64> {
+    // Fixed widths let the compiler keep a value in registers and drop the
+    // bounds checks; positions (3) are the hot case.
+    match dim {
+        1 => refine_fixed::<1>(p, c, plan, src),
+        2 => refine_fixed::<2>(p, c, plan, src),
+        3 => refine_fixed::<3>(p, c, plan, src),
+        4 => refine_fixed::<4>(p, c, plan, src),
+        _ => {
+            // Wider values: one component at a time.
+            let n = src.len() / dim.max(1);
+            let columns: Vec<Vec<f64>> = (0..dim)
+                .map(|k| {
+                    let column: Vec<f64> = (0..n).map(|i| src[i * dim + k]).collect();
+                    refine_fixed::<1>(p, c, plan, &column)
+                })
+                .collect();
+            let m = columns.first().map_or(0, Vec::len);
+            (0..m * dim).map(|i| columns[i % dim][i / dim]).collect()
+        }
+    }
+}
+
+type Value<const N: usize> = [f64; N];
+
+fn add<const N: usize>(o: &mut Value<N>, w: f64, x: &Value<N>) {
+    for k in 0..N {
+        o[k] += w * x[k];
+    }
+}
+
+/// Elements per parallel task: enough to amortise the scheduling.
+const GRAIN: usize = 2048;
+
+fn refine_fixed<const N: usize>(p: &Level, c: &Level, plan: &Plan, src: &[f64]) -> Vec<f64> {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
-    let mut out = vec![0.0f64; (nv + nf + ne) * dim];
-    let (vertex_part, rest) = out.split_at_mut(nv * dim);
-    let (face_part, edge_part) = rest.split_at_mut(nf * dim);
-    let at = |i: u32| &src[i as usize * dim..(i as usize + 1) * dim];
+    let (src, _) = src.as_chunks::<N>();
+    let mut out = vec![[0.0f64; N]; nv + nf + ne];
+    let (vertex_part, rest) = out.split_at_mut(nv);
+    let (face_part, edge_part) = rest.split_at_mut(nf);
     face_part
-        .par_chunks_mut(dim)
+        .par_iter_mut()
+        .with_min_len(GRAIN)
         .enumerate()
         .for_each(|(f, o)| {
             let verts = p.faces.row(f);
             let w = 1.0 / verts.len() as f64;
             for &v in verts {
-                for (o, x) in o.iter_mut().zip(at(v)) {
-                    *o += w * x;
-                }
+                add(o, w, &src[v as usize]);
             }
         });
-    let face_points: &[f64] = face_part;
-    let face_point = |f: u32| &face_points[f as usize * dim..(f as usize + 1) * dim];
+    let face_points: &[Value<N>] = face_part;
     edge_part
-        .par_chunks_mut(dim)
+        .par_iter_mut()
+        .with_min_len(GRAIN)
         .enumerate()
         .for_each(|(e, o)| {
             let [a, b] = p.edge_verts[e];
@@ -446,25 +494,25 @@ pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize)
                     (1.0 - crease) * smooth_face,
                 )
             };
-            for ((o, x), y) in o.iter_mut().zip(at(a)).zip(at(b)) {
-                *o = end_w * (x + y);
+            let (x, y) = (&src[a as usize], &src[b as usize]);
+            for k in 0..N {
+                o[k] = end_w * (x[k] + y[k]);
             }
             if face_w > 0.0 {
                 for &f in faces {
-                    for (o, x) in o.iter_mut().zip(face_point(f)) {
-                        *o += face_w * x;
-                    }
+                    add(o, face_w, &face_points[f as usize]);
                 }
             }
         });
     vertex_part
-        .par_chunks_mut(dim)
+        .par_iter_mut()
+        .with_min_len(GRAIN)
         .enumerate()
         .for_each(|(v, o)| {
             let edges = p.vertex_edges.row(v);
-            let me = at(v as u32);
+            let me = &src[v];
             if edges.is_empty() {
-                o.copy_from_slice(me);
+                *o = *me;
                 return;
             }
             let (pr, cr, w) = (
@@ -472,44 +520,28 @@ pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize)
                 plan.child_rule[v],
                 plan.vertex_weight[v] as f64,
             );
-            let mask =
-                |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, o: &mut [f64]| match rule {
-                    Rule::Corner => {
-                        for k in 0..dim {
-                            o[k] += scale * me[k];
-                        }
-                    }
+            let mask = |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, o: &mut Value<N>| {
+                match rule {
+                    Rule::Corner => add(o, scale, me),
                     Rule::Crease => {
-                        for k in 0..dim {
-                            o[k] += scale * 0.75 * me[k];
-                        }
+                        add(o, scale * 0.75, me);
                         for &e in edges.iter().filter(|&&e| sharp(e)) {
-                            let other = at(p.other_end(e, v as u32));
-                            for k in 0..dim {
-                                o[k] += scale * 0.125 * other[k];
-                            }
+                            add(o, scale * 0.125, &src[p.other_end(e, v as u32) as usize]);
                         }
                     }
                     Rule::Smooth | Rule::Dart => {
                         let n = edges.len() as f64;
-                        let faces = p.vertex_faces.row(v);
-                        for k in 0..dim {
-                            o[k] += scale * (n - 2.0) / n * me[k];
-                        }
+                        add(o, scale * (n - 2.0) / n, me);
                         let w = scale / (n * n);
                         for &e in edges {
-                            let other = at(p.other_end(e, v as u32));
-                            for k in 0..dim {
-                                o[k] += w * other[k];
-                            }
+                            add(o, w, &src[p.other_end(e, v as u32) as usize]);
                         }
-                        for &f in faces {
-                            for (o, x) in o.iter_mut().zip(face_point(f)) {
-                                *o += w * x;
-                            }
+                        for &f in p.vertex_faces.row(v) {
+                            add(o, w, &face_points[f as usize]);
                         }
                     }
-                };
+                }
+            };
             let parent_sharp = |e: u32| is_sharp(p.edge_sharpness[e as usize]);
             let child_sharp = |e: u32| {
                 let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32);
@@ -522,7 +554,7 @@ pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize)
                 mask(cr, &child_sharp, 1.0 - w, o);
             }
         });
-    out
+    out.into_flattened()
 }
 
 #[cfg(test)]
