@@ -11,8 +11,13 @@
 //   creases K    then K lines "a b sharpness"
 //   corners M    then M lines "v sharpness"
 //   holes H      then H face indices
+//   [fvar M V     optional: a 2-D face-varying channel with linear interpolation
+//                 M (0 none, 1 corners only, 2 corners plus1, 3 corners plus2,
+//                 4 boundaries, 5 all), V lines "u v", then one value index per
+//                 face corner in face order]
 // Output: "level k n" then n lines "x y z", for k = 1..L; then "limit n"
-// and n lines; then "normal n" and n unit normals (du x dv).
+// and n lines; then "normal n" and n unit normals (du x dv); with fvar,
+// "fvar k n" and the n face corners' values of level k, in face order.
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
@@ -32,6 +37,15 @@ struct Vertex {
     void Clear(void * = 0) { p[0] = p[1] = p[2] = 0.0; }
     void AddWithWeight(Vertex const & src, float weight) {
         for (int k = 0; k < 3; ++k) p[k] += weight * src.p[k];
+    }
+};
+
+struct FVar {
+    double uv[2];
+    void Clear(void * = 0) { uv[0] = uv[1] = 0.0; }
+    void AddWithWeight(FVar const & src, float weight) {
+        uv[0] += weight * src.uv[0];
+        uv[1] += weight * src.uv[1];
     }
 };
 
@@ -71,12 +85,31 @@ int main() {
     std::vector<int> holes(nh);
     for (int i = 0; i < nh; ++i) in >> holes[i];
     if (!in) { std::fprintf(stderr, "truncated input\n"); return 2; }
+    int fvarMode = -1, fvarCount = 0;
+    std::vector<FVar> fvarValues;
+    std::vector<int> fvarIndices;
+    std::string word;
+    if (in >> word) {
+        if (word != "fvar" || !(in >> fvarMode >> fvarCount)) { std::fprintf(stderr, "expected `fvar`\n"); return 2; }
+        fvarValues.resize(fvarCount);
+        for (auto & v : fvarValues) in >> v.uv[0] >> v.uv[1];
+        fvarIndices.resize(indices.size());
+        for (auto & i : fvarIndices) in >> i;
+        if (!in) { std::fprintf(stderr, "truncated fvar\n"); return 2; }
+    }
 
     Sdc::Options options;
     options.SetVtxBoundaryInterpolation(boundary == 0 ? Sdc::Options::VTX_BOUNDARY_NONE
                                         : boundary == 2 ? Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER
                                                         : Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     options.SetCreasingMethod(crease ? Sdc::Options::CREASE_CHAIKIN : Sdc::Options::CREASE_UNIFORM);
+    if (fvarMode >= 0) {
+        static const Sdc::Options::FVarLinearInterpolation modes[] = {
+            Sdc::Options::FVAR_LINEAR_NONE, Sdc::Options::FVAR_LINEAR_CORNERS_ONLY,
+            Sdc::Options::FVAR_LINEAR_CORNERS_PLUS1, Sdc::Options::FVAR_LINEAR_CORNERS_PLUS2,
+            Sdc::Options::FVAR_LINEAR_BOUNDARIES, Sdc::Options::FVAR_LINEAR_ALL};
+        options.SetFVarLinearInterpolation(modes[fvarMode < 0 || fvarMode > 5 ? 5 : fvarMode]);
+    }
 
     Far::TopologyDescriptor desc;
     desc.numVertices = nv;
@@ -91,6 +124,13 @@ int main() {
     desc.cornerWeights = cornerWeights.data();
     desc.numHoles = nh;
     desc.holeIndices = holes.data();
+    Far::TopologyDescriptor::FVarChannel channel;
+    if (fvarMode >= 0) {
+        channel.numValues = fvarCount;
+        channel.valueIndices = fvarIndices.data();
+        desc.numFVarChannels = 1;
+        desc.fvarChannels = &channel;
+    }
 
     typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
 
@@ -162,6 +202,24 @@ int main() {
         double len = std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         if (len > 0) for (int k = 0; k < 3; ++k) c[k] /= len;
         std::printf("%.10g %.10g %.10g\n", c[0], c[1], c[2]);
+    }
+    if (fvarMode >= 0) {
+        std::vector<FVar> fbuf(refiner->GetNumFVarValuesTotal(0));
+        std::copy(fvarValues.begin(), fvarValues.end(), fbuf.begin());
+        FVar * fsrc = fbuf.data();
+        for (int level = 1; level <= levels; ++level) {
+            FVar * fdst = fsrc + refiner->GetLevel(level - 1).GetNumFVarValues(0);
+            primvar.InterpolateFaceVarying(level, fsrc, fdst, 0);
+            fsrc = fdst;
+            Far::TopologyLevel const & l = refiner->GetLevel(level);
+            int corners = 0;
+            for (int f = 0; f < l.GetNumFaces(); ++f) corners += l.GetFaceVertices(f).size();
+            std::printf("fvar %d %d\n", level, corners);
+            for (int f = 0; f < l.GetNumFaces(); ++f) {
+                Far::ConstIndexArray fv = l.GetFaceFVarValues(f, 0);
+                for (int k = 0; k < fv.size(); ++k) std::printf("%.10g %.10g\n", fsrc[fv[k]].uv[0], fsrc[fv[k]].uv[1]);
+            }
+        }
     }
     delete refiner;
     return 0;

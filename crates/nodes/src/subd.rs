@@ -6,7 +6,9 @@ use geode_op::{
     geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
-use geode_spline::subd::{subdivide, BoundaryMode, CreaseMethod, SubdError, SubdOptions};
+use geode_spline::subd::{
+    subdivide, BoundaryMode, CreaseMethod, FVarLinear, SubdError, SubdOptions,
+};
 
 use crate::util::{geometry, input};
 
@@ -15,12 +17,13 @@ static SUBDIVIDE: NodeSpec = NodeSpec::new(
     "subdivide",
     "Subdivide",
     "mesh",
-    "Catmull-Clark subdivision with OpenSubdiv's rules: semi-sharp creases (vertex attribute creaseweight, per edge), corners (point attribute cornerweight), holes (primitive attribute subd_hole), boundary interpolation and uniform or Chaikin crease decay. Point attributes are refined like P, vertex attributes (uv) linearly per face, primitive attributes inherited. With `limit`, points move to the limit surface and get exact limit normals N.",
+    "Catmull-Clark subdivision with OpenSubdiv's rules: semi-sharp creases (vertex attribute creaseweight, per edge), corners (point attribute cornerweight), holes (primitive attribute subd_hole), boundary interpolation and uniform or Chaikin crease decay. Point attributes are refined like P, vertex attributes (uv) by OpenSubdiv's face-varying rules (seams kept), primitive attributes inherited. With `limit`, points move to the limit surface and get exact limit normals N.",
     &[geometry_input("mesh")],
     &[
         P::new("levels", "Levels", T::Int, D::Int(2), "Refinement levels (each quadruples the faces).").range(0.0, 8.0),
         P::new("boundary", "Boundary", T::Menu(&["from_geometry", "none", "edge_only", "edge_and_corner"]), D::Str("from_geometry"), "How boundaries interpolate: from the subd_boundary tag (edge only when absent), or forced."),
         P::new("crease_method", "Crease method", T::Menu(&["from_geometry", "uniform", "chaikin"]), D::Str("from_geometry"), "How semi-sharp creases decay: from the subd_creasemethod tag (uniform when absent), or forced."),
+        P::new("uv_interpolation", "UV interpolation", T::Menu(&["from_geometry", "none", "corners_only", "corners_plus1", "corners_plus2", "boundaries", "all"]), D::Str("from_geometry"), "OpenSubdiv's face-varying rules for vertex attributes (uv): smooth everywhere (none), pinning island corners, also junctions of three or more islands (plus1), also darts and concave corners (plus2), pinning island boundaries (boundaries: outlines keep, insides smooth), or bilinear (all). From the subd_fvar_boundary tag, boundaries when absent."),
         P::new("limit", "Push to limit", T::Toggle, D::Toggle(false), "Move points to the limit surface and write limit normals N."),
     ],
 );
@@ -46,6 +49,15 @@ impl Operator for Subdivide {
             crease: match p.string("crease_method")? {
                 "uniform" => Some(CreaseMethod::Uniform),
                 "chaikin" => Some(CreaseMethod::Chaikin),
+                _ => None,
+            },
+            fvar: match p.string("uv_interpolation")? {
+                "none" => Some(FVarLinear::None),
+                "corners_only" => Some(FVarLinear::CornersOnly),
+                "corners_plus1" => Some(FVarLinear::CornersPlus1),
+                "corners_plus2" => Some(FVarLinear::CornersPlus2),
+                "boundaries" => Some(FVarLinear::Boundaries),
+                "all" => Some(FVarLinear::All),
                 _ => None,
             },
             limit: p.toggle("limit")?,

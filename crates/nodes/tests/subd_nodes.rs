@@ -320,3 +320,40 @@ fn nurbs_patches_stay_exact_through_transforms_and_merges_until_converted() {
     // The sphere's knots have 2 spans along u and 4 around: 6 quads a span.
     assert_eq!(mesh.num_prims(), 6 + (2 * 6) * (4 * 6));
 }
+
+#[test]
+fn uv_interpolation_follows_opensubdivs_face_varying_options() {
+    let shape = format!(
+        "{}/../../../shared/corpus/opensubdiv/catmark_fvar_bound0.obj",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let uvs = |mode: &str| -> Vec<[f32; 2]> {
+        let g = geo(
+            &format!(
+                r#""m": {{"type": "file", "params": {{"file": "{shape}"}}}}, "s": {{"type": "subdivide", "inputs": ["m"], "params": {{"levels": 2, "uv_interpolation": "{mode}"}}}}"#
+            ),
+            "s",
+        );
+        g.attrib(AttribClass::Vertex, "uv")
+            .and_then(|a| a.as_vec2())
+            .unwrap()
+            .iter()
+            .map(|v| [v.x, v.y])
+            .collect()
+    };
+    let (none, boundaries, all) = (uvs("none"), uvs("boundaries"), uvs("all"));
+    assert_ne!(none, boundaries);
+    assert_ne!(boundaries, all);
+    // Pinned boundaries keep the corners of the uv square; smooth ones
+    // round them off.
+    let corners = [[0.0f32, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]];
+    for c in corners {
+        assert!(boundaries.contains(&c) && all.contains(&c), "{c:?} pinned");
+    }
+    assert!(
+        corners.iter().any(|c| !none.contains(c)),
+        "smooth boundaries move corners"
+    );
+    // The default, without a tag, is `boundaries`.
+    assert_eq!(uvs("from_geometry"), boundaries);
+}

@@ -23,6 +23,7 @@ fn opts() -> SubdOptions {
         levels: 0,
         boundary: None,
         crease: None,
+        fvar: None,
         limit: false,
     }
 }

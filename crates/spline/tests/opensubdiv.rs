@@ -9,8 +9,8 @@ use std::process::{Command, Stdio};
 use geode_geo::glam::DVec3;
 use geode_geo::{AttribClass, Geometry};
 use geode_spline::subd::{
-    base_level, limit_normals, limit_positions, points, refine_levels, BoundaryMode, CreaseMethod,
-    SubdOptions,
+    base_level, limit_normals, limit_positions, plan, points, refine_levels, refine_topology,
+    BoundaryMode, CreaseMethod, FVarChannel, FVarLinear, SubdOptions,
 };
 
 const TOLERANCE: f64 = 1e-5;
@@ -123,6 +123,8 @@ struct Reference {
     levels: Vec<Vec<DVec3>>,
     limit: Vec<DVec3>,
     normals: Vec<DVec3>,
+    /// Face-varying values of every face corner, level by level.
+    fvar: Vec<Vec<[f64; 2]>>,
 }
 
 fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
@@ -145,6 +147,7 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
     let text = String::from_utf8_lossy(&out.stdout);
     let mut lines = text.lines();
     let (mut levels, mut limit, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+    let mut fvar = Vec::new();
     while let Some(head) = lines.next() {
         let words: Vec<&str> = head.split_whitespace().collect();
         let n: usize = words
@@ -159,13 +162,15 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
                     .split_whitespace()
                     .filter_map(|x| x.parse().ok())
                     .collect();
-                DVec3::new(v[0], v[1], v[2])
+                DVec3::new(v[0], v[1], v.get(2).copied().unwrap_or(0.0))
             })
             .collect();
         if words[0] == "limit" {
             limit = pts;
         } else if words[0] == "normal" {
             normals = pts;
+        } else if words[0] == "fvar" {
+            fvar.push(pts.iter().map(|p| [p.x, p.y]).collect());
         } else {
             levels.push(pts);
         }
@@ -174,6 +179,7 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
         levels,
         limit,
         normals,
+        fvar,
     })
 }
 
@@ -286,6 +292,7 @@ fn catmull_clark_matches_opensubdiv_on_its_regression_shapes() {
             levels: 3,
             boundary: None,
             crease: None,
+            fvar: None,
             limit: false,
         };
         let (base, boundary, method) = base_level(&g, &opts).unwrap();
@@ -365,5 +372,179 @@ fn catmull_clark_matches_opensubdiv_on_its_regression_shapes() {
     assert!(
         normals_compared > 10_000,
         "{normals_compared} normals compared"
+    );
+}
+
+/// The reference binary, or None (then the test is skipped, unless the
+/// validators are required).
+fn reference_binary() -> Option<String> {
+    let reference = std::env::var("GEODE_OSD_REF").ok();
+    let required = std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1");
+    if reference.is_none() {
+        assert!(
+            !required,
+            "GEODE_OSD_REF is not set (tools/test.sh builds tools/osd_ref)"
+        );
+        eprintln!("skipped: GEODE_OSD_REF not set");
+    }
+    reference
+}
+
+/// Face-varying cases geode does not reproduce, by shape and the options
+/// (smooth boundaries) they concern; `All` and `Boundaries` match on every
+/// shape.
+const FVAR_SKIPPED: [(&str, &str); 11] = [
+    ("catmark_bishop.obj", "None: uv values whose faces meet only at the vertex (Far's non-manifold values)"),
+    ("catmark_car.obj", "None: uv values whose faces meet only at the vertex"),
+    ("catmark_rook.obj", "None: uv values whose faces meet only at the vertex"),
+    ("catmark_cube_creases0.obj", "semi-sharp creases ending on uv seams: Far blends the seam's values by the crease's sharpness"),
+    ("catmark_cube_creases1.obj", "semi-sharp creases ending on uv seams"),
+    ("catmark_cubes_semisharp.obj", "semi-sharp creases ending on uv seams"),
+    ("catmark_cube_corner0.obj", "semi-sharp corners on uv seams"),
+    ("catmark_cube_corner1.obj", "semi-sharp corners on uv seams"),
+    ("catmark_cube_corner2.obj", "semi-sharp corners on uv seams"),
+    ("catmark_cube_corner3.obj", "semi-sharp corners on uv seams"),
+    ("catmark_fvar_bound2.obj", "semi-sharp corners on uv seams"),
+];
+
+const FVAR_MODES: [FVarLinear; 6] = [
+    FVarLinear::None,
+    FVarLinear::CornersOnly,
+    FVarLinear::CornersPlus1,
+    FVarLinear::CornersPlus2,
+    FVarLinear::Boundaries,
+    FVarLinear::All,
+];
+
+#[test]
+fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
+    let Some(bin) = reference_binary() else {
+        return;
+    };
+    let mut files: Vec<_> = std::fs::read_dir(corpus())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    files.sort();
+    let (mut failures, mut compared) = (Vec::new(), 0);
+    for path in &files {
+        let name = path.file_name().unwrap().to_string_lossy().to_string();
+        if SKIPPED.iter().any(|(s, _)| *s == name) {
+            continue;
+        }
+        let g = geode_io::read(path, &geode_io::NoProgress).unwrap();
+        let Some(uv) = g
+            .attrib(AttribClass::Vertex, "uv")
+            .and_then(|a| a.as_vec2())
+        else {
+            continue;
+        };
+        let uv: Vec<f64> = uv.iter().flat_map(|v| [v.x as f64, v.y as f64]).collect();
+        let opts = SubdOptions {
+            levels: 3,
+            boundary: None,
+            crease: None,
+            fvar: None,
+            limit: false,
+        };
+        let (base, boundary, method) = base_level(&g, &opts).unwrap();
+        let channel = FVarChannel::from_corners(&base, &uv, 2);
+        for (m, &mode) in FVAR_MODES.iter().enumerate() {
+            let mut input = describe(&g, boundary, method, 3);
+            input += &format!("fvar {m} {}\n", channel.values.len() / 2);
+            for v in channel.values.chunks(2) {
+                input += &format!("{} {}\n", v[0], v[1]);
+            }
+            for id in &channel.corner_value {
+                input += &format!("{id}\n");
+            }
+            let reference = match run_reference(&bin, &input) {
+                Ok(r) => r,
+                Err(e) => {
+                    failures.push(format!("{name} {mode:?}: reference failed: {e}"));
+                    continue;
+                }
+            };
+            let smooth_boundaries = !matches!(mode, FVarLinear::All | FVarLinear::Boundaries);
+            if smooth_boundaries
+                && FVAR_SKIPPED.iter().any(|(s, why)| {
+                    *s == name && (mode == FVarLinear::None || !why.starts_with("None"))
+                })
+            {
+                continue;
+            }
+            compared += 1;
+            let (mut level, mut ch) = (base.clone(), channel.clone());
+            for (k, theirs) in reference.fvar.iter().enumerate() {
+                let chaikin = method == CreaseMethod::Chaikin;
+                let child = refine_topology(&level, chaikin);
+                let pl = plan(&level, &child, chaikin);
+                ch = ch.refine(&level, &child, &pl, mode);
+                level = child;
+                let ours = ch.corner_data();
+                if ours.len() != 2 * theirs.len() {
+                    failures.push(format!(
+                        "{name} {mode:?} level {}: {} corners vs {}",
+                        k + 1,
+                        ours.len() / 2,
+                        theirs.len()
+                    ));
+                    break;
+                }
+                // Child quads come in the same order, but Far turns each so
+                // its vertex child keeps its parent corner's place: compare
+                // each quad under its best rotation.
+                let worst = (0..theirs.len() / 4)
+                    .map(|q| {
+                        (0..4)
+                            .map(|r| {
+                                (0..4)
+                                    .map(|c| {
+                                        let (o, t) = (4 * q + (c + r) % 4, theirs[4 * q + c]);
+                                        (ours[2 * o] - t[0])
+                                            .abs()
+                                            .max((ours[2 * o + 1] - t[1]).abs())
+                                    })
+                                    .fold(0.0f64, f64::max)
+                            })
+                            .fold(f64::INFINITY, f64::min)
+                    })
+                    .fold(0.0f64, f64::max);
+                if worst > TOLERANCE {
+                    if std::env::var("DEBUG_FVAR").is_ok_and(|v| name.contains(&v)) {
+                        let bad: Vec<usize> = (0..theirs.len() / 4)
+                            .filter(|&q| {
+                                (0..4).any(|c| {
+                                    (ours[2 * (4 * q + c)] - theirs[4 * q + c][0]).abs() > TOLERANCE
+                                        || (ours[2 * (4 * q + c) + 1] - theirs[4 * q + c][1]).abs()
+                                            > TOLERANCE
+                                })
+                            })
+                            .take(6)
+                            .collect();
+                        for q in bad {
+                            eprintln!(
+                                "{mode:?} quad {q}: ours {:?} theirs {:?}",
+                                &ours[8 * q..8 * q + 8],
+                                &theirs[4 * q..4 * q + 4]
+                            );
+                        }
+                    }
+                    failures.push(format!(
+                        "{name} {mode:?} level {}: off by {worst:.3e}",
+                        k + 1
+                    ));
+                    break;
+                }
+            }
+        }
+    }
+    assert!(compared > 400, "{compared} shape-option pairs compared");
+    assert!(
+        failures.is_empty(),
+        "{} of {compared} differ:\n{}",
+        failures.len(),
+        failures.join("\n")
     );
 }

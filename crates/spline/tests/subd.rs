@@ -10,6 +10,7 @@ fn opts(levels: u32, limit: bool) -> SubdOptions {
         levels,
         boundary: None,
         crease: None,
+        fvar: None,
         limit,
     }
 }

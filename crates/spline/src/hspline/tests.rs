@@ -157,6 +157,7 @@ fn the_torus_at_level_0_is_the_catmull_clark_limit_of_its_control_mesh() {
         levels: 1,
         boundary: None,
         crease: None,
+        fvar: None,
         limit: true,
     };
     let limit = crate::subd::subdivide(&mesh, &opts, &|| false).unwrap();

@@ -5,6 +5,7 @@
 //! uniformly, and optionally pushes points to the limit surface with exact
 //! limit normals.
 
+mod fvar;
 mod level;
 mod limit;
 mod refine;
@@ -12,6 +13,7 @@ mod refine;
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
 
+pub use fvar::{FVarChannel, FVarLinear};
 pub use level::{Level, Rows, INFINITE};
 pub use limit::{limit_frame, limit_normals, limit_positions};
 pub use refine::{plan, refine_topology, refine_topology_with, refine_values, Rule};
@@ -41,6 +43,10 @@ pub struct SubdOptions {
     pub boundary: Option<BoundaryMode>,
     /// None: from `subd_creasemethod` (`chaikin`), else uniform.
     pub crease: Option<CreaseMethod>,
+    /// Face-varying (vertex attribute) interpolation. None: from the
+    /// geometry's `subd_fvar_boundary` (OpenSubdiv's tag values), else
+    /// `Boundaries`: islands keep their outlines, their insides smooth.
+    pub fvar: Option<FVarLinear>,
     /// Push points to the limit surface and write limit normals `N`.
     pub limit: bool,
 }
@@ -164,29 +170,6 @@ fn column(dim: usize, v: &[f64]) -> AttribData {
     }
 }
 
-/// Face-varying values (one per face corner) refined linearly: each child
-/// quad's corners take the corner, the two edge midpoints and the face
-/// centre of its parent corner (OpenSubdiv's "linear all").
-fn refine_corners(p: &Level, vals: &[f64], dim: usize) -> Vec<f64> {
-    let mut out = Vec::with_capacity(vals.len() * 4);
-    for f in 0..p.faces.len() {
-        let base = p.faces.offsets[f] as usize;
-        let n = p.faces.row(f).len();
-        let at = |k: usize| &vals[(base + k % n) * dim..(base + k % n + 1) * dim];
-        let centre: Vec<f64> = (0..dim)
-            .map(|d| (0..n).map(|k| at(k)[d]).sum::<f64>() / n as f64)
-            .collect();
-        for k in 0..n {
-            let (c, next, prev) = (at(k), at(k + 1), at(k + n - 1));
-            out.extend_from_slice(c);
-            out.extend((0..dim).map(|d| 0.5 * (c[d] + next[d])));
-            out.extend_from_slice(&centre);
-            out.extend((0..dim).map(|d| 0.5 * (c[d] + prev[d])));
-        }
-    }
-    out
-}
-
 /// Positions of every refined level (level 0 first) as flat `x y z` runs,
 /// and the last level's topology (its adjacency only with `full_last`, which
 /// limit masks need).
@@ -241,9 +224,18 @@ pub fn subdivide(
         .into_iter()
         .filter(|c| c.0 != "P")
         .collect();
-    let mut corners: Vec<(String, TypeInfo, usize, Vec<f64>)> = columns(g, AttribClass::Vertex)
+    let mode = opts.fvar.unwrap_or_else(|| {
+        g.attrib(AttribClass::Detail, "subd_fvar_boundary")
+            .and_then(|a| a.as_i32())
+            .map_or(FVarLinear::Boundaries, |v| FVarLinear::from_tag(v[0]))
+    });
+    let mut corners: Vec<(String, TypeInfo, FVarChannel)> = columns(g, AttribClass::Vertex)
         .into_iter()
         .filter(|c| c.0 != "creaseweight")
+        .map(|(name, info, dim, vals)| {
+            let channel = FVarChannel::from_corners(&level, &vals, dim);
+            (name, info, channel)
+        })
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
     for k in 0..levels {
@@ -257,7 +249,7 @@ pub fn subdivide(
             c.3 = refine_values(&level, &child, &pl, &c.3, c.2);
         }
         for c in corners.iter_mut() {
-            c.3 = refine_corners(&level, &c.3, c.2);
+            c.2 = c.2.refine(&level, &child, &pl, mode);
         }
         prim_of = (0..level.faces.len())
             .flat_map(|f| std::iter::repeat_n(prim_of[f], level.faces.row(f).len()))
@@ -306,8 +298,8 @@ pub fn subdivide(
             ),
         )?;
     }
-    for (name, info, dim, vals) in corners {
-        let all = column(dim, &vals);
+    for (name, info, channel) in corners {
+        let all = column(channel.dim, &channel.corner_data());
         out.set_attrib(
             AttribClass::Vertex,
             &name,

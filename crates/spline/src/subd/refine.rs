@@ -140,13 +140,17 @@ pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> L
             let prev = base + (k + n - 1) % n;
             let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
             let v = p.faces.items[c];
-            fv.copy_from_slice(&[vc(v), ec(e_next), fc(f), ec(e_prev)]);
-            fe.copy_from_slice(&[
+            let verts = [vc(v), ec(e_next), fc(f), ec(e_prev)];
+            let edges = [
                 half(e_next, v),
                 interior(c),
                 interior(prev),
                 half(e_prev, v),
-            ]);
+            ];
+            for i in 0..4 {
+                fv[child_slot(n, k, i)] = verts[i];
+                fe[child_slot(n, k, i)] = edges[i];
+            }
         });
     let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
     let mut child = Level {
@@ -185,6 +189,19 @@ pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> L
     child.vertex_faces = vertex_faces;
     child.vertex_edges = vertex_edges;
     child
+}
+
+/// Where item `i` of the child quad of corner `k` (vertex child, next edge
+/// child, face child, previous edge child) goes: in a quad's children the
+/// vertex child keeps its parent corner's place, as in OpenSubdiv, so a
+/// child quad keeps its parent's orientation; other faces' children start
+/// at their vertex child.
+pub(crate) fn child_slot(n: usize, k: usize, i: usize) -> usize {
+    if n == 4 {
+        (k + i) % 4
+    } else {
+        i
+    }
 }
 
 /// Rows written in order: each call of `row` appends one row's items.

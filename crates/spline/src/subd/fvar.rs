@@ -1,0 +1,548 @@
+//! Face-varying values (uv and other per-corner data) refined with
+//! OpenSubdiv's face-varying rules. Corners at one vertex with equal values
+//! share a value; where they differ (a seam) or the mesh ends, the value's
+//! region has a boundary. Inside a region values refine like points (the
+//! vertex's own rule, creases included); on a region's boundary the
+//! interpolation option decides: smooth boundary curves (a crease along
+//! the boundary), pinned corners, junctions, darts and concave corners
+//! (the "corners" family), every boundary value pinned (`Boundaries`), or
+//! bilinear everywhere (`All`, OpenSubdiv's default).
+
+use super::level::{Level, INFINITE};
+use super::refine::{child_slot, Plan, Rule};
+
+/// OpenSubdiv's `FVarLinearInterpolation`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FVarLinear {
+    /// Smooth everywhere; region boundaries are smooth curves.
+    None,
+    /// Also pin a region's corners (a value on one face).
+    CornersOnly,
+    /// Also pin junctions of three or more regions.
+    CornersPlus1,
+    /// Also pin darts and concave corners.
+    CornersPlus2,
+    /// Pin every value on a region boundary; smooth inside.
+    Boundaries,
+    /// Bilinear everywhere.
+    All,
+}
+
+impl FVarLinear {
+    /// From OpenSubdiv's `facevaryinginterpolateboundary` tag value.
+    pub fn from_tag(tag: i32) -> FVarLinear {
+        match tag {
+            0 => FVarLinear::None,
+            1 => FVarLinear::CornersOnly,
+            2 => FVarLinear::CornersPlus1,
+            3 => FVarLinear::CornersPlus2,
+            4 => FVarLinear::Boundaries,
+            _ => FVarLinear::All,
+        }
+    }
+}
+
+/// A face-varying channel of one level: `dim` components per value and
+/// the value of every face corner.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FVarChannel {
+    pub dim: usize,
+    pub values: Vec<f64>,
+    pub corner_value: Vec<u32>,
+}
+
+impl FVarChannel {
+    /// Per-corner data (`dim` numbers per corner of `level`) as a channel:
+    /// corners at one vertex with bit-identical data share a value.
+    pub fn from_corners(level: &Level, data: &[f64], dim: usize) -> FVarChannel {
+        let corners = level.faces.items.len();
+        let mut corner_value = vec![u32::MAX; corners];
+        let mut values = Vec::new();
+        let mut at_vertex: Vec<Vec<(usize, u32)>> = vec![Vec::new(); level.num_vertices];
+        let same = |a: usize, b: usize| {
+            data[a * dim..(a + 1) * dim]
+                .iter()
+                .zip(&data[b * dim..(b + 1) * dim])
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        for c in 0..corners {
+            let v = level.faces.items[c] as usize;
+            let found = at_vertex[v].iter().find(|&&(other, _)| same(c, other));
+            corner_value[c] = match found {
+                Some(&(_, id)) => id,
+                None => {
+                    let id = (values.len() / dim) as u32;
+                    values.extend_from_slice(&data[c * dim..(c + 1) * dim]);
+                    at_vertex[v].push((c, id));
+                    id
+                }
+            };
+        }
+        FVarChannel {
+            dim,
+            values,
+            corner_value,
+        }
+    }
+
+    /// Each corner's data, `dim` numbers per corner.
+    pub fn corner_data(&self) -> Vec<f64> {
+        let d = self.dim;
+        self.corner_value
+            .iter()
+            .flat_map(|&v| {
+                self.values[v as usize * d..(v as usize + 1) * d]
+                    .iter()
+                    .copied()
+            })
+            .collect()
+    }
+
+    fn value(&self, id: u32) -> &[f64] {
+        &self.values[id as usize * self.dim..(id as usize + 1) * self.dim]
+    }
+
+    /// The channel on the child level `c` of `p`.
+    pub fn refine(&self, p: &Level, c: &Level, plan: &Plan, mode: FVarLinear) -> FVarChannel {
+        Refinement::new(self, p, c, plan, mode).run()
+    }
+}
+
+/// The corner of face `f` that starts edge `e`, and the next corner.
+fn edge_corners(p: &Level, f: u32, e: u32) -> (usize, usize) {
+    let (start, end) = (
+        p.faces.offsets[f as usize] as usize,
+        p.faces.offsets[f as usize + 1] as usize,
+    );
+    let c = (start..end)
+        .find(|&c| p.face_edges[c] == e)
+        .unwrap_or(start);
+    (c, if c + 1 == end { start } else { c + 1 })
+}
+
+/// The corners of face `f` at vertex `v`.
+fn corners_at(p: &Level, f: u32, v: u32) -> impl Iterator<Item = usize> + '_ {
+    (p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize)
+        .filter(move |&c| p.faces.items[c] == v)
+}
+
+/// The faces around a vertex that hold one value there.
+struct Span {
+    value: u32,
+    faces: Vec<u32>,
+    corners: usize,
+    /// Runs of those faces joined across continuous edges (more than one:
+    /// the value's faces touch only at the vertex).
+    runs: usize,
+    /// Infinitely sharp edges inside the span.
+    inf_sharp_edges: usize,
+}
+
+struct Refinement<'a> {
+    ch: &'a FVarChannel,
+    p: &'a Level,
+    c: &'a Level,
+    plan: &'a Plan,
+    mode: FVarLinear,
+    /// The values at each vertex (its siblings) with their faces.
+    spans: Vec<Vec<Span>>,
+    /// Each parent corner's span (an index into its vertex's spans).
+    corner_span: Vec<u32>,
+    /// Whether each edge has one value at each end on every side (an
+    /// interior edge of one region).
+    continuous: Vec<bool>,
+}
+
+impl<'a> Refinement<'a> {
+    fn new(
+        ch: &'a FVarChannel,
+        p: &'a Level,
+        c: &'a Level,
+        plan: &'a Plan,
+        mode: FVarLinear,
+    ) -> Self {
+        let continuous: Vec<bool> = (0..p.edge_verts.len())
+            .map(|e| {
+                let faces = p.edge_faces.row(e);
+                if faces.len() != 2 {
+                    return false;
+                }
+                let ends = |f: u32| {
+                    let (a, b) = edge_corners(p, f, e as u32);
+                    let (va, vb) = (p.faces.items[a], p.faces.items[b]);
+                    let (xa, xb) = (ch.corner_value[a], ch.corner_value[b]);
+                    if va <= vb {
+                        (xa, xb)
+                    } else {
+                        (xb, xa)
+                    }
+                };
+                ends(faces[0]) == ends(faces[1])
+            })
+            .collect();
+        let mut corner_span = vec![0u32; p.faces.items.len()];
+        let spans = (0..p.num_vertices)
+            .map(|v| spans_at(ch, p, &continuous, v as u32, &mut corner_span))
+            .collect();
+        Refinement {
+            ch,
+            p,
+            c,
+            plan,
+            mode,
+            spans,
+            corner_span,
+            continuous,
+        }
+    }
+
+    fn run(&self) -> FVarChannel {
+        let (p, d) = (self.p, self.ch.dim);
+        let nf = p.faces.len();
+        // Child values: each vertex's siblings, each face, each edge (one,
+        // or one per side where the edge is a region boundary).
+        let mut vertex_base = Vec::with_capacity(p.num_vertices + 1);
+        let mut n = 0u32;
+        for s in &self.spans {
+            vertex_base.push(n);
+            n += s.len() as u32;
+        }
+        let face_base = n;
+        n += nf as u32;
+        let mut edge_base = Vec::with_capacity(p.edge_verts.len());
+        for e in 0..p.edge_verts.len() {
+            edge_base.push(n);
+            n += if self.continuous[e] {
+                1
+            } else {
+                p.edge_faces.row(e).len().max(1) as u32
+            };
+        }
+        let mut values = vec![0.0f64; n as usize * d];
+        let face_values: Vec<f64> = (0..nf)
+            .flat_map(|f| {
+                let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
+                let w = 1.0 / r.len() as f64;
+                (0..d).map(move |k| {
+                    r.clone()
+                        .map(|c| self.ch.value(self.ch.corner_value[c])[k] * w)
+                        .sum::<f64>()
+                })
+            })
+            .collect();
+        values[face_base as usize * d..(face_base as usize + nf) * d].copy_from_slice(&face_values);
+        let face_value = |f: u32| &face_values[f as usize * d..(f as usize + 1) * d];
+        // Edges.
+        for (e, &base) in edge_base.iter().enumerate() {
+            let faces = p.edge_faces.row(e);
+            let base = base as usize;
+            if self.continuous[e] && self.mode != FVarLinear::All {
+                let (a, b) = edge_corners(p, faces[0], e as u32);
+                let (xa, xb) = (
+                    self.ch.value(self.ch.corner_value[a]),
+                    self.ch.value(self.ch.corner_value[b]),
+                );
+                let crease = self.plan.edge_weight[e] as f64;
+                let (end_w, face_w) = if crease >= 1.0 {
+                    (0.5, 0.0)
+                } else {
+                    (crease * 0.5 + (1.0 - crease) * 0.25, (1.0 - crease) * 0.25)
+                };
+                for k in 0..d {
+                    let mut x = end_w * (xa[k] + xb[k]);
+                    for &f in faces {
+                        x += face_w * face_value(f)[k];
+                    }
+                    values[base * d + k] = x;
+                }
+            } else {
+                // Midpoints, one per side (a continuous edge under `All`
+                // gives the same midpoint from either side).
+                let sides = if self.continuous[e] {
+                    &faces[..1]
+                } else {
+                    faces
+                };
+                for (s, &f) in sides.iter().enumerate() {
+                    let (a, b) = edge_corners(p, f, e as u32);
+                    let (xa, xb) = (
+                        self.ch.value(self.ch.corner_value[a]),
+                        self.ch.value(self.ch.corner_value[b]),
+                    );
+                    for k in 0..d {
+                        values[(base + s) * d + k] = 0.5 * (xa[k] + xb[k]);
+                    }
+                }
+            }
+        }
+        // Vertices.
+        for v in 0..p.num_vertices {
+            for s in 0..self.spans[v].len() {
+                let out = &mut values[(vertex_base[v] as usize + s) * d..][..d];
+                self.vertex_value(v as u32, s, &face_value, out);
+            }
+        }
+        // Child corners: a quad per parent corner (vertex, next edge, face,
+        // previous edge), as the child topology.
+        let mut corner_value = Vec::with_capacity(4 * p.faces.items.len());
+        for f in 0..nf {
+            let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
+            for corner in start..end {
+                let prev = if corner == start { end - 1 } else { corner - 1 };
+                let v = p.faces.items[corner] as usize;
+                let s = self.corner_span[corner];
+                let side = |e: u32| {
+                    let base = edge_base[e as usize];
+                    if self.continuous[e as usize] {
+                        base
+                    } else {
+                        let faces = p.edge_faces.row(e as usize);
+                        base + faces.iter().position(|&x| x == f as u32).unwrap_or(0) as u32
+                    }
+                };
+                let items = [
+                    vertex_base[v] + s,
+                    side(p.face_edges[corner]),
+                    face_base + f as u32,
+                    side(p.face_edges[prev]),
+                ];
+                let mut quad = [0u32; 4];
+                for (i, item) in items.into_iter().enumerate() {
+                    quad[child_slot(end - start, corner - start, i)] = item;
+                }
+                corner_value.extend(quad);
+            }
+        }
+        debug_assert_eq!(corner_value.len(), self.c.faces.items.len());
+        FVarChannel {
+            dim: d,
+            values,
+            corner_value,
+        }
+    }
+
+    /// The child value of span `s` at vertex `v`.
+    fn vertex_value(&self, v: u32, s: usize, face_value: &dyn Fn(u32) -> &'a [f64], out: &mut [f64])
+    where
+        Self: 'a,
+    {
+        let (p, d) = (self.p, self.ch.dim);
+        let span = &self.spans[v as usize][s];
+        let me = self.ch.value(span.value);
+        let edges = p.vertex_edges.row(v as usize);
+        if self.mode == FVarLinear::All || edges.is_empty() {
+            {
+                out.copy_from_slice(me);
+                return;
+            }
+        }
+        let region = &span.faces;
+        // The value at the far end of edge e, seen from a face of the region.
+        let far = |e: u32| -> Option<&[f64]> {
+            let f = p
+                .edge_faces
+                .row(e as usize)
+                .iter()
+                .copied()
+                .find(|&f| region.contains(&f))?;
+            let (a, b) = edge_corners(p, f, e);
+            let other = if p.faces.items[a] == v { b } else { a };
+            Some(self.ch.value(self.ch.corner_value[other]))
+        };
+        // The region's boundary, side by side: a seam edge whose two faces
+        // both hold this value bounds the region twice (it wraps round and
+        // meets itself), a mesh boundary edge once.
+        let boundary: Vec<(u32, u32)> = edges
+            .iter()
+            .filter(|&&e| !self.continuous[e as usize])
+            .flat_map(|&e| {
+                p.edge_faces
+                    .row(e as usize)
+                    .iter()
+                    .filter(|f| region.contains(f))
+                    .map(move |&f| (e, f))
+            })
+            .collect();
+        let far_side = |(e, f): (u32, u32)| {
+            let (a, b) = edge_corners(p, f, e);
+            let other = if p.faces.items[a] == v { b } else { a };
+            self.ch.value(self.ch.corner_value[other])
+        };
+        let (pr, cr, w) = (
+            self.plan.parent_rule[v as usize],
+            self.plan.child_rule[v as usize],
+            self.plan.vertex_weight[v as usize] as f64,
+        );
+        // Mismatched (OpenSubdiv's term): a seam at the vertex, or a mesh
+        // boundary the option makes linear, or a mesh corner it pins.
+        let spans = &self.spans[v as usize];
+        let vertex_boundary = edges
+            .iter()
+            .any(|&e| p.edge_faces.row(e as usize).len() < 2);
+        let seam = spans.len() > 1
+            || edges
+                .iter()
+                .any(|&e| !self.continuous[e as usize] && p.edge_faces.row(e as usize).len() >= 2);
+        let linear_boundaries = matches!(self.mode, FVarLinear::Boundaries | FVarLinear::All);
+        let mismatch = seam
+            || (vertex_boundary && linear_boundaries)
+            || (vertex_boundary
+                && p.vertex_faces.row(v as usize).len() == 1
+                && self.mode != FVarLinear::None);
+        if !mismatch {
+            // Inside one region: the vertex's own rule on the values.
+            let mask =
+                |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, out: &mut [f64]| match rule {
+                    Rule::Corner => (0..d).for_each(|k| out[k] += scale * me[k]),
+                    Rule::Crease => {
+                        (0..d).for_each(|k| out[k] += scale * 0.75 * me[k]);
+                        for &e in edges.iter().filter(|&&e| sharp(e)) {
+                            if let Some(x) = far(e) {
+                                (0..d).for_each(|k| out[k] += scale * 0.125 * x[k]);
+                            }
+                        }
+                    }
+                    Rule::Smooth | Rule::Dart => {
+                        let n = edges.len() as f64;
+                        (0..d).for_each(|k| out[k] += scale * (n - 2.0) / n * me[k]);
+                        let wn = scale / (n * n);
+                        for &e in edges {
+                            if let Some(x) = far(e) {
+                                (0..d).for_each(|k| out[k] += wn * x[k]);
+                            }
+                        }
+                        for &f in p.vertex_faces.row(v as usize) {
+                            let x = face_value(f);
+                            (0..d).for_each(|k| out[k] += wn * x[k]);
+                        }
+                    }
+                };
+            let parent_sharp = |e: u32| super::level::is_sharp(p.edge_sharpness[e as usize]);
+            let child_sharp = |e: u32| {
+                let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v);
+                super::level::is_sharp(self.c.edge_sharpness[half as usize])
+            };
+            out.iter_mut().for_each(|x| *x = 0.0);
+            if matches!(pr, Rule::Smooth | Rule::Dart) || pr == cr {
+                mask(pr, &parent_sharp, 1.0, out);
+            } else {
+                mask(pr, &parent_sharp, w, out);
+                mask(cr, &child_sharp, 1.0 - w, out);
+            }
+            return;
+        }
+        // On a region's boundary: pinned, or a smooth curve, by
+        // OpenSubdiv's tagging of mismatched values.
+        let dependent = matches!(
+            self.mode,
+            FVarLinear::CornersPlus1 | FVarLinear::CornersPlus2
+        );
+        let corners_sharp = self.mode != FVarLinear::None;
+        let sharpen_darts = self.mode == FVarLinear::CornersPlus2;
+        let non_manifold = edges
+            .iter()
+            .any(|&e| p.edge_faces.row(e as usize).len() > 2);
+        let mut all_sharp = linear_boundaries
+            || non_manifold
+            || p.vertex_sharpness[v as usize] >= INFINITE
+            || (dependent && spans.len() > 2)
+            || (sharpen_darts && spans.len() == 1 && !vertex_boundary);
+        if !all_sharp && dependent && spans.len() == 2 {
+            all_sharp = spans.iter().any(|x| x.inf_sharp_edges > 0 || x.runs > 1)
+                || (sharpen_darts && spans.iter().any(|x| x.corners == 1));
+        }
+        let pinned = all_sharp
+            || span.runs > 1
+            || span.inf_sharp_edges > 0
+            || (span.corners == 1 && corners_sharp)
+            || boundary.len() != 2;
+        if pinned {
+            out.copy_from_slice(me);
+            return;
+        }
+        // A smooth boundary curve: the crease rule along the region's two
+        // boundary edges.
+        let (a, b) = (far_side(boundary[0]), far_side(boundary[1]));
+        for k in 0..d {
+            out[k] = 0.75 * me[k] + 0.125 * (a[k] + b[k]);
+        }
+    }
+}
+
+/// The spans at vertex `v`, each corner at `v` numbered by its span in
+/// `corner_span`: corners are joined across the continuous edges at `v`.
+fn spans_at(
+    ch: &FVarChannel,
+    p: &Level,
+    continuous: &[bool],
+    v: u32,
+    corner_span: &mut [u32],
+) -> Vec<Span> {
+    let corners: Vec<(usize, u32)> = p
+        .vertex_faces
+        .row(v as usize)
+        .iter()
+        .flat_map(|&f| corners_at(p, f, v).map(move |c| (c, f)))
+        .collect();
+    // Union-find over the corners at v, lowest index as root.
+    let mut parent: Vec<usize> = (0..corners.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let local = |f: u32, e: u32| {
+        let (a, b) = edge_corners(p, f, e);
+        let at = if p.faces.items[a] == v { a } else { b };
+        corners.iter().position(|&(c, _)| c == at)
+    };
+    for &e in p.vertex_edges.row(v as usize) {
+        if !continuous[e as usize] {
+            continue;
+        }
+        let faces = p.edge_faces.row(e as usize);
+        if let (Some(a), Some(b)) = (local(faces[0], e), local(faces[1], e)) {
+            let (ra, rb) = (root(&mut parent, a), root(&mut parent, b));
+            parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+    let mut spans: Vec<Span> = Vec::new();
+    let mut counted_roots: Vec<(u32, usize)> = Vec::new();
+    for (i, &(c, f)) in corners.iter().enumerate() {
+        let value = ch.corner_value[c];
+        let k = match spans.iter().position(|s| s.value == value) {
+            Some(k) => k,
+            None => {
+                spans.push(Span {
+                    value,
+                    faces: Vec::new(),
+                    corners: 0,
+                    runs: 0,
+                    inf_sharp_edges: 0,
+                });
+                spans.len() - 1
+            }
+        };
+        let r = root(&mut parent, i);
+        if !counted_roots.contains(&(value, r)) {
+            counted_roots.push((value, r));
+            spans[k].runs += 1;
+        }
+        if !spans[k].faces.contains(&f) {
+            spans[k].faces.push(f);
+        }
+        spans[k].corners += 1;
+        corner_span[c] = k as u32;
+    }
+    for &e in p.vertex_edges.row(v as usize) {
+        if continuous[e as usize] && p.edge_sharpness[e as usize] >= INFINITE {
+            let f = p.edge_faces.row(e as usize)[0];
+            if let Some(k) = local(f, e).map(|i| corner_span[corners[i].0] as usize) {
+                spans[k].inf_sharp_edges += 1;
+            }
+        }
+    }
+    spans
+}
