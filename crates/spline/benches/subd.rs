@@ -117,3 +117,81 @@ fn hspline_torus_3_levels_512x512(bencher: divan::Bencher) {
         .counter(divan::counter::ItemsCount::new(512usize * 512))
         .bench(|| h.tessellate(512, 512));
 }
+
+/// The sphere with spherical uvs per corner, seamed where u wraps.
+fn sphere_with_uvs() -> geode_geo::Geometry {
+    use geode_geo::glam::Vec2;
+    use geode_geo::{AttribClass, AttribData, Attribute, TypeInfo};
+    let mut g = sphere();
+    let p = g.positions().to_vec();
+    let mut uvs = Vec::with_capacity(g.num_vertices());
+    for f in 0..g.num_prims() {
+        let corner: Vec<Vec2> = g
+            .prim_points(f)
+            .iter()
+            .map(|&i| {
+                let q = p[i as usize];
+                let u = q.z.atan2(q.x) / std::f32::consts::TAU + 0.5;
+                Vec2::new(u, q.y.clamp(-1.0, 1.0).acos() / std::f32::consts::PI)
+            })
+            .collect();
+        let wraps = corner.iter().any(|c| c.x > 0.75) && corner.iter().any(|c| c.x < 0.25);
+        uvs.extend(
+            corner
+                .into_iter()
+                .map(|c| if wraps && c.x < 0.25 { c + Vec2::X } else { c }),
+        );
+    }
+    g.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(uvs), TypeInfo::TexCoord),
+    )
+    .unwrap();
+    g
+}
+
+/// Face-varying uvs: the 100k-quad sphere (uv seam and poles) subdivided
+/// twice with smooth uv boundaries (OpenSubdiv's `none`, the most work).
+#[divan::bench(sample_count = 5)]
+fn subdivide_100k_quads_with_smooth_uvs(bencher: divan::Bencher) {
+    let g = sphere_with_uvs();
+    let opts = SubdOptions {
+        levels: 2,
+        boundary: None,
+        crease: None,
+        fvar: Some(geode_spline::subd::FVarLinear::None),
+        limit: false,
+    };
+    bencher.bench(|| geode_spline::subdivide(&g, &opts, &|| false).unwrap());
+}
+
+/// Attachments: a 10 x 12 palm with four fingers side by side and a thumb
+/// (each refined once), placed and refined to the finest level plus three
+/// (about 120k limit points with normals).
+#[divan::bench(sample_count = 5)]
+fn attach_hand_five_limbs(bencher: divan::Bencher) {
+    use geode_spline::hspline::attach::{attach, Limb};
+    use geode_spline::hspline::{Hspline, Topology};
+    let mut palm = Hspline::new(Topology::Plane, 10, 12, [4.0, 5.0]).unwrap();
+    palm.refine(None).unwrap();
+    let finger = |rows: usize| {
+        let mut h = Hspline::new(Topology::Cylinder, rows, 6, [0.55, 2.0]).unwrap();
+        h.refine(None).unwrap();
+        h
+    };
+    let mut limbs: Vec<Limb> = (0..4)
+        .map(|k| Limb {
+            surface: finger(7),
+            region: ((7, 8), (2 + 2 * k, 4 + 2 * k)),
+        })
+        .collect();
+    limbs.push(Limb {
+        surface: finger(6),
+        region: ((3, 5), (1, 2)),
+    });
+    let points = attach(&palm, &limbs, true, 3).unwrap().positions.len();
+    bencher
+        .counter(divan::counter::ItemsCount::new(points))
+        .bench(|| attach(&palm, &limbs, true, 3).unwrap());
+}

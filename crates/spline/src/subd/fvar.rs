@@ -8,6 +8,8 @@
 //! (the "corners" family), every boundary value pinned (`Boundaries`), or
 //! bilinear everywhere (`All`, OpenSubdiv's default).
 
+use rayon::prelude::*;
+
 use super::level::{Level, INFINITE};
 use super::refine::{child_slot, Plan, Rule};
 
@@ -126,6 +128,12 @@ fn corners_at(p: &Level, f: u32, v: u32) -> impl Iterator<Item = usize> + '_ {
         .filter(move |&c| p.faces.items[c] == v)
 }
 
+/// A vertex's spans: one, or several with each corner's span.
+enum Spans {
+    One(Span),
+    Many(Vec<Span>, Vec<(usize, u32)>),
+}
+
 /// The faces around a vertex that hold one value there.
 struct Span {
     value: u32,
@@ -136,6 +144,9 @@ struct Span {
     runs: usize,
     /// Infinitely sharp edges inside the span.
     inf_sharp_edges: usize,
+    /// Every face at the vertex (then `faces` is left empty): the common
+    /// case, built without allocating.
+    whole: bool,
 }
 
 struct Refinement<'a> {
@@ -145,7 +156,9 @@ struct Refinement<'a> {
     plan: &'a Plan,
     mode: FVarLinear,
     /// The values at each vertex (its siblings) with their faces.
-    spans: Vec<Vec<Span>>,
+    spans: Vec<Span>,
+    /// Where each vertex's spans start in `spans` (one more than vertices).
+    span_offsets: Vec<u32>,
     /// Each parent corner's span (an index into its vertex's spans).
     corner_span: Vec<u32>,
     /// Whether each edge has one value at each end on every side (an
@@ -162,6 +175,7 @@ impl<'a> Refinement<'a> {
         mode: FVarLinear,
     ) -> Self {
         let continuous: Vec<bool> = (0..p.edge_verts.len())
+            .into_par_iter()
             .map(|e| {
                 let faces = p.edge_faces.row(e);
                 if faces.len() != 2 {
@@ -180,10 +194,26 @@ impl<'a> Refinement<'a> {
                 ends(faces[0]) == ends(faces[1])
             })
             .collect();
-        let mut corner_span = vec![0u32; p.faces.items.len()];
-        let spans = (0..p.num_vertices)
-            .map(|v| spans_at(ch, p, &continuous, v as u32, &mut corner_span))
+        let per_vertex: Vec<_> = (0..p.num_vertices)
+            .into_par_iter()
+            .map(|v| spans_at(ch, p, &continuous, v as u32))
             .collect();
+        let mut corner_span = vec![0u32; p.faces.items.len()];
+        let mut spans = Vec::with_capacity(p.num_vertices);
+        let mut span_offsets = Vec::with_capacity(p.num_vertices + 1);
+        for found in per_vertex {
+            span_offsets.push(spans.len() as u32);
+            match found {
+                Spans::One(span) => spans.push(span),
+                Spans::Many(many, assigned) => {
+                    for (c, k) in assigned {
+                        corner_span[c] = k;
+                    }
+                    spans.extend(many);
+                }
+            }
+        }
+        span_offsets.push(spans.len() as u32);
         Refinement {
             ch,
             p,
@@ -191,6 +221,7 @@ impl<'a> Refinement<'a> {
             plan,
             mode,
             spans,
+            span_offsets,
             corner_span,
             continuous,
         }
@@ -203,9 +234,9 @@ impl<'a> Refinement<'a> {
         // or one per side where the edge is a region boundary).
         let mut vertex_base = Vec::with_capacity(p.num_vertices + 1);
         let mut n = 0u32;
-        for s in &self.spans {
+        for v in 0..p.num_vertices {
             vertex_base.push(n);
-            n += s.len() as u32;
+            n += self.spans_of(v).len() as u32;
         }
         let face_base = n;
         n += nf as u32;
@@ -220,7 +251,8 @@ impl<'a> Refinement<'a> {
         }
         let mut values = vec![0.0f64; n as usize * d];
         let face_values: Vec<f64> = (0..nf)
-            .flat_map(|f| {
+            .into_par_iter()
+            .flat_map_iter(|f| {
                 let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
                 let w = 1.0 / r.len() as f64;
                 (0..d).map(move |k| {
@@ -232,56 +264,43 @@ impl<'a> Refinement<'a> {
             .collect();
         values[face_base as usize * d..(face_base as usize + nf) * d].copy_from_slice(&face_values);
         let face_value = |f: u32| &face_values[f as usize * d..(f as usize + 1) * d];
-        // Edges.
-        for (e, &base) in edge_base.iter().enumerate() {
-            let faces = p.edge_faces.row(e);
-            let base = base as usize;
-            if self.continuous[e] && self.mode != FVarLinear::All {
-                let (a, b) = edge_corners(p, faces[0], e as u32);
-                let (xa, xb) = (
-                    self.ch.value(self.ch.corner_value[a]),
-                    self.ch.value(self.ch.corner_value[b]),
-                );
-                let crease = self.plan.edge_weight[e] as f64;
-                let (end_w, face_w) = if crease >= 1.0 {
-                    (0.5, 0.0)
-                } else {
-                    (crease * 0.5 + (1.0 - crease) * 0.25, (1.0 - crease) * 0.25)
-                };
-                for k in 0..d {
-                    let mut x = end_w * (xa[k] + xb[k]);
-                    for &f in faces {
-                        x += face_w * face_value(f)[k];
-                    }
-                    values[base * d + k] = x;
-                }
-            } else {
-                // Midpoints, one per side (a continuous edge under `All`
-                // gives the same midpoint from either side).
-                let sides = if self.continuous[e] {
-                    &faces[..1]
-                } else {
-                    faces
-                };
-                for (s, &f) in sides.iter().enumerate() {
-                    let (a, b) = edge_corners(p, f, e as u32);
-                    let (xa, xb) = (
-                        self.ch.value(self.ch.corner_value[a]),
-                        self.ch.value(self.ch.corner_value[b]),
-                    );
-                    for k in 0..d {
-                        values[(base + s) * d + k] = 0.5 * (xa[k] + xb[k]);
-                    }
-                }
-            }
+        // Edges (one value, or one per side), then vertices (one per value
+        // at the vertex), each computed apart in parallel.
+        let edge_start = face_base as usize + nf;
+        let (front, edge_part) = values.split_at_mut(edge_start * d);
+        let mut edge_runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.edge_verts.len());
+        let mut rest = edge_part;
+        for (e, (&base, &next)) in edge_base
+            .iter()
+            .zip(edge_base.iter().skip(1).chain([&n]))
+            .enumerate()
+        {
+            let (run, tail) = rest.split_at_mut((next - base) as usize * d);
+            edge_runs.push((e, run));
+            rest = tail;
         }
-        // Vertices.
+        edge_runs
+            .into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(e, run)| self.edge_values(e, &face_value, run));
+
+        // Vertex values sit in vertex order at the front: fill them in
+        // place, a vertex's run at a time.
+        let (vertex_part, _) = front.split_at_mut(face_base as usize * d);
+        let mut runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.num_vertices);
+        let mut rest = vertex_part;
         for v in 0..p.num_vertices {
-            for s in 0..self.spans[v].len() {
-                let out = &mut values[(vertex_base[v] as usize + s) * d..][..d];
-                self.vertex_value(v as u32, s, &face_value, out);
-            }
+            let (run, tail) = rest.split_at_mut(self.spans_of(v).len() * d);
+            runs.push((v, run));
+            rest = tail;
         }
+        runs.into_par_iter()
+            .with_min_len(1024)
+            .for_each(|(v, run)| {
+                for (s, o) in run.chunks_mut(d).enumerate() {
+                    self.vertex_value(v as u32, s, &face_value, o);
+                }
+            });
         // Child corners: a quad per parent corner (vertex, next edge, face,
         // previous edge), as the child topology.
         let mut corner_value = Vec::with_capacity(4 * p.faces.items.len());
@@ -321,13 +340,71 @@ impl<'a> Refinement<'a> {
         }
     }
 
+    fn spans_of(&self, v: usize) -> &[Span] {
+        &self.spans[self.span_offsets[v] as usize..self.span_offsets[v + 1] as usize]
+    }
+
+    /// The child values of edge `e`: one where it is continuous, else one
+    /// per side (the midpoint of that face's ends).
+    fn edge_values(
+        &self,
+        e: usize,
+        face_value: &(dyn Fn(u32) -> &'a [f64] + Sync),
+        out: &mut [f64],
+    ) {
+        let (p, d) = (self.p, self.ch.dim);
+        let faces = p.edge_faces.row(e);
+        let ends = |f: u32| {
+            let (a, b) = edge_corners(p, f, e as u32);
+            (
+                self.ch.value(self.ch.corner_value[a]),
+                self.ch.value(self.ch.corner_value[b]),
+            )
+        };
+        if self.continuous[e] && self.mode != FVarLinear::All {
+            let (xa, xb) = ends(faces[0]);
+            let crease = self.plan.edge_weight[e] as f64;
+            let (end_w, face_w) = if crease >= 1.0 {
+                (0.5, 0.0)
+            } else {
+                (crease * 0.5 + (1.0 - crease) * 0.25, (1.0 - crease) * 0.25)
+            };
+            for (k, o) in out.iter_mut().enumerate() {
+                *o = end_w * (xa[k] + xb[k])
+                    + faces
+                        .iter()
+                        .map(|&f| face_w * face_value(f)[k])
+                        .sum::<f64>();
+            }
+        } else {
+            // Midpoints, one per side (a continuous edge under `All` gives
+            // the same midpoint from either side).
+            let sides = if self.continuous[e] {
+                &faces[..1]
+            } else {
+                faces
+            };
+            for (&f, o) in sides.iter().zip(out.chunks_mut(d)) {
+                let (xa, xb) = ends(f);
+                for k in 0..d {
+                    o[k] = 0.5 * (xa[k] + xb[k]);
+                }
+            }
+        }
+    }
+
     /// The child value of span `s` at vertex `v`.
-    fn vertex_value(&self, v: u32, s: usize, face_value: &dyn Fn(u32) -> &'a [f64], out: &mut [f64])
-    where
+    fn vertex_value(
+        &self,
+        v: u32,
+        s: usize,
+        face_value: &(dyn Fn(u32) -> &'a [f64] + Sync),
+        out: &mut [f64],
+    ) where
         Self: 'a,
     {
         let (p, d) = (self.p, self.ch.dim);
-        let span = &self.spans[v as usize][s];
+        let span = &self.spans_of(v as usize)[s];
         let me = self.ch.value(span.value);
         let edges = p.vertex_edges.row(v as usize);
         if self.mode == FVarLinear::All || edges.is_empty() {
@@ -336,7 +413,11 @@ impl<'a> Refinement<'a> {
                 return;
             }
         }
-        let region = &span.faces;
+        let region: &[u32] = if span.whole {
+            p.vertex_faces.row(v as usize)
+        } else {
+            &span.faces
+        };
         // The value at the far end of edge e, seen from a face of the region.
         let far = |e: u32| -> Option<&[f64]> {
             let f = p
@@ -375,7 +456,7 @@ impl<'a> Refinement<'a> {
         );
         // Mismatched (OpenSubdiv's term): a seam at the vertex, or a mesh
         // boundary the option makes linear, or a mesh corner it pins.
-        let spans = &self.spans[v as usize];
+        let spans = self.spans_of(v as usize);
         let vertex_boundary = edges
             .iter()
             .any(|&e| p.edge_faces.row(e as usize).len() < 2);
@@ -471,13 +552,31 @@ impl<'a> Refinement<'a> {
 
 /// The spans at vertex `v`, each corner at `v` numbered by its span in
 /// `corner_span`: corners are joined across the continuous edges at `v`.
-fn spans_at(
-    ch: &FVarChannel,
-    p: &Level,
-    continuous: &[bool],
-    v: u32,
-    corner_span: &mut [u32],
-) -> Vec<Span> {
+fn spans_at(ch: &FVarChannel, p: &Level, continuous: &[bool], v: u32) -> Spans {
+    // The common case: one value all round and every edge continuous.
+    let faces = p.vertex_faces.row(v as usize);
+    let edges = p.vertex_edges.row(v as usize);
+    if let Some(&f0) = faces.first() {
+        let value = corners_at(p, f0, v).next().map(|c| ch.corner_value[c]);
+        let single = faces
+            .iter()
+            .all(|&f| corners_at(p, f, v).all(|c| Some(ch.corner_value[c]) == value));
+        if single && edges.iter().all(|&e| continuous[e as usize]) {
+            let inf_sharp_edges = edges
+                .iter()
+                .filter(|&&e| p.edge_sharpness[e as usize] >= INFINITE)
+                .count();
+            let span = Span {
+                value: value.unwrap_or(0),
+                faces: Vec::new(),
+                corners: faces.len(),
+                runs: 1,
+                inf_sharp_edges,
+                whole: true,
+            };
+            return Spans::One(span);
+        }
+    }
     let corners: Vec<(usize, u32)> = p
         .vertex_faces
         .row(v as usize)
@@ -510,6 +609,7 @@ fn spans_at(
     }
     let mut spans: Vec<Span> = Vec::new();
     let mut counted_roots: Vec<(u32, usize)> = Vec::new();
+    let mut span_of = vec![0u32; corners.len()];
     for (i, &(c, f)) in corners.iter().enumerate() {
         let value = ch.corner_value[c];
         let k = match spans.iter().position(|s| s.value == value) {
@@ -521,6 +621,7 @@ fn spans_at(
                     corners: 0,
                     runs: 0,
                     inf_sharp_edges: 0,
+                    whole: false,
                 });
                 spans.len() - 1
             }
@@ -534,15 +635,16 @@ fn spans_at(
             spans[k].faces.push(f);
         }
         spans[k].corners += 1;
-        corner_span[c] = k as u32;
+        span_of[i] = k as u32;
     }
     for &e in p.vertex_edges.row(v as usize) {
         if continuous[e as usize] && p.edge_sharpness[e as usize] >= INFINITE {
             let f = p.edge_faces.row(e as usize)[0];
-            if let Some(k) = local(f, e).map(|i| corner_span[corners[i].0] as usize) {
+            if let Some(k) = local(f, e).map(|i| span_of[i] as usize) {
                 spans[k].inf_sharp_edges += 1;
             }
         }
     }
-    spans
+    let assigned = corners.iter().map(|&(c, _)| c).zip(span_of).collect();
+    Spans::Many(spans, assigned)
 }
