@@ -35,6 +35,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("edits", "More edits", T::String, D::Str(""), "`level i j dx dy dz` entries separated by `;`."),
         P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane, cylinder or torus; wrapped directions need an even vertex count)."),
         P::new("samples", "Samples", T::Vec2, D::Vec2([48.0, 48.0]), "Tessellation samples along u and v.").range(3.0, 10_000.0),
+        P::new("output", "Output", T::Menu(&["polygons", "patch"]), D::Str("polygons"), "Tessellated quads, or the finest level as one cubic B-spline patch primitive (its control points as points; a wrapped side closes on the same points), which transforms and merges keep exact."),
         P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder."),
         P::new("save", "Save .hs", T::File, D::Str(""), "Write the hierarchy (after refinements and edits) to this .hs file, atomically."),
         P::new("optimize", "Optimize for space", T::Toggle, D::Toggle(true), "Leave zero offsets out of the saved file."),
@@ -196,6 +197,14 @@ impl Operator for HsplineNode {
             None => h.grid(finest).map_err(err)?,
             Some(m) => h.enveloped_grid(&m).map_err(err)?,
         };
+        if p.string("output")? == "patch" {
+            let (indices, basis) = h.patch_layout(&grid);
+            let mut g = geode_geo::Geometry::new();
+            g.add_points(&grid.points.iter().map(|q| q.as_vec3()).collect::<Vec<_>>());
+            g.add_patch(&indices, basis)
+                .map_err(|e| ctx.error(e.to_string()))?;
+            return geometry(g);
+        }
         let t = h.tessellate_grid(&grid, su as usize, sv as usize);
         let mut g = t.into_geometry().map_err(|e| ctx.error(e.to_string()))?;
         if !enveloped {

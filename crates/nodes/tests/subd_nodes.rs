@@ -357,3 +357,36 @@ fn uv_interpolation_follows_opensubdivs_face_varying_options() {
     // The default, without a tag, is `boundaries`.
     assert_eq!(uvs("from_geometry"), boundaries);
 }
+
+#[test]
+fn an_hspline_as_a_patch_converts_to_its_own_surface() {
+    let nodes = r#""h": {"type": "hspline", "params": {"topology": "torus", "levels": 1, "edits": "1 3 4 0.2 0 0", "output": "patch"}},
+        "c": {"type": "convert", "inputs": ["h"], "params": {"level_of_detail": 4}}"#;
+    let patch = geo(nodes, "h");
+    assert_eq!(patch.prim_kind(0), geode_geo::PrimKind::Patch(0));
+    // A wrapped side closes on the same points: no more points than the grid.
+    assert_eq!(patch.num_points(), 12 * 12);
+    let mesh = geo(nodes, "c");
+    assert!(!mesh.has_patches());
+    // 12 spans a side at 4 quads each samples k / 48 of the domain, as
+    // the hspline's own tessellation at 48 x 48 does: the same points.
+    let tess = geo(
+        r#""h": {"type": "hspline", "params": {"topology": "torus", "levels": 1, "edits": "1 3 4 0.2 0 0", "samples": [48, 48]}}"#,
+        "h",
+    );
+    let near = |p: geode_geo::glam::Vec3| {
+        tess.positions()
+            .iter()
+            .map(|q| q.distance(p))
+            .fold(f32::INFINITY, f32::min)
+    };
+    let worst = mesh
+        .positions()
+        .iter()
+        .map(|&p| near(p))
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst < 1e-5,
+        "patch samples off the hspline surface by {worst}"
+    );
+}

@@ -620,6 +620,32 @@ impl Hspline {
 }
 
 impl Hspline {
+    /// A level's grid as a cubic B-spline patch primitive: the indices of
+    /// its control points (into `grid.points`, v fastest) and the knots. A
+    /// wrapped direction repeats its first three vertices so the patch
+    /// closes on the same points; the knots are uniform, so the patch is
+    /// the hspline surface itself (knot `3 + s * spans` is parameter `s`).
+    pub fn patch_layout(&self, grid: &Grid) -> (Vec<u32>, geode_geo::PatchBasis) {
+        let wrap = self.wrap();
+        let side = |n: usize, closed: bool| {
+            let count = if closed { n + 3 } else { n };
+            let index: Vec<usize> = (0..count)
+                .map(|k| if closed { (k + n - 1) % n } else { k })
+                .collect();
+            let knots = geode_geo::KnotVector {
+                order: 4,
+                knots: (0..count + 4).map(|k| k as f64).collect(),
+            };
+            (index, knots)
+        };
+        let ((iu, ku), (iv, kv)) = (side(grid.nu, wrap.0), side(grid.nv, wrap.1));
+        let indices = iu
+            .iter()
+            .flat_map(|&i| iv.iter().map(move |&j| (i * grid.nv + j) as u32))
+            .collect();
+        (indices, geode_geo::PatchBasis { u: ku, v: kv })
+    }
+
     /// The finest level as quads: `su` x `sv` samples (a wrapped direction
     /// closes on itself, so a torus is a closed mesh), with unit normals and
     /// the normalized parameters as uv. One level is tessellated, so no

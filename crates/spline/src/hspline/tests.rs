@@ -293,3 +293,37 @@ fn refining_past_the_size_limit_is_an_error_not_a_panic() {
         .collect();
     assert_eq!(h.refine(None), Err(HsplineError::TooLarge(5)));
 }
+
+#[test]
+fn an_hspline_level_as_a_patch_primitive_is_the_same_surface() {
+    use crate::bspline::patch::surface;
+    for topology in [Topology::Plane, Topology::Cylinder, Topology::Torus] {
+        let h = lumpy(topology, 11);
+        let grid = h.grid(h.levels() - 1).unwrap();
+        // The patch holds f32 points: compare with the rounded grid.
+        let grid = Grid {
+            points: grid.points.iter().map(|p| p.as_vec3().as_dvec3()).collect(),
+            ..grid
+        };
+        let (indices, basis) = h.patch_layout(&grid);
+        let mut g = geode_geo::Geometry::new();
+        g.add_points(&grid.points.iter().map(|p| p.as_vec3()).collect::<Vec<_>>());
+        g.add_patch(&indices, basis).unwrap();
+        let s = surface(&g, 0).unwrap().unwrap();
+        let wrap = h.topology.wraps();
+        let spans = |n: usize, closed: bool| if closed { n as f64 } else { n as f64 - 3.0 };
+        let mut worst = 0.0f64;
+        for a in 0..=20 {
+            for b in 0..=20 {
+                let (u, v) = (a as f64 / 20.0, b as f64 / 20.0);
+                let want = evaluate(&grid, wrap, u, v).0;
+                let got = s.point(
+                    3.0 + u * spans(grid.nu, wrap.0),
+                    3.0 + v * spans(grid.nv, wrap.1),
+                );
+                worst = worst.max((want - got).length());
+            }
+        }
+        assert!(worst < 1e-12, "{topology:?}: {worst}");
+    }
+}
