@@ -42,6 +42,17 @@ fn corpus() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/opensubdiv")
 }
 
+/// The corpus's OBJ shapes, in name order.
+fn corpus_files() -> Vec<std::path::PathBuf> {
+    let mut files: Vec<_> = std::fs::read_dir(corpus())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
+        .collect();
+    files.sort();
+    files
+}
+
 /// The reference program's input for `g` (tags as geode read them).
 fn describe(g: &Geometry, boundary: BoundaryMode, method: CreaseMethod, levels: u32) -> String {
     let mut s = format!(
@@ -260,22 +271,10 @@ fn set_distance(a: &[DVec3], b: &[DVec3]) -> f64 {
 
 #[test]
 fn catmull_clark_matches_opensubdiv_on_its_regression_shapes() {
-    let reference = std::env::var("GEODE_OSD_REF").ok();
-    let required = std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1");
-    let Some(bin) = reference else {
-        assert!(
-            !required,
-            "GEODE_OSD_REF is not set (tools/test.sh builds tools/osd_ref)"
-        );
-        eprintln!("skipped: GEODE_OSD_REF not set");
+    let Some(bin) = reference_binary() else {
         return;
     };
-    let mut files: Vec<_> = std::fs::read_dir(corpus())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    files.sort();
+    let files = corpus_files();
     assert!(files.len() > 50);
     let mut failures = Vec::new();
     let mut compared = 0;
@@ -421,12 +420,7 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
     let Some(bin) = reference_binary() else {
         return;
     };
-    let mut files: Vec<_> = std::fs::read_dir(corpus())
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    files.sort();
+    let files = corpus_files();
     let (mut failures, mut compared) = (Vec::new(), 0);
     for path in &files {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
