@@ -17,7 +17,8 @@
 //                 face corner in face order]
 // Output: "level k n" then n lines "x y z", for k = 1..L; then "limit n"
 // and n lines; then "normal n" and n unit normals (du x dv); with fvar,
-// "fvar k n" and the n face corners' values of level k, in face order.
+// "fvar k n" and the n face corners' values of level k, in face order, then
+// "fvarlimit n" and the last level's corners' values at the limit.
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
@@ -219,6 +220,17 @@ int main() {
                 Far::ConstIndexArray fv = l.GetFaceFVarValues(f, 0);
                 for (int k = 0; k < fv.size(); ++k) std::printf("%.10g %.10g\n", fsrc[fv[k]].uv[0], fsrc[fv[k]].uv[1]);
             }
+        }
+        // The last level's values at the limit, corner by corner.
+        Far::TopologyLevel const & last = refiner->GetLevel(levels);
+        std::vector<FVar> flimit(last.GetNumFVarValues(0));
+        primvar.LimitFaceVarying(fsrc, flimit, 0);
+        int corners = 0;
+        for (int f = 0; f < last.GetNumFaces(); ++f) corners += last.GetFaceVertices(f).size();
+        std::printf("fvarlimit %d\n", corners);
+        for (int f = 0; f < last.GetNumFaces(); ++f) {
+            Far::ConstIndexArray fv = last.GetFaceFVarValues(f, 0);
+            for (int k = 0; k < fv.size(); ++k) std::printf("%.10g %.10g\n", flimit[fv[k]].uv[0], flimit[fv[k]].uv[1]);
         }
     }
     delete refiner;

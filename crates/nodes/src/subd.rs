@@ -17,7 +17,7 @@ static SUBDIVIDE: NodeSpec = NodeSpec::new(
     "subdivide",
     "Subdivide",
     "mesh",
-    "Catmull-Clark subdivision with OpenSubdiv's rules: semi-sharp creases (vertex attribute creaseweight, per edge), corners (point attribute cornerweight), holes (primitive attribute subd_hole), boundary interpolation and uniform or Chaikin crease decay. Point attributes are refined like P, vertex attributes (uv) by OpenSubdiv's face-varying rules (seams kept), primitive attributes inherited. With `limit`, points move to the limit surface and get exact limit normals N.",
+    "Catmull-Clark subdivision with OpenSubdiv's rules: semi-sharp creases (vertex attribute creaseweight, per edge), corners (point attribute cornerweight), holes (primitive attribute subd_hole), boundary interpolation and uniform or Chaikin crease decay. Point attributes are refined like P, vertex attributes (uv) by OpenSubdiv's face-varying rules (seams kept), primitive attributes inherited. With `limit`, points move to the limit surface and get exact limit normals N, and vertex attributes (uv) move to their limit too.",
     &[geometry_input("mesh")],
     &[
         P::new("levels", "Levels", T::Int, D::Int(2), "Refinement levels (each quadruples the faces).").range(0.0, 8.0),

@@ -327,10 +327,10 @@ fn uv_interpolation_follows_opensubdivs_face_varying_options() {
         "{}/../../../shared/corpus/opensubdiv/catmark_fvar_bound0.obj",
         env!("CARGO_MANIFEST_DIR")
     );
-    let uvs = |mode: &str| -> Vec<[f32; 2]> {
+    let uvs_at = |mode: &str, limit: bool| -> Vec<[f32; 2]> {
         let g = geo(
             &format!(
-                r#""m": {{"type": "file", "params": {{"file": "{shape}"}}}}, "s": {{"type": "subdivide", "inputs": ["m"], "params": {{"levels": 2, "uv_interpolation": "{mode}"}}}}"#
+                r#""m": {{"type": "file", "params": {{"file": "{shape}"}}}}, "s": {{"type": "subdivide", "inputs": ["m"], "params": {{"levels": 2, "uv_interpolation": "{mode}", "limit": {limit}}}}}"#
             ),
             "s",
         );
@@ -341,7 +341,11 @@ fn uv_interpolation_follows_opensubdivs_face_varying_options() {
             .map(|v| [v.x, v.y])
             .collect()
     };
+    let uvs = |mode: &str| uvs_at(mode, false);
     let (none, boundaries, all) = (uvs("none"), uvs("boundaries"), uvs("all"));
+    // With `limit` smooth uvs move to their limit; bilinear ones stay.
+    assert_ne!(uvs_at("none", true), none);
+    assert_eq!(uvs_at("all", true), all);
     assert_ne!(none, boundaries);
     assert_ne!(boundaries, all);
     // Pinned boundaries keep the corners of the uv square; smooth ones

@@ -136,6 +136,8 @@ struct Reference {
     normals: Vec<DVec3>,
     /// Face-varying values of every face corner, level by level.
     fvar: Vec<Vec<[f64; 2]>>,
+    /// The last level's face-varying values at the limit, per corner.
+    fvar_limit: Vec<[f64; 2]>,
 }
 
 fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
@@ -158,7 +160,7 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
     let text = String::from_utf8_lossy(&out.stdout);
     let mut lines = text.lines();
     let (mut levels, mut limit, mut normals) = (Vec::new(), Vec::new(), Vec::new());
-    let mut fvar = Vec::new();
+    let (mut fvar, mut fvar_limit) = (Vec::new(), Vec::new());
     while let Some(head) = lines.next() {
         let words: Vec<&str> = head.split_whitespace().collect();
         let n: usize = words
@@ -182,6 +184,8 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
             normals = pts;
         } else if words[0] == "fvar" {
             fvar.push(pts.iter().map(|p| [p.x, p.y]).collect());
+        } else if words[0] == "fvarlimit" {
+            fvar_limit = pts.iter().map(|p| [p.x, p.y]).collect();
         } else {
             levels.push(pts);
         }
@@ -191,6 +195,7 @@ fn run_reference(bin: &str, input: &str) -> Result<Reference, String> {
         limit,
         normals,
         fvar,
+        fvar_limit,
     })
 }
 
@@ -470,66 +475,23 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
             }
             compared += 1;
             let (mut level, mut ch) = (base.clone(), channel.clone());
+            let mut matched = true;
             for (k, theirs) in reference.fvar.iter().enumerate() {
                 let chaikin = method == CreaseMethod::Chaikin;
                 let child = refine_topology(&level, chaikin);
                 let pl = plan(&level, &child, chaikin);
                 ch = ch.refine(&level, &child, &pl, mode);
                 level = child;
-                let ours = ch.corner_data();
-                if ours.len() != 2 * theirs.len() {
-                    failures.push(format!(
-                        "{name} {mode:?} level {}: {} corners vs {}",
-                        k + 1,
-                        ours.len() / 2,
-                        theirs.len()
-                    ));
+                if let Err(e) = corners_match(&ch.corner_data(), theirs) {
+                    failures.push(format!("{name} {mode:?} level {}: {e}", k + 1));
+                    matched = false;
                     break;
                 }
-                // Child quads come in the same order, but Far turns each so
-                // its vertex child keeps its parent corner's place: compare
-                // each quad under its best rotation.
-                let worst = (0..theirs.len() / 4)
-                    .map(|q| {
-                        (0..4)
-                            .map(|r| {
-                                (0..4)
-                                    .map(|c| {
-                                        let (o, t) = (4 * q + (c + r) % 4, theirs[4 * q + c]);
-                                        (ours[2 * o] - t[0])
-                                            .abs()
-                                            .max((ours[2 * o + 1] - t[1]).abs())
-                                    })
-                                    .fold(0.0f64, f64::max)
-                            })
-                            .fold(f64::INFINITY, f64::min)
-                    })
-                    .fold(0.0f64, f64::max);
-                if worst > TOLERANCE {
-                    if std::env::var("DEBUG_FVAR").is_ok_and(|v| name.contains(&v)) {
-                        let bad: Vec<usize> = (0..theirs.len() / 4)
-                            .filter(|&q| {
-                                (0..4).any(|c| {
-                                    (ours[2 * (4 * q + c)] - theirs[4 * q + c][0]).abs() > TOLERANCE
-                                        || (ours[2 * (4 * q + c) + 1] - theirs[4 * q + c][1]).abs()
-                                            > TOLERANCE
-                                })
-                            })
-                            .take(6)
-                            .collect();
-                        for q in bad {
-                            eprintln!(
-                                "{mode:?} quad {q}: ours {:?} theirs {:?}",
-                                &ours[8 * q..8 * q + 8],
-                                &theirs[4 * q..4 * q + 4]
-                            );
-                        }
-                    }
-                    failures.push(format!(
-                        "{name} {mode:?} level {}: off by {worst:.3e}",
-                        k + 1
-                    ));
-                    break;
+            }
+            if matched {
+                let limit = ch.limit(&level, mode).corner_data();
+                if let Err(e) = corners_match(&limit, &reference.fvar_limit) {
+                    failures.push(format!("{name} {mode:?} limit: {e}"));
                 }
             }
         }
@@ -541,4 +503,25 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
         failures.len(),
         failures.join("\n")
     );
+}
+
+/// Our per-corner values (two numbers a corner) against OpenSubdiv's, in
+/// the same face and corner order (child quads keep Far's orientation).
+fn corners_match(ours: &[f64], theirs: &[[f64; 2]]) -> Result<(), String> {
+    if ours.len() != 2 * theirs.len() {
+        return Err(format!("{} corners vs {}", ours.len() / 2, theirs.len()));
+    }
+    let worst = theirs
+        .iter()
+        .enumerate()
+        .map(|(c, t)| {
+            (ours[2 * c] - t[0])
+                .abs()
+                .max((ours[2 * c + 1] - t[1]).abs())
+        })
+        .fold(0.0f64, f64::max);
+    if worst > TOLERANCE {
+        return Err(format!("off by {worst:.3e}"));
+    }
+    Ok(())
 }

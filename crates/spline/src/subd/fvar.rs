@@ -104,6 +104,54 @@ impl FVarChannel {
         &self.values[id as usize * self.dim..(id as usize + 1) * self.dim]
     }
 
+    /// The channel pushed to the limit surface of the all-quad level `l`
+    /// (the values at their limit by the same rules; corners keep their
+    /// values' identities).
+    pub fn limit(&self, l: &Level, mode: FVarLinear) -> FVarChannel {
+        // The level's own rules (no transition: the limit has no child).
+        let rules: Vec<Rule> = (0..l.num_vertices)
+            .map(|v| {
+                let sharp = l
+                    .vertex_edges
+                    .row(v)
+                    .iter()
+                    .filter(|&&e| super::level::is_sharp(l.edge_sharpness[e as usize]))
+                    .count();
+                Rule::of(l.vertex_sharpness[v], sharp)
+            })
+            .collect();
+        let plan = Plan {
+            parent_rule: rules.clone(),
+            child_rule: rules,
+            vertex_weight: vec![0.0; l.num_vertices],
+            edge_weight: vec![0.0; l.edge_verts.len()],
+        };
+        let mut r = Refinement::new(self, l, l, &plan, mode);
+        r.limit = true;
+        let mut values = self.values.clone();
+        let d = self.dim;
+        let no_faces = |_: u32| -> &[f64] { &[] };
+        let limits: Vec<(u32, Vec<f64>)> = (0..l.num_vertices)
+            .into_par_iter()
+            .flat_map_iter(|v| {
+                let r = &r;
+                (0..r.spans_of(v).len()).map(move |s| {
+                    let mut out = vec![0.0; d];
+                    r.vertex_value(v as u32, s, &no_faces, &mut out);
+                    (r.spans_of(v)[s].value, out)
+                })
+            })
+            .collect();
+        for (id, x) in limits {
+            values[id as usize * d..(id as usize + 1) * d].copy_from_slice(&x);
+        }
+        FVarChannel {
+            dim: d,
+            values,
+            corner_value: self.corner_value.clone(),
+        }
+    }
+
     /// The channel on the child level `c` of `p`.
     pub fn refine(&self, p: &Level, c: &Level, plan: &Plan, mode: FVarLinear) -> FVarChannel {
         Refinement::new(self, p, c, plan, mode).run()
@@ -154,6 +202,8 @@ struct Refinement<'a> {
     p: &'a Level,
     c: &'a Level,
     plan: &'a Plan,
+    /// Limit masks instead of refinement masks (the level is its own child).
+    limit: bool,
     mode: FVarLinear,
     /// The values at each vertex (its siblings) with their faces.
     spans: Vec<Span>,
@@ -220,6 +270,7 @@ impl<'a> Refinement<'a> {
             c,
             plan,
             mode,
+            limit: false,
             spans,
             span_offsets,
             corner_span,
@@ -476,10 +527,45 @@ impl<'a> Refinement<'a> {
                 |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, out: &mut [f64]| match rule {
                     Rule::Corner => (0..d).for_each(|k| out[k] += scale * me[k]),
                     Rule::Crease => {
-                        (0..d).for_each(|k| out[k] += scale * 0.75 * me[k]);
+                        let (own, end) = if self.limit {
+                            (2.0 / 3.0, 1.0 / 6.0)
+                        } else {
+                            (0.75, 0.125)
+                        };
+                        (0..d).for_each(|k| out[k] += scale * own * me[k]);
                         for &e in edges.iter().filter(|&&e| sharp(e)) {
                             if let Some(x) = far(e) {
-                                (0..d).for_each(|k| out[k] += scale * 0.125 * x[k]);
+                                (0..d).for_each(|k| out[k] += scale * end * x[k]);
+                            }
+                        }
+                    }
+                    // The limit: OpenSubdiv pins a smooth vertex of two faces.
+                    Rule::Smooth | Rule::Dart
+                        if self.limit && p.vertex_faces.row(v as usize).len() == 2 =>
+                    {
+                        (0..d).for_each(|k| out[k] += scale * me[k]);
+                    }
+                    Rule::Smooth | Rule::Dart if self.limit => {
+                        // The smooth limit mask: the vertex, its edge ends and
+                        // the corners opposite it in its quads.
+                        let faces = p.vertex_faces.row(v as usize);
+                        let n = faces.len() as f64;
+                        let fw = 1.0 / (n * (n + 5.0));
+                        let ew = 4.0 * fw;
+                        (0..d).for_each(|k| out[k] += scale * (1.0 - n * (ew + fw)) * me[k]);
+                        for &e in edges {
+                            if let Some(x) = far(e) {
+                                (0..d).for_each(|k| out[k] += scale * ew * x[k]);
+                            }
+                        }
+                        for &f in faces {
+                            let r = p.faces.offsets[f as usize] as usize
+                                ..p.faces.offsets[f as usize + 1] as usize;
+                            let len = r.len();
+                            if let Some(c) = r.clone().find(|&c| p.faces.items[c] == v) {
+                                let opposite = r.start + (c - r.start + len / 2) % len;
+                                let x = self.ch.value(self.ch.corner_value[opposite]);
+                                (0..d).for_each(|k| out[k] += scale * fw * x[k]);
                             }
                         }
                     }
@@ -544,8 +630,13 @@ impl<'a> Refinement<'a> {
         // A smooth boundary curve: the crease rule along the region's two
         // boundary edges.
         let (a, b) = (far_side(boundary[0]), far_side(boundary[1]));
+        let (own, end) = if self.limit {
+            (2.0 / 3.0, 1.0 / 6.0)
+        } else {
+            (0.75, 0.125)
+        };
         for k in 0..d {
-            out[k] = 0.75 * me[k] + 0.125 * (a[k] + b[k]);
+            out[k] = own * me[k] + end * (a[k] + b[k]);
         }
     }
 }

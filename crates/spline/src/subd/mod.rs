@@ -264,6 +264,9 @@ pub fn subdivide(
         // Tangent masks weigh the control points, not the limit points.
         let normals = limit_normals(&level, &pos);
         pos = limit_positions(&level, &pos);
+        for c in corners.iter_mut() {
+            c.2 = c.2.limit(&level, mode);
+        }
         Some(normals)
     } else {
         None
