@@ -459,10 +459,8 @@ impl<'a> Refinement<'a> {
         let me = self.ch.value(span.value);
         let edges = p.vertex_edges.row(v as usize);
         if self.mode == FVarLinear::All || edges.is_empty() {
-            {
-                out.copy_from_slice(me);
-                return;
-            }
+            out.copy_from_slice(me);
+            return;
         }
         let region: &[u32] = if span.whole {
             p.vertex_faces.row(v as usize)
