@@ -114,15 +114,13 @@ impl Operator for Carve {
         let g = input(ctx, inputs, 0)?;
         let (from, to) = (p.float("from")?, p.float("to")?);
         rebuild_curves(ctx, g, |c, pts| {
-            if c.closed {
-                // Open the loop: the first point again at the end (its last
-                // segment is the closing one, which `ends` wraps to point 0).
-                let mut open = pts.to_vec();
-                open.push(pts[0]);
-                (resample::carve(&open, from, to), false)
-            } else {
-                (resample::carve(pts, from, to), false)
-            }
+            // A loop opens at its first point: that point again at the end
+            // (its last segment is the closing one, which `ends` wraps to 0).
+            let opened = c.closed.then(|| [pts, &pts[..1]].concat());
+            (
+                resample::carve(opened.as_deref().unwrap_or(pts), from, to),
+                false,
+            )
         })
     }
 }

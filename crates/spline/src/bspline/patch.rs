@@ -4,7 +4,6 @@
 //! merge; `convert_patches` tessellates them into polygons for formats
 //! and nodes that need a mesh.
 
-use geode_geo::glam::DVec3;
 use geode_geo::{
     ops, AttribClass, AttribData, Attribute, GeoError, Geometry, Group, KnotVector, PatchBasis,
     PrimKind, TypeInfo, WEIGHT,
@@ -113,31 +112,31 @@ pub fn convert_patches(g: &Geometry, samples: [usize; 2]) -> Result<Geometry, Ge
     Ok(out)
 }
 
-/// The largest distance between `s` and patch `prim` of `g` at a grid of
-/// parameters (for tests of exactness after point operations).
-pub fn deviation(g: &Geometry, prim: usize, s: &NurbsSurface, map: impl Fn(DVec3) -> DVec3) -> f64 {
-    let Some(Ok(t)) = surface(g, prim) else {
-        return f64::INFINITY;
-    };
-    let ((u0, u1), (v0, v1)) = (s.u.domain(), s.v.domain());
-    let mut worst = 0.0f64;
-    for i in 0..=16 {
-        for j in 0..=16 {
-            let (u, v) = (
-                u0 + (u1 - u0) * i as f64 / 16.0,
-                v0 + (v1 - v0) * j as f64 / 16.0,
-            );
-            worst = worst.max((map(s.point(u, v)) - t.point(u, v)).length());
-        }
-    }
-    worst
-}
-
 #[cfg(test)]
 mod tests {
-    use geode_geo::glam::{Mat4, Quat, Vec3};
+    use geode_geo::glam::{DVec3, Mat4, Quat, Vec3};
 
     use super::*;
+
+    /// The largest distance between `s` and patch `prim` of `g` at a grid of
+    /// parameters (for tests of exactness after point operations).
+    fn deviation(g: &Geometry, prim: usize, s: &NurbsSurface, map: impl Fn(DVec3) -> DVec3) -> f64 {
+        let Some(Ok(t)) = surface(g, prim) else {
+            return f64::INFINITY;
+        };
+        let ((u0, u1), (v0, v1)) = (s.u.domain(), s.v.domain());
+        let mut worst = 0.0f64;
+        for i in 0..=16 {
+            for j in 0..=16 {
+                let (u, v) = (
+                    u0 + (u1 - u0) * i as f64 / 16.0,
+                    v0 + (v1 - v0) * j as f64 / 16.0,
+                );
+                worst = worst.max((map(s.point(u, v)) - t.point(u, v)).length());
+            }
+        }
+        worst
+    }
 
     #[test]
     fn a_rational_patch_survives_transforms_and_merges_exactly() {

@@ -15,9 +15,9 @@ use geode_geo::glam::{DQuat, DVec3};
 
 use super::{Hspline, HsplineError, Topology};
 use crate::subd::{
-    limit_frame, limit_normals, limit_positions, plan, refine_topology, refine_values,
+    limit_frame, limit_normals, limit_positions, mean_face_normal, plan, refine_topology,
+    refine_values, Level, Rows,
 };
-use crate::subd::{Level, Rows};
 
 /// Parent faces `u0..u1` x `v0..v1` (half-open, level-0 face indices).
 pub type Region = ((usize, usize), (usize, usize));
@@ -429,6 +429,7 @@ fn apply_offsets(natives: &[Native], level: &Level, k: usize, flat: &mut [f64]) 
         let Some(overlay) = n.h.overlays.get(k - 1) else {
             continue;
         };
+        let (nu, nv) = n.h.grid_size(k).expect("a level with an overlay");
         for i in overlay.u.0..overlay.u.1 {
             for j in overlay.v.0..overlay.v.1 {
                 let o = overlay.offsets[overlay.index(i, j).expect("inside")];
@@ -444,7 +445,6 @@ fn apply_offsets(natives: &[Native], level: &Level, k: usize, flat: &mut [f64]) 
                 };
                 // As in the hspline, a vertex beyond an open edge of the
                 // domain takes the frame at that edge.
-                let (nu, nv) = n.h.grid_size(k).expect("a level with an overlay");
                 let inward = |x: usize, size: usize, wraps: bool| {
                     if wraps {
                         0
@@ -476,14 +476,8 @@ fn apply_offsets(natives: &[Native], level: &Level, k: usize, flat: &mut [f64]) 
 /// A frame where the limit masks do not apply: the mean face normal and
 /// the direction to the first neighbour.
 fn fallback_frame(level: &Level, p: &[DVec3], v: u32) -> [DVec3; 3] {
-    let mut n = DVec3::ZERO;
-    for &f in level.vertex_faces.row(v as usize) {
-        let r = level.faces.row(f as usize);
-        for k in 0..r.len() {
-            n += p[r[k] as usize].cross(p[r[(k + 1) % r.len()] as usize]);
-        }
-    }
-    let n = n.normalize_or(DVec3::Z);
+    let n = mean_face_normal(level, p, v);
+    let n = if n == DVec3::ZERO { DVec3::Z } else { n };
     let to = level
         .vertex_edges
         .row(v as usize)

@@ -11,7 +11,7 @@
 use rayon::prelude::*;
 
 use super::level::{Level, INFINITE};
-use super::refine::{child_slot, Plan, Rule};
+use super::refine::{child_slot, corner_of_edge, next_corner, Plan, Rule};
 
 /// OpenSubdiv's `FVarLinearInterpolation`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -160,14 +160,8 @@ impl FVarChannel {
 
 /// The corner of face `f` that starts edge `e`, and the next corner.
 fn edge_corners(p: &Level, f: u32, e: u32) -> (usize, usize) {
-    let (start, end) = (
-        p.faces.offsets[f as usize] as usize,
-        p.faces.offsets[f as usize + 1] as usize,
-    );
-    let c = (start..end)
-        .find(|&c| p.face_edges[c] == e)
-        .unwrap_or(start);
-    (c, if c + 1 == end { start } else { c + 1 })
+    let c = corner_of_edge(p, f, e);
+    (c, next_corner(p, f, c))
 }
 
 /// The corners of face `f` at vertex `v`.

@@ -106,6 +106,19 @@ pub fn limit_positions(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
         .collect()
 }
 
+/// The unit mean of the (Newell) normals of the faces at `v`: the normal
+/// where no limit mask applies (zero when they cancel).
+pub fn mean_face_normal(l: &Level, p: &[DVec3], v: u32) -> DVec3 {
+    let mut n = DVec3::ZERO;
+    for &f in l.vertex_faces.row(v as usize) {
+        let r = l.faces.row(f as usize);
+        for k in 0..r.len() {
+            n += p[r[k] as usize].cross(p[r[(k + 1) % r.len()] as usize]);
+        }
+    }
+    n.normalize_or_zero()
+}
+
 /// The two limit tangents of an interior smooth vertex of valence `n`
 /// from its ordered ring (edge ends `e`, opposite face corners `f`): the
 /// first along edge 0, the second a quarter turn on.
@@ -160,17 +173,7 @@ pub fn limit_normals(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
     (0..l.num_vertices)
         .into_par_iter()
         .map(|v| {
-            let fallback = || {
-                let mut n = DVec3::ZERO;
-                for &f in l.vertex_faces.row(v) {
-                    let r = l.faces.row(f as usize);
-                    for k in 0..r.len() {
-                        let (a, b) = (p[r[k] as usize], p[r[(k + 1) % r.len()] as usize]);
-                        n += a.cross(b);
-                    }
-                }
-                n.normalize_or_zero()
-            };
+            let fallback = || mean_face_normal(l, p, v as u32);
             let Some((edges, faces)) = ring(l, v as u32) else {
                 return fallback();
             };

@@ -15,7 +15,7 @@ use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind
 
 pub use fvar::{FVarChannel, FVarLinear};
 pub use level::{Level, Rows, INFINITE};
-pub use limit::{limit_frame, limit_normals, limit_positions};
+pub use limit::{limit_frame, limit_normals, limit_positions, mean_face_normal};
 pub use refine::{plan, refine_topology, refine_topology_with, refine_values, Rule};
 
 /// OpenSubdiv's vertex boundary interpolation.

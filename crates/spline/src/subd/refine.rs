@@ -231,7 +231,7 @@ impl RowWriter {
 }
 
 /// The corner of parent face `f` whose edge (to the next corner) is `e`.
-fn corner_of_edge(p: &Level, f: u32, e: u32) -> usize {
+pub(crate) fn corner_of_edge(p: &Level, f: u32, e: u32) -> usize {
     let range = p.faces.offsets[f as usize] as usize..p.faces.offsets[f as usize + 1] as usize;
     range
         .clone()
@@ -240,7 +240,7 @@ fn corner_of_edge(p: &Level, f: u32, e: u32) -> usize {
 }
 
 /// The next corner of `c` around its face.
-fn next_corner(p: &Level, f: u32, c: usize) -> usize {
+pub(crate) fn next_corner(p: &Level, f: u32, c: usize) -> usize {
     let (start, end) = (
         p.faces.offsets[f as usize] as usize,
         p.faces.offsets[f as usize + 1] as usize,
