@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
 use geode_graph::{Cache, CookOptions, Document, Engine, Network};
-use geode_op::{CancelToken, Value};
+use geode_op::{expand_frame, CancelToken, CookEnv, Value};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Reads and checks a network file; every problem is listed, each prefixed by the file.
@@ -29,15 +29,18 @@ pub fn load(path: &Path) -> Result<(Document, Network)> {
     }
 }
 
-/// `$HIP` is the network file's folder, as in Houdini (file nodes expand it).
-fn set_hip(network: &Path) {
+/// The cook's environment: `$HIP` is the network file's folder, as in
+/// Houdini (unless `HIP` is set), and the memory budget `GEODE_MEMORY_MB`.
+pub fn cook_env(network: &Path) -> CookEnv {
+    let mut env = CookEnv::from_process();
     if std::env::var_os("HIP").is_none() {
         let dir = network
             .parent()
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        std::env::set_var("HIP", dir);
+        env.hip = dir.to_string_lossy().into_owned();
     }
+    env
 }
 
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).
@@ -65,32 +68,10 @@ pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
     }
 }
 
-/// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF` (fractional frame).
+/// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF`
+/// (fractional frame): the rule file parameters follow too.
 pub fn frame_path(pattern: &str, frame: f64) -> PathBuf {
-    let mut out = String::new();
-    let mut rest = pattern;
-    while let Some(i) = rest.find("$F") {
-        out.push_str(&rest[..i]);
-        let after = &rest[i + 2..];
-        let whole = frame.round() as i64;
-        match after.chars().next() {
-            Some('F') => {
-                out.push_str(&format!("{frame}"));
-                rest = &after[1..];
-            }
-            Some(d @ '1'..='9') => {
-                let width = d.to_digit(10).unwrap_or(1) as usize;
-                out.push_str(&format!("{whole:0width$}"));
-                rest = &after[1..];
-            }
-            _ => {
-                out.push_str(&whole.to_string());
-                rest = after;
-            }
-        }
-    }
-    out.push_str(rest);
-    PathBuf::from(out)
+    PathBuf::from(expand_frame(pattern, frame))
 }
 
 pub struct CookArgs<'a> {
@@ -103,7 +84,7 @@ pub struct CookArgs<'a> {
 
 pub fn cook(args: CookArgs) -> Result<()> {
     let (_, net) = load(args.network)?;
-    set_hip(args.network);
+    let env = cook_env(args.network);
     let target = match args.node {
         Some(n) => n.to_owned(),
         None => net.output().map(str::to_owned).ok_or_else(|| {
@@ -141,9 +122,10 @@ pub fn cook(args: CookArgs) -> Result<()> {
             frame,
             cancel: cancel.clone(),
             progress: Some(&on_progress),
+            env: env.clone(),
         };
         let result = engine.cook(&target, &opts).map_err(|errors| {
-            if errors.iter().any(|e| e.cancelled) {
+            if errors.iter().any(|e| e.is_cancelled()) {
                 return anyhow!("interrupted: nothing was written for frame {frame}");
             }
             let lines: Vec<String> = errors

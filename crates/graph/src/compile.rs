@@ -3,7 +3,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
-use geode_op::{Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry};
+use geode_op::{CookEnv, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry};
 use serde_json::Value as Json;
 
 use crate::channel::{Channel, Key};
@@ -148,14 +148,24 @@ impl Network {
         })
     }
 
-    /// A node's parameters evaluated at `frame`.
-    pub(crate) fn params_at(&self, i: usize, frame: f64) -> Params {
+    /// A node's parameters evaluated at `frame`; file paths come expanded
+    /// (`$HIP`, `$F`...) so that what a cook reads of its environment is in
+    /// its parameters, and so in its key.
+    pub(crate) fn params_at(&self, i: usize, frame: f64, env: &CookEnv) -> Params {
         match &self.nodes[i].kind {
             NodeKind::Op { params, .. } => Params::new(
                 &self.nodes[i].path,
                 params
                     .iter()
-                    .map(|p| (p.spec.name, p.eval(frame)))
+                    .map(|p| {
+                        let v = match (p.spec.ty, p.eval(frame)) {
+                            (ParamType::File, ParamValue::String(s)) => {
+                                ParamValue::String(env.expand(&s, frame))
+                            }
+                            (_, v) => v,
+                        };
+                        (p.spec.name, v)
+                    })
                     .collect(),
             ),
             NodeKind::Subnet { .. } | NodeKind::Invalid => {

@@ -3,7 +3,10 @@
 use std::sync::{Mutex, OnceLock};
 use std::time::Instant;
 
-use geode_op::{CancelToken, CookContext, CookError, NodeSpec, Params, ProgressFn, Value};
+use geode_op::{
+    CancelToken, CookContext, CookEnv, CookError, ErrorKind, NodeSpec, ParamValue, Params,
+    ProgressFn, Value,
+};
 use rayon::prelude::*;
 use xxhash_rust::xxh3::Xxh3;
 
@@ -17,16 +20,28 @@ pub struct CookOptions<'a> {
     /// Called with (node path, fraction) as kernels report progress, and
     /// with 1.0 when a node finishes.
     pub progress: Option<&'a ProgressFn<'a>>,
+    /// Hidden inputs and limits, handed to every cook.
+    pub env: CookEnv,
 }
 
 impl CookOptions<'_> {
+    /// Frame `frame`, the environment taken from the process.
     pub fn at_frame(frame: f64) -> CookOptions<'static> {
         CookOptions {
             frame,
             cancel: CancelToken::new(),
             progress: None,
+            env: CookEnv::from_process(),
         }
     }
+}
+
+/// Whether a node writes files with these parameters: such a cook is an
+/// output, run whenever pulled, never a cached side effect.
+fn writes_files(spec: &NodeSpec, params: &Params) -> bool {
+    spec.writes
+        .iter()
+        .any(|w| matches!(params.get(w), Ok(ParamValue::String(s)) if !s.is_empty()))
 }
 
 /// What happened to one node during a cook.
@@ -160,6 +175,7 @@ impl Run<'_, '_> {
                 Some(c) => Ok(c),
                 None => Err(vec![CookError::new(
                     &n.path,
+                    ErrorKind::Input,
                     "bypassed, but has no input to pass through",
                 )]),
             };
@@ -169,14 +185,22 @@ impl Run<'_, '_> {
             NodeKind::Subnet { output: None } => {
                 return Err(vec![CookError::new(
                     &n.path,
+                    ErrorKind::Network,
                     "the subnet has no output node",
                 )])
             }
             NodeKind::Op { op, .. } => op,
-            NodeKind::Invalid => return Err(vec![CookError::new(&n.path, "unknown node type")]),
+            NodeKind::Invalid => {
+                return Err(vec![CookError::new(
+                    &n.path,
+                    ErrorKind::Network,
+                    "unknown node type",
+                )])
+            }
         };
         let spec = op.spec();
-        let params = net.params_at(i, self.opts.frame);
+        let params = net.params_at(i, self.opts.frame, &self.opts.env);
+        let output = writes_files(spec, &params);
         let extra = op.key_extra(&params).map_err(|e| vec![e])?;
         let key = cook_key(spec, &params, &inputs, extra, self.opts.frame);
         let span = tracing::info_span!(
@@ -191,7 +215,7 @@ impl Run<'_, '_> {
         let _enter = span.enter();
         let start = Instant::now();
         let progress = self.opts.progress.unwrap_or(&no_progress);
-        if let Some(c) = self.engine.cache.get(key) {
+        if let Some(c) = (!output).then(|| self.engine.cache.get(key)).flatten() {
             span.record("hit", true);
             span.record("bytes", c.bytes);
             self.record(CookEvent {
@@ -214,6 +238,7 @@ impl Run<'_, '_> {
             frame: self.opts.frame,
             cancel: &self.opts.cancel,
             on_progress: progress,
+            env: &self.opts.env,
         };
         let values: Vec<Option<Value>> = inputs
             .iter()
@@ -223,6 +248,7 @@ impl Run<'_, '_> {
         if value.port_type() != spec.output {
             return Err(vec![CookError::new(
                 &n.path,
+                ErrorKind::Network,
                 format!(
                     "produced {} but declares {}",
                     value.port_type(),
@@ -233,14 +259,16 @@ impl Run<'_, '_> {
         let identity = value.identity();
         let bytes = value.bytes();
         span.record("bytes", bytes);
-        self.engine.cache.insert(
-            key,
-            Cached {
-                value: value.clone(),
-                identity,
-                bytes,
-            },
-        );
+        if !output {
+            self.engine.cache.insert(
+                key,
+                Cached {
+                    value: value.clone(),
+                    identity,
+                    bytes,
+                },
+            );
+        }
         self.record(CookEvent {
             path: n.path.clone(),
             node_type: spec.name,
@@ -279,7 +307,7 @@ impl<'c> Engine<'c> {
         let i = self
             .net
             .index(path)
-            .ok_or_else(|| vec![CookError::new(path, "no such node")])?;
+            .ok_or_else(|| vec![CookError::new(path, ErrorKind::Network, "no such node")])?;
         let run = Run {
             engine: self,
             opts,
@@ -303,6 +331,7 @@ impl<'c> Engine<'c> {
             .ok_or_else(|| {
                 vec![CookError::new(
                     "/",
+                    ErrorKind::Network,
                     "the network names no output node (set \"output\" or a display flag)",
                 )]
             })?

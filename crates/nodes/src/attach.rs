@@ -59,16 +59,16 @@ fn hierarchy(ctx: &CookContext, g: &Geometry, input: &str) -> Result<Hspline, Co
             .map(|s| s.get(0).to_owned())
     };
     let Some(hs) = text(HIERARCHY) else {
-        return Err(ctx.error(format!(
+        return Err(ctx.input_error(format!(
             "input `{input}` carries no hspline (wire an hspline node, not enveloped, straight in)"
         )));
     };
     if text(HIERARCHY_KEY).as_deref() != Some(points_key(g).as_str()) {
-        return Err(ctx.error(format!(
+        return Err(ctx.input_error(format!(
             "input `{input}`: its points changed after its hspline node, so the hierarchy it carries no longer describes it (edit the surface in the hspline node; limbs are placed by `place`)"
         )));
     }
-    file::load(&hs).map_err(|e| ctx.error(format!("input `{input}`: {e}")))
+    file::load(&hs).map_err(|e| ctx.input_error(format!("input `{input}`: {e}")))
 }
 
 fn parse_regions(text: &str) -> Result<Vec<Region>, String> {
@@ -142,7 +142,7 @@ impl Operator for Attach {
         for (k, (value, region)) in limb_inputs.iter().zip(regions).enumerate() {
             let g = value
                 .as_geometry()
-                .ok_or_else(|| ctx.error(format!("limb {k} needs geometry")))?;
+                .ok_or_else(|| ctx.input_error(format!("limb {k} needs geometry")))?;
             limbs.push(Limb {
                 surface: hierarchy(ctx, g, &format!("limb {k}"))?,
                 region,
@@ -155,13 +155,13 @@ impl Operator for Attach {
             p.toggle("place")?,
             p.int("subdivisions")? as usize,
         )
-        .map_err(|e| ctx.param_error("regions", e.to_string()))?;
+        .map_err(|e| ctx.kernel_at("regions", e))?;
         let g = if p.string("output")? == "control_mesh" {
             cage(&a)
         } else {
             surface(&a)
         };
-        geometry(g.map_err(|e| ctx.error(e.to_string()))?)
+        geometry(g.map_err(|e| ctx.kernel(e))?)
     }
 }
 

@@ -90,7 +90,7 @@ impl Operator for Create {
         };
         let n = count(&g, c);
         g.set_attrib(c, name, Attribute::new(value, info, n))
-            .map_err(|e| ctx.param_error("name", e.to_string()))?;
+            .map_err(|e| ctx.kernel_at("name", e))?;
         geometry(g)
     }
 }
@@ -148,7 +148,7 @@ impl Operator for Randomize {
             ),
         };
         g.set_attrib(c, name, Attribute::from_data(data, info))
-            .map_err(|e| ctx.param_error("name", e.to_string()))?;
+            .map_err(|e| ctx.kernel_at("name", e))?;
         geometry(g)
     }
 }

@@ -17,7 +17,7 @@ fn bundle_input<'a>(
         .first()
         .and_then(|v| v.as_ref())
         .and_then(|v| v.as_bundle())
-        .ok_or_else(|| ctx.error("input 1 needs a bundle"))
+        .ok_or_else(|| ctx.input_error("input 1 needs a bundle"))
 }
 
 struct Pack;

@@ -27,7 +27,7 @@ fn rebuild_curves(
 ) -> Result<Value, CookError> {
     let cs = curves(g);
     if cs.is_empty() {
-        return Err(ctx.error("input 1 has no curves (polylines or polygons)"));
+        return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
     }
     let outs: Vec<CurveOut> = cs
         .iter()
@@ -49,7 +49,7 @@ fn rebuild_curves(
             }
         })
         .collect();
-    geometry(rebuild(g, &outs).map_err(|e| ctx.error(e.to_string()))?)
+    geometry(rebuild(g, &outs).map_err(|e| ctx.kernel(e))?)
 }
 
 struct Resample;
@@ -208,7 +208,7 @@ impl Operator for Join {
         let g = input(ctx, inputs, 0)?;
         let open: Vec<Curve> = curves(g).into_iter().filter(|c| !c.closed).collect();
         let Some(first) = open.first() else {
-            return Err(ctx.error("input 1 has no open curves to join"));
+            return Err(ctx.input_error("input 1 has no open curves to join"));
         };
         let pos = g.positions();
         let mut points: Vec<(u32, u32, f32)> = Vec::new();
@@ -229,9 +229,9 @@ impl Operator for Join {
             points,
         };
         if out.points.len() < if closed { 3 } else { 2 } {
-            return Err(ctx.error("the joined curve has too few distinct points"));
+            return Err(ctx.input_error("the joined curve has too few distinct points"));
         }
-        geometry(rebuild(g, &[out]).map_err(|e| ctx.error(e.to_string()))?)
+        geometry(rebuild(g, &[out]).map_err(|e| ctx.kernel(e))?)
     }
 }
 

@@ -47,7 +47,7 @@ pub(crate) fn curves_geometry(
 }
 
 fn finish(ctx: &CookContext, c: Sampled, p: &Params) -> Result<Value, CookError> {
-    let g = curves_geometry(&[c], vec3(p, "center")?).map_err(|e| ctx.error(e.to_string()))?;
+    let g = curves_geometry(&[c], vec3(p, "center")?).map_err(|e| ctx.kernel(e))?;
     geometry(g)
 }
 
@@ -266,9 +266,9 @@ impl Operator for Interpolate {
             });
         }
         if out.is_empty() {
-            return Err(ctx.error("input 1 has fewer than 2 points to pass a curve through"));
+            return Err(ctx.input_error("input 1 has fewer than 2 points to pass a curve through"));
         }
-        geometry(curves_geometry(&out, Vec3::ZERO).map_err(|e| ctx.error(e.to_string()))?)
+        geometry(curves_geometry(&out, Vec3::ZERO).map_err(|e| ctx.kernel(e))?)
     }
 }
 

@@ -10,13 +10,10 @@ use geode_op::{
 
 use crate::util::{geometry, input};
 
-/// Expands `$HIP` (the folder of the network being cooked, set by the CLI as
-/// Houdini does) so networks can refer to files beside them.
-pub(crate) fn expand(path: &str) -> String {
-    match std::env::var("HIP") {
-        Ok(hip) => path.replace("$HIP", &hip),
-        Err(_) => path.replace("$HIP", "."),
-    }
+/// The content hash of a file a node reads, for its cache key; an unreadable
+/// file gets none (the cook reports the error).
+pub(crate) fn content_key(path: &str) -> Option<u128> {
+    std::fs::read(path).ok().map(|b| geode_geo::hash_bytes(&b))
 }
 
 struct File;
@@ -24,7 +21,7 @@ static FILE: NodeSpec = NodeSpec::new(
     "file",
     "File",
     "io",
-    "Reads a geometry file (.obj, .stl, .ply, .gltf, .glb). `$HIP` in the path is the network file's folder. The file's content is part of the cache key: editing the file recooks the node.",
+    "Reads a geometry file (.obj, .stl, .ply, .gltf, .glb). `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame. The file's content is part of the cache key: editing the file recooks the node.",
     &[],
     &[P::new("file", "File", T::File, D::Str(""), "Path of the file to read.")],
 );
@@ -33,15 +30,12 @@ impl Operator for File {
         &FILE
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let path = expand(p.string("file")?);
-        let g = geode_io::read(Path::new(&path), &NoProgress)
-            .map_err(|e| ctx.param_error("file", e.to_string()))?;
+        let path = p.string("file")?;
+        let g = geode_io::read(Path::new(path), &NoProgress).map_err(|e| ctx.io("file", e))?;
         geometry(g)
     }
     fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
-        let path = expand(p.string("file")?);
-        // An unreadable file gets no extra key: the cook reports the error.
-        Ok(std::fs::read(path).ok().map(|b| geode_geo::hash_bytes(&b)))
+        Ok(content_key(p.string("file")?))
     }
 }
 
@@ -50,7 +44,7 @@ static WRITE: NodeSpec = NodeSpec::new(
     "write",
     "Write",
     "io",
-    "Writes its input to a file (atomically) when it cooks, and passes the input through.",
+    "Writes its input to a file (atomically) every time it cooks, and passes the input through. `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame, so a cook over frames writes one file per frame. A write is an output, never served from the cache.",
     &[geometry_input("geometry")],
     &[P::new(
         "file",
@@ -59,7 +53,8 @@ static WRITE: NodeSpec = NodeSpec::new(
         D::Str(""),
         "Path to write; the extension picks the format (.obj, .stl, .ply, .glb, .usda).",
     )],
-);
+)
+.writes(&["file"]);
 impl Operator for Write {
     fn spec(&self) -> &'static NodeSpec {
         &WRITE
@@ -71,9 +66,12 @@ impl Operator for Write {
         p: &Params,
     ) -> Result<Value, CookError> {
         let g = input(ctx, inputs, 0)?;
-        let path = expand(p.string("file")?);
-        geode_io::write(g, Path::new(&path), &NoProgress)
-            .map_err(|e| ctx.param_error("file", e.to_string()))?;
+        let path = p.string("file")?;
+        if path.is_empty() {
+            return Err(ctx.param_error("file", "names no file to write"));
+        }
+        ctx.check()?;
+        geode_io::write(g, Path::new(path), &NoProgress).map_err(|e| ctx.io("file", e))?;
         Ok(Value::Geometry(g.clone()))
     }
 }

@@ -39,7 +39,7 @@ impl Operator for Merge {
             .flatten()
             .filter_map(|v| v.as_geometry().map(|g| &**g))
             .collect();
-        geometry(ops::merge(&gs).map_err(|e| ctx.error(e.to_string()))?)
+        geometry(ops::merge(&gs).map_err(|e| ctx.kernel(e))?)
     }
 }
 
@@ -71,7 +71,7 @@ impl Operator for Switch {
         p: &Params,
     ) -> Result<Value, CookError> {
         if inputs.is_empty() {
-            return Err(ctx.error("switch has no inputs"));
+            return Err(ctx.input_error("switch has no inputs"));
         }
         let i = (p.int("index")?.max(0) as usize).min(inputs.len() - 1);
         inputs[i]
@@ -107,7 +107,7 @@ impl Operator for Null {
             .first()
             .cloned()
             .flatten()
-            .ok_or_else(|| ctx.error("input 1 is not connected"))
+            .ok_or_else(|| ctx.input_error("input 1 is not connected"))
     }
 }
 

@@ -99,7 +99,7 @@ impl Operator for PolyFrame {
         let mut g = input_owned(ctx, inputs, 0)?;
         let cs = curves(&g);
         if cs.is_empty() {
-            return Err(ctx.error("input 1 has no curves (polylines or polygons)"));
+            return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
         }
         let n = g.num_points();
         let (mut t, mut nn, mut b) = (vec![Vec3::Z; n], vec![Vec3::Y; n], vec![Vec3::X; n]);
@@ -123,7 +123,7 @@ impl Operator for PolyFrame {
         }
         let mut set = |name: &str, data: AttribData, info: TypeInfo| {
             g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info))
-                .map_err(|e| ctx.error(e.to_string()))
+                .map_err(|e| ctx.kernel(e))
         };
         set("T", AttribData::Vec3(t), TypeInfo::Vector)?;
         set("N", AttribData::Vec3(nn), TypeInfo::Normal)?;
@@ -209,7 +209,7 @@ impl Operator for Sweep {
         let g = input(ctx, inputs, 0)?;
         let cs = curves(g);
         if cs.is_empty() {
-            return Err(ctx.error("input 1 has no curves (polylines or polygons)"));
+            return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
         }
         let ramp = parse_ramp(p.string("ramp")?).map_err(|e| ctx.param_error("ramp", e))?;
         let caps = p.toggle("caps")?;
@@ -222,7 +222,7 @@ impl Operator for Sweep {
                 let c = curves(sec)
                     .into_iter()
                     .next()
-                    .ok_or_else(|| ctx.error("input 2 (section) has no curve"))?;
+                    .ok_or_else(|| ctx.input_error("input 2 (section) has no curve"))?;
                 let pos = sec.positions();
                 SweepOptions {
                     section: c
@@ -289,13 +289,13 @@ impl Operator for Sweep {
             all.append(t?);
         }
         let mut out = Geometry::from_polygons(all.positions, all.faces, &all.counts)
-            .map_err(|e| ctx.error(e.to_string()))?;
+            .map_err(|e| ctx.kernel(e))?;
         out.set_attrib(
             AttribClass::Vertex,
             "uv",
             Attribute::from_data(AttribData::Vec2(all.uvs), TypeInfo::TexCoord),
         )
-        .map_err(|e| ctx.error(e.to_string()))?;
+        .map_err(|e| ctx.kernel(e))?;
         geometry(out)
     }
 }

@@ -41,7 +41,7 @@ fn field_input<'a>(
         .and_then(|v| v.as_ref())
         .and_then(|v| v.as_field())
         .ok_or_else(|| {
-            ctx.error(format!(
+            ctx.input_error(format!(
                 "input {} needs a field (a mesh cannot be used where a field is expected)",
                 i + 1
             ))
@@ -448,7 +448,7 @@ impl Operator for Sweep {
         }
         shapes::union_all(sweeps)
             .map(Value::Field)
-            .ok_or_else(|| ctx.error("the input has no polylines to sweep along"))
+            .ok_or_else(|| ctx.input_error("the input has no polylines to sweep along"))
     }
 }
 
@@ -479,12 +479,12 @@ impl Operator for Instance {
             ctx.check()?;
             copies.push(
                 f.transformed(&m.as_dmat4())
-                    .ok_or_else(|| ctx.error("an instance has a zero scale"))?,
+                    .ok_or_else(|| ctx.input_error("an instance has a zero scale"))?,
             );
         }
         shapes::union_all(copies)
             .map(Value::Field)
-            .ok_or_else(|| ctx.error("the input has no points to instance onto"))
+            .ok_or_else(|| ctx.input_error("the input has no points to instance onto"))
     }
 }
 
@@ -706,7 +706,7 @@ impl Operator for Polygonise {
             Err(MeshError::BadBounds) => {
                 Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
             }
-            Err(e) => Err(ctx.param_error("depth", e.to_string())),
+            Err(e) => Err(ctx.kernel_at("depth", e)),
         }
     }
 }
@@ -738,7 +738,7 @@ impl Operator for Sample {
             p.string("name")?,
             Attribute::from_data(AttribData::Float(values), TypeInfo::None),
         )
-        .map_err(|e| ctx.param_error("name", e.to_string()))?;
+        .map_err(|e| ctx.kernel_at("name", e))?;
         Ok(Value::geometry(g))
     }
 }

@@ -35,17 +35,17 @@ impl Operator for FromPrimitives {
         _: &Params,
     ) -> Result<Value, CookError> {
         let g = crate::util::input(ctx, inputs, 0)?;
-        let found = analytic::shapes(g).map_err(|e| ctx.error(format!("input 1: {e}")))?;
+        let found = analytic::shapes(g).map_err(|e| ctx.input_error(format!("input 1: {e}")))?;
         let mut solids = Vec::with_capacity(found.len());
         for (shape, frame) in found {
             let solid = shapes::analytic(&shape)
                 .transformed(&frame.as_dmat4())
-                .ok_or_else(|| ctx.error(format!("a {shape:?} is scaled to nothing")))?;
+                .ok_or_else(|| ctx.input_error(format!("a {shape:?} is scaled to nothing")))?;
             solids.push(solid);
         }
         shapes::union_all(solids)
             .map(Value::Field)
-            .ok_or_else(|| ctx.error("input 1 has no primitives"))
+            .ok_or_else(|| ctx.input_error("input 1 has no primitives"))
     }
 }
 

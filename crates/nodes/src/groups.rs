@@ -46,7 +46,7 @@ fn store(
     } else {
         g.set_point_group(name, grp)
     };
-    r.map_err(|e| ctx.param_error("group", e.to_string()))
+    r.map_err(|e| ctx.kernel_at("group", e))
 }
 
 struct Bounding;

@@ -3,7 +3,7 @@
 //! a pipe-model radius (`pscale`, ready for sweep or frep_sweep).
 
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
-use geode_growth::{colonize, ColonizeError, ColonizeOptions};
+use geode_growth::{colonize, ColonizeOptions};
 use geode_op::{
     geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
@@ -41,7 +41,7 @@ impl Operator for Colonize {
     ) -> Result<Value, CookError> {
         let (attractors, births) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
         if births.num_points() == 0 {
-            return Err(ctx.error("input 2 has no birth points"));
+            return Err(ctx.input_error("input 2 has no birth points"));
         }
         let opts = ColonizeOptions {
             influence: p.float("influence")? as f32,
@@ -52,13 +52,8 @@ impl Operator for Colonize {
             seed: p.int("seed")? as u64,
         };
         let cancel = || ctx.cancel.is_cancelled();
-        let tree =
-            colonize(attractors.positions(), births.positions(), &opts, &cancel).map_err(|e| {
-                match e {
-                    ColonizeError::Cancelled => ctx.error("cancelled"),
-                    other => ctx.error(other.to_string()),
-                }
-            })?;
+        let tree = colonize(attractors.positions(), births.positions(), &opts, &cancel)
+            .map_err(|e| ctx.kernel(e))?;
         let branches = tree.branches();
         let radii = tree.pipe_radii(p.float("tip_radius")? as f32, p.float("exponent")? as f32);
         let order = tree.branch_order();
@@ -66,7 +61,7 @@ impl Operator for Colonize {
         let kinds = vec![PrimKind::Polyline; branches.len()];
         let flat: Vec<u32> = branches.into_iter().flatten().collect();
         let mut g = Geometry::from_prims(tree.positions, flat, &counts, kinds)
-            .map_err(|e| ctx.error(e.to_string()))?;
+            .map_err(|e| ctx.kernel(e))?;
         let gen: Vec<i32> = tree.generation.iter().map(|&x| x as i32).collect();
         let order: Vec<i32> = order.into_iter().map(|x| x as i32).collect();
         for (name, data) in [
@@ -79,7 +74,7 @@ impl Operator for Colonize {
                 name,
                 Attribute::from_data(data, TypeInfo::None),
             )
-            .map_err(|e| ctx.error(e.to_string()))?;
+            .map_err(|e| ctx.kernel(e))?;
         }
         geometry(g)
     }

@@ -46,7 +46,8 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         BEND_JOINT,
         BEND,
     ],
-);
+)
+.writes(&["save"]);
 
 type Edit = (usize, usize, usize, DVec3);
 
@@ -86,8 +87,7 @@ impl Operator for HsplineNode {
     }
     fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
         // The loaded file's content is part of the key: editing it recooks.
-        let load = crate::file::expand(p.string("load")?);
-        Ok(std::fs::read(load).ok().map(|b| geode_geo::hash_bytes(&b)))
+        Ok(crate::file::content_key(p.string("load")?))
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let topology = match p.string("topology")? {
@@ -95,9 +95,9 @@ impl Operator for HsplineNode {
             "torus" => Topology::Torus,
             _ => Topology::Plane,
         };
-        let err = |e: HsplineError| ctx.error(e.to_string());
+        let err = |e: HsplineError| ctx.kernel(e);
         let [sx, sy] = p.vector::<2>("size")?;
-        let load = crate::file::expand(p.string("load")?);
+        let load = p.string("load")?;
         let mut h = if load.is_empty() {
             Hspline::new(
                 topology,
@@ -108,8 +108,11 @@ impl Operator for HsplineNode {
             .map_err(err)?
         } else {
             let text = std::fs::read_to_string(&load)
-                .map_err(|e| ctx.param_error("load", format!("{load}: {e}")))?;
-            file::load(&text).map_err(|e| ctx.param_error("load", format!("{load}: {e}")))?
+                .map_err(|e| ctx.io("load", geode_io::IoError::os(load, e)))?;
+            file::load(&text).map_err(|e| {
+                ctx.param_error("load", format!("{load}: {e}"))
+                    .with_source(e)
+            })?
         };
         for _ in 0..p.int("levels")? {
             ctx.check()?;
@@ -118,7 +121,7 @@ impl Operator for HsplineNode {
         let [u0, u1, v0, v1] = p.vector::<4>("region")?.map(|x| x.max(0.0) as usize);
         if u1 > u0 && v1 > v0 {
             h.refine(Some(((u0, u1), (v0, v1))))
-                .map_err(|e| ctx.param_error("region", e.to_string()))?;
+                .map_err(|e| ctx.kernel_at("region", e))?;
         }
         let mut edits = parse_edits(p.string("edits")?).map_err(|e| ctx.param_error("edits", e))?;
         let mv = p.vector::<3>("edit_move")?;
@@ -132,7 +135,7 @@ impl Operator for HsplineNode {
         let symmetric = p.toggle("symmetric")?;
         for (level, i, j, d) in edits {
             h.move_cv(level, i, j, d)
-                .map_err(|e| ctx.param_error("edits", e.to_string()))?;
+                .map_err(|e| ctx.kernel_at("edits", e))?;
             if symmetric {
                 // The vertex across X = 0: a plane's columns run along X; a
                 // cylinder's or torus's vertices go round Y from +X, so the
@@ -152,7 +155,7 @@ impl Operator for HsplineNode {
                 };
                 if (mi, mj) != (i, j) {
                     h.move_cv(level, mi, mj, DVec3::new(-d.x, d.y, d.z))
-                        .map_err(|e| ctx.param_error("symmetric", e.to_string()))?;
+                        .map_err(|e| ctx.kernel_at("symmetric", e))?;
                 }
             }
         }
@@ -181,15 +184,16 @@ impl Operator for HsplineNode {
                 Some(skeleton.motions())
             }
         };
-        let save = crate::file::expand(p.string("save")?);
+        let save = p.string("save")?;
         if !save.is_empty() {
             let text = file::save(&h, p.toggle("optimize")?);
-            let path = std::path::Path::new(&save);
+            ctx.check()?;
+            let path = std::path::Path::new(save);
             geode_io::write_atomic(path, |w| {
                 w.write_all(text.as_bytes())
                     .map_err(|e| geode_io::IoError::os(path, e))
             })
-            .map_err(|e| ctx.param_error("save", e.to_string()))?;
+            .map_err(|e| ctx.io("save", e))?;
         }
         let [su, sv] = p.vector::<2>("samples")?;
         let enveloped = motions.is_some();
@@ -201,14 +205,13 @@ impl Operator for HsplineNode {
             let (indices, basis) = h.patch_layout(&grid);
             let mut g = geode_geo::Geometry::new();
             g.add_points(&grid.points.iter().map(|q| q.as_vec3()).collect::<Vec<_>>());
-            g.add_patch(&indices, basis)
-                .map_err(|e| ctx.error(e.to_string()))?;
+            g.add_patch(&indices, basis).map_err(|e| ctx.kernel(e))?;
             return geometry(g);
         }
         let t = h.tessellate_grid(&grid, su as usize, sv as usize);
-        let mut g = t.into_geometry().map_err(|e| ctx.error(e.to_string()))?;
+        let mut g = t.into_geometry().map_err(|e| ctx.kernel(e))?;
         if !enveloped {
-            crate::attach::carry_hierarchy(&mut g, &h).map_err(|e| ctx.error(e.to_string()))?;
+            crate::attach::carry_hierarchy(&mut g, &h).map_err(|e| ctx.kernel(e))?;
         }
         geometry(g)
     }

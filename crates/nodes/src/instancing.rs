@@ -39,13 +39,9 @@ impl Operator for CopyToPoints {
             variant_attrib: p.string("variant_attribute")?.to_owned(),
         };
         let g = copy_to_points(source, template, &opts).map_err(|e| match e {
-            geode_curve::CopyError::BadPieceAttrib(_) => {
-                ctx.param_error("piece_attribute", e.to_string())
-            }
-            geode_curve::CopyError::BadVariantAttrib(_) => {
-                ctx.param_error("variant_attribute", e.to_string())
-            }
-            other => ctx.error(other.to_string()),
+            geode_curve::CopyError::BadPieceAttrib(_) => ctx.kernel_at("piece_attribute", e),
+            geode_curve::CopyError::BadVariantAttrib(_) => ctx.kernel_at("variant_attribute", e),
+            other => ctx.kernel(other),
         })?;
         geometry(g)
     }

@@ -116,7 +116,7 @@ impl Operator for Normals {
             "N",
             Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
         )
-        .map_err(|e| ctx.error(e.to_string()))?;
+        .map_err(|e| ctx.kernel(e))?;
         geometry(g)
     }
 }

@@ -53,7 +53,7 @@ impl Operator for Nurbs {
                     .first()
                     .and_then(|v| v.as_ref())
                     .and_then(|v| v.as_geometry())
-                    .ok_or_else(|| ctx.error("a patch needs its control grid on input 1"))?;
+                    .ok_or_else(|| ctx.input_error("a patch needs its control grid on input 1"))?;
                 let (rows, cols) = (p.int("rows")? as usize, p.int("columns")? as usize);
                 if grid.num_points() != rows * cols {
                     return Err(ctx.param_error(
@@ -77,7 +77,7 @@ impl Operator for Nurbs {
                     Knots::clamped_uniform(dv, cols),
                     points,
                 )
-                .map_err(|e| ctx.error(e.to_string()))?
+                .map_err(|e| ctx.kernel(e))?
             }
             _ => NurbsSurface::sphere(r),
         };
@@ -89,15 +89,14 @@ impl Operator for Nurbs {
                 *h += (shift * h.w).extend(0.0);
             }
             let mut g = geode_geo::Geometry::new();
-            geode_spline::bspline::patch::add_patch(&mut g, &surface)
-                .map_err(|e| ctx.error(e.to_string()))?;
+            geode_spline::bspline::patch::add_patch(&mut g, &surface).map_err(|e| ctx.kernel(e))?;
             return geometry(g);
         }
         let [su, sv] = p.vector::<2>("samples")?;
         let t = surface.tessellate(su as usize, sv as usize);
         let mut t = t;
         t.positions.iter_mut().for_each(|q| *q += offset);
-        geometry(t.into_geometry().map_err(|e| ctx.error(e.to_string()))?)
+        geometry(t.into_geometry().map_err(|e| ctx.kernel(e))?)
     }
 }
 

@@ -70,7 +70,7 @@ impl Operator for Convert {
     ) -> Result<Value, CookError> {
         let g = input(ctx, inputs, 0)?;
         let lod = p.int("level_of_detail")?.max(1) as usize;
-        geometry(patches_to_polygons(g, lod).map_err(|e| ctx.error(e.to_string()))?)
+        geometry(patches_to_polygons(g, lod).map_err(|e| ctx.kernel(e))?)
     }
 }
 

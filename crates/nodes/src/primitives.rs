@@ -42,7 +42,7 @@ fn finish(
     shape: AnalyticShape,
 ) -> Result<Value, CookError> {
     if p.toggle("analytic")? {
-        analytic::tag(&mut g, shape).map_err(|e| ctx.error(e.to_string()))?;
+        analytic::tag(&mut g, shape).map_err(|e| ctx.kernel(e))?;
     }
     geometry(placed(g, vec3(p, "center")?))
 }

@@ -45,8 +45,8 @@ const OVERSAMPLE: usize = 5;
 
 fn scatter_error(ctx: &CookContext, e: ScatterError) -> CookError {
     match e {
-        ScatterError::Cancelled => ctx.error("cancelled"),
-        other => ctx.error(other.to_string()),
+        ScatterError::Cancelled => CookError::cancelled(ctx.path),
+        other => ctx.kernel(other),
     }
 }
 
@@ -138,10 +138,10 @@ impl Operator for Scatter {
         let g = input(ctx, inputs, 0)?;
         let tris = geode_growth::inside::triangles(g);
         if tris.is_empty() {
-            return Err(ctx.error("input 1 has no polygons to scatter in or on"));
+            return Err(ctx.input_error("input 1 has no polygons to scatter in or on"));
         }
         if p.string("mode")? == "inside" {
-            let b = ops::bounds(g).ok_or_else(|| ctx.error("input 1 is empty"))?;
+            let b = ops::bounds(g).ok_or_else(|| ctx.input_error("input 1 is empty"))?;
             let count = target_count(ctx, p, || ops::signed_volume(g).abs() as f64)?;
             let test = InsideTest::new(tris);
             let pts = inside(
@@ -179,7 +179,7 @@ impl Operator for Scatter {
             "N",
             Attribute::from_data(AttribData::Vec3(normals), TypeInfo::Normal),
         )
-        .map_err(|e| ctx.error(e.to_string()))?;
+        .map_err(|e| ctx.kernel(e))?;
         geometry(out)
     }
 }
@@ -230,7 +230,7 @@ impl Operator for ScatterField {
             .first()
             .and_then(|v| v.as_ref())
             .and_then(|v| v.as_field())
-            .ok_or_else(|| ctx.error("input 1 needs a field"))?;
+            .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
         let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
         if (hi - lo).cmple(Vec3::ZERO).any() {
             return Err(

@@ -64,10 +64,10 @@ impl Operator for Subdivide {
         };
         let cancel = || ctx.cancel.is_cancelled();
         let out = subdivide(g, &opts, &cancel).map_err(|e| match e {
-            SubdError::NotPolygon(prim) => ctx.error(format!(
+            SubdError::NotPolygon(prim) => ctx.input_error(format!(
                 "input 1: primitive {prim} is not a polygon; subdivide needs a polygon mesh"
             )),
-            other => ctx.error(other.to_string()),
+            other => ctx.kernel(other),
         })?;
         geometry(out)
     }

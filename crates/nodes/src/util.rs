@@ -16,7 +16,7 @@ pub fn input<'a>(
         .get(i)
         .and_then(|v| v.as_ref())
         .and_then(|v| v.as_geometry())
-        .ok_or_else(|| ctx.error(format!("input {} needs geometry", i + 1)))
+        .ok_or_else(|| ctx.input_error(format!("input {} needs geometry", i + 1)))
 }
 
 /// A copy of input `i` to modify (shared data is cloned only here).

@@ -1,7 +1,9 @@
-//! What a cook receives besides its inputs: frame, node path, cancellation, progress; and its error type.
+//! What a cook receives besides its inputs (frame, node path, cancellation, progress, environment) and its typed error.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+
+use crate::env::{human_bytes, CookEnv};
 
 /// A shared flag that asks running cooks to stop.
 #[derive(Clone, Debug, Default)]
@@ -19,44 +21,94 @@ impl CancelToken {
     pub fn is_cancelled(&self) -> bool {
         self.0.load(Ordering::Relaxed)
     }
+
+    /// The token as the `Fn() -> bool` kernels poll (kernels know no token type).
+    pub fn as_fn(&self) -> impl Fn() -> bool + Sync + '_ {
+        move || self.is_cancelled()
+    }
 }
 
-/// A failed cook: the node, the parameter if one is to blame, and why.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+/// What kind of failure a [`CookError`] is; callers branch on this, never on the text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ErrorKind {
+    /// The cook was asked to stop.
+    Cancelled,
+    /// A parameter's value cannot be used.
+    Parameter,
+    /// An input is missing or its content cannot be used.
+    Input,
+    /// The result would not fit the memory budget (`GEODE_MEMORY_MB`).
+    Resource,
+    /// A kernel refused or failed; the kernel's error is the source.
+    Kernel,
+    /// Reading or writing a file failed; the I/O error is the source.
+    Io,
+    /// The network itself is wrong at cook time (no output, unknown node).
+    Network,
+}
+
+type Source = Arc<dyn std::error::Error + Send + Sync + 'static>;
+
+/// A failed cook: the node, the parameter if one is to blame, the kind, why,
+/// and (for kernel and file errors) the error it came from.
+#[derive(Clone, Debug, thiserror::Error)]
 #[error("{path}{}: {message}", param.as_ref().map(|p| format!(" (parameter `{p}`)")).unwrap_or_default())]
 pub struct CookError {
     pub path: String,
     pub param: Option<String>,
+    pub kind: ErrorKind,
     pub message: String,
-    pub cancelled: bool,
+    #[source]
+    source: Option<Source>,
+}
+
+/// Errors are equal when they say the same thing of the same node (sources
+/// are not comparable); the engine uses this to report each error once.
+impl PartialEq for CookError {
+    fn eq(&self, o: &CookError) -> bool {
+        self.path == o.path
+            && self.param == o.param
+            && self.kind == o.kind
+            && self.message == o.message
+    }
 }
 
 impl CookError {
-    pub fn new(path: &str, message: impl Into<String>) -> CookError {
+    pub fn new(path: &str, kind: ErrorKind, message: impl Into<String>) -> CookError {
         CookError {
             path: path.to_owned(),
             param: None,
+            kind,
             message: message.into(),
-            cancelled: false,
+            source: None,
         }
     }
 
     pub fn param(path: &str, param: &str, message: impl Into<String>) -> CookError {
-        CookError {
-            path: path.to_owned(),
-            param: Some(param.to_owned()),
-            message: message.into(),
-            cancelled: false,
-        }
+        CookError::new(path, ErrorKind::Parameter, message).at_param(param)
     }
 
     pub fn cancelled(path: &str) -> CookError {
-        CookError {
-            path: path.to_owned(),
-            param: None,
-            message: "cancelled".into(),
-            cancelled: true,
-        }
+        CookError::new(path, ErrorKind::Cancelled, "cancelled")
+    }
+
+    /// Blames a parameter.
+    pub fn at_param(mut self, param: &str) -> CookError {
+        self.param = Some(param.to_owned());
+        self
+    }
+
+    /// Keeps the error this one came from (its text stays the message).
+    pub fn with_source(
+        mut self,
+        source: impl std::error::Error + Send + Sync + 'static,
+    ) -> CookError {
+        self.source = Some(Arc::new(source));
+        self
+    }
+
+    pub fn is_cancelled(&self) -> bool {
+        self.kind == ErrorKind::Cancelled
     }
 }
 
@@ -64,12 +116,14 @@ impl CookError {
 pub type ProgressFn<'a> = dyn Fn(&str, f32) + Sync + 'a;
 
 /// The cook's surroundings. Kernels' long loops call [`CookContext::check`]
-/// and [`CookContext::progress`].
+/// (or poll [`CookContext::cancel_fn`]) and [`CookContext::progress`].
 pub struct CookContext<'a> {
     pub path: &'a str,
     pub frame: f64,
     pub cancel: &'a CancelToken,
     pub on_progress: &'a ProgressFn<'a>,
+    /// Hidden inputs (`$HIP`) and limits; what of it a cook reads is in its key.
+    pub env: &'a CookEnv,
 }
 
 impl CookContext<'_> {
@@ -82,16 +136,69 @@ impl CookContext<'_> {
         }
     }
 
+    /// What kernels poll for cancellation.
+    pub fn cancel_fn(&self) -> impl Fn() -> bool + Sync + '_ {
+        self.cancel.as_fn()
+    }
+
     /// Reports the fraction done (0 to 1) of this node's cook.
     pub fn progress(&self, fraction: f32) {
         (self.on_progress)(self.path, fraction.clamp(0.0, 1.0));
     }
 
-    pub fn error(&self, message: impl Into<String>) -> CookError {
-        CookError::new(self.path, message)
+    /// The input is missing or unusable.
+    pub fn input_error(&self, message: impl Into<String>) -> CookError {
+        CookError::new(self.path, ErrorKind::Input, message)
     }
 
     pub fn param_error(&self, param: &str, message: impl Into<String>) -> CookError {
         CookError::param(self.path, param, message)
+    }
+
+    /// A kernel's error, kept as the source; a kernel that stopped because
+    /// the cook was cancelled gives a `Cancelled` error.
+    pub fn kernel(&self, e: impl std::error::Error + Send + Sync + 'static) -> CookError {
+        if self.cancel.is_cancelled() {
+            return CookError::cancelled(self.path);
+        }
+        CookError::new(self.path, ErrorKind::Kernel, e.to_string()).with_source(e)
+    }
+
+    /// A kernel's error blamed on a parameter.
+    pub fn kernel_at(
+        &self,
+        param: &str,
+        e: impl std::error::Error + Send + Sync + 'static,
+    ) -> CookError {
+        self.kernel(e).at_param(param)
+    }
+
+    /// A file error for the file named by `param`.
+    pub fn io(&self, param: &str, e: impl std::error::Error + Send + Sync + 'static) -> CookError {
+        if self.cancel.is_cancelled() {
+            return CookError::cancelled(self.path);
+        }
+        CookError::new(self.path, ErrorKind::Io, e.to_string())
+            .at_param(param)
+            .with_source(e)
+    }
+
+    /// Refuses, before anything is allocated, a result estimated at `bytes`
+    /// (`what` says what was counted) that the memory budget cannot hold.
+    pub fn reserve(&self, param: &str, bytes: f64, what: &str) -> Result<(), CookError> {
+        let budget = self.env.memory_budget;
+        if bytes <= budget as f64 {
+            return Ok(());
+        }
+        Err(CookError::new(
+            self.path,
+            ErrorKind::Resource,
+            format!(
+                "{what} would need about {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
+                human_bytes(bytes),
+                human_bytes(budget as f64)
+            ),
+        )
+        .at_param(param))
     }
 }

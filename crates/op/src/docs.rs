@@ -48,6 +48,14 @@ pub fn markdown(spec: &NodeSpec) -> String {
         s.push_str("\nAny number of further inputs of the last kind may follow.\n");
     }
     let _ = writeln!(s, "\n## Output\n\n{}\n", spec.output);
+    if !spec.writes.is_empty() {
+        let names: Vec<String> = spec.writes.iter().map(|w| format!("`{w}`")).collect();
+        let _ = writeln!(
+            s,
+            "Writes the file named by {} every time it cooks (an output: never served from the cache).\n",
+            names.join(", ")
+        );
+    }
     s.push_str("## Parameters\n\n");
     if spec.params.is_empty() {
         s.push_str("None.\n");

@@ -4,11 +4,13 @@
 //! cancellation, progress) and gets a `Value` or a [`CookError`] back.
 
 mod context;
+mod env;
 mod param;
 mod registry;
 mod value;
 
-pub use context::{CancelToken, CookContext, CookError, ProgressFn};
+pub use context::{CancelToken, CookContext, CookError, ErrorKind, ProgressFn};
+pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
 pub use param::{ParamDefault, ParamSpec, ParamType, ParamValue, Params};
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};
@@ -44,6 +46,10 @@ pub struct NodeSpec {
     /// The cook reads the frame itself (beyond its animated parameters), so a
     /// frame change always recooks it.
     pub time_dependent: bool,
+    /// File parameters the cook writes to (outputs, not cached side effects):
+    /// while any of them names a file, the node cooks every time it is pulled
+    /// and its result is never served from or stored in the cache.
+    pub writes: &'static [&'static str],
 }
 
 /// A required geometry input.
@@ -76,7 +82,14 @@ impl NodeSpec {
             output: PortType::Geometry,
             params,
             time_dependent: false,
+            writes: &[],
         }
+    }
+
+    /// Declares the file parameters the cook writes.
+    pub const fn writes(mut self, params: &'static [&'static str]) -> NodeSpec {
+        self.writes = params;
+        self
     }
 
     pub const fn variadic(mut self) -> NodeSpec {
@@ -126,5 +139,33 @@ pub trait Operator: Send + Sync {
     /// recooks the node (DESIGN.md invariant 4).
     fn key_extra(&self, _params: &Params) -> Result<Option<u128>, CookError> {
         Ok(None)
+    }
+}
+
+/// A node's cook as a plain function: most node types need nothing else.
+pub type CookFn = fn(&CookContext, &[Option<Value>], &Params) -> Result<Value, CookError>;
+
+/// A node type made of its declaration and its cook function (no per-node skeleton).
+pub struct FnOperator {
+    pub spec: &'static NodeSpec,
+    pub cook: CookFn,
+    /// Extra key content (see [`Operator::key_extra`]), where the node reads files.
+    pub key_extra: Option<fn(&Params) -> Result<Option<u128>, CookError>>,
+}
+
+impl Operator for FnOperator {
+    fn spec(&self) -> &'static NodeSpec {
+        self.spec
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        params: &Params,
+    ) -> Result<Value, CookError> {
+        (self.cook)(ctx, inputs, params)
+    }
+    fn key_extra(&self, params: &Params) -> Result<Option<u128>, CookError> {
+        self.key_extra.map_or(Ok(None), |f| f(params))
     }
 }

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use crate::Operator;
+use crate::{CookFn, FnOperator, NodeSpec, Operator};
 
 /// Node types by name. The engine only ever sees this, never a concrete node.
 #[derive(Clone, Default)]
@@ -18,6 +18,15 @@ impl Registry {
 
     pub fn add(&mut self, op: impl Operator + 'static) {
         self.ops.insert(op.spec().name, Arc::new(op));
+    }
+
+    /// Adds a node type given by its declaration and cook function.
+    pub fn node(&mut self, spec: &'static NodeSpec, cook: CookFn) {
+        self.add(FnOperator {
+            spec,
+            cook,
+            key_extra: None,
+        });
     }
 
     pub fn get(&self, name: &str) -> Option<&Arc<dyn Operator>> {

@@ -1,0 +1,121 @@
+//! File-writing nodes are outputs, not cached side effects: they write on
+//! every cook, per frame with `$F`, and `$HIP` travels in the cook's
+//! environment and so in the key.
+
+use geode_graph::{load_str, Cache, CookOptions, Engine};
+use geode_op::{CookEnv, ErrorKind};
+
+fn engine_for<'c>(text: &str, cache: &'c Cache) -> Engine<'c> {
+    Engine::new(load_str(text, &geode_nodes::registry()).unwrap(), cache)
+}
+
+fn at(frame: f64, hip: &str) -> CookOptions<'static> {
+    let mut o = CookOptions::at_frame(frame);
+    o.env = CookEnv::default().with_hip(hip);
+    o
+}
+
+#[test]
+fn a_write_node_writes_one_file_per_frame_and_every_time_it_cooks() {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let text = r#"{"geode": "network", "version": 1, "output": "w", "nodes": {
+        "b": {"type": "box", "params": {"size": [1, 1, 1]}},
+        "w": {"type": "write", "params": {"file": "$HIP/w.$F4.obj"}, "inputs": ["b"]}}}"#;
+    let cache = Cache::new(1 << 26);
+    let engine = engine_for(text, &cache);
+    for f in 1..=3 {
+        let r = engine.cook("/w", &at(f as f64, hip)).unwrap();
+        // The box is the same every frame: a cache hit after frame 1; the write is not.
+        let w = r.events.iter().find(|e| e.path == "/w").unwrap();
+        assert!(!w.hit);
+        let b = r.events.iter().find(|e| e.path == "/b").unwrap();
+        assert_eq!(b.hit, f > 1);
+    }
+    let mut files: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(files, ["w.0001.obj", "w.0002.obj", "w.0003.obj"]);
+    // Cooking frame 2 again writes it again (the user deleted it meanwhile).
+    std::fs::remove_file(dir.path().join("w.0002.obj")).unwrap();
+    engine.cook("/w", &at(2.0, hip)).unwrap();
+    assert!(dir.path().join("w.0002.obj").exists());
+}
+
+#[test]
+fn an_hspline_save_is_written_per_frame_and_its_surface_still_caches_without_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let text = r#"{"geode": "network", "version": 1, "output": "h", "nodes": {
+        "h": {"type": "hspline", "params": {"levels": 1, "save": "$HIP/h.$F.hs"}}}}"#;
+    let cache = Cache::new(1 << 26);
+    let engine = engine_for(text, &cache);
+    for f in [1.0, 2.0, 2.0] {
+        let r = engine.cook("/h", &at(f, hip)).unwrap();
+        assert!(!r.events[0].hit);
+    }
+    assert!(dir.path().join("h.1.hs").exists());
+    assert!(dir.path().join("h.2.hs").exists());
+    let text = text.replace("$HIP/h.$F.hs", "");
+    let engine = engine_for(&text, &cache);
+    engine.cook("/h", &at(1.0, hip)).unwrap();
+    assert!(engine.cook("/h", &at(1.0, hip)).unwrap().events[0].hit);
+}
+
+#[test]
+fn hip_is_a_hidden_input_in_the_key() {
+    let a = tempfile::tempdir().unwrap();
+    let b = tempfile::tempdir().unwrap();
+    std::fs::write(
+        a.path().join("m.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    std::fs::write(
+        b.path().join("m.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n",
+    )
+    .unwrap();
+    let text = r#"{"geode": "network", "version": 1, "output": "f", "nodes": {
+        "f": {"type": "file", "params": {"file": "$HIP/m.obj"}}}}"#;
+    let cache = Cache::new(1 << 26);
+    let engine = engine_for(text, &cache);
+    let ra = engine
+        .cook("/f", &at(1.0, a.path().to_str().unwrap()))
+        .unwrap();
+    let rb = engine
+        .cook("/f", &at(1.0, b.path().to_str().unwrap()))
+        .unwrap();
+    assert!(!rb.events[0].hit, "another $HIP is another key");
+    assert_ne!(ra.events[0].key, rb.events[0].key);
+    let (ga, gb) = (
+        ra.value.as_geometry().unwrap(),
+        rb.value.as_geometry().unwrap(),
+    );
+    assert_eq!((ga.num_points(), gb.num_points()), (3, 4));
+}
+
+#[test]
+fn a_write_without_a_file_or_to_a_bad_place_is_a_typed_error() {
+    let text = r#"{"geode": "network", "version": 1, "output": "w", "nodes": {
+        "b": {"type": "box"},
+        "w": {"type": "write", "params": {"file": "/nonexistent-dir/x/out.obj"}, "inputs": ["b"]}}}"#;
+    let cache = Cache::disabled();
+    let Err(e) = engine_for(text, &cache).cook("/w", &at(1.0, ".")) else {
+        panic!("the write succeeded")
+    };
+    assert_eq!(e[0].kind, ErrorKind::Io);
+    assert_eq!(e[0].param.as_deref(), Some("file"));
+    assert!(
+        std::error::Error::source(&e[0]).is_some(),
+        "keeps the I/O error"
+    );
+    assert!(
+        e[0].to_string()
+            .starts_with("/w (parameter `file`): /nonexistent-dir/x/out.obj"),
+        "{}",
+        e[0]
+    );
+}

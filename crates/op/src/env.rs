@@ -1,0 +1,138 @@
+//! The cook's environment: the hidden inputs a node may read (`$HIP`) and
+//! the memory budget, taken from the process once and then passed down, so
+//! that no cook reads process state behind its cache key.
+
+/// Hidden inputs and limits of a cook.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CookEnv {
+    /// The network file's folder (Houdini's `$HIP`); `.` when unknown.
+    pub hip: String,
+    /// Bytes a single node's result may take before it is refused.
+    pub memory_budget: u64,
+}
+
+impl Default for CookEnv {
+    fn default() -> CookEnv {
+        CookEnv {
+            hip: ".".into(),
+            memory_budget: default_budget(),
+        }
+    }
+}
+
+impl CookEnv {
+    /// From the process: `HIP` if set (else `.`), `GEODE_MEMORY_MB` if set
+    /// (else 60% of physical memory).
+    pub fn from_process() -> CookEnv {
+        let hip = std::env::var("HIP")
+            .ok()
+            .filter(|h| !h.is_empty())
+            .unwrap_or_else(|| ".".into());
+        CookEnv {
+            hip,
+            memory_budget: budget_from_env(),
+        }
+    }
+
+    /// With `$HIP` set to `hip`.
+    pub fn with_hip(mut self, hip: impl Into<String>) -> CookEnv {
+        self.hip = hip.into();
+        self
+    }
+
+    /// Expands `$HIP`, `$F` (frame), `$F2`..`$F9` (zero-padded frame) and
+    /// `$FF` (fractional frame) in a path, as the CLI does for its output.
+    pub fn expand(&self, pattern: &str, frame: f64) -> String {
+        expand_frame(&pattern.replace("$HIP", &self.hip), frame)
+    }
+}
+
+/// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF` (fractional frame).
+pub fn expand_frame(pattern: &str, frame: f64) -> String {
+    let mut out = String::new();
+    let mut rest = pattern;
+    let whole = frame.round() as i64;
+    while let Some(i) = rest.find("$F") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 2..];
+        match after.chars().next() {
+            Some('F') => {
+                out.push_str(&format!("{frame}"));
+                rest = &after[1..];
+            }
+            Some(d @ '1'..='9') => {
+                let width = d.to_digit(10).unwrap_or(1) as usize;
+                out.push_str(&format!("{whole:0width$}"));
+                rest = &after[1..];
+            }
+            _ => {
+                out.push_str(&whole.to_string());
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `GEODE_MEMORY_MB`, or the default.
+pub fn budget_from_env() -> u64 {
+    std::env::var("GEODE_MEMORY_MB")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .map(|mb| mb.saturating_mul(1 << 20))
+        .unwrap_or_else(default_budget)
+}
+
+/// 60% of physical memory (from /proc/meminfo), or 8 GiB where unknown.
+fn default_budget() -> u64 {
+    let total_kb = std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
+        s.lines()
+            .find(|l| l.starts_with("MemTotal:"))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .and_then(|v| v.parse::<u64>().ok())
+    });
+    match total_kb {
+        Some(kb) => kb * 1024 / 10 * 6,
+        None => 8 << 30,
+    }
+}
+
+/// `1.5 GB`, `320 MB`, `12 KB`: sizes in error messages.
+pub fn human_bytes(b: f64) -> String {
+    const UNITS: [&str; 6] = ["bytes", "KB", "MB", "GB", "TB", "PB"];
+    let mut x = b.max(0.0);
+    let mut u = 0;
+    while x >= 1000.0 && u + 1 < UNITS.len() {
+        x /= 1000.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{x:.0} bytes")
+    } else if x >= 100.0 {
+        format!("{x:.0} {}", UNITS[u])
+    } else {
+        format!("{x:.1} {}", UNITS[u])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn paths_expand_like_the_cli() {
+        let env = CookEnv::default().with_hip("/proj");
+        assert_eq!(env.expand("$HIP/out.$F4.obj", 7.0), "/proj/out.0007.obj");
+        assert_eq!(env.expand("out.$F.obj", 12.0), "out.12.obj");
+        assert_eq!(env.expand("a$FF-$F2", 2.5), "a2.5-03");
+        assert_eq!(env.expand("plain.obj", 3.0), "plain.obj");
+    }
+
+    #[test]
+    fn sizes_read_well() {
+        assert_eq!(human_bytes(12.0), "12 bytes");
+        assert_eq!(human_bytes(1.5e9), "1.5 GB");
+        assert_eq!(human_bytes(320e6), "320 MB");
+    }
+}
