@@ -74,6 +74,15 @@ pub fn frame_path(pattern: &str, frame: f64) -> PathBuf {
     PathBuf::from(expand_frame(pattern, frame))
 }
 
+/// Lets Ctrl-C stop a file being written (nothing is left behind).
+struct CancelOnly<'a>(&'a CancelToken);
+
+impl geode_io::Progress for CancelOnly<'_> {
+    fn cancelled(&self) -> bool {
+        self.0.is_cancelled()
+    }
+}
+
 pub struct CookArgs<'a> {
     pub network: &'a Path,
     pub node: Option<&'a str>,
@@ -142,7 +151,8 @@ pub fn cook(args: CookArgs) -> Result<()> {
             match &result.value {
                 Value::Geometry(g) => {
                     let g = geode_nodes::for_file(g, &path)?;
-                    geode_io::write(&g, &path, &geode_io::NoProgress)?
+                    let progress = CancelOnly(&cancel);
+                    geode_io::write_limited(&g, &path, &progress, env.memory_budget)?
                 }
                 Value::Field(_) => bail!("{target} gives a field; mesh it with a polygonise node to write it"),
                 Value::Bundle(b) => bail!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")),

@@ -16,7 +16,7 @@ fn main() {
         piece_attrib: String::new(),
         variant_attrib: String::new(),
     };
-    let copies = copy_to_points(&source, &template, &opts).unwrap();
+    let copies = copy_to_points(&source, &template, &opts, &|| false).unwrap();
     eprintln!(
         "{} packed copies of a {}-polygon sphere: {:.1} MB ({} bytes per copy; the sphere alone is {} bytes)",
         copies.num_prims(),
@@ -63,7 +63,7 @@ fn sweep_circle_16(bencher: divan::Bencher, n: usize) {
     );
     let radii = vec![0.05; n];
     let opts = SweepOptions::circle(16, true);
-    bencher.bench(|| sweep(&h.points, &f, &radii, false, &opts));
+    bencher.bench(|| sweep(&h.points, &f, &radii, false, &opts, &|| false));
 }
 
 #[divan::bench(args = [100_000, 1_000_000], sample_count = 5)]
@@ -77,5 +77,5 @@ fn copy_packed_10k_triangle_sphere(bencher: divan::Bencher, n: usize) {
         piece_attrib: String::new(),
         variant_attrib: String::new(),
     };
-    bencher.bench(|| copy_to_points(&source, &template, &opts).unwrap());
+    bencher.bench(|| copy_to_points(&source, &template, &opts, &|| false).unwrap());
 }

@@ -47,6 +47,8 @@ pub enum CopyError {
     BadVariantAttrib(String),
     #[error(transparent)]
     Geo(#[from] GeoError),
+    #[error("cancelled")]
+    Cancelled,
 }
 
 /// The source split into pieces by `attrib` (primitive values in order of
@@ -82,11 +84,13 @@ fn pieces(source: &Geometry, attrib: &str) -> Result<Vec<Arc<Geometry>>, CopyErr
         .collect())
 }
 
-/// Copies `source` onto every point of `template`.
+/// Copies `source` onto every point of `template`; `cancel` is polled per
+/// copy and between phases.
 pub fn copy_to_points(
     source: &Geometry,
     template: &Geometry,
     opts: &CopyOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, CopyError> {
     let pieces = pieces(source, &opts.piece_attrib)?;
     let n = template.num_points();
@@ -133,15 +137,22 @@ pub fn copy_to_points(
         }
         return Ok(out);
     }
-    let copies: Vec<Geometry> = (0..n)
+    let copies: Option<Vec<Geometry>> = (0..n)
         .into_par_iter()
         .map(|i| {
+            if cancel() {
+                return None;
+            }
             let mut g = (*pieces[choice[i]]).clone();
             ops::transform(&mut g, xforms[i]);
-            g
+            Some(g)
         })
         .collect();
+    let copies = copies.ok_or(CopyError::Cancelled)?;
     let mut out = ops::merge(&copies.iter().collect::<Vec<_>>())?;
+    if cancel() {
+        return Err(CopyError::Cancelled);
+    }
     // Each copy's points get its template point's values.
     let indices: Vec<u32> = copies
         .iter()

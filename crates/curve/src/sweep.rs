@@ -71,14 +71,16 @@ fn signed_area(s: &[DVec2]) -> f64 {
 }
 
 /// Sweeps `opts.section` along one curve. `scales` multiplies the section
-/// per point (a radius); `frames` come from [`crate::frames`].
+/// per point (a radius); `frames` come from [`crate::frames`]. `None` when
+/// `cancel` (polled every 1024 rings) asks to stop.
 pub fn sweep(
     points: &[DVec3],
     frames: &[Frame],
     scales: &[f64],
     closed: bool,
     opts: &SweepOptions,
-) -> Tube {
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Tube> {
     let n = points.len().min(frames.len()).min(scales.len());
     let mut section = opts.section.clone();
     if opts.section_closed && signed_area(&section) < 0.0 {
@@ -87,9 +89,12 @@ pub fn sweep(
     let m = section.len();
     let mut tube = Tube::default();
     if n < 2 || m < 2 {
-        return tube;
+        return Some(tube);
     }
     for i in 0..n {
+        if i % 1024 == 0 && cancel() {
+            return None;
+        }
         let f = &frames[i];
         for s in &section {
             let p = points[i] + scales[i] * (s.x * f.bitangent + s.y * f.normal);
@@ -127,6 +132,9 @@ pub fn sweep(
     let rings = if closed { n } else { n - 1 };
     let columns = if opts.section_closed { m } else { m - 1 };
     for i in 0..rings {
+        if i % 1024 == 0 && cancel() {
+            return None;
+        }
         for j in 0..columns {
             tube.faces
                 .extend_from_slice(&[id(i, j), id(i, j + 1), id(i + 1, j + 1), id(i + 1, j)]);
@@ -157,5 +165,5 @@ pub fn sweep(
         }
         tube.counts.extend_from_slice(&[m as u32, m as u32]);
     }
-    tube
+    Some(tube)
 }

@@ -31,13 +31,17 @@ fn capped_sweeps_are_closed_outward_and_have_the_right_volume() {
         FrameMethod::DoubleReflection,
         None,
     );
-    let g = mesh(sweep(
-        &s.points,
-        &f,
-        &[0.5; 10],
-        false,
-        &SweepOptions::circle(sides, true),
-    ));
+    let g = mesh(
+        sweep(
+            &s.points,
+            &f,
+            &[0.5; 10],
+            false,
+            &SweepOptions::circle(sides, true),
+            &|| false,
+        )
+        .unwrap(),
+    );
     closed(&g);
     let v = ops::signed_volume(&g) as f64;
     assert!((v - ngon * 0.25 * 3.0).abs() < 1e-4, "{v}");
@@ -50,13 +54,17 @@ fn capped_sweeps_are_closed_outward_and_have_the_right_volume() {
         FrameMethod::DoubleReflection,
         None,
     );
-    let g = mesh(sweep(
-        &h.points,
-        &f,
-        &[0.1; 400],
-        false,
-        &SweepOptions::circle(sides, true),
-    ));
+    let g = mesh(
+        sweep(
+            &h.points,
+            &f,
+            &[0.1; 400],
+            false,
+            &SweepOptions::circle(sides, true),
+            &|| false,
+        )
+        .unwrap(),
+    );
     closed(&g);
     let length = 2.0 * ((std::f64::consts::TAU).powi(2) + 0.25).sqrt();
     let v = ops::signed_volume(&g) as f64;
@@ -77,7 +85,9 @@ fn capped_sweeps_are_closed_outward_and_have_the_right_volume() {
         &[0.08; 300],
         true,
         &SweepOptions::circle(12, false),
-    );
+        &|| false,
+    )
+    .unwrap();
     assert_eq!(t.uvs.len(), t.faces.len(), "a uv per vertex");
     let g = mesh(t);
     closed(&g);
@@ -134,7 +144,7 @@ fn copies_are_placed_alike_packed_or_not_and_carry_template_attributes() {
         piece_attrib: String::new(),
         variant_attrib: String::new(),
     };
-    let real = copy_to_points(&source, &template(), &opts).unwrap();
+    let real = copy_to_points(&source, &template(), &opts, &|| false).unwrap();
     assert_eq!(real.num_points(), 3 * source.num_points());
     // Copy 1 is doubled and moved to (5, 0, 0); copy 2 is turned 90 degrees
     // about Z: the source corner (0.5, 0.5, 0.5) goes to (-0.5, 0.5, 0.5).
@@ -160,7 +170,7 @@ fn copies_are_placed_alike_packed_or_not_and_carry_template_attributes() {
     }
     // Packed: one point and one shared source per copy, same world geometry.
     opts.packed = true;
-    let packed = copy_to_points(&source, &template(), &opts).unwrap();
+    let packed = copy_to_points(&source, &template(), &opts, &|| false).unwrap();
     assert_eq!((packed.num_points(), packed.num_prims()), (3, 3));
     let unpacked = ops::unpack(&packed).unwrap();
     for (a, b) in unpacked.positions().iter().zip(real.positions()) {
@@ -196,7 +206,7 @@ fn the_variant_attribute_picks_a_piece_per_point() {
         piece_attrib: "piece".into(),
         variant_attrib: "variant".into(),
     };
-    let g = copy_to_points(&source, &template(), &opts).unwrap();
+    let g = copy_to_points(&source, &template(), &opts, &|| false).unwrap();
     // variant 0 -> cube, 1 -> sphere, 3 -> 3 mod 2 = 1 -> sphere.
     let prims: Vec<usize> = (0..3)
         .map(|i| g.packed_instance(i).unwrap().source.num_prims())
@@ -207,7 +217,7 @@ fn the_variant_attribute_picks_a_piece_per_point() {
         piece_attrib: "nope".into(),
         ..opts
     };
-    assert!(copy_to_points(&source, &template(), &bad)
+    assert!(copy_to_points(&source, &template(), &bad, &|| false)
         .unwrap_err()
         .to_string()
         .contains("`nope`"));

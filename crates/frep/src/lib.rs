@@ -19,6 +19,6 @@ pub mod vm;
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use interval::Interval;
-pub use polygonise::{polygonise, sample, MeshError, MeshOptions, MeshStats};
+pub use polygonise::{polygonise, sample, MeshError, MeshEstimate, MeshOptions, MeshStats};
 pub use tape::{Choice, Instr, Tape};
 pub use vm::{parse_vm, VmError};

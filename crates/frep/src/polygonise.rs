@@ -488,11 +488,12 @@ fn mesh_brick(tape: &Tape, grid: &Grid, brick: [usize; 3], sharpness: f64) -> Br
     out
 }
 
-/// Bricks that may hold surface, each with the tape simplified for it.
+/// Octree nodes of `stop` levels above the bricks (0: bricks) that may hold
+/// surface, each with the tape simplified for it.
 fn surviving_bricks(
     tape: Arc<Tape>,
     grid: &Grid,
-    level: u32,
+    (level, stop): (u32, u32),
     b: [usize; 3],
     out: &mut Vec<([usize; 3], Arc<Tape>)>,
     cancel: &(dyn Fn() -> bool + Sync),
@@ -513,7 +514,7 @@ fn surviving_bricks(
         return;
     }
     let simplified = Arc::new(tape.simplify(iv.choices()));
-    if level == 0 {
+    if level <= stop {
         out.push((b, simplified));
         return;
     }
@@ -532,28 +533,29 @@ fn surviving_bricks(
             .par_iter()
             .map(|c| {
                 let mut v = Vec::new();
-                surviving_bricks(Arc::clone(&simplified), grid, level - 1, *c, &mut v, cancel);
+                let levels = (level - 1, stop);
+                surviving_bricks(Arc::clone(&simplified), grid, levels, *c, &mut v, cancel);
                 v
             })
             .collect();
         out.extend(parts.into_iter().flatten());
     } else {
         for c in children {
-            surviving_bricks(Arc::clone(&simplified), grid, level - 1, c, out, cancel);
+            surviving_bricks(
+                Arc::clone(&simplified),
+                grid,
+                (level - 1, stop),
+                c,
+                out,
+                cancel,
+            );
         }
     }
 }
 
-/// Meshes the solid `field >= 0` inside the box into closed, consistently
-/// oriented triangles with point normals `N` from the gradient. The box
-/// closes the surface where the solid reaches it. Deterministic for any
-/// thread count; `cancel` is polled per brick, `progress` gets 0..1.
-pub fn polygonise(
-    field: &Field,
-    opts: &MeshOptions,
-    cancel: &(dyn Fn() -> bool + Sync),
-    progress: &(dyn Fn(f32) + Sync),
-) -> Result<(Geometry, MeshStats), MeshError> {
+/// The cell grid, the tape of the field clipped to the box, and the octree's
+/// top level (bricks per side as a power of two).
+fn setup(field: &Field, opts: &MeshOptions) -> Result<(Grid, Arc<Tape>, u32), MeshError> {
     if !(1..=16).contains(&opts.depth) {
         return Err(MeshError::BadDepth(opts.depth));
     }
@@ -583,8 +585,56 @@ pub fn polygonise(
         .unwrap_or(1)
         .next_power_of_two()
         .trailing_zeros();
+    Ok((grid, tape, top))
+}
+
+/// Peak bytes per cell with surface while meshing (positions, normals, QEF
+/// points, dual-edge references, triangles and the geometry built from
+/// them), measured on spheres at depths 8-10.
+const BYTES_PER_SURFACE_CELL: f64 = 480.0;
+
+/// Cells with surface per unit of a surviving octree node's cross-section
+/// (a plane through a cube crosses about 1.5 times its face in cells).
+const CROSSING_FACTOR: f64 = 1.5;
+
+/// What meshing would cost, estimated before anything large is allocated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MeshEstimate {
+    pub surface_cells: f64,
+    pub bytes: f64,
+}
+
+/// Estimates the cells with surface (and the bytes meshing takes) from the
+/// octree pruned only down to nodes of about 64^3 over the box, so it takes
+/// milliseconds at any depth: a surface crossing a node of side n cells
+/// crosses about 1.5 n^2 of its cells.
+pub fn estimate(field: &Field, opts: &MeshOptions) -> Result<MeshEstimate, MeshError> {
+    let (grid, tape, top) = setup(field, opts)?;
+    let stop = top.saturating_sub(6);
+    let mut nodes = Vec::new();
+    surviving_bricks(tape, &grid, (top, stop), [0, 0, 0], &mut nodes, &|| false);
+    let side = (B << stop) as f64;
+    let surface_cells = nodes.len() as f64 * CROSSING_FACTOR * side * side;
+    Ok(MeshEstimate {
+        surface_cells,
+        bytes: surface_cells * BYTES_PER_SURFACE_CELL,
+    })
+}
+
+/// Meshes the solid `field >= 0` inside the box into closed, consistently
+/// oriented triangles with point normals `N` from the gradient. The box
+/// closes the surface where the solid reaches it. Deterministic for any
+/// thread count; `cancel` is polled per brick and between phases,
+/// `progress` gets 0..1.
+pub fn polygonise(
+    field: &Field,
+    opts: &MeshOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+    progress: &(dyn Fn(f32) + Sync),
+) -> Result<(Geometry, MeshStats), MeshError> {
+    let (grid, tape, top) = setup(field, opts)?;
     let mut bricks = Vec::new();
-    surviving_bricks(tape, &grid, top, [0, 0, 0], &mut bricks, cancel);
+    surviving_bricks(tape, &grid, (top, 0), [0, 0, 0], &mut bricks, cancel);
     if cancel() {
         return Err(MeshError::Cancelled);
     }
@@ -625,7 +675,13 @@ pub fn polygonise(
         pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
         stats.cells_with_surface += o.cells;
     }
+    if cancel() {
+        return Err(MeshError::Cancelled);
+    }
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
+    if cancel() {
+        return Err(MeshError::Cancelled);
+    }
     let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(refs.len() / 2);
     for group in refs.chunk_by(|a, b| a.0 == b.0) {
         if group.len() != 4 || group.iter().enumerate().any(|(i, r)| r.1 as usize != i) {
@@ -648,6 +704,9 @@ pub fn polygonise(
             triangles.push([q[1], q[2], q[3]]);
         }
     }
+    if cancel() {
+        return Err(MeshError::Cancelled);
+    }
     pinched.sort_unstable();
     pinched.dedup_by_key(|c| c.0);
     let tapes: Vec<&Tape> = bricks.iter().map(|(_, t)| t.as_ref()).collect();
@@ -662,6 +721,9 @@ pub fn polygonise(
             h: grid.h,
         },
     );
+    if cancel() {
+        return Err(MeshError::Cancelled);
+    }
     let mut g =
         Geometry::from_triangles(positions, &triangles).map_err(|_| MeshError::BadBounds)?;
     g.set_attrib(

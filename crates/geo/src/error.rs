@@ -33,6 +33,8 @@ pub enum GeoError {
         expected: usize,
         found: usize,
     },
+    #[error("cancelled")]
+    Cancelled,
     #[error("a polygon needs at least 3 vertices, got {0}")]
     PolygonTooSmall(usize),
     #[error("a polyline needs at least 2 vertices, got {0}")]

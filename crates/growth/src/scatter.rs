@@ -64,7 +64,8 @@ pub fn inside(
         } else {
             (out.len() as f64 / tried as f64).max(1e-3)
         };
-        let batch = (((count - out.len()) as f64 / rate * 1.1) as usize).clamp(1024, 1 << 22);
+        // Batches stay small enough that a cancel is seen within milliseconds.
+        let batch = (((count - out.len()) as f64 / rate * 1.1) as usize).clamp(1024, 1 << 18);
         let batch = batch.min(limit - tried);
         let cands: Vec<Vec3> = (tried..tried + batch)
             .into_par_iter()
@@ -148,10 +149,16 @@ impl Ord for Crowding {
 /// the point with the most weight from neighbours closer than `2 r` goes
 /// first, where `r` is the spacing of `keep` points packed in `measure`
 /// (a volume when `dims` is 3, an area when 2).
-pub fn eliminate(points: &[Vec3], keep: usize, measure: f64, dims: u32) -> Vec<usize> {
+pub fn eliminate(
+    points: &[Vec3],
+    keep: usize,
+    measure: f64,
+    dims: u32,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Vec<usize>, ScatterError> {
     let n = points.len();
     if keep >= n {
-        return (0..n).collect();
+        return Ok((0..n).collect());
     }
     let r_max = if dims == 3 {
         (measure / (4.0 * std::f64::consts::SQRT_2 * keep as f64)).cbrt()
@@ -160,11 +167,14 @@ pub fn eliminate(points: &[Vec3], keep: usize, measure: f64, dims: u32) -> Vec<u
     };
     let reach = (2.0 * r_max) as f32;
     if !(reach > 0.0 && reach.is_finite()) {
-        return (0..keep).collect();
+        return Ok((0..keep).collect());
     }
     let key = |p: Vec3| (p / reach).floor().as_ivec3();
     let mut grid: HashMap<geode_geo::glam::IVec3, Vec<u32>> = HashMap::new();
     for (i, p) in points.iter().enumerate() {
+        if i % 65536 == 0 && cancel() {
+            return Err(ScatterError::Cancelled);
+        }
         grid.entry(key(*p)).or_default().push(i as u32);
     }
     let weight = |d: f32| (1.0 - d as f64 / reach as f64).powi(8);
@@ -186,18 +196,36 @@ pub fn eliminate(points: &[Vec3], keep: usize, measure: f64, dims: u32) -> Vec<u
             }
         }
     };
-    let mut w: Vec<f64> = (0..n)
+    // Collecting into an Option stops every worker at the first None.
+    let w: Option<Vec<f64>> = (0..n)
         .into_par_iter()
         .map(|i| {
+            if cancel() {
+                return None;
+            }
             let mut s = 0.0;
             neighbours(i, &mut |_, x| s += x);
-            s
+            Some(s)
         })
         .collect();
+    let Some(mut w) = w else {
+        return Err(ScatterError::Cancelled);
+    };
     let mut alive = vec![true; n];
+    if cancel() {
+        return Err(ScatterError::Cancelled);
+    }
     let mut heap: BinaryHeap<Crowding> = (0..n).map(|i| Crowding(w[i], i as u32)).collect();
+    if cancel() {
+        return Err(ScatterError::Cancelled);
+    }
     let mut left = n;
+    let mut polled = 0u32;
     while left > keep {
+        polled = polled.wrapping_add(1);
+        if polled % 16 == 0 && cancel() {
+            return Err(ScatterError::Cancelled);
+        }
         let Some(Crowding(x, i)) = heap.pop() else {
             break;
         };
@@ -214,7 +242,7 @@ pub fn eliminate(points: &[Vec3], keep: usize, measure: f64, dims: u32) -> Vec<u
             }
         });
     }
-    (0..n).filter(|&i| alive[i]).collect()
+    Ok((0..n).filter(|&i| alive[i]).collect())
 }
 
 #[cfg(test)]
@@ -262,10 +290,12 @@ mod tests {
             }
             worst
         };
-        let kept: Vec<Vec3> = eliminate(&cands, 2000, 4.0 / 3.0 * std::f64::consts::PI, 3)
-            .into_iter()
-            .map(|i| cands[i])
-            .collect();
+        let kept: Vec<Vec3> =
+            eliminate(&cands, 2000, 4.0 / 3.0 * std::f64::consts::PI, 3, &|| false)
+                .unwrap()
+                .into_iter()
+                .map(|i| cands[i])
+                .collect();
         assert_eq!(kept.len(), 2000);
         let random = &cands[..2000];
         assert!(

@@ -1,7 +1,10 @@
-//! Atomic file writes: a temporary file in the target's folder, renamed into place.
+//! Atomic file writes: a temporary file in the target's folder, renamed
+//! into place; temporary files left by a killed process are removed by the
+//! next write to that folder.
 
 use std::io::{BufWriter, Write};
 use std::path::Path;
+use std::time::{Duration, SystemTime};
 
 use crate::error::IoError;
 
@@ -16,8 +19,10 @@ where
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
+    remove_stale_temporaries(dir);
+    let prefix = format!("{TMP_PREFIX}{}-", std::process::id());
     let tmp = tempfile::Builder::new()
-        .prefix(".geode-tmp-")
+        .prefix(&prefix)
         .tempfile_in(dir)
         .map_err(|e| IoError::os(path, e))?;
     {
@@ -30,6 +35,68 @@ where
     // Dropping `tmp` on an error path deletes the temporary file.
     tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
     Ok(())
+}
+
+/// Temporary files are `.geode-tmp-<pid>-<random>`.
+const TMP_PREFIX: &str = ".geode-tmp-";
+
+/// A temporary file nobody will finish after this long is stale whatever its
+/// process id says (another machine's, on a shared folder).
+const STALE_AFTER: Duration = Duration::from_secs(24 * 3600);
+
+/// Removes temporary files in `dir` left by geode processes that no longer
+/// run on this machine (killed mid-write: `kill -9`, power loss), or older
+/// than a day. Best effort: a folder that cannot be listed is left alone.
+pub fn remove_stale_temporaries(dir: &Path) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let name = e.file_name();
+        let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(TMP_PREFIX)) else {
+            continue;
+        };
+        let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
+        let dead = pid.is_some_and(|p| !process_alive(p));
+        let old = e
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| SystemTime::now().duration_since(t).ok())
+            .is_some_and(|age| age > STALE_AFTER);
+        if dead || old {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
+/// Whether a process with this id runs on this machine (Linux: /proc);
+/// elsewhere every process counts as running, so only age decides.
+fn process_alive(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    let proc = Path::new("/proc");
+    !proc.is_dir() || proc.join(pid.to_string()).exists()
+}
+
+/// A writer that fails once `cancelled` says so, polled at every write
+/// reaching it (the buffered writer above it passes a megabyte at a time).
+pub(crate) struct Cancelling<'a> {
+    pub inner: &'a mut dyn Write,
+    pub cancelled: &'a dyn Fn() -> bool,
+}
+
+impl Write for Cancelling<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if (self.cancelled)() {
+            return Err(std::io::Error::new(std::io::ErrorKind::Other, "cancelled"));
+        }
+        self.inner.write(buf)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// Temporary files are created private (0600); the result should look like
@@ -62,6 +129,31 @@ mod tests {
     use super::*;
 
     #[test]
+    fn stale_temporaries_of_dead_processes_are_removed_by_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        // A process that has exited: its id is free (and not reused this soon).
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let dead = child.id();
+        child.wait().unwrap();
+        let stale = dir.path().join(format!("{TMP_PREFIX}{dead}-abc123"));
+        std::fs::write(&stale, b"half").unwrap();
+        let live = dir
+            .path()
+            .join(format!("{TMP_PREFIX}{}-def456", std::process::id()));
+        std::fs::write(&live, b"in progress").unwrap();
+        let other = dir.path().join("keep.obj");
+        std::fs::write(&other, b"user data").unwrap();
+        let target = dir.path().join("out.obj");
+        write_atomic(&target, |w| w.write_all(b"x").map_err(os_err(&target))).unwrap();
+        assert!(
+            !stale.exists(),
+            "a dead process's temporary file is removed"
+        );
+        assert!(live.exists(), "a running process's temporary file is kept");
+        assert_eq!(std::fs::read(&other).unwrap(), b"user data");
+    }
+
+    #[test]
     fn failed_write_keeps_the_old_file() {
         let dir = tempfile::tempdir().unwrap();
         let target = dir.path().join("out.obj");
@@ -78,6 +170,7 @@ mod tests {
         let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
         assert_eq!(leftovers.len(), 1, "temporary file removed");
         write_atomic(&target, |w| w.write_all(b"new").map_err(os_err(&target))).unwrap();
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
         assert_eq!(std::fs::read(&target).unwrap(), b"new");
         #[cfg(unix)]
         {

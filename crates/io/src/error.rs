@@ -43,6 +43,12 @@ pub enum IoError {
     /// The format cannot hold this geometry.
     #[error("{}: {message}", path.display())]
     Unsupported { path: PathBuf, message: String },
+    /// The write was cancelled; nothing was written.
+    #[error("{}: cancelled, nothing was written", path.display())]
+    Cancelled { path: PathBuf },
+    /// Writing would need more memory than the budget allows.
+    #[error("{}: {message}", path.display())]
+    TooLarge { path: PathBuf, message: String },
 }
 
 impl IoError {

@@ -18,8 +18,9 @@ const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_INT: u32 = 5125;
 
-#[derive(Default)]
-struct Builder {
+struct Builder<'c> {
+    /// Polled while instances are laid out (a million take seconds).
+    cancelled: &'c (dyn Fn() -> bool + Sync),
     bin: Vec<u8>,
     views: Vec<Value>,
     accessors: Vec<Value>,
@@ -29,7 +30,7 @@ struct Builder {
     mesh_of: HashMap<*const Geometry, Option<usize>>,
 }
 
-impl Builder {
+impl Builder<'_> {
     fn view(&mut self, bytes: &[u8], target: u32) -> usize {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
@@ -99,7 +100,10 @@ impl Builder {
             own = c;
             &own
         };
-        let tri = ops::triangulate(g, None);
+        let tri = ops::triangulate_with(g, None, &|| (self.cancelled)())?;
+        if (self.cancelled)() {
+            return None;
+        }
         let pos = tri.positions();
         let per_corner = ["N", "uv", "Cd"]
             .iter()
@@ -178,6 +182,9 @@ impl Builder {
             }
             attrs.insert("NORMAL".into(), json!(self.vec_accessor(&n, "VEC3", None)));
         }
+        if (self.cancelled)() {
+            return None;
+        }
         let uv_v = tri
             .attrib(AttribClass::Vertex, "uv")
             .and_then(|a| a.as_vec2());
@@ -206,6 +213,9 @@ impl Builder {
                 *x = x.clamp(Vec3::ZERO, Vec3::ONE);
             }
             attrs.insert("COLOR_0".into(), json!(self.vec_accessor(&c, "VEC3", None)));
+        }
+        if (self.cancelled)() {
+            return None;
         }
         let mut prims = Vec::new();
         if only_points {
@@ -275,6 +285,9 @@ impl Builder {
             if !matches!(g.prim_kind(prim), PrimKind::Packed(_)) {
                 continue;
             }
+            if prim % 4096 == 0 && (self.cancelled)() {
+                return out;
+            }
             let inst = g.packed_instance(prim).expect("packed");
             let world = g.packed_world_transform(prim).expect("packed has a point");
             let src: Arc<Geometry> = Arc::clone(&inst.source);
@@ -316,8 +329,22 @@ pub fn write_glb(
     progress: &dyn Progress,
 ) -> Result<(), IoError> {
     progress.start("writing GLB", 1);
-    let mut b = Builder::default();
+    let cancelled = || progress.cancelled();
+    let mut b = Builder {
+        cancelled: &cancelled,
+        bin: Vec::new(),
+        views: Vec::new(),
+        accessors: Vec::new(),
+        meshes: Vec::new(),
+        nodes: Vec::new(),
+        mesh_of: HashMap::new(),
+    };
     let roots = b.nodes_for(g, true, 0);
+    if progress.cancelled() {
+        return Err(IoError::Cancelled {
+            path: path.to_owned(),
+        });
+    }
     while b.bin.len() % 4 != 0 {
         b.bin.push(0);
     }

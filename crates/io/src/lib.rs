@@ -166,8 +166,26 @@ pub fn write_bytes(
     progress: &dyn Progress,
 ) -> Result<Vec<u8>, IoError> {
     let mut out = Vec::new();
-    encode(g, format, path, &mut out, progress)?;
+    encode(g, format, path, &mut out, progress, u64::MAX)?;
     Ok(out)
+}
+
+/// Refuses, before unpacking, packed geometry whose unpacked form would not
+/// fit `memory_budget` bytes.
+fn check_unpack_budget(g: &Geometry, path: &Path, memory_budget: u64) -> Result<(), IoError> {
+    let bytes = ops::unpacked_bytes(g);
+    if bytes <= memory_budget as f64 {
+        return Ok(());
+    }
+    let instances = g.packed_instances().len();
+    Err(IoError::TooLarge {
+        path: path.to_owned(),
+        message: format!(
+            "unpacking {instances} packed instances for this format would need about {:.1} GB, more than the memory budget of {:.1} GB (GEODE_MEMORY_MB); write .glb or .usda, which keep instances",
+            bytes / 1e9,
+            memory_budget as f64 / 1e9
+        ),
+    })
 }
 
 fn encode(
@@ -176,12 +194,19 @@ fn encode(
     path: &Path,
     w: &mut dyn std::io::Write,
     progress: &dyn Progress,
+    memory_budget: u64,
 ) -> Result<(), IoError> {
     let unpacked;
     let g = if !format.keeps_instances() && g.has_packed() {
-        unpacked = ops::unpack(g).map_err(|e| IoError::Unsupported {
-            path: path.to_owned(),
-            message: e.to_string(),
+        check_unpack_budget(g, path, memory_budget)?;
+        unpacked = ops::unpack_with(g, &|| progress.cancelled()).map_err(|e| match e {
+            geode_geo::GeoError::Cancelled => IoError::Cancelled {
+                path: path.to_owned(),
+            },
+            e => IoError::Unsupported {
+                path: path.to_owned(),
+                message: e.to_string(),
+            },
         })?;
         &unpacked
     } else {
@@ -213,13 +238,38 @@ pub fn has_patches(g: &Geometry) -> bool {
     g.has_patches() || g.packed_instances().iter().any(|i| has_patches(&i.source))
 }
 
-/// Writes a geometry file atomically, the format chosen by the extension.
+/// Writes a geometry file atomically, the format chosen by the extension
+/// (no memory budget: see [`write_limited`]).
 pub fn write(g: &Geometry, path: &Path, progress: &dyn Progress) -> Result<(), IoError> {
+    write_limited(g, path, progress, u64::MAX)
+}
+
+/// Writes a geometry file atomically, refusing to unpack instances beyond
+/// `memory_budget` bytes. `progress.cancelled()` is polled while encoding
+/// and between every megabyte written; a cancelled write leaves nothing.
+pub fn write_limited(
+    g: &Geometry,
+    path: &Path,
+    progress: &dyn Progress,
+    memory_budget: u64,
+) -> Result<(), IoError> {
     let format = Format::from_path(path)
         .filter(|f| f.can_write())
         .ok_or_else(|| IoError::UnknownFormat {
             path: path.to_owned(),
             expected: list(Format::can_write),
         })?;
-    write_atomic(path, |w| encode(g, format, path, w, progress))
+    let r = write_atomic(path, |w| {
+        let mut w = atomic::Cancelling {
+            inner: w,
+            cancelled: &|| progress.cancelled(),
+        };
+        encode(g, format, path, &mut w, progress, memory_budget)
+    });
+    match r {
+        Err(_) if progress.cancelled() => Err(IoError::Cancelled {
+            path: path.to_owned(),
+        }),
+        r => r,
+    }
 }

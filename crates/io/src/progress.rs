@@ -5,6 +5,11 @@ pub trait Progress: Sync {
     fn start(&self, _what: &str, _total: u64) {}
     fn set(&self, _done: u64) {}
     fn finish(&self) {}
+    /// Whether the caller asks the operation to stop: writers poll it as
+    /// they go and then fail with [`crate::IoError::Cancelled`], writing nothing.
+    fn cancelled(&self) -> bool {
+        false
+    }
 }
 
 /// Reports nothing.

@@ -137,6 +137,37 @@ fn weld(corners: Vec<Vec3>) -> ParseResult<Geometry> {
         .map_err(|e| ParseError::whole(e.to_string()))
 }
 
+/// The triangles (as point indices) of every polygon in primitive order:
+/// fans for convex polygons, ear clipping for concave ones (the rule of
+/// `ops::triangulate`, without building a geometry). `None` when cancelled.
+fn facets(g: &Geometry, cancel: &(dyn Fn() -> bool + Sync)) -> Option<Vec<[u32; 3]>> {
+    const CHUNK: usize = 1 << 14;
+    let p = g.positions();
+    let n = g.num_prims();
+    let parts: Vec<Option<Vec<[u32; 3]>>> = (0..n.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            if cancel() {
+                return None;
+            }
+            let mut out = Vec::new();
+            let mut local = Vec::new();
+            for prim in c * CHUNK..((c + 1) * CHUNK).min(n) {
+                if g.prim_kind(prim) != PrimKind::Polygon {
+                    continue;
+                }
+                let pts = g.prim_points(prim);
+                local.clear();
+                ops::triangulate_polygon(p, pts, &mut local);
+                out.extend(local.iter().map(|t| t.map(|k| pts[k as usize])));
+            }
+            Some(out)
+        })
+        .collect();
+    let parts: Option<Vec<Vec<[u32; 3]>>> = parts.into_iter().collect();
+    Some(parts?.concat())
+}
+
 /// Writes binary STL: polygons are triangulated, facet normals computed.
 /// Polylines are skipped (STL holds only triangles); packed primitives must be
 /// unpacked first.
@@ -147,16 +178,10 @@ pub fn write_stl(
     progress: &dyn Progress,
 ) -> Result<(), IoError> {
     crate::error::refuse_packed(g, path, "STL")?;
-    let tri = if g.prim_offsets().windows(2).all(|w| w[1] - w[0] == 3) {
-        None
-    } else {
-        Some(ops::triangulate(g, None))
-    };
-    let t = tri.as_ref().unwrap_or(g);
-    let p = t.positions();
-    let tris: Vec<usize> = (0..t.num_prims())
-        .filter(|&i| t.prim_kind(i) == PrimKind::Polygon)
-        .collect();
+    let p = g.positions();
+    let tris = facets(g, &|| progress.cancelled()).ok_or_else(|| IoError::Cancelled {
+        path: path.to_owned(),
+    })?;
     let count = u32::try_from(tris.len()).map_err(|_| IoError::Unsupported {
         path: path.to_owned(),
         message: "more than 4294967295 triangles".into(),
@@ -174,9 +199,8 @@ pub fn write_stl(
         throttle.tick((bi * BATCH) as u64);
         buf.par_chunks_mut(RECORD)
             .zip(batch.par_iter())
-            .for_each(|(rec, &prim)| {
-                let pts = t.prim_points(prim);
-                let [a, b, c] = [0, 1, 2].map(|k| p[pts[k] as usize]);
+            .for_each(|(rec, tri)| {
+                let [a, b, c] = tri.map(|k| p[k as usize]);
                 let n = (b - a).cross(c - a).normalize_or_zero();
                 for (k, v) in [n, a, b, c].iter().enumerate() {
                     rec[k * 12..k * 12 + 12].copy_from_slice(bytemuck::bytes_of(&v.to_array()));

@@ -19,9 +19,19 @@ struct Writer<'w> {
     /// Prototype name per distinct packed source, in first-use order.
     protos: Vec<(*const Geometry, String, std::sync::Arc<Geometry>)>,
     proto_index: HashMap<*const Geometry, usize>,
+    progress: &'w dyn Progress,
 }
 
 impl Writer<'_> {
+    fn check_cancelled(&self) -> Result<(), IoError> {
+        if self.progress.cancelled() {
+            return Err(IoError::Cancelled {
+                path: self.path.to_owned(),
+            });
+        }
+        Ok(())
+    }
+
     fn flush_if_big(&mut self) -> Result<(), IoError> {
         if self.buf.len() > 1 << 20 {
             self.out
@@ -47,6 +57,7 @@ impl Writer<'_> {
             }
             fmt(&mut self.buf, it);
             if i % 4096 == 4095 {
+                self.check_cancelled()?;
                 self.flush_if_big()?;
             }
         }
@@ -84,8 +95,10 @@ impl Writer<'_> {
                 .iter()
                 .flat_map(|&i| g.prim_points(i).iter().copied())
                 .collect();
+            self.check_cancelled()?;
             let corner_vertices: Vec<usize> =
                 polys.iter().flat_map(|&i| g.prim_vertex_range(i)).collect();
+            self.check_cancelled()?;
             let _ = writeln!(self.buf, "{indent}def Mesh \"mesh\"\n{indent}{{");
             let inner = format!("{indent}    ");
             if let Some(b) = ops::bounds(g) {
@@ -323,6 +336,7 @@ pub fn write_usda(
         path,
         protos: Vec::new(),
         proto_index: HashMap::new(),
+        progress,
     };
     let _ = writeln!(
         wr.buf,

@@ -2,13 +2,55 @@
 
 use std::path::Path;
 
-use geode_io::NoProgress;
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, Registry, Value,
+    geometry_input, CookContext, CookError, ErrorKind, NodeSpec, Operator, ParamDefault as D,
+    ParamSpec as P, ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{geometry, input};
+
+/// Hands a cook's cancellation and progress to geode-io's readers and writers.
+pub(crate) struct CookProgress<'a, 'c> {
+    ctx: &'a CookContext<'c>,
+    total: std::sync::atomic::AtomicU64,
+}
+
+impl<'a, 'c> CookProgress<'a, 'c> {
+    pub fn new(ctx: &'a CookContext<'c>) -> Self {
+        CookProgress {
+            ctx,
+            total: 0.into(),
+        }
+    }
+}
+
+impl geode_io::Progress for CookProgress<'_, '_> {
+    fn start(&self, _: &str, total: u64) {
+        self.total
+            .store(total.max(1), std::sync::atomic::Ordering::Relaxed);
+    }
+    fn set(&self, done: u64) {
+        let total = self.total.load(std::sync::atomic::Ordering::Relaxed).max(1);
+        self.ctx.progress(done as f32 / total as f32);
+    }
+    fn cancelled(&self) -> bool {
+        self.ctx.cancel.is_cancelled()
+    }
+}
+
+/// A file error as a cook error of the right kind: cancelled, over the
+/// memory budget, or an I/O failure blamed on the file parameter.
+pub(crate) fn io_error(ctx: &CookContext, param: &str, e: geode_io::IoError) -> CookError {
+    match e {
+        geode_io::IoError::Cancelled { .. } => CookError::cancelled(ctx.path),
+        geode_io::IoError::TooLarge { .. } => {
+            CookError::new(ctx.path, ErrorKind::Resource, e.to_string())
+                .at_param(param)
+                .with_source(e)
+        }
+        e => ctx.io(param, e),
+    }
+}
 
 /// The content hash of a file a node reads, for its cache key; an unreadable
 /// file gets none (the cook reports the error).
@@ -31,7 +73,8 @@ impl Operator for File {
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let path = p.string("file")?;
-        let g = geode_io::read(Path::new(path), &NoProgress).map_err(|e| ctx.io("file", e))?;
+        let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
+            .map_err(|e| io_error(ctx, "file", e))?;
         geometry(g)
     }
     fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
@@ -71,7 +114,9 @@ impl Operator for Write {
             return Err(ctx.param_error("file", "names no file to write"));
         }
         ctx.check()?;
-        geode_io::write(g, Path::new(path), &NoProgress).map_err(|e| ctx.io("file", e))?;
+        let progress = CookProgress::new(ctx);
+        geode_io::write_limited(g, Path::new(path), &progress, ctx.env.memory_budget)
+            .map_err(|e| io_error(ctx, "file", e))?;
         Ok(Value::Geometry(g.clone()))
     }
 }

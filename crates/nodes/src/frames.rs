@@ -244,6 +244,15 @@ impl Operator for Sweep {
             .attrib(AttribClass::Point, "orient")
             .and_then(|a| a.as_quat());
         let (tangent, up) = (p.string("tangent")?, vec3(p, "up")?.as_dvec3());
+        let rings: f64 = cs.iter().map(|c| c.points.len() as f64).sum();
+        let sides = opts.section.len() as f64;
+        crate::util::reserve_mesh(
+            ctx,
+            "sides",
+            rings * sides,
+            4.0 * rings * sides,
+            rings * sides,
+        )?;
         let tubes: Vec<Result<Tube, CookError>> = cs
             .par_iter()
             .map(|c| {
@@ -281,13 +290,16 @@ impl Operator for Sweep {
                         radius * attr.map_or(1.0, |a| a[i as usize] as f64) * eval_ramp(&ramp, u)
                     })
                     .collect();
-                Ok(sweep(&pts, &f, &scales, c.closed, &opts))
+                let cancel = || ctx.cancel.is_cancelled();
+                sweep(&pts, &f, &scales, c.closed, &opts, &cancel)
+                    .ok_or_else(|| CookError::cancelled(ctx.path))
             })
             .collect();
         let mut all = Tube::default();
         for t in tubes {
             all.append(t?);
         }
+        ctx.check()?;
         let mut out = Geometry::from_polygons(all.positions, all.faces, &all.counts)
             .map_err(|e| ctx.kernel(e))?;
         out.set_attrib(

@@ -698,6 +698,7 @@ impl Operator for Polygonise {
         let f = field_input(ctx, inputs, 0)?;
         let mut opts = MeshOptions::new(v3(p, "min")?, v3(p, "max")?, p.int("depth")? as u32);
         opts.sharpness = p.float("sharpness")?;
+        reserve_meshing(ctx, f, &opts)?;
         let cancel = || ctx.cancel.is_cancelled();
         let progress = |x: f32| ctx.progress(x);
         match geode_frep::polygonise(f, &opts, &cancel, &progress) {
@@ -709,6 +710,25 @@ impl Operator for Polygonise {
             Err(e) => Err(ctx.kernel_at("depth", e)),
         }
     }
+}
+
+/// Refuses meshing the memory budget cannot hold, from the kernel's
+/// estimate (a coarse interval octree: milliseconds at any depth). Shallow
+/// meshes cannot reach any budget worth having and skip it.
+fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(), CookError> {
+    if opts.depth < 9 {
+        return Ok(());
+    }
+    let est = geode_frep::polygonise::estimate(f, opts).map_err(|e| ctx.kernel_at("depth", e))?;
+    ctx.reserve(
+        "depth",
+        est.bytes,
+        &format!(
+            "meshing at depth {} ({} cells with surface)",
+            opts.depth,
+            crate::util::count_text(est.surface_cells)
+        ),
+    )
 }
 
 struct Sample;

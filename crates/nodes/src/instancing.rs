@@ -7,7 +7,7 @@ use geode_op::{
     ParamType as T, Params, Registry, Value,
 };
 
-use crate::util::{geometry, input};
+use crate::util::{geometry, input, reserve_mesh};
 
 struct CopyToPoints;
 static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
@@ -38,7 +38,18 @@ impl Operator for CopyToPoints {
             piece_attrib: p.string("piece_attribute")?.to_owned(),
             variant_attrib: p.string("variant_attribute")?.to_owned(),
         };
-        let g = copy_to_points(source, template, &opts).map_err(|e| match e {
+        if !opts.packed {
+            let n = template.num_points() as f64;
+            reserve_mesh(
+                ctx,
+                "pack",
+                n * source.num_points() as f64,
+                n * source.num_vertices() as f64,
+                n * source.num_prims() as f64,
+            )?;
+        }
+        let cancel = || ctx.cancel.is_cancelled();
+        let g = copy_to_points(source, template, &opts, &cancel).map_err(|e| match e {
             geode_curve::CopyError::BadPieceAttrib(_) => ctx.kernel_at("piece_attribute", e),
             geode_curve::CopyError::BadVariantAttrib(_) => ctx.kernel_at("variant_attribute", e),
             other => ctx.kernel(other),

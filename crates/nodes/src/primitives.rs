@@ -8,7 +8,7 @@ use geode_op::{
     Params, Registry, Value,
 };
 
-use crate::util::{geometry, vec2, vec3};
+use crate::util::{geometry, reserve_mesh, vec2, vec3};
 
 const CENTER: P = P::new(
     "center",
@@ -51,6 +51,21 @@ fn div(p: &Params, name: &str) -> Result<u32, CookError> {
     Ok(p.int(name)?.clamp(1, 1 << 16) as u32)
 }
 
+/// Refuses a grid of `columns` x `rows` quads (times `copies`) that the
+/// memory budget cannot hold, blaming the larger parameter.
+fn reserve_quads(ctx: &CookContext, p: &Params, copies: f64) -> Result<(), CookError> {
+    let (c, r) = (div(p, "columns")? as f64, div(p, "rows")? as f64);
+    let param = if c >= r { "columns" } else { "rows" };
+    let quads = c * r * copies;
+    reserve_mesh(
+        ctx,
+        param,
+        (c + 1.0) * (r + 1.0) * copies,
+        4.0 * quads,
+        quads,
+    )
+}
+
 struct BoxNode;
 static BOX: NodeSpec = NodeSpec::new(
     "box",
@@ -71,6 +86,9 @@ impl Operator for BoxNode {
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
+        let [x, y, z] = d.map(f64::from);
+        let quads = 2.0 * (x * y + y * z + x * z);
+        reserve_mesh(ctx, "divisions", quads + 2.0, 4.0 * quads, quads)?;
         let size = vec3(p, "size")?;
         finish(
             ctx,
@@ -118,6 +136,7 @@ impl Operator for Sphere {
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         let radius = p.float("radius")? as f32;
+        reserve_quads(ctx, p, 1.0)?;
         let g = primitives::uv_sphere(radius, div(p, "columns")?, div(p, "rows")?);
         finish(ctx, g, p, AnalyticShape::Sphere { radius })
     }
@@ -148,7 +167,8 @@ impl Operator for Grid {
     fn spec(&self) -> &'static NodeSpec {
         &GRID
     }
-    fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        reserve_quads(ctx, p, 1.0)?;
         let size: Vec2 = vec2(p, "size")?;
         geometry(placed(
             primitives::grid(size, div(p, "columns")?, div(p, "rows")?),
@@ -198,6 +218,7 @@ impl Operator for Tube {
         &TUBE
     }
     fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+        reserve_quads(ctx, p, 1.0)?;
         let (radius, height) = (p.float("radius")? as f32, p.float("height")? as f32);
         let g = primitives::tube(
             radius,
@@ -272,6 +293,7 @@ impl Operator for Torus {
             p.float("major_radius")? as f32,
             p.float("minor_radius")? as f32,
         );
+        reserve_quads(ctx, p, 1.0)?;
         let g = primitives::torus(major, minor, div(p, "columns")?, div(p, "rows")?);
         finish(ctx, g, p, AnalyticShape::Torus { major, minor })
     }

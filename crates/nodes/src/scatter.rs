@@ -104,7 +104,8 @@ fn inside(
         return Ok(cands);
     }
     let volume = (hi - lo).as_dvec3().element_product() * share;
-    Ok(scatter::eliminate(&cands, count, volume, 3)
+    Ok(scatter::eliminate(&cands, count, volume, 3, &cancel)
+        .map_err(|e| scatter_error(ctx, e))?
         .into_iter()
         .map(|i| cands[i])
         .collect())
@@ -162,7 +163,9 @@ impl Operator for Scatter {
             scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
         if relax {
             let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
-            let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2);
+            let cancel = || ctx.cancel.is_cancelled();
+            let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2, &cancel)
+                .map_err(|e| scatter_error(ctx, e))?;
             found = keep.into_iter().map(|i| found[i]).collect();
         }
         let mut out = Geometry::new();

@@ -60,6 +60,47 @@ pub fn count(g: &Geometry, c: AttribClass) -> usize {
     }
 }
 
+/// Bytes a polygon mesh takes per point (P, N, uv and a share of the
+/// topology caches), per vertex (point index, vertex normal or uv) and per
+/// primitive (offset, kind, an attribute): measured on the primitive nodes'
+/// outputs, rounded up.
+const BYTES_PER_POINT: f64 = 48.0;
+const BYTES_PER_VERTEX: f64 = 24.0;
+const BYTES_PER_PRIM: f64 = 24.0;
+
+/// Refuses, before allocating, a mesh of about this many points, vertices
+/// and primitives that the memory budget cannot hold; `param` is the
+/// parameter that asked for it.
+pub fn reserve_mesh(
+    ctx: &CookContext,
+    param: &str,
+    points: f64,
+    vertices: f64,
+    prims: f64,
+) -> Result<(), CookError> {
+    let bytes = points * BYTES_PER_POINT + vertices * BYTES_PER_VERTEX + prims * BYTES_PER_PRIM;
+    ctx.reserve(
+        param,
+        bytes,
+        &format!(
+            "{} points and {} primitives",
+            count_text(points),
+            count_text(prims)
+        ),
+    )
+}
+
+/// `4.3 billion`, `12.5 million`, `512`: counts in error messages.
+pub fn count_text(n: f64) -> String {
+    if n >= 1e9 {
+        format!("{:.1} billion", n / 1e9)
+    } else if n >= 1e6 {
+        format!("{:.1} million", n / 1e6)
+    } else {
+        format!("{n:.0}")
+    }
+}
+
 pub fn geometry(g: Geometry) -> Result<Value, CookError> {
     Ok(Value::geometry(g))
 }

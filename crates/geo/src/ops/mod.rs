@@ -18,6 +18,6 @@ pub use instance::instance_transforms;
 pub use merge::merge;
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use transform::{transform, trs};
-pub use triangulate::{triangulate, triangulate_polygon};
-pub use unpack::unpack;
+pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};
+pub use unpack::{unpack, unpack_with, unpacked_bytes};
 pub use validate::{validate, ValidationIssue};

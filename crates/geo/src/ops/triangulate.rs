@@ -89,15 +89,28 @@ fn ear_clip(q: &[Vec2], out: &mut Vec<[u32; 3]>) {
 /// triangles that reuse the polygon's vertices, so vertex, primitive and point
 /// attributes and groups carry over. Other primitives are kept as they are.
 pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
+    triangulate_with(g, group, &|| false).expect("never cancelled")
+}
+
+/// [`triangulate`], polling `cancel` per chunk of primitives and between
+/// columns: `None` when cancelled.
+pub fn triangulate_with(
+    g: &Geometry,
+    group: Option<&Group>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Geometry> {
     const CHUNK: usize = 1 << 14;
     let p = g.positions();
     let nprims = g.num_prims();
     // Each chunk yields its vertex list and, per new primitive, (source
     // primitive, vertex count).
     type Piece = (Vec<u32>, Vec<(u32, u32)>);
-    let pieces: Vec<Piece> = (0..nprims.div_ceil(CHUNK))
+    let pieces: Option<Vec<Piece>> = (0..nprims.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
+            if cancel() {
+                return None;
+            }
             let mut verts = Vec::new();
             let mut prims = Vec::new();
             let mut tris = Vec::new();
@@ -116,9 +129,10 @@ pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
                     prims.push((prim as u32, r.len() as u32));
                 }
             }
-            (verts, prims)
+            Some((verts, prims))
         })
         .collect();
+    let pieces = pieces?;
     let vertex_src: Vec<u32> = pieces.iter().flat_map(|(v, _)| v.iter().copied()).collect();
     let prim_src: Vec<u32> = pieces
         .iter()
@@ -136,14 +150,20 @@ pub fn triangulate(g: &Geometry, group: Option<&Group>) -> Geometry {
         .iter()
         .map(|&v| g.vertex_point[v as usize])
         .collect();
+    if cancel() {
+        return None;
+    }
     out.vertices = g.vertices.gather(&vertex_src);
+    if cancel() {
+        return None;
+    }
     out.prims = g.prims.gather(&prim_src);
     out.prim_kinds = prim_src.iter().map(|&s| g.prim_kinds[s as usize]).collect();
     for grp in out.prim_groups.values_mut() {
         *grp = grp.gather(&prim_src);
     }
     out.invalidate_topology();
-    out
+    Some(out)
 }
 
 #[cfg(test)]

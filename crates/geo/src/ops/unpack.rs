@@ -1,5 +1,8 @@
 //! Expand packed instances into real geometry.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use crate::error::GeoError;
 use crate::geometry::Geometry;
 use crate::group::Group;
@@ -8,14 +11,22 @@ use crate::group::Group;
 /// (recursively: nested packs are unpacked too). The packed primitives' own
 /// points are removed when nothing else uses them.
 pub fn unpack(g: &Geometry) -> Result<Geometry, GeoError> {
+    unpack_with(g, &|| false)
+}
+
+/// [`unpack`], polling `cancel` per instance ([`GeoError::Cancelled`]).
+pub fn unpack_with(g: &Geometry, cancel: &dyn Fn() -> bool) -> Result<Geometry, GeoError> {
     let packed = g.prims_where(Geometry::is_packed);
     if packed.is_empty() {
         return Ok(g.clone());
     }
     let mut pieces = Vec::with_capacity(packed.len());
     for &prim in &packed {
+        if cancel() {
+            return Err(GeoError::Cancelled);
+        }
         let inst = g.packed_instance(prim).expect("packed primitive");
-        let mut piece = unpack(&inst.source)?;
+        let mut piece = unpack_with(&inst.source, cancel)?;
         let m = g
             .packed_world_transform(prim)
             .expect("packed primitive has a point");
@@ -41,9 +52,38 @@ pub fn unpack(g: &Geometry) -> Result<Geometry, GeoError> {
         }
     }
     super::delete_points(&mut rest, &anchors);
+    if cancel() {
+        return Err(GeoError::Cancelled);
+    }
     let mut all: Vec<&Geometry> = vec![&rest];
     all.extend(pieces.iter());
     super::merge(&all)
+}
+
+/// The bytes [`unpack`] would produce (its result and the pieces it merges,
+/// so about twice the unpacked geometry), without unpacking: sources are
+/// measured once each, however many instances share them.
+pub fn unpacked_bytes(g: &Geometry) -> f64 {
+    fn walk(g: &Geometry, memo: &mut HashMap<*const Geometry, f64>) -> f64 {
+        let mut total = g.memory_bytes() as f64;
+        for inst in g.packed_instances() {
+            let key = Arc::as_ptr(&inst.source);
+            let b = match memo.get(&key) {
+                Some(b) => *b,
+                None => {
+                    let b = walk(&inst.source, memo);
+                    memo.insert(key, b);
+                    b
+                }
+            };
+            total += b;
+        }
+        total
+    }
+    if !g.has_packed() {
+        return g.memory_bytes() as f64;
+    }
+    2.0 * walk(g, &mut HashMap::new())
 }
 
 #[cfg(test)]

@@ -242,15 +242,27 @@ pub fn subdivide(
         if cancel() {
             return Err(SubdError::Cancelled);
         }
+        let stop = || {
+            if cancel() {
+                Err(SubdError::Cancelled)
+            } else {
+                Ok(())
+            }
+        };
         let child = refine_topology_with(&level, chaikin, opts.limit || k + 1 < levels);
+        stop()?;
         let pl = plan(&level, &child, chaikin);
+        stop()?;
         positions = refine_values(&level, &child, &pl, &positions, 3);
         for c in points.iter_mut() {
+            stop()?;
             c.3 = refine_values(&level, &child, &pl, &c.3, c.2);
         }
         for c in corners.iter_mut() {
+            stop()?;
             c.2 = c.2.refine(&level, &child, &pl, mode);
         }
+        stop()?;
         prim_of = (0..level.faces.len())
             .flat_map(|f| std::iter::repeat_n(prim_of[f], level.faces.row(f).len()))
             .collect();
@@ -271,6 +283,9 @@ pub fn subdivide(
     } else {
         None
     };
+    if cancel() {
+        return Err(SubdError::Cancelled);
+    }
     // Output the non-hole faces.
     let keep: Vec<usize> = (0..level.faces.len()).filter(|&f| !level.hole[f]).collect();
     let mut flat = Vec::with_capacity(keep.len() * 4);

@@ -1,0 +1,176 @@
+//! Cancellation latency per long-running node type: each workload is
+//! cancelled mid-cook and must return `Cancelled` within 200 ms, with
+//! nothing written. Inputs are cooked first (into the cache) so the cancel
+//! lands in the node under test.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use geode_graph::{load_str, Cache, CookOptions, Engine};
+use geode_op::{CancelToken, CookEnv, ErrorKind};
+
+const LIMIT: Duration = Duration::from_millis(200);
+
+/// Cooks `inputs` then, on a thread, `/n`; cancels after `after` and returns
+/// how long the cook took to stop.
+fn cancel_latency(nodes: &str, inputs: &[&str], after: Duration, hip: &str) -> Duration {
+    let text =
+        format!(r#"{{"geode": "network", "version": 1, "output": "n", "nodes": {{{nodes}}}}}"#);
+    let net = load_str(&text, &geode_nodes::registry()).unwrap_or_else(|e| panic!("{e:?}"));
+    let cache = Arc::new(Cache::new(8 << 30));
+    let engine = Engine::new(net, &cache);
+    let env = CookEnv::default().with_hip(hip);
+    for i in inputs {
+        let mut o = CookOptions::at_frame(1.0);
+        o.env = env.clone();
+        engine.cook(i, &o).unwrap_or_else(|e| panic!("{e:?}"));
+    }
+    let cancel = CancelToken::new();
+    let mut opts = CookOptions::at_frame(1.0);
+    opts.cancel = cancel.clone();
+    opts.env = env;
+    std::thread::scope(|s| {
+        let cook = s.spawn(|| engine.cook("/n", &opts));
+        std::thread::sleep(after);
+        assert!(
+            !cook.is_finished(),
+            "the workload ended before it was cancelled: make it bigger"
+        );
+        let t0 = Instant::now();
+        cancel.cancel();
+        let r = cook.join().unwrap();
+        let dt = t0.elapsed();
+        match r {
+            Err(e) => assert_eq!(e[0].kind, ErrorKind::Cancelled, "{}", e[0]),
+            Ok(_) => panic!("finished despite the cancel"),
+        }
+        dt
+    })
+}
+
+fn check(name: &str, nodes: &str, inputs: &[&str]) {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let dt = cancel_latency(nodes, inputs, Duration::from_millis(300), hip);
+    eprintln!(
+        "{name}: stopped {:.1} ms after the cancel",
+        dt.as_secs_f64() * 1e3
+    );
+    assert!(dt < LIMIT, "{name} took {dt:?} to stop");
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "{name} left {left:?}");
+}
+
+#[test]
+fn scatter_with_relax_stops_promptly() {
+    check(
+        "scatter relax",
+        r#""s": {"type": "sphere", "params": {"rows": 32, "columns": 64}},
+           "n": {"type": "scatter", "params": {"count": 2000000, "relax": true}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+}
+
+#[test]
+fn surface_scatter_with_relax_stops_promptly() {
+    check(
+        "scatter surface relax",
+        r#""s": {"type": "sphere", "params": {"rows": 32, "columns": 64}},
+           "n": {"type": "scatter", "params": {"mode": "surface", "count": 300000, "relax": true}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+}
+
+#[test]
+fn colonization_stops_promptly() {
+    check(
+        "space_colonize",
+        r#""s": {"type": "sphere"},
+           "a": {"type": "scatter", "params": {"count": 400000}, "inputs": ["s"]},
+           "b": {"type": "curve_line", "params": {"points": 2, "end": [0, 0.01, 0]}},
+           "n": {"type": "space_colonize", "params": {"influence": 0.05, "kill": 0.01, "step": 0.002, "iterations": 100000}, "inputs": ["a", "b"]}"#,
+        &["/a", "/b"],
+    );
+}
+
+#[test]
+fn polygonise_stops_promptly() {
+    check(
+        "polygonise",
+        r#""f": {"type": "frep_torus", "params": {"major_radius": 0.6, "minor_radius": 0.3}},
+           "n": {"type": "polygonise", "params": {"depth": 10}, "inputs": ["f"]}"#,
+        &["/f"],
+    );
+}
+
+#[test]
+fn subdivide_stops_promptly() {
+    check(
+        "subdivide",
+        r#""s": {"type": "sphere", "params": {"rows": 64, "columns": 128}},
+           "n": {"type": "subdivide", "params": {"levels": 5}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+}
+
+#[test]
+fn sweep_stops_promptly() {
+    check(
+        "sweep",
+        r#""c": {"type": "curve_helix", "params": {"points": 500000, "turns": 1000}},
+           "n": {"type": "sweep", "params": {"sides": 48, "caps": false}, "inputs": ["c"]}"#,
+        &["/c"],
+    );
+}
+
+#[test]
+fn frep_sweep_meshing_stops_promptly() {
+    check(
+        "frep_sweep + polygonise",
+        r#""c": {"type": "curve_helix", "params": {"points": 400, "turns": 8}},
+           "f": {"type": "frep_sweep", "params": {"radius": 0.05}, "inputs": ["c"]},
+           "n": {"type": "polygonise", "params": {"depth": 9, "min": [-1.1, -0.1, -1.1], "max": [1.1, 4.1, 1.1]}, "inputs": ["f"]}"#,
+        &["/f"],
+    );
+}
+
+#[test]
+fn real_copies_stop_promptly() {
+    check(
+        "copy_to_points",
+        r#""s": {"type": "sphere", "params": {"rows": 32, "columns": 64}},
+           "g": {"type": "grid", "params": {"rows": 150, "columns": 150}},
+           "n": {"type": "copy_to_points", "params": {"pack": false}, "inputs": ["s", "g"]}"#,
+        &["/s", "/g"],
+    );
+}
+
+fn writer(ext: &str) {
+    check(
+        &format!("write .{ext}"),
+        &format!(
+            r#""g": {{"type": "grid", "params": {{"rows": 3000, "columns": 3000}}}},
+               "n": {{"type": "write", "params": {{"file": "$HIP/out.{ext}"}}, "inputs": ["g"]}}"#
+        ),
+        &["/g"],
+    );
+}
+
+#[test]
+fn every_writer_stops_promptly_and_writes_nothing() {
+    for ext in ["obj", "ply", "stl", "glb", "usda"] {
+        writer(ext);
+    }
+}
+
+#[test]
+fn unpacking_for_a_writer_stops_promptly() {
+    check(
+        "write .ply of packed copies",
+        r#""s": {"type": "sphere", "params": {"rows": 16, "columns": 32}},
+           "g": {"type": "grid", "params": {"rows": 600, "columns": 600}},
+           "c": {"type": "copy_to_points", "inputs": ["s", "g"]},
+           "n": {"type": "write", "params": {"file": "$HIP/out.ply"}, "inputs": ["c"]}"#,
+        &["/c"],
+    );
+}
