@@ -222,3 +222,33 @@ fn thin_tubes_through_cell_faces_stay_manifold() {
         );
     }
 }
+
+#[test]
+fn the_meshing_estimate_is_close_to_the_cells_meshed() {
+    // A sphere, a torus and a gyroid slab: curved, thin and busy surfaces.
+    let sphere = sphere([0.0; 3], 0.9);
+    let torus = torus([0.1, 0.0, 0.0], 0.6, 0.2);
+    let (x, y, z) = (Field::x(), Field::y(), Field::z());
+    let k = 6.0;
+    let gyroid = ((x.clone() * k).sin() * (y.clone() * k).cos()
+        + (y * k).sin() * (z.clone() * k).cos()
+        + (z * k).sin() * (x * k).cos())
+    .min(0.6)
+    .max(-0.6);
+    for (name, f) in [("sphere", sphere), ("torus", torus), ("gyroid", gyroid)] {
+        for depth in [7, 8] {
+            let opts = MeshOptions::new([-1.0; 3], [1.0; 3], depth);
+            let est = geode_frep::polygonise::estimate(&f, &opts).unwrap();
+            let (_, stats) = polygonise(&f, &opts, &|| false, &|_| {}).unwrap();
+            let ratio = est.surface_cells / stats.cells_with_surface as f64;
+            eprintln!(
+                "{name} depth {depth}: estimate {:.0}, meshed {}, ratio {ratio:.2}",
+                est.surface_cells, stats.cells_with_surface
+            );
+            assert!(
+                (0.8..=1.5).contains(&ratio),
+                "{name} at depth {depth}: ratio {ratio}"
+            );
+        }
+    }
+}

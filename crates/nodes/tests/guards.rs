@@ -1,0 +1,134 @@
+//! Resource guards: requests too big for memory are refused before anything
+//! is allocated, promptly, with a message naming the node, the parameter,
+//! the estimate and the budget. One test, so the process's peak memory
+//! (VmHWM) reflects these cooks alone.
+
+use std::time::{Duration, Instant};
+
+use geode_graph::{load_str, Cache, CookOptions, Engine};
+use geode_op::{CookEnv, ErrorKind};
+
+/// 8 GiB, fixed so the messages are exact on any machine.
+const BUDGET: u64 = 8 << 30;
+
+fn refused(nodes: &str, hip: &str) -> (String, Duration) {
+    let text =
+        format!(r#"{{"geode": "network", "version": 1, "output": "n", "nodes": {{{nodes}}}}}"#);
+    let net = load_str(&text, &geode_nodes::registry()).unwrap_or_else(|e| panic!("{e:?}"));
+    let cache = Cache::new(1 << 30);
+    let engine = Engine::new(net, &cache);
+    let mut opts = CookOptions::at_frame(1.0);
+    opts.env = CookEnv {
+        hip: hip.into(),
+        memory_budget: BUDGET,
+    };
+    // Inputs first: the time measured is the guarded node's.
+    for e in engine
+        .network()
+        .paths()
+        .filter(|p| *p != "/n")
+        .map(str::to_owned)
+        .collect::<Vec<_>>()
+    {
+        engine.cook(&e, &opts).unwrap_or_else(|e| panic!("{e:?}"));
+    }
+    let t = Instant::now();
+    let Err(e) = engine.cook("/n", &opts) else {
+        panic!("not refused")
+    };
+    let dt = t.elapsed();
+    assert_eq!(e.len(), 1);
+    assert_eq!(e[0].kind, ErrorKind::Resource, "{}", e[0]);
+    (e[0].to_string(), dt)
+}
+
+fn peak_rss_bytes() -> Option<u64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let kb: u64 = s
+        .lines()
+        .find(|l| l.starts_with("VmHWM:"))?
+        .split_whitespace()
+        .nth(1)?
+        .parse()
+        .ok()?;
+    Some(kb * 1024)
+}
+
+fn corpus(name: &str) -> String {
+    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/corpus/opensubdiv")
+        .join(name);
+    p.canonicalize().unwrap().to_string_lossy().into_owned()
+}
+
+#[test]
+fn oversized_requests_are_refused_promptly_with_exact_messages() {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let cases = [
+        (
+            "grid 65536 x 65536".to_string(),
+            r#""n": {"type": "grid", "params": {"rows": 65536, "columns": 65536}}"#.to_string(),
+            "/n (parameter `columns`): 4.3 billion points and 4.3 billion primitives would need about 722 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
+        ),
+        (
+            "subdivide catmark_car level 8".into(),
+            format!(
+                r#""f": {{"type": "file", "params": {{"file": "{}"}}}},
+                   "n": {{"type": "subdivide", "params": {{"levels": 8}}, "inputs": ["f"]}}"#,
+                corpus("catmark_car.obj")
+            ),
+            "/n (parameter `levels`): 103.2 million quads at level 8 would need about 41.3 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
+        ),
+        (
+            "polygonise depth 12".into(),
+            r#""s": {"type": "frep_sphere", "params": {"radius": 0.9}},
+               "n": {"type": "polygonise", "params": {"depth": 12, "min": [-1, -1, -1], "max": [1, 1, 1]}, "inputs": ["s"]}"#.into(),
+            "",
+        ),
+        (
+            "1M packed copies written to .ply".into(),
+            r#""ball": {"type": "sphere", "params": {"radius": 0.03, "rows": 51, "columns": 100}},
+               "field": {"type": "grid", "params": {"size": [100, 100], "rows": 999, "columns": 999}},
+               "copies": {"type": "copy_to_points", "inputs": ["ball", "field"]},
+               "n": {"type": "write", "params": {"file": "$HIP/million.ply"}, "inputs": ["copies"]}"#.into(),
+            "",
+        ),
+    ];
+    for (name, nodes, want) in &cases {
+        let (msg, dt) = refused(nodes, hip);
+        eprintln!("{name}: refused in {:.1} ms: {msg}", dt.as_secs_f64() * 1e3);
+        if !want.is_empty() {
+            assert_eq!(&msg, want, "{name}");
+        }
+        assert!(
+            dt < Duration::from_millis(500),
+            "{name} took {dt:?} to refuse"
+        );
+    }
+    let (poly, _) = refused(&cases[2].1, hip);
+    assert!(
+        poly.starts_with("/n (parameter `depth`): meshing at depth 12 (")
+            && poly.contains(" million cells with surface) would need about ")
+            && poly.ends_with("more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)"),
+        "{poly}"
+    );
+    let (ply, _) = refused(&cases[3].1, hip);
+    assert!(
+        ply.starts_with(&format!("/n (parameter `file`): {hip}/million.ply: unpacking 1000000 packed instances for this format would need about ")),
+        "{ply}"
+    );
+    assert!(
+        ply.ends_with("GB (GEODE_MEMORY_MB); write .glb or .usda, which keep instances"),
+        "{ply}"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "nothing written"
+    );
+    if let Some(peak) = peak_rss_bytes() {
+        eprintln!("peak resident memory: {} MB", peak >> 20);
+        assert!(peak < 1 << 30, "peak {} MB", peak >> 20);
+    }
+}
