@@ -37,7 +37,7 @@ fn examples() -> Vec<String> {
 }
 
 #[test]
-fn every_example_checks_and_cooks() {
+fn every_example_checks_and_cooks_identically_on_one_and_three_threads() {
     let dir = tempfile::tempdir().unwrap();
     assert!(examples().len() >= 2);
     for ex in examples() {
@@ -46,10 +46,20 @@ fn every_example_checks_and_cooks() {
         if ex.contains("million") {
             continue; // a million instances: see its own test
         }
-        let out = dir.path().join("out.glb");
-        let o = geode(&["cook", &ex, "-o", out.to_str().unwrap()], &[]);
-        assert!(o.status.success(), "{ex}: {}", text(&o));
-        assert!(std::fs::metadata(&out).unwrap().len() > 100, "{ex}");
+        // DESIGN.md's invariant, held by the whole library: the same network
+        // and frame give byte-identical output on any thread count.
+        let mut bytes = Vec::new();
+        for threads in ["1", "3"] {
+            let out = dir.path().join(format!("out{threads}.glb"));
+            let o = geode(
+                &["cook", &ex, "-o", out.to_str().unwrap()],
+                &[("RAYON_NUM_THREADS", threads)],
+            );
+            assert!(o.status.success(), "{ex}: {}", text(&o));
+            bytes.push(std::fs::read(&out).unwrap());
+        }
+        assert!(bytes[0].len() > 100, "{ex}");
+        assert!(bytes[0] == bytes[1], "{ex} differs between 1 and 3 threads");
     }
 }
 

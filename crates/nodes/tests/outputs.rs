@@ -119,3 +119,48 @@ fn a_write_without_a_file_or_to_a_bad_place_is_a_typed_error() {
         e[0]
     );
 }
+
+#[test]
+fn cook_errors_keep_their_kind_and_source() {
+    let kind = |nodes: &str| {
+        let text =
+            format!(r#"{{"geode": "network", "version": 1, "output": "n", "nodes": {{{nodes}}}}}"#);
+        let cache = Cache::disabled();
+        let Err(e) = engine_for(&text, &cache).cook("/n", &at(1.0, ".")) else {
+            panic!("no error")
+        };
+        (
+            e[0].kind,
+            e[0].param.clone(),
+            std::error::Error::source(&e[0]).is_some(),
+            e[0].to_string(),
+        )
+    };
+    // A parameter the node cannot use.
+    let (k, param, _, msg) = kind(r#""n": {"type": "hspline", "params": {"edits": "1 2"}}"#);
+    assert_eq!((k, param.as_deref()), (ErrorKind::Parameter, Some("edits")));
+    assert_eq!(
+        msg,
+        "/n (parameter `edits`): edit 1 `1 2`: expected `level i j dx dy dz`"
+    );
+    // An input whose content cannot be used.
+    let (k, _, _, msg) =
+        kind(r#""c": {"type": "curve_line"}, "n": {"type": "subdivide", "inputs": ["c"]}"#);
+    assert_eq!(k, ErrorKind::Input);
+    assert_eq!(
+        msg,
+        "/n: input 1: primitive 0 is not a polygon; subdivide needs a polygon mesh"
+    );
+    // A kernel's refusal keeps the kernel's error as its source.
+    let (k, _, source, msg) = kind(
+        r#""n": {"type": "hspline", "params": {"topology": "cylinder", "symmetric": true, "columns": 7, "edit_move": [0.1, 0, 0], "edit_vertex": [1, 1]}}"#,
+    );
+    assert_eq!(k, ErrorKind::Parameter, "{msg}");
+    assert!(!source);
+    let (k, param, source, _) =
+        kind(r#""n": {"type": "hspline", "params": {"edit_level": 3, "edit_move": [0.1, 0, 0]}}"#);
+    assert_eq!(
+        (k, param.as_deref(), source),
+        (ErrorKind::Kernel, Some("edits"), true)
+    );
+}
