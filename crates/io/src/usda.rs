@@ -42,20 +42,20 @@ impl Writer<'_> {
         Ok(())
     }
 
-    fn array<T>(
+    fn array<T, I: std::borrow::Borrow<T>>(
         &mut self,
         indent: &str,
         decl: &str,
-        items: &[T],
+        items: impl IntoIterator<Item = I>,
         fmt: impl Fn(&mut String, &T),
         meta: &str,
     ) -> Result<(), IoError> {
         let _ = write!(self.buf, "{indent}{decl} = [");
-        for (i, it) in items.iter().enumerate() {
+        for (i, it) in items.into_iter().enumerate() {
             if i > 0 {
                 self.buf.push_str(", ");
             }
-            fmt(&mut self.buf, it);
+            fmt(&mut self.buf, it.borrow());
             if i % 4096 == 4095 {
                 self.check_cancelled()?;
                 self.flush_if_big()?;
@@ -87,18 +87,11 @@ impl Writer<'_> {
         let p = g.positions();
         let polys: Vec<usize> = g.prims_where(|k| k == PrimKind::Polygon);
         if !polys.is_empty() {
-            let counts: Vec<u32> = polys
-                .iter()
-                .map(|&i| g.prim_vertex_range(i).len() as u32)
-                .collect();
-            let indices: Vec<u32> = polys
-                .iter()
-                .flat_map(|&i| g.prim_points(i).iter().copied())
-                .collect();
-            self.check_cancelled()?;
-            let corner_vertices: Vec<usize> =
-                polys.iter().flat_map(|&i| g.prim_vertex_range(i)).collect();
-            self.check_cancelled()?;
+            // Streamed, never collected: a mesh of millions of faces is
+            // formatted as it is walked, and a cancel is seen within 4096 items.
+            let counts = polys.iter().map(|&i| g.prim_vertex_range(i).len() as u32);
+            let indices = polys.iter().flat_map(|&i| g.prim_points(i).iter().copied());
+            let corner_vertices = || polys.iter().flat_map(|&i| g.prim_vertex_range(i));
             let _ = writeln!(self.buf, "{indent}def Mesh \"mesh\"\n{indent}{{");
             let inner = format!("{indent}    ");
             if let Some(b) = ops::bounds(g) {
@@ -111,7 +104,7 @@ impl Writer<'_> {
             self.array(
                 &inner,
                 "int[] faceVertexCounts",
-                &counts,
+                counts,
                 |s, c| {
                     let _ = write!(s, "{c}");
                 },
@@ -120,7 +113,7 @@ impl Writer<'_> {
             self.array(
                 &inner,
                 "int[] faceVertexIndices",
-                &indices,
+                indices,
                 |s, c| {
                     let _ = write!(s, "{c}");
                 },
@@ -138,11 +131,10 @@ impl Writer<'_> {
                     .attrib(AttribClass::Vertex, name)
                     .and_then(|a| a.as_vec3())
                 {
-                    let vals: Vec<Vec3> = corner_vertices
-                        .iter()
-                        .map(|&c| if norm { v[c].normalize_or_zero() } else { v[c] })
-                        .collect();
-                    self.array(&inner, decl, &vals, v3, "interpolation = \"faceVarying\"")?;
+                    let vals =
+                        corner_vertices()
+                            .map(|c| if norm { v[c].normalize_or_zero() } else { v[c] });
+                    self.array(&inner, decl, vals, v3, "interpolation = \"faceVarying\"")?;
                 } else if let Some(v) = g.attrib(AttribClass::Point, name).and_then(|a| a.as_vec3())
                 {
                     self.array(&inner, decl, v, v3, "interpolation = \"vertex\"")?;
@@ -156,11 +148,11 @@ impl Writer<'_> {
                 .attrib(AttribClass::Vertex, "uv")
                 .and_then(|a| a.as_vec2())
             {
-                let vals: Vec<_> = corner_vertices.iter().map(|&c| v[c]).collect();
+                let vals = corner_vertices().map(|c| v[c]);
                 self.array(
                     &inner,
                     "texCoord2f[] primvars:st",
-                    &vals,
+                    vals,
                     v2,
                     "interpolation = \"faceVarying\"",
                 )?;
@@ -195,7 +187,7 @@ impl Writer<'_> {
                 &inner,
                 "int[] curveVertexCounts",
                 &counts,
-                |s, c| {
+                |s, c: &u32| {
                     let _ = write!(s, "{c}");
                 },
                 "",
@@ -204,7 +196,7 @@ impl Writer<'_> {
                 &inner,
                 "point3f[] points",
                 &pts,
-                |s, v| {
+                |s, v: &Vec3| {
                     let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
                 },
                 "",
@@ -267,7 +259,7 @@ impl Writer<'_> {
                     &inner,
                     &format!("double[] {side}Knots"),
                     &b.knots,
-                    |s, x| {
+                    |s, x: &f64| {
                         let _ = write!(s, "{x}");
                     },
                     "",
@@ -277,8 +269,8 @@ impl Writer<'_> {
                 &inner,
                 "point3f[] points",
                 &order,
-                |s, &i| {
-                    let v = p[i as usize];
+                |s, i: &u32| {
+                    let v = p[*i as usize];
                     let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
                 },
                 "",
@@ -288,8 +280,8 @@ impl Writer<'_> {
                     &inner,
                     "double[] pointWeights",
                     &order,
-                    |s, &i| {
-                        let _ = write!(s, "{}", w[i as usize]);
+                    |s, i: &u32| {
+                        let _ = write!(s, "{}", w[*i as usize]);
                     },
                     "",
                 )?;

@@ -7,8 +7,8 @@
 
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, StringColumn, TypeInfo};
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, PortType, Registry, Value,
+    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
+    Params, PortType, Registry, Value,
 };
 use geode_spline::hspline::attach::{attach, Attached, Limb, Region};
 use geode_spline::hspline::{file, Hspline};
@@ -95,7 +95,6 @@ fn parse_regions(text: &str) -> Result<Vec<Region>, String> {
         .collect()
 }
 
-struct Attach;
 static ATTACH: NodeSpec = NodeSpec::new(
     "attach",
     "Attach Limbs",
@@ -114,55 +113,48 @@ static ATTACH: NodeSpec = NodeSpec::new(
 )
 .variadic();
 
-impl Operator for Attach {
-    fn spec(&self) -> &'static NodeSpec {
-        &ATTACH
+fn cook_attach(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let parent = hierarchy(ctx, crate::util::input(ctx, inputs, 0)?, "parent")?;
+    let regions = parse_regions(p.string("regions")?).map_err(|e| ctx.param_error("regions", e))?;
+    let limb_inputs: Vec<_> = inputs.iter().skip(1).flatten().collect();
+    if regions.len() != limb_inputs.len() {
+        return Err(ctx.param_error(
+            "regions",
+            format!(
+                "{} regions for {} limb inputs",
+                regions.len(),
+                limb_inputs.len()
+            ),
+        ));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let parent = hierarchy(ctx, crate::util::input(ctx, inputs, 0)?, "parent")?;
-        let regions =
-            parse_regions(p.string("regions")?).map_err(|e| ctx.param_error("regions", e))?;
-        let limb_inputs: Vec<_> = inputs.iter().skip(1).flatten().collect();
-        if regions.len() != limb_inputs.len() {
-            return Err(ctx.param_error(
-                "regions",
-                format!(
-                    "{} regions for {} limb inputs",
-                    regions.len(),
-                    limb_inputs.len()
-                ),
-            ));
-        }
-        let mut limbs = Vec::with_capacity(regions.len());
-        for (k, (value, region)) in limb_inputs.iter().zip(regions).enumerate() {
-            let g = value
-                .as_geometry()
-                .ok_or_else(|| ctx.input_error(format!("limb {k} needs geometry")))?;
-            limbs.push(Limb {
-                surface: hierarchy(ctx, g, &format!("limb {k}"))?,
-                region,
-            });
-        }
-        ctx.check()?;
-        let a = attach(
-            &parent,
-            &limbs,
-            p.toggle("place")?,
-            p.int("subdivisions")? as usize,
-        )
-        .map_err(|e| ctx.kernel_at("regions", e))?;
-        let g = if p.string("output")? == "control_mesh" {
-            cage(&a)
-        } else {
-            surface(&a)
-        };
-        geometry(g.map_err(|e| ctx.kernel(e))?)
+    let mut limbs = Vec::with_capacity(regions.len());
+    for (k, (value, region)) in limb_inputs.iter().zip(regions).enumerate() {
+        let g = value
+            .as_geometry()
+            .ok_or_else(|| ctx.input_error(format!("limb {k} needs geometry")))?;
+        limbs.push(Limb {
+            surface: hierarchy(ctx, g, &format!("limb {k}"))?,
+            region,
+        });
     }
+    ctx.check()?;
+    let a = attach(
+        &parent,
+        &limbs,
+        p.toggle("place")?,
+        p.int("subdivisions")? as usize,
+    )
+    .map_err(|e| ctx.kernel_at("regions", e))?;
+    let g = if p.string("output")? == "control_mesh" {
+        cage(&a)
+    } else {
+        surface(&a)
+    };
+    geometry(g.map_err(|e| ctx.kernel(e))?)
 }
 
 fn cage(a: &Attached) -> Result<Geometry, GeoError> {
@@ -209,5 +201,5 @@ fn surface(a: &Attached) -> Result<Geometry, GeoError> {
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Attach);
+    r.node(&ATTACH, cook_attach);
 }

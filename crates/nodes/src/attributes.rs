@@ -3,7 +3,7 @@
 use geode_geo::glam::{Vec2, Vec3, Vec4};
 use geode_geo::{AttribData, AttribValue, Attribute, TypeInfo};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
@@ -23,7 +23,6 @@ fn check_name(ctx: &CookContext, name: &str) -> Result<(), CookError> {
     Ok(())
 }
 
-struct Create;
 static CREATE: NodeSpec = NodeSpec::new(
     "attribute_create",
     "Attribute Create",
@@ -55,47 +54,40 @@ static CREATE: NodeSpec = NodeSpec::new(
         ),
     ],
 );
-impl Operator for Create {
-    fn spec(&self) -> &'static NodeSpec {
-        &CREATE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let name = p.string("name")?;
-        check_name(ctx, name)?;
-        let c = class(p, "class")?;
-        let v = p.vector::<4>("value")?.map(|x| x as f32);
-        let (value, info) = match p.string("type")? {
-            "float" => (AttribValue::Float(v[0]), TypeInfo::None),
-            "int" => (AttribValue::Int(v[0].round() as i32), TypeInfo::None),
-            "vector2" => (AttribValue::Vec2(Vec2::new(v[0], v[1])), TypeInfo::None),
-            "vector4" => (AttribValue::Vec4(Vec4::from_array(v)), TypeInfo::None),
-            "color" => (
-                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
-                TypeInfo::Color,
-            ),
-            "normal" => (
-                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
-                TypeInfo::Normal,
-            ),
-            _ => (
-                AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
-                TypeInfo::Vector,
-            ),
-        };
-        let n = count(&g, c);
-        g.set_attrib(c, name, Attribute::new(value, info, n))
-            .map_err(|e| ctx.kernel_at("name", e))?;
-        geometry(g)
-    }
+fn cook_create(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let name = p.string("name")?;
+    check_name(ctx, name)?;
+    let c = class(p, "class")?;
+    let v = p.vector::<4>("value")?.map(|x| x as f32);
+    let (value, info) = match p.string("type")? {
+        "float" => (AttribValue::Float(v[0]), TypeInfo::None),
+        "int" => (AttribValue::Int(v[0].round() as i32), TypeInfo::None),
+        "vector2" => (AttribValue::Vec2(Vec2::new(v[0], v[1])), TypeInfo::None),
+        "vector4" => (AttribValue::Vec4(Vec4::from_array(v)), TypeInfo::None),
+        "color" => (
+            AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+            TypeInfo::Color,
+        ),
+        "normal" => (
+            AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+            TypeInfo::Normal,
+        ),
+        _ => (
+            AttribValue::Vec3(Vec3::new(v[0], v[1], v[2])),
+            TypeInfo::Vector,
+        ),
+    };
+    let n = count(&g, c);
+    g.set_attrib(c, name, Attribute::new(value, info, n))
+        .map_err(|e| ctx.kernel_at("name", e))?;
+    geometry(g)
 }
 
-struct Randomize;
 static RANDOMIZE: NodeSpec = NodeSpec::new(
     "attribute_randomize",
     "Attribute Randomize",
@@ -111,49 +103,43 @@ static RANDOMIZE: NodeSpec = NodeSpec::new(
         P::new("seed", "Seed", T::Int, D::Int(0), "Random seed."),
     ],
 );
-impl Operator for Randomize {
-    fn spec(&self) -> &'static NodeSpec {
-        &RANDOMIZE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let name = p.string("name")?;
-        check_name(ctx, name)?;
-        let c = class(p, "class")?;
-        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
-        let seed = p.int("seed")? as u64;
-        let n = count(&g, c) as u64;
-        let r = |e: u64, k: u64| geode_geo::random::unit(seed, e, k);
-        let (data, info) = match p.string("type")? {
-            "float" => (
-                AttribData::Float((0..n).map(|e| lo.x + (hi.x - lo.x) * r(e, 0)).collect()),
-                TypeInfo::None,
+fn cook_randomize(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let name = p.string("name")?;
+    check_name(ctx, name)?;
+    let c = class(p, "class")?;
+    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+    let seed = p.int("seed")? as u64;
+    let n = count(&g, c) as u64;
+    let r = |e: u64, k: u64| geode_geo::random::unit(seed, e, k);
+    let (data, info) = match p.string("type")? {
+        "float" => (
+            AttribData::Float((0..n).map(|e| lo.x + (hi.x - lo.x) * r(e, 0)).collect()),
+            TypeInfo::None,
+        ),
+        ty => (
+            AttribData::Vec3(
+                (0..n)
+                    .map(|e| lo + (hi - lo) * Vec3::new(r(e, 0), r(e, 1), r(e, 2)))
+                    .collect(),
             ),
-            ty => (
-                AttribData::Vec3(
-                    (0..n)
-                        .map(|e| lo + (hi - lo) * Vec3::new(r(e, 0), r(e, 1), r(e, 2)))
-                        .collect(),
-                ),
-                if ty == "color" {
-                    TypeInfo::Color
-                } else {
-                    TypeInfo::Vector
-                },
-            ),
-        };
-        g.set_attrib(c, name, Attribute::from_data(data, info))
-            .map_err(|e| ctx.kernel_at("name", e))?;
-        geometry(g)
-    }
+            if ty == "color" {
+                TypeInfo::Color
+            } else {
+                TypeInfo::Vector
+            },
+        ),
+    };
+    g.set_attrib(c, name, Attribute::from_data(data, info))
+        .map_err(|e| ctx.kernel_at("name", e))?;
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Create);
-    r.add(Randomize);
+    r.node(&CREATE, cook_create);
+    r.node(&RANDOMIZE, cook_randomize);
 }

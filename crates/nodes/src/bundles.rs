@@ -3,8 +3,8 @@
 use std::sync::Arc;
 
 use geode_op::{
-    Bundle, CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D,
-    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
+    Bundle, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
 };
 
 use crate::util::input;
@@ -20,7 +20,6 @@ fn bundle_input<'a>(
         .ok_or_else(|| ctx.input_error("input 1 needs a bundle"))
 }
 
-struct Pack;
 static PACK: NodeSpec = NodeSpec::new(
     "bundle_pack",
     "Bundle Pack",
@@ -31,39 +30,28 @@ static PACK: NodeSpec = NodeSpec::new(
 )
 .variadic()
 .output(PortType::Bundle);
-impl Operator for Pack {
-    fn spec(&self) -> &'static NodeSpec {
-        &PACK
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let names: Vec<&str> = p
-            .string("names")?
-            .split(',')
-            .map(str::trim)
-            .filter(|s| !s.is_empty())
-            .collect();
-        let mut b = Bundle::default();
-        for (i, v) in inputs.iter().enumerate() {
-            let Some(g) = v.as_ref().and_then(|v| v.as_geometry()) else {
-                continue;
-            };
-            let name = names
-                .get(i)
-                .map_or_else(|| format!("input{}", i + 1), |s| s.to_string());
-            if b.entries.insert(name.clone(), Arc::clone(g)).is_some() {
-                return Err(ctx.param_error("names", format!("`{name}` is used twice")));
-            }
+fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let names: Vec<&str> = p
+        .string("names")?
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .collect();
+    let mut b = Bundle::default();
+    for (i, v) in inputs.iter().enumerate() {
+        let Some(g) = v.as_ref().and_then(|v| v.as_geometry()) else {
+            continue;
+        };
+        let name = names
+            .get(i)
+            .map_or_else(|| format!("input{}", i + 1), |s| s.to_string());
+        if b.entries.insert(name.clone(), Arc::clone(g)).is_some() {
+            return Err(ctx.param_error("names", format!("`{name}` is used twice")));
         }
-        Ok(Value::Bundle(Arc::new(b)))
     }
+    Ok(Value::Bundle(Arc::new(b)))
 }
 
-struct Add;
 static ADD: NodeSpec = NodeSpec::new(
     "bundle_add",
     "Bundle Add",
@@ -90,26 +78,15 @@ static ADD: NodeSpec = NodeSpec::new(
     )],
 )
 .output(PortType::Bundle);
-impl Operator for Add {
-    fn spec(&self) -> &'static NodeSpec {
-        &ADD
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut b = Bundle::clone(bundle_input(ctx, inputs)?);
-        b.entries.insert(
-            p.string("name")?.to_owned(),
-            Arc::clone(input(ctx, inputs, 1)?),
-        );
-        Ok(Value::Bundle(Arc::new(b)))
-    }
+fn cook_add(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let mut b = Bundle::clone(bundle_input(ctx, inputs)?);
+    b.entries.insert(
+        p.string("name")?.to_owned(),
+        Arc::clone(input(ctx, inputs, 1)?),
+    );
+    Ok(Value::Bundle(Arc::new(b)))
 }
 
-struct Extract;
 static EXTRACT: NodeSpec = NodeSpec::new(
     "bundle_extract",
     "Bundle Extract",
@@ -128,33 +105,27 @@ static EXTRACT: NodeSpec = NodeSpec::new(
         "Name of the entry.",
     )],
 );
-impl Operator for Extract {
-    fn spec(&self) -> &'static NodeSpec {
-        &EXTRACT
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let b = bundle_input(ctx, inputs)?;
-        let name = p.string("name")?;
-        b.entries
-            .get(name)
-            .map(|g| Value::Geometry(Arc::clone(g)))
-            .ok_or_else(|| {
-                let known: Vec<&str> = b.entries.keys().map(|k| k.as_str()).collect();
-                ctx.param_error(
-                    "name",
-                    format!("the bundle has no `{name}` (it has: {})", known.join(", ")),
-                )
-            })
-    }
+fn cook_extract(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let b = bundle_input(ctx, inputs)?;
+    let name = p.string("name")?;
+    b.entries
+        .get(name)
+        .map(|g| Value::Geometry(Arc::clone(g)))
+        .ok_or_else(|| {
+            let known: Vec<&str> = b.entries.keys().map(|k| k.as_str()).collect();
+            ctx.param_error(
+                "name",
+                format!("the bundle has no `{name}` (it has: {})", known.join(", ")),
+            )
+        })
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Pack);
-    r.add(Add);
-    r.add(Extract);
+    r.node(&PACK, cook_pack);
+    r.node(&ADD, cook_add);
+    r.node(&EXTRACT, cook_extract);
 }

@@ -7,7 +7,7 @@ use geode_curve::resample::{self, Sample};
 use geode_curve::{curves, rebuild, Curve, CurveOut};
 use geode_geo::{ops, Geometry};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
@@ -52,7 +52,6 @@ fn rebuild_curves(
     geometry(rebuild(g, &outs).map_err(|e| ctx.kernel(e))?)
 }
 
-struct Resample;
 static RESAMPLE: NodeSpec = NodeSpec::new(
     "resample",
     "Resample",
@@ -65,31 +64,24 @@ static RESAMPLE: NodeSpec = NodeSpec::new(
         P::new("count", "Count", T::Int, D::Int(20), "Points per curve.").range(2.0, 16_777_216.0),
     ],
 );
-impl Operator for Resample {
-    fn spec(&self) -> &'static NodeSpec {
-        &RESAMPLE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let by_count = p.string("mode")? == "count";
-        let (length, count) = (p.float("length")?, p.int("count")? as usize);
-        rebuild_curves(ctx, g, |c, pts| {
-            let s = if by_count {
-                resample::resample_by_count(pts, c.closed, count)
-            } else {
-                resample::resample_by_length(pts, c.closed, length)
-            };
-            (s, c.closed)
-        })
-    }
+fn cook_resample(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let by_count = p.string("mode")? == "count";
+    let (length, count) = (p.float("length")?, p.int("count")? as usize);
+    rebuild_curves(ctx, g, |c, pts| {
+        let s = if by_count {
+            resample::resample_by_count(pts, c.closed, count)
+        } else {
+            resample::resample_by_length(pts, c.closed, length)
+        };
+        (s, c.closed)
+    })
 }
 
-struct Carve;
 static CARVE: NodeSpec = NodeSpec::new(
     "carve",
     "Carve",
@@ -101,31 +93,20 @@ static CARVE: NodeSpec = NodeSpec::new(
         P::new("to", "To", T::Float, D::Float(1.0), "End, as a fraction of the length.").range(0.0, 1.0),
     ],
 );
-impl Operator for Carve {
-    fn spec(&self) -> &'static NodeSpec {
-        &CARVE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let (from, to) = (p.float("from")?, p.float("to")?);
-        rebuild_curves(ctx, g, |c, pts| {
-            // A loop opens at its first point: that point again at the end
-            // (its last segment is the closing one, which `ends` wraps to 0).
-            let opened = c.closed.then(|| [pts, &pts[..1]].concat());
-            (
-                resample::carve(opened.as_deref().unwrap_or(pts), from, to),
-                false,
-            )
-        })
-    }
+fn cook_carve(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let (from, to) = (p.float("from")?, p.float("to")?);
+    rebuild_curves(ctx, g, |c, pts| {
+        // A loop opens at its first point: that point again at the end
+        // (its last segment is the closing one, which `ends` wraps to 0).
+        let opened = c.closed.then(|| [pts, &pts[..1]].concat());
+        (
+            resample::carve(opened.as_deref().unwrap_or(pts), from, to),
+            false,
+        )
+    })
 }
 
-struct Smooth;
 static SMOOTH: NodeSpec = NodeSpec::new(
     "curve_smooth",
     "Smooth Curve",
@@ -137,31 +118,24 @@ static SMOOTH: NodeSpec = NodeSpec::new(
         P::new("iterations", "Iterations", T::Int, D::Int(10), "Passes.").range(0.0, 100_000.0),
     ],
 );
-impl Operator for Smooth {
-    fn spec(&self) -> &'static NodeSpec {
-        &SMOOTH
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let (strength, iterations) = (p.float("strength")?, p.int("iterations")? as usize);
-        for c in curves(&g) {
-            ctx.check()?;
-            let smoothed = resample::smooth(&positions(&g, &c), c.closed, strength, iterations);
-            let pos = g.positions_mut();
-            for (&i, q) in c.points.iter().zip(smoothed) {
-                pos[i as usize] = q.as_vec3();
-            }
+fn cook_smooth(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let (strength, iterations) = (p.float("strength")?, p.int("iterations")? as usize);
+    for c in curves(&g) {
+        ctx.check()?;
+        let smoothed = resample::smooth(&positions(&g, &c), c.closed, strength, iterations);
+        let pos = g.positions_mut();
+        for (&i, q) in c.points.iter().zip(smoothed) {
+            pos[i as usize] = q.as_vec3();
         }
-        geometry(g)
     }
+    geometry(g)
 }
 
-struct Reverse;
 static REVERSE: NodeSpec = NodeSpec::new(
     "reverse",
     "Reverse",
@@ -170,23 +144,16 @@ static REVERSE: NodeSpec = NodeSpec::new(
     &[geometry_input("geometry")],
     &[],
 );
-impl Operator for Reverse {
-    fn spec(&self) -> &'static NodeSpec {
-        &REVERSE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        ops::reverse_prims(&mut g, None);
-        geometry(g)
-    }
+fn cook_reverse(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    _: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    ops::reverse_prims(&mut g, None);
+    geometry(g)
 }
 
-struct Join;
 static JOIN: NodeSpec = NodeSpec::new(
     "join",
     "Join Curves",
@@ -195,50 +162,40 @@ static JOIN: NodeSpec = NodeSpec::new(
     &[geometry_input("curves")],
     &[P::new("close", "Close", T::Toggle, D::Toggle(false), "Close the joined curve.")],
 );
-impl Operator for Join {
-    fn spec(&self) -> &'static NodeSpec {
-        &JOIN
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let open: Vec<Curve> = curves(g).into_iter().filter(|c| !c.closed).collect();
-        let Some(first) = open.first() else {
-            return Err(ctx.input_error("input 1 has no open curves to join"));
-        };
-        let pos = g.positions();
-        let mut points: Vec<(u32, u32, f32)> = Vec::new();
-        for c in &open {
-            for &i in &c.points {
-                let repeat = points
-                    .last()
-                    .is_some_and(|&(j, _, _)| pos[j as usize] == pos[i as usize]);
-                if !repeat {
-                    points.push((i, i, 0.0));
-                }
+fn cook_join(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let open: Vec<Curve> = curves(g).into_iter().filter(|c| !c.closed).collect();
+    let Some(first) = open.first() else {
+        return Err(ctx.input_error("input 1 has no open curves to join"));
+    };
+    let pos = g.positions();
+    let mut points: Vec<(u32, u32, f32)> = Vec::new();
+    for c in &open {
+        for &i in &c.points {
+            let repeat = points
+                .last()
+                .is_some_and(|&(j, _, _)| pos[j as usize] == pos[i as usize]);
+            if !repeat {
+                points.push((i, i, 0.0));
             }
         }
-        let closed = p.toggle("close")?;
-        let out = CurveOut {
-            prim: first.prim,
-            closed,
-            points,
-        };
-        if out.points.len() < if closed { 3 } else { 2 } {
-            return Err(ctx.input_error("the joined curve has too few distinct points"));
-        }
-        geometry(rebuild(g, &[out]).map_err(|e| ctx.kernel(e))?)
     }
+    let closed = p.toggle("close")?;
+    let out = CurveOut {
+        prim: first.prim,
+        closed,
+        points,
+    };
+    if out.points.len() < if closed { 3 } else { 2 } {
+        return Err(ctx.input_error("the joined curve has too few distinct points"));
+    }
+    geometry(rebuild(g, &[out]).map_err(|e| ctx.kernel(e))?)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Resample);
-    r.add(Carve);
-    r.add(Smooth);
-    r.add(Reverse);
-    r.add(Join);
+    r.node(&RESAMPLE, cook_resample);
+    r.node(&CARVE, cook_carve);
+    r.node(&SMOOTH, cook_smooth);
+    r.node(&REVERSE, cook_reverse);
+    r.node(&JOIN, cook_join);
 }

@@ -8,7 +8,7 @@ use geode_curve::shapes::{self, Sampled};
 use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
@@ -63,7 +63,6 @@ const CENTER: P = P::new(
     "Offset of the whole curve.",
 );
 
-struct Line;
 static LINE: NodeSpec = NodeSpec::new(
     "curve_line",
     "Line",
@@ -83,17 +82,11 @@ static LINE: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
-impl Operator for Line {
-    fn spec(&self) -> &'static NodeSpec {
-        &LINE
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let (a, b) = (vec3(p, "start")?.as_dvec3(), vec3(p, "end")?.as_dvec3());
-        finish(ctx, shapes::line(a, b, count(p, "points")?), p)
-    }
+fn cook_line(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (a, b) = (vec3(p, "start")?.as_dvec3(), vec3(p, "end")?.as_dvec3());
+    finish(ctx, shapes::line(a, b, count(p, "points")?), p)
 }
 
-struct Circle;
 static CIRCLE: NodeSpec = NodeSpec::new(
     "curve_circle",
     "Circle",
@@ -108,30 +101,24 @@ static CIRCLE: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
-impl Operator for Circle {
-    fn spec(&self) -> &'static NodeSpec {
-        &CIRCLE
+fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (a, b) = (
+        p.float("start_angle")?.to_radians(),
+        p.float("end_angle")?.to_radians(),
+    );
+    if a == b {
+        return Err(ctx.param_error(
+            "end_angle",
+            "the arc has no extent (start and end angles are equal)",
+        ));
     }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let (a, b) = (
-            p.float("start_angle")?.to_radians(),
-            p.float("end_angle")?.to_radians(),
-        );
-        if a == b {
-            return Err(ctx.param_error(
-                "end_angle",
-                "the arc has no extent (start and end angles are equal)",
-            ));
-        }
-        finish(
-            ctx,
-            shapes::arc(p.float("radius")?, a, b, count(p, "points")?),
-            p,
-        )
-    }
+    finish(
+        ctx,
+        shapes::arc(p.float("radius")?, a, b, count(p, "points")?),
+        p,
+    )
 }
 
-struct Helix;
 static HELIX: NodeSpec = NodeSpec::new(
     "curve_helix",
     "Helix",
@@ -153,22 +140,16 @@ static HELIX: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
-impl Operator for Helix {
-    fn spec(&self) -> &'static NodeSpec {
-        &HELIX
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let c = shapes::helix(
-            p.float("radius")?,
-            p.float("pitch")?,
-            p.float("turns")?,
-            count(p, "points")?,
-        );
-        finish(ctx, c, p)
-    }
+fn cook_helix(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let c = shapes::helix(
+        p.float("radius")?,
+        p.float("pitch")?,
+        p.float("turns")?,
+        count(p, "points")?,
+    );
+    finish(ctx, c, p)
 }
 
-struct Knot;
 static KNOT: NodeSpec = NodeSpec::new(
     "curve_knot",
     "Torus Knot",
@@ -184,23 +165,17 @@ static KNOT: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
-impl Operator for Knot {
-    fn spec(&self) -> &'static NodeSpec {
-        &KNOT
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let c = shapes::torus_knot(
-            p.int("p")? as u32,
-            p.int("q")? as u32,
-            p.float("major_radius")?,
-            p.float("minor_radius")?,
-            count(p, "points")?,
-        );
-        finish(ctx, c, p)
-    }
+fn cook_knot(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let c = shapes::torus_knot(
+        p.int("p")? as u32,
+        p.int("q")? as u32,
+        p.float("major_radius")?,
+        p.float("minor_radius")?,
+        count(p, "points")?,
+    );
+    finish(ctx, c, p)
 }
 
-struct Interpolate;
 static INTERPOLATE: NodeSpec = NodeSpec::new(
     "curve_interpolate",
     "Curve Through Points",
@@ -214,68 +189,62 @@ static INTERPOLATE: NodeSpec = NodeSpec::new(
         P::new("alpha", "Catmull-Rom alpha", T::Float, D::Float(0.5), "0 uniform, 0.5 centripetal (no cusps or loops), 1 chordal.").range(0.0, 1.0),
     ],
 );
-impl Operator for Interpolate {
-    fn spec(&self) -> &'static NodeSpec {
-        &INTERPOLATE
+fn cook_interpolate(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let pos = g.positions();
+    let mut sources: Vec<(Vec<DVec3>, bool)> = geode_curve::curves(g)
+        .into_iter()
+        .map(|c| {
+            (
+                c.points
+                    .iter()
+                    .map(|&i| pos[i as usize].as_dvec3())
+                    .collect(),
+                c.closed,
+            )
+        })
+        .collect();
+    if sources.is_empty() {
+        sources.push((
+            pos.iter().map(|p| p.as_dvec3()).collect(),
+            p.toggle("closed")?,
+        ));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let pos = g.positions();
-        let mut sources: Vec<(Vec<DVec3>, bool)> = geode_curve::curves(g)
-            .into_iter()
-            .map(|c| {
-                (
-                    c.points
-                        .iter()
-                        .map(|&i| pos[i as usize].as_dvec3())
-                        .collect(),
-                    c.closed,
-                )
-            })
-            .collect();
-        if sources.is_empty() {
-            sources.push((
-                pos.iter().map(|p| p.as_dvec3()).collect(),
-                p.toggle("closed")?,
-            ));
+    let per = p.int("samples")? as usize;
+    let alpha = p.float("alpha")?;
+    let method = p.string("method")?;
+    let mut out = Vec::new();
+    for (pts, closed) in sources {
+        if pts.len() < 2 {
+            continue;
         }
-        let per = p.int("samples")? as usize;
-        let alpha = p.float("alpha")?;
-        let method = p.string("method")?;
-        let mut out = Vec::new();
-        for (pts, closed) in sources {
-            if pts.len() < 2 {
-                continue;
-            }
-            out.push(match method {
-                "polyline" => {
-                    let t = geode_curve::tangents(&pts, closed, geode_curve::TangentMode::Central);
-                    Sampled {
-                        points: pts,
-                        tangents: t,
-                        closed,
-                    }
+        out.push(match method {
+            "polyline" => {
+                let t = geode_curve::tangents(&pts, closed, geode_curve::TangentMode::Central);
+                Sampled {
+                    points: pts,
+                    tangents: t,
+                    closed,
                 }
-                "bspline" => shapes::bspline(&pts, closed, per),
-                _ => shapes::catmull_rom(&pts, closed, per, alpha),
-            });
-        }
-        if out.is_empty() {
-            return Err(ctx.input_error("input 1 has fewer than 2 points to pass a curve through"));
-        }
-        geometry(curves_geometry(&out, Vec3::ZERO).map_err(|e| ctx.kernel(e))?)
+            }
+            "bspline" => shapes::bspline(&pts, closed, per),
+            _ => shapes::catmull_rom(&pts, closed, per, alpha),
+        });
     }
+    if out.is_empty() {
+        return Err(ctx.input_error("input 1 has fewer than 2 points to pass a curve through"));
+    }
+    geometry(curves_geometry(&out, Vec3::ZERO).map_err(|e| ctx.kernel(e))?)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Line);
-    r.add(Circle);
-    r.add(Helix);
-    r.add(Knot);
-    r.add(Interpolate);
+    r.node(&LINE, cook_line);
+    r.node(&CIRCLE, cook_circle);
+    r.node(&HELIX, cook_helix);
+    r.node(&KNOT, cook_knot);
+    r.node(&INTERPOLATE, cook_interpolate);
 }

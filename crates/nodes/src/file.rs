@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use geode_op::{
-    geometry_input, CookContext, CookError, ErrorKind, NodeSpec, Operator, ParamDefault as D,
+    geometry_input, CookContext, CookError, ErrorKind, FnOperator, NodeSpec, ParamDefault as D,
     ParamSpec as P, ParamType as T, Params, Registry, Value,
 };
 
@@ -58,7 +58,6 @@ pub(crate) fn content_key(path: &str) -> Option<u128> {
     std::fs::read(path).ok().map(|b| geode_geo::hash_bytes(&b))
 }
 
-struct File;
 static FILE: NodeSpec = NodeSpec::new(
     "file",
     "File",
@@ -67,22 +66,17 @@ static FILE: NodeSpec = NodeSpec::new(
     &[],
     &[P::new("file", "File", T::File, D::Str(""), "Path of the file to read.")],
 );
-impl Operator for File {
-    fn spec(&self) -> &'static NodeSpec {
-        &FILE
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let path = p.string("file")?;
-        let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
-            .map_err(|e| io_error(ctx, "file", e))?;
-        geometry(g)
-    }
-    fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
-        Ok(content_key(p.string("file")?))
-    }
+fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let path = p.string("file")?;
+    let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
+        .map_err(|e| io_error(ctx, "file", e))?;
+    geometry(g)
 }
 
-struct Write;
+fn key_file(p: &Params) -> Result<Option<u128>, CookError> {
+    Ok(content_key(p.string("file")?))
+}
+
 static WRITE: NodeSpec = NodeSpec::new(
     "write",
     "Write",
@@ -98,30 +92,24 @@ static WRITE: NodeSpec = NodeSpec::new(
     )],
 )
 .writes(&["file"]);
-impl Operator for Write {
-    fn spec(&self) -> &'static NodeSpec {
-        &WRITE
+fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let path = p.string("file")?;
+    if path.is_empty() {
+        return Err(ctx.param_error("file", "names no file to write"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let path = p.string("file")?;
-        if path.is_empty() {
-            return Err(ctx.param_error("file", "names no file to write"));
-        }
-        ctx.check()?;
-        let progress = CookProgress::new(ctx);
-        geode_io::write_limited(g, Path::new(path), &progress, ctx.env.memory_budget)
-            .map_err(|e| io_error(ctx, "file", e))?;
-        Ok(Value::Geometry(g.clone()))
-    }
+    ctx.check()?;
+    let progress = CookProgress::new(ctx);
+    geode_io::write_limited(g, Path::new(path), &progress, ctx.env.memory_budget)
+        .map_err(|e| io_error(ctx, "file", e))?;
+    Ok(Value::Geometry(g.clone()))
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(File);
-    r.add(Write);
+    r.add(FnOperator {
+        spec: &FILE,
+        cook: cook_file,
+        key_extra: Some(key_file),
+    });
+    r.node(&WRITE, cook_write);
 }

@@ -2,8 +2,8 @@
 
 use geode_geo::{ops, Geometry};
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, PortType, Registry, Value,
+    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
+    Params, PortType, Registry, Value,
 };
 
 use crate::util::geometry;
@@ -14,7 +14,6 @@ const ANY_GEOMETRY: &[InputSpec] = &[InputSpec {
     required: false,
 }];
 
-struct Merge;
 static MERGE: NodeSpec = NodeSpec::new(
     "merge",
     "Merge",
@@ -24,26 +23,15 @@ static MERGE: NodeSpec = NodeSpec::new(
     &[],
 )
 .variadic();
-impl Operator for Merge {
-    fn spec(&self) -> &'static NodeSpec {
-        &MERGE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        let gs: Vec<&Geometry> = inputs
-            .iter()
-            .flatten()
-            .filter_map(|v| v.as_geometry().map(|g| &**g))
-            .collect();
-        geometry(ops::merge(&gs).map_err(|e| ctx.kernel(e))?)
-    }
+fn cook_merge(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
+    let gs: Vec<&Geometry> = inputs
+        .iter()
+        .flatten()
+        .filter_map(|v| v.as_geometry().map(|g| &**g))
+        .collect();
+    geometry(ops::merge(&gs).map_err(|e| ctx.kernel(e))?)
 }
 
-struct Switch;
 static SWITCH: NodeSpec = NodeSpec::new(
     "switch",
     "Switch",
@@ -60,27 +48,20 @@ static SWITCH: NodeSpec = NodeSpec::new(
     .at_least(0.0)],
 )
 .variadic();
-impl Operator for Switch {
-    fn spec(&self) -> &'static NodeSpec {
-        &SWITCH
+fn cook_switch(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    if inputs.is_empty() {
+        return Err(ctx.input_error("switch has no inputs"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        if inputs.is_empty() {
-            return Err(ctx.input_error("switch has no inputs"));
-        }
-        let i = (p.int("index")?.max(0) as usize).min(inputs.len() - 1);
-        inputs[i]
-            .clone()
-            .ok_or_else(|| ctx.param_error("index", format!("input {} is not connected", i + 1)))
-    }
+    let i = (p.int("index")?.max(0) as usize).min(inputs.len() - 1);
+    inputs[i]
+        .clone()
+        .ok_or_else(|| ctx.param_error("index", format!("input {} is not connected", i + 1)))
 }
 
-struct Null;
 static NULL: NodeSpec = NodeSpec::new(
     "null",
     "Null",
@@ -93,26 +74,16 @@ static NULL: NodeSpec = NodeSpec::new(
     }],
     &[],
 );
-impl Operator for Null {
-    fn spec(&self) -> &'static NodeSpec {
-        &NULL
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        inputs
-            .first()
-            .cloned()
-            .flatten()
-            .ok_or_else(|| ctx.input_error("input 1 is not connected"))
-    }
+fn cook_null(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
+    inputs
+        .first()
+        .cloned()
+        .flatten()
+        .ok_or_else(|| ctx.input_error("input 1 is not connected"))
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Merge);
-    r.add(Switch);
-    r.add(Null);
+    r.node(&MERGE, cook_merge);
+    r.node(&SWITCH, cook_switch);
+    r.node(&NULL, cook_null);
 }

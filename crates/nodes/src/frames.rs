@@ -10,8 +10,8 @@ use geode_curve::{curves, sweep, Curve, SweepOptions};
 use geode_geo::glam::{Quat, Vec3};
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_op::{
-    geometry_input, CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D,
-    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
+    geometry_input, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
 };
 use rayon::prelude::*;
 
@@ -71,7 +71,6 @@ fn curve_frames(
     (pts, f)
 }
 
-struct PolyFrame;
 static POLYFRAME: NodeSpec = NodeSpec::new(
     "polyframe",
     "PolyFrame",
@@ -86,51 +85,45 @@ static POLYFRAME: NodeSpec = NodeSpec::new(
         P::new("roll_per_point", "Roll per point", T::Float, D::Float(0.0), "Further degrees per point along each curve (90 alternates copies a quarter turn, as chain links)."),
     ],
 );
-impl Operator for PolyFrame {
-    fn spec(&self) -> &'static NodeSpec {
-        &POLYFRAME
+fn cook_poly_frame(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let cs = curves(&g);
+    if cs.is_empty() {
+        return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let cs = curves(&g);
-        if cs.is_empty() {
-            return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
+    let n = g.num_points();
+    let (mut t, mut nn, mut b) = (vec![Vec3::Z; n], vec![Vec3::Y; n], vec![Vec3::X; n]);
+    let mut orient = vec![Quat::IDENTITY; n];
+    let (roll, per) = (
+        p.float("roll")?.to_radians(),
+        p.float("roll_per_point")?.to_radians(),
+    );
+    let (tangent, method, up) = (p.string("tangent")?, method(p)?, vec3(p, "up")?.as_dvec3());
+    for c in &cs {
+        ctx.check()?;
+        let (_, f) = curve_frames(&g, c, tangent, method, up);
+        for (k, (&i, fr)) in c.points.iter().zip(&f).enumerate() {
+            let fr = fr.rolled(roll + per * k as f64);
+            let i = i as usize;
+            t[i] = fr.tangent.as_vec3();
+            nn[i] = fr.normal.as_vec3();
+            b[i] = fr.bitangent.as_vec3();
+            orient[i] = fr.orient().as_quat();
         }
-        let n = g.num_points();
-        let (mut t, mut nn, mut b) = (vec![Vec3::Z; n], vec![Vec3::Y; n], vec![Vec3::X; n]);
-        let mut orient = vec![Quat::IDENTITY; n];
-        let (roll, per) = (
-            p.float("roll")?.to_radians(),
-            p.float("roll_per_point")?.to_radians(),
-        );
-        let (tangent, method, up) = (p.string("tangent")?, method(p)?, vec3(p, "up")?.as_dvec3());
-        for c in &cs {
-            ctx.check()?;
-            let (_, f) = curve_frames(&g, c, tangent, method, up);
-            for (k, (&i, fr)) in c.points.iter().zip(&f).enumerate() {
-                let fr = fr.rolled(roll + per * k as f64);
-                let i = i as usize;
-                t[i] = fr.tangent.as_vec3();
-                nn[i] = fr.normal.as_vec3();
-                b[i] = fr.bitangent.as_vec3();
-                orient[i] = fr.orient().as_quat();
-            }
-        }
-        let mut set = |name: &str, data: AttribData, info: TypeInfo| {
-            g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info))
-                .map_err(|e| ctx.kernel(e))
-        };
-        set("T", AttribData::Vec3(t), TypeInfo::Vector)?;
-        set("N", AttribData::Vec3(nn), TypeInfo::Normal)?;
-        set("B", AttribData::Vec3(b), TypeInfo::Vector)?;
-        set("orient", AttribData::Quat(orient), TypeInfo::Quaternion)?;
-        geometry(g)
     }
+    let mut set = |name: &str, data: AttribData, info: TypeInfo| {
+        g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info))
+            .map_err(|e| ctx.kernel(e))
+    };
+    set("T", AttribData::Vec3(t), TypeInfo::Vector)?;
+    set("N", AttribData::Vec3(nn), TypeInfo::Normal)?;
+    set("B", AttribData::Vec3(b), TypeInfo::Vector)?;
+    set("orient", AttribData::Quat(orient), TypeInfo::Quaternion)?;
+    geometry(g)
 }
 
 /// A piecewise-linear ramp "u value, u value, ..." over [0, 1].
@@ -179,7 +172,6 @@ fn eval_ramp(keys: &[(f64, f64)], u: f64) -> f64 {
     }
 }
 
-struct Sweep;
 static SWEEP: NodeSpec = NodeSpec::new(
     "sweep",
     "Sweep",
@@ -196,125 +188,115 @@ static SWEEP: NodeSpec = NodeSpec::new(
         UP,
     ],
 );
-impl Operator for Sweep {
-    fn spec(&self) -> &'static NodeSpec {
-        &SWEEP
+fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let cs = curves(g);
+    if cs.is_empty() {
+        return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let cs = curves(g);
-        if cs.is_empty() {
-            return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
-        }
-        let ramp = parse_ramp(p.string("ramp")?).map_err(|e| ctx.param_error("ramp", e))?;
-        let caps = p.toggle("caps")?;
-        let opts = match inputs
-            .get(1)
-            .and_then(|v| v.as_ref())
-            .and_then(|v| v.as_geometry())
-        {
-            Some(sec) => {
-                let c = curves(sec)
-                    .into_iter()
-                    .next()
-                    .ok_or_else(|| ctx.input_error("input 2 (section) has no curve"))?;
-                let pos = sec.positions();
-                SweepOptions {
-                    section: c
-                        .points
-                        .iter()
-                        .map(|&i| DVec2::new(pos[i as usize].x as f64, pos[i as usize].y as f64))
-                        .collect(),
-                    section_closed: c.closed,
-                    caps,
-                }
-            }
-            None => SweepOptions::circle(p.int("sides")? as usize, caps),
-        };
-        let radius = p.float("radius")?;
-        let attr = g
-            .attrib(AttribClass::Point, p.string("radius_attribute")?)
-            .and_then(|a| a.as_f32());
-        let orient = g
-            .attrib(AttribClass::Point, "orient")
-            .and_then(|a| a.as_quat());
-        let (tangent, up) = (p.string("tangent")?, vec3(p, "up")?.as_dvec3());
-        let rings: f64 = cs.iter().map(|c| c.points.len() as f64).sum();
-        let sides = opts.section.len() as f64;
-        crate::util::reserve_mesh(
-            ctx,
-            "sides",
-            rings * sides,
-            4.0 * rings * sides,
-            rings * sides,
-        )?;
-        let tubes: Vec<Result<Tube, CookError>> = cs
-            .par_iter()
-            .map(|c| {
-                let (pts, f) = match orient {
-                    Some(o) => {
-                        let pos = g.positions();
-                        let pts: Vec<DVec3> = c
-                            .points
-                            .iter()
-                            .map(|&i| pos[i as usize].as_dvec3())
-                            .collect();
-                        let f = c
-                            .points
-                            .iter()
-                            .map(|&i| {
-                                let q: DQuat = o[i as usize].as_dquat().normalize();
-                                Frame {
-                                    tangent: q * DVec3::Z,
-                                    normal: q * DVec3::Y,
-                                    bitangent: q * DVec3::X,
-                                }
-                            })
-                            .collect();
-                        (pts, f)
-                    }
-                    None => curve_frames(g, c, tangent, FrameMethod::DoubleReflection, up),
-                };
-                let (along, total) = geode_curve::polyline::arc_lengths(&pts, c.closed);
-                let scales: Vec<f64> = c
+    let ramp = parse_ramp(p.string("ramp")?).map_err(|e| ctx.param_error("ramp", e))?;
+    let caps = p.toggle("caps")?;
+    let opts = match inputs
+        .get(1)
+        .and_then(|v| v.as_ref())
+        .and_then(|v| v.as_geometry())
+    {
+        Some(sec) => {
+            let c = curves(sec)
+                .into_iter()
+                .next()
+                .ok_or_else(|| ctx.input_error("input 2 (section) has no curve"))?;
+            let pos = sec.positions();
+            SweepOptions {
+                section: c
                     .points
                     .iter()
-                    .zip(&along)
-                    .map(|(&i, s)| {
-                        let u = if total > 0.0 { s / total } else { 0.0 };
-                        radius * attr.map_or(1.0, |a| a[i as usize] as f64) * eval_ramp(&ramp, u)
-                    })
-                    .collect();
-                let cancel = || ctx.cancel.is_cancelled();
-                sweep(&pts, &f, &scales, c.closed, &opts, &cancel)
-                    .ok_or_else(|| CookError::cancelled(ctx.path))
-            })
-            .collect();
-        let mut all = Tube::default();
-        for t in tubes {
-            all.append(t?);
+                    .map(|&i| DVec2::new(pos[i as usize].x as f64, pos[i as usize].y as f64))
+                    .collect(),
+                section_closed: c.closed,
+                caps,
+            }
         }
-        ctx.check()?;
-        let mut out = Geometry::from_polygons(all.positions, all.faces, &all.counts)
-            .map_err(|e| ctx.kernel(e))?;
-        out.set_attrib(
-            AttribClass::Vertex,
-            "uv",
-            Attribute::from_data(AttribData::Vec2(all.uvs), TypeInfo::TexCoord),
-        )
-        .map_err(|e| ctx.kernel(e))?;
-        geometry(out)
+        None => SweepOptions::circle(p.int("sides")? as usize, caps),
+    };
+    let radius = p.float("radius")?;
+    let attr = g
+        .attrib(AttribClass::Point, p.string("radius_attribute")?)
+        .and_then(|a| a.as_f32());
+    let orient = g
+        .attrib(AttribClass::Point, "orient")
+        .and_then(|a| a.as_quat());
+    let (tangent, up) = (p.string("tangent")?, vec3(p, "up")?.as_dvec3());
+    let rings: f64 = cs.iter().map(|c| c.points.len() as f64).sum();
+    let sides = opts.section.len() as f64;
+    crate::util::reserve_mesh(
+        ctx,
+        "sides",
+        rings * sides,
+        4.0 * rings * sides,
+        rings * sides,
+    )?;
+    let tubes: Vec<Result<Tube, CookError>> = cs
+        .par_iter()
+        .map(|c| {
+            let (pts, f) = match orient {
+                Some(o) => {
+                    let pos = g.positions();
+                    let pts: Vec<DVec3> = c
+                        .points
+                        .iter()
+                        .map(|&i| pos[i as usize].as_dvec3())
+                        .collect();
+                    let f = c
+                        .points
+                        .iter()
+                        .map(|&i| {
+                            let q: DQuat = o[i as usize].as_dquat().normalize();
+                            Frame {
+                                tangent: q * DVec3::Z,
+                                normal: q * DVec3::Y,
+                                bitangent: q * DVec3::X,
+                            }
+                        })
+                        .collect();
+                    (pts, f)
+                }
+                None => curve_frames(g, c, tangent, FrameMethod::DoubleReflection, up),
+            };
+            let (along, total) = geode_curve::polyline::arc_lengths(&pts, c.closed);
+            let scales: Vec<f64> = c
+                .points
+                .iter()
+                .zip(&along)
+                .map(|(&i, s)| {
+                    let u = if total > 0.0 { s / total } else { 0.0 };
+                    radius * attr.map_or(1.0, |a| a[i as usize] as f64) * eval_ramp(&ramp, u)
+                })
+                .collect();
+            let cancel = || ctx.cancel.is_cancelled();
+            sweep(&pts, &f, &scales, c.closed, &opts, &cancel)
+                .ok_or_else(|| CookError::cancelled(ctx.path))
+        })
+        .collect();
+    let mut all = Tube::default();
+    for t in tubes {
+        all.append(t?);
     }
+    ctx.check()?;
+    let mut out = Geometry::from_polygons(all.positions, all.faces, &all.counts)
+        .map_err(|e| ctx.kernel(e))?;
+    out.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(all.uvs), TypeInfo::TexCoord),
+    )
+    .map_err(|e| ctx.kernel(e))?;
+    geometry(out)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(PolyFrame);
-    r.add(Sweep);
+    r.node(&POLYFRAME, cook_poly_frame);
+    r.node(&SWEEP, cook_sweep);
 }
 
 #[cfg(test)]

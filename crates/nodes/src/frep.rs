@@ -284,7 +284,6 @@ fn halfspace(ctx: &CookContext, p: &Params) -> Result<Field, CookError> {
 
 const OPS: &[&str] = &["union", "intersection", "subtraction"];
 
-struct Csg;
 static CSG: NodeSpec = NodeSpec::new(
     "frep_csg",
     "FRep CSG",
@@ -294,27 +293,16 @@ static CSG: NodeSpec = NodeSpec::new(
     &[P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."), P::new("alpha", "Alpha", T::Float, D::Float(1.0), "R-function parameter in [0, 1].").range(0.0, 1.0)],
 )
 .output(PortType::Field);
-impl Operator for Csg {
-    fn spec(&self) -> &'static NodeSpec {
-        &CSG
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
-        let alpha = p.float("alpha")?;
-        out(match p.string("operation")? {
-            "union" => shapes::union(a, b, alpha),
-            "intersection" => shapes::intersection(a, b, alpha),
-            _ => shapes::subtraction(a, b, alpha),
-        })
-    }
+fn cook_csg(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
+    let alpha = p.float("alpha")?;
+    out(match p.string("operation")? {
+        "union" => shapes::union(a, b, alpha),
+        "intersection" => shapes::intersection(a, b, alpha),
+        _ => shapes::subtraction(a, b, alpha),
+    })
 }
 
-struct Blend;
 static BLEND: NodeSpec = NodeSpec::new(
     "frep_blend",
     "FRep Blend",
@@ -329,27 +317,16 @@ static BLEND: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for Blend {
-    fn spec(&self) -> &'static NodeSpec {
-        &BLEND
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
-        let k = [p.float("a0")?, p.float("a1")?, p.float("a2")?];
-        out(match p.string("operation")? {
-            "union" => shapes::blend_union(a, b, k),
-            "intersection" => shapes::blend_intersection(a, b, k),
-            _ => shapes::blend_subtraction(a, b, k),
-        })
-    }
+fn cook_blend(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
+    let k = [p.float("a0")?, p.float("a1")?, p.float("a2")?];
+    out(match p.string("operation")? {
+        "union" => shapes::blend_union(a, b, k),
+        "intersection" => shapes::blend_intersection(a, b, k),
+        _ => shapes::blend_subtraction(a, b, k),
+    })
 }
 
-struct BoundedBlend;
 static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
     "frep_bounded_blend",
     "FRep Bounded Blend",
@@ -369,38 +346,31 @@ static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for BoundedBlend {
-    fn spec(&self) -> &'static NodeSpec {
-        &BOUNDED_BLEND
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (a, b, c) = (
-            field_input(ctx, inputs, 0)?,
-            field_input(ctx, inputs, 1)?,
-            field_input(ctx, inputs, 2)?,
-        );
-        let k = [
-            p.float("a0")?,
-            p.float("a1")?,
-            p.float("a2")?,
-            p.float("a3")?,
-        ];
-        out(shapes::bounded_blend(
-            a,
-            b,
-            c,
-            k,
-            p.string("operation")? == "union",
-        ))
-    }
+fn cook_bounded_blend(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let (a, b, c) = (
+        field_input(ctx, inputs, 0)?,
+        field_input(ctx, inputs, 1)?,
+        field_input(ctx, inputs, 2)?,
+    );
+    let k = [
+        p.float("a0")?,
+        p.float("a1")?,
+        p.float("a2")?,
+        p.float("a3")?,
+    ];
+    out(shapes::bounded_blend(
+        a,
+        b,
+        c,
+        k,
+        p.string("operation")? == "union",
+    ))
 }
 
-struct Sweep;
 static SWEEP: NodeSpec = NodeSpec::new(
     "frep_sweep",
     "FRep Sphere Sweep",
@@ -413,46 +383,35 @@ static SWEEP: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for Sweep {
-    fn spec(&self) -> &'static NodeSpec {
-        &SWEEP
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = crate::util::input(ctx, inputs, 0)?;
-        let attr = g
-            .attrib(AttribClass::Point, p.string("radius_attribute")?)
-            .and_then(|a| a.as_f32());
-        let r = p.float("radius")?;
-        let pos = g.positions();
-        let mut sweeps = Vec::new();
-        for prim in 0..g.num_prims() {
-            if g.prim_kind(prim) != geode_geo::PrimKind::Polyline {
-                continue;
-            }
-            ctx.check()?;
-            let pts = g.prim_points(prim);
-            let points: Vec<[f64; 3]> = pts
-                .iter()
-                .map(|&i| pos[i as usize].as_dvec3().to_array())
-                .collect();
-            let radii: Vec<f64> = pts
-                .iter()
-                .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
-                .collect();
-            sweeps.extend(shapes::sphere_sweep(&points, &radii));
+fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let g = crate::util::input(ctx, inputs, 0)?;
+    let attr = g
+        .attrib(AttribClass::Point, p.string("radius_attribute")?)
+        .and_then(|a| a.as_f32());
+    let r = p.float("radius")?;
+    let pos = g.positions();
+    let mut sweeps = Vec::new();
+    for prim in 0..g.num_prims() {
+        if g.prim_kind(prim) != geode_geo::PrimKind::Polyline {
+            continue;
         }
-        shapes::union_all(sweeps)
-            .map(Value::Field)
-            .ok_or_else(|| ctx.input_error("the input has no polylines to sweep along"))
+        ctx.check()?;
+        let pts = g.prim_points(prim);
+        let points: Vec<[f64; 3]> = pts
+            .iter()
+            .map(|&i| pos[i as usize].as_dvec3().to_array())
+            .collect();
+        let radii: Vec<f64> = pts
+            .iter()
+            .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
+            .collect();
+        sweeps.extend(shapes::sphere_sweep(&points, &radii));
     }
+    shapes::union_all(sweeps)
+        .map(Value::Field)
+        .ok_or_else(|| ctx.input_error("the input has no polylines to sweep along"))
 }
 
-struct Instance;
 static INSTANCE: NodeSpec = NodeSpec::new(
     "frep_instance",
     "FRep Instancer",
@@ -462,33 +421,26 @@ static INSTANCE: NodeSpec = NodeSpec::new(
     &[],
 )
 .output(PortType::Field);
-impl Operator for Instance {
-    fn spec(&self) -> &'static NodeSpec {
-        &INSTANCE
+fn cook_instance(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    _: &Params,
+) -> Result<Value, CookError> {
+    let f = field_input(ctx, inputs, 0)?;
+    let g = crate::util::input(ctx, inputs, 1)?;
+    let mut copies = Vec::new();
+    for m in geode_geo::ops::instance_transforms(g) {
+        ctx.check()?;
+        copies.push(
+            f.transformed(&m.as_dmat4())
+                .ok_or_else(|| ctx.input_error("an instance has a zero scale"))?,
+        );
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        let f = field_input(ctx, inputs, 0)?;
-        let g = crate::util::input(ctx, inputs, 1)?;
-        let mut copies = Vec::new();
-        for m in geode_geo::ops::instance_transforms(g) {
-            ctx.check()?;
-            copies.push(
-                f.transformed(&m.as_dmat4())
-                    .ok_or_else(|| ctx.input_error("an instance has a zero scale"))?,
-            );
-        }
-        shapes::union_all(copies)
-            .map(Value::Field)
-            .ok_or_else(|| ctx.input_error("the input has no points to instance onto"))
-    }
+    shapes::union_all(copies)
+        .map(Value::Field)
+        .ok_or_else(|| ctx.input_error("the input has no points to instance onto"))
 }
 
-struct Transform;
 static TRANSFORM: NodeSpec = NodeSpec::new(
     "frep_transform",
     "FRep Transform",
@@ -503,34 +455,27 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for Transform {
-    fn spec(&self) -> &'static NodeSpec {
-        &TRANSFORM
+fn cook_transform(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let f = field_input(ctx, inputs, 0)?;
+    let s = v3(p, "scale")?;
+    if s.iter().any(|x| x.abs() < 1e-12) {
+        return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let f = field_input(ctx, inputs, 0)?;
-        let s = v3(p, "scale")?;
-        if s.iter().any(|x| x.abs() < 1e-12) {
-            return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
-        }
-        let m = crate::transform::trs_about_pivot(
-            v3(p, "translate")?,
-            v3(p, "rotate")?,
-            s,
-            v3(p, "pivot")?,
-        );
-        f.transformed(&m)
-            .map(Value::Field)
-            .ok_or_else(|| ctx.param_error("scale", "the transform is not invertible"))
-    }
+    let m = crate::transform::trs_about_pivot(
+        v3(p, "translate")?,
+        v3(p, "rotate")?,
+        s,
+        v3(p, "pivot")?,
+    );
+    f.transformed(&m)
+        .map(Value::Field)
+        .ok_or_else(|| ctx.param_error("scale", "the transform is not invertible"))
 }
 
-struct Deform;
 static DEFORM: NodeSpec = NodeSpec::new(
     "frep_deform",
     "FRep Deform",
@@ -549,34 +494,27 @@ static DEFORM: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for Deform {
-    fn spec(&self) -> &'static NodeSpec {
-        &DEFORM
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let f = field_input(ctx, inputs, 0)?;
-        out(match p.string("mode")? {
-            "taper" => {
-                let [y0, y1] = p.vector::<2>("taper_range")?;
-                let [s0, s1] = p.vector::<2>("taper_scale")?;
-                if y0 == y1 {
-                    return Err(ctx.param_error("taper_range", "the two heights must differ"));
-                }
-                f.taper_y(y0, y1, s0, s1)
+fn cook_deform(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let f = field_input(ctx, inputs, 0)?;
+    out(match p.string("mode")? {
+        "taper" => {
+            let [y0, y1] = p.vector::<2>("taper_range")?;
+            let [s0, s1] = p.vector::<2>("taper_scale")?;
+            if y0 == y1 {
+                return Err(ctx.param_error("taper_range", "the two heights must differ"));
             }
-            "twist" => f.twist_y(p.float("twist")?),
-            "point" => f.deform_point(v3(p, "point")?, v3(p, "offset")?, p.float("falloff")?),
-            _ => f.bend_x(p.float("bend_radius")?),
-        })
-    }
+            f.taper_y(y0, y1, s0, s1)
+        }
+        "twist" => f.twist_y(p.float("twist")?),
+        "point" => f.deform_point(v3(p, "point")?, v3(p, "offset")?, p.float("falloff")?),
+        _ => f.bend_x(p.float("bend_radius")?),
+    })
 }
 
-struct Offset;
 static OFFSET: NodeSpec = NodeSpec::new(
     "frep_offset",
     "FRep Offset",
@@ -592,24 +530,17 @@ static OFFSET: NodeSpec = NodeSpec::new(
     )],
 )
 .output(PortType::Field);
-impl Operator for Offset {
-    fn spec(&self) -> &'static NodeSpec {
-        &OFFSET
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        out(shapes::offset(
-            field_input(ctx, inputs, 0)?,
-            p.float("distance")?,
-        ))
-    }
+fn cook_offset(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    out(shapes::offset(
+        field_input(ctx, inputs, 0)?,
+        p.float("distance")?,
+    ))
 }
 
-struct Morph;
 static MORPH: NodeSpec = NodeSpec::new(
     "frep_morph",
     "FRep Metamorphosis",
@@ -619,25 +550,14 @@ static MORPH: NodeSpec = NodeSpec::new(
     &[P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0)],
 )
 .output(PortType::Field);
-impl Operator for Morph {
-    fn spec(&self) -> &'static NodeSpec {
-        &MORPH
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        out(shapes::morph(
-            field_input(ctx, inputs, 0)?,
-            field_input(ctx, inputs, 1)?,
-            p.float("alpha")?,
-        ))
-    }
+fn cook_morph(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    out(shapes::morph(
+        field_input(ctx, inputs, 0)?,
+        field_input(ctx, inputs, 1)?,
+        p.float("alpha")?,
+    ))
 }
 
-struct Expression;
 static EXPRESSION: NodeSpec = NodeSpec::new(
     "frep_expression",
     "FRep Expression",
@@ -652,26 +572,20 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
-impl Operator for Expression {
-    fn spec(&self) -> &'static NodeSpec {
-        &EXPRESSION
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let e = Expr::parse(p.string("expression")?, &["x", "y", "z", "a", "b", "c"])
-            .map_err(|e| ctx.param_error("expression", e.to_string()))?;
-        let vars = [
-            Field::x(),
-            Field::y(),
-            Field::z(),
-            Field::constant(p.float("a")?),
-            Field::constant(p.float("b")?),
-            Field::constant(p.float("c")?),
-        ];
-        out(e.to_field(&vars))
-    }
+fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let e = Expr::parse(p.string("expression")?, &["x", "y", "z", "a", "b", "c"])
+        .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+    let vars = [
+        Field::x(),
+        Field::y(),
+        Field::z(),
+        Field::constant(p.float("a")?),
+        Field::constant(p.float("b")?),
+        Field::constant(p.float("c")?),
+    ];
+    out(e.to_field(&vars))
 }
 
-struct Polygonise;
 static POLYGONISE: NodeSpec = NodeSpec::new(
     "polygonise",
     "Polygonise",
@@ -685,30 +599,24 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
         P::new("sharpness", "Feature threshold", T::Float, D::Float(0.05), "Smaller keeps fainter sharp features.").range(1e-6, 1.0),
     ],
 );
-impl Operator for Polygonise {
-    fn spec(&self) -> &'static NodeSpec {
-        &POLYGONISE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let f = field_input(ctx, inputs, 0)?;
-        let mut opts = MeshOptions::new(v3(p, "min")?, v3(p, "max")?, p.int("depth")? as u32);
-        opts.sharpness = p.float("sharpness")?;
-        reserve_meshing(ctx, f, &opts)?;
-        let cancel = || ctx.cancel.is_cancelled();
-        let progress = |x: f32| ctx.progress(x);
-        match geode_frep::polygonise(f, &opts, &cancel, &progress) {
-            Ok((g, _)) => Ok(Value::geometry(g)),
-            Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
-            Err(MeshError::BadBounds) => {
-                Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
-            }
-            Err(e) => Err(ctx.kernel_at("depth", e)),
+fn cook_polygonise(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let f = field_input(ctx, inputs, 0)?;
+    let mut opts = MeshOptions::new(v3(p, "min")?, v3(p, "max")?, p.int("depth")? as u32);
+    opts.sharpness = p.float("sharpness")?;
+    reserve_meshing(ctx, f, &opts)?;
+    let cancel = || ctx.cancel.is_cancelled();
+    let progress = |x: f32| ctx.progress(x);
+    match geode_frep::polygonise(f, &opts, &cancel, &progress) {
+        Ok((g, _)) => Ok(Value::geometry(g)),
+        Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+        Err(MeshError::BadBounds) => {
+            Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
         }
+        Err(e) => Err(ctx.kernel_at("depth", e)),
     }
 }
 
@@ -731,7 +639,6 @@ fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(
     )
 }
 
-struct Sample;
 static SAMPLE: NodeSpec = NodeSpec::new(
     "frep_sample",
     "FRep Sample",
@@ -740,27 +647,21 @@ static SAMPLE: NodeSpec = NodeSpec::new(
     &[InputSpec { name: "geometry", ty: PortType::Geometry, required: true }, FIELD_IN],
     &[P::new("name", "Attribute", T::String, D::Str("density"), "Name of the float point attribute to write.")],
 );
-impl Operator for Sample {
-    fn spec(&self) -> &'static NodeSpec {
-        &SAMPLE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let f = field_input(ctx, inputs, 1)?;
-        let values = geode_frep::sample(f, g.positions());
-        g.set_attrib(
-            AttribClass::Point,
-            p.string("name")?,
-            Attribute::from_data(AttribData::Float(values), TypeInfo::None),
-        )
-        .map_err(|e| ctx.kernel_at("name", e))?;
-        Ok(Value::geometry(g))
-    }
+fn cook_sample(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let f = field_input(ctx, inputs, 1)?;
+    let values = geode_frep::sample(f, g.positions());
+    g.set_attrib(
+        AttribClass::Point,
+        p.string("name")?,
+        Attribute::from_data(AttribData::Float(values), TypeInfo::None),
+    )
+    .map_err(|e| ctx.kernel_at("name", e))?;
+    Ok(Value::geometry(g))
 }
 
 pub fn register(r: &mut Registry) {
@@ -779,16 +680,16 @@ pub fn register(r: &mut Registry) {
     ] {
         r.add(Primitive { spec, build });
     }
-    r.add(Csg);
-    r.add(Blend);
-    r.add(BoundedBlend);
-    r.add(Sweep);
-    r.add(Instance);
-    r.add(Transform);
-    r.add(Deform);
-    r.add(Offset);
-    r.add(Morph);
-    r.add(Expression);
-    r.add(Polygonise);
-    r.add(Sample);
+    r.node(&CSG, cook_csg);
+    r.node(&BLEND, cook_blend);
+    r.node(&BOUNDED_BLEND, cook_bounded_blend);
+    r.node(&SWEEP, cook_sweep);
+    r.node(&INSTANCE, cook_instance);
+    r.node(&TRANSFORM, cook_transform);
+    r.node(&DEFORM, cook_deform);
+    r.node(&OFFSET, cook_offset);
+    r.node(&MORPH, cook_morph);
+    r.node(&EXPRESSION, cook_expression);
+    r.node(&POLYGONISE, cook_polygonise);
+    r.node(&SAMPLE, cook_sample);
 }

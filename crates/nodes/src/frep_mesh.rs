@@ -5,11 +5,8 @@
 
 use geode_frep::shapes;
 use geode_geo::analytic;
-use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, Params, PortType, Registry, Value,
-};
+use geode_op::{CookContext, CookError, InputSpec, NodeSpec, Params, PortType, Registry, Value};
 
-struct FromPrimitives;
 static FROM_PRIMITIVES: NodeSpec = NodeSpec::new(
     "frep_from_primitives",
     "FRep From Primitives",
@@ -24,31 +21,25 @@ static FROM_PRIMITIVES: NodeSpec = NodeSpec::new(
 )
 .output(PortType::Field);
 
-impl Operator for FromPrimitives {
-    fn spec(&self) -> &'static NodeSpec {
-        &FROM_PRIMITIVES
+fn cook_from_primitives(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    _: &Params,
+) -> Result<Value, CookError> {
+    let g = crate::util::input(ctx, inputs, 0)?;
+    let found = analytic::shapes(g).map_err(|e| ctx.input_error(format!("input 1: {e}")))?;
+    let mut solids = Vec::with_capacity(found.len());
+    for (shape, frame) in found {
+        let solid = shapes::analytic(&shape)
+            .transformed(&frame.as_dmat4())
+            .ok_or_else(|| ctx.input_error(format!("a {shape:?} is scaled to nothing")))?;
+        solids.push(solid);
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        let g = crate::util::input(ctx, inputs, 0)?;
-        let found = analytic::shapes(g).map_err(|e| ctx.input_error(format!("input 1: {e}")))?;
-        let mut solids = Vec::with_capacity(found.len());
-        for (shape, frame) in found {
-            let solid = shapes::analytic(&shape)
-                .transformed(&frame.as_dmat4())
-                .ok_or_else(|| ctx.input_error(format!("a {shape:?} is scaled to nothing")))?;
-            solids.push(solid);
-        }
-        shapes::union_all(solids)
-            .map(Value::Field)
-            .ok_or_else(|| ctx.input_error("input 1 has no primitives"))
-    }
+    shapes::union_all(solids)
+        .map(Value::Field)
+        .ok_or_else(|| ctx.input_error("input 1 has no primitives"))
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(FromPrimitives);
+    r.node(&FROM_PRIMITIVES, cook_from_primitives);
 }

@@ -3,7 +3,7 @@
 use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, Geometry, Group, PrimKind};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 use rayon::prelude::*;
@@ -49,7 +49,6 @@ fn store(
     r.map_err(|e| ctx.kernel_at("group", e))
 }
 
-struct Bounding;
 static BOUNDING: NodeSpec = NodeSpec::new(
     "group_bbox",
     "Group by Bounding Box",
@@ -69,29 +68,22 @@ static BOUNDING: NodeSpec = NodeSpec::new(
         P::new("max", "Max", T::Vec3, D::Vec3([0.5; 3]), "Opposite corner."),
     ],
 );
-impl Operator for Bounding {
-    fn spec(&self) -> &'static NodeSpec {
-        &BOUNDING
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let c = class(p, "class")?;
-        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
-        let flags = element_positions(&g, c)
-            .par_iter()
-            .map(|q| q.cmpge(lo).all() && q.cmple(hi).all())
-            .collect();
-        store(ctx, &mut g, c, p.string("group")?, flags)?;
-        geometry(g)
-    }
+fn cook_bounding(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let c = class(p, "class")?;
+    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+    let flags = element_positions(&g, c)
+        .par_iter()
+        .map(|q| q.cmpge(lo).all() && q.cmple(hi).all())
+        .collect();
+    store(ctx, &mut g, c, p.string("group")?, flags)?;
+    geometry(g)
 }
 
-struct Expression;
 static EXPRESSION: NodeSpec = NodeSpec::new(
     "group_expression",
     "Group by Expression",
@@ -104,32 +96,26 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
         P::new("expression", "Expression", T::String, D::Str("y > 0"), "The test, e.g. `x > 0 && y < 0.5`."),
     ],
 );
-impl Operator for Expression {
-    fn spec(&self) -> &'static NodeSpec {
-        &EXPRESSION
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let c = class(p, "class")?;
-        let expr = Expr::parse(p.string("expression")?, &["x", "y", "z", "id", "frame"])
-            .map_err(|e| ctx.param_error("expression", e.to_string()))?;
-        let frame = ctx.frame;
-        let flags = element_positions(&g, c)
-            .par_iter()
-            .enumerate()
-            .map(|(i, q)| expr.eval(&[q.x as f64, q.y as f64, q.z as f64, i as f64, frame]) != 0.0)
-            .collect();
-        store(ctx, &mut g, c, p.string("group")?, flags)?;
-        geometry(g)
-    }
+fn cook_expression(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let c = class(p, "class")?;
+    let expr = Expr::parse(p.string("expression")?, &["x", "y", "z", "id", "frame"])
+        .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+    let frame = ctx.frame;
+    let flags = element_positions(&g, c)
+        .par_iter()
+        .enumerate()
+        .map(|(i, q)| expr.eval(&[q.x as f64, q.y as f64, q.z as f64, i as f64, frame]) != 0.0)
+        .collect();
+    store(ctx, &mut g, c, p.string("group")?, flags)?;
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Bounding);
-    r.add(Expression);
+    r.node(&BOUNDING, cook_bounding);
+    r.node(&EXPRESSION, cook_expression);
 }

@@ -5,13 +5,12 @@
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_growth::{colonize, ColonizeOptions};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{geometry, input};
 
-struct Colonize;
 static COLONIZE: NodeSpec = NodeSpec::new(
     "space_colonize",
     "Space Colonization",
@@ -29,57 +28,51 @@ static COLONIZE: NodeSpec = NodeSpec::new(
         P::new("exponent", "Pipe exponent", T::Float, D::Float(2.5), "n in r^n = sum of children's r^n (2: area kept, 3: Murray's law).").range(2.0, 3.0),
     ],
 );
-impl Operator for Colonize {
-    fn spec(&self) -> &'static NodeSpec {
-        &COLONIZE
+fn cook_colonize(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let (attractors, births) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
+    if births.num_points() == 0 {
+        return Err(ctx.input_error("input 2 has no birth points"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (attractors, births) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
-        if births.num_points() == 0 {
-            return Err(ctx.input_error("input 2 has no birth points"));
-        }
-        let opts = ColonizeOptions {
-            influence: p.float("influence")? as f32,
-            kill: p.float("kill")? as f32,
-            step: p.float("step")? as f32,
-            max_iterations: p.int("iterations")? as usize,
-            jitter: p.float("jitter")? as f32,
-            seed: p.int("seed")? as u64,
-        };
-        let cancel = || ctx.cancel.is_cancelled();
-        let tree = colonize(attractors.positions(), births.positions(), &opts, &cancel)
-            .map_err(|e| ctx.kernel(e))?;
-        let branches = tree.branches();
-        let radii = tree.pipe_radii(p.float("tip_radius")? as f32, p.float("exponent")? as f32);
-        let order = tree.branch_order();
-        let counts: Vec<u32> = branches.iter().map(|b| b.len() as u32).collect();
-        let kinds = vec![PrimKind::Polyline; branches.len()];
-        let flat: Vec<u32> = branches.into_iter().flatten().collect();
-        let mut g = Geometry::from_prims(tree.positions, flat, &counts, kinds)
-            .map_err(|e| ctx.kernel(e))?;
-        let gen: Vec<i32> = tree.generation.iter().map(|&x| x as i32).collect();
-        let order: Vec<i32> = order.into_iter().map(|x| x as i32).collect();
-        for (name, data) in [
-            ("generation", AttribData::Int(gen)),
-            ("branch_order", AttribData::Int(order)),
-            ("pscale", AttribData::Float(radii)),
-        ] {
-            g.set_attrib(
-                AttribClass::Point,
-                name,
-                Attribute::from_data(data, TypeInfo::None),
-            )
-            .map_err(|e| ctx.kernel(e))?;
-        }
-        geometry(g)
+    let opts = ColonizeOptions {
+        influence: p.float("influence")? as f32,
+        kill: p.float("kill")? as f32,
+        step: p.float("step")? as f32,
+        max_iterations: p.int("iterations")? as usize,
+        jitter: p.float("jitter")? as f32,
+        seed: p.int("seed")? as u64,
+    };
+    let cancel = || ctx.cancel.is_cancelled();
+    let tree = colonize(attractors.positions(), births.positions(), &opts, &cancel)
+        .map_err(|e| ctx.kernel(e))?;
+    let branches = tree.branches();
+    let radii = tree.pipe_radii(p.float("tip_radius")? as f32, p.float("exponent")? as f32);
+    let order = tree.branch_order();
+    let counts: Vec<u32> = branches.iter().map(|b| b.len() as u32).collect();
+    let kinds = vec![PrimKind::Polyline; branches.len()];
+    let flat: Vec<u32> = branches.into_iter().flatten().collect();
+    let mut g =
+        Geometry::from_prims(tree.positions, flat, &counts, kinds).map_err(|e| ctx.kernel(e))?;
+    let gen: Vec<i32> = tree.generation.iter().map(|&x| x as i32).collect();
+    let order: Vec<i32> = order.into_iter().map(|x| x as i32).collect();
+    for (name, data) in [
+        ("generation", AttribData::Int(gen)),
+        ("branch_order", AttribData::Int(order)),
+        ("pscale", AttribData::Float(radii)),
+    ] {
+        g.set_attrib(
+            AttribClass::Point,
+            name,
+            Attribute::from_data(data, TypeInfo::None),
+        )
+        .map_err(|e| ctx.kernel(e))?;
     }
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Colonize);
+    r.node(&COLONIZE, cook_colonize);
 }

@@ -5,8 +5,8 @@
 
 use geode_geo::glam::DVec3;
 use geode_op::{
-    CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
-    Params, Registry, Value,
+    CookContext, CookError, FnOperator, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, Registry, Value,
 };
 use geode_spline::hspline::{file, Hspline, HsplineError, Topology};
 use geode_spline::skin::SkinMethod;
@@ -15,7 +15,6 @@ use crate::skin::{posed_skeleton, skeleton_from_params, BEND, BEND_JOINT, POSE, 
 
 use crate::util::geometry;
 
-struct HsplineNode;
 static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
@@ -81,142 +80,146 @@ fn parse_edits(text: &str) -> Result<Vec<Edit>, String> {
     Ok(out)
 }
 
-impl Operator for HsplineNode {
-    fn spec(&self) -> &'static NodeSpec {
-        &HSPLINE
+fn cook_hspline_node(
+    ctx: &CookContext,
+    _: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let topology = match p.string("topology")? {
+        "cylinder" => Topology::Cylinder,
+        "torus" => Topology::Torus,
+        _ => Topology::Plane,
+    };
+    let err = |e: HsplineError| ctx.kernel(e);
+    let [sx, sy] = p.vector::<2>("size")?;
+    let load = p.string("load")?;
+    let mut h = if load.is_empty() {
+        Hspline::new(
+            topology,
+            p.int("rows")? as usize,
+            p.int("columns")? as usize,
+            [sx, sy],
+        )
+        .map_err(err)?
+    } else {
+        let text = std::fs::read_to_string(&load)
+            .map_err(|e| ctx.io("load", geode_io::IoError::os(load, e)))?;
+        file::load(&text).map_err(|e| {
+            ctx.param_error("load", format!("{load}: {e}"))
+                .with_source(e)
+        })?
+    };
+    for _ in 0..p.int("levels")? {
+        ctx.check()?;
+        h.refine(None).map_err(err)?;
     }
-    fn key_extra(&self, p: &Params) -> Result<Option<u128>, CookError> {
-        // The loaded file's content is part of the key: editing it recooks.
-        Ok(crate::file::content_key(p.string("load")?))
+    let [u0, u1, v0, v1] = p.vector::<4>("region")?.map(|x| x.max(0.0) as usize);
+    if u1 > u0 && v1 > v0 {
+        h.refine(Some(((u0, u1), (v0, v1))))
+            .map_err(|e| ctx.kernel_at("region", e))?;
     }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let topology = match p.string("topology")? {
-            "cylinder" => Topology::Cylinder,
-            "torus" => Topology::Torus,
-            _ => Topology::Plane,
-        };
-        let err = |e: HsplineError| ctx.kernel(e);
-        let [sx, sy] = p.vector::<2>("size")?;
-        let load = p.string("load")?;
-        let mut h = if load.is_empty() {
-            Hspline::new(
-                topology,
-                p.int("rows")? as usize,
-                p.int("columns")? as usize,
-                [sx, sy],
-            )
-            .map_err(err)?
-        } else {
-            let text = std::fs::read_to_string(&load)
-                .map_err(|e| ctx.io("load", geode_io::IoError::os(load, e)))?;
-            file::load(&text).map_err(|e| {
-                ctx.param_error("load", format!("{load}: {e}"))
-                    .with_source(e)
-            })?
-        };
-        for _ in 0..p.int("levels")? {
-            ctx.check()?;
-            h.refine(None).map_err(err)?;
-        }
-        let [u0, u1, v0, v1] = p.vector::<4>("region")?.map(|x| x.max(0.0) as usize);
-        if u1 > u0 && v1 > v0 {
-            h.refine(Some(((u0, u1), (v0, v1))))
-                .map_err(|e| ctx.kernel_at("region", e))?;
-        }
-        let mut edits = parse_edits(p.string("edits")?).map_err(|e| ctx.param_error("edits", e))?;
-        let mv = p.vector::<3>("edit_move")?;
-        if mv != [0.0; 3] {
-            let [i, j] = p.vector::<2>("edit_vertex")?.map(|x| x.max(0.0) as usize);
-            edits.insert(
-                0,
-                (p.int("edit_level")? as usize, i, j, DVec3::from_array(mv)),
-            );
-        }
-        let symmetric = p.toggle("symmetric")?;
-        for (level, i, j, d) in edits {
-            h.move_cv(level, i, j, d)
-                .map_err(|e| ctx.kernel_at("edits", e))?;
-            if symmetric {
-                // The vertex across X = 0: a plane's columns run along X; a
-                // cylinder's or torus's vertices go round Y from +X, so the
-                // mirror of angle a is pi - a.
-                let (nu, nv) = h.grid_size(level).map_err(err)?;
-                let (mi, mj) = if h.topology == Topology::Plane {
-                    (nu - 1 - i, j)
-                } else if nv % 2 == 0 {
-                    (i, (nv / 2 + nv - j % nv) % nv)
-                } else {
-                    return Err(ctx.param_error(
-                        "symmetric",
-                        format!(
-                            "level {level} has {nv} vertices around: mirroring needs an even count"
-                        ),
-                    ));
-                };
-                if (mi, mj) != (i, j) {
-                    h.move_cv(level, mi, mj, DVec3::new(-d.x, d.y, d.z))
-                        .map_err(|e| ctx.kernel_at("symmetric", e))?;
-                }
+    let mut edits = parse_edits(p.string("edits")?).map_err(|e| ctx.param_error("edits", e))?;
+    let mv = p.vector::<3>("edit_move")?;
+    if mv != [0.0; 3] {
+        let [i, j] = p.vector::<2>("edit_vertex")?.map(|x| x.max(0.0) as usize);
+        edits.insert(
+            0,
+            (p.int("edit_level")? as usize, i, j, DVec3::from_array(mv)),
+        );
+    }
+    let symmetric = p.toggle("symmetric")?;
+    for (level, i, j, d) in edits {
+        h.move_cv(level, i, j, d)
+            .map_err(|e| ctx.kernel_at("edits", e))?;
+        if symmetric {
+            // The vertex across X = 0: a plane's columns run along X; a
+            // cylinder's or torus's vertices go round Y from +X, so the
+            // mirror of angle a is pi - a.
+            let (nu, nv) = h.grid_size(level).map_err(err)?;
+            let (mi, mj) = if h.topology == Topology::Plane {
+                (nu - 1 - i, j)
+            } else if nv % 2 == 0 {
+                (i, (nv / 2 + nv - j % nv) % nv)
+            } else {
+                return Err(ctx.param_error(
+                    "symmetric",
+                    format!(
+                        "level {level} has {nv} vertices around: mirroring needs an even count"
+                    ),
+                ));
+            };
+            if (mi, mj) != (i, j) {
+                h.move_cv(level, mi, mj, DVec3::new(-d.x, d.y, d.z))
+                    .map_err(|e| ctx.kernel_at("symmetric", e))?;
             }
         }
-        // Enveloping: the skeleton and weights join the hierarchy (and its
-        // .hs file); the pose comes from the parameters.
-        let finest = h.levels() - 1;
-        let motions = match p.string("envelope")? {
-            "none" => None,
-            "from_file" => {
-                let Some(e) = &h.envelope else {
-                    return Err(ctx.param_error(
-                        "envelope",
-                        "`from_file` needs a loaded .hs file with enveloping data",
-                    ));
-                };
-                Some(posed_skeleton(ctx, p, &e.joints)?.motions())
-            }
-            method => {
-                let skeleton = skeleton_from_params(ctx, p)?;
-                let method = if method == "linear" {
-                    SkinMethod::Linear
-                } else {
-                    SkinMethod::DualQuaternion
-                };
-                h.set_envelope(p.int("envelope_level")? as usize, method, &skeleton);
-                Some(skeleton.motions())
-            }
-        };
-        let save = p.string("save")?;
-        if !save.is_empty() {
-            let text = file::save(&h, p.toggle("optimize")?);
-            ctx.check()?;
-            let path = std::path::Path::new(save);
-            geode_io::write_atomic(path, |w| {
-                w.write_all(text.as_bytes())
-                    .map_err(|e| geode_io::IoError::os(path, e))
-            })
-            .map_err(|e| ctx.io("save", e))?;
-        }
-        let [su, sv] = p.vector::<2>("samples")?;
-        let enveloped = motions.is_some();
-        let grid = match motions {
-            None => h.grid(finest).map_err(err)?,
-            Some(m) => h.enveloped_grid(&m).map_err(err)?,
-        };
-        if p.string("output")? == "patch" {
-            let (indices, basis) = h.patch_layout(&grid);
-            let mut g = geode_geo::Geometry::new();
-            g.add_points(&grid.points.iter().map(|q| q.as_vec3()).collect::<Vec<_>>());
-            g.add_patch(&indices, basis).map_err(|e| ctx.kernel(e))?;
-            return geometry(g);
-        }
-        let t = h.tessellate_grid(&grid, su as usize, sv as usize);
-        let mut g = t.into_geometry().map_err(|e| ctx.kernel(e))?;
-        if !enveloped {
-            crate::attach::carry_hierarchy(&mut g, &h).map_err(|e| ctx.kernel(e))?;
-        }
-        geometry(g)
     }
+    // Enveloping: the skeleton and weights join the hierarchy (and its
+    // .hs file); the pose comes from the parameters.
+    let finest = h.levels() - 1;
+    let motions = match p.string("envelope")? {
+        "none" => None,
+        "from_file" => {
+            let Some(e) = &h.envelope else {
+                return Err(ctx.param_error(
+                    "envelope",
+                    "`from_file` needs a loaded .hs file with enveloping data",
+                ));
+            };
+            Some(posed_skeleton(ctx, p, &e.joints)?.motions())
+        }
+        method => {
+            let skeleton = skeleton_from_params(ctx, p)?;
+            let method = if method == "linear" {
+                SkinMethod::Linear
+            } else {
+                SkinMethod::DualQuaternion
+            };
+            h.set_envelope(p.int("envelope_level")? as usize, method, &skeleton);
+            Some(skeleton.motions())
+        }
+    };
+    let save = p.string("save")?;
+    if !save.is_empty() {
+        let text = file::save(&h, p.toggle("optimize")?);
+        ctx.check()?;
+        let path = std::path::Path::new(save);
+        geode_io::write_atomic(path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| geode_io::IoError::os(path, e))
+        })
+        .map_err(|e| ctx.io("save", e))?;
+    }
+    let [su, sv] = p.vector::<2>("samples")?;
+    let enveloped = motions.is_some();
+    let grid = match motions {
+        None => h.grid(finest).map_err(err)?,
+        Some(m) => h.enveloped_grid(&m).map_err(err)?,
+    };
+    if p.string("output")? == "patch" {
+        let (indices, basis) = h.patch_layout(&grid);
+        let mut g = geode_geo::Geometry::new();
+        g.add_points(&grid.points.iter().map(|q| q.as_vec3()).collect::<Vec<_>>());
+        g.add_patch(&indices, basis).map_err(|e| ctx.kernel(e))?;
+        return geometry(g);
+    }
+    let t = h.tessellate_grid(&grid, su as usize, sv as usize);
+    let mut g = t.into_geometry().map_err(|e| ctx.kernel(e))?;
+    if !enveloped {
+        crate::attach::carry_hierarchy(&mut g, &h).map_err(|e| ctx.kernel(e))?;
+    }
+    geometry(g)
+}
+
+fn key_hspline_node(p: &Params) -> Result<Option<u128>, CookError> {
+    // The loaded file's content is part of the key: editing it recooks.
+    Ok(crate::file::content_key(p.string("load")?))
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(HsplineNode);
+    r.add(FnOperator {
+        spec: &HSPLINE,
+        cook: cook_hspline_node,
+        key_extra: Some(key_hspline_node),
+    });
 }

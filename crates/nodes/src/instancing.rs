@@ -3,13 +3,12 @@
 
 use geode_curve::{copy_to_points, CopyOptions};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{geometry, input, reserve_mesh};
 
-struct CopyToPoints;
 static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
     "copy_to_points",
     "Copy to Points",
@@ -22,42 +21,36 @@ static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
         P::new("variant_attribute", "Variant attribute", T::String, D::Str("variant"), "Integer template point attribute choosing each point's piece (wrapped; absent: point number)."),
     ],
 );
-impl Operator for CopyToPoints {
-    fn spec(&self) -> &'static NodeSpec {
-        &COPY_TO_POINTS
+fn cook_copy_to_points(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let (source, template) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
+    let opts = CopyOptions {
+        packed: p.toggle("pack")?,
+        piece_attrib: p.string("piece_attribute")?.to_owned(),
+        variant_attrib: p.string("variant_attribute")?.to_owned(),
+    };
+    if !opts.packed {
+        let n = template.num_points() as f64;
+        reserve_mesh(
+            ctx,
+            "pack",
+            n * source.num_points() as f64,
+            n * source.num_vertices() as f64,
+            n * source.num_prims() as f64,
+        )?;
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (source, template) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
-        let opts = CopyOptions {
-            packed: p.toggle("pack")?,
-            piece_attrib: p.string("piece_attribute")?.to_owned(),
-            variant_attrib: p.string("variant_attribute")?.to_owned(),
-        };
-        if !opts.packed {
-            let n = template.num_points() as f64;
-            reserve_mesh(
-                ctx,
-                "pack",
-                n * source.num_points() as f64,
-                n * source.num_vertices() as f64,
-                n * source.num_prims() as f64,
-            )?;
-        }
-        let cancel = || ctx.cancel.is_cancelled();
-        let g = copy_to_points(source, template, &opts, &cancel).map_err(|e| match e {
-            geode_curve::CopyError::BadPieceAttrib(_) => ctx.kernel_at("piece_attribute", e),
-            geode_curve::CopyError::BadVariantAttrib(_) => ctx.kernel_at("variant_attribute", e),
-            other => ctx.kernel(other),
-        })?;
-        geometry(g)
-    }
+    let cancel = || ctx.cancel.is_cancelled();
+    let g = copy_to_points(source, template, &opts, &cancel).map_err(|e| match e {
+        geode_curve::CopyError::BadPieceAttrib(_) => ctx.kernel_at("piece_attribute", e),
+        geode_curve::CopyError::BadVariantAttrib(_) => ctx.kernel_at("variant_attribute", e),
+        other => ctx.kernel(other),
+    })?;
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(CopyToPoints);
+    r.node(&COPY_TO_POINTS, cook_copy_to_points);
 }

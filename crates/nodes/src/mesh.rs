@@ -2,13 +2,12 @@
 
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Group, TypeInfo};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{class, geometry, input_owned, ELEMENT_CLASSES};
 
-struct Delete;
 static DELETE: NodeSpec = NodeSpec::new(
     "delete",
     "Delete",
@@ -22,57 +21,50 @@ static DELETE: NodeSpec = NodeSpec::new(
         P::new("keep_points", "Keep unused points", T::Toggle, D::Toggle(false), "When deleting primitives, keep points no longer used."),
     ],
 );
-impl Operator for Delete {
-    fn spec(&self) -> &'static NodeSpec {
-        &DELETE
+fn cook_delete(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let name = p.string("group")?;
+    let c = class(p, "class")?;
+    let groups = if c == AttribClass::Primitive {
+        g.prim_groups()
+    } else {
+        g.point_groups()
+    };
+    let Some(grp) = groups.get(name) else {
+        let known: Vec<&str> = groups.keys().map(|k| k.as_str()).collect();
+        return Err(ctx.param_error(
+            "group",
+            format!(
+                "no {} group `{name}` (groups: {})",
+                if c == AttribClass::Primitive {
+                    "primitive"
+                } else {
+                    "point"
+                },
+                if known.is_empty() {
+                    "none".into()
+                } else {
+                    known.join(", ")
+                }
+            ),
+        ));
+    };
+    let mut sel = grp.clone();
+    if p.toggle("invert")? {
+        sel = Group::from_flags((0..sel.len()).map(|i| !sel.contains(i)));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let name = p.string("group")?;
-        let c = class(p, "class")?;
-        let groups = if c == AttribClass::Primitive {
-            g.prim_groups()
-        } else {
-            g.point_groups()
-        };
-        let Some(grp) = groups.get(name) else {
-            let known: Vec<&str> = groups.keys().map(|k| k.as_str()).collect();
-            return Err(ctx.param_error(
-                "group",
-                format!(
-                    "no {} group `{name}` (groups: {})",
-                    if c == AttribClass::Primitive {
-                        "primitive"
-                    } else {
-                        "point"
-                    },
-                    if known.is_empty() {
-                        "none".into()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            ));
-        };
-        let mut sel = grp.clone();
-        if p.toggle("invert")? {
-            sel = Group::from_flags((0..sel.len()).map(|i| !sel.contains(i)));
-        }
-        if c == AttribClass::Primitive {
-            ops::delete_prims(&mut g, &sel, !p.toggle("keep_points")?);
-        } else {
-            ops::delete_points(&mut g, &sel);
-        }
-        geometry(g)
+    if c == AttribClass::Primitive {
+        ops::delete_prims(&mut g, &sel, !p.toggle("keep_points")?);
+    } else {
+        ops::delete_points(&mut g, &sel);
     }
+    geometry(g)
 }
 
-struct Normals;
 static NORMALS: NodeSpec = NodeSpec::new(
     "normals",
     "Normals",
@@ -84,44 +76,37 @@ static NORMALS: NodeSpec = NodeSpec::new(
         P::new("cusp_angle", "Cusp angle", T::Float, D::Float(60.0), "Vertex normals: faces meeting at a sharper angle keep separate normals.").range(0.0, 180.0),
     ],
 );
-impl Operator for Normals {
-    fn spec(&self) -> &'static NodeSpec {
-        &NORMALS
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let c = class(p, "class")?;
-        let n = match c {
-            AttribClass::Point => ops::point_normals(&g),
-            AttribClass::Primitive => ops::prim_normals(&g),
-            _ => ops::vertex_normals(&g, p.float("cusp_angle")? as f32),
-        };
-        // One N only: a stale N on another class would win in some writers.
-        for other in [
-            AttribClass::Point,
-            AttribClass::Vertex,
-            AttribClass::Primitive,
-        ] {
-            if other != c {
-                let _ = g.remove_attrib(other, "N");
-            }
+fn cook_normals(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let c = class(p, "class")?;
+    let n = match c {
+        AttribClass::Point => ops::point_normals(&g),
+        AttribClass::Primitive => ops::prim_normals(&g),
+        _ => ops::vertex_normals(&g, p.float("cusp_angle")? as f32),
+    };
+    // One N only: a stale N on another class would win in some writers.
+    for other in [
+        AttribClass::Point,
+        AttribClass::Vertex,
+        AttribClass::Primitive,
+    ] {
+        if other != c {
+            let _ = g.remove_attrib(other, "N");
         }
-        g.set_attrib(
-            c,
-            "N",
-            Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
-        )
-        .map_err(|e| ctx.kernel(e))?;
-        geometry(g)
     }
+    g.set_attrib(
+        c,
+        "N",
+        Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
+    )
+    .map_err(|e| ctx.kernel(e))?;
+    geometry(g)
 }
 
-struct Fuse;
 static FUSE: NodeSpec = NodeSpec::new(
     "fuse",
     "Fuse",
@@ -130,42 +115,25 @@ static FUSE: NodeSpec = NodeSpec::new(
     &[geometry_input("geometry")],
     &[P::new("distance", "Distance", T::Float, D::Float(0.001), "Points closer than this are merged.").at_least(0.0)],
 );
-impl Operator for Fuse {
-    fn spec(&self) -> &'static NodeSpec {
-        &FUSE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        ops::fuse_points(&mut g, p.float("distance")? as f32);
-        geometry(g)
-    }
+fn cook_fuse(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    ops::fuse_points(&mut g, p.float("distance")? as f32);
+    geometry(g)
 }
 
-struct Triangulate;
 static TRIANGULATE: NodeSpec = NodeSpec::new("triangulate", "Triangulate", "mesh", "Splits polygons into triangles: fans for convex ones, ear clipping for concave ones. Attributes carry over.", &[geometry_input("geometry")], &[]);
-impl Operator for Triangulate {
-    fn spec(&self) -> &'static NodeSpec {
-        &TRIANGULATE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        _: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input_owned(ctx, inputs, 0)?;
-        geometry(ops::triangulate(&g, None))
-    }
+fn cook_triangulate(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    _: &Params,
+) -> Result<Value, CookError> {
+    let g = input_owned(ctx, inputs, 0)?;
+    geometry(ops::triangulate(&g, None))
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Delete);
-    r.add(Normals);
-    r.add(Fuse);
-    r.add(Triangulate);
+    r.node(&DELETE, cook_delete);
+    r.node(&NORMALS, cook_normals);
+    r.node(&FUSE, cook_fuse);
+    r.node(&TRIANGULATE, cook_triangulate);
 }

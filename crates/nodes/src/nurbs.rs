@@ -2,14 +2,13 @@
 //! patch over the points of an input grid, tessellated with normals and UVs.
 
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, PortType, Registry, Value,
+    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
+    Params, PortType, Registry, Value,
 };
 use geode_spline::bspline::{Knots, NurbsSurface};
 
 use crate::util::{geometry, vec3};
 
-struct Nurbs;
 static NURBS: NodeSpec = NodeSpec::new(
     "nurbs_surface",
     "NURBS Surface",
@@ -30,76 +29,66 @@ static NURBS: NodeSpec = NodeSpec::new(
     ],
 );
 
-impl Operator for Nurbs {
-    fn spec(&self) -> &'static NodeSpec {
-        &NURBS
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let (r, minor, h) = (
-            p.float("radius")?,
-            p.float("minor_radius")?,
-            p.float("height")?,
-        );
-        let surface = match p.string("shape")? {
-            "cylinder" => NurbsSurface::cylinder(r, h),
-            "torus" => NurbsSurface::torus(r, minor),
-            "patch" => {
-                let grid = inputs
-                    .first()
-                    .and_then(|v| v.as_ref())
-                    .and_then(|v| v.as_geometry())
-                    .ok_or_else(|| ctx.input_error("a patch needs its control grid on input 1"))?;
-                let (rows, cols) = (p.int("rows")? as usize, p.int("columns")? as usize);
-                if grid.num_points() != rows * cols {
-                    return Err(ctx.param_error(
-                        "rows",
-                        format!(
-                            "rows x columns = {} but input 1 has {} points",
-                            rows * cols,
-                            grid.num_points()
-                        ),
-                    ));
-                }
-                let degree = p.int("degree")? as usize;
-                let (du, dv) = (degree.min(rows - 1), degree.min(cols - 1));
-                let points = grid
-                    .positions()
-                    .iter()
-                    .map(|q| q.as_dvec3().extend(1.0))
-                    .collect();
-                NurbsSurface::new(
-                    Knots::clamped_uniform(du, rows),
-                    Knots::clamped_uniform(dv, cols),
-                    points,
-                )
-                .map_err(|e| ctx.kernel(e))?
+fn cook_nurbs(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (r, minor, h) = (
+        p.float("radius")?,
+        p.float("minor_radius")?,
+        p.float("height")?,
+    );
+    let surface = match p.string("shape")? {
+        "cylinder" => NurbsSurface::cylinder(r, h),
+        "torus" => NurbsSurface::torus(r, minor),
+        "patch" => {
+            let grid = inputs
+                .first()
+                .and_then(|v| v.as_ref())
+                .and_then(|v| v.as_geometry())
+                .ok_or_else(|| ctx.input_error("a patch needs its control grid on input 1"))?;
+            let (rows, cols) = (p.int("rows")? as usize, p.int("columns")? as usize);
+            if grid.num_points() != rows * cols {
+                return Err(ctx.param_error(
+                    "rows",
+                    format!(
+                        "rows x columns = {} but input 1 has {} points",
+                        rows * cols,
+                        grid.num_points()
+                    ),
+                ));
             }
-            _ => NurbsSurface::sphere(r),
-        };
-        let offset = vec3(p, "center")?;
-        if p.string("output")? == "patch" {
-            let mut surface = surface;
-            let shift = offset.as_dvec3();
-            for h in surface.points.iter_mut() {
-                *h += (shift * h.w).extend(0.0);
-            }
-            let mut g = geode_geo::Geometry::new();
-            geode_spline::bspline::patch::add_patch(&mut g, &surface).map_err(|e| ctx.kernel(e))?;
-            return geometry(g);
+            let degree = p.int("degree")? as usize;
+            let (du, dv) = (degree.min(rows - 1), degree.min(cols - 1));
+            let points = grid
+                .positions()
+                .iter()
+                .map(|q| q.as_dvec3().extend(1.0))
+                .collect();
+            NurbsSurface::new(
+                Knots::clamped_uniform(du, rows),
+                Knots::clamped_uniform(dv, cols),
+                points,
+            )
+            .map_err(|e| ctx.kernel(e))?
         }
-        let [su, sv] = p.vector::<2>("samples")?;
-        let t = surface.tessellate(su as usize, sv as usize);
-        let mut t = t;
-        t.positions.iter_mut().for_each(|q| *q += offset);
-        geometry(t.into_geometry().map_err(|e| ctx.kernel(e))?)
+        _ => NurbsSurface::sphere(r),
+    };
+    let offset = vec3(p, "center")?;
+    if p.string("output")? == "patch" {
+        let mut surface = surface;
+        let shift = offset.as_dvec3();
+        for h in surface.points.iter_mut() {
+            *h += (shift * h.w).extend(0.0);
+        }
+        let mut g = geode_geo::Geometry::new();
+        geode_spline::bspline::patch::add_patch(&mut g, &surface).map_err(|e| ctx.kernel(e))?;
+        return geometry(g);
     }
+    let [su, sv] = p.vector::<2>("samples")?;
+    let t = surface.tessellate(su as usize, sv as usize);
+    let mut t = t;
+    t.positions.iter_mut().for_each(|q| *q += offset);
+    geometry(t.into_geometry().map_err(|e| ctx.kernel(e))?)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Nurbs);
+    r.node(&NURBS, cook_nurbs);
 }

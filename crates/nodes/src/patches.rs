@@ -7,7 +7,7 @@ use std::path::Path;
 
 use geode_geo::{GeoError, Geometry, KnotVector, PrimKind};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 use geode_spline::bspline::patch::convert_patches;
@@ -48,7 +48,6 @@ pub fn for_file<'a>(g: &'a Geometry, path: &Path) -> Result<Cow<'a, Geometry>, G
     }
 }
 
-struct Convert;
 static CONVERT: NodeSpec = NodeSpec::new(
     "convert",
     "Convert",
@@ -58,22 +57,16 @@ static CONVERT: NodeSpec = NodeSpec::new(
     &[P::new("level_of_detail", "Level of detail", T::Int, D::Int(8), "Quads per knot span in each direction.").range(1.0, 256.0)],
 );
 
-impl Operator for Convert {
-    fn spec(&self) -> &'static NodeSpec {
-        &CONVERT
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let lod = p.int("level_of_detail")?.max(1) as usize;
-        geometry(patches_to_polygons(g, lod).map_err(|e| ctx.kernel(e))?)
-    }
+fn cook_convert(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let lod = p.int("level_of_detail")?.max(1) as usize;
+    geometry(patches_to_polygons(g, lod).map_err(|e| ctx.kernel(e))?)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Convert);
+    r.node(&CONVERT, cook_convert);
 }

@@ -4,8 +4,8 @@ use geode_geo::analytic::{self, AnalyticShape};
 use geode_geo::glam::{Mat4, Vec2, Vec3};
 use geode_geo::{ops, primitives, Geometry};
 use geode_op::{
-    CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P, ParamType as T,
-    Params, Registry, Value,
+    CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T, Params,
+    Registry, Value,
 };
 
 use crate::util::{geometry, reserve_mesh, vec2, vec3};
@@ -66,7 +66,6 @@ fn reserve_quads(ctx: &CookContext, p: &Params, copies: f64) -> Result<(), CookE
     )
 }
 
-struct BoxNode;
 static BOX: NodeSpec = NodeSpec::new(
     "box",
     "Box",
@@ -80,28 +79,22 @@ static BOX: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
-impl Operator for BoxNode {
-    fn spec(&self) -> &'static NodeSpec {
-        &BOX
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
-        let [x, y, z] = d.map(f64::from);
-        let quads = 2.0 * (x * y + y * z + x * z);
-        reserve_mesh(ctx, "divisions", quads + 2.0, 4.0 * quads, quads)?;
-        let size = vec3(p, "size")?;
-        finish(
-            ctx,
-            primitives::box_mesh(size, d),
-            p,
-            AnalyticShape::Box {
-                size: size.to_array(),
-            },
-        )
-    }
+fn cook_box_node(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
+    let [x, y, z] = d.map(f64::from);
+    let quads = 2.0 * (x * y + y * z + x * z);
+    reserve_mesh(ctx, "divisions", quads + 2.0, 4.0 * quads, quads)?;
+    let size = vec3(p, "size")?;
+    finish(
+        ctx,
+        primitives::box_mesh(size, d),
+        p,
+        AnalyticShape::Box {
+            size: size.to_array(),
+        },
+    )
 }
 
-struct Sphere;
 static SPHERE: NodeSpec = NodeSpec::new(
     "sphere",
     "Sphere",
@@ -130,19 +123,13 @@ static SPHERE: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
-impl Operator for Sphere {
-    fn spec(&self) -> &'static NodeSpec {
-        &SPHERE
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let radius = p.float("radius")? as f32;
-        reserve_quads(ctx, p, 1.0)?;
-        let g = primitives::uv_sphere(radius, div(p, "columns")?, div(p, "rows")?);
-        finish(ctx, g, p, AnalyticShape::Sphere { radius })
-    }
+fn cook_sphere(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let radius = p.float("radius")? as f32;
+    reserve_quads(ctx, p, 1.0)?;
+    let g = primitives::uv_sphere(radius, div(p, "columns")?, div(p, "rows")?);
+    finish(ctx, g, p, AnalyticShape::Sphere { radius })
 }
 
-struct Grid;
 static GRID: NodeSpec = NodeSpec::new(
     "grid",
     "Grid",
@@ -163,21 +150,15 @@ static GRID: NodeSpec = NodeSpec::new(
         P::new("columns", "Columns", T::Int, D::Int(10), "Quads along X.").range(1.0, 65536.0),
     ],
 );
-impl Operator for Grid {
-    fn spec(&self) -> &'static NodeSpec {
-        &GRID
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        reserve_quads(ctx, p, 1.0)?;
-        let size: Vec2 = vec2(p, "size")?;
-        geometry(placed(
-            primitives::grid(size, div(p, "columns")?, div(p, "rows")?),
-            vec3(p, "center")?,
-        ))
-    }
+fn cook_grid(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    reserve_quads(ctx, p, 1.0)?;
+    let size: Vec2 = vec2(p, "size")?;
+    geometry(placed(
+        primitives::grid(size, div(p, "columns")?, div(p, "rows")?),
+        vec3(p, "center")?,
+    ))
 }
 
-struct Tube;
 static TUBE: NodeSpec = NodeSpec::new(
     "tube",
     "Tube",
@@ -213,34 +194,28 @@ static TUBE: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
-impl Operator for Tube {
-    fn spec(&self) -> &'static NodeSpec {
-        &TUBE
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        reserve_quads(ctx, p, 1.0)?;
-        let (radius, height) = (p.float("radius")? as f32, p.float("height")? as f32);
-        let g = primitives::tube(
+fn cook_tube(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    reserve_quads(ctx, p, 1.0)?;
+    let (radius, height) = (p.float("radius")? as f32, p.float("height")? as f32);
+    let g = primitives::tube(
+        radius,
+        height,
+        div(p, "columns")?,
+        div(p, "rows")?,
+        p.toggle("caps")?,
+    );
+    finish(
+        ctx,
+        g,
+        p,
+        AnalyticShape::Tube {
             radius,
-            height,
-            div(p, "columns")?,
-            div(p, "rows")?,
-            p.toggle("caps")?,
-        );
-        finish(
-            ctx,
-            g,
-            p,
-            AnalyticShape::Tube {
-                radius,
-                y0: 0.0,
-                y1: height,
-            },
-        )
-    }
+            y0: 0.0,
+            y1: height,
+        },
+    )
 }
 
-struct Torus;
 static TORUS: NodeSpec = NodeSpec::new(
     "torus",
     "Torus",
@@ -284,25 +259,20 @@ static TORUS: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
-impl Operator for Torus {
-    fn spec(&self) -> &'static NodeSpec {
-        &TORUS
-    }
-    fn cook(&self, ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-        let (major, minor) = (
-            p.float("major_radius")? as f32,
-            p.float("minor_radius")? as f32,
-        );
-        reserve_quads(ctx, p, 1.0)?;
-        let g = primitives::torus(major, minor, div(p, "columns")?, div(p, "rows")?);
-        finish(ctx, g, p, AnalyticShape::Torus { major, minor })
-    }
+fn cook_torus(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let (major, minor) = (
+        p.float("major_radius")? as f32,
+        p.float("minor_radius")? as f32,
+    );
+    reserve_quads(ctx, p, 1.0)?;
+    let g = primitives::torus(major, minor, div(p, "columns")?, div(p, "rows")?);
+    finish(ctx, g, p, AnalyticShape::Torus { major, minor })
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(BoxNode);
-    r.add(Sphere);
-    r.add(Grid);
-    r.add(Tube);
-    r.add(Torus);
+    r.node(&BOX, cook_box_node);
+    r.node(&SPHERE, cook_sphere);
+    r.node(&GRID, cook_grid);
+    r.node(&TUBE, cook_tube);
+    r.node(&TORUS, cook_torus);
 }

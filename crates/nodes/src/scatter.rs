@@ -8,8 +8,8 @@ use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_growth::scatter::{self, ScatterError};
 use geode_growth::InsideTest;
 use geode_op::{
-    geometry_input, CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D,
-    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
+    geometry_input, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
 };
 use rayon::prelude::*;
 
@@ -111,7 +111,6 @@ fn inside(
         .collect())
 }
 
-struct Scatter;
 static SCATTER: NodeSpec = NodeSpec::new(
     "scatter",
     "Scatter",
@@ -126,68 +125,60 @@ static SCATTER: NodeSpec = NodeSpec::new(
         RELAX,
     ],
 );
-impl Operator for Scatter {
-    fn spec(&self) -> &'static NodeSpec {
-        &SCATTER
+fn cook_scatter(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let tris = geode_growth::inside::triangles(g);
+    if tris.is_empty() {
+        return Err(ctx.input_error("input 1 has no polygons to scatter in or on"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        let tris = geode_growth::inside::triangles(g);
-        if tris.is_empty() {
-            return Err(ctx.input_error("input 1 has no polygons to scatter in or on"));
-        }
-        if p.string("mode")? == "inside" {
-            let b = ops::bounds(g).ok_or_else(|| ctx.input_error("input 1 is empty"))?;
-            let count = target_count(ctx, p, || ops::signed_volume(g).abs() as f64)?;
-            let test = InsideTest::new(tris);
-            let pts = inside(
-                ctx,
-                p,
-                b.min,
-                b.max,
-                &|c: &[Vec3]| c.par_iter().map(|q| test.contains(*q)).collect(),
-                count,
-            )?;
-            return points(pts);
-        }
-        let count = target_count(ctx, p, || scatter::area(&tris))?;
-        let seed = p.int("seed")? as u64;
-        let relax = p.toggle("relax")?;
-        let wanted = if relax { count * OVERSAMPLE } else { count };
-        let mut found =
-            scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
-        if relax {
-            let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
-            let cancel = || ctx.cancel.is_cancelled();
-            let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2, &cancel)
-                .map_err(|e| scatter_error(ctx, e))?;
-            found = keep.into_iter().map(|i| found[i]).collect();
-        }
-        let mut out = Geometry::new();
-        out.add_points(&found.iter().map(|x| x.0).collect::<Vec<_>>());
-        let normals = found
-            .iter()
-            .map(|&(_, t)| {
-                let t = &tris[t as usize];
-                (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
-            })
-            .collect();
-        out.set_attrib(
-            AttribClass::Point,
-            "N",
-            Attribute::from_data(AttribData::Vec3(normals), TypeInfo::Normal),
-        )
-        .map_err(|e| ctx.kernel(e))?;
-        geometry(out)
+    if p.string("mode")? == "inside" {
+        let b = ops::bounds(g).ok_or_else(|| ctx.input_error("input 1 is empty"))?;
+        let count = target_count(ctx, p, || ops::signed_volume(g).abs() as f64)?;
+        let test = InsideTest::new(tris);
+        let pts = inside(
+            ctx,
+            p,
+            b.min,
+            b.max,
+            &|c: &[Vec3]| c.par_iter().map(|q| test.contains(*q)).collect(),
+            count,
+        )?;
+        return points(pts);
     }
+    let count = target_count(ctx, p, || scatter::area(&tris))?;
+    let seed = p.int("seed")? as u64;
+    let relax = p.toggle("relax")?;
+    let wanted = if relax { count * OVERSAMPLE } else { count };
+    let mut found = scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
+    if relax {
+        let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
+        let cancel = || ctx.cancel.is_cancelled();
+        let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2, &cancel)
+            .map_err(|e| scatter_error(ctx, e))?;
+        found = keep.into_iter().map(|i| found[i]).collect();
+    }
+    let mut out = Geometry::new();
+    out.add_points(&found.iter().map(|x| x.0).collect::<Vec<_>>());
+    let normals = found
+        .iter()
+        .map(|&(_, t)| {
+            let t = &tris[t as usize];
+            (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
+        })
+        .collect();
+    out.set_attrib(
+        AttribClass::Point,
+        "N",
+        Attribute::from_data(AttribData::Vec3(normals), TypeInfo::Normal),
+    )
+    .map_err(|e| ctx.kernel(e))?;
+    geometry(out)
 }
 
-struct ScatterField;
 static SCATTER_FIELD: NodeSpec = NodeSpec::new(
     "scatter_field",
     "Scatter in Field",
@@ -219,40 +210,31 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
         RELAX,
     ],
 );
-impl Operator for ScatterField {
-    fn spec(&self) -> &'static NodeSpec {
-        &SCATTER_FIELD
+fn cook_scatter_field(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let f = inputs
+        .first()
+        .and_then(|v| v.as_ref())
+        .and_then(|v| v.as_field())
+        .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
+    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+    if (hi - lo).cmple(Vec3::ZERO).any() {
+        return Err(ctx.param_error("max", "the box is empty: max must exceed min on every axis"));
     }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let f = inputs
-            .first()
-            .and_then(|v| v.as_ref())
-            .and_then(|v| v.as_field())
-            .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
-        let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
-        if (hi - lo).cmple(Vec3::ZERO).any() {
-            return Err(
-                ctx.param_error("max", "the box is empty: max must exceed min on every axis")
-            );
-        }
-        let test = |c: &[Vec3]| -> Vec<bool> {
-            sample_field(f, c).into_iter().map(|v| v >= 0.0).collect()
-        };
-        let seed = p.int("seed")? as u64;
-        let count = target_count(ctx, p, || {
-            (hi - lo).as_dvec3().element_product() * probe_share(lo, hi, seed, &test)
-        })?;
-        let pts = inside(ctx, p, lo, hi, &test, count)?;
-        points(pts)
-    }
+    let test =
+        |c: &[Vec3]| -> Vec<bool> { sample_field(f, c).into_iter().map(|v| v >= 0.0).collect() };
+    let seed = p.int("seed")? as u64;
+    let count = target_count(ctx, p, || {
+        (hi - lo).as_dvec3().element_product() * probe_share(lo, hi, seed, &test)
+    })?;
+    let pts = inside(ctx, p, lo, hi, &test, count)?;
+    points(pts)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Scatter);
-    r.add(ScatterField);
+    r.node(&SCATTER, cook_scatter);
+    r.node(&SCATTER_FIELD, cook_scatter_field);
 }

@@ -5,7 +5,7 @@
 use geode_geo::glam::{DQuat, DVec3};
 use geode_geo::AttribClass;
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 use geode_spline::skin::{skin, Joint, Skeleton, SkinMethod};
@@ -143,7 +143,6 @@ fn parse_skeleton(
     Skeleton::new(joints).map_err(|e| ("skeleton", e.to_string()))
 }
 
-struct Skin;
 static SKIN: NodeSpec = NodeSpec::new(
     "skin",
     "Skin",
@@ -159,60 +158,50 @@ static SKIN: NodeSpec = NodeSpec::new(
     ],
 );
 
-impl Operator for Skin {
-    fn spec(&self) -> &'static NodeSpec {
-        &SKIN
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        let skeleton = skeleton_from_params(ctx, p)?;
-        let points: Vec<DVec3> = g.positions().iter().map(|q| q.as_dvec3()).collect();
-        // Given weights: one float attribute per joint, normalized per point.
-        let given: Vec<Option<&[f32]>> = skeleton
-            .joints
-            .iter()
-            .map(|j| {
-                g.attrib(AttribClass::Point, &format!("w_{}", j.name))
-                    .and_then(|a| a.as_f32())
+fn cook_skin(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    let skeleton = skeleton_from_params(ctx, p)?;
+    let points: Vec<DVec3> = g.positions().iter().map(|q| q.as_dvec3()).collect();
+    // Given weights: one float attribute per joint, normalized per point.
+    let given: Vec<Option<&[f32]>> = skeleton
+        .joints
+        .iter()
+        .map(|j| {
+            g.attrib(AttribClass::Point, &format!("w_{}", j.name))
+                .and_then(|a| a.as_f32())
+        })
+        .collect();
+    let weights = if given.iter().any(Option::is_some) {
+        (0..points.len())
+            .map(|i| {
+                let w: Vec<(usize, f64)> = given
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(j, a)| a.map(|a| (j, a[i].max(0.0) as f64)))
+                    .filter(|x| x.1 > 0.0)
+                    .collect();
+                let sum: f64 = w.iter().map(|x| x.1).sum();
+                w.into_iter().map(|(j, x)| (j, x / sum)).collect()
             })
-            .collect();
-        let weights = if given.iter().any(Option::is_some) {
-            (0..points.len())
-                .map(|i| {
-                    let w: Vec<(usize, f64)> = given
-                        .iter()
-                        .enumerate()
-                        .filter_map(|(j, a)| a.map(|a| (j, a[i].max(0.0) as f64)))
-                        .filter(|x| x.1 > 0.0)
-                        .collect();
-                    let sum: f64 = w.iter().map(|x| x.1).sum();
-                    w.into_iter().map(|(j, x)| (j, x / sum)).collect()
-                })
-                .collect()
-        } else {
-            skeleton.auto_weights(&points)
-        };
-        let method = if p.string("method")? == "linear" {
-            SkinMethod::Linear
-        } else {
-            SkinMethod::DualQuaternion
-        };
-        let moved = skin(&points, &weights, &skeleton.motions(), method);
-        // A point with no weight at all stays where it is.
-        for ((q, m), w) in g.positions_mut().iter_mut().zip(moved).zip(&weights) {
-            if !w.is_empty() {
-                *q = m.as_vec3();
-            }
+            .collect()
+    } else {
+        skeleton.auto_weights(&points)
+    };
+    let method = if p.string("method")? == "linear" {
+        SkinMethod::Linear
+    } else {
+        SkinMethod::DualQuaternion
+    };
+    let moved = skin(&points, &weights, &skeleton.motions(), method);
+    // A point with no weight at all stays where it is.
+    for ((q, m), w) in g.positions_mut().iter_mut().zip(moved).zip(&weights) {
+        if !w.is_empty() {
+            *q = m.as_vec3();
         }
-        geometry(g)
     }
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Skin);
+    r.node(&SKIN, cook_skin);
 }

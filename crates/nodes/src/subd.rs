@@ -3,7 +3,7 @@
 //! method), each overridable here.
 
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 use geode_spline::subd::{
@@ -13,7 +13,6 @@ use geode_spline::subd::{
 use crate::util::{count_text, geometry, input};
 use geode_geo::Geometry;
 
-struct Subdivide;
 static SUBDIVIDE: NodeSpec = NodeSpec::new(
     "subdivide",
     "Subdivide",
@@ -28,51 +27,45 @@ static SUBDIVIDE: NodeSpec = NodeSpec::new(
         P::new("limit", "Push to limit", T::Toggle, D::Toggle(false), "Move points to the limit surface and write limit normals N."),
     ],
 );
-impl Operator for Subdivide {
-    fn spec(&self) -> &'static NodeSpec {
-        &SUBDIVIDE
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let g = input(ctx, inputs, 0)?;
-        reserve_refinement(ctx, g, p.int("levels")?)?;
-        let opts = SubdOptions {
-            levels: p.int("levels")? as u32,
-            boundary: match p.string("boundary")? {
-                "none" => Some(BoundaryMode::None),
-                "edge_only" => Some(BoundaryMode::EdgeOnly),
-                "edge_and_corner" => Some(BoundaryMode::EdgeAndCorner),
-                _ => None,
-            },
-            crease: match p.string("crease_method")? {
-                "uniform" => Some(CreaseMethod::Uniform),
-                "chaikin" => Some(CreaseMethod::Chaikin),
-                _ => None,
-            },
-            fvar: match p.string("uv_interpolation")? {
-                "none" => Some(FVarLinear::None),
-                "corners_only" => Some(FVarLinear::CornersOnly),
-                "corners_plus1" => Some(FVarLinear::CornersPlus1),
-                "corners_plus2" => Some(FVarLinear::CornersPlus2),
-                "boundaries" => Some(FVarLinear::Boundaries),
-                "all" => Some(FVarLinear::All),
-                _ => None,
-            },
-            limit: p.toggle("limit")?,
-        };
-        let cancel = || ctx.cancel.is_cancelled();
-        let out = subdivide(g, &opts, &cancel).map_err(|e| match e {
-            SubdError::NotPolygon(prim) => ctx.input_error(format!(
-                "input 1: primitive {prim} is not a polygon; subdivide needs a polygon mesh"
-            )),
-            other => ctx.kernel(other),
-        })?;
-        geometry(out)
-    }
+fn cook_subdivide(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    reserve_refinement(ctx, g, p.int("levels")?)?;
+    let opts = SubdOptions {
+        levels: p.int("levels")? as u32,
+        boundary: match p.string("boundary")? {
+            "none" => Some(BoundaryMode::None),
+            "edge_only" => Some(BoundaryMode::EdgeOnly),
+            "edge_and_corner" => Some(BoundaryMode::EdgeAndCorner),
+            _ => None,
+        },
+        crease: match p.string("crease_method")? {
+            "uniform" => Some(CreaseMethod::Uniform),
+            "chaikin" => Some(CreaseMethod::Chaikin),
+            _ => None,
+        },
+        fvar: match p.string("uv_interpolation")? {
+            "none" => Some(FVarLinear::None),
+            "corners_only" => Some(FVarLinear::CornersOnly),
+            "corners_plus1" => Some(FVarLinear::CornersPlus1),
+            "corners_plus2" => Some(FVarLinear::CornersPlus2),
+            "boundaries" => Some(FVarLinear::Boundaries),
+            "all" => Some(FVarLinear::All),
+            _ => None,
+        },
+        limit: p.toggle("limit")?,
+    };
+    let cancel = || ctx.cancel.is_cancelled();
+    let out = subdivide(g, &opts, &cancel).map_err(|e| match e {
+        SubdError::NotPolygon(prim) => ctx.input_error(format!(
+            "input 1: primitive {prim} is not a polygon; subdivide needs a polygon mesh"
+        )),
+        other => ctx.kernel(other),
+    })?;
+    geometry(out)
 }
 
 /// Peak bytes per quad of the finest level while refining (the topology of
@@ -95,5 +88,5 @@ fn reserve_refinement(ctx: &CookContext, g: &Geometry, levels: i64) -> Result<()
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Subdivide);
+    r.node(&SUBDIVIDE, cook_subdivide);
 }

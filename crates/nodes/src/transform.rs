@@ -3,13 +3,12 @@
 use geode_geo::glam::{DMat4, DQuat, DVec3, EulerRot, Mat4};
 use geode_geo::ops;
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{geometry, input_owned};
 
-struct Transform;
 static TRANSFORM: NodeSpec = NodeSpec::new(
     "transform",
     "Transform",
@@ -56,22 +55,16 @@ pub fn matrix(p: &Params) -> Result<Mat4, CookError> {
     .as_mat4())
 }
 
-impl Operator for Transform {
-    fn spec(&self) -> &'static NodeSpec {
-        &TRANSFORM
-    }
-    fn cook(
-        &self,
-        ctx: &CookContext,
-        inputs: &[Option<Value>],
-        p: &Params,
-    ) -> Result<Value, CookError> {
-        let mut g = input_owned(ctx, inputs, 0)?;
-        ops::transform(&mut g, matrix(p)?);
-        geometry(g)
-    }
+fn cook_transform(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut g = input_owned(ctx, inputs, 0)?;
+    ops::transform(&mut g, matrix(p)?);
+    geometry(g)
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(Transform);
+    r.node(&TRANSFORM, cook_transform);
 }
