@@ -13,7 +13,12 @@ pub fn load(path: &Path) -> Result<(Document, Network)> {
         .with_context(|| format!("{}: cannot read the network", path.display()))?;
     let doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     match Network::load(&doc, &geode_nodes::registry()) {
-        Ok(net) => Ok((doc, net)),
+        Ok(net) => {
+            for note in net.notes() {
+                eprintln!("{}: note: {note}", path.display());
+            }
+            Ok((doc, net))
+        }
         Err(errors) => {
             let lines: Vec<String> = errors
                 .iter()

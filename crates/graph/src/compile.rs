@@ -3,7 +3,9 @@
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
-use geode_op::{CookEnv, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry};
+use geode_op::{
+    CookEnv, ListSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
+};
 use serde_json::Value as Json;
 
 use crate::channel::{Channel, Key};
@@ -48,6 +50,8 @@ pub(crate) enum Component {
 pub(crate) enum ParamSource {
     Text(String),
     Components(Vec<Component>),
+    /// A list parameter's rows, each field compiled like a parameter.
+    List(Vec<Vec<CompiledParam>>),
 }
 
 #[derive(Clone, Debug)]
@@ -60,6 +64,11 @@ impl CompiledParam {
     fn eval(&self, frame: f64) -> ParamValue {
         match &self.source {
             ParamSource::Text(s) => ParamValue::String(s.clone()),
+            ParamSource::List(rows) => ParamValue::List(
+                rows.iter()
+                    .map(|r| r.iter().map(|f| f.eval(frame)).collect())
+                    .collect(),
+            ),
             ParamSource::Components(c) => {
                 let v: Vec<f64> = c
                     .iter()
@@ -74,7 +83,13 @@ impl CompiledParam {
     }
 
     fn is_animated(&self) -> bool {
-        matches!(&self.source, ParamSource::Components(c) if c.iter().any(|c| matches!(c, Component::Channel(ch) if !ch.is_constant())))
+        match &self.source {
+            ParamSource::Components(c) => c
+                .iter()
+                .any(|c| matches!(c, Component::Channel(ch) if !ch.is_constant())),
+            ParamSource::List(rows) => rows.iter().flatten().any(CompiledParam::is_animated),
+            ParamSource::Text(_) => false,
+        }
     }
 }
 
@@ -118,9 +133,16 @@ pub struct Network {
     by_path: HashMap<String, usize>,
     output: Option<usize>,
     promotions: Vec<Promotion>,
+    notes: Vec<LoadError>,
 }
 
 impl Network {
+    /// What loading changed without failing (old text forms converted to
+    /// list parameters), to show the user.
+    pub fn notes(&self) -> &[LoadError] {
+        &self.notes
+    }
+
     pub(crate) fn index(&self, path: &str) -> Option<usize> {
         self.by_path.get(path).copied()
     }
@@ -153,7 +175,7 @@ impl Network {
     /// its parameters, and so in its key.
     pub(crate) fn params_at(&self, i: usize, frame: f64, env: &CookEnv) -> Params {
         match &self.nodes[i].kind {
-            NodeKind::Op { params, .. } => Params::new(
+            NodeKind::Op { params, .. } => Params::declared(
                 &self.nodes[i].path,
                 params
                     .iter()
@@ -164,7 +186,7 @@ impl Network {
                             }
                             (_, v) => v,
                         };
-                        (p.spec.name, v)
+                        (p.spec, v)
                     })
                     .collect(),
             ),
@@ -200,6 +222,7 @@ impl Network {
             docs: Vec::new(),
             by_path: HashMap::new(),
             errors: Vec::new(),
+            notes: Vec::new(),
             promotions: Vec::new(),
         };
         if doc.geode != "network" {
@@ -230,6 +253,7 @@ impl Network {
             by_path: b.by_path,
             output,
             promotions: b.promotions,
+            notes: b.notes,
         };
         let mut errors = b.errors;
         errors.extend(find_cycles(&net));
@@ -249,6 +273,7 @@ struct Builder<'a> {
     docs: Vec<NodeDoc>,
     by_path: HashMap<String, usize>,
     errors: Vec<LoadError>,
+    notes: Vec<LoadError>,
     promotions: Vec<Promotion>,
 }
 
@@ -418,7 +443,133 @@ impl Builder<'_> {
         spec: &'static ParamSpec,
         j: &Json,
     ) -> Option<ParamSource> {
-        let err = |m: String| LoadError::param(path, spec.name, m);
+        self.parse_named(path, spec.name, spec, j)
+    }
+
+    /// The rows of a list parameter: an array of objects keyed by field
+    /// (missing fields take their defaults), or, where the parameter had
+    /// one, its old text form, converted with a note.
+    fn parse_list(
+        &mut self,
+        path: &str,
+        name: &str,
+        rows: &'static ListSpec,
+        j: &Json,
+    ) -> Option<ParamSource> {
+        let err = |m: String| LoadError::param(path, name, m);
+        let items = match j {
+            Json::Array(items) => items,
+            Json::String(text) => {
+                let Some(legacy) = rows.legacy else {
+                    self.errors.push(err(format!(
+                        "expected a list of rows (an array of objects with fields {}), found {}",
+                        field_names(rows),
+                        describe(j)
+                    )));
+                    return None;
+                };
+                return match legacy(text) {
+                    Ok(values) => {
+                        self.notes.push(err(format!(
+                            "read from the old text form as {} row{}; write it as a list of objects with fields {}",
+                            values.len(),
+                            if values.len() == 1 { "" } else { "s" },
+                            field_names(rows)
+                        )));
+                        Some(ParamSource::List(
+                            values
+                                .into_iter()
+                                .map(|row| {
+                                    rows.fields
+                                        .iter()
+                                        .zip(row)
+                                        .map(|(f, v)| CompiledParam {
+                                            spec: f,
+                                            source: constant_source(v),
+                                        })
+                                        .collect()
+                                })
+                                .collect(),
+                        ))
+                    }
+                    Err(why) => {
+                        self.errors.push(err(why));
+                        None
+                    }
+                };
+            }
+            other => {
+                self.errors.push(err(format!(
+                    "expected a list of rows (an array of objects with fields {}), found {}",
+                    field_names(rows),
+                    describe(other)
+                )));
+                return None;
+            }
+        };
+        let mut out = Vec::with_capacity(items.len());
+        let mut ok = true;
+        for (k, item) in items.iter().enumerate() {
+            let row_name = format!("{name}[{k}]");
+            let Json::Object(obj) = item else {
+                self.errors.push(LoadError::param(
+                    path,
+                    &row_name,
+                    format!(
+                        "expected an object with fields {}, found {}",
+                        field_names(rows),
+                        describe(item)
+                    ),
+                ));
+                ok = false;
+                continue;
+            };
+            for key in obj.keys() {
+                if rows.field(key).is_none() {
+                    let hint = closest(key, rows.fields.iter().map(|f| f.name));
+                    self.errors.push(LoadError::param(
+                        path,
+                        &row_name,
+                        format!(
+                            "unknown field `{key}`{hint} (fields: {})",
+                            field_names(rows)
+                        ),
+                    ));
+                    ok = false;
+                }
+            }
+            let mut row = Vec::with_capacity(rows.fields.len());
+            for f in rows.fields {
+                let source = match obj.get(f.name) {
+                    Some(j) => {
+                        match self.parse_named(path, &format!("{row_name}.{}", f.name), f, j) {
+                            Some(s) => s,
+                            None => {
+                                ok = false;
+                                continue;
+                            }
+                        }
+                    }
+                    None => default_source(f),
+                };
+                row.push(CompiledParam { spec: f, source });
+            }
+            out.push(row);
+        }
+        ok.then_some(ParamSource::List(out))
+    }
+
+    fn parse_named(
+        &mut self,
+        path: &str,
+        name: &str,
+        spec: &'static ParamSpec,
+        j: &Json,
+    ) -> Option<ParamSource> {
+        let err = |m: String| LoadError::param(path, name, m);
+        if let ParamType::List(rows) = spec.ty {
+            return self.parse_list(path, name, rows, j);
+        }
         if spec.ty.is_textual() {
             let Json::String(s) = j else {
                 self.errors.push(err(format!(
@@ -734,8 +885,35 @@ fn expectation(ty: ParamType) -> String {
     }
 }
 
+/// `a`, `b` and `c`: a list's field names for messages.
+fn field_names(rows: &ListSpec) -> String {
+    let names: Vec<String> = rows
+        .fields
+        .iter()
+        .map(|f| format!("`{}`", f.name))
+        .collect();
+    names.join(", ")
+}
+
+/// ` (did you mean `x`?)` for the known name nearest to `name`, if near.
+fn closest<'k>(name: &str, known: impl Iterator<Item = &'k str>) -> String {
+    let mut near: Vec<(usize, &str)> = known
+        .map(|k| (geode_op::edit_distance(name, k), k))
+        .filter(|(d, _)| *d <= 3)
+        .collect();
+    near.sort();
+    near.first()
+        .map(|(_, k)| format!(" (did you mean `{k}`?)"))
+        .unwrap_or_default()
+}
+
 fn default_source(spec: &'static ParamSpec) -> ParamSource {
-    match spec.default_value() {
+    constant_source(spec.default_value())
+}
+
+/// A fixed value as a parameter source.
+fn constant_source(v: ParamValue) -> ParamSource {
+    match v {
         ParamValue::Float(x) => ParamSource::Components(vec![Component::Const(x)]),
         ParamValue::Int(x) => ParamSource::Components(vec![Component::Const(x as f64)]),
         ParamValue::Toggle(x) => {
@@ -745,6 +923,9 @@ fn default_source(spec: &'static ParamSpec) -> ParamSource {
             ParamSource::Components(v.into_iter().map(Component::Const).collect())
         }
         ParamValue::String(s) => ParamSource::Text(s),
+        // A list's default has no rows (legacy rows are built field by
+        // field in `parse_list`, where the field declarations are known).
+        ParamValue::List(_) => ParamSource::List(Vec::new()),
     }
 }
 

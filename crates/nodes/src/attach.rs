@@ -7,8 +7,8 @@
 
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, StringColumn, TypeInfo};
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
-    Params, PortType, Registry, Value,
+    CookContext, CookError, InputSpec, ListSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, ParamValue, Params, PortType, Registry, Value,
 };
 use geode_spline::hspline::attach::{attach, Attached, Limb, Region};
 use geode_spline::hspline::{file, Hspline};
@@ -71,7 +71,33 @@ fn hierarchy(ctx: &CookContext, g: &Geometry, input: &str) -> Result<Hspline, Co
     file::load(&hs).map_err(|e| ctx.input_error(format!("input `{input}`: {e}")))
 }
 
-fn parse_regions(text: &str) -> Result<Vec<Region>, String> {
+/// A region row: the parent's level-0 faces a limb replaces.
+static REGION_ROWS: ListSpec = ListSpec {
+    fields: &[
+        P::new(
+            "u",
+            "Faces along u",
+            T::Vec2,
+            D::Vec2([2.0, 4.0]),
+            "u0 u1: the parent's level-0 faces u0..u1 (half-open).",
+        )
+        .at_least(0.0)
+        .not_animatable(),
+        P::new(
+            "v",
+            "Faces along v",
+            T::Vec2,
+            D::Vec2([2.0, 4.0]),
+            "v0 v1: the parent's level-0 faces v0..v1 (half-open).",
+        )
+        .at_least(0.0)
+        .not_animatable(),
+    ],
+    legacy: Some(legacy_regions),
+};
+
+/// Old networks: `u0 u1 v0 v1` entries separated by `;`.
+fn legacy_regions(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
     text.split(';')
         .map(str::trim)
         .filter(|s| !s.is_empty())
@@ -83,14 +109,29 @@ fn parse_regions(text: &str) -> Result<Vec<Region>, String> {
                     k + 1
                 )
             };
-            let w: Vec<usize> = entry
+            let w: Vec<f64> = entry
                 .split_whitespace()
-                .map(|x| x.parse().map_err(|_| bad()))
+                .map(|x| x.parse::<usize>().map(|x| x as f64).map_err(|_| bad()))
                 .collect::<Result<_, _>>()?;
             match w[..] {
-                [u0, u1, v0, v1] => Ok(((u0, u1), (v0, v1))),
+                [u0, u1, v0, v1] => Ok(vec![
+                    ParamValue::Vector(vec![u0, u1]),
+                    ParamValue::Vector(vec![v0, v1]),
+                ]),
                 _ => Err(bad()),
             }
+        })
+        .collect()
+}
+
+/// The region rows.
+fn regions(p: &Params) -> Result<Vec<Region>, CookError> {
+    p.list("regions")?
+        .iter()
+        .map(|row| {
+            let [u0, u1] = row.vector::<2>("u")?.map(|x| x as usize);
+            let [v0, v1] = row.vector::<2>("v")?.map(|x| x as usize);
+            Ok(((u0, u1), (v0, v1)))
         })
         .collect()
 }
@@ -105,7 +146,7 @@ static ATTACH: NodeSpec = NodeSpec::new(
         InputSpec { name: "limbs", ty: PortType::Geometry, required: true },
     ],
     &[
-        P::new("regions", "Regions", T::String, D::Str("2 4 2 4"), "One `u0 u1 v0 v1` per limb input, separated by `;`: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around."),
+        P::list("regions", "Regions", &REGION_ROWS, "One row per limb input: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around."),
         P::new("place", "Place limbs", T::Toggle, D::Toggle(true), "Move each limb rigidly onto its region: rim centre on the hole's centre, axis along the parent's normal, turned to fit the rim (its offsets follow). Off: limbs stay where they are."),
         P::new("subdivisions", "Subdivisions", T::Int, D::Int(2), "Levels of refinement past the finest hspline level, for a smoother tessellation.").range(0.0, 6.0),
         P::new("output", "Output", T::Menu(&["surface", "control_mesh"]), D::Str("surface"), "The limit surface, or the level-0 Catmull-Clark control mesh."),
@@ -119,28 +160,30 @@ fn cook_attach(
     p: &Params,
 ) -> Result<Value, CookError> {
     let parent = hierarchy(ctx, crate::util::input(ctx, inputs, 0)?, "parent")?;
-    let regions = parse_regions(p.string("regions")?).map_err(|e| ctx.param_error("regions", e))?;
     let limb_inputs: Vec<_> = inputs.iter().skip(1).flatten().collect();
-    if regions.len() != limb_inputs.len() {
+    let mut surfaces = Vec::with_capacity(limb_inputs.len());
+    for (k, value) in limb_inputs.iter().enumerate() {
+        let g = value
+            .as_geometry()
+            .ok_or_else(|| ctx.input_error(format!("limb {k} needs geometry")))?;
+        surfaces.push(hierarchy(ctx, g, &format!("limb {k}"))?);
+    }
+    let regions = regions(p)?;
+    if regions.len() != surfaces.len() {
         return Err(ctx.param_error(
             "regions",
             format!(
                 "{} regions for {} limb inputs",
                 regions.len(),
-                limb_inputs.len()
+                surfaces.len()
             ),
         ));
     }
-    let mut limbs = Vec::with_capacity(regions.len());
-    for (k, (value, region)) in limb_inputs.iter().zip(regions).enumerate() {
-        let g = value
-            .as_geometry()
-            .ok_or_else(|| ctx.input_error(format!("limb {k} needs geometry")))?;
-        limbs.push(Limb {
-            surface: hierarchy(ctx, g, &format!("limb {k}"))?,
-            region,
-        });
-    }
+    let limbs: Vec<Limb> = surfaces
+        .into_iter()
+        .zip(regions)
+        .map(|(surface, region)| Limb { surface, region })
+        .collect();
     ctx.check()?;
     let a = attach(
         &parent,

@@ -5,8 +5,8 @@
 
 use geode_geo::glam::DVec3;
 use geode_op::{
-    CookContext, CookError, FnOperator, NodeSpec, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, Registry, Value,
+    CookContext, CookError, FnOperator, ListSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, ParamValue, Params, Registry, Value,
 };
 use geode_spline::hspline::{file, Hspline, HsplineError, Topology};
 use geode_spline::skin::SkinMethod;
@@ -19,7 +19,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
     "spline",
-    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are listed as `level i j dx dy dz; ...`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (its .hs text in the detail attribute `hspline`) for the attach node when it is not enveloped.",
+    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are rows of the list parameter `edits`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (its .hs text in the detail attribute `hspline`) for the attach node when it is not enveloped.",
     &[],
     &[
         P::new("topology", "Topology", T::Menu(&["plane", "cylinder", "torus"]), D::Str("plane"), "Plane (open), cylinder (wrapped around) or torus (wrapped both ways)."),
@@ -31,7 +31,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         P::new("edit_level", "Edit level", T::Int, D::Int(0), "Level of the animatable edit.").range(0.0, 16.0),
         P::new("edit_vertex", "Edit vertex", T::Vec2, D::Vec2([0.0, 0.0]), "i j of the animatable edit."),
         P::new("edit_move", "Edit move", T::Vec3, D::Vec3([0.0; 3]), "World vector the vertex moves by (zero: no edit)."),
-        P::new("edits", "More edits", T::String, D::Str(""), "`level i j dx dy dz` entries separated by `;`."),
+        P::list("edits", "More edits", &EDIT_ROWS, "Further control-vertex moves, each row keyframable."),
         P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane, cylinder or torus; wrapped directions need an even vertex count)."),
         P::new("samples", "Samples", T::Vec2, D::Vec2([48.0, 48.0]), "Tessellation samples along u and v.").range(3.0, 10_000.0),
         P::new("output", "Output", T::Menu(&["polygons", "patch"]), D::Str("polygons"), "Tessellated quads, or the finest level as one cubic B-spline patch primitive (its control points as points; a wrapped side closes on the same points), which transforms and merges keep exact."),
@@ -48,9 +48,40 @@ static HSPLINE: NodeSpec = NodeSpec::new(
 )
 .writes(&["save"]);
 
+/// An edit row: which control vertex of which level moves, and by how much.
+static EDIT_ROWS: ListSpec = ListSpec {
+    fields: &[
+        P::new(
+            "level",
+            "Level",
+            T::Int,
+            D::Int(0),
+            "The level whose control vertex moves.",
+        )
+        .range(0.0, 16.0),
+        P::new(
+            "vertex",
+            "Vertex",
+            T::Vec2,
+            D::Vec2([0.0, 0.0]),
+            "i j of the control vertex (u, v).",
+        )
+        .at_least(0.0),
+        P::new(
+            "move",
+            "Move",
+            T::Vec3,
+            D::Vec3([0.0; 3]),
+            "World vector the vertex moves by (keyframable).",
+        ),
+    ],
+    legacy: Some(legacy_edits),
+};
+
 type Edit = (usize, usize, usize, DVec3);
 
-fn parse_edits(text: &str) -> Result<Vec<Edit>, String> {
+/// Old networks: `level i j dx dy dz` entries separated by `;`.
+fn legacy_edits(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
     let mut out = Vec::new();
     for (k, entry) in text
         .split(';')
@@ -63,21 +94,32 @@ fn parse_edits(text: &str) -> Result<Vec<Edit>, String> {
         if w.len() != 6 {
             return Err(bad());
         }
-        let int = |s: &str| s.parse::<usize>().map_err(|_| bad());
+        let int = |s: &str| s.parse::<usize>().map(|x| x as f64).map_err(|_| bad());
         let num = |s: &str| {
             s.parse::<f64>()
                 .ok()
                 .filter(|x| x.is_finite())
                 .ok_or_else(bad)
         };
-        out.push((
-            int(w[0])?,
-            int(w[1])?,
-            int(w[2])?,
-            DVec3::new(num(w[3])?, num(w[4])?, num(w[5])?),
-        ));
+        out.push(vec![
+            ParamValue::Int(int(w[0])? as i64),
+            ParamValue::Vector(vec![int(w[1])?, int(w[2])?]),
+            ParamValue::Vector(vec![num(w[3])?, num(w[4])?, num(w[5])?]),
+        ]);
     }
     Ok(out)
+}
+
+/// The edit rows with their parameter names (for errors).
+fn edits(p: &Params) -> Result<Vec<(Edit, String)>, CookError> {
+    p.list("edits")?
+        .iter()
+        .map(|row| {
+            let [i, j] = row.vector::<2>("vertex")?.map(|x| x.max(0.0) as usize);
+            let mv = DVec3::from_array(row.vector::<3>("move")?);
+            Ok(((row.int("level")? as usize, i, j, mv), row.name("move")))
+        })
+        .collect()
 }
 
 fn cook_hspline_node(
@@ -118,19 +160,20 @@ fn cook_hspline_node(
         h.refine(Some(((u0, u1), (v0, v1))))
             .map_err(|e| ctx.kernel_at("region", e))?;
     }
-    let mut edits = parse_edits(p.string("edits")?).map_err(|e| ctx.param_error("edits", e))?;
+    let mut edits = edits(p)?;
     let mv = p.vector::<3>("edit_move")?;
     if mv != [0.0; 3] {
         let [i, j] = p.vector::<2>("edit_vertex")?.map(|x| x.max(0.0) as usize);
+        let level = p.int("edit_level")? as usize;
         edits.insert(
             0,
-            (p.int("edit_level")? as usize, i, j, DVec3::from_array(mv)),
+            ((level, i, j, DVec3::from_array(mv)), "edit_move".into()),
         );
     }
     let symmetric = p.toggle("symmetric")?;
-    for (level, i, j, d) in edits {
+    for ((level, i, j, d), param) in edits {
         h.move_cv(level, i, j, d)
-            .map_err(|e| ctx.kernel_at("edits", e))?;
+            .map_err(|e| ctx.kernel_at(&param, e))?;
         if symmetric {
             // The vertex across X = 0: a plane's columns run along X; a
             // cylinder's or torus's vertices go round Y from +X, so the

@@ -1,25 +1,80 @@
 //! Skeleton enveloping of any geometry's points: linear blend or dual
 //! quaternion skinning, weights automatic (distance to the bones) or from
-//! float point attributes `w_<joint>`, pose keyframable through one bend.
+//! float point attributes `w_<joint>`; the skeleton and the pose are list
+//! parameters (rows of joints, rows of keyframable rotations).
 
 use geode_geo::glam::{DQuat, DVec3};
 use geode_geo::AttribClass;
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, Registry, Value,
+    geometry_input, CookContext, CookError, ListSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, ParamValue, Params, Registry, Value,
 };
 use geode_spline::skin::{skin, Joint, Skeleton, SkinMethod};
 
 use crate::util::{geometry, input_owned};
 
+/// A joint row: its name, its parent's (empty for the root; parents come
+/// first) and where it is at rest.
+static JOINT_ROWS: ListSpec = ListSpec {
+    fields: &[
+        P::new(
+            "name",
+            "Name",
+            T::String,
+            D::Str(""),
+            "The joint's name (weights are read from `w_<name>`).",
+        ),
+        P::new(
+            "parent",
+            "Parent",
+            T::String,
+            D::Str(""),
+            "An earlier joint's name; empty for the root.",
+        ),
+        P::new(
+            "rest",
+            "Rest position",
+            T::Vec3,
+            D::Vec3([0.0; 3]),
+            "Where the joint is at rest.",
+        ),
+    ],
+    legacy: Some(legacy_joints),
+};
+
+/// A pose row: a joint and its rotation.
+static POSE_ROWS: ListSpec = ListSpec {
+    fields: &[
+        P::new(
+            "joint",
+            "Joint",
+            T::String,
+            D::Str(""),
+            "The joint to rotate.",
+        ),
+        P::new(
+            "rotate",
+            "Rotate",
+            T::Vec3,
+            D::Vec3([0.0; 3]),
+            "Degrees about X, then Y, then Z (keyframable).",
+        ),
+    ],
+    legacy: Some(legacy_pose),
+};
+
 /// The skeleton parameters, declared once for every node that envelopes.
-pub(crate) const SKELETON: P = P::new("skeleton", "Skeleton", T::String, D::Str(""), "Joints `name parent x y z` separated by `;` (parent `-` for the root; parents first), at rest.");
-pub(crate) const POSE: P = P::new(
+pub(crate) const SKELETON: P = P::list(
+    "skeleton",
+    "Skeleton",
+    &JOINT_ROWS,
+    "The joints at rest, parents first.",
+);
+pub(crate) const POSE: P = P::list(
     "pose",
     "Pose",
-    T::String,
-    D::Str(""),
-    "Joint rotations `name rx ry rz` in degrees (X, then Y, then Z), separated by `;`.",
+    &POSE_ROWS,
+    "Joint rotations; several rows for one joint apply in order.",
 );
 pub(crate) const BEND_JOINT: P = P::new(
     "bend_joint",
@@ -36,15 +91,87 @@ pub(crate) const BEND: P = P::new(
     "Degrees about X, Y, Z added to the bend joint (keyframable).",
 );
 
-/// The posed skeleton those parameters describe; errors name the parameter.
+/// Old networks: joints as `name parent x y z` separated by `;` (parent `-`
+/// for the root).
+fn legacy_joints(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
+    legacy_entries(text, "joint", 5, "name parent x y z", |w, nums| {
+        let parent = if w[1] == "-" { "" } else { w[1] };
+        vec![
+            ParamValue::String(w[0].to_owned()),
+            ParamValue::String(parent.to_owned()),
+            ParamValue::Vector(nums.to_vec()),
+        ]
+    })
+}
+
+/// Old networks: rotations as `name rx ry rz` separated by `;`.
+fn legacy_pose(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
+    legacy_entries(text, "entry", 4, "name rx ry rz", |w, nums| {
+        vec![
+            ParamValue::String(w[0].to_owned()),
+            ParamValue::Vector(nums.to_vec()),
+        ]
+    })
+}
+
+/// `;`-separated entries of a name, maybe another word, and three numbers.
+fn legacy_entries(
+    text: &str,
+    what: &str,
+    words: usize,
+    form: &str,
+    row: impl Fn(&[&str], &[f64]) -> Vec<ParamValue>,
+) -> Result<Vec<Vec<ParamValue>>, String> {
+    text.split(';')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .enumerate()
+        .map(|(k, entry)| {
+            let w: Vec<&str> = entry.split_whitespace().collect();
+            let nums: Vec<f64> = w
+                .iter()
+                .skip(words - 3)
+                .filter_map(|s| s.parse::<f64>().ok().filter(|x| x.is_finite()))
+                .collect();
+            if w.len() != words || nums.len() != 3 {
+                return Err(format!("{what} {} `{entry}`: expected `{form}`", k + 1));
+            }
+            Ok(row(&w, &nums))
+        })
+        .collect()
+}
+
+/// The posed skeleton the parameters describe; errors name the parameter
+/// and row (`skeleton[1].parent`).
 pub(crate) fn skeleton_from_params(ctx: &CookContext, p: &Params) -> Result<Skeleton, CookError> {
-    let bend = p.vector::<3>("bend")?;
-    parse_skeleton(
-        p.string("skeleton")?,
-        p.string("pose")?,
-        Some((p.string("bend_joint")?, bend)),
-    )
-    .map_err(|(param, why)| ctx.param_error(param, why))
+    let mut joints: Vec<Joint> = Vec::new();
+    for row in p.list("skeleton")? {
+        let name = row.string("name")?.trim().to_owned();
+        if name.is_empty() {
+            return Err(ctx.param_error(&row.name("name"), "a joint needs a name"));
+        }
+        let parent = match row.string("parent")?.trim() {
+            "" | "-" => None,
+            parent => Some(
+                joints
+                    .iter()
+                    .position(|j| j.name == parent)
+                    .ok_or_else(|| {
+                        ctx.param_error(
+                            &row.name("parent"),
+                            format!("`{parent}` is not an earlier joint"),
+                        )
+                    })?,
+            ),
+        };
+        joints.push(Joint {
+            name,
+            parent,
+            rest: DVec3::from_array(row.vector::<3>("rest")?),
+            rotation: DQuat::IDENTITY,
+        });
+    }
+    posed(ctx, p, joints)
 }
 
 /// Joints at rest (from an .hs file) posed by the `pose` and `bend` parameters.
@@ -53,60 +180,11 @@ pub(crate) fn posed_skeleton(
     p: &Params,
     joints: &[Joint],
 ) -> Result<Skeleton, CookError> {
-    let text: Vec<String> = joints
-        .iter()
-        .map(|j| {
-            let parent = j.parent.map_or("-", |k| joints[k].name.as_str());
-            format!("{} {parent} {} {} {}", j.name, j.rest.x, j.rest.y, j.rest.z)
-        })
-        .collect();
-    let bend = p.vector::<3>("bend")?;
-    parse_skeleton(
-        &text.join("; "),
-        p.string("pose")?,
-        Some((p.string("bend_joint")?, bend)),
-    )
-    .map_err(|(param, why)| ctx.param_error(param, why))
+    posed(ctx, p, joints.to_vec())
 }
 
-/// The skeleton and pose parameters as joints (rest positions, rotations).
-fn parse_skeleton(
-    skeleton: &str,
-    pose: &str,
-    bend: Option<(&str, [f64; 3])>,
-) -> Result<Skeleton, (&'static str, String)> {
-    let mut joints: Vec<Joint> = Vec::new();
-    for (k, entry) in skeleton
-        .split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let w: Vec<&str> = entry.split_whitespace().collect();
-        let bad = |why: &str| ("skeleton", format!("joint {} `{entry}`: {why}", k + 1));
-        if w.len() != 5 {
-            return Err(bad("expected `name parent x y z`"));
-        }
-        let parent = match w[1] {
-            "-" => None,
-            name => Some(
-                joints
-                    .iter()
-                    .position(|j| j.name == name)
-                    .ok_or_else(|| bad("the parent must be an earlier joint"))?,
-            ),
-        };
-        let num = |s: &str| s.parse::<f64>().ok().filter(|x| x.is_finite());
-        let (Some(x), Some(y), Some(z)) = (num(w[2]), num(w[3]), num(w[4])) else {
-            return Err(bad("x y z must be numbers"));
-        };
-        joints.push(Joint {
-            name: w[0].to_owned(),
-            parent,
-            rest: DVec3::new(x, y, z),
-            rotation: DQuat::IDENTITY,
-        });
-    }
+/// Applies the pose rows, then the bend, to joints at rest.
+fn posed(ctx: &CookContext, p: &Params, mut joints: Vec<Joint>) -> Result<Skeleton, CookError> {
     let euler = |d: [f64; 3]| {
         DQuat::from_euler(
             geode_geo::glam::EulerRot::ZYX,
@@ -115,39 +193,29 @@ fn parse_skeleton(
             d[0].to_radians(),
         )
     };
-    for (k, entry) in pose
-        .split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let w: Vec<&str> = entry.split_whitespace().collect();
-        let bad = |why: &str| ("pose", format!("entry {} `{entry}`: {why}", k + 1));
-        let nums: Vec<f64> = w.iter().skip(1).filter_map(|s| s.parse().ok()).collect();
-        if w.len() != 4 || nums.len() != 3 {
-            return Err(bad("expected `name rx ry rz`"));
-        }
-        let j = joints
-            .iter_mut()
-            .find(|j| j.name == w[0])
-            .ok_or_else(|| bad("no such joint"))?;
-        j.rotation = euler([nums[0], nums[1], nums[2]]) * j.rotation;
+    for row in p.list("pose")? {
+        let name = row.string("joint")?;
+        let j = joints.iter_mut().find(|j| j.name == name).ok_or_else(|| {
+            ctx.param_error(&row.name("joint"), format!("no joint named `{name}`"))
+        })?;
+        j.rotation = euler(row.vector::<3>("rotate")?) * j.rotation;
     }
-    if let Some((name, d)) = bend.filter(|(n, _)| !n.is_empty()) {
+    let name = p.string("bend_joint")?;
+    if !name.is_empty() {
         let j = joints
             .iter_mut()
             .find(|j| j.name == name)
-            .ok_or(("bend_joint", format!("no joint named `{name}`")))?;
-        j.rotation = euler(d) * j.rotation;
+            .ok_or_else(|| ctx.param_error("bend_joint", format!("no joint named `{name}`")))?;
+        j.rotation = euler(p.vector::<3>("bend")?) * j.rotation;
     }
-    Skeleton::new(joints).map_err(|e| ("skeleton", e.to_string()))
+    Skeleton::new(joints).map_err(|e| ctx.kernel_at("skeleton", e))
 }
 
 static SKIN: NodeSpec = NodeSpec::new(
     "skin",
     "Skin",
     "deform",
-    "Moves the points with a posed skeleton (joints `name parent x y z` at rest, rotations about each joint): linear blend or dual quaternions. Weights come from float point attributes `w_<joint>` when the geometry has any, else from the distance to each bone (inverse fourth power, four bones at most). Normals are not recomputed.",
+    "Moves the points with a posed skeleton (joint rows: name, parent, rest position; pose rows: a joint and its rotation): linear blend or dual quaternions. Weights come from float point attributes `w_<joint>` when the geometry has any, else from the distance to each bone (inverse fourth power, four bones at most). Normals are not recomputed.",
     &[geometry_input("geometry")],
     &[
         P::new("method", "Method", T::Menu(&["linear", "dual_quaternion"]), D::Str("dual_quaternion"), "Linear blend (may collapse at joints) or dual quaternions (keeps volume)."),

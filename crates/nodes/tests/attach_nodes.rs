@@ -150,7 +150,7 @@ fn attach_errors_name_the_node_the_parameter_and_what_was_expected() {
     );
     let e = err(
         &format!(
-            r#"{PLANE}, {}, "t": {{"type": "transform", "inputs": ["l"], "params": {{"translate": [1, 0, 0]}}}}, "a": {{"type": "attach", "inputs": ["p", "t"]}}"#,
+            r#"{PLANE}, {}, "t": {{"type": "transform", "inputs": ["l"], "params": {{"translate": [1, 0, 0]}}}}, "a": {{"type": "attach", "inputs": ["p", "t"], "params": {{"regions": [{{"u": [2, 4], "v": [2, 4]}}]}}}}"#,
             limb(8)
         ),
         "a",
@@ -174,7 +174,7 @@ fn attach_outputs_the_control_mesh_with_five_edge_corners() {
     let g = common::geo(
         &format!(
             r#"{PLANE}, "l": {{"type": "hspline", "params": {{"topology": "cylinder", "rows": 6, "columns": 8, "size": [0.5, 2]}}}},
-               "a": {{"type": "attach", "inputs": ["p", "l"], "params": {{"output": "control_mesh"}}}}"#
+               "a": {{"type": "attach", "inputs": ["p", "l"], "params": {{"output": "control_mesh", "regions": [{{"u": [2, 4], "v": [2, 4]}}]}}}}"#
         ),
         "a",
     );

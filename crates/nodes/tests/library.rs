@@ -279,11 +279,11 @@ fn file_read_is_keyed_by_content_and_write_writes() {
     let first = engine.cook_output(&CookOptions::at_frame(1.0)).unwrap();
     assert_eq!(first.value.as_geometry().unwrap().num_prims(), 1);
     assert!(out.exists(), "the write node wrote its file");
-    assert!(engine
-        .cook_output(&CookOptions::at_frame(1.0))
-        .unwrap()
-        .cooked()
-        .is_empty());
+    // The read is cached; the write is an output and runs again.
+    std::fs::remove_file(&out).unwrap();
+    let second = engine.cook_output(&CookOptions::at_frame(1.0)).unwrap();
+    assert_eq!(second.cooked(), vec!["/w"]);
+    assert!(out.exists(), "written again");
     // Same path, new content: the file node recooks.
     std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 3\n").unwrap();
     let again = engine.cook_output(&CookOptions::at_frame(1.0)).unwrap();

@@ -137,11 +137,22 @@ fn cook_errors_keep_their_kind_and_source() {
         )
     };
     // A parameter the node cannot use.
-    let (k, param, _, msg) = kind(r#""n": {"type": "hspline", "params": {"edits": "1 2"}}"#);
-    assert_eq!((k, param.as_deref()), (ErrorKind::Parameter, Some("edits")));
+    let (k, param, _, msg) = kind(
+        r#""b": {"type": "box"}, "n": {"type": "skin", "inputs": ["b"], "params": {"skeleton": [{"name": "root"}], "bend_joint": "elbow"}}"#,
+    );
     assert_eq!(
-        msg,
-        "/n (parameter `edits`): edit 1 `1 2`: expected `level i j dx dy dz`"
+        (k, param.as_deref()),
+        (ErrorKind::Parameter, Some("bend_joint"))
+    );
+    assert_eq!(msg, "/n (parameter `bend_joint`): no joint named `elbow`");
+    // A row of a list parameter is named in full.
+    let (k, param, source, msg) = kind(
+        r#""n": {"type": "hspline", "params": {"edits": [{"level": 0, "vertex": [1, 1]}, {"level": 4, "vertex": [1, 1], "move": [0, 0.1, 0]}]}}"#,
+    );
+    assert_eq!(
+        (k, param.as_deref(), source),
+        (ErrorKind::Kernel, Some("edits[1].move"), true),
+        "{msg}"
     );
     // An input whose content cannot be used.
     let (k, _, _, msg) =
@@ -161,6 +172,6 @@ fn cook_errors_keep_their_kind_and_source() {
         kind(r#""n": {"type": "hspline", "params": {"edit_level": 3, "edit_move": [0.1, 0, 0]}}"#);
     assert_eq!(
         (k, param.as_deref(), source),
-        (ErrorKind::Kernel, Some("edits"), true)
+        (ErrorKind::Kernel, Some("edit_move"), true)
     );
 }

@@ -13,6 +13,35 @@ fn default_text(d: &ParamDefault) -> String {
         ParamDefault::Vec3(v) => format!("{v:?}"),
         ParamDefault::Vec4(v) => format!("{v:?}"),
         ParamDefault::Str(s) => format!("{s:?}"),
+        ParamDefault::EmptyList => "no rows".into(),
+    }
+}
+
+/// One table row per parameter (or list field).
+fn param_rows(s: &mut String, params: &[crate::ParamSpec]) {
+    s.push_str("| name | label | type | default | range | animatable | description |\n|---|---|---|---|---|---|---|\n");
+    for p in params {
+        let range = match (p.min, p.max) {
+            (Some(a), Some(b)) => format!("{a} to {b}"),
+            (Some(a), None) => format!(">= {a}"),
+            (None, Some(b)) => format!("<= {b}"),
+            (None, None) => String::new(),
+        };
+        let ty = match p.ty {
+            crate::ParamType::List(_) => "list (rows below)".to_string(),
+            t => t.to_string(),
+        };
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} | {} | {} | {} | {} |",
+            p.name,
+            p.label,
+            ty,
+            default_text(&p.default),
+            range,
+            if p.animatable { "yes" } else { "no" },
+            p.help.replace('|', "\\|")
+        );
     }
 }
 
@@ -61,25 +90,16 @@ pub fn markdown(spec: &NodeSpec) -> String {
         s.push_str("None.\n");
         return s;
     }
-    s.push_str("| name | label | type | default | range | animatable | description |\n|---|---|---|---|---|---|---|\n");
+    param_rows(&mut s, spec.params);
     for p in spec.params {
-        let range = match (p.min, p.max) {
-            (Some(a), Some(b)) => format!("{a} to {b}"),
-            (Some(a), None) => format!(">= {a}"),
-            (None, Some(b)) => format!("<= {b}"),
-            (None, None) => String::new(),
-        };
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} | {} | {} | {} | {} |",
-            p.name,
-            p.label,
-            p.ty,
-            default_text(&p.default),
-            range,
-            if p.animatable { "yes" } else { "no" },
-            p.help.replace('|', "\\|")
-        );
+        if let crate::ParamType::List(l) = p.ty {
+            let _ = writeln!(
+                s,
+                "\n### Rows of `{}`\n\nA list parameter: an array of objects with these fields (missing fields take their defaults).\n",
+                p.name
+            );
+            param_rows(&mut s, l.fields);
+        }
     }
     s
 }

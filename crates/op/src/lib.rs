@@ -11,7 +11,7 @@ mod value;
 
 pub use context::{CancelToken, CookContext, CookError, ErrorKind, ProgressFn};
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
-pub use param::{ParamDefault, ParamSpec, ParamType, ParamValue, Params};
+pub use param::{LegacyRows, ListSpec, ParamDefault, ParamSpec, ParamType, ParamValue, Params};
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};
 

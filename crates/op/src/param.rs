@@ -1,4 +1,5 @@
-//! Parameter declarations (name, type, default, range, animatable, help, tag) and evaluated values.
+//! Parameter declarations (name, type, default, range, animatable, help, tag),
+//! list parameters (Houdini's multiparms: rows of typed fields) and evaluated values.
 
 use std::fmt;
 
@@ -20,6 +21,33 @@ pub enum ParamType {
     Menu(&'static [&'static str]),
     /// A file path (read through geode-io, hashed by content where it matters).
     File,
+    /// A list of records (Houdini's multiparm): each row has the declared
+    /// fields, each field typed, ranged and animatable like a parameter.
+    List(&'static ListSpec),
+}
+
+/// Reads the text form a list parameter had before it was a list: constant
+/// rows in field order, or why the text is not of that form.
+pub type LegacyRows = fn(&str) -> Result<Vec<Vec<ParamValue>>, String>;
+
+/// The fields of a list parameter's rows.
+#[derive(Debug)]
+pub struct ListSpec {
+    pub fields: &'static [ParamSpec],
+    /// Old networks gave this parameter as text: how to read it.
+    pub legacy: Option<LegacyRows>,
+}
+
+impl PartialEq for ListSpec {
+    fn eq(&self, o: &ListSpec) -> bool {
+        std::ptr::eq(self, o)
+    }
+}
+
+impl ListSpec {
+    pub fn field(&self, name: &str) -> Option<&'static ParamSpec> {
+        self.fields.iter().find(|f| f.name == name)
+    }
 }
 
 impl ParamType {
@@ -30,12 +58,15 @@ impl ParamType {
             ParamType::Vec2 => 2,
             ParamType::Vec3 => 3,
             ParamType::Vec4 => 4,
-            ParamType::String | ParamType::Menu(_) | ParamType::File => 0,
+            ParamType::String | ParamType::Menu(_) | ParamType::File | ParamType::List(_) => 0,
         }
     }
 
     pub fn is_textual(self) -> bool {
-        self.components() == 0
+        matches!(
+            self,
+            ParamType::String | ParamType::Menu(_) | ParamType::File
+        )
     }
 }
 
@@ -51,6 +82,14 @@ impl fmt::Display for ParamType {
             ParamType::String => f.write_str("string"),
             ParamType::Menu(items) => write!(f, "menu ({})", items.join(" | ")),
             ParamType::File => f.write_str("file"),
+            ParamType::List(l) => {
+                let fields: Vec<String> = l
+                    .fields
+                    .iter()
+                    .map(|p| format!("{} {}", p.name, p.ty))
+                    .collect();
+                write!(f, "list of ({})", fields.join(", "))
+            }
         }
     }
 }
@@ -65,6 +104,8 @@ pub enum ParamDefault {
     Vec3([f64; 3]),
     Vec4([f64; 4]),
     Str(&'static str),
+    /// A list parameter starts with no rows.
+    EmptyList,
 }
 
 /// A parameter, declared once: it drives validation, docs, the CLI and the studio.
@@ -99,7 +140,10 @@ impl ParamSpec {
             default,
             min: None,
             max: None,
-            animatable: !matches!(ty, ParamType::String | ParamType::Menu(_) | ParamType::File),
+            animatable: !matches!(
+                ty,
+                ParamType::String | ParamType::Menu(_) | ParamType::File | ParamType::List(_)
+            ),
             help,
             affects: None,
         }
@@ -130,7 +174,25 @@ impl ParamSpec {
             ParamDefault::Vec3(v) => ParamValue::Vector(v.to_vec()),
             ParamDefault::Vec4(v) => ParamValue::Vector(v.to_vec()),
             ParamDefault::Str(s) => ParamValue::String(s.to_owned()),
+            ParamDefault::EmptyList => ParamValue::List(Vec::new()),
         }
+    }
+
+    /// A list parameter with these row fields (and, for networks written
+    /// before it was a list, a reader of its old text form).
+    pub const fn list(
+        name: &'static str,
+        label: &'static str,
+        rows: &'static ListSpec,
+        help: &'static str,
+    ) -> ParamSpec {
+        ParamSpec::new(
+            name,
+            label,
+            ParamType::List(rows),
+            ParamDefault::EmptyList,
+            help,
+        )
     }
 
     /// Builds a value of this parameter's type from numeric components.
@@ -153,6 +215,8 @@ pub enum ParamValue {
     Toggle(bool),
     Vector(Vec<f64>),
     String(String),
+    /// Rows of a list parameter, each with its fields in declaration order.
+    List(Vec<Vec<ParamValue>>),
 }
 
 impl ParamValue {
@@ -180,6 +244,16 @@ impl ParamValue {
                 h.update(&(s.len() as u64).to_le_bytes());
                 h.update(s.as_bytes());
             }
+            ParamValue::List(rows) => {
+                h.update(b"l");
+                h.update(&(rows.len() as u64).to_le_bytes());
+                for row in rows {
+                    h.update(&(row.len() as u64).to_le_bytes());
+                    for v in row {
+                        v.hash_into(h);
+                    }
+                }
+            }
         }
     }
 }
@@ -201,6 +275,7 @@ impl fmt::Display for ParamValue {
             ParamValue::Toggle(x) => write!(f, "{x}"),
             ParamValue::Vector(v) => write!(f, "{v:?}"),
             ParamValue::String(s) => write!(f, "{s:?}"),
+            ParamValue::List(rows) => write!(f, "{} rows", rows.len()),
         }
     }
 }
@@ -209,15 +284,40 @@ impl fmt::Display for ParamValue {
 #[derive(Clone, Debug, Default)]
 pub struct Params {
     path: String,
+    /// `edits[2].` for a row of a list parameter: errors name the field fully.
+    prefix: String,
     values: Vec<(&'static str, ParamValue)>,
+    /// The declarations, where known (list rows need their fields).
+    specs: Vec<&'static ParamSpec>,
 }
 
 impl Params {
     pub fn new(path: impl Into<String>, values: Vec<(&'static str, ParamValue)>) -> Params {
         Params {
             path: path.into(),
+            prefix: String::new(),
             values,
+            specs: Vec::new(),
         }
+    }
+
+    /// Values with their declarations (what the engine hands a cook).
+    pub fn declared(
+        path: impl Into<String>,
+        values: Vec<(&'static ParamSpec, ParamValue)>,
+    ) -> Params {
+        Params {
+            path: path.into(),
+            prefix: String::new(),
+            specs: values.iter().map(|(s, _)| *s).collect(),
+            values: values.into_iter().map(|(s, v)| (s.name, v)).collect(),
+        }
+    }
+
+    /// The full name of a parameter or row field, for error messages
+    /// (`edits[2].level`).
+    pub fn name(&self, name: &str) -> String {
+        format!("{}{name}", self.prefix)
     }
 
     pub fn iter(&self) -> impl Iterator<Item = &(&'static str, ParamValue)> {
@@ -232,14 +332,14 @@ impl Params {
             .ok_or_else(|| {
                 CookError::param(
                     &self.path,
-                    name,
+                    &self.name(name),
                     "the node asked for a parameter it does not declare",
                 )
             })
     }
 
     fn wrong(&self, name: &str, want: &str) -> CookError {
-        CookError::param(&self.path, name, format!("expected a {want}"))
+        CookError::param(&self.path, &self.name(name), format!("expected a {want}"))
     }
 
     pub fn float(&self, name: &str) -> Result<f64, CookError> {
@@ -275,6 +375,36 @@ impl Params {
         match self.get(name)? {
             ParamValue::String(s) => Ok(s),
             _ => Err(self.wrong(name, "string")),
+        }
+    }
+
+    /// The rows of a list parameter, each read by field name.
+    pub fn list(&self, name: &str) -> Result<Vec<Params>, CookError> {
+        let spec = self
+            .specs
+            .iter()
+            .find(|s| s.name == name)
+            .and_then(|s| match s.ty {
+                ParamType::List(l) => Some(l),
+                _ => None,
+            });
+        match (self.get(name)?, spec) {
+            (ParamValue::List(rows), Some(l)) => Ok(rows
+                .iter()
+                .enumerate()
+                .map(|(k, row)| Params {
+                    path: self.path.clone(),
+                    prefix: format!("{}{name}[{k}].", self.prefix),
+                    values: l
+                        .fields
+                        .iter()
+                        .map(|f| f.name)
+                        .zip(row.iter().cloned())
+                        .collect(),
+                    specs: l.fields.iter().collect(),
+                })
+                .collect()),
+            _ => Err(self.wrong(name, "list")),
         }
     }
 }
