@@ -63,6 +63,8 @@ pub struct Geometry {
     pub(crate) patches: Vec<crate::patch::PatchBasis>,
     pub(crate) point_groups: BTreeMap<String, Group>,
     pub(crate) prim_groups: BTreeMap<String, Group>,
+    /// Typed values carried whole (see `payload.rs`).
+    pub(crate) payloads: BTreeMap<String, crate::payload::Payload>,
     pub(crate) topology: OnceLock<Arc<Topology>>,
     pub(crate) content_hash: OnceLock<u128>,
 }
@@ -105,6 +107,7 @@ impl Geometry {
             patches: Vec::new(),
             point_groups: BTreeMap::new(),
             prim_groups: BTreeMap::new(),
+            payloads: BTreeMap::new(),
             topology: OnceLock::new(),
             content_hash: OnceLock::new(),
         }
@@ -553,6 +556,7 @@ impl Geometry {
             + self.vertex_point.len() * 4
             + self.prim_offsets.len() * 4
             + self.prim_kinds.len() * std::mem::size_of::<PrimKind>()
+            + self.payloads.values().map(|p| p.bytes()).sum::<usize>()
             + self.packed.len() * std::mem::size_of::<PackedInstance>()
             + self
                 .point_groups

@@ -119,6 +119,12 @@ pub(crate) fn compute(g: &Geometry) -> u128 {
             }
         }
     }
+    put_str(&mut h, "payloads");
+    h.update(&(g.payloads.len() as u64).to_le_bytes());
+    for (name, p) in &g.payloads {
+        put_str(&mut h, name);
+        h.update(&p.identity().to_le_bytes());
+    }
     for (kind, groups) in [("point", &g.point_groups), ("prim", &g.prim_groups)] {
         put_str(&mut h, kind);
         h.update(&(groups.len() as u64).to_le_bytes());

@@ -1,11 +1,11 @@
 //! The attach node: cylinder hsplines (limbs) joined to rectangular regions
 //! of a parent hspline through one Catmull-Clark control mesh, and the
-//! convention by which an hspline travels between nodes (its .hs text in a
-//! detail attribute, with a key of the points it was tessellated to, so a
+//! convention by which an hspline travels between nodes (a typed payload on
+//! its tessellation, with a key of the points it was tessellated to, so a
 //! surface moved after its hspline node is an error, never a silent use of
 //! the old hierarchy).
 
-use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, StringColumn, TypeInfo};
+use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, Payload, TypeInfo};
 use geode_op::{
     CookContext, CookError, InputSpec, ListSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, ParamValue, Params, PortType, Registry, Value,
@@ -15,60 +15,52 @@ use geode_spline::hspline::{file, Hspline};
 
 use crate::util::geometry;
 
-/// The detail attribute holding an hspline's hierarchy as .hs text.
+/// The payload holding an hspline's hierarchy on its tessellation.
 pub const HIERARCHY: &str = "hspline";
-/// The detail attribute holding the hash of the points it was tessellated to.
-const HIERARCHY_KEY: &str = "hspline_key";
 
-fn points_key(g: &Geometry) -> String {
+/// A hierarchy as it travels: the surface and the hash of the points it was
+/// tessellated to.
+struct Carried {
+    surface: Hspline,
+    points_key: u128,
+}
+
+fn points_key(g: &Geometry) -> u128 {
     let bytes: Vec<u8> = g
         .positions()
         .iter()
         .flat_map(|p| p.to_array())
         .flat_map(f32::to_le_bytes)
         .collect();
-    format!("{:032x}", geode_geo::hash_bytes(&bytes))
+    geode_geo::hash_bytes(&bytes)
 }
 
-fn detail_string(text: String) -> Attribute {
-    Attribute::from_data(
-        AttribData::String(StringColumn {
-            table: vec![text],
-            indices: vec![0],
-        }),
-        TypeInfo::None,
-    )
-}
-
-/// Stores `h` on its tessellation `g`.
+/// Stores `h` on its tessellation `g` as a typed payload (identity: the
+/// hash of its canonical .hs form, so equal hierarchies share cache entries).
 pub fn carry_hierarchy(g: &mut Geometry, h: &Hspline) -> Result<(), GeoError> {
-    let key = points_key(g);
-    g.set_attrib(
-        AttribClass::Detail,
-        HIERARCHY,
-        detail_string(file::save(h, true)),
-    )?;
-    g.set_attrib(AttribClass::Detail, HIERARCHY_KEY, detail_string(key))
+    let text = file::save(h, true);
+    let identity = geode_geo::hash_bytes(text.as_bytes());
+    let carried = Carried {
+        surface: h.clone(),
+        points_key: points_key(g),
+    };
+    g.set_payload(HIERARCHY, Payload::new(carried, identity, text.len()));
+    Ok(())
 }
 
 /// The hierarchy an input carries, checked against its points.
 fn hierarchy(ctx: &CookContext, g: &Geometry, input: &str) -> Result<Hspline, CookError> {
-    let text = |name: &str| {
-        g.attrib(AttribClass::Detail, name)
-            .and_then(|a| a.as_strings())
-            .map(|s| s.get(0).to_owned())
-    };
-    let Some(hs) = text(HIERARCHY) else {
+    let Some(carried) = g.payload(HIERARCHY).and_then(|p| p.get::<Carried>()) else {
         return Err(ctx.input_error(format!(
             "input `{input}` carries no hspline (wire an hspline node, not enveloped, straight in)"
         )));
     };
-    if text(HIERARCHY_KEY).as_deref() != Some(points_key(g).as_str()) {
+    if carried.points_key != points_key(g) {
         return Err(ctx.input_error(format!(
             "input `{input}`: its points changed after its hspline node, so the hierarchy it carries no longer describes it (edit the surface in the hspline node; limbs are placed by `place`)"
         )));
     }
-    file::load(&hs).map_err(|e| ctx.input_error(format!("input `{input}`: {e}")))
+    Ok(carried.surface.clone())
 }
 
 /// A region row: the parent's level-0 faces a limb replaces.

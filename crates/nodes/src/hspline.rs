@@ -19,7 +19,7 @@ static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
     "spline",
-    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are rows of the list parameter `edits`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (its .hs text in the detail attribute `hspline`) for the attach node when it is not enveloped.",
+    "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are rows of the list parameter `edits`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (a typed payload, checked against the points) for the attach node when it is not enveloped.",
     &[],
     &[
         P::new("topology", "Topology", T::Menu(&["plane", "cylinder", "torus"]), D::Str("plane"), "Plane (open), cylinder (wrapped around) or torus (wrapped both ways)."),

@@ -188,7 +188,10 @@ fn hspline_enveloping_bends_with_the_skeleton_and_names_bad_joints() {
         r#""h": {"type": "hspline", "params": {"envelope": "linear", "skeleton": "a - 0 0 0; b c 0 1 0"}}"#,
         "h",
     );
-    assert_eq!(e, "/h (parameter `skeleton[1].parent`): `c` is not an earlier joint");
+    assert_eq!(
+        e,
+        "/h (parameter `skeleton[1].parent`): `c` is not an earlier joint"
+    );
 }
 
 #[test]
