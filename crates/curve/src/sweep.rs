@@ -92,7 +92,7 @@ pub fn sweep(
         return Some(tube);
     }
     for i in 0..n {
-        if i % 1024 == 0 && cancel() {
+        if i.is_multiple_of(1024) && cancel() {
             return None;
         }
         let f = &frames[i];
@@ -132,7 +132,7 @@ pub fn sweep(
     let rings = if closed { n } else { n - 1 };
     let columns = if opts.section_closed { m } else { m - 1 };
     for i in 0..rings {
-        if i % 1024 == 0 && cancel() {
+        if i.is_multiple_of(1024) && cancel() {
             return None;
         }
         for j in 0..columns {

@@ -172,7 +172,7 @@ pub fn eliminate(
     let key = |p: Vec3| (p / reach).floor().as_ivec3();
     let mut grid: HashMap<geode_geo::glam::IVec3, Vec<u32>> = HashMap::new();
     for (i, p) in points.iter().enumerate() {
-        if i % 65536 == 0 && cancel() {
+        if i.is_multiple_of(65536) && cancel() {
             return Err(ScatterError::Cancelled);
         }
         grid.entry(key(*p)).or_default().push(i as u32);
@@ -223,7 +223,7 @@ pub fn eliminate(
     let mut polled = 0u32;
     while left > keep {
         polled = polled.wrapping_add(1);
-        if polled % 16 == 0 && cancel() {
+        if polled.is_multiple_of(16) && cancel() {
             return Err(ScatterError::Cancelled);
         }
         let Some(Crowding(x, i)) = heap.pop() else {

@@ -90,7 +90,7 @@ pub(crate) struct Cancelling<'a> {
 impl Write for Cancelling<'_> {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         if (self.cancelled)() {
-            return Err(std::io::Error::new(std::io::ErrorKind::Other, "cancelled"));
+            return Err(std::io::Error::other("cancelled"));
         }
         self.inner.write(buf)
     }

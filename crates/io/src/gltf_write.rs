@@ -285,7 +285,7 @@ impl Builder<'_> {
             if !matches!(g.prim_kind(prim), PrimKind::Packed(_)) {
                 continue;
             }
-            if prim % 4096 == 0 && (self.cancelled)() {
+            if prim.is_multiple_of(4096) && (self.cancelled)() {
                 return out;
             }
             let inst = g.packed_instance(prim).expect("packed");
@@ -345,7 +345,7 @@ pub fn write_glb(
             path: path.to_owned(),
         });
     }
-    while b.bin.len() % 4 != 0 {
+    while !b.bin.len().is_multiple_of(4) {
         b.bin.push(0);
     }
     let mut doc = json!({

@@ -144,7 +144,7 @@ fn cook_hspline_node(
         )
         .map_err(err)?
     } else {
-        let text = std::fs::read_to_string(&load)
+        let text = std::fs::read_to_string(load)
             .map_err(|e| ctx.io("load", geode_io::IoError::os(load, e)))?;
         file::load(&text).map_err(|e| {
             ctx.param_error("load", format!("{load}: {e}"))

@@ -145,12 +145,15 @@ pub trait Operator: Send + Sync {
 /// A node's cook as a plain function: most node types need nothing else.
 pub type CookFn = fn(&CookContext, &[Option<Value>], &Params) -> Result<Value, CookError>;
 
+/// Extra cache-key content of a node that reads files (see [`Operator::key_extra`]).
+pub type KeyExtraFn = fn(&Params) -> Result<Option<u128>, CookError>;
+
 /// A node type made of its declaration and its cook function (no per-node skeleton).
 pub struct FnOperator {
     pub spec: &'static NodeSpec,
     pub cook: CookFn,
     /// Extra key content (see [`Operator::key_extra`]), where the node reads files.
-    pub key_extra: Option<fn(&Params) -> Result<Option<u128>, CookError>>,
+    pub key_extra: Option<KeyExtraFn>,
 }
 
 impl Operator for FnOperator {

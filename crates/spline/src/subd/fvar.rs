@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use super::level::{Level, INFINITE};
 use super::refine::{child_slot, corner_of_edge, next_corner, Plan, Rule};
+use super::scheme::{self, Term};
 
 /// OpenSubdiv's `FVarLinearInterpolation`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -408,12 +409,7 @@ impl<'a> Refinement<'a> {
         };
         if self.continuous[e] && self.mode != FVarLinear::All {
             let (xa, xb) = ends(faces[0]);
-            let crease = self.plan.edge_weight[e] as f64;
-            let (end_w, face_w) = if crease >= 1.0 {
-                (0.5, 0.0)
-            } else {
-                (crease * 0.5 + (1.0 - crease) * 0.25, (1.0 - crease) * 0.25)
-            };
+            let (end_w, face_w) = scheme::edge_point(self.plan.edge_weight[e] as f64, faces.len());
             for (k, o) in out.iter_mut().enumerate() {
                 *o = end_w * (xa[k] + xb[k])
                     + faces
@@ -515,79 +511,45 @@ impl<'a> Refinement<'a> {
                 && self.mode != FVarLinear::None);
         if !mismatch {
             // Inside one region: the vertex's own rule on the values.
-            let mask =
-                |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, out: &mut [f64]| match rule {
-                    Rule::Corner => (0..d).for_each(|k| out[k] += scale * me[k]),
-                    Rule::Crease => {
-                        let (own, end) = if self.limit {
-                            (2.0 / 3.0, 1.0 / 6.0)
-                        } else {
-                            (0.75, 0.125)
-                        };
-                        (0..d).for_each(|k| out[k] += scale * own * me[k]);
-                        for &e in edges.iter().filter(|&&e| sharp(e)) {
-                            if let Some(x) = far(e) {
-                                (0..d).for_each(|k| out[k] += scale * end * x[k]);
-                            }
-                        }
-                    }
-                    // The limit: OpenSubdiv pins a smooth vertex of two faces.
-                    Rule::Smooth | Rule::Dart
-                        if self.limit && p.vertex_faces.row(v as usize).len() == 2 =>
-                    {
-                        (0..d).for_each(|k| out[k] += scale * me[k]);
-                    }
-                    Rule::Smooth | Rule::Dart if self.limit => {
-                        // The smooth limit mask: the vertex, its edge ends and
-                        // the corners opposite it in its quads.
-                        let faces = p.vertex_faces.row(v as usize);
-                        let n = faces.len() as f64;
-                        let fw = 1.0 / (n * (n + 5.0));
-                        let ew = 4.0 * fw;
-                        (0..d).for_each(|k| out[k] += scale * (1.0 - n * (ew + fw)) * me[k]);
-                        for &e in edges {
-                            if let Some(x) = far(e) {
-                                (0..d).for_each(|k| out[k] += scale * ew * x[k]);
-                            }
-                        }
-                        for &f in faces {
-                            let r = p.faces.offsets[f as usize] as usize
-                                ..p.faces.offsets[f as usize + 1] as usize;
-                            let len = r.len();
-                            if let Some(c) = r.clone().find(|&c| p.faces.items[c] == v) {
-                                let opposite = r.start + (c - r.start + len / 2) % len;
-                                let x = self.ch.value(self.ch.corner_value[opposite]);
-                                (0..d).for_each(|k| out[k] += scale * fw * x[k]);
-                            }
-                        }
-                    }
-                    Rule::Smooth | Rule::Dart => {
-                        let n = edges.len() as f64;
-                        (0..d).for_each(|k| out[k] += scale * (n - 2.0) / n * me[k]);
-                        let wn = scale / (n * n);
-                        for &e in edges {
-                            if let Some(x) = far(e) {
-                                (0..d).for_each(|k| out[k] += wn * x[k]);
-                            }
-                        }
-                        for &f in p.vertex_faces.row(v as usize) {
-                            let x = face_value(f);
-                            (0..d).for_each(|k| out[k] += wn * x[k]);
-                        }
+            let faces = p.vertex_faces.row(v as usize);
+            out.iter_mut().for_each(|x| *x = 0.0);
+            let mut emit = |t: Term, wt: f64| {
+                let x: Option<&[f64]> = match t {
+                    Term::Vertex => Some(me),
+                    Term::EdgeEnd(k) => far(edges[k]),
+                    Term::FacePoint(k) => Some(face_value(faces[k])),
+                    Term::Opposite(k) => {
+                        let f = faces[k] as usize;
+                        let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
+                        let len = r.len();
+                        r.clone().find(|&c| p.faces.items[c] == v).map(|c| {
+                            let opposite = r.start + (c - r.start + len / 2) % len;
+                            self.ch.value(self.ch.corner_value[opposite])
+                        })
                     }
                 };
-            let parent_sharp = |e: u32| super::level::is_sharp(p.edge_sharpness[e as usize]);
-            let child_sharp = |e: u32| {
+                if let Some(x) = x {
+                    (0..d).for_each(|k| out[k] += wt * x[k]);
+                }
+            };
+            let parent_sharp =
+                |k: usize| super::level::is_sharp(p.edge_sharpness[edges[k] as usize]);
+            let child_sharp = |k: usize| {
+                let e = edges[k];
                 let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v);
                 super::level::is_sharp(self.c.edge_sharpness[half as usize])
             };
-            out.iter_mut().for_each(|x| *x = 0.0);
-            if matches!(pr, Rule::Smooth | Rule::Dart) || pr == cr {
-                mask(pr, &parent_sharp, 1.0, out);
-            } else {
-                mask(pr, &parent_sharp, w, out);
-                mask(cr, &child_sharp, 1.0 - w, out);
-            }
+            let (n_e, n_f) = (edges.len(), faces.len());
+            let rules = (pr, cr, w);
+            scheme::blended_vertex_point(
+                self.limit,
+                rules,
+                n_e,
+                n_f,
+                parent_sharp,
+                child_sharp,
+                &mut emit,
+            );
             return;
         }
         // On a region's boundary: pinned, or a smooth curve, by
@@ -622,11 +584,7 @@ impl<'a> Refinement<'a> {
         // A smooth boundary curve: the crease rule along the region's two
         // boundary edges.
         let (a, b) = (far_side(boundary[0]), far_side(boundary[1]));
-        let (own, end) = if self.limit {
-            (2.0 / 3.0, 1.0 / 6.0)
-        } else {
-            (0.75, 0.125)
-        };
+        let (own, end) = scheme::crease(self.limit);
         for k in 0..d {
             out[k] = own * me[k] + end * (a[k] + b[k]);
         }

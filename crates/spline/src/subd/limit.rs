@@ -1,6 +1,5 @@
 //! Limit positions and normals of the vertices of a refined (all-quad)
-//! level, by OpenSubdiv's Catmark limit masks: smooth (valence-weighted
-//! ring), crease (1/6, 2/3, 1/6 along the sharp edges), corner (fixed), and
+//! level: positions by the scheme's limit masks (`scheme.rs`), normals by
 //! the matching tangent masks (Biermann et al. across irregular creases).
 
 use geode_geo::glam::DVec3;
@@ -8,6 +7,7 @@ use rayon::prelude::*;
 
 use super::level::{is_sharp, Level};
 use super::refine::Rule;
+use super::scheme::{self, Term};
 
 /// The ring of a manifold vertex in counter-clockwise order: the far end of
 /// each edge, and of each quad the corner opposite the vertex (face `i` lies
@@ -77,31 +77,24 @@ pub fn limit_positions(l: &Level, p: &[DVec3]) -> Vec<DVec3> {
             if l.vertex_edges.row(v).is_empty() {
                 return p[v];
             }
-            let (rule, sharp) = rule_at(l, v);
-            match rule {
-                Rule::Corner => p[v],
-                Rule::Crease => {
-                    p[v] * (2.0 / 3.0) + (p[sharp[0] as usize] + p[sharp[1] as usize]) / 6.0
-                }
-                // OpenSubdiv pins a smooth vertex of two faces like a corner.
-                Rule::Smooth | Rule::Dart if l.vertex_faces.row(v).len() == 2 => p[v],
-                Rule::Smooth | Rule::Dart => {
-                    let faces = l.vertex_faces.row(v);
-                    let n = faces.len() as f64;
-                    let fw = 1.0 / (n * (n + 5.0));
-                    let ew = 4.0 * fw;
-                    let mut acc = p[v] * (1.0 - n * (ew + fw));
-                    for &e in l.vertex_edges.row(v) {
-                        acc += p[l.other_end(e, v as u32) as usize] * ew;
+            let (rule, _) = rule_at(l, v);
+            let (edges, faces) = (l.vertex_edges.row(v), l.vertex_faces.row(v));
+            let sharp = |k: usize| is_sharp(l.edge_sharpness[edges[k] as usize]);
+            let mut acc = DVec3::ZERO;
+            scheme::limit_point(rule, edges.len(), faces.len(), sharp, 1.0, &mut |t, w| {
+                let q = match t {
+                    Term::Vertex => v,
+                    Term::EdgeEnd(k) => l.other_end(edges[k], v as u32) as usize,
+                    Term::Opposite(k) => {
+                        let r = l.faces.row(faces[k] as usize);
+                        let c = r.iter().position(|&x| x == v as u32).unwrap_or(0);
+                        r[(c + 2) % r.len()] as usize
                     }
-                    for &f in faces {
-                        let r = l.faces.row(f as usize);
-                        let k = r.iter().position(|&x| x == v as u32).unwrap_or(0);
-                        acc += p[r[(k + 2) % r.len()] as usize] * fw;
-                    }
-                    acc
-                }
-            }
+                    Term::FacePoint(_) => return,
+                };
+                acc += p[q] * w;
+            });
+            acc
         })
         .collect()
 }

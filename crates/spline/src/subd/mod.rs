@@ -9,6 +9,7 @@ mod fvar;
 mod level;
 mod limit;
 mod refine;
+mod scheme;
 
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};

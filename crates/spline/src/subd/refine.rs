@@ -6,6 +6,7 @@
 use rayon::prelude::*;
 
 use super::level::{decrement, is_sharp, Level, Rows, INFINITE};
+use super::scheme::{self, Term};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rule {
@@ -499,18 +500,8 @@ fn refine_fixed<const N: usize>(p: &Level, c: &Level, plan: &Plan, src: &[f64]) 
         .enumerate()
         .for_each(|(e, o)| {
             let [a, b] = p.edge_verts[e];
-            let crease = plan.edge_weight[e] as f64;
             let faces = p.edge_faces.row(e);
-            // Smooth: the ends a quarter each, the face points sharing the rest.
-            let (end_w, face_w) = if faces.is_empty() || crease >= 1.0 {
-                (0.5, 0.0)
-            } else {
-                let smooth_face = 0.5 / faces.len() as f64;
-                (
-                    crease * 0.5 + (1.0 - crease) * 0.25,
-                    (1.0 - crease) * smooth_face,
-                )
-            };
+            let (end_w, face_w) = scheme::edge_point(plan.edge_weight[e] as f64, faces.len());
             let (x, y) = (&src[a as usize], &src[b as usize]);
             for k in 0..N {
                 o[k] = end_w * (x[k] + y[k]);
@@ -532,44 +523,31 @@ fn refine_fixed<const N: usize>(p: &Level, c: &Level, plan: &Plan, src: &[f64]) 
                 *o = *me;
                 return;
             }
-            let (pr, cr, w) = (
-                plan.parent_rule[v],
-                plan.child_rule[v],
-                plan.vertex_weight[v] as f64,
-            );
-            let mask = |rule: Rule, sharp: &dyn Fn(u32) -> bool, scale: f64, o: &mut Value<N>| {
-                match rule {
-                    Rule::Corner => add(o, scale, me),
-                    Rule::Crease => {
-                        add(o, scale * 0.75, me);
-                        for &e in edges.iter().filter(|&&e| sharp(e)) {
-                            add(o, scale * 0.125, &src[p.other_end(e, v as u32) as usize]);
-                        }
-                    }
-                    Rule::Smooth | Rule::Dart => {
-                        let n = edges.len() as f64;
-                        add(o, scale * (n - 2.0) / n, me);
-                        let w = scale / (n * n);
-                        for &e in edges {
-                            add(o, w, &src[p.other_end(e, v as u32) as usize]);
-                        }
-                        for &f in p.vertex_faces.row(v) {
-                            add(o, w, &face_points[f as usize]);
-                        }
-                    }
-                }
-            };
-            let parent_sharp = |e: u32| is_sharp(p.edge_sharpness[e as usize]);
-            let child_sharp = |e: u32| {
+            let faces = p.vertex_faces.row(v);
+            let parent_sharp = |k: usize| is_sharp(p.edge_sharpness[edges[k] as usize]);
+            let child_sharp = |k: usize| {
+                let e = edges[k];
                 let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32);
                 is_sharp(c.edge_sharpness[half as usize])
             };
-            if matches!(pr, Rule::Smooth | Rule::Dart) || pr == cr {
-                mask(pr, &parent_sharp, 1.0, o);
-            } else {
-                mask(pr, &parent_sharp, w, o);
-                mask(cr, &child_sharp, 1.0 - w, o);
-            }
+            scheme::blended_vertex_point(
+                false,
+                (
+                    plan.parent_rule[v],
+                    plan.child_rule[v],
+                    plan.vertex_weight[v] as f64,
+                ),
+                edges.len(),
+                faces.len(),
+                parent_sharp,
+                child_sharp,
+                &mut |t, w| match t {
+                    Term::Vertex => add(o, w, me),
+                    Term::EdgeEnd(k) => add(o, w, &src[p.other_end(edges[k], v as u32) as usize]),
+                    Term::FacePoint(k) => add(o, w, &face_points[faces[k] as usize]),
+                    Term::Opposite(_) => {}
+                },
+            );
         });
     out.into_flattened()
 }
