@@ -65,23 +65,32 @@ impl Rows {
     }
 }
 
+/// One level of a subdivision hierarchy. Its topology is the crate's own:
+/// outside it a level is only counted.
 #[derive(Clone, Debug, Default)]
 pub struct Level {
-    pub num_vertices: usize,
+    pub(crate) num_vertices: usize,
     /// Face corners: vertices, and the edge from each corner to the next.
-    pub faces: Rows,
-    pub face_edges: Vec<u32>,
-    pub hole: Vec<bool>,
-    pub edge_verts: Vec<[u32; 2]>,
-    pub edge_sharpness: Vec<f32>,
-    pub vertex_sharpness: Vec<f32>,
+    pub(crate) faces: Rows,
+    pub(crate) face_edges: Vec<u32>,
+    pub(crate) hole: Vec<bool>,
+    pub(crate) edge_verts: Vec<[u32; 2]>,
+    pub(crate) edge_sharpness: Vec<f32>,
+    pub(crate) vertex_sharpness: Vec<f32>,
     /// Derived adjacency.
-    pub edge_faces: Rows,
-    pub vertex_edges: Rows,
-    pub vertex_faces: Rows,
+    pub(crate) edge_faces: Rows,
+    pub(crate) vertex_edges: Rows,
+    pub(crate) vertex_faces: Rows,
 }
 
 impl Level {
+    pub fn num_vertices(&self) -> usize {
+        self.num_vertices
+    }
+
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
     /// The base level from faces; edges are numbered in order of their
     /// first (face, corner) and get sharpness from `crease(face, corner)`
     /// (the largest of their corners').

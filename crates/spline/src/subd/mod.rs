@@ -8,16 +8,20 @@
 mod fvar;
 mod level;
 mod limit;
+#[cfg(test)]
+mod opensubdiv_tests;
 mod refine;
 mod scheme;
 
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
 
-pub use fvar::{FVarChannel, FVarLinear};
-pub use level::{Level, Rows, INFINITE};
-pub use limit::{limit_frame, limit_normals, limit_positions, mean_face_normal};
-pub use refine::{plan, refine_topology, refine_topology_with, refine_values, Rule};
+pub(crate) use fvar::FVarChannel;
+pub use fvar::FVarLinear;
+pub(crate) use level::Rows;
+pub use level::{Level, INFINITE};
+pub(crate) use limit::{limit_frame, limit_normals, limit_positions, mean_face_normal};
+pub(crate) use refine::{plan, refine_topology, refine_topology_with, refine_values};
 
 /// OpenSubdiv's vertex boundary interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -195,7 +199,8 @@ pub fn refine_levels(
 }
 
 /// Flat `x y z` runs as points.
-pub fn points(flat: &[f64]) -> Vec<DVec3> {
+#[cfg(test)]
+pub(crate) fn points(flat: &[f64]) -> Vec<DVec3> {
     flat.chunks(3)
         .map(|c| DVec3::new(c[0], c[1], c[2]))
         .collect()

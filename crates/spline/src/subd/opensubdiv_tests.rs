@@ -2,16 +2,17 @@
 //! (OpenSubdiv's regression shapes) refined 1 to 3 levels and pushed to the
 //! limit by geode and by `tools/osd_ref` (OpenSubdiv's Far, built by
 //! tools/test.sh from Debian's libosd-dev); every position within 1e-5.
+//! Inside the crate: it compares level topology, which is `pub(crate)`.
 
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use geode_geo::glam::DVec3;
-use geode_geo::{AttribClass, Geometry};
-use geode_spline::subd::{
+use crate::subd::{
     base_level, limit_normals, limit_positions, plan, points, refine_levels, refine_topology,
     BoundaryMode, CreaseMethod, FVarChannel, FVarLinear, SubdOptions,
 };
+use geode_geo::glam::DVec3;
+use geode_geo::{AttribClass, Geometry};
 
 const TOLERANCE: f64 = 1e-5;
 /// Unit normals: OpenSubdiv weighs in f32, and at level 3 of a small
