@@ -72,6 +72,23 @@ fn cook_resample(
     let g = input(ctx, inputs, 0)?;
     let by_count = p.string("mode")? == "count";
     let (length, count) = (p.float("length")?, p.int("count")? as usize);
+    let points = if by_count {
+        g.num_prims() as f64 * count as f64
+    } else {
+        // Every edge of every curve, however the curves share points.
+        let pos = g.positions();
+        let total: f64 = (0..g.num_prims())
+            .map(|i| {
+                let pts = g.prim_points(i);
+                pts.windows(2)
+                    .map(|w| pos[w[0] as usize].distance(pos[w[1] as usize]) as f64)
+                    .sum::<f64>()
+            })
+            .sum();
+        total / length + 2.0 * g.num_prims() as f64
+    };
+    let param = if by_count { "count" } else { "length" };
+    crate::util::reserve_mesh(ctx, param, points, points, g.num_prims() as f64)?;
     rebuild_curves(ctx, g, |c, pts| {
         let s = if by_count {
             resample::resample_by_count(pts, c.closed, count)

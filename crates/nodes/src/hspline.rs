@@ -234,6 +234,7 @@ fn cook_hspline_node(
         .map_err(|e| ctx.io("save", e))?;
     }
     let [su, sv] = p.vector::<2>("samples")?;
+    crate::util::reserve_mesh(ctx, "samples", su * sv, 4.0 * su * sv, su * sv)?;
     let enveloped = motions.is_some();
     let grid = match motions {
         None => h.grid(finest).map_err(err)?,

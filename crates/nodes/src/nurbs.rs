@@ -83,6 +83,7 @@ fn cook_nurbs(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         return geometry(g);
     }
     let [su, sv] = p.vector::<2>("samples")?;
+    crate::util::reserve_mesh(ctx, "samples", su * sv, 4.0 * su * sv, su * sv)?;
     let t = surface.tessellate(su as usize, sv as usize);
     let mut t = t;
     t.positions.iter_mut().for_each(|q| *q += offset);

@@ -64,6 +64,13 @@ fn cook_convert(
 ) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let lod = p.int("level_of_detail")?.max(1) as usize;
+    // A patch of n control points has fewer than n knot spans: n x lod^2 quads at most.
+    let controls: f64 = (0..g.num_prims())
+        .filter(|&i| matches!(g.prim_kind(i), geode_geo::PrimKind::Patch(_)))
+        .map(|i| g.prim_vertex_range(i).len() as f64)
+        .sum();
+    let quads = controls * (lod * lod) as f64;
+    crate::util::reserve_mesh(ctx, "level_of_detail", quads, 4.0 * quads, quads)?;
     geometry(patches_to_polygons(g, lod).map_err(|e| ctx.kernel(e))?)
 }
 

@@ -94,6 +94,16 @@ fn oversized_requests_are_refused_promptly_with_exact_messages() {
                "n": {"type": "write", "params": {"file": "$HIP/million.ply"}, "inputs": ["copies"]}"#.into(),
             "",
         ),
+        (
+            "hspline tessellated 10000 x 10000".into(),
+            r#""n": {"type": "hspline", "params": {"samples": [10000, 10000]}}"#.into(),
+            "/n (parameter `samples`): 100.0 million points and 100.0 million primitives would need about 16.8 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
+        ),
+        (
+            "resample a helix every nanometre".into(),
+            r#""c": {"type": "curve_helix"}, "n": {"type": "resample", "params": {"length": 1e-9}, "inputs": ["c"]}"#.into(),
+            "",
+        ),
     ];
     for (name, nodes, want) in &cases {
         let (msg, dt) = refused(nodes, hip);
