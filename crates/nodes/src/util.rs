@@ -83,9 +83,11 @@ pub fn reserve_mesh(
         param,
         bytes,
         &format!(
-            "{} points and {} primitives",
+            "{} point{} and {} primitive{}",
             count_text(points),
-            count_text(prims)
+            if points == 1.0 { "" } else { "s" },
+            count_text(prims),
+            if prims == 1.0 { "" } else { "s" }
         ),
     )
 }

@@ -102,7 +102,7 @@ fn oversized_requests_are_refused_promptly_with_exact_messages() {
         (
             "resample a helix every nanometre".into(),
             r#""c": {"type": "curve_helix"}, "n": {"type": "resample", "params": {"length": 1e-9}, "inputs": ["c"]}"#.into(),
-            "",
+            "/n (parameter `length`): 18.9 billion points and 1 primitive would need about 1.4 TB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
         ),
     ];
     for (name, nodes, want) in &cases {
