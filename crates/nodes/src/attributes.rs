@@ -54,6 +54,7 @@ static CREATE: NodeSpec = NodeSpec::new(
         ),
     ],
 );
+
 fn cook_create(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -103,6 +104,7 @@ static RANDOMIZE: NodeSpec = NodeSpec::new(
         P::new("seed", "Seed", T::Int, D::Int(0), "Random seed."),
     ],
 );
+
 fn cook_randomize(
     ctx: &CookContext,
     inputs: &[Option<Value>],

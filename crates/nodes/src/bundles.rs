@@ -30,6 +30,7 @@ static PACK: NodeSpec = NodeSpec::new(
 )
 .variadic()
 .output(PortType::Bundle);
+
 fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let names: Vec<&str> = p
         .string("names")?
@@ -78,6 +79,7 @@ static ADD: NodeSpec = NodeSpec::new(
     )],
 )
 .output(PortType::Bundle);
+
 fn cook_add(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut b = Bundle::clone(bundle_input(ctx, inputs)?);
     b.entries.insert(
@@ -105,6 +107,7 @@ static EXTRACT: NodeSpec = NodeSpec::new(
         "Name of the entry.",
     )],
 );
+
 fn cook_extract(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -64,6 +64,7 @@ static RESAMPLE: NodeSpec = NodeSpec::new(
         P::new("count", "Count", T::Int, D::Int(20), "Points per curve.").range(2.0, 16_777_216.0),
     ],
 );
+
 fn cook_resample(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -110,6 +111,7 @@ static CARVE: NodeSpec = NodeSpec::new(
         P::new("to", "To", T::Float, D::Float(1.0), "End, as a fraction of the length.").range(0.0, 1.0),
     ],
 );
+
 fn cook_carve(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let (from, to) = (p.float("from")?, p.float("to")?);
@@ -135,6 +137,7 @@ static SMOOTH: NodeSpec = NodeSpec::new(
         P::new("iterations", "Iterations", T::Int, D::Int(10), "Passes.").range(0.0, 100_000.0),
     ],
 );
+
 fn cook_smooth(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -161,6 +164,7 @@ static REVERSE: NodeSpec = NodeSpec::new(
     &[geometry_input("geometry")],
     &[],
 );
+
 fn cook_reverse(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -179,6 +183,7 @@ static JOIN: NodeSpec = NodeSpec::new(
     &[geometry_input("curves")],
     &[P::new("close", "Close", T::Toggle, D::Toggle(false), "Close the joined curve.")],
 );
+
 fn cook_join(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let open: Vec<Curve> = curves(g).into_iter().filter(|c| !c.closed).collect();

@@ -82,6 +82,7 @@ static LINE: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
+
 fn cook_line(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (vec3(p, "start")?.as_dvec3(), vec3(p, "end")?.as_dvec3());
     finish(ctx, shapes::line(a, b, count(p, "points")?), p)
@@ -101,6 +102,7 @@ static CIRCLE: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
+
 fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (
         p.float("start_angle")?.to_radians(),
@@ -140,6 +142,7 @@ static HELIX: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
+
 fn cook_helix(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let c = shapes::helix(
         p.float("radius")?,
@@ -165,6 +168,7 @@ static KNOT: NodeSpec = NodeSpec::new(
         CENTER,
     ],
 );
+
 fn cook_knot(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let c = shapes::torus_knot(
         p.int("p")? as u32,
@@ -189,6 +193,7 @@ static INTERPOLATE: NodeSpec = NodeSpec::new(
         P::new("alpha", "Catmull-Rom alpha", T::Float, D::Float(0.5), "0 uniform, 0.5 centripetal (no cusps or loops), 1 chordal.").range(0.0, 1.0),
     ],
 );
+
 fn cook_interpolate(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -66,6 +66,7 @@ static FILE: NodeSpec = NodeSpec::new(
     &[],
     &[P::new("file", "File", T::File, D::Str(""), "Path of the file to read.")],
 );
+
 fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let path = p.string("file")?;
     let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
@@ -92,6 +93,7 @@ static WRITE: NodeSpec = NodeSpec::new(
     )],
 )
 .writes(&["file"]);
+
 fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let path = p.string("file")?;

@@ -23,6 +23,7 @@ static MERGE: NodeSpec = NodeSpec::new(
     &[],
 )
 .variadic();
+
 fn cook_merge(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
     let gs: Vec<&Geometry> = inputs
         .iter()
@@ -48,6 +49,7 @@ static SWITCH: NodeSpec = NodeSpec::new(
     .at_least(0.0)],
 )
 .variadic();
+
 fn cook_switch(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -74,6 +76,7 @@ static NULL: NodeSpec = NodeSpec::new(
     }],
     &[],
 );
+
 fn cook_null(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
     inputs
         .first()

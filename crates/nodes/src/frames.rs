@@ -85,6 +85,7 @@ static POLYFRAME: NodeSpec = NodeSpec::new(
         P::new("roll_per_point", "Roll per point", T::Float, D::Float(0.0), "Further degrees per point along each curve (90 alternates copies a quarter turn, as chain links)."),
     ],
 );
+
 fn cook_poly_frame(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -188,6 +189,7 @@ static SWEEP: NodeSpec = NodeSpec::new(
         UP,
     ],
 );
+
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let cs = curves(g);

@@ -293,6 +293,7 @@ static CSG: NodeSpec = NodeSpec::new(
     &[P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."), P::new("alpha", "Alpha", T::Float, D::Float(1.0), "R-function parameter in [0, 1].").range(0.0, 1.0)],
 )
 .output(PortType::Field);
+
 fn cook_csg(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
     let alpha = p.float("alpha")?;
@@ -317,6 +318,7 @@ static BLEND: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_blend(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
     let k = [p.float("a0")?, p.float("a1")?, p.float("a2")?];
@@ -346,6 +348,7 @@ static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_bounded_blend(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -383,6 +386,7 @@ static SWEEP: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = crate::util::input(ctx, inputs, 0)?;
     let attr = g
@@ -421,6 +425,7 @@ static INSTANCE: NodeSpec = NodeSpec::new(
     &[],
 )
 .output(PortType::Field);
+
 fn cook_instance(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -455,6 +460,7 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_transform(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -494,6 +500,7 @@ static DEFORM: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_deform(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -530,6 +537,7 @@ static OFFSET: NodeSpec = NodeSpec::new(
     )],
 )
 .output(PortType::Field);
+
 fn cook_offset(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -550,6 +558,7 @@ static MORPH: NodeSpec = NodeSpec::new(
     &[P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0)],
 )
 .output(PortType::Field);
+
 fn cook_morph(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     out(shapes::morph(
         field_input(ctx, inputs, 0)?,
@@ -572,6 +581,7 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
     ],
 )
 .output(PortType::Field);
+
 fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let e = Expr::parse(p.string("expression")?, &["x", "y", "z", "a", "b", "c"])
         .map_err(|e| ctx.param_error("expression", e.to_string()))?;
@@ -599,6 +609,7 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
         P::new("sharpness", "Feature threshold", T::Float, D::Float(0.05), "Smaller keeps fainter sharp features.").range(1e-6, 1.0),
     ],
 );
+
 fn cook_polygonise(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -647,6 +658,7 @@ static SAMPLE: NodeSpec = NodeSpec::new(
     &[InputSpec { name: "geometry", ty: PortType::Geometry, required: true }, FIELD_IN],
     &[P::new("name", "Attribute", T::String, D::Str("density"), "Name of the float point attribute to write.")],
 );
+
 fn cook_sample(
     ctx: &CookContext,
     inputs: &[Option<Value>],

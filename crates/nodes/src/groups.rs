@@ -68,6 +68,7 @@ static BOUNDING: NodeSpec = NodeSpec::new(
         P::new("max", "Max", T::Vec3, D::Vec3([0.5; 3]), "Opposite corner."),
     ],
 );
+
 fn cook_bounding(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -96,6 +97,7 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
         P::new("expression", "Expression", T::String, D::Str("y > 0"), "The test, e.g. `x > 0 && y < 0.5`."),
     ],
 );
+
 fn cook_expression(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -28,6 +28,7 @@ static COLONIZE: NodeSpec = NodeSpec::new(
         P::new("exponent", "Pipe exponent", T::Float, D::Float(2.5), "n in r^n = sum of children's r^n (2: area kept, 3: Murray's law).").range(2.0, 3.0),
     ],
 );
+
 fn cook_colonize(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -21,6 +21,7 @@ static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
         P::new("variant_attribute", "Variant attribute", T::String, D::Str("variant"), "Integer template point attribute choosing each point's piece (wrapped; absent: point number)."),
     ],
 );
+
 fn cook_copy_to_points(
     ctx: &CookContext,
     inputs: &[Option<Value>],

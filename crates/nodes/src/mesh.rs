@@ -21,6 +21,7 @@ static DELETE: NodeSpec = NodeSpec::new(
         P::new("keep_points", "Keep unused points", T::Toggle, D::Toggle(false), "When deleting primitives, keep points no longer used."),
     ],
 );
+
 fn cook_delete(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -76,6 +77,7 @@ static NORMALS: NodeSpec = NodeSpec::new(
         P::new("cusp_angle", "Cusp angle", T::Float, D::Float(60.0), "Vertex normals: faces meeting at a sharper angle keep separate normals.").range(0.0, 180.0),
     ],
 );
+
 fn cook_normals(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -115,6 +117,7 @@ static FUSE: NodeSpec = NodeSpec::new(
     &[geometry_input("geometry")],
     &[P::new("distance", "Distance", T::Float, D::Float(0.001), "Points closer than this are merged.").at_least(0.0)],
 );
+
 fn cook_fuse(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     ops::fuse_points(&mut g, p.float("distance")? as f32);
@@ -122,6 +125,7 @@ fn cook_fuse(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
 }
 
 static TRIANGULATE: NodeSpec = NodeSpec::new("triangulate", "Triangulate", "mesh", "Splits polygons into triangles: fans for convex ones, ear clipping for concave ones. Attributes carry over.", &[geometry_input("geometry")], &[]);
+
 fn cook_triangulate(
     ctx: &CookContext,
     inputs: &[Option<Value>],

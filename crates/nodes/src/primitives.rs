@@ -79,6 +79,7 @@ static BOX: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
+
 fn cook_box_node(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let d = p.vector::<3>("divisions")?.map(|x| x.round() as u32);
     let [x, y, z] = d.map(f64::from);
@@ -123,6 +124,7 @@ static SPHERE: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
+
 fn cook_sphere(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let radius = p.float("radius")? as f32;
     reserve_quads(ctx, p, 1.0)?;
@@ -150,6 +152,7 @@ static GRID: NodeSpec = NodeSpec::new(
         P::new("columns", "Columns", T::Int, D::Int(10), "Quads along X.").range(1.0, 65536.0),
     ],
 );
+
 fn cook_grid(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     reserve_quads(ctx, p, 1.0)?;
     let size: Vec2 = vec2(p, "size")?;
@@ -194,6 +197,7 @@ static TUBE: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
+
 fn cook_tube(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     reserve_quads(ctx, p, 1.0)?;
     let (radius, height) = (p.float("radius")? as f32, p.float("height")? as f32);
@@ -259,6 +263,7 @@ static TORUS: NodeSpec = NodeSpec::new(
         ANALYTIC,
     ],
 );
+
 fn cook_torus(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (major, minor) = (
         p.float("major_radius")? as f32,

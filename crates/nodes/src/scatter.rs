@@ -125,6 +125,7 @@ static SCATTER: NodeSpec = NodeSpec::new(
         RELAX,
     ],
 );
+
 fn cook_scatter(
     ctx: &CookContext,
     inputs: &[Option<Value>],
@@ -210,6 +211,7 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
         RELAX,
     ],
 );
+
 fn cook_scatter_field(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -27,6 +27,7 @@ static SUBDIVIDE: NodeSpec = NodeSpec::new(
         P::new("limit", "Push to limit", T::Toggle, D::Toggle(false), "Move points to the limit surface and write limit normals N."),
     ],
 );
+
 fn cook_subdivide(
     ctx: &CookContext,
     inputs: &[Option<Value>],

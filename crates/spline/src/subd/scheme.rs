@@ -44,6 +44,27 @@ pub(crate) fn crease(limit: bool) -> (f64, f64) {
     }
 }
 
+/// The corner and crease rules, alike for refinement and the limit but
+/// for the crease weights: a corner stays, a crease weighs itself and its
+/// two sharp neighbours.
+fn sharp_point(
+    rule: Rule,
+    limit: bool,
+    edges: usize,
+    sharp: impl Fn(usize) -> bool,
+    scale: f64,
+    emit: &mut impl FnMut(Term, f64),
+) {
+    if rule == Rule::Corner {
+        return emit(Term::Vertex, scale);
+    }
+    let (own, end) = crease(limit);
+    emit(Term::Vertex, scale * own);
+    for k in (0..edges).filter(|&k| sharp(k)) {
+        emit(Term::EdgeEnd(k), scale * end);
+    }
+}
+
 /// The vertex point of one rule: `edges` incident edges (`sharp(k)` says
 /// whether edge `k` is sharp), `faces` incident faces; each weight goes to
 /// `emit`, scaled by `scale`.
@@ -56,14 +77,7 @@ pub(crate) fn vertex_point(
     emit: &mut impl FnMut(Term, f64),
 ) {
     match rule {
-        Rule::Corner => emit(Term::Vertex, scale),
-        Rule::Crease => {
-            let (own, end) = crease(false);
-            emit(Term::Vertex, scale * own);
-            for k in (0..edges).filter(|&k| sharp(k)) {
-                emit(Term::EdgeEnd(k), scale * end);
-            }
-        }
+        Rule::Corner | Rule::Crease => sharp_point(rule, false, edges, sharp, scale, emit),
         Rule::Smooth | Rule::Dart => {
             let n = edges as f64;
             emit(Term::Vertex, scale * (n - 2.0) / n);
@@ -129,14 +143,7 @@ pub(crate) fn limit_point(
     emit: &mut impl FnMut(Term, f64),
 ) {
     match rule {
-        Rule::Corner => emit(Term::Vertex, scale),
-        Rule::Crease => {
-            let (own, end) = crease(true);
-            emit(Term::Vertex, scale * own);
-            for k in (0..edges).filter(|&k| sharp(k)) {
-                emit(Term::EdgeEnd(k), scale * end);
-            }
-        }
+        Rule::Corner | Rule::Crease => sharp_point(rule, true, edges, sharp, scale, emit),
         Rule::Smooth | Rule::Dart if faces == 2 => emit(Term::Vertex, scale),
         Rule::Smooth | Rule::Dart => {
             let n = faces as f64;
