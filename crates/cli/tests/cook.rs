@@ -371,3 +371,63 @@ fn mesh_examples_are_watertight() {
         other => assert!(!required, "trimesh check could not run: {other:?}"),
     }
 }
+
+#[test]
+fn temporary_files_of_a_killed_cook_are_removed_by_the_next_write() {
+    let dir = tempfile::tempdir().unwrap();
+    // A big file, so that the write is caught in the middle.
+    let net = dir.path().join("big.json");
+    std::fs::write(
+        &net,
+        r#"{"geode": "network", "version": 1, "output": "g", "nodes": {
+        "g": {"type": "grid", "params": {"rows": 3000, "columns": 3000}}}}"#,
+    )
+    .unwrap();
+    let out = dir.path().join("big.usda");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_geode"))
+        .args(["cook", net.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with(".geode-tmp-"))
+            .collect::<Vec<_>>()
+    };
+    let t0 = std::time::Instant::now();
+    while temporary().is_empty() {
+        assert!(t0.elapsed().as_secs() < 60, "the write never started");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the cook ended before it was killed"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    child.kill().unwrap(); // SIGKILL: no handler runs, the temporary stays
+    child.wait().unwrap();
+    assert_eq!(temporary().len(), 1, "kill -9 left its temporary file");
+    assert!(!out.exists());
+    let small = dir.path().join("small.json");
+    std::fs::write(
+        &small,
+        r#"{"geode": "network", "version": 1, "output": "b", "nodes": {"b": {"type": "box"}}}"#,
+    )
+    .unwrap();
+    let o = geode(
+        &[
+            "cook",
+            small.to_str().unwrap(),
+            "-o",
+            dir.path().join("box.obj").to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        temporary().is_empty(),
+        "the next write removed {:?}",
+        temporary()
+    );
+}
