@@ -1,5 +1,6 @@
 //! Meshing time against octree depth: cost should grow ~4x per level (with the
 //! surface), not 8x (with the volume). Triangle counts are printed once.
+//! Also the memory estimate made before meshing, at depths 9 and 12.
 //! Run: cargo bench -p geode-frep --bench mesh
 
 use geode_frep::shapes::{block, cylinder, sphere, union};
@@ -104,5 +105,19 @@ fn mesh_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
             &|_| {},
         )
         .unwrap()
+    });
+}
+
+/// The memory estimate the polygonise node makes before meshing (it must
+/// stay milliseconds at any depth, the guard's whole point).
+#[divan::bench(args = CASES, consts = [9, 12], sample_count = 3)]
+fn estimate_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
+    let (_, f, half) = cases()
+        .into_iter()
+        .find(|(n, _, _)| *n == case)
+        .expect("a known case");
+    bencher.bench(|| {
+        geode_frep::polygonise::estimate(&f, &MeshOptions::new([-half; 3], [half; 3], DEPTH))
+            .unwrap()
     });
 }

@@ -41,7 +41,7 @@ impl CookOptions<'_> {
 fn writes_files(spec: &NodeSpec, params: &Params) -> bool {
     spec.writes
         .iter()
-        .any(|w| matches!(params.get(w), Ok(ParamValue::String(s)) if !s.is_empty()))
+        .any(|w| matches!(params.get(*w), Ok(ParamValue::String(s)) if !s.is_empty()))
 }
 
 /// What happened to one node during a cook.

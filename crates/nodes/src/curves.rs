@@ -47,7 +47,7 @@ pub(crate) fn curves_geometry(
 }
 
 fn finish(ctx: &CookContext, c: Sampled, p: &Params) -> Result<Value, CookError> {
-    let g = curves_geometry(&[c], vec3(p, "center")?).map_err(|e| ctx.kernel(e))?;
+    let g = curves_geometry(&[c], vec3(p, &CENTER)?).map_err(|e| ctx.kernel(e))?;
     geometry(g)
 }
 

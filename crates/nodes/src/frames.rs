@@ -23,9 +23,9 @@ const UP: P = P::new("up", "Up", T::Vec3, D::Vec3([0.0, 1.0, 0.0]), "The up vect
 
 /// The method menu's choice.
 fn method(p: &Params) -> Result<FrameMethod, CookError> {
-    Ok(match p.string("method")? {
+    Ok(match p.string(&METHOD)? {
         "parallel_transport" => FrameMethod::ParallelTransport,
-        "up_vector" => FrameMethod::UpVector(vec3(p, "up")?.as_dvec3()),
+        "up_vector" => FrameMethod::UpVector(vec3(p, &UP)?.as_dvec3()),
         _ => FrameMethod::DoubleReflection,
     })
 }
@@ -103,7 +103,7 @@ fn cook_poly_frame(
         p.float("roll")?.to_radians(),
         p.float("roll_per_point")?.to_radians(),
     );
-    let (tangent, method, up) = (p.string("tangent")?, method(p)?, vec3(p, "up")?.as_dvec3());
+    let (tangent, method, up) = (p.string(&TANGENT)?, method(p)?, vec3(p, &UP)?.as_dvec3());
     for c in &cs {
         ctx.check()?;
         let (_, f) = curve_frames(&g, c, tangent, method, up);
@@ -228,7 +228,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let orient = g
         .attrib(AttribClass::Point, "orient")
         .and_then(|a| a.as_quat());
-    let (tangent, up) = (p.string("tangent")?, vec3(p, "up")?.as_dvec3());
+    let (tangent, up) = (p.string(&TANGENT)?, vec3(p, &UP)?.as_dvec3());
     let rings: f64 = cs.iter().map(|c| c.points.len() as f64).sum();
     let sides = opts.section.len() as f64;
     crate::util::reserve_mesh(

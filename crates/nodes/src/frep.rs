@@ -6,8 +6,8 @@ use geode_frep::shapes;
 use geode_frep::{Field, MeshError, MeshOptions};
 use geode_geo::{AttribClass, AttribData, Attribute, TypeInfo};
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, Params, PortType, Registry, Value,
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamName,
+    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
 };
 
 use crate::expr::Expr;
@@ -48,7 +48,7 @@ fn field_input<'a>(
         })
 }
 
-fn v3(p: &Params, name: &str) -> Result<[f64; 3], CookError> {
+fn v3(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<[f64; 3], CookError> {
     p.vector::<3>(name)
 }
 
@@ -235,22 +235,22 @@ static HALFSPACE: NodeSpec = NodeSpec::new(
 .output(PortType::Field);
 
 fn sphere(_: &CookContext, p: &Params) -> Result<Field, CookError> {
-    Ok(shapes::sphere(v3(p, "center")?, p.float("radius")?))
+    Ok(shapes::sphere(v3(p, &CENTER)?, p.float("radius")?))
 }
 fn block(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     let s = v3(p, "size")?;
-    Ok(shapes::block(v3(p, "center")?, s.map(|x| x * 0.5)))
+    Ok(shapes::block(v3(p, &CENTER)?, s.map(|x| x * 0.5)))
 }
 fn torus(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::torus(
-        v3(p, "center")?,
+        v3(p, &CENTER)?,
         p.float("major_radius")?,
         p.float("minor_radius")?,
     ))
 }
 fn cylinder(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::cylinder(
-        v3(p, "center")?,
+        v3(p, &CENTER)?,
         p.float("radius")?,
         0.5 * p.float("height")?,
     ))
@@ -263,11 +263,11 @@ fn cone(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     ))
 }
 fn ellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
-    Ok(shapes::ellipsoid(v3(p, "center")?, v3(p, "radii")?))
+    Ok(shapes::ellipsoid(v3(p, &CENTER)?, v3(p, "radii")?))
 }
 fn superellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::superellipsoid(
-        v3(p, "center")?,
+        v3(p, &CENTER)?,
         v3(p, "radii")?,
         p.float("e1")?,
         p.float("e2")?,

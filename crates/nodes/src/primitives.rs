@@ -41,10 +41,10 @@ fn finish(
     p: &Params,
     shape: AnalyticShape,
 ) -> Result<Value, CookError> {
-    if p.toggle("analytic")? {
+    if p.toggle(&ANALYTIC)? {
         analytic::tag(&mut g, shape).map_err(|e| ctx.kernel(e))?;
     }
-    geometry(placed(g, vec3(p, "center")?))
+    geometry(placed(g, vec3(p, &CENTER)?))
 }
 
 fn div(p: &Params, name: &str) -> Result<u32, CookError> {
@@ -158,7 +158,7 @@ fn cook_grid(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value
     let size: Vec2 = vec2(p, "size")?;
     geometry(placed(
         primitives::grid(size, div(p, "columns")?, div(p, "rows")?),
-        vec3(p, "center")?,
+        vec3(p, &CENTER)?,
     ))
 }
 

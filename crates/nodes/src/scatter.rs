@@ -63,9 +63,9 @@ fn target_count(
     p: &Params,
     measure: impl FnOnce() -> f64,
 ) -> Result<usize, CookError> {
-    let density = p.float("density")?;
+    let density = p.float(&DENSITY)?;
     if density <= 0.0 {
-        return Ok(p.int("count")? as usize);
+        return Ok(p.int(&COUNT)? as usize);
     }
     let n = (density * measure()).round();
     if !(0.0..=1e8).contains(&n) {
@@ -94,8 +94,8 @@ fn inside(
     test: &(dyn Fn(&[Vec3]) -> Vec<bool> + Sync),
     count: usize,
 ) -> Result<Vec<Vec3>, CookError> {
-    let seed = p.int("seed")? as u64;
-    let relax = p.toggle("relax")?;
+    let seed = p.int(&SEED)? as u64;
+    let relax = p.toggle(&RELAX)?;
     let wanted = if relax { count * OVERSAMPLE } else { count };
     let cancel = || ctx.cancel.is_cancelled();
     let (cands, share) =
@@ -151,8 +151,8 @@ fn cook_scatter(
         return points(pts);
     }
     let count = target_count(ctx, p, || scatter::area(&tris))?;
-    let seed = p.int("seed")? as u64;
-    let relax = p.toggle("relax")?;
+    let seed = p.int(&SEED)? as u64;
+    let relax = p.toggle(&RELAX)?;
     let wanted = if relax { count * OVERSAMPLE } else { count };
     let mut found = scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
     if relax {
@@ -228,7 +228,7 @@ fn cook_scatter_field(
     }
     let test =
         |c: &[Vec3]| -> Vec<bool> { sample_field(f, c).into_iter().map(|v| v >= 0.0).collect() };
-    let seed = p.int("seed")? as u64;
+    let seed = p.int(&SEED)? as u64;
     let count = target_count(ctx, p, || {
         (hi - lo).as_dvec3().element_product() * probe_share(lo, hi, seed, &test)
     })?;

@@ -145,7 +145,7 @@ fn legacy_entries(
 /// and row (`skeleton[1].parent`).
 pub(crate) fn skeleton_from_params(ctx: &CookContext, p: &Params) -> Result<Skeleton, CookError> {
     let mut joints: Vec<Joint> = Vec::new();
-    for row in p.list("skeleton")? {
+    for row in p.list(&SKELETON)? {
         let name = row.string("name")?.trim().to_owned();
         if name.is_empty() {
             return Err(ctx.param_error(&row.name("name"), "a joint needs a name"));
@@ -193,20 +193,20 @@ fn posed(ctx: &CookContext, p: &Params, mut joints: Vec<Joint>) -> Result<Skelet
             d[0].to_radians(),
         )
     };
-    for row in p.list("pose")? {
+    for row in p.list(&POSE)? {
         let name = row.string("joint")?;
         let j = joints.iter_mut().find(|j| j.name == name).ok_or_else(|| {
             ctx.param_error(&row.name("joint"), format!("no joint named `{name}`"))
         })?;
         j.rotation = euler(row.vector::<3>("rotate")?) * j.rotation;
     }
-    let name = p.string("bend_joint")?;
+    let name = p.string(&BEND_JOINT)?;
     if !name.is_empty() {
         let j = joints
             .iter_mut()
             .find(|j| j.name == name)
             .ok_or_else(|| ctx.param_error("bend_joint", format!("no joint named `{name}`")))?;
-        j.rotation = euler(p.vector::<3>("bend")?) * j.rotation;
+        j.rotation = euler(p.vector::<3>(&BEND)?) * j.rotation;
     }
     Skeleton::new(joints).map_err(|e| ctx.kernel_at("skeleton", e))
 }

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use geode_geo::glam::{Vec2, Vec3};
 use geode_geo::{AttribClass, Geometry};
-use geode_op::{CookContext, CookError, Params, Value};
+use geode_op::{CookContext, CookError, ParamName, Params, Value};
 
 /// The geometry on input `i` (inputs are checked at load; this guards the rest).
 pub fn input<'a>(
@@ -28,12 +28,12 @@ pub fn input_owned(
     Ok(Geometry::clone(input(ctx, inputs, i)?))
 }
 
-pub fn vec3(p: &Params, name: &str) -> Result<Vec3, CookError> {
+pub fn vec3(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<Vec3, CookError> {
     let [x, y, z] = p.vector::<3>(name)?;
     Ok(Vec3::new(x as f32, y as f32, z as f32))
 }
 
-pub fn vec2(p: &Params, name: &str) -> Result<Vec2, CookError> {
+pub fn vec2(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<Vec2, CookError> {
     let [x, y] = p.vector::<2>(name)?;
     Ok(Vec2::new(x as f32, y as f32))
 }
@@ -41,7 +41,7 @@ pub fn vec2(p: &Params, name: &str) -> Result<Vec2, CookError> {
 pub const CLASSES: &[&str] = &["point", "vertex", "primitive", "detail"];
 pub const ELEMENT_CLASSES: &[&str] = &["point", "primitive"];
 
-pub fn class(p: &Params, name: &str) -> Result<AttribClass, CookError> {
+pub fn class(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<AttribClass, CookError> {
     Ok(match p.string(name)? {
         "point" => AttribClass::Point,
         "vertex" => AttribClass::Vertex,

@@ -11,7 +11,9 @@ mod value;
 
 pub use context::{CancelToken, CookContext, CookError, ErrorKind, ProgressFn};
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
-pub use param::{LegacyRows, ListSpec, ParamDefault, ParamSpec, ParamType, ParamValue, Params};
+pub use param::{
+    LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,
+};
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};
 

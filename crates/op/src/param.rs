@@ -280,6 +280,24 @@ impl fmt::Display for ParamValue {
     }
 }
 
+/// What a parameter is read by: its declaration (`p.float(&RADIUS)`, the
+/// name written once) or, where a node has no const for it, its name.
+pub trait ParamName {
+    fn param_name(&self) -> &str;
+}
+
+impl ParamName for str {
+    fn param_name(&self) -> &str {
+        self
+    }
+}
+
+impl ParamName for ParamSpec {
+    fn param_name(&self) -> &str {
+        self.name
+    }
+}
+
 /// Every declared parameter of a node, evaluated at the cook's frame.
 #[derive(Clone, Debug, Default)]
 pub struct Params {
@@ -316,7 +334,8 @@ impl Params {
 
     /// The full name of a parameter or row field, for error messages
     /// (`edits[2].level`).
-    pub fn name(&self, name: &str) -> String {
+    pub fn name(&self, name: &(impl ParamName + ?Sized)) -> String {
+        let name = name.param_name();
         format!("{}{name}", self.prefix)
     }
 
@@ -324,7 +343,8 @@ impl Params {
         self.values.iter()
     }
 
-    pub fn get(&self, name: &str) -> Result<&ParamValue, CookError> {
+    pub fn get(&self, name: &(impl ParamName + ?Sized)) -> Result<&ParamValue, CookError> {
+        let name = name.param_name();
         self.values
             .iter()
             .find(|(n, _)| *n == name)
@@ -338,11 +358,11 @@ impl Params {
             })
     }
 
-    fn wrong(&self, name: &str, want: &str) -> CookError {
+    fn wrong(&self, name: &(impl ParamName + ?Sized), want: &str) -> CookError {
         CookError::param(&self.path, &self.name(name), format!("expected a {want}"))
     }
 
-    pub fn float(&self, name: &str) -> Result<f64, CookError> {
+    pub fn float(&self, name: &(impl ParamName + ?Sized)) -> Result<f64, CookError> {
         match self.get(name)? {
             ParamValue::Float(x) => Ok(*x),
             ParamValue::Int(x) => Ok(*x as f64),
@@ -350,28 +370,31 @@ impl Params {
         }
     }
 
-    pub fn int(&self, name: &str) -> Result<i64, CookError> {
+    pub fn int(&self, name: &(impl ParamName + ?Sized)) -> Result<i64, CookError> {
         match self.get(name)? {
             ParamValue::Int(x) => Ok(*x),
             _ => Err(self.wrong(name, "int")),
         }
     }
 
-    pub fn toggle(&self, name: &str) -> Result<bool, CookError> {
+    pub fn toggle(&self, name: &(impl ParamName + ?Sized)) -> Result<bool, CookError> {
         match self.get(name)? {
             ParamValue::Toggle(x) => Ok(*x),
             _ => Err(self.wrong(name, "toggle")),
         }
     }
 
-    pub fn vector<const N: usize>(&self, name: &str) -> Result<[f64; N], CookError> {
+    pub fn vector<const N: usize>(
+        &self,
+        name: &(impl ParamName + ?Sized),
+    ) -> Result<[f64; N], CookError> {
         match self.get(name)? {
             ParamValue::Vector(v) if v.len() == N => Ok(std::array::from_fn(|i| v[i])),
             _ => Err(self.wrong(name, &format!("vector{N}"))),
         }
     }
 
-    pub fn string(&self, name: &str) -> Result<&str, CookError> {
+    pub fn string(&self, name: &(impl ParamName + ?Sized)) -> Result<&str, CookError> {
         match self.get(name)? {
             ParamValue::String(s) => Ok(s),
             _ => Err(self.wrong(name, "string")),
@@ -379,7 +402,8 @@ impl Params {
     }
 
     /// The rows of a list parameter, each read by field name.
-    pub fn list(&self, name: &str) -> Result<Vec<Params>, CookError> {
+    pub fn list(&self, name: &(impl ParamName + ?Sized)) -> Result<Vec<Params>, CookError> {
+        let name = name.param_name();
         let spec = self
             .specs
             .iter()
