@@ -118,7 +118,7 @@ fn legacy_regions(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
 
 /// The region rows.
 fn regions(p: &Params) -> Result<Vec<Region>, CookError> {
-    p.list("regions")?
+    p.list(&ATTACH_REGIONS)?
         .iter()
         .map(|row| {
             let [u0, u1] = row.vector::<2>("u")?.map(|x| x as usize);
@@ -127,6 +127,24 @@ fn regions(p: &Params) -> Result<Vec<Region>, CookError> {
         })
         .collect()
 }
+
+const ATTACH_REGIONS: P = P::list("regions", "Regions", &REGION_ROWS, "One row per limb input: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around.");
+const ATTACH_PLACE: P = P::new("place", "Place limbs", T::Toggle, D::Toggle(true), "Move each limb rigidly onto its region: rim centre on the hole's centre, axis along the parent's normal, turned to fit the rim (its offsets follow). Off: limbs stay where they are.");
+const ATTACH_SUBDIVISIONS: P = P::new(
+    "subdivisions",
+    "Subdivisions",
+    T::Int,
+    D::Int(2),
+    "Levels of refinement past the finest hspline level, for a smoother tessellation.",
+)
+.range(0.0, 6.0);
+const ATTACH_OUTPUT: P = P::new(
+    "output",
+    "Output",
+    T::Menu(&["surface", "control_mesh"]),
+    D::Str("surface"),
+    "The limit surface, or the level-0 Catmull-Clark control mesh.",
+);
 
 static ATTACH: NodeSpec = NodeSpec::new(
     "attach",
@@ -138,10 +156,10 @@ static ATTACH: NodeSpec = NodeSpec::new(
         InputSpec { name: "limbs", ty: PortType::Geometry, required: true },
     ],
     &[
-        P::list("regions", "Regions", &REGION_ROWS, "One row per limb input: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around."),
-        P::new("place", "Place limbs", T::Toggle, D::Toggle(true), "Move each limb rigidly onto its region: rim centre on the hole's centre, axis along the parent's normal, turned to fit the rim (its offsets follow). Off: limbs stay where they are."),
-        P::new("subdivisions", "Subdivisions", T::Int, D::Int(2), "Levels of refinement past the finest hspline level, for a smoother tessellation.").range(0.0, 6.0),
-        P::new("output", "Output", T::Menu(&["surface", "control_mesh"]), D::Str("surface"), "The limit surface, or the level-0 Catmull-Clark control mesh."),
+        ATTACH_REGIONS,
+        ATTACH_PLACE,
+        ATTACH_SUBDIVISIONS,
+        ATTACH_OUTPUT,
     ],
 )
 .variadic();
@@ -180,11 +198,11 @@ fn cook_attach(
     let a = attach(
         &parent,
         &limbs,
-        p.toggle("place")?,
-        p.int("subdivisions")? as usize,
+        p.toggle(&ATTACH_PLACE)?,
+        p.int(&ATTACH_SUBDIVISIONS)? as usize,
     )
     .map_err(|e| ctx.kernel_at("regions", e))?;
-    let g = if p.string("output")? == "control_mesh" {
+    let g = if p.string(&ATTACH_OUTPUT)? == "control_mesh" {
         cage(&a)
     } else {
         surface(&a)

@@ -23,36 +23,36 @@ fn check_name(ctx: &CookContext, name: &str) -> Result<(), CookError> {
     Ok(())
 }
 
+const CREATE_NAME: P = P::new("name", "Name", T::String, D::Str("attr"), "Attribute name.");
+const CREATE_CLASS: P = P::new(
+    "class",
+    "Class",
+    T::Menu(CLASSES),
+    D::Str("point"),
+    "Element class to store it on.",
+);
+const CREATE_TYPE: P = P::new(
+    "type",
+    "Type",
+    T::Menu(TYPES),
+    D::Str("float"),
+    "Storage type; color and normal are vector3 with that type-info.",
+);
+const CREATE_VALUE: P = P::new(
+    "value",
+    "Value",
+    T::Vec4,
+    D::Vec4([0.0; 4]),
+    "The value (components beyond the type's size are ignored).",
+);
+
 static CREATE: NodeSpec = NodeSpec::new(
     "attribute_create",
     "Attribute Create",
     "attribute",
     "Adds (or overwrites) an attribute with one value on every element of a class.",
     &[geometry_input("geometry")],
-    &[
-        P::new("name", "Name", T::String, D::Str("attr"), "Attribute name."),
-        P::new(
-            "class",
-            "Class",
-            T::Menu(CLASSES),
-            D::Str("point"),
-            "Element class to store it on.",
-        ),
-        P::new(
-            "type",
-            "Type",
-            T::Menu(TYPES),
-            D::Str("float"),
-            "Storage type; color and normal are vector3 with that type-info.",
-        ),
-        P::new(
-            "value",
-            "Value",
-            T::Vec4,
-            D::Vec4([0.0; 4]),
-            "The value (components beyond the type's size are ignored).",
-        ),
-    ],
+    &[CREATE_NAME, CREATE_CLASS, CREATE_TYPE, CREATE_VALUE],
 );
 
 fn cook_create(
@@ -61,11 +61,11 @@ fn cook_create(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let name = p.string("name")?;
+    let name = p.string(&CREATE_NAME)?;
     check_name(ctx, name)?;
-    let c = class(p, "class")?;
-    let v = p.vector::<4>("value")?.map(|x| x as f32);
-    let (value, info) = match p.string("type")? {
+    let c = class(p, &CREATE_CLASS)?;
+    let v = p.vector::<4>(&CREATE_VALUE)?.map(|x| x as f32);
+    let (value, info) = match p.string(&CREATE_TYPE)? {
         "float" => (AttribValue::Float(v[0]), TypeInfo::None),
         "int" => (AttribValue::Int(v[0].round() as i32), TypeInfo::None),
         "vector2" => (AttribValue::Vec2(Vec2::new(v[0], v[1])), TypeInfo::None),
@@ -89,6 +89,37 @@ fn cook_create(
     geometry(g)
 }
 
+const RANDOMIZE_NAME: P = P::new("name", "Name", T::String, D::Str("Cd"), "Attribute name.");
+const RANDOMIZE_CLASS: P = P::new(
+    "class",
+    "Class",
+    T::Menu(CLASSES),
+    D::Str("point"),
+    "Element class.",
+);
+const RANDOMIZE_TYPE: P = P::new(
+    "type",
+    "Type",
+    T::Menu(&["float", "vector3", "color"]),
+    D::Str("color"),
+    "float uses the first component of min and max.",
+);
+const RANDOMIZE_MIN: P = P::new(
+    "min",
+    "Min",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Lower bound per component.",
+);
+const RANDOMIZE_MAX: P = P::new(
+    "max",
+    "Max",
+    T::Vec3,
+    D::Vec3([1.0; 3]),
+    "Upper bound per component.",
+);
+const RANDOMIZE_SEED: P = P::new("seed", "Seed", T::Int, D::Int(0), "Random seed.");
+
 static RANDOMIZE: NodeSpec = NodeSpec::new(
     "attribute_randomize",
     "Attribute Randomize",
@@ -96,12 +127,12 @@ static RANDOMIZE: NodeSpec = NodeSpec::new(
     "Sets an attribute to uniform random values between min and max, seeded: the same seed gives the same values on any machine and thread count.",
     &[geometry_input("geometry")],
     &[
-        P::new("name", "Name", T::String, D::Str("Cd"), "Attribute name."),
-        P::new("class", "Class", T::Menu(CLASSES), D::Str("point"), "Element class."),
-        P::new("type", "Type", T::Menu(&["float", "vector3", "color"]), D::Str("color"), "float uses the first component of min and max."),
-        P::new("min", "Min", T::Vec3, D::Vec3([0.0; 3]), "Lower bound per component."),
-        P::new("max", "Max", T::Vec3, D::Vec3([1.0; 3]), "Upper bound per component."),
-        P::new("seed", "Seed", T::Int, D::Int(0), "Random seed."),
+        RANDOMIZE_NAME,
+        RANDOMIZE_CLASS,
+        RANDOMIZE_TYPE,
+        RANDOMIZE_MIN,
+        RANDOMIZE_MAX,
+        RANDOMIZE_SEED,
     ],
 );
 
@@ -111,14 +142,14 @@ fn cook_randomize(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let name = p.string("name")?;
+    let name = p.string(&RANDOMIZE_NAME)?;
     check_name(ctx, name)?;
-    let c = class(p, "class")?;
-    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
-    let seed = p.int("seed")? as u64;
+    let c = class(p, &RANDOMIZE_CLASS)?;
+    let (lo, hi) = (vec3(p, &RANDOMIZE_MIN)?, vec3(p, &RANDOMIZE_MAX)?);
+    let seed = p.int(&RANDOMIZE_SEED)? as u64;
     let n = count(&g, c) as u64;
     let r = |e: u64, k: u64| geode_geo::random::unit(seed, e, k);
-    let (data, info) = match p.string("type")? {
+    let (data, info) = match p.string(&RANDOMIZE_TYPE)? {
         "float" => (
             AttribData::Float((0..n).map(|e| lo.x + (hi.x - lo.x) * r(e, 0)).collect()),
             TypeInfo::None,

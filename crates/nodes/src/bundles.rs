@@ -20,13 +20,23 @@ fn bundle_input<'a>(
         .ok_or_else(|| ctx.input_error("input 1 needs a bundle"))
 }
 
+const PACK_NAMES: P = P::new(
+    "names",
+    "Names",
+    T::String,
+    D::Str(""),
+    "Names for the inputs, in order, separated by commas.",
+);
+
 static PACK: NodeSpec = NodeSpec::new(
     "bundle_pack",
     "Bundle Pack",
     "bundle",
     "Packs its geometry inputs into one bundle, named by a comma-separated list (missing names become input1, input2, ...).",
     &[InputSpec { name: "geometry", ty: PortType::Geometry, required: false }],
-    &[P::new("names", "Names", T::String, D::Str(""), "Names for the inputs, in order, separated by commas.")],
+    &[
+        PACK_NAMES,
+    ],
 )
 .variadic()
 .output(PortType::Bundle);
@@ -53,6 +63,14 @@ fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     Ok(Value::Bundle(Arc::new(b)))
 }
 
+const ADD_NAME: P = P::new(
+    "name",
+    "Name",
+    T::String,
+    D::Str("geometry"),
+    "Name of the entry.",
+);
+
 static ADD: NodeSpec = NodeSpec::new(
     "bundle_add",
     "Bundle Add",
@@ -70,24 +88,26 @@ static ADD: NodeSpec = NodeSpec::new(
             required: true,
         },
     ],
-    &[P::new(
-        "name",
-        "Name",
-        T::String,
-        D::Str("geometry"),
-        "Name of the entry.",
-    )],
+    &[ADD_NAME],
 )
 .output(PortType::Bundle);
 
 fn cook_add(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut b = Bundle::clone(bundle_input(ctx, inputs)?);
     b.entries.insert(
-        p.string("name")?.to_owned(),
+        p.string(&ADD_NAME)?.to_owned(),
         Arc::clone(input(ctx, inputs, 1)?),
     );
     Ok(Value::Bundle(Arc::new(b)))
 }
+
+const EXTRACT_NAME: P = P::new(
+    "name",
+    "Name",
+    T::String,
+    D::Str("geometry"),
+    "Name of the entry.",
+);
 
 static EXTRACT: NodeSpec = NodeSpec::new(
     "bundle_extract",
@@ -99,13 +119,7 @@ static EXTRACT: NodeSpec = NodeSpec::new(
         ty: PortType::Bundle,
         required: true,
     }],
-    &[P::new(
-        "name",
-        "Name",
-        T::String,
-        D::Str("geometry"),
-        "Name of the entry.",
-    )],
+    &[EXTRACT_NAME],
 );
 
 fn cook_extract(
@@ -114,7 +128,7 @@ fn cook_extract(
     p: &Params,
 ) -> Result<Value, CookError> {
     let b = bundle_input(ctx, inputs)?;
-    let name = p.string("name")?;
+    let name = p.string(&EXTRACT_NAME)?;
     b.entries
         .get(name)
         .map(|g| Value::Geometry(Arc::clone(g)))

@@ -52,6 +52,18 @@ fn rebuild_curves(
     geometry(rebuild(g, &outs).map_err(|e| ctx.kernel(e))?)
 }
 
+const RESAMPLE_MODE: P = P::new("mode", "Mode", T::Menu(&["length", "count"]), D::Str("length"), "length: segments of about `length` (evened out so the ends land exactly); count: `count` points per curve.");
+const RESAMPLE_LENGTH: P = P::new(
+    "length",
+    "Length",
+    T::Float,
+    D::Float(0.1),
+    "Segment length.",
+)
+.at_least(1e-9);
+const RESAMPLE_COUNT: P =
+    P::new("count", "Count", T::Int, D::Int(20), "Points per curve.").range(2.0, 16_777_216.0);
+
 static RESAMPLE: NodeSpec = NodeSpec::new(
     "resample",
     "Resample",
@@ -59,9 +71,9 @@ static RESAMPLE: NodeSpec = NodeSpec::new(
     "Evenly spaced points along every curve, by segment length or by count; point attributes are interpolated.",
     &[geometry_input("curves")],
     &[
-        P::new("mode", "Mode", T::Menu(&["length", "count"]), D::Str("length"), "length: segments of about `length` (evened out so the ends land exactly); count: `count` points per curve."),
-        P::new("length", "Length", T::Float, D::Float(0.1), "Segment length.").at_least(1e-9),
-        P::new("count", "Count", T::Int, D::Int(20), "Points per curve.").range(2.0, 16_777_216.0),
+        RESAMPLE_MODE,
+        RESAMPLE_LENGTH,
+        RESAMPLE_COUNT,
     ],
 );
 
@@ -71,8 +83,8 @@ fn cook_resample(
     p: &Params,
 ) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
-    let by_count = p.string("mode")? == "count";
-    let (length, count) = (p.float("length")?, p.int("count")? as usize);
+    let by_count = p.string(&RESAMPLE_MODE)? == "count";
+    let (length, count) = (p.float(&RESAMPLE_LENGTH)?, p.int(&RESAMPLE_COUNT)? as usize);
     let points = if by_count {
         g.num_prims() as f64 * count as f64
     } else {
@@ -100,6 +112,23 @@ fn cook_resample(
     })
 }
 
+const CARVE_FROM: P = P::new(
+    "from",
+    "From",
+    T::Float,
+    D::Float(0.0),
+    "Start, as a fraction of the length.",
+)
+.range(0.0, 1.0);
+const CARVE_TO: P = P::new(
+    "to",
+    "To",
+    T::Float,
+    D::Float(1.0),
+    "End, as a fraction of the length.",
+)
+.range(0.0, 1.0);
+
 static CARVE: NodeSpec = NodeSpec::new(
     "carve",
     "Carve",
@@ -107,14 +136,14 @@ static CARVE: NodeSpec = NodeSpec::new(
     "Keeps the part of every curve between two fractions of its length (a closed curve is cut open at its first point).",
     &[geometry_input("curves")],
     &[
-        P::new("from", "From", T::Float, D::Float(0.0), "Start, as a fraction of the length.").range(0.0, 1.0),
-        P::new("to", "To", T::Float, D::Float(1.0), "End, as a fraction of the length.").range(0.0, 1.0),
+        CARVE_FROM,
+        CARVE_TO,
     ],
 );
 
 fn cook_carve(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
-    let (from, to) = (p.float("from")?, p.float("to")?);
+    let (from, to) = (p.float(&CARVE_FROM)?, p.float(&CARVE_TO)?);
     rebuild_curves(ctx, g, |c, pts| {
         // A loop opens at its first point: that point again at the end
         // (its last segment is the closing one, which `ends` wraps to 0).
@@ -126,6 +155,17 @@ fn cook_carve(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     })
 }
 
+const SMOOTH_STRENGTH: P = P::new(
+    "strength",
+    "Strength",
+    T::Float,
+    D::Float(0.5),
+    "How far toward the mean per pass.",
+)
+.range(0.0, 1.0);
+const SMOOTH_ITERATIONS: P =
+    P::new("iterations", "Iterations", T::Int, D::Int(10), "Passes.").range(0.0, 100_000.0);
+
 static SMOOTH: NodeSpec = NodeSpec::new(
     "curve_smooth",
     "Smooth Curve",
@@ -133,8 +173,8 @@ static SMOOTH: NodeSpec = NodeSpec::new(
     "Moves each point toward the mean of its neighbours (Laplacian smoothing); open curves keep their ends.",
     &[geometry_input("curves")],
     &[
-        P::new("strength", "Strength", T::Float, D::Float(0.5), "How far toward the mean per pass.").range(0.0, 1.0),
-        P::new("iterations", "Iterations", T::Int, D::Int(10), "Passes.").range(0.0, 100_000.0),
+        SMOOTH_STRENGTH,
+        SMOOTH_ITERATIONS,
     ],
 );
 
@@ -144,7 +184,10 @@ fn cook_smooth(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let (strength, iterations) = (p.float("strength")?, p.int("iterations")? as usize);
+    let (strength, iterations) = (
+        p.float(&SMOOTH_STRENGTH)?,
+        p.int(&SMOOTH_ITERATIONS)? as usize,
+    );
     for c in curves(&g) {
         ctx.check()?;
         let smoothed = resample::smooth(&positions(&g, &c), c.closed, strength, iterations);
@@ -175,13 +218,23 @@ fn cook_reverse(
     geometry(g)
 }
 
+const JOIN_CLOSE: P = P::new(
+    "close",
+    "Close",
+    T::Toggle,
+    D::Toggle(false),
+    "Close the joined curve.",
+);
+
 static JOIN: NodeSpec = NodeSpec::new(
     "join",
     "Join Curves",
     "curve",
     "Joins all open curves into one, in primitive order, each continuing from the end of the previous (a shared end point is used once).",
     &[geometry_input("curves")],
-    &[P::new("close", "Close", T::Toggle, D::Toggle(false), "Close the joined curve.")],
+    &[
+        JOIN_CLOSE,
+    ],
 );
 
 fn cook_join(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
@@ -202,7 +255,7 @@ fn cook_join(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
             }
         }
     }
-    let closed = p.toggle("close")?;
+    let closed = p.toggle(&JOIN_CLOSE)?;
     let out = CurveOut {
         prim: first.prim,
         closed,

@@ -8,7 +8,7 @@ use geode_curve::shapes::{self, Sampled};
 use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_op::{
-    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
+    geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamName, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
 };
 
@@ -51,7 +51,7 @@ fn finish(ctx: &CookContext, c: Sampled, p: &Params) -> Result<Value, CookError>
     geometry(g)
 }
 
-fn count(p: &Params, name: &str) -> Result<usize, CookError> {
+fn count(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<usize, CookError> {
     Ok(p.int(name)?.clamp(2, 1 << 24) as usize)
 }
 
@@ -63,30 +63,52 @@ const CENTER: P = P::new(
     "Offset of the whole curve.",
 );
 
+const LINE_START: P = P::new("start", "Start", T::Vec3, D::Vec3([0.0; 3]), "First point.");
+const LINE_END: P = P::new(
+    "end",
+    "End",
+    T::Vec3,
+    D::Vec3([0.0, 1.0, 0.0]),
+    "Last point.",
+);
+const LINE_POINTS: P =
+    P::new("points", "Points", T::Int, D::Int(10), "Point count.").range(2.0, 16_777_216.0);
+
 static LINE: NodeSpec = NodeSpec::new(
     "curve_line",
     "Line",
     "curve",
     "A straight polyline from start to end.",
     &[],
-    &[
-        P::new("start", "Start", T::Vec3, D::Vec3([0.0; 3]), "First point."),
-        P::new(
-            "end",
-            "End",
-            T::Vec3,
-            D::Vec3([0.0, 1.0, 0.0]),
-            "Last point.",
-        ),
-        P::new("points", "Points", T::Int, D::Int(10), "Point count.").range(2.0, 16_777_216.0),
-        CENTER,
-    ],
+    &[LINE_START, LINE_END, LINE_POINTS, CENTER],
 );
 
 fn cook_line(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-    let (a, b) = (vec3(p, "start")?.as_dvec3(), vec3(p, "end")?.as_dvec3());
-    finish(ctx, shapes::line(a, b, count(p, "points")?), p)
+    let (a, b) = (
+        vec3(p, &LINE_START)?.as_dvec3(),
+        vec3(p, &LINE_END)?.as_dvec3(),
+    );
+    finish(ctx, shapes::line(a, b, count(p, &LINE_POINTS)?), p)
 }
+
+const CIRCLE_RADIUS: P =
+    P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
+const CIRCLE_START_ANGLE: P = P::new(
+    "start_angle",
+    "Start angle",
+    T::Float,
+    D::Float(0.0),
+    "Degrees from +X.",
+);
+const CIRCLE_END_ANGLE: P = P::new(
+    "end_angle",
+    "End angle",
+    T::Float,
+    D::Float(360.0),
+    "Degrees from +X.",
+);
+const CIRCLE_POINTS: P =
+    P::new("points", "Points", T::Int, D::Int(32), "Point count.").range(2.0, 16_777_216.0);
 
 static CIRCLE: NodeSpec = NodeSpec::new(
     "curve_circle",
@@ -95,18 +117,18 @@ static CIRCLE: NodeSpec = NodeSpec::new(
     "A circle or arc in the XZ plane, counter-clockwise seen from +Y; a full turn is a closed curve.",
     &[],
     &[
-        P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0),
-        P::new("start_angle", "Start angle", T::Float, D::Float(0.0), "Degrees from +X."),
-        P::new("end_angle", "End angle", T::Float, D::Float(360.0), "Degrees from +X."),
-        P::new("points", "Points", T::Int, D::Int(32), "Point count.").range(2.0, 16_777_216.0),
+        CIRCLE_RADIUS,
+        CIRCLE_START_ANGLE,
+        CIRCLE_END_ANGLE,
+        CIRCLE_POINTS,
         CENTER,
     ],
 );
 
 fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (
-        p.float("start_angle")?.to_radians(),
-        p.float("end_angle")?.to_radians(),
+        p.float(&CIRCLE_START_ANGLE)?.to_radians(),
+        p.float(&CIRCLE_END_ANGLE)?.to_radians(),
     );
     if a == b {
         return Err(ctx.param_error(
@@ -116,10 +138,24 @@ fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Val
     }
     finish(
         ctx,
-        shapes::arc(p.float("radius")?, a, b, count(p, "points")?),
+        shapes::arc(p.float(&CIRCLE_RADIUS)?, a, b, count(p, &CIRCLE_POINTS)?),
         p,
     )
 }
+
+const HELIX_RADIUS: P =
+    P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
+const HELIX_PITCH: P = P::new("pitch", "Pitch", T::Float, D::Float(0.5), "Rise per turn.");
+const HELIX_TURNS: P = P::new(
+    "turns",
+    "Turns",
+    T::Float,
+    D::Float(3.0),
+    "Number of turns.",
+)
+.at_least(0.001);
+const HELIX_POINTS: P =
+    P::new("points", "Points", T::Int, D::Int(200), "Point count.").range(2.0, 16_777_216.0);
 
 static HELIX: NodeSpec = NodeSpec::new(
     "curve_helix",
@@ -127,31 +163,39 @@ static HELIX: NodeSpec = NodeSpec::new(
     "curve",
     "A helix rising along +Y.",
     &[],
-    &[
-        P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0),
-        P::new("pitch", "Pitch", T::Float, D::Float(0.5), "Rise per turn."),
-        P::new(
-            "turns",
-            "Turns",
-            T::Float,
-            D::Float(3.0),
-            "Number of turns.",
-        )
-        .at_least(0.001),
-        P::new("points", "Points", T::Int, D::Int(200), "Point count.").range(2.0, 16_777_216.0),
-        CENTER,
-    ],
+    &[HELIX_RADIUS, HELIX_PITCH, HELIX_TURNS, HELIX_POINTS, CENTER],
 );
 
 fn cook_helix(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let c = shapes::helix(
-        p.float("radius")?,
-        p.float("pitch")?,
-        p.float("turns")?,
-        count(p, "points")?,
+        p.float(&HELIX_RADIUS)?,
+        p.float(&HELIX_PITCH)?,
+        p.float(&HELIX_TURNS)?,
+        count(p, &HELIX_POINTS)?,
     );
     finish(ctx, c, p)
 }
+
+const KNOT_P: P = P::new("p", "P", T::Int, D::Int(2), "Turns around the axis.").range(1.0, 1000.0);
+const KNOT_Q: P = P::new("q", "Q", T::Int, D::Int(3), "Turns through the hole.").range(0.0, 1000.0);
+const KNOT_MAJOR_RADIUS: P = P::new(
+    "major_radius",
+    "Major radius",
+    T::Float,
+    D::Float(1.0),
+    "Radius of the torus.",
+)
+.at_least(0.0);
+const KNOT_MINOR_RADIUS: P = P::new(
+    "minor_radius",
+    "Minor radius",
+    T::Float,
+    D::Float(0.4),
+    "Radius of its tube.",
+)
+.at_least(0.0);
+const KNOT_POINTS: P =
+    P::new("points", "Points", T::Int, D::Int(300), "Point count.").range(3.0, 16_777_216.0);
 
 static KNOT: NodeSpec = NodeSpec::new(
     "curve_knot",
@@ -160,25 +204,50 @@ static KNOT: NodeSpec = NodeSpec::new(
     "A closed (p, q) torus knot around +Y: p turns around the axis, q through the hole; (2, 3) is the trefoil.",
     &[],
     &[
-        P::new("p", "P", T::Int, D::Int(2), "Turns around the axis.").range(1.0, 1000.0),
-        P::new("q", "Q", T::Int, D::Int(3), "Turns through the hole.").range(0.0, 1000.0),
-        P::new("major_radius", "Major radius", T::Float, D::Float(1.0), "Radius of the torus.").at_least(0.0),
-        P::new("minor_radius", "Minor radius", T::Float, D::Float(0.4), "Radius of its tube.").at_least(0.0),
-        P::new("points", "Points", T::Int, D::Int(300), "Point count.").range(3.0, 16_777_216.0),
+        KNOT_P,
+        KNOT_Q,
+        KNOT_MAJOR_RADIUS,
+        KNOT_MINOR_RADIUS,
+        KNOT_POINTS,
         CENTER,
     ],
 );
 
 fn cook_knot(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let c = shapes::torus_knot(
-        p.int("p")? as u32,
-        p.int("q")? as u32,
-        p.float("major_radius")?,
-        p.float("minor_radius")?,
-        count(p, "points")?,
+        p.int(&KNOT_P)? as u32,
+        p.int(&KNOT_Q)? as u32,
+        p.float(&KNOT_MAJOR_RADIUS)?,
+        p.float(&KNOT_MINOR_RADIUS)?,
+        count(p, &KNOT_POINTS)?,
     );
     finish(ctx, c, p)
 }
+
+const INTERPOLATE_METHOD: P = P::new("method", "Method", T::Menu(&["polyline", "catmull_rom", "bspline"]), D::Str("catmull_rom"), "polyline: the points as they are; catmull_rom: a centripetal spline through them; bspline: a cubic B-spline with them as control points (clamped to the ends when open).");
+const INTERPOLATE_CLOSED: P = P::new(
+    "closed",
+    "Closed",
+    T::Toggle,
+    D::Toggle(false),
+    "Close a curve made from loose points (curves keep their own).",
+);
+const INTERPOLATE_SAMPLES: P = P::new(
+    "samples",
+    "Samples per segment",
+    T::Int,
+    D::Int(8),
+    "Points per span of the spline.",
+)
+.range(1.0, 10_000.0);
+const INTERPOLATE_ALPHA: P = P::new(
+    "alpha",
+    "Catmull-Rom alpha",
+    T::Float,
+    D::Float(0.5),
+    "0 uniform, 0.5 centripetal (no cusps or loops), 1 chordal.",
+)
+.range(0.0, 1.0);
 
 static INTERPOLATE: NodeSpec = NodeSpec::new(
     "curve_interpolate",
@@ -187,10 +256,10 @@ static INTERPOLATE: NodeSpec = NodeSpec::new(
     "A curve through (or, as a B-spline, guided by) points: each curve of the input, or all its points in order when it has none.",
     &[geometry_input("points")],
     &[
-        P::new("method", "Method", T::Menu(&["polyline", "catmull_rom", "bspline"]), D::Str("catmull_rom"), "polyline: the points as they are; catmull_rom: a centripetal spline through them; bspline: a cubic B-spline with them as control points (clamped to the ends when open)."),
-        P::new("closed", "Closed", T::Toggle, D::Toggle(false), "Close a curve made from loose points (curves keep their own)."),
-        P::new("samples", "Samples per segment", T::Int, D::Int(8), "Points per span of the spline.").range(1.0, 10_000.0),
-        P::new("alpha", "Catmull-Rom alpha", T::Float, D::Float(0.5), "0 uniform, 0.5 centripetal (no cusps or loops), 1 chordal.").range(0.0, 1.0),
+        INTERPOLATE_METHOD,
+        INTERPOLATE_CLOSED,
+        INTERPOLATE_SAMPLES,
+        INTERPOLATE_ALPHA,
     ],
 );
 
@@ -216,12 +285,12 @@ fn cook_interpolate(
     if sources.is_empty() {
         sources.push((
             pos.iter().map(|p| p.as_dvec3()).collect(),
-            p.toggle("closed")?,
+            p.toggle(&INTERPOLATE_CLOSED)?,
         ));
     }
-    let per = p.int("samples")? as usize;
-    let alpha = p.float("alpha")?;
-    let method = p.string("method")?;
+    let per = p.int(&INTERPOLATE_SAMPLES)? as usize;
+    let alpha = p.float(&INTERPOLATE_ALPHA)?;
+    let method = p.string(&INTERPOLATE_METHOD)?;
     let mut out = Vec::new();
     for (pts, closed) in sources {
         if pts.len() < 2 {

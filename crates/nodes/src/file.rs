@@ -58,25 +58,43 @@ pub(crate) fn content_key(path: &str) -> Option<u128> {
     std::fs::read(path).ok().map(|b| geode_geo::hash_bytes(&b))
 }
 
+const FILE_FILE: P = P::new(
+    "file",
+    "File",
+    T::File,
+    D::Str(""),
+    "Path of the file to read.",
+);
+
 static FILE: NodeSpec = NodeSpec::new(
     "file",
     "File",
     "io",
     "Reads a geometry file (.obj, .stl, .ply, .gltf, .glb). `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame. The file's content is part of the cache key: editing the file recooks the node.",
     &[],
-    &[P::new("file", "File", T::File, D::Str(""), "Path of the file to read.")],
+    &[
+        FILE_FILE,
+    ],
 );
 
 fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-    let path = p.string("file")?;
+    let path = p.string(&FILE_FILE)?;
     let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
         .map_err(|e| io_error(ctx, "file", e))?;
     geometry(g)
 }
 
 fn key_file(p: &Params) -> Result<Option<u128>, CookError> {
-    Ok(content_key(p.string("file")?))
+    Ok(content_key(p.string(&FILE_FILE)?))
 }
+
+const WRITE_FILE: P = P::new(
+    "file",
+    "File",
+    T::File,
+    D::Str(""),
+    "Path to write; the extension picks the format (.obj, .stl, .ply, .glb, .usda).",
+);
 
 static WRITE: NodeSpec = NodeSpec::new(
     "write",
@@ -84,19 +102,15 @@ static WRITE: NodeSpec = NodeSpec::new(
     "io",
     "Writes its input to a file (atomically) every time it cooks, and passes the input through. `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame, so a cook over frames writes one file per frame. A write is an output, never served from the cache.",
     &[geometry_input("geometry")],
-    &[P::new(
-        "file",
-        "File",
-        T::File,
-        D::Str(""),
-        "Path to write; the extension picks the format (.obj, .stl, .ply, .glb, .usda).",
-    )],
+    &[
+        WRITE_FILE,
+    ],
 )
 .writes(&["file"]);
 
 fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
-    let path = p.string("file")?;
+    let path = p.string(&WRITE_FILE)?;
     if path.is_empty() {
         return Err(ctx.param_error("file", "names no file to write"));
     }

@@ -33,20 +33,22 @@ fn cook_merge(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result
     geometry(ops::merge(&gs).map_err(|e| ctx.kernel(e))?)
 }
 
+const SWITCH_INDEX: P = P::new(
+    "index",
+    "Index",
+    T::Int,
+    D::Int(0),
+    "Which input (0 is the first).",
+)
+.at_least(0.0);
+
 static SWITCH: NodeSpec = NodeSpec::new(
     "switch",
     "Switch",
     "flow",
     "Passes one of its inputs through, chosen by index (clamped to the inputs present).",
     ANY_GEOMETRY,
-    &[P::new(
-        "index",
-        "Index",
-        T::Int,
-        D::Int(0),
-        "Which input (0 is the first).",
-    )
-    .at_least(0.0)],
+    &[SWITCH_INDEX],
 )
 .variadic();
 
@@ -58,7 +60,7 @@ fn cook_switch(
     if inputs.is_empty() {
         return Err(ctx.input_error("switch has no inputs"));
     }
-    let i = (p.int("index")?.max(0) as usize).min(inputs.len() - 1);
+    let i = (p.int(&SWITCH_INDEX)?.max(0) as usize).min(inputs.len() - 1);
     inputs[i]
         .clone()
         .ok_or_else(|| ctx.param_error("index", format!("input {} is not connected", i + 1)))

@@ -71,6 +71,15 @@ fn curve_frames(
     (pts, f)
 }
 
+const POLYFRAME_ROLL: P = P::new(
+    "roll",
+    "Roll",
+    T::Float,
+    D::Float(0.0),
+    "Degrees the frames turn about the tangent.",
+);
+const POLYFRAME_ROLL_PER_POINT: P = P::new("roll_per_point", "Roll per point", T::Float, D::Float(0.0), "Further degrees per point along each curve (90 alternates copies a quarter turn, as chain links).");
+
 static POLYFRAME: NodeSpec = NodeSpec::new(
     "polyframe",
     "PolyFrame",
@@ -81,8 +90,8 @@ static POLYFRAME: NodeSpec = NodeSpec::new(
         TANGENT,
         METHOD,
         UP,
-        P::new("roll", "Roll", T::Float, D::Float(0.0), "Degrees the frames turn about the tangent."),
-        P::new("roll_per_point", "Roll per point", T::Float, D::Float(0.0), "Further degrees per point along each curve (90 alternates copies a quarter turn, as chain links)."),
+        POLYFRAME_ROLL,
+        POLYFRAME_ROLL_PER_POINT,
     ],
 );
 
@@ -100,8 +109,8 @@ fn cook_poly_frame(
     let (mut t, mut nn, mut b) = (vec![Vec3::Z; n], vec![Vec3::Y; n], vec![Vec3::X; n]);
     let mut orient = vec![Quat::IDENTITY; n];
     let (roll, per) = (
-        p.float("roll")?.to_radians(),
-        p.float("roll_per_point")?.to_radians(),
+        p.float(&POLYFRAME_ROLL)?.to_radians(),
+        p.float(&POLYFRAME_ROLL_PER_POINT)?.to_radians(),
     );
     let (tangent, method, up) = (p.string(&TANGENT)?, method(p)?, vec3(p, &UP)?.as_dvec3());
     for c in &cs {
@@ -173,6 +182,38 @@ fn eval_ramp(keys: &[(f64, f64)], u: f64) -> f64 {
     }
 }
 
+const SWEEP_SIDES: P = P::new(
+    "sides",
+    "Sides",
+    T::Int,
+    D::Int(12),
+    "Circle sides (without a section input).",
+)
+.range(3.0, 65536.0);
+const SWEEP_RADIUS: P = P::new(
+    "radius",
+    "Radius",
+    T::Float,
+    D::Float(0.1),
+    "Scale of the section.",
+)
+.at_least(0.0);
+const SWEEP_RADIUS_ATTRIBUTE: P = P::new(
+    "radius_attribute",
+    "Radius attribute",
+    T::String,
+    D::Str("pscale"),
+    "Float point attribute multiplying the radius (if present).",
+);
+const SWEEP_RAMP: P = P::new("ramp", "Radius ramp", T::String, D::Str(""), "Multiplier along each curve as `u value` keys, e.g. `0 1, 1 0.2` (linear between keys; empty: 1).");
+const SWEEP_CAPS: P = P::new(
+    "caps",
+    "End caps",
+    T::Toggle,
+    D::Toggle(true),
+    "Close open curves' ends (closed sections only).",
+);
+
 static SWEEP: NodeSpec = NodeSpec::new(
     "sweep",
     "Sweep",
@@ -180,11 +221,11 @@ static SWEEP: NodeSpec = NodeSpec::new(
     "A tube of quads along every curve: a circle of `sides` or the section curve of input 2 (drawn in its XY plane: X along the bitangent, Y along the normal), in rotation-minimizing frames (or the curve's own `orient`), scaled by radius x the radius attribute x the ramp along the curve; end caps on open curves; vertex `uv` around (u) and along (v).",
     &[geometry_input("curves"), InputSpec { name: "section", ty: PortType::Geometry, required: false }],
     &[
-        P::new("sides", "Sides", T::Int, D::Int(12), "Circle sides (without a section input).").range(3.0, 65536.0),
-        P::new("radius", "Radius", T::Float, D::Float(0.1), "Scale of the section.").at_least(0.0),
-        P::new("radius_attribute", "Radius attribute", T::String, D::Str("pscale"), "Float point attribute multiplying the radius (if present)."),
-        P::new("ramp", "Radius ramp", T::String, D::Str(""), "Multiplier along each curve as `u value` keys, e.g. `0 1, 1 0.2` (linear between keys; empty: 1)."),
-        P::new("caps", "End caps", T::Toggle, D::Toggle(true), "Close open curves' ends (closed sections only)."),
+        SWEEP_SIDES,
+        SWEEP_RADIUS,
+        SWEEP_RADIUS_ATTRIBUTE,
+        SWEEP_RAMP,
+        SWEEP_CAPS,
         TANGENT,
         UP,
     ],
@@ -196,8 +237,8 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     if cs.is_empty() {
         return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
     }
-    let ramp = parse_ramp(p.string("ramp")?).map_err(|e| ctx.param_error("ramp", e))?;
-    let caps = p.toggle("caps")?;
+    let ramp = parse_ramp(p.string(&SWEEP_RAMP)?).map_err(|e| ctx.param_error("ramp", e))?;
+    let caps = p.toggle(&SWEEP_CAPS)?;
     let opts = match inputs
         .get(1)
         .and_then(|v| v.as_ref())
@@ -219,11 +260,11 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
                 caps,
             }
         }
-        None => SweepOptions::circle(p.int("sides")? as usize, caps),
+        None => SweepOptions::circle(p.int(&SWEEP_SIDES)? as usize, caps),
     };
-    let radius = p.float("radius")?;
+    let radius = p.float(&SWEEP_RADIUS)?;
     let attr = g
-        .attrib(AttribClass::Point, p.string("radius_attribute")?)
+        .attrib(AttribClass::Point, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
         .and_then(|a| a.as_f32());
     let orient = g
         .attrib(AttribClass::Point, "orient")

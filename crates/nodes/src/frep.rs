@@ -79,122 +79,140 @@ const CENTER: P = P::new(
     "Centre of the solid.",
 );
 
+const SPHERE_RADIUS: P =
+    P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
+
 static SPHERE: NodeSpec = NodeSpec::new(
     "frep_sphere",
     "FRep Sphere",
     "frep",
     "A ball: its field is the signed distance to the sphere (positive inside).",
     &[],
-    &[
-        CENTER,
-        P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0),
-    ],
+    &[CENTER, SPHERE_RADIUS],
 )
 .output(PortType::Field);
+const BLOCK_SIZE: P =
+    P::new("size", "Size", T::Vec3, D::Vec3([1.0; 3]), "Edge lengths.").at_least(0.0);
+
 static BLOCK: NodeSpec = NodeSpec::new(
     "frep_box",
     "FRep Box",
     "frep",
     "An axis-aligned box (block); exact signed distance, so its edges and corners are sharp.",
     &[],
-    &[
-        CENTER,
-        P::new("size", "Size", T::Vec3, D::Vec3([1.0; 3]), "Edge lengths.").at_least(0.0),
-    ],
+    &[CENTER, BLOCK_SIZE],
 )
 .output(PortType::Field);
+const TORUS_MAJOR_RADIUS: P = P::new(
+    "major_radius",
+    "Major radius",
+    T::Float,
+    D::Float(1.0),
+    "Ring radius.",
+)
+.at_least(0.0);
+const TORUS_MINOR_RADIUS: P = P::new(
+    "minor_radius",
+    "Minor radius",
+    T::Float,
+    D::Float(0.25),
+    "Tube radius.",
+)
+.at_least(0.0);
+
 static TORUS: NodeSpec = NodeSpec::new(
     "frep_torus",
     "FRep Torus",
     "frep",
     "A torus around the Y axis.",
     &[],
-    &[
-        CENTER,
-        P::new(
-            "major_radius",
-            "Major radius",
-            T::Float,
-            D::Float(1.0),
-            "Ring radius.",
-        )
-        .at_least(0.0),
-        P::new(
-            "minor_radius",
-            "Minor radius",
-            T::Float,
-            D::Float(0.25),
-            "Tube radius.",
-        )
-        .at_least(0.0),
-    ],
+    &[CENTER, TORUS_MAJOR_RADIUS, TORUS_MINOR_RADIUS],
 )
 .output(PortType::Field);
+const CYLINDER_RADIUS: P =
+    P::new("radius", "Radius", T::Float, D::Float(0.5), "Radius.").at_least(0.0);
+const CYLINDER_HEIGHT: P = P::new(
+    "height",
+    "Height",
+    T::Float,
+    D::Float(1.0),
+    "Length along Y.",
+)
+.at_least(0.0);
+
 static CYLINDER: NodeSpec = NodeSpec::new(
     "frep_cylinder",
     "FRep Cylinder",
     "frep",
     "A capped cylinder along Y.",
     &[],
-    &[
-        CENTER,
-        P::new("radius", "Radius", T::Float, D::Float(0.5), "Radius.").at_least(0.0),
-        P::new(
-            "height",
-            "Height",
-            T::Float,
-            D::Float(1.0),
-            "Length along Y.",
-        )
-        .at_least(0.0),
-    ],
+    &[CENTER, CYLINDER_RADIUS, CYLINDER_HEIGHT],
 )
 .output(PortType::Field);
+const CONE_APEX: P = P::new(
+    "apex",
+    "Apex",
+    T::Vec3,
+    D::Vec3([0.0, 1.0, 0.0]),
+    "Tip of the cone.",
+);
+const CONE_RADIUS: P = P::new(
+    "radius",
+    "Base radius",
+    T::Float,
+    D::Float(0.5),
+    "Radius at the base.",
+)
+.at_least(0.0);
+const CONE_HEIGHT: P =
+    P::new("height", "Height", T::Float, D::Float(1.0), "Apex to base.").at_least(1e-9);
+
 static CONE: NodeSpec = NodeSpec::new(
     "frep_cone",
     "FRep Cone",
     "frep",
     "A cone along Y with its apex at the top, capped at its base.",
     &[],
-    &[
-        P::new(
-            "apex",
-            "Apex",
-            T::Vec3,
-            D::Vec3([0.0, 1.0, 0.0]),
-            "Tip of the cone.",
-        ),
-        P::new(
-            "radius",
-            "Base radius",
-            T::Float,
-            D::Float(0.5),
-            "Radius at the base.",
-        )
-        .at_least(0.0),
-        P::new("height", "Height", T::Float, D::Float(1.0), "Apex to base.").at_least(1e-9),
-    ],
+    &[CONE_APEX, CONE_RADIUS, CONE_HEIGHT],
 )
 .output(PortType::Field);
+const ELLIPSOID_RADII: P = P::new(
+    "radii",
+    "Radii",
+    T::Vec3,
+    D::Vec3([1.0, 0.5, 0.5]),
+    "Semi-axes.",
+)
+.at_least(1e-9);
+
 static ELLIPSOID: NodeSpec = NodeSpec::new(
     "frep_ellipsoid",
     "FRep Ellipsoid",
     "frep",
     "An ellipsoid with the given semi-axes.",
     &[],
-    &[
-        CENTER,
-        P::new(
-            "radii",
-            "Radii",
-            T::Vec3,
-            D::Vec3([1.0, 0.5, 0.5]),
-            "Semi-axes.",
-        )
-        .at_least(1e-9),
-    ],
+    &[CENTER, ELLIPSOID_RADII],
 )
 .output(PortType::Field);
+const SUPERELLIPSOID_RADII: P =
+    P::new("radii", "Radii", T::Vec3, D::Vec3([1.0; 3]), "Semi-axes.").at_least(1e-9);
+const SUPERELLIPSOID_E1: P = P::new(
+    "e1",
+    "North-south exponent",
+    T::Float,
+    D::Float(0.5),
+    "Shape along Y.",
+)
+.range(0.01, 10.0);
+const SUPERELLIPSOID_E2: P = P::new(
+    "e2",
+    "East-west exponent",
+    T::Float,
+    D::Float(0.5),
+    "Shape around Y.",
+)
+.range(0.01, 10.0);
+
 static SUPERELLIPSOID: NodeSpec = NodeSpec::new(
     "frep_superellipsoid",
     "FRep Superellipsoid",
@@ -203,86 +221,105 @@ static SUPERELLIPSOID: NodeSpec = NodeSpec::new(
     &[],
     &[
         CENTER,
-        P::new("radii", "Radii", T::Vec3, D::Vec3([1.0; 3]), "Semi-axes.").at_least(1e-9),
-        P::new("e1", "North-south exponent", T::Float, D::Float(0.5), "Shape along Y.").range(0.01, 10.0),
-        P::new("e2", "East-west exponent", T::Float, D::Float(0.5), "Shape around Y.").range(0.01, 10.0),
+        SUPERELLIPSOID_RADII,
+        SUPERELLIPSOID_E1,
+        SUPERELLIPSOID_E2,
     ],
 )
 .output(PortType::Field);
+const HALFSPACE_NORMAL: P = P::new(
+    "normal",
+    "Normal",
+    T::Vec3,
+    D::Vec3([0.0, 1.0, 0.0]),
+    "Plane normal (normalised here).",
+);
+const HALFSPACE_DISTANCE: P = P::new(
+    "distance",
+    "Distance",
+    T::Float,
+    D::Float(0.0),
+    "Offset of the plane along the normal.",
+);
+
 static HALFSPACE: NodeSpec = NodeSpec::new(
     "frep_halfspace",
     "FRep Half-space",
     "frep",
     "Everything behind a plane: inside where normal . p <= distance.",
     &[],
-    &[
-        P::new(
-            "normal",
-            "Normal",
-            T::Vec3,
-            D::Vec3([0.0, 1.0, 0.0]),
-            "Plane normal (normalised here).",
-        ),
-        P::new(
-            "distance",
-            "Distance",
-            T::Float,
-            D::Float(0.0),
-            "Offset of the plane along the normal.",
-        ),
-    ],
+    &[HALFSPACE_NORMAL, HALFSPACE_DISTANCE],
 )
 .output(PortType::Field);
 
 fn sphere(_: &CookContext, p: &Params) -> Result<Field, CookError> {
-    Ok(shapes::sphere(v3(p, &CENTER)?, p.float("radius")?))
+    Ok(shapes::sphere(v3(p, &CENTER)?, p.float(&SPHERE_RADIUS)?))
 }
 fn block(_: &CookContext, p: &Params) -> Result<Field, CookError> {
-    let s = v3(p, "size")?;
+    let s = v3(p, &BLOCK_SIZE)?;
     Ok(shapes::block(v3(p, &CENTER)?, s.map(|x| x * 0.5)))
 }
 fn torus(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::torus(
         v3(p, &CENTER)?,
-        p.float("major_radius")?,
-        p.float("minor_radius")?,
+        p.float(&TORUS_MAJOR_RADIUS)?,
+        p.float(&TORUS_MINOR_RADIUS)?,
     ))
 }
 fn cylinder(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::cylinder(
         v3(p, &CENTER)?,
-        p.float("radius")?,
-        0.5 * p.float("height")?,
+        p.float(&CYLINDER_RADIUS)?,
+        0.5 * p.float(&CYLINDER_HEIGHT)?,
     ))
 }
 fn cone(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::cone(
-        v3(p, "apex")?,
-        p.float("radius")?,
-        p.float("height")?,
+        v3(p, &CONE_APEX)?,
+        p.float(&CONE_RADIUS)?,
+        p.float(&CONE_HEIGHT)?,
     ))
 }
 fn ellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
-    Ok(shapes::ellipsoid(v3(p, &CENTER)?, v3(p, "radii")?))
+    Ok(shapes::ellipsoid(v3(p, &CENTER)?, v3(p, &ELLIPSOID_RADII)?))
 }
 fn superellipsoid(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::superellipsoid(
         v3(p, &CENTER)?,
-        v3(p, "radii")?,
-        p.float("e1")?,
-        p.float("e2")?,
+        v3(p, &SUPERELLIPSOID_RADII)?,
+        p.float(&SUPERELLIPSOID_E1)?,
+        p.float(&SUPERELLIPSOID_E2)?,
     ))
 }
 fn halfspace(ctx: &CookContext, p: &Params) -> Result<Field, CookError> {
-    let n = v3(p, "normal")?;
+    let n = v3(p, &HALFSPACE_NORMAL)?;
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if len == 0.0 {
         return Err(ctx.param_error("normal", "the normal must not be zero"));
     }
-    Ok(shapes::half_space(n.map(|x| x / len), p.float("distance")?))
+    Ok(shapes::half_space(
+        n.map(|x| x / len),
+        p.float(&HALFSPACE_DISTANCE)?,
+    ))
 }
 
 const OPS: &[&str] = &["union", "intersection", "subtraction"];
+
+const CSG_OPERATION: P = P::new(
+    "operation",
+    "Operation",
+    T::Menu(OPS),
+    D::Str("union"),
+    "The set operation.",
+);
+const CSG_ALPHA: P = P::new(
+    "alpha",
+    "Alpha",
+    T::Float,
+    D::Float(1.0),
+    "R-function parameter in [0, 1].",
+)
+.range(0.0, 1.0);
 
 static CSG: NodeSpec = NodeSpec::new(
     "frep_csg",
@@ -290,19 +327,33 @@ static CSG: NodeSpec = NodeSpec::new(
     "frep",
     "Union, intersection or subtraction (a minus b) by R-functions. Alpha 1 is exactly max/min (sharp); smaller alphas smooth the result.",
     TWO_FIELDS,
-    &[P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."), P::new("alpha", "Alpha", T::Float, D::Float(1.0), "R-function parameter in [0, 1].").range(0.0, 1.0)],
+    &[
+        CSG_OPERATION,
+        CSG_ALPHA,
+    ],
 )
 .output(PortType::Field);
 
 fn cook_csg(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
-    let alpha = p.float("alpha")?;
-    out(match p.string("operation")? {
+    let alpha = p.float(&CSG_ALPHA)?;
+    out(match p.string(&CSG_OPERATION)? {
         "union" => shapes::union(a, b, alpha),
         "intersection" => shapes::intersection(a, b, alpha),
         _ => shapes::subtraction(a, b, alpha),
     })
 }
+
+const BLEND_OPERATION: P = P::new(
+    "operation",
+    "Operation",
+    T::Menu(OPS),
+    D::Str("union"),
+    "The set operation.",
+);
+const BLEND_A0: P = P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount.");
+const BLEND_A1: P = P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9);
+const BLEND_A2: P = P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9);
 
 static BLEND: NodeSpec = NodeSpec::new(
     "frep_blend",
@@ -311,23 +362,48 @@ static BLEND: NodeSpec = NodeSpec::new(
     "Blended union, intersection or subtraction (Pasko's displacement a0 / (1 + (f1/a1)^2 + (f2/a2)^2)): a0 is how much material the blend adds, a1 and a2 how far it reaches along each solid.",
     TWO_FIELDS,
     &[
-        P::new("operation", "Operation", T::Menu(OPS), D::Str("union"), "The set operation."),
-        P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount."),
-        P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9),
-        P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9),
+        BLEND_OPERATION,
+        BLEND_A0,
+        BLEND_A1,
+        BLEND_A2,
     ],
 )
 .output(PortType::Field);
 
 fn cook_blend(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
-    let k = [p.float("a0")?, p.float("a1")?, p.float("a2")?];
-    out(match p.string("operation")? {
+    let k = [
+        p.float(&BLEND_A0)?,
+        p.float(&BLEND_A1)?,
+        p.float(&BLEND_A2)?,
+    ];
+    out(match p.string(&BLEND_OPERATION)? {
         "union" => shapes::blend_union(a, b, k),
         "intersection" => shapes::blend_intersection(a, b, k),
         _ => shapes::blend_subtraction(a, b, k),
     })
 }
+
+const BOUNDED_BLEND_OPERATION: P = P::new(
+    "operation",
+    "Operation",
+    T::Menu(&["union", "intersection"]),
+    D::Str("union"),
+    "The set operation.",
+);
+const BOUNDED_BLEND_A0: P = P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount.");
+const BOUNDED_BLEND_A1: P =
+    P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9);
+const BOUNDED_BLEND_A2: P =
+    P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9);
+const BOUNDED_BLEND_A3: P = P::new(
+    "a3",
+    "a3",
+    T::Float,
+    D::Float(1.0),
+    "How fast the blend fades towards the bounding solid's surface.",
+)
+.at_least(1e-9);
 
 static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
     "frep_bounded_blend",
@@ -340,11 +416,11 @@ static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
         InputSpec { name: "bound", ty: PortType::Field, required: true },
     ],
     &[
-        P::new("operation", "Operation", T::Menu(&["union", "intersection"]), D::Str("union"), "The set operation."),
-        P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount."),
-        P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9),
-        P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9),
-        P::new("a3", "a3", T::Float, D::Float(1.0), "How fast the blend fades towards the bounding solid's surface.").at_least(1e-9),
+        BOUNDED_BLEND_OPERATION,
+        BOUNDED_BLEND_A0,
+        BOUNDED_BLEND_A1,
+        BOUNDED_BLEND_A2,
+        BOUNDED_BLEND_A3,
     ],
 )
 .output(PortType::Field);
@@ -360,19 +436,35 @@ fn cook_bounded_blend(
         field_input(ctx, inputs, 2)?,
     );
     let k = [
-        p.float("a0")?,
-        p.float("a1")?,
-        p.float("a2")?,
-        p.float("a3")?,
+        p.float(&BOUNDED_BLEND_A0)?,
+        p.float(&BOUNDED_BLEND_A1)?,
+        p.float(&BOUNDED_BLEND_A2)?,
+        p.float(&BOUNDED_BLEND_A3)?,
     ];
     out(shapes::bounded_blend(
         a,
         b,
         c,
         k,
-        p.string("operation")? == "union",
+        p.string(&BOUNDED_BLEND_OPERATION)? == "union",
     ))
 }
+
+const SWEEP_RADIUS: P = P::new(
+    "radius",
+    "Radius",
+    T::Float,
+    D::Float(0.1),
+    "Radius where the points have no radius attribute.",
+)
+.at_least(0.0);
+const SWEEP_RADIUS_ATTRIBUTE: P = P::new(
+    "radius_attribute",
+    "Radius attribute",
+    T::String,
+    D::Str("pscale"),
+    "Float point attribute giving the radius per point (if present).",
+);
 
 static SWEEP: NodeSpec = NodeSpec::new(
     "frep_sweep",
@@ -381,8 +473,8 @@ static SWEEP: NodeSpec = NodeSpec::new(
     "A sphere swept along every polyline of the input: the union of capsules, the radius from a point attribute (pscale by default) or the radius parameter.",
     &[InputSpec { name: "curves", ty: PortType::Geometry, required: true }],
     &[
-        P::new("radius", "Radius", T::Float, D::Float(0.1), "Radius where the points have no radius attribute.").at_least(0.0),
-        P::new("radius_attribute", "Radius attribute", T::String, D::Str("pscale"), "Float point attribute giving the radius per point (if present)."),
+        SWEEP_RADIUS,
+        SWEEP_RADIUS_ATTRIBUTE,
     ],
 )
 .output(PortType::Field);
@@ -390,9 +482,9 @@ static SWEEP: NodeSpec = NodeSpec::new(
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = crate::util::input(ctx, inputs, 0)?;
     let attr = g
-        .attrib(AttribClass::Point, p.string("radius_attribute")?)
+        .attrib(AttribClass::Point, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
         .and_then(|a| a.as_f32());
-    let r = p.float("radius")?;
+    let r = p.float(&SWEEP_RADIUS)?;
     let pos = g.positions();
     let mut sweeps = Vec::new();
     for prim in 0..g.num_prims() {
@@ -446,6 +538,35 @@ fn cook_instance(
         .ok_or_else(|| ctx.input_error("the input has no points to instance onto"))
 }
 
+const TRANSFORM_TRANSLATE: P = P::new(
+    "translate",
+    "Translate",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Offset applied last.",
+);
+const TRANSFORM_ROTATE: P = P::new(
+    "rotate",
+    "Rotate",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Degrees about X, Y, Z.",
+);
+const TRANSFORM_SCALE: P = P::new(
+    "scale",
+    "Scale",
+    T::Vec3,
+    D::Vec3([1.0; 3]),
+    "Per-axis scale (non-uniform scaling distorts distances).",
+);
+const TRANSFORM_PIVOT: P = P::new(
+    "pivot",
+    "Pivot",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "The fixed point of rotation and scale.",
+);
+
 static TRANSFORM: NodeSpec = NodeSpec::new(
     "frep_transform",
     "FRep Transform",
@@ -453,10 +574,10 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
     "Moves, rotates (degrees, X then Y then Z) and scales a field about a pivot, as the transform node does meshes.",
     &[FIELD_IN],
     &[
-        P::new("translate", "Translate", T::Vec3, D::Vec3([0.0; 3]), "Offset applied last."),
-        P::new("rotate", "Rotate", T::Vec3, D::Vec3([0.0; 3]), "Degrees about X, Y, Z."),
-        P::new("scale", "Scale", T::Vec3, D::Vec3([1.0; 3]), "Per-axis scale (non-uniform scaling distorts distances)."),
-        P::new("pivot", "Pivot", T::Vec3, D::Vec3([0.0; 3]), "The fixed point of rotation and scale."),
+        TRANSFORM_TRANSLATE,
+        TRANSFORM_ROTATE,
+        TRANSFORM_SCALE,
+        TRANSFORM_PIVOT,
     ],
 )
 .output(PortType::Field);
@@ -467,20 +588,80 @@ fn cook_transform(
     p: &Params,
 ) -> Result<Value, CookError> {
     let f = field_input(ctx, inputs, 0)?;
-    let s = v3(p, "scale")?;
+    let s = v3(p, &TRANSFORM_SCALE)?;
     if s.iter().any(|x| x.abs() < 1e-12) {
         return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
     }
     let m = crate::transform::trs_about_pivot(
-        v3(p, "translate")?,
-        v3(p, "rotate")?,
+        v3(p, &TRANSFORM_TRANSLATE)?,
+        v3(p, &TRANSFORM_ROTATE)?,
         s,
-        v3(p, "pivot")?,
+        v3(p, &TRANSFORM_PIVOT)?,
     );
     f.transformed(&m)
         .map(Value::Field)
         .ok_or_else(|| ctx.param_error("scale", "the transform is not invertible"))
 }
+
+const DEFORM_MODE: P = P::new(
+    "mode",
+    "Mode",
+    T::Menu(&["taper", "twist", "bend", "point"]),
+    D::Str("twist"),
+    "Which deformation.",
+);
+const DEFORM_TAPER_RANGE: P = P::new(
+    "taper_range",
+    "Taper from/to height",
+    T::Vec2,
+    D::Vec2([-1.0, 1.0]),
+    "Y where the scale is start and end.",
+);
+const DEFORM_TAPER_SCALE: P = P::new(
+    "taper_scale",
+    "Taper start/end scale",
+    T::Vec2,
+    D::Vec2([1.0, 0.5]),
+    "Scale at each height.",
+)
+.at_least(1e-6);
+const DEFORM_TWIST: P = P::new(
+    "twist",
+    "Twist rate",
+    T::Float,
+    D::Float(1.0),
+    "Radians per unit of Y.",
+);
+const DEFORM_BEND_RADIUS: P = P::new(
+    "bend_radius",
+    "Bend radius",
+    T::Float,
+    D::Float(2.0),
+    "Radius of the arc the X axis follows.",
+)
+.at_least(1e-6);
+const DEFORM_POINT: P = P::new(
+    "point",
+    "Deform point",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Centre of the point deformation.",
+);
+const DEFORM_OFFSET: P = P::new(
+    "offset",
+    "Deform offset",
+    T::Vec3,
+    D::Vec3([0.0, 0.3, 0.0]),
+    "How far space at the centre moves.",
+);
+const DEFORM_FALLOFF: P = P::new(
+    "falloff",
+    "Deform radius",
+    T::Float,
+    D::Float(0.5),
+    "Distance at which the deformation fades out.",
+)
+.at_least(1e-6);
 
 static DEFORM: NodeSpec = NodeSpec::new(
     "frep_deform",
@@ -489,14 +670,14 @@ static DEFORM: NodeSpec = NodeSpec::new(
     "Space mappings of seed 000: taper (scale X and Z along Y between two heights), twist (about Y, radians per unit), bend (X around an arc of the given radius), point (push space near a point by an offset with a smooth falloff).",
     &[FIELD_IN],
     &[
-        P::new("mode", "Mode", T::Menu(&["taper", "twist", "bend", "point"]), D::Str("twist"), "Which deformation."),
-        P::new("taper_range", "Taper from/to height", T::Vec2, D::Vec2([-1.0, 1.0]), "Y where the scale is start and end."),
-        P::new("taper_scale", "Taper start/end scale", T::Vec2, D::Vec2([1.0, 0.5]), "Scale at each height.").at_least(1e-6),
-        P::new("twist", "Twist rate", T::Float, D::Float(1.0), "Radians per unit of Y."),
-        P::new("bend_radius", "Bend radius", T::Float, D::Float(2.0), "Radius of the arc the X axis follows.").at_least(1e-6),
-        P::new("point", "Deform point", T::Vec3, D::Vec3([0.0; 3]), "Centre of the point deformation."),
-        P::new("offset", "Deform offset", T::Vec3, D::Vec3([0.0, 0.3, 0.0]), "How far space at the centre moves."),
-        P::new("falloff", "Deform radius", T::Float, D::Float(0.5), "Distance at which the deformation fades out.").at_least(1e-6),
+        DEFORM_MODE,
+        DEFORM_TAPER_RANGE,
+        DEFORM_TAPER_SCALE,
+        DEFORM_TWIST,
+        DEFORM_BEND_RADIUS,
+        DEFORM_POINT,
+        DEFORM_OFFSET,
+        DEFORM_FALLOFF,
     ],
 )
 .output(PortType::Field);
@@ -507,20 +688,32 @@ fn cook_deform(
     p: &Params,
 ) -> Result<Value, CookError> {
     let f = field_input(ctx, inputs, 0)?;
-    out(match p.string("mode")? {
+    out(match p.string(&DEFORM_MODE)? {
         "taper" => {
-            let [y0, y1] = p.vector::<2>("taper_range")?;
-            let [s0, s1] = p.vector::<2>("taper_scale")?;
+            let [y0, y1] = p.vector::<2>(&DEFORM_TAPER_RANGE)?;
+            let [s0, s1] = p.vector::<2>(&DEFORM_TAPER_SCALE)?;
             if y0 == y1 {
                 return Err(ctx.param_error("taper_range", "the two heights must differ"));
             }
             f.taper_y(y0, y1, s0, s1)
         }
-        "twist" => f.twist_y(p.float("twist")?),
-        "point" => f.deform_point(v3(p, "point")?, v3(p, "offset")?, p.float("falloff")?),
-        _ => f.bend_x(p.float("bend_radius")?),
+        "twist" => f.twist_y(p.float(&DEFORM_TWIST)?),
+        "point" => f.deform_point(
+            v3(p, &DEFORM_POINT)?,
+            v3(p, &DEFORM_OFFSET)?,
+            p.float(&DEFORM_FALLOFF)?,
+        ),
+        _ => f.bend_x(p.float(&DEFORM_BEND_RADIUS)?),
     })
 }
+
+const OFFSET_DISTANCE: P = P::new(
+    "distance",
+    "Distance",
+    T::Float,
+    D::Float(0.1),
+    "Offset distance.",
+);
 
 static OFFSET: NodeSpec = NodeSpec::new(
     "frep_offset",
@@ -528,13 +721,7 @@ static OFFSET: NodeSpec = NodeSpec::new(
     "frep",
     "Grows (positive) or shrinks (negative) a solid by a distance.",
     &[FIELD_IN],
-    &[P::new(
-        "distance",
-        "Distance",
-        T::Float,
-        D::Float(0.1),
-        "Offset distance.",
-    )],
+    &[OFFSET_DISTANCE],
 )
 .output(PortType::Field);
 
@@ -545,9 +732,12 @@ fn cook_offset(
 ) -> Result<Value, CookError> {
     out(shapes::offset(
         field_input(ctx, inputs, 0)?,
-        p.float("distance")?,
+        p.float(&OFFSET_DISTANCE)?,
     ))
 }
+
+const MORPH_ALPHA: P =
+    P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0);
 
 static MORPH: NodeSpec = NodeSpec::new(
     "frep_morph",
@@ -555,7 +745,7 @@ static MORPH: NodeSpec = NodeSpec::new(
     "frep",
     "Interpolates two solids of any topology: alpha 0 gives a, 1 gives b.",
     TWO_FIELDS,
-    &[P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0)],
+    &[MORPH_ALPHA],
 )
 .output(PortType::Field);
 
@@ -563,9 +753,20 @@ fn cook_morph(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     out(shapes::morph(
         field_input(ctx, inputs, 0)?,
         field_input(ctx, inputs, 1)?,
-        p.float("alpha")?,
+        p.float(&MORPH_ALPHA)?,
     ))
 }
+
+const EXPRESSION_EXPRESSION: P = P::new(
+    "expression",
+    "Expression",
+    T::String,
+    D::Str("1 - (x*x + y*y + z*z)"),
+    "The formula.",
+);
+const EXPRESSION_A: P = P::new("a", "a", T::Float, D::Float(1.0), "Parameter a.");
+const EXPRESSION_B: P = P::new("b", "b", T::Float, D::Float(0.0), "Parameter b.");
+const EXPRESSION_C: P = P::new("c", "c", T::Float, D::Float(0.0), "Parameter c.");
 
 static EXPRESSION: NodeSpec = NodeSpec::new(
     "frep_expression",
@@ -574,27 +775,61 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
     "A field written as a formula over x, y, z and the parameters a, b, c (>= 0 inside), e.g. `a - (x^2 + y^2 + z^2)`. Same language as group_expression.",
     &[],
     &[
-        P::new("expression", "Expression", T::String, D::Str("1 - (x*x + y*y + z*z)"), "The formula."),
-        P::new("a", "a", T::Float, D::Float(1.0), "Parameter a."),
-        P::new("b", "b", T::Float, D::Float(0.0), "Parameter b."),
-        P::new("c", "c", T::Float, D::Float(0.0), "Parameter c."),
+        EXPRESSION_EXPRESSION,
+        EXPRESSION_A,
+        EXPRESSION_B,
+        EXPRESSION_C,
     ],
 )
 .output(PortType::Field);
 
 fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
-    let e = Expr::parse(p.string("expression")?, &["x", "y", "z", "a", "b", "c"])
-        .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+    let e = Expr::parse(
+        p.string(&EXPRESSION_EXPRESSION)?,
+        &["x", "y", "z", "a", "b", "c"],
+    )
+    .map_err(|e| ctx.param_error("expression", e.to_string()))?;
     let vars = [
         Field::x(),
         Field::y(),
         Field::z(),
-        Field::constant(p.float("a")?),
-        Field::constant(p.float("b")?),
-        Field::constant(p.float("c")?),
+        Field::constant(p.float(&EXPRESSION_A)?),
+        Field::constant(p.float(&EXPRESSION_B)?),
+        Field::constant(p.float(&EXPRESSION_C)?),
     ];
     out(e.to_field(&vars))
 }
+
+const POLYGONISE_MIN: P = P::new(
+    "min",
+    "Bounds min",
+    T::Vec3,
+    D::Vec3([-1.0; 3]),
+    "Box corner.",
+);
+const POLYGONISE_MAX: P = P::new(
+    "max",
+    "Bounds max",
+    T::Vec3,
+    D::Vec3([1.0; 3]),
+    "Opposite corner.",
+);
+const POLYGONISE_DEPTH: P = P::new(
+    "depth",
+    "Octree depth",
+    T::Int,
+    D::Int(6),
+    "Resolution: 2^depth cells along the longest side.",
+)
+.range(1.0, 12.0);
+const POLYGONISE_SHARPNESS: P = P::new(
+    "sharpness",
+    "Feature threshold",
+    T::Float,
+    D::Float(0.05),
+    "Smaller keeps fainter sharp features.",
+)
+.range(1e-6, 1.0);
 
 static POLYGONISE: NodeSpec = NodeSpec::new(
     "polygonise",
@@ -603,10 +838,10 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
     "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells.",
     &[FIELD_IN],
     &[
-        P::new("min", "Bounds min", T::Vec3, D::Vec3([-1.0; 3]), "Box corner."),
-        P::new("max", "Bounds max", T::Vec3, D::Vec3([1.0; 3]), "Opposite corner."),
-        P::new("depth", "Octree depth", T::Int, D::Int(6), "Resolution: 2^depth cells along the longest side.").range(1.0, 12.0),
-        P::new("sharpness", "Feature threshold", T::Float, D::Float(0.05), "Smaller keeps fainter sharp features.").range(1e-6, 1.0),
+        POLYGONISE_MIN,
+        POLYGONISE_MAX,
+        POLYGONISE_DEPTH,
+        POLYGONISE_SHARPNESS,
     ],
 );
 
@@ -616,8 +851,12 @@ fn cook_polygonise(
     p: &Params,
 ) -> Result<Value, CookError> {
     let f = field_input(ctx, inputs, 0)?;
-    let mut opts = MeshOptions::new(v3(p, "min")?, v3(p, "max")?, p.int("depth")? as u32);
-    opts.sharpness = p.float("sharpness")?;
+    let mut opts = MeshOptions::new(
+        v3(p, &POLYGONISE_MIN)?,
+        v3(p, &POLYGONISE_MAX)?,
+        p.int(&POLYGONISE_DEPTH)? as u32,
+    );
+    opts.sharpness = p.float(&POLYGONISE_SHARPNESS)?;
     reserve_meshing(ctx, f, &opts)?;
     let cancel = || ctx.cancel.is_cancelled();
     let progress = |x: f32| ctx.progress(x);
@@ -650,13 +889,23 @@ fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(
     )
 }
 
+const SAMPLE_NAME: P = P::new(
+    "name",
+    "Attribute",
+    T::String,
+    D::Str("density"),
+    "Name of the float point attribute to write.",
+);
+
 static SAMPLE: NodeSpec = NodeSpec::new(
     "frep_sample",
     "FRep Sample",
     "frep",
     "Evaluates a field at every point of a geometry into a float point attribute (>= 0 inside the solid).",
     &[InputSpec { name: "geometry", ty: PortType::Geometry, required: true }, FIELD_IN],
-    &[P::new("name", "Attribute", T::String, D::Str("density"), "Name of the float point attribute to write.")],
+    &[
+        SAMPLE_NAME,
+    ],
 );
 
 fn cook_sample(
@@ -669,7 +918,7 @@ fn cook_sample(
     let values = geode_frep::sample(f, g.positions());
     g.set_attrib(
         AttribClass::Point,
-        p.string("name")?,
+        p.string(&SAMPLE_NAME)?,
         Attribute::from_data(AttribData::Float(values), TypeInfo::None),
     )
     .map_err(|e| ctx.kernel_at("name", e))?;

@@ -49,24 +49,24 @@ fn store(
     r.map_err(|e| ctx.kernel_at("group", e))
 }
 
+const BOUNDING_GROUP: P = P::new("group", "Group", T::String, D::Str("inside"), "Group name.");
+const BOUNDING_CLASS: P = P::new(
+    "class",
+    "Class",
+    T::Menu(ELEMENT_CLASSES),
+    D::Str("point"),
+    "Group points or primitives.",
+);
+const BOUNDING_MIN: P = P::new("min", "Min", T::Vec3, D::Vec3([-0.5; 3]), "Box corner.");
+const BOUNDING_MAX: P = P::new("max", "Max", T::Vec3, D::Vec3([0.5; 3]), "Opposite corner.");
+
 static BOUNDING: NodeSpec = NodeSpec::new(
     "group_bbox",
     "Group by Bounding Box",
     "group",
     "Puts the points (or primitives, by centroid) inside an axis-aligned box into a group.",
     &[geometry_input("geometry")],
-    &[
-        P::new("group", "Group", T::String, D::Str("inside"), "Group name."),
-        P::new(
-            "class",
-            "Class",
-            T::Menu(ELEMENT_CLASSES),
-            D::Str("point"),
-            "Group points or primitives.",
-        ),
-        P::new("min", "Min", T::Vec3, D::Vec3([-0.5; 3]), "Box corner."),
-        P::new("max", "Max", T::Vec3, D::Vec3([0.5; 3]), "Opposite corner."),
-    ],
+    &[BOUNDING_GROUP, BOUNDING_CLASS, BOUNDING_MIN, BOUNDING_MAX],
 );
 
 fn cook_bounding(
@@ -75,15 +75,37 @@ fn cook_bounding(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let c = class(p, "class")?;
-    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+    let c = class(p, &BOUNDING_CLASS)?;
+    let (lo, hi) = (vec3(p, &BOUNDING_MIN)?, vec3(p, &BOUNDING_MAX)?);
     let flags = element_positions(&g, c)
         .par_iter()
         .map(|q| q.cmpge(lo).all() && q.cmple(hi).all())
         .collect();
-    store(ctx, &mut g, c, p.string("group")?, flags)?;
+    store(ctx, &mut g, c, p.string(&BOUNDING_GROUP)?, flags)?;
     geometry(g)
 }
+
+const EXPRESSION_GROUP: P = P::new(
+    "group",
+    "Group",
+    T::String,
+    D::Str("selected"),
+    "Group name.",
+);
+const EXPRESSION_CLASS: P = P::new(
+    "class",
+    "Class",
+    T::Menu(ELEMENT_CLASSES),
+    D::Str("point"),
+    "Group points or primitives.",
+);
+const EXPRESSION_EXPRESSION: P = P::new(
+    "expression",
+    "Expression",
+    T::String,
+    D::Str("y > 0"),
+    "The test, e.g. `x > 0 && y < 0.5`.",
+);
 
 static EXPRESSION: NodeSpec = NodeSpec::new(
     "group_expression",
@@ -92,9 +114,9 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
     "Puts the elements for which an expression is non-zero into a group. Variables: x, y, z (position; a primitive's centroid), id (element index), frame. Operators: + - * / % ^ < <= > >= == != && || !; functions sin cos tan abs sqrt floor ceil min max pow atan2; pi.",
     &[geometry_input("geometry")],
     &[
-        P::new("group", "Group", T::String, D::Str("selected"), "Group name."),
-        P::new("class", "Class", T::Menu(ELEMENT_CLASSES), D::Str("point"), "Group points or primitives."),
-        P::new("expression", "Expression", T::String, D::Str("y > 0"), "The test, e.g. `x > 0 && y < 0.5`."),
+        EXPRESSION_GROUP,
+        EXPRESSION_CLASS,
+        EXPRESSION_EXPRESSION,
     ],
 );
 
@@ -104,16 +126,19 @@ fn cook_expression(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let c = class(p, "class")?;
-    let expr = Expr::parse(p.string("expression")?, &["x", "y", "z", "id", "frame"])
-        .map_err(|e| ctx.param_error("expression", e.to_string()))?;
+    let c = class(p, &EXPRESSION_CLASS)?;
+    let expr = Expr::parse(
+        p.string(&EXPRESSION_EXPRESSION)?,
+        &["x", "y", "z", "id", "frame"],
+    )
+    .map_err(|e| ctx.param_error("expression", e.to_string()))?;
     let frame = ctx.frame;
     let flags = element_positions(&g, c)
         .par_iter()
         .enumerate()
         .map(|(i, q)| expr.eval(&[q.x as f64, q.y as f64, q.z as f64, i as f64, frame]) != 0.0)
         .collect();
-    store(ctx, &mut g, c, p.string("group")?, flags)?;
+    store(ctx, &mut g, c, p.string(&EXPRESSION_GROUP)?, flags)?;
     geometry(g)
 }
 

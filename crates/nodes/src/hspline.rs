@@ -15,6 +15,95 @@ use crate::skin::{posed_skeleton, skeleton_from_params, BEND, BEND_JOINT, POSE, 
 
 use crate::util::geometry;
 
+const HSPLINE_TOPOLOGY: P = P::new(
+    "topology",
+    "Topology",
+    T::Menu(&["plane", "cylinder", "torus"]),
+    D::Str("plane"),
+    "Plane (open), cylinder (wrapped around) or torus (wrapped both ways).",
+);
+const HSPLINE_ROWS: P = P::new(
+    "rows",
+    "Rows",
+    T::Int,
+    D::Int(6),
+    "Base control vertices along u.",
+)
+.range(4.0, 4096.0);
+const HSPLINE_COLUMNS: P = P::new(
+    "columns",
+    "Columns",
+    T::Int,
+    D::Int(6),
+    "Base control vertices along v.",
+)
+.range(4.0, 4096.0);
+const HSPLINE_SIZE: P = P::new("size", "Size", T::Vec2, D::Vec2([2.0, 2.0]), "Plane extent in X and Z; cylinder diameter and height; torus outer diameter and tube diameter.");
+const HSPLINE_LEVELS: P = P::new(
+    "levels",
+    "Levels",
+    T::Int,
+    D::Int(1),
+    "Whole-surface refinements.",
+)
+.range(0.0, 6.0);
+const HSPLINE_REGION: P = P::new("region", "Local region", T::Vec4, D::Vec4([0.0; 4]), "u0 u1 v0 v1 (vertex indices of the finest level): refine once more there; zeros: no local level.");
+const HSPLINE_EDIT_LEVEL: P = P::new(
+    "edit_level",
+    "Edit level",
+    T::Int,
+    D::Int(0),
+    "Level of the animatable edit.",
+)
+.range(0.0, 16.0);
+const HSPLINE_EDIT_VERTEX: P = P::new(
+    "edit_vertex",
+    "Edit vertex",
+    T::Vec2,
+    D::Vec2([0.0, 0.0]),
+    "i j of the animatable edit.",
+);
+const HSPLINE_EDIT_MOVE: P = P::new(
+    "edit_move",
+    "Edit move",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "World vector the vertex moves by (zero: no edit).",
+);
+const HSPLINE_EDITS: P = P::list(
+    "edits",
+    "More edits",
+    &EDIT_ROWS,
+    "Further control-vertex moves, each row keyframable.",
+);
+const HSPLINE_SYMMETRIC: P = P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane, cylinder or torus; wrapped directions need an even vertex count).");
+const HSPLINE_SAMPLES: P = P::new(
+    "samples",
+    "Samples",
+    T::Vec2,
+    D::Vec2([48.0, 48.0]),
+    "Tessellation samples along u and v.",
+)
+.range(3.0, 10_000.0);
+const HSPLINE_OUTPUT: P = P::new("output", "Output", T::Menu(&["polygons", "patch"]), D::Str("polygons"), "Tessellated quads, or the finest level as one cubic B-spline patch primitive (its control points as points; a wrapped side closes on the same points), which transforms and merges keep exact.");
+const HSPLINE_LOAD: P = P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder.");
+const HSPLINE_SAVE: P = P::new(
+    "save",
+    "Save .hs",
+    T::File,
+    D::Str(""),
+    "Write the hierarchy (after refinements and edits) to this .hs file, atomically.",
+);
+const HSPLINE_OPTIMIZE: P = P::new(
+    "optimize",
+    "Optimize for space",
+    T::Toggle,
+    D::Toggle(true),
+    "Leave zero offsets out of the saved file.",
+);
+const HSPLINE_ENVELOPE: P = P::new("envelope", "Envelope", T::Menu(&["none", "linear", "dual_quaternion", "from_file"]), D::Str("none"), "Skin the surface with the skeleton: linear blend or dual quaternions (weights automatic from the distance to the bones; skeleton and weights are saved in the .hs file), or with the skeleton, weights, level and method of the loaded .hs file (posed by `pose` and `bend`).");
+const HSPLINE_ENVELOPE_LEVEL: P = P::new("envelope_level", "Envelope level", T::Int, D::Int(0), "The level whose control vertices are skinned; finer offsets then follow in the deformed frames (the finest level or above: no hierarchy effect).").range(0.0, 16.0);
+
 static HSPLINE: NodeSpec = NodeSpec::new(
     "hspline",
     "Hierarchical Spline",
@@ -22,24 +111,24 @@ static HSPLINE: NodeSpec = NodeSpec::new(
     "A hierarchical bicubic B-spline surface (Forsey and Bartels): a plane, cylinder or torus of rows x columns control vertices, refined `levels` times everywhere and optionally once more over a region; edits move control vertices by world vectors, stored as offsets in the coarser surface's local frame so detail follows coarser edits. One edit has its own animatable parameters; more are rows of the list parameter `edits`. With `symmetric` every edit is mirrored across X = 0. Output: the finest level as quads with N and uv, carrying the hierarchy (a typed payload, checked against the points) for the attach node when it is not enveloped.",
     &[],
     &[
-        P::new("topology", "Topology", T::Menu(&["plane", "cylinder", "torus"]), D::Str("plane"), "Plane (open), cylinder (wrapped around) or torus (wrapped both ways)."),
-        P::new("rows", "Rows", T::Int, D::Int(6), "Base control vertices along u.").range(4.0, 4096.0),
-        P::new("columns", "Columns", T::Int, D::Int(6), "Base control vertices along v.").range(4.0, 4096.0),
-        P::new("size", "Size", T::Vec2, D::Vec2([2.0, 2.0]), "Plane extent in X and Z; cylinder diameter and height; torus outer diameter and tube diameter."),
-        P::new("levels", "Levels", T::Int, D::Int(1), "Whole-surface refinements.").range(0.0, 6.0),
-        P::new("region", "Local region", T::Vec4, D::Vec4([0.0; 4]), "u0 u1 v0 v1 (vertex indices of the finest level): refine once more there; zeros: no local level."),
-        P::new("edit_level", "Edit level", T::Int, D::Int(0), "Level of the animatable edit.").range(0.0, 16.0),
-        P::new("edit_vertex", "Edit vertex", T::Vec2, D::Vec2([0.0, 0.0]), "i j of the animatable edit."),
-        P::new("edit_move", "Edit move", T::Vec3, D::Vec3([0.0; 3]), "World vector the vertex moves by (zero: no edit)."),
-        P::list("edits", "More edits", &EDIT_ROWS, "Further control-vertex moves, each row keyframable."),
-        P::new("symmetric", "Symmetric", T::Toggle, D::Toggle(false), "Mirror every edit across X = 0 (plane, cylinder or torus; wrapped directions need an even vertex count)."),
-        P::new("samples", "Samples", T::Vec2, D::Vec2([48.0, 48.0]), "Tessellation samples along u and v.").range(3.0, 10_000.0),
-        P::new("output", "Output", T::Menu(&["polygons", "patch"]), D::Str("polygons"), "Tessellated quads, or the finest level as one cubic B-spline patch primitive (its control points as points; a wrapped side closes on the same points), which transforms and merges keep exact."),
-        P::new("load", "Load .hs", T::File, D::Str(""), "Start from the hierarchy in this .hs file (docs/hs-format.md) instead of the base surface; refinements and edits apply on top. `$HIP` is the network's folder."),
-        P::new("save", "Save .hs", T::File, D::Str(""), "Write the hierarchy (after refinements and edits) to this .hs file, atomically."),
-        P::new("optimize", "Optimize for space", T::Toggle, D::Toggle(true), "Leave zero offsets out of the saved file."),
-        P::new("envelope", "Envelope", T::Menu(&["none", "linear", "dual_quaternion", "from_file"]), D::Str("none"), "Skin the surface with the skeleton: linear blend or dual quaternions (weights automatic from the distance to the bones; skeleton and weights are saved in the .hs file), or with the skeleton, weights, level and method of the loaded .hs file (posed by `pose` and `bend`)."),
-        P::new("envelope_level", "Envelope level", T::Int, D::Int(0), "The level whose control vertices are skinned; finer offsets then follow in the deformed frames (the finest level or above: no hierarchy effect).").range(0.0, 16.0),
+        HSPLINE_TOPOLOGY,
+        HSPLINE_ROWS,
+        HSPLINE_COLUMNS,
+        HSPLINE_SIZE,
+        HSPLINE_LEVELS,
+        HSPLINE_REGION,
+        HSPLINE_EDIT_LEVEL,
+        HSPLINE_EDIT_VERTEX,
+        HSPLINE_EDIT_MOVE,
+        HSPLINE_EDITS,
+        HSPLINE_SYMMETRIC,
+        HSPLINE_SAMPLES,
+        HSPLINE_OUTPUT,
+        HSPLINE_LOAD,
+        HSPLINE_SAVE,
+        HSPLINE_OPTIMIZE,
+        HSPLINE_ENVELOPE,
+        HSPLINE_ENVELOPE_LEVEL,
         SKELETON,
         POSE,
         BEND_JOINT,
@@ -112,7 +201,7 @@ fn legacy_edits(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
 
 /// The edit rows with their parameter names (for errors).
 fn edits(p: &Params) -> Result<Vec<(Edit, String)>, CookError> {
-    p.list("edits")?
+    p.list(&HSPLINE_EDITS)?
         .iter()
         .map(|row| {
             let [i, j] = row.vector::<2>("vertex")?.map(|x| x.max(0.0) as usize);
@@ -127,19 +216,19 @@ fn cook_hspline_node(
     _: &[Option<Value>],
     p: &Params,
 ) -> Result<Value, CookError> {
-    let topology = match p.string("topology")? {
+    let topology = match p.string(&HSPLINE_TOPOLOGY)? {
         "cylinder" => Topology::Cylinder,
         "torus" => Topology::Torus,
         _ => Topology::Plane,
     };
     let err = |e: HsplineError| ctx.kernel(e);
-    let [sx, sy] = p.vector::<2>("size")?;
-    let load = p.string("load")?;
+    let [sx, sy] = p.vector::<2>(&HSPLINE_SIZE)?;
+    let load = p.string(&HSPLINE_LOAD)?;
     let mut h = if load.is_empty() {
         Hspline::new(
             topology,
-            p.int("rows")? as usize,
-            p.int("columns")? as usize,
+            p.int(&HSPLINE_ROWS)? as usize,
+            p.int(&HSPLINE_COLUMNS)? as usize,
             [sx, sy],
         )
         .map_err(err)?
@@ -151,26 +240,28 @@ fn cook_hspline_node(
                 .with_source(e)
         })?
     };
-    for _ in 0..p.int("levels")? {
+    for _ in 0..p.int(&HSPLINE_LEVELS)? {
         ctx.check()?;
         h.refine(None).map_err(err)?;
     }
-    let [u0, u1, v0, v1] = p.vector::<4>("region")?.map(|x| x.max(0.0) as usize);
+    let [u0, u1, v0, v1] = p.vector::<4>(&HSPLINE_REGION)?.map(|x| x.max(0.0) as usize);
     if u1 > u0 && v1 > v0 {
         h.refine(Some(((u0, u1), (v0, v1))))
             .map_err(|e| ctx.kernel_at("region", e))?;
     }
     let mut edits = edits(p)?;
-    let mv = p.vector::<3>("edit_move")?;
+    let mv = p.vector::<3>(&HSPLINE_EDIT_MOVE)?;
     if mv != [0.0; 3] {
-        let [i, j] = p.vector::<2>("edit_vertex")?.map(|x| x.max(0.0) as usize);
-        let level = p.int("edit_level")? as usize;
+        let [i, j] = p
+            .vector::<2>(&HSPLINE_EDIT_VERTEX)?
+            .map(|x| x.max(0.0) as usize);
+        let level = p.int(&HSPLINE_EDIT_LEVEL)? as usize;
         edits.insert(
             0,
             ((level, i, j, DVec3::from_array(mv)), "edit_move".into()),
         );
     }
-    let symmetric = p.toggle("symmetric")?;
+    let symmetric = p.toggle(&HSPLINE_SYMMETRIC)?;
     for ((level, i, j, d), param) in edits {
         h.move_cv(level, i, j, d)
             .map_err(|e| ctx.kernel_at(&param, e))?;
@@ -200,7 +291,7 @@ fn cook_hspline_node(
     // Enveloping: the skeleton and weights join the hierarchy (and its
     // .hs file); the pose comes from the parameters.
     let finest = h.levels() - 1;
-    let motions = match p.string("envelope")? {
+    let motions = match p.string(&HSPLINE_ENVELOPE)? {
         "none" => None,
         "from_file" => {
             let Some(e) = &h.envelope else {
@@ -218,13 +309,13 @@ fn cook_hspline_node(
             } else {
                 SkinMethod::DualQuaternion
             };
-            h.set_envelope(p.int("envelope_level")? as usize, method, &skeleton);
+            h.set_envelope(p.int(&HSPLINE_ENVELOPE_LEVEL)? as usize, method, &skeleton);
             Some(skeleton.motions())
         }
     };
-    let save = p.string("save")?;
+    let save = p.string(&HSPLINE_SAVE)?;
     if !save.is_empty() {
-        let text = file::save(&h, p.toggle("optimize")?);
+        let text = file::save(&h, p.toggle(&HSPLINE_OPTIMIZE)?);
         ctx.check()?;
         let path = std::path::Path::new(save);
         geode_io::write_atomic(path, |w| {
@@ -233,14 +324,14 @@ fn cook_hspline_node(
         })
         .map_err(|e| ctx.io("save", e))?;
     }
-    let [su, sv] = p.vector::<2>("samples")?;
+    let [su, sv] = p.vector::<2>(&HSPLINE_SAMPLES)?;
     crate::util::reserve_mesh(ctx, "samples", su * sv, 4.0 * su * sv, su * sv)?;
     let enveloped = motions.is_some();
     let grid = match motions {
         None => h.grid(finest).map_err(err)?,
         Some(m) => h.enveloped_grid(&m).map_err(err)?,
     };
-    if p.string("output")? == "patch" {
+    if p.string(&HSPLINE_OUTPUT)? == "patch" {
         let (indices, basis) = h.patch_layout(&grid);
         let mut g = geode_geo::Geometry::new();
         g.add_points(&grid.points.iter().map(|q| q.as_vec3()).collect::<Vec<_>>());
@@ -257,7 +348,7 @@ fn cook_hspline_node(
 
 fn key_hspline_node(p: &Params) -> Result<Option<u128>, CookError> {
     // The loaded file's content is part of the key: editing it recooks.
-    Ok(crate::file::content_key(p.string("load")?))
+    Ok(crate::file::content_key(p.string(&HSPLINE_LOAD)?))
 }
 
 pub fn register(r: &mut Registry) {

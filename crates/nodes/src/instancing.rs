@@ -9,6 +9,22 @@ use geode_op::{
 
 use crate::util::{geometry, input, reserve_mesh};
 
+const COPY_TO_POINTS_PACK: P = P::new(
+    "pack",
+    "Pack and instance",
+    T::Toggle,
+    D::Toggle(true),
+    "Packed instances instead of real copies.",
+);
+const COPY_TO_POINTS_PIECE_ATTRIBUTE: P = P::new("piece_attribute", "Piece attribute", T::String, D::Str(""), "Integer or string primitive attribute splitting the source into pieces (empty: the whole source).");
+const COPY_TO_POINTS_VARIANT_ATTRIBUTE: P = P::new(
+    "variant_attribute",
+    "Variant attribute",
+    T::String,
+    D::Str("variant"),
+    "Integer template point attribute choosing each point's piece (wrapped; absent: point number).",
+);
+
 static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
     "copy_to_points",
     "Copy to Points",
@@ -16,9 +32,9 @@ static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
     "A copy of input 1 on every point of input 2, placed by the points' instance attributes with Houdini's precedence: P + trans, then transform (a matrix, replacing the rest) or orient (else N as +Z with up as +Y), rot, pscale and scale, about pivot. Packed copies share one geometry (memory per copy is a transform). Other template point attributes are copied onto the copies.",
     &[geometry_input("source"), geometry_input("template")],
     &[
-        P::new("pack", "Pack and instance", T::Toggle, D::Toggle(true), "Packed instances instead of real copies."),
-        P::new("piece_attribute", "Piece attribute", T::String, D::Str(""), "Integer or string primitive attribute splitting the source into pieces (empty: the whole source)."),
-        P::new("variant_attribute", "Variant attribute", T::String, D::Str("variant"), "Integer template point attribute choosing each point's piece (wrapped; absent: point number)."),
+        COPY_TO_POINTS_PACK,
+        COPY_TO_POINTS_PIECE_ATTRIBUTE,
+        COPY_TO_POINTS_VARIANT_ATTRIBUTE,
     ],
 );
 
@@ -29,9 +45,9 @@ fn cook_copy_to_points(
 ) -> Result<Value, CookError> {
     let (source, template) = (input(ctx, inputs, 0)?, input(ctx, inputs, 1)?);
     let opts = CopyOptions {
-        packed: p.toggle("pack")?,
-        piece_attrib: p.string("piece_attribute")?.to_owned(),
-        variant_attrib: p.string("variant_attribute")?.to_owned(),
+        packed: p.toggle(&COPY_TO_POINTS_PACK)?,
+        piece_attrib: p.string(&COPY_TO_POINTS_PIECE_ATTRIBUTE)?.to_owned(),
+        variant_attrib: p.string(&COPY_TO_POINTS_VARIANT_ATTRIBUTE)?.to_owned(),
     };
     if !opts.packed {
         let n = template.num_points() as f64;

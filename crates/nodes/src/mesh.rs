@@ -8,6 +8,35 @@ use geode_op::{
 
 use crate::util::{class, geometry, input_owned, ELEMENT_CLASSES};
 
+const DELETE_GROUP: P = P::new(
+    "group",
+    "Group",
+    T::String,
+    D::Str(""),
+    "The group to delete.",
+);
+const DELETE_CLASS: P = P::new(
+    "class",
+    "Class",
+    T::Menu(ELEMENT_CLASSES),
+    D::Str("primitive"),
+    "Whether the group holds points or primitives.",
+);
+const DELETE_INVERT: P = P::new(
+    "invert",
+    "Delete non-selected",
+    T::Toggle,
+    D::Toggle(false),
+    "Keep the group, delete the rest.",
+);
+const DELETE_KEEP_POINTS: P = P::new(
+    "keep_points",
+    "Keep unused points",
+    T::Toggle,
+    D::Toggle(false),
+    "When deleting primitives, keep points no longer used.",
+);
+
 static DELETE: NodeSpec = NodeSpec::new(
     "delete",
     "Delete",
@@ -15,10 +44,10 @@ static DELETE: NodeSpec = NodeSpec::new(
     "Deletes the points or primitives of a group (or all but them). Deleting points deletes the primitives that use them.",
     &[geometry_input("geometry")],
     &[
-        P::new("group", "Group", T::String, D::Str(""), "The group to delete."),
-        P::new("class", "Class", T::Menu(ELEMENT_CLASSES), D::Str("primitive"), "Whether the group holds points or primitives."),
-        P::new("invert", "Delete non-selected", T::Toggle, D::Toggle(false), "Keep the group, delete the rest."),
-        P::new("keep_points", "Keep unused points", T::Toggle, D::Toggle(false), "When deleting primitives, keep points no longer used."),
+        DELETE_GROUP,
+        DELETE_CLASS,
+        DELETE_INVERT,
+        DELETE_KEEP_POINTS,
     ],
 );
 
@@ -28,8 +57,8 @@ fn cook_delete(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let name = p.string("group")?;
-    let c = class(p, "class")?;
+    let name = p.string(&DELETE_GROUP)?;
+    let c = class(p, &DELETE_CLASS)?;
     let groups = if c == AttribClass::Primitive {
         g.prim_groups()
     } else {
@@ -55,16 +84,32 @@ fn cook_delete(
         ));
     };
     let mut sel = grp.clone();
-    if p.toggle("invert")? {
+    if p.toggle(&DELETE_INVERT)? {
         sel = Group::from_flags((0..sel.len()).map(|i| !sel.contains(i)));
     }
     if c == AttribClass::Primitive {
-        ops::delete_prims(&mut g, &sel, !p.toggle("keep_points")?);
+        ops::delete_prims(&mut g, &sel, !p.toggle(&DELETE_KEEP_POINTS)?);
     } else {
         ops::delete_points(&mut g, &sel);
     }
     geometry(g)
 }
+
+const NORMALS_CLASS: P = P::new(
+    "class",
+    "Add to",
+    T::Menu(&["point", "vertex", "primitive"]),
+    D::Str("vertex"),
+    "Where N is stored.",
+);
+const NORMALS_CUSP_ANGLE: P = P::new(
+    "cusp_angle",
+    "Cusp angle",
+    T::Float,
+    D::Float(60.0),
+    "Vertex normals: faces meeting at a sharper angle keep separate normals.",
+)
+.range(0.0, 180.0);
 
 static NORMALS: NodeSpec = NodeSpec::new(
     "normals",
@@ -73,8 +118,8 @@ static NORMALS: NodeSpec = NodeSpec::new(
     "Computes `N`: angle-weighted point normals, vertex normals split where faces meet at more than the cusp angle, or face normals.",
     &[geometry_input("geometry")],
     &[
-        P::new("class", "Add to", T::Menu(&["point", "vertex", "primitive"]), D::Str("vertex"), "Where N is stored."),
-        P::new("cusp_angle", "Cusp angle", T::Float, D::Float(60.0), "Vertex normals: faces meeting at a sharper angle keep separate normals.").range(0.0, 180.0),
+        NORMALS_CLASS,
+        NORMALS_CUSP_ANGLE,
     ],
 );
 
@@ -84,11 +129,11 @@ fn cook_normals(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let c = class(p, "class")?;
+    let c = class(p, &NORMALS_CLASS)?;
     let n = match c {
         AttribClass::Point => ops::point_normals(&g),
         AttribClass::Primitive => ops::prim_normals(&g),
-        _ => ops::vertex_normals(&g, p.float("cusp_angle")? as f32),
+        _ => ops::vertex_normals(&g, p.float(&NORMALS_CUSP_ANGLE)? as f32),
     };
     // One N only: a stale N on another class would win in some writers.
     for other in [
@@ -109,18 +154,29 @@ fn cook_normals(
     geometry(g)
 }
 
+const FUSE_DISTANCE: P = P::new(
+    "distance",
+    "Distance",
+    T::Float,
+    D::Float(0.001),
+    "Points closer than this are merged.",
+)
+.at_least(0.0);
+
 static FUSE: NodeSpec = NodeSpec::new(
     "fuse",
     "Fuse",
     "mesh",
     "Merges points closer than a distance (transitively) into their average; collapses degenerate primitives.",
     &[geometry_input("geometry")],
-    &[P::new("distance", "Distance", T::Float, D::Float(0.001), "Points closer than this are merged.").at_least(0.0)],
+    &[
+        FUSE_DISTANCE,
+    ],
 );
 
 fn cook_fuse(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    ops::fuse_points(&mut g, p.float("distance")? as f32);
+    ops::fuse_points(&mut g, p.float(&FUSE_DISTANCE)? as f32);
     geometry(g)
 }
 

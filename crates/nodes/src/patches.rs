@@ -48,13 +48,24 @@ pub fn for_file<'a>(g: &'a Geometry, path: &Path) -> Result<Cow<'a, Geometry>, G
     }
 }
 
+const CONVERT_LEVEL_OF_DETAIL: P = P::new(
+    "level_of_detail",
+    "Level of detail",
+    T::Int,
+    D::Int(8),
+    "Quads per knot span in each direction.",
+)
+.range(1.0, 256.0);
+
 static CONVERT: NodeSpec = NodeSpec::new(
     "convert",
     "Convert",
     "spline",
     "Turns spline patches into polygons: quads with exact normals N and uv, `level_of_detail` quads per knot span each way, each carrying its patch's primitive attributes. Other primitives pass through.",
     &[geometry_input("geometry")],
-    &[P::new("level_of_detail", "Level of detail", T::Int, D::Int(8), "Quads per knot span in each direction.").range(1.0, 256.0)],
+    &[
+        CONVERT_LEVEL_OF_DETAIL,
+    ],
 );
 
 fn cook_convert(
@@ -63,7 +74,7 @@ fn cook_convert(
     p: &Params,
 ) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
-    let lod = p.int("level_of_detail")?.max(1) as usize;
+    let lod = p.int(&CONVERT_LEVEL_OF_DETAIL)?.max(1) as usize;
     // A patch of n control points has fewer than n knot spans: n x lod^2 quads at most.
     let controls: f64 = (0..g.num_prims())
         .filter(|&i| matches!(g.prim_kind(i), geode_geo::PrimKind::Patch(_)))

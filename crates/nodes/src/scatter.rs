@@ -111,6 +111,14 @@ fn inside(
         .collect())
 }
 
+const SCATTER_MODE: P = P::new(
+    "mode",
+    "Mode",
+    T::Menu(&["inside", "surface"]),
+    D::Str("inside"),
+    "Fill the solid or cover the surface.",
+);
+
 static SCATTER: NodeSpec = NodeSpec::new(
     "scatter",
     "Scatter",
@@ -118,7 +126,7 @@ static SCATTER: NodeSpec = NodeSpec::new(
     "Seeded points inside a closed polygon mesh (its winding number decides, so holes and nested shells count right) or on its surface (uniform by area, with the face normal as N).",
     &[geometry_input("geometry")],
     &[
-        P::new("mode", "Mode", T::Menu(&["inside", "surface"]), D::Str("inside"), "Fill the solid or cover the surface."),
+        SCATTER_MODE,
         COUNT,
         DENSITY,
         SEED,
@@ -136,7 +144,7 @@ fn cook_scatter(
     if tris.is_empty() {
         return Err(ctx.input_error("input 1 has no polygons to scatter in or on"));
     }
-    if p.string("mode")? == "inside" {
+    if p.string(&SCATTER_MODE)? == "inside" {
         let b = ops::bounds(g).ok_or_else(|| ctx.input_error("input 1 is empty"))?;
         let count = target_count(ctx, p, || ops::signed_volume(g).abs() as f64)?;
         let test = InsideTest::new(tris);
@@ -180,6 +188,21 @@ fn cook_scatter(
     geometry(out)
 }
 
+const SCATTER_FIELD_MIN: P = P::new(
+    "min",
+    "Bounds min",
+    T::Vec3,
+    D::Vec3([-1.0; 3]),
+    "Box corner.",
+);
+const SCATTER_FIELD_MAX: P = P::new(
+    "max",
+    "Bounds max",
+    T::Vec3,
+    D::Vec3([1.0; 3]),
+    "Opposite corner.",
+);
+
 static SCATTER_FIELD: NodeSpec = NodeSpec::new(
     "scatter_field",
     "Scatter in Field",
@@ -191,20 +214,8 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
         required: true,
     }],
     &[
-        P::new(
-            "min",
-            "Bounds min",
-            T::Vec3,
-            D::Vec3([-1.0; 3]),
-            "Box corner.",
-        ),
-        P::new(
-            "max",
-            "Bounds max",
-            T::Vec3,
-            D::Vec3([1.0; 3]),
-            "Opposite corner.",
-        ),
+        SCATTER_FIELD_MIN,
+        SCATTER_FIELD_MAX,
         COUNT,
         DENSITY,
         SEED,
@@ -222,7 +233,7 @@ fn cook_scatter_field(
         .and_then(|v| v.as_ref())
         .and_then(|v| v.as_field())
         .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
-    let (lo, hi) = (vec3(p, "min")?, vec3(p, "max")?);
+    let (lo, hi) = (vec3(p, &SCATTER_FIELD_MIN)?, vec3(p, &SCATTER_FIELD_MAX)?);
     if (hi - lo).cmple(Vec3::ZERO).any() {
         return Err(ctx.param_error("max", "the box is empty: max must exceed min on every axis"));
     }

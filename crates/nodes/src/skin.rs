@@ -211,6 +211,14 @@ fn posed(ctx: &CookContext, p: &Params, mut joints: Vec<Joint>) -> Result<Skelet
     Skeleton::new(joints).map_err(|e| ctx.kernel_at("skeleton", e))
 }
 
+const SKIN_METHOD: P = P::new(
+    "method",
+    "Method",
+    T::Menu(&["linear", "dual_quaternion"]),
+    D::Str("dual_quaternion"),
+    "Linear blend (may collapse at joints) or dual quaternions (keeps volume).",
+);
+
 static SKIN: NodeSpec = NodeSpec::new(
     "skin",
     "Skin",
@@ -218,7 +226,7 @@ static SKIN: NodeSpec = NodeSpec::new(
     "Moves the points with a posed skeleton (joint rows: name, parent, rest position; pose rows: a joint and its rotation): linear blend or dual quaternions. Weights come from float point attributes `w_<joint>` when the geometry has any, else from the distance to each bone (inverse fourth power, four bones at most). Normals are not recomputed.",
     &[geometry_input("geometry")],
     &[
-        P::new("method", "Method", T::Menu(&["linear", "dual_quaternion"]), D::Str("dual_quaternion"), "Linear blend (may collapse at joints) or dual quaternions (keeps volume)."),
+        SKIN_METHOD,
         SKELETON,
         POSE,
         BEND_JOINT,
@@ -255,7 +263,7 @@ fn cook_skin(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     } else {
         skeleton.auto_weights(&points)
     };
-    let method = if p.string("method")? == "linear" {
+    let method = if p.string(&SKIN_METHOD)? == "linear" {
         SkinMethod::Linear
     } else {
         SkinMethod::DualQuaternion

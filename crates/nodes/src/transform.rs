@@ -9,6 +9,42 @@ use geode_op::{
 
 use crate::util::{geometry, input_owned};
 
+const TRANSFORM_TRANSLATE: P = P::new(
+    "translate",
+    "Translate",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Offset applied last.",
+);
+const TRANSFORM_ROTATE: P = P::new(
+    "rotate",
+    "Rotate",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Rotation in degrees about X, Y and Z (applied in that order).",
+);
+const TRANSFORM_SCALE: P = P::new(
+    "scale",
+    "Scale",
+    T::Vec3,
+    D::Vec3([1.0; 3]),
+    "Per-axis scale.",
+);
+const TRANSFORM_UNIFORM_SCALE: P = P::new(
+    "uniform_scale",
+    "Uniform scale",
+    T::Float,
+    D::Float(1.0),
+    "Multiplies the per-axis scale.",
+);
+const TRANSFORM_PIVOT: P = P::new(
+    "pivot",
+    "Pivot",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "The point that scale and rotation keep fixed.",
+);
+
 static TRANSFORM: NodeSpec = NodeSpec::new(
     "transform",
     "Transform",
@@ -17,11 +53,11 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
      Normals use the inverse transpose, vectors and quaternions follow by their type-info, packed instances keep sharing.",
     &[geometry_input("geometry")],
     &[
-        P::new("translate", "Translate", T::Vec3, D::Vec3([0.0; 3]), "Offset applied last."),
-        P::new("rotate", "Rotate", T::Vec3, D::Vec3([0.0; 3]), "Rotation in degrees about X, Y and Z (applied in that order)."),
-        P::new("scale", "Scale", T::Vec3, D::Vec3([1.0; 3]), "Per-axis scale."),
-        P::new("uniform_scale", "Uniform scale", T::Float, D::Float(1.0), "Multiplies the per-axis scale."),
-        P::new("pivot", "Pivot", T::Vec3, D::Vec3([0.0; 3]), "The point that scale and rotation keep fixed."),
+        TRANSFORM_TRANSLATE,
+        TRANSFORM_ROTATE,
+        TRANSFORM_SCALE,
+        TRANSFORM_UNIFORM_SCALE,
+        TRANSFORM_PIVOT,
     ],
 );
 
@@ -44,13 +80,13 @@ pub fn trs_about_pivot(
 
 /// The matrix of the transform node's parameters.
 pub fn matrix(p: &Params) -> Result<Mat4, CookError> {
-    let k = p.float("uniform_scale")?;
-    let scale = p.vector::<3>("scale")?.map(|s| s * k);
+    let k = p.float(&TRANSFORM_UNIFORM_SCALE)?;
+    let scale = p.vector::<3>(&TRANSFORM_SCALE)?.map(|s| s * k);
     Ok(trs_about_pivot(
-        p.vector::<3>("translate")?,
-        p.vector::<3>("rotate")?,
+        p.vector::<3>(&TRANSFORM_TRANSLATE)?,
+        p.vector::<3>(&TRANSFORM_ROTATE)?,
         scale,
-        p.vector::<3>("pivot")?,
+        p.vector::<3>(&TRANSFORM_PIVOT)?,
     )
     .as_mat4())
 }

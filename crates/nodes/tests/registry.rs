@@ -168,3 +168,33 @@ fn every_node_cooks_on_defaults_and_is_a_pure_function_of_its_key() {
     // The write node wrote its frame's file.
     assert!(dir.path().join("out.0001.obj").exists());
 }
+
+#[test]
+fn cooks_read_parameters_through_their_declarations_not_string_literals() {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let patterns = [
+        "p.float(\"",
+        "p.int(\"",
+        "p.toggle(\"",
+        "p.string(\"",
+        "p.list(\"",
+        "p.get(\"",
+        "(p, \"",
+    ];
+    let mut found = Vec::new();
+    for e in std::fs::read_dir(&src).unwrap() {
+        let path = e.unwrap().path();
+        let text = std::fs::read_to_string(&path).unwrap();
+        for (k, line) in text.lines().enumerate() {
+            let vector = line.contains("p.vector::<") && line.contains(">(\"");
+            if vector || patterns.iter().any(|pat| line.contains(pat)) {
+                found.push(format!("{}:{}: {}", path.display(), k + 1, line.trim()));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "read these through their ParamSpec consts:\n{}",
+        found.join("\n")
+    );
+}
