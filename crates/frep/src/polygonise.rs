@@ -634,11 +634,17 @@ pub fn polygonise(
     progress: &(dyn Fn(f32) + Sync),
 ) -> Result<(Geometry, MeshStats), MeshError> {
     let (grid, tape, top) = setup(field, opts)?;
+    // Polled between phases; bricks poll `cancel` themselves.
+    let stop = || {
+        if cancel() {
+            Err(MeshError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
     let mut bricks = Vec::new();
     surviving_bricks(tape, &grid, (top, 0), [0, 0, 0], &mut bricks, cancel);
-    if cancel() {
-        return Err(MeshError::Cancelled);
-    }
+    stop()?;
     bricks.sort_by_key(|(b, _)| (b[2], b[1], b[0]));
     let done = AtomicUsize::new(0);
     let total = bricks.len().max(1);
@@ -676,13 +682,9 @@ pub fn polygonise(
         pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
         stats.cells_with_surface += o.cells;
     }
-    if cancel() {
-        return Err(MeshError::Cancelled);
-    }
+    stop()?;
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
-    if cancel() {
-        return Err(MeshError::Cancelled);
-    }
+    stop()?;
     let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(refs.len() / 2);
     for group in refs.chunk_by(|a, b| a.0 == b.0) {
         if group.len() != 4 || group.iter().enumerate().any(|(i, r)| r.1 as usize != i) {
@@ -705,9 +707,7 @@ pub fn polygonise(
             triangles.push([q[1], q[2], q[3]]);
         }
     }
-    if cancel() {
-        return Err(MeshError::Cancelled);
-    }
+    stop()?;
     pinched.sort_unstable();
     pinched.dedup_by_key(|c| c.0);
     let tapes: Vec<&Tape> = bricks.iter().map(|(_, t)| t.as_ref()).collect();
@@ -722,9 +722,7 @@ pub fn polygonise(
             h: grid.h,
         },
     );
-    if cancel() {
-        return Err(MeshError::Cancelled);
-    }
+    stop()?;
     let mut g =
         Geometry::from_triangles(positions, &triangles).map_err(|_| MeshError::BadBounds)?;
     g.set_attrib(

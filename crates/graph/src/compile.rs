@@ -687,17 +687,7 @@ impl Builder<'_> {
                                 given.insert(name.as_str(), j);
                             }
                             None => {
-                                let known: Vec<&str> = spec.params.iter().map(|p| p.name).collect();
-                                let mut near: Vec<(usize, &str)> = known
-                                    .iter()
-                                    .map(|k| (geode_op::edit_distance(name, k), *k))
-                                    .filter(|(d, _)| *d <= 3)
-                                    .collect();
-                                near.sort();
-                                let hint = near
-                                    .first()
-                                    .map(|(_, k)| format!(" (did you mean `{k}`?)"))
-                                    .unwrap_or_default();
+                                let hint = closest(name, spec.params.iter().map(|p| p.name));
                                 self.errors.push(LoadError::node(
                                     &path,
                                     format!("unknown parameter `{name}`{hint}"),

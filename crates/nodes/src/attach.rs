@@ -90,30 +90,20 @@ static REGION_ROWS: ListSpec = ListSpec {
 
 /// Old networks: `u0 u1 v0 v1` entries separated by `;`.
 fn legacy_regions(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
-    text.split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-        .map(|(k, entry)| {
-            let bad = || {
-                format!(
-                    "region {} `{entry}`: expected `u0 u1 v0 v1` (parent faces, half-open)",
-                    k + 1
-                )
-            };
-            let w: Vec<f64> = entry
-                .split_whitespace()
-                .map(|x| x.parse::<usize>().map(|x| x as f64).map_err(|_| bad()))
-                .collect::<Result<_, _>>()?;
-            match w[..] {
-                [u0, u1, v0, v1] => Ok(vec![
-                    ParamValue::Vector(vec![u0, u1]),
-                    ParamValue::Vector(vec![v0, v1]),
-                ]),
-                _ => Err(bad()),
-            }
-        })
-        .collect()
+    let form = "`u0 u1 v0 v1` (parent faces, half-open)";
+    crate::util::legacy_rows(text, "region", form, |w| {
+        let faces: Option<Vec<f64>> = w
+            .iter()
+            .map(|x| x.parse::<usize>().ok().map(|x| x as f64))
+            .collect();
+        match faces?[..] {
+            [u0, u1, v0, v1] => Some(vec![
+                ParamValue::Vector(vec![u0, u1]),
+                ParamValue::Vector(vec![v0, v1]),
+            ]),
+            _ => None,
+        }
+    })
 }
 
 /// The region rows.

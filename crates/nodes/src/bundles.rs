@@ -63,7 +63,7 @@ fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     Ok(Value::Bundle(Arc::new(b)))
 }
 
-const ADD_NAME: P = P::new(
+const ENTRY_NAME: P = P::new(
     "name",
     "Name",
     T::String,
@@ -88,26 +88,18 @@ static ADD: NodeSpec = NodeSpec::new(
             required: true,
         },
     ],
-    &[ADD_NAME],
+    &[ENTRY_NAME],
 )
 .output(PortType::Bundle);
 
 fn cook_add(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut b = Bundle::clone(bundle_input(ctx, inputs)?);
     b.entries.insert(
-        p.string(&ADD_NAME)?.to_owned(),
+        p.string(&ENTRY_NAME)?.to_owned(),
         Arc::clone(input(ctx, inputs, 1)?),
     );
     Ok(Value::Bundle(Arc::new(b)))
 }
-
-const EXTRACT_NAME: P = P::new(
-    "name",
-    "Name",
-    T::String,
-    D::Str("geometry"),
-    "Name of the entry.",
-);
 
 static EXTRACT: NodeSpec = NodeSpec::new(
     "bundle_extract",
@@ -119,7 +111,7 @@ static EXTRACT: NodeSpec = NodeSpec::new(
         ty: PortType::Bundle,
         required: true,
     }],
-    &[EXTRACT_NAME],
+    &[ENTRY_NAME],
 );
 
 fn cook_extract(
@@ -128,7 +120,7 @@ fn cook_extract(
     p: &Params,
 ) -> Result<Value, CookError> {
     let b = bundle_input(ctx, inputs)?;
-    let name = p.string(&EXTRACT_NAME)?;
+    let name = p.string(&ENTRY_NAME)?;
     b.entries
         .get(name)
         .map(|g| Value::Geometry(Arc::clone(g)))

@@ -91,8 +91,7 @@ fn cook_line(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value
     finish(ctx, shapes::line(a, b, count(p, &LINE_POINTS)?), p)
 }
 
-const CIRCLE_RADIUS: P =
-    P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
+const RADIUS: P = P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
 const CIRCLE_START_ANGLE: P = P::new(
     "start_angle",
     "Start angle",
@@ -117,7 +116,7 @@ static CIRCLE: NodeSpec = NodeSpec::new(
     "A circle or arc in the XZ plane, counter-clockwise seen from +Y; a full turn is a closed curve.",
     &[],
     &[
-        CIRCLE_RADIUS,
+        RADIUS,
         CIRCLE_START_ANGLE,
         CIRCLE_END_ANGLE,
         CIRCLE_POINTS,
@@ -138,13 +137,11 @@ fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Val
     }
     finish(
         ctx,
-        shapes::arc(p.float(&CIRCLE_RADIUS)?, a, b, count(p, &CIRCLE_POINTS)?),
+        shapes::arc(p.float(&RADIUS)?, a, b, count(p, &CIRCLE_POINTS)?),
         p,
     )
 }
 
-const HELIX_RADIUS: P =
-    P::new("radius", "Radius", T::Float, D::Float(1.0), "Radius.").at_least(0.0);
 const HELIX_PITCH: P = P::new("pitch", "Pitch", T::Float, D::Float(0.5), "Rise per turn.");
 const HELIX_TURNS: P = P::new(
     "turns",
@@ -163,12 +160,12 @@ static HELIX: NodeSpec = NodeSpec::new(
     "curve",
     "A helix rising along +Y.",
     &[],
-    &[HELIX_RADIUS, HELIX_PITCH, HELIX_TURNS, HELIX_POINTS, CENTER],
+    &[RADIUS, HELIX_PITCH, HELIX_TURNS, HELIX_POINTS, CENTER],
 );
 
 fn cook_helix(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let c = shapes::helix(
-        p.float(&HELIX_RADIUS)?,
+        p.float(&RADIUS)?,
         p.float(&HELIX_PITCH)?,
         p.float(&HELIX_TURNS)?,
         count(p, &HELIX_POINTS)?,

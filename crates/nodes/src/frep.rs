@@ -111,14 +111,6 @@ const TORUS_MAJOR_RADIUS: P = P::new(
     "Ring radius.",
 )
 .at_least(0.0);
-const TORUS_MINOR_RADIUS: P = P::new(
-    "minor_radius",
-    "Minor radius",
-    T::Float,
-    D::Float(0.25),
-    "Tube radius.",
-)
-.at_least(0.0);
 
 static TORUS: NodeSpec = NodeSpec::new(
     "frep_torus",
@@ -126,7 +118,11 @@ static TORUS: NodeSpec = NodeSpec::new(
     "frep",
     "A torus around the Y axis.",
     &[],
-    &[CENTER, TORUS_MAJOR_RADIUS, TORUS_MINOR_RADIUS],
+    &[
+        CENTER,
+        TORUS_MAJOR_RADIUS,
+        crate::primitives::TORUS_MINOR_RADIUS,
+    ],
 )
 .output(PortType::Field);
 const CYLINDER_RADIUS: P =
@@ -263,7 +259,7 @@ fn torus(_: &CookContext, p: &Params) -> Result<Field, CookError> {
     Ok(shapes::torus(
         v3(p, &CENTER)?,
         p.float(&TORUS_MAJOR_RADIUS)?,
-        p.float(&TORUS_MINOR_RADIUS)?,
+        p.float(&crate::primitives::TORUS_MINOR_RADIUS)?,
     ))
 }
 fn cylinder(_: &CookContext, p: &Params) -> Result<Field, CookError> {
@@ -305,7 +301,7 @@ fn halfspace(ctx: &CookContext, p: &Params) -> Result<Field, CookError> {
 
 const OPS: &[&str] = &["union", "intersection", "subtraction"];
 
-const CSG_OPERATION: P = P::new(
+const OPERATION: P = P::new(
     "operation",
     "Operation",
     T::Menu(OPS),
@@ -328,7 +324,7 @@ static CSG: NodeSpec = NodeSpec::new(
     "Union, intersection or subtraction (a minus b) by R-functions. Alpha 1 is exactly max/min (sharp); smaller alphas smooth the result.",
     TWO_FIELDS,
     &[
-        CSG_OPERATION,
+        OPERATION,
         CSG_ALPHA,
     ],
 )
@@ -337,23 +333,16 @@ static CSG: NodeSpec = NodeSpec::new(
 fn cook_csg(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
     let alpha = p.float(&CSG_ALPHA)?;
-    out(match p.string(&CSG_OPERATION)? {
+    out(match p.string(&OPERATION)? {
         "union" => shapes::union(a, b, alpha),
         "intersection" => shapes::intersection(a, b, alpha),
         _ => shapes::subtraction(a, b, alpha),
     })
 }
 
-const BLEND_OPERATION: P = P::new(
-    "operation",
-    "Operation",
-    T::Menu(OPS),
-    D::Str("union"),
-    "The set operation.",
-);
-const BLEND_A0: P = P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount.");
-const BLEND_A1: P = P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9);
-const BLEND_A2: P = P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9);
+const A0: P = P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount.");
+const A1: P = P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9);
+const A2: P = P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9);
 
 static BLEND: NodeSpec = NodeSpec::new(
     "frep_blend",
@@ -362,22 +351,18 @@ static BLEND: NodeSpec = NodeSpec::new(
     "Blended union, intersection or subtraction (Pasko's displacement a0 / (1 + (f1/a1)^2 + (f2/a2)^2)): a0 is how much material the blend adds, a1 and a2 how far it reaches along each solid.",
     TWO_FIELDS,
     &[
-        BLEND_OPERATION,
-        BLEND_A0,
-        BLEND_A1,
-        BLEND_A2,
+        OPERATION,
+        A0,
+        A1,
+        A2,
     ],
 )
 .output(PortType::Field);
 
 fn cook_blend(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let (a, b) = (field_input(ctx, inputs, 0)?, field_input(ctx, inputs, 1)?);
-    let k = [
-        p.float(&BLEND_A0)?,
-        p.float(&BLEND_A1)?,
-        p.float(&BLEND_A2)?,
-    ];
-    out(match p.string(&BLEND_OPERATION)? {
+    let k = [p.float(&A0)?, p.float(&A1)?, p.float(&A2)?];
+    out(match p.string(&OPERATION)? {
         "union" => shapes::blend_union(a, b, k),
         "intersection" => shapes::blend_intersection(a, b, k),
         _ => shapes::blend_subtraction(a, b, k),
@@ -391,11 +376,6 @@ const BOUNDED_BLEND_OPERATION: P = P::new(
     D::Str("union"),
     "The set operation.",
 );
-const BOUNDED_BLEND_A0: P = P::new("a0", "a0", T::Float, D::Float(1.0), "Blend amount.");
-const BOUNDED_BLEND_A1: P =
-    P::new("a1", "a1", T::Float, D::Float(1.0), "Reach along a.").at_least(1e-9);
-const BOUNDED_BLEND_A2: P =
-    P::new("a2", "a2", T::Float, D::Float(1.0), "Reach along b.").at_least(1e-9);
 const BOUNDED_BLEND_A3: P = P::new(
     "a3",
     "a3",
@@ -417,9 +397,9 @@ static BOUNDED_BLEND: NodeSpec = NodeSpec::new(
     ],
     &[
         BOUNDED_BLEND_OPERATION,
-        BOUNDED_BLEND_A0,
-        BOUNDED_BLEND_A1,
-        BOUNDED_BLEND_A2,
+        A0,
+        A1,
+        A2,
         BOUNDED_BLEND_A3,
     ],
 )
@@ -436,9 +416,9 @@ fn cook_bounded_blend(
         field_input(ctx, inputs, 2)?,
     );
     let k = [
-        p.float(&BOUNDED_BLEND_A0)?,
-        p.float(&BOUNDED_BLEND_A1)?,
-        p.float(&BOUNDED_BLEND_A2)?,
+        p.float(&A0)?,
+        p.float(&A1)?,
+        p.float(&A2)?,
         p.float(&BOUNDED_BLEND_A3)?,
     ];
     out(shapes::bounded_blend(
@@ -538,13 +518,6 @@ fn cook_instance(
         .ok_or_else(|| ctx.input_error("the input has no points to instance onto"))
 }
 
-const TRANSFORM_TRANSLATE: P = P::new(
-    "translate",
-    "Translate",
-    T::Vec3,
-    D::Vec3([0.0; 3]),
-    "Offset applied last.",
-);
 const TRANSFORM_ROTATE: P = P::new(
     "rotate",
     "Rotate",
@@ -574,7 +547,7 @@ static TRANSFORM: NodeSpec = NodeSpec::new(
     "Moves, rotates (degrees, X then Y then Z) and scales a field about a pivot, as the transform node does meshes.",
     &[FIELD_IN],
     &[
-        TRANSFORM_TRANSLATE,
+        crate::transform::TRANSFORM_TRANSLATE,
         TRANSFORM_ROTATE,
         TRANSFORM_SCALE,
         TRANSFORM_PIVOT,
@@ -593,7 +566,7 @@ fn cook_transform(
         return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
     }
     let m = crate::transform::trs_about_pivot(
-        v3(p, &TRANSFORM_TRANSLATE)?,
+        v3(p, &crate::transform::TRANSFORM_TRANSLATE)?,
         v3(p, &TRANSFORM_ROTATE)?,
         s,
         v3(p, &TRANSFORM_PIVOT)?,
@@ -800,14 +773,14 @@ fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result
     out(e.to_field(&vars))
 }
 
-const POLYGONISE_MIN: P = P::new(
+pub(crate) const BOUNDS_MIN: P = P::new(
     "min",
     "Bounds min",
     T::Vec3,
     D::Vec3([-1.0; 3]),
     "Box corner.",
 );
-const POLYGONISE_MAX: P = P::new(
+pub(crate) const BOUNDS_MAX: P = P::new(
     "max",
     "Bounds max",
     T::Vec3,
@@ -838,8 +811,8 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
     "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells.",
     &[FIELD_IN],
     &[
-        POLYGONISE_MIN,
-        POLYGONISE_MAX,
+        BOUNDS_MIN,
+        BOUNDS_MAX,
         POLYGONISE_DEPTH,
         POLYGONISE_SHARPNESS,
     ],
@@ -852,8 +825,8 @@ fn cook_polygonise(
 ) -> Result<Value, CookError> {
     let f = field_input(ctx, inputs, 0)?;
     let mut opts = MeshOptions::new(
-        v3(p, &POLYGONISE_MIN)?,
-        v3(p, &POLYGONISE_MAX)?,
+        v3(p, &BOUNDS_MIN)?,
+        v3(p, &BOUNDS_MAX)?,
         p.int(&POLYGONISE_DEPTH)? as u32,
     );
     opts.sharpness = p.float(&POLYGONISE_SHARPNESS)?;

@@ -50,7 +50,7 @@ fn store(
 }
 
 const BOUNDING_GROUP: P = P::new("group", "Group", T::String, D::Str("inside"), "Group name.");
-const BOUNDING_CLASS: P = P::new(
+const ELEMENT_CLASS: P = P::new(
     "class",
     "Class",
     T::Menu(ELEMENT_CLASSES),
@@ -66,7 +66,7 @@ static BOUNDING: NodeSpec = NodeSpec::new(
     "group",
     "Puts the points (or primitives, by centroid) inside an axis-aligned box into a group.",
     &[geometry_input("geometry")],
-    &[BOUNDING_GROUP, BOUNDING_CLASS, BOUNDING_MIN, BOUNDING_MAX],
+    &[BOUNDING_GROUP, ELEMENT_CLASS, BOUNDING_MIN, BOUNDING_MAX],
 );
 
 fn cook_bounding(
@@ -75,7 +75,7 @@ fn cook_bounding(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let c = class(p, &BOUNDING_CLASS)?;
+    let c = class(p, &ELEMENT_CLASS)?;
     let (lo, hi) = (vec3(p, &BOUNDING_MIN)?, vec3(p, &BOUNDING_MAX)?);
     let flags = element_positions(&g, c)
         .par_iter()
@@ -91,13 +91,6 @@ const EXPRESSION_GROUP: P = P::new(
     T::String,
     D::Str("selected"),
     "Group name.",
-);
-const EXPRESSION_CLASS: P = P::new(
-    "class",
-    "Class",
-    T::Menu(ELEMENT_CLASSES),
-    D::Str("point"),
-    "Group points or primitives.",
 );
 const EXPRESSION_EXPRESSION: P = P::new(
     "expression",
@@ -115,7 +108,7 @@ static EXPRESSION: NodeSpec = NodeSpec::new(
     &[geometry_input("geometry")],
     &[
         EXPRESSION_GROUP,
-        EXPRESSION_CLASS,
+        ELEMENT_CLASS,
         EXPRESSION_EXPRESSION,
     ],
 );
@@ -126,7 +119,7 @@ fn cook_expression(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let c = class(p, &EXPRESSION_CLASS)?;
+    let c = class(p, &ELEMENT_CLASS)?;
     let expr = Expr::parse(
         p.string(&EXPRESSION_EXPRESSION)?,
         &["x", "y", "z", "id", "frame"],

@@ -171,32 +171,18 @@ type Edit = (usize, usize, usize, DVec3);
 
 /// Old networks: `level i j dx dy dz` entries separated by `;`.
 fn legacy_edits(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
-    let mut out = Vec::new();
-    for (k, entry) in text
-        .split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let w: Vec<&str> = entry.split_whitespace().collect();
-        let bad = || format!("edit {} `{entry}`: expected `level i j dx dy dz`", k + 1);
-        if w.len() != 6 {
-            return Err(bad());
+    crate::util::legacy_rows(text, "edit", "`level i j dx dy dz`", |w| {
+        let int = |s: &str| s.parse::<usize>().ok().map(|x| x as f64);
+        let num = crate::util::finite;
+        match *w {
+            [l, i, j, x, y, z] => Some(vec![
+                ParamValue::Int(int(l)? as i64),
+                ParamValue::Vector(vec![int(i)?, int(j)?]),
+                ParamValue::Vector(vec![num(x)?, num(y)?, num(z)?]),
+            ]),
+            _ => None,
         }
-        let int = |s: &str| s.parse::<usize>().map(|x| x as f64).map_err(|_| bad());
-        let num = |s: &str| {
-            s.parse::<f64>()
-                .ok()
-                .filter(|x| x.is_finite())
-                .ok_or_else(bad)
-        };
-        out.push(vec![
-            ParamValue::Int(int(w[0])? as i64),
-            ParamValue::Vector(vec![int(w[1])?, int(w[2])?]),
-            ParamValue::Vector(vec![num(w[3])?, num(w[4])?, num(w[5])?]),
-        ]);
-    }
-    Ok(out)
+    })
 }
 
 /// The edit rows with their parameter names (for errors).

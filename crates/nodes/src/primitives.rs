@@ -258,7 +258,7 @@ const TORUS_MAJOR_RADIUS: P = P::new(
     "Distance from the axis to the tube's centre.",
 )
 .at_least(0.0);
-const TORUS_MINOR_RADIUS: P = P::new(
+pub(crate) const TORUS_MINOR_RADIUS: P = P::new(
     "minor_radius",
     "Minor radius",
     T::Float,

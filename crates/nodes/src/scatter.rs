@@ -188,21 +188,6 @@ fn cook_scatter(
     geometry(out)
 }
 
-const SCATTER_FIELD_MIN: P = P::new(
-    "min",
-    "Bounds min",
-    T::Vec3,
-    D::Vec3([-1.0; 3]),
-    "Box corner.",
-);
-const SCATTER_FIELD_MAX: P = P::new(
-    "max",
-    "Bounds max",
-    T::Vec3,
-    D::Vec3([1.0; 3]),
-    "Opposite corner.",
-);
-
 static SCATTER_FIELD: NodeSpec = NodeSpec::new(
     "scatter_field",
     "Scatter in Field",
@@ -214,8 +199,8 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
         required: true,
     }],
     &[
-        SCATTER_FIELD_MIN,
-        SCATTER_FIELD_MAX,
+        crate::frep::BOUNDS_MIN,
+        crate::frep::BOUNDS_MAX,
         COUNT,
         DENSITY,
         SEED,
@@ -233,7 +218,10 @@ fn cook_scatter_field(
         .and_then(|v| v.as_ref())
         .and_then(|v| v.as_field())
         .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
-    let (lo, hi) = (vec3(p, &SCATTER_FIELD_MIN)?, vec3(p, &SCATTER_FIELD_MAX)?);
+    let (lo, hi) = (
+        vec3(p, &crate::frep::BOUNDS_MIN)?,
+        vec3(p, &crate::frep::BOUNDS_MAX)?,
+    );
     if (hi - lo).cmple(Vec3::ZERO).any() {
         return Err(ctx.param_error("max", "the box is empty: max must exceed min on every axis"));
     }

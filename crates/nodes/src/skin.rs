@@ -94,51 +94,27 @@ pub(crate) const BEND: P = P::new(
 /// Old networks: joints as `name parent x y z` separated by `;` (parent `-`
 /// for the root).
 fn legacy_joints(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
-    legacy_entries(text, "joint", 5, "name parent x y z", |w, nums| {
-        let parent = if w[1] == "-" { "" } else { w[1] };
-        vec![
-            ParamValue::String(w[0].to_owned()),
-            ParamValue::String(parent.to_owned()),
-            ParamValue::Vector(nums.to_vec()),
-        ]
+    crate::util::legacy_rows(text, "joint", "`name parent x y z`", |w| match *w {
+        [name, parent, x, y, z] => Some(vec![
+            ParamValue::String(name.to_owned()),
+            ParamValue::String(if parent == "-" { "" } else { parent }.to_owned()),
+            vector3(x, y, z)?,
+        ]),
+        _ => None,
     })
 }
 
 /// Old networks: rotations as `name rx ry rz` separated by `;`.
 fn legacy_pose(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
-    legacy_entries(text, "entry", 4, "name rx ry rz", |w, nums| {
-        vec![
-            ParamValue::String(w[0].to_owned()),
-            ParamValue::Vector(nums.to_vec()),
-        ]
+    crate::util::legacy_rows(text, "entry", "`name rx ry rz`", |w| match *w {
+        [name, x, y, z] => Some(vec![ParamValue::String(name.to_owned()), vector3(x, y, z)?]),
+        _ => None,
     })
 }
 
-/// `;`-separated entries of a name, maybe another word, and three numbers.
-fn legacy_entries(
-    text: &str,
-    what: &str,
-    words: usize,
-    form: &str,
-    row: impl Fn(&[&str], &[f64]) -> Vec<ParamValue>,
-) -> Result<Vec<Vec<ParamValue>>, String> {
-    text.split(';')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-        .map(|(k, entry)| {
-            let w: Vec<&str> = entry.split_whitespace().collect();
-            let nums: Vec<f64> = w
-                .iter()
-                .skip(words - 3)
-                .filter_map(|s| s.parse::<f64>().ok().filter(|x| x.is_finite()))
-                .collect();
-            if w.len() != words || nums.len() != 3 {
-                return Err(format!("{what} {} `{entry}`: expected `{form}`", k + 1));
-            }
-            Ok(row(&w, &nums))
-        })
-        .collect()
+fn vector3(x: &str, y: &str, z: &str) -> Option<ParamValue> {
+    let f = crate::util::finite;
+    Some(ParamValue::Vector(vec![f(x)?, f(y)?, f(z)?]))
 }
 
 /// The posed skeleton the parameters describe; errors name the parameter

@@ -9,7 +9,7 @@ use geode_op::{
 
 use crate::util::{geometry, input_owned};
 
-const TRANSFORM_TRANSLATE: P = P::new(
+pub(crate) const TRANSFORM_TRANSLATE: P = P::new(
     "translate",
     "Translate",
     T::Vec3,

@@ -4,7 +4,7 @@ use std::sync::Arc;
 
 use geode_geo::glam::{Vec2, Vec3};
 use geode_geo::{AttribClass, Geometry};
-use geode_op::{CookContext, CookError, ParamName, Params, Value};
+use geode_op::{CookContext, CookError, ParamName, ParamValue, Params, Value};
 
 /// The geometry on input `i` (inputs are checked at load; this guards the rest).
 pub fn input<'a>(
@@ -101,6 +101,31 @@ pub fn count_text(n: f64) -> String {
     } else {
         format!("{n:.0}")
     }
+}
+
+/// Rows of a list parameter's old text form: `;`-separated entries of
+/// words, each read by `row` (None: not of the form, reported as
+/// ``{what} {n} `{entry}`: expected {form}``).
+pub fn legacy_rows(
+    text: &str,
+    what: &str,
+    form: &str,
+    row: impl Fn(&[&str]) -> Option<Vec<ParamValue>>,
+) -> Result<Vec<Vec<ParamValue>>, String> {
+    text.split(';')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .enumerate()
+        .map(|(k, entry)| {
+            let words: Vec<&str> = entry.split_whitespace().collect();
+            row(&words).ok_or_else(|| format!("{what} {} `{entry}`: expected {form}", k + 1))
+        })
+        .collect()
+}
+
+/// A finite number.
+pub fn finite(s: &str) -> Option<f64> {
+    s.parse::<f64>().ok().filter(|x| x.is_finite())
 }
 
 pub fn geometry(g: Geometry) -> Result<Value, CookError> {

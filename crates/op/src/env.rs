@@ -84,18 +84,22 @@ pub fn budget_from_env() -> u64 {
         .unwrap_or_else(default_budget)
 }
 
-/// 60% of physical memory (from /proc/meminfo), or 8 GiB where unknown.
+/// 60% of physical memory (from /proc/meminfo, read once per process), or
+/// 8 GiB where unknown.
 fn default_budget() -> u64 {
-    let total_kb = std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
-        s.lines()
-            .find(|l| l.starts_with("MemTotal:"))
-            .and_then(|l| l.split_whitespace().nth(1))
-            .and_then(|v| v.parse::<u64>().ok())
-    });
-    match total_kb {
-        Some(kb) => kb * 1024 / 10 * 6,
-        None => 8 << 30,
-    }
+    static BUDGET: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *BUDGET.get_or_init(|| {
+        let total_kb = std::fs::read_to_string("/proc/meminfo").ok().and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("MemTotal:"))
+                .and_then(|l| l.split_whitespace().nth(1))
+                .and_then(|v| v.parse::<u64>().ok())
+        });
+        match total_kb {
+            Some(kb) => kb * 1024 / 10 * 6,
+            None => 8 << 30,
+        }
+    })
 }
 
 /// `1.5 GB`, `320 MB`, `12 KB`: sizes in error messages.

@@ -244,17 +244,16 @@ pub fn subdivide(
         })
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
-    for k in 0..levels {
+    // Polled between the phases of every level (each can take a while).
+    let stop = || {
         if cancel() {
-            return Err(SubdError::Cancelled);
+            Err(SubdError::Cancelled)
+        } else {
+            Ok(())
         }
-        let stop = || {
-            if cancel() {
-                Err(SubdError::Cancelled)
-            } else {
-                Ok(())
-            }
-        };
+    };
+    for k in 0..levels {
+        stop()?;
         let child = refine_topology_with(&level, chaikin, opts.limit || k + 1 < levels);
         stop()?;
         let pl = plan(&level, &child, chaikin);
@@ -289,9 +288,7 @@ pub fn subdivide(
     } else {
         None
     };
-    if cancel() {
-        return Err(SubdError::Cancelled);
-    }
+    stop()?;
     // Output the non-hole faces.
     let keep: Vec<usize> = (0..level.faces.len()).filter(|&f| !level.hole[f]).collect();
     let mut flat = Vec::with_capacity(keep.len() * 4);
