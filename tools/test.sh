@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Runs every test of the workspace, with the external reference validators
-# (Khronos glTF validator from npm, Pixar's usd-core and trimesh from PyPI,
-# OpenSubdiv from Debian for tools/osd_ref) installed first, so that nothing
-# has to be installed by hand.
+# Runs every test: the studio front end's (tools/studio.sh), the workspace's
+# with the external reference validators (Khronos glTF validator from npm,
+# Pixar's usd-core and trimesh from PyPI, OpenSubdiv from Debian for
+# tools/osd_ref) installed first, then the studio in real Chromium
+# (tools/browser.sh), so that nothing has to be installed by hand.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -31,4 +32,6 @@ fi
 export GEODE_OSD_REF="$PWD/tools/osd_ref/osd_ref"
 export GEODE_PYTHON="$PWD/tools/.venv/bin/python"
 export GEODE_REQUIRE_VALIDATORS=1
-exec cargo test --workspace "$@"
+bash tools/studio.sh
+cargo test --workspace "$@"
+bash tools/browser.sh

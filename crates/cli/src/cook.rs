@@ -37,15 +37,7 @@ pub fn load(path: &Path) -> Result<(Document, Network)> {
 /// The cook's environment: `$HIP` is the network file's folder, as in
 /// Houdini (unless `HIP` is set), and the memory budget `GEODE_MEMORY_MB`.
 pub fn cook_env(network: &Path) -> CookEnv {
-    let mut env = CookEnv::from_process();
-    if std::env::var_os("HIP").is_none() {
-        let dir = network
-            .parent()
-            .filter(|d| !d.as_os_str().is_empty())
-            .unwrap_or(Path::new("."));
-        env.hip = dir.to_string_lossy().into_owned();
-    }
-    env
+    CookEnv::for_network(network)
 }
 
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).

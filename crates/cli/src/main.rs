@@ -67,6 +67,26 @@ enum Command {
         #[arg(long)]
         stats: bool,
     },
+    /// Open a network in the studio: a browser node editor and viewport that recook live.
+    #[command(
+        after_help = "Examples:\n  geode serve examples/coral.json\n  geode serve examples/coral.json --port 9000 --open\n\n\
+        The studio listens on 127.0.0.1 only; the printed URL carries the session's token.\n\
+        It reads and writes the opened network (and a path you save it as), nothing else."
+    )]
+    Serve {
+        /// Network file (.json); a missing file starts an empty network saved there.
+        network: Option<PathBuf>,
+        /// Port to listen on (0 picks a free one).
+        #[arg(long, default_value_t = 8765)]
+        port: u16,
+        /// Open the studio in the default browser.
+        #[arg(long)]
+        open: bool,
+        /// Listen on another address than loopback (other machines can then reach
+        /// the studio: anyone with the token can edit the network and its file).
+        #[arg(long, value_name = "ADDR")]
+        bind: Option<std::net::IpAddr>,
+    },
     /// Load and check a network without cooking it: every problem is reported.
     Check { network: PathBuf },
     /// Rewrite a network file in canonical form (atomically; unknown fields are kept).
@@ -124,6 +144,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 stats,
             })?;
         }
+        Command::Serve {
+            network,
+            port,
+            open,
+            bind,
+        } => serve(network, port, open, bind)?,
         Command::Check { network } => cook::check(&network)?,
         Command::Fmt { network } => cook::fmt(&network)?,
         Command::Nodes {
@@ -154,6 +180,40 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             );
         }
     }
+    Ok(())
+}
+
+fn serve(
+    network: Option<PathBuf>,
+    port: u16,
+    open: bool,
+    bind: Option<std::net::IpAddr>,
+) -> anyhow::Result<()> {
+    if let Some(ip) = bind.filter(|ip| !ip.is_loopback()) {
+        eprintln!(
+            "warning: listening on {ip}: other machines can reach this studio; anyone with \
+             the URL's token can edit the network and overwrite its file"
+        );
+    }
+    let running = geode_server::start(geode_server::Options {
+        network,
+        port,
+        bind,
+    })?;
+    println!("geode studio: {}", running.url);
+    use std::io::Write as _;
+    let _ = std::io::stdout().flush();
+    if open {
+        let opener = if cfg!(target_os = "macos") {
+            "open"
+        } else {
+            "xdg-open"
+        };
+        if let Err(e) = std::process::Command::new(opener).arg(&running.url).spawn() {
+            eprintln!("could not open a browser ({opener}: {e}); open the URL above");
+        }
+    }
+    running.wait();
     Ok(())
 }
 

@@ -31,8 +31,8 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 }
 
 fn looks_like_path(token: &str) -> bool {
-    const EXTENSIONS: [&str; 9] = [
-        ".rs", ".md", ".json", ".sh", ".py", ".mjs", ".cpp", ".toml", ".hs",
+    const EXTENSIONS: [&str; 10] = [
+        ".rs", ".md", ".json", ".sh", ".py", ".mjs", ".cpp", ".toml", ".hs", ".ts",
     ];
     let chars_ok = token
         .chars()
@@ -55,7 +55,7 @@ fn every_path_architecture_names_exists() {
             crate_dir = h
                 .split('`')
                 .nth(1)
-                .filter(|c| c.starts_with("crates/"))
+                .filter(|c| c.starts_with("crates/") || c.starts_with("studio/"))
                 .map(|c| root.join(c));
             continue;
         }
@@ -72,7 +72,7 @@ fn every_path_architecture_names_exists() {
                 root.join(rel).exists()
                     || crate_dir
                         .as_ref()
-                        .is_some_and(|c| c.join("src").join(rel).exists())
+                        .is_some_and(|c| c.join("src").join(rel).exists() || c.join(rel).exists())
             } else {
                 let within = crate_dir.clone().unwrap_or_else(|| root.clone());
                 files

@@ -196,6 +196,17 @@ impl Network {
         }
     }
 
+    /// The node a parameter is tagged with: the inner node a promoted subnet
+    /// parameter drives, or the one its declaration's tag names (solo view's
+    /// auto mode); None for an untagged parameter.
+    pub fn tagged_target(&self, node: &str, param: &str) -> Option<String> {
+        self.promotions
+            .iter()
+            .find(|p| p.subnet == node && p.name == param)
+            .map(|p| p.target.clone())
+            .or_else(|| self.param_affects(node, param))
+    }
+
     /// The inner node a parameter's tag names (`ParamSpec::affects`), as a path.
     pub fn param_affects(&self, node: &str, param: &str) -> Option<String> {
         let NodeKind::Op { op, .. } = &self.nodes[self.index(node)?].kind else {

@@ -52,6 +52,9 @@ pub struct CookEvent {
     pub key: u128,
     /// Served from the cache (the node's cook did not run).
     pub hit: bool,
+    /// When the node's own cook began, in seconds since the cook was asked
+    /// for (inputs are pulled before it begins).
+    pub start: f64,
     pub seconds: f64,
     pub bytes: usize,
 }
@@ -95,6 +98,7 @@ struct Run<'e, 'o> {
     opts: &'o CookOptions<'o>,
     slots: Vec<Slot>,
     events: Mutex<Vec<CookEvent>>,
+    began: Instant,
 }
 
 fn no_progress(_: &str, _: f32) {}
@@ -223,6 +227,7 @@ impl Run<'_, '_> {
                 node_type: spec.name,
                 key,
                 hit: true,
+                start: (start - self.began).as_secs_f64(),
                 seconds: start.elapsed().as_secs_f64(),
                 bytes: c.bytes,
             });
@@ -274,6 +279,7 @@ impl Run<'_, '_> {
             node_type: spec.name,
             key,
             hit: false,
+            start: (start - self.began).as_secs_f64(),
             seconds: start.elapsed().as_secs_f64(),
             bytes,
         });
@@ -313,6 +319,7 @@ impl<'c> Engine<'c> {
             opts,
             slots: (0..self.net.nodes.len()).map(|_| OnceLock::new()).collect(),
             events: Mutex::new(Vec::new()),
+            began: Instant::now(),
         };
         let cooked = run.node(i)?;
         let mut events = run.events.into_inner().unwrap_or_else(|p| p.into_inner());
@@ -345,14 +352,8 @@ impl<'c> Engine<'c> {
     /// last change wins, as in seed 004.
     pub fn solo_target(&self, changed: &[(&str, &str)]) -> Option<String> {
         changed.iter().rev().find_map(|(node, param)| {
-            let promoted = self
-                .net
-                .promotions()
-                .iter()
-                .find(|p| p.subnet == *node && p.name == *param)
-                .map(|p| p.target.clone());
-            promoted
-                .or_else(|| self.net.param_affects(node, param))
+            self.net
+                .tagged_target(node, param)
                 .or_else(|| self.net.index(node).map(|_| node.to_string()))
         })
     }

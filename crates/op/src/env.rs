@@ -34,6 +34,20 @@ impl CookEnv {
         }
     }
 
+    /// For a network file: `$HIP` is the file's folder, as in Houdini
+    /// (unless the process sets `HIP`).
+    pub fn for_network(network: &std::path::Path) -> CookEnv {
+        let env = CookEnv::from_process();
+        if std::env::var_os("HIP").is_some() {
+            return env;
+        }
+        let dir = network
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(std::path::Path::new("."));
+        env.with_hip(dir.to_string_lossy().into_owned())
+    }
+
     /// With `$HIP` set to `hip`.
     pub fn with_hip(mut self, hip: impl Into<String>) -> CookEnv {
         self.hip = hip.into();

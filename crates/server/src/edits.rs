@@ -1,0 +1,537 @@
+//! Edits of a network document (add, remove, rename, wire, parameters, keys, flags, positions, paste): each a pure function from one document to the next.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use geode_graph::document::{Document, NetworkDoc, NodeDoc};
+use geode_op::{PortType, Registry};
+use serde::Deserialize;
+use serde_json::{json, Value as Json};
+
+/// One edit, as the studio sends it. Node paths are absolute (`/grow`,
+/// `/rig/raise`); `parent` names a network (`/` or a subnet's path).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Edit {
+    AddNode {
+        parent: String,
+        #[serde(rename = "type")]
+        ty: String,
+        #[serde(default)]
+        name: Option<String>,
+        #[serde(default)]
+        pos: Option<[f64; 2]>,
+    },
+    RemoveNodes {
+        paths: Vec<String>,
+    },
+    Rename {
+        path: String,
+        name: String,
+    },
+    Connect {
+        from: String,
+        to: String,
+        input: usize,
+    },
+    Disconnect {
+        to: String,
+        input: usize,
+    },
+    /// Sets a parameter's value as the document writes it (a constant, text,
+    /// list rows, or channels per component); `null` reverts to the default.
+    SetParam {
+        path: String,
+        param: String,
+        value: Json,
+    },
+    /// Sets a key of component `component` at `frame` (a constant becomes a channel).
+    SetKey {
+        path: String,
+        param: String,
+        component: usize,
+        frame: f64,
+        value: f64,
+    },
+    /// Deletes the key at `frame`; a channel left with one key becomes its constant.
+    DeleteKey {
+        path: String,
+        param: String,
+        component: usize,
+        frame: f64,
+    },
+    SetFlag {
+        path: String,
+        flag: Flag,
+        on: bool,
+    },
+    /// Node positions in the editor (UI data kept in the file).
+    Move {
+        positions: BTreeMap<String, [f64; 2]>,
+    },
+    /// Nodes copied from a network (as the document writes them): names that
+    /// collide are renamed, wires to nodes outside the copy are dropped.
+    Paste {
+        parent: String,
+        nodes: BTreeMap<String, NodeDoc>,
+        #[serde(default)]
+        offset: [f64; 2],
+    },
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum Flag {
+    Bypass,
+    Display,
+}
+
+/// An edit that names something that is not there, or would make a network
+/// no file could describe (a cycle, a wire between different port types).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{path}: {message}")]
+pub struct EditError {
+    pub path: String,
+    pub message: String,
+}
+
+fn refuse(path: &str, message: impl Into<String>) -> EditError {
+    EditError {
+        path: path.to_owned(),
+        message: message.into(),
+    }
+}
+
+/// The key under which a node keeps its editor position.
+pub const UI_KEY: &str = "ui";
+
+/// Splits `/a/b/c` into the parent network path `/a/b` and the name `c`.
+pub fn split_path(path: &str) -> Option<(&str, &str)> {
+    let i = path.rfind('/')?;
+    let name = &path[i + 1..];
+    (!name.is_empty()).then(|| (if i == 0 { "/" } else { &path[..i] }, name))
+}
+
+fn join(parent: &str, name: &str) -> String {
+    if parent == "/" {
+        format!("/{name}")
+    } else {
+        format!("{parent}/{name}")
+    }
+}
+
+/// The network at `parent` (`/` or a subnet path).
+fn network_mut<'d>(doc: &'d mut Document, parent: &str) -> Result<&'d mut NetworkDoc, EditError> {
+    let mut net = &mut doc.network;
+    for name in parent.split('/').filter(|s| !s.is_empty()) {
+        net = net
+            .nodes
+            .get_mut(name)
+            .and_then(|n| n.network.as_deref_mut())
+            .ok_or_else(|| refuse(parent, "no such subnetwork"))?;
+    }
+    Ok(net)
+}
+
+fn node_mut<'d>(doc: &'d mut Document, path: &str) -> Result<&'d mut NodeDoc, EditError> {
+    let (parent, name) = split_path(path).ok_or_else(|| refuse(path, "not a node path"))?;
+    network_mut(doc, parent)?
+        .nodes
+        .get_mut(name)
+        .ok_or_else(|| refuse(path, "no such node"))
+}
+
+/// Whether `name` can name a node: letters, digits and `_`, not starting with a digit.
+fn check_name(path: &str, name: &str) -> Result<(), EditError> {
+    let ok = !name.is_empty()
+        && name.len() <= 64
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !name.starts_with(|c: char| c.is_ascii_digit());
+    if ok {
+        Ok(())
+    } else {
+        Err(refuse(
+            path,
+            format!(
+                "`{name}` is not a node name (letters, digits and _, not starting with a digit)"
+            ),
+        ))
+    }
+}
+
+/// `base` if free in `net`, else `base1`, `base2`... (Houdini's `box1`).
+fn unique_name(net: &NetworkDoc, base: &str) -> String {
+    let stem = base.trim_end_matches(|c: char| c.is_ascii_digit());
+    let stem = if stem.is_empty() { "node" } else { stem };
+    if !net.nodes.contains_key(base) && base != stem {
+        return base.to_owned();
+    }
+    (1..)
+        .map(|i| format!("{stem}{i}"))
+        .find(|n| !net.nodes.contains_key(n))
+        .expect("some name is free")
+}
+
+/// Applies one edit to a copy of `doc`.
+pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Document, EditError> {
+    let mut d = doc.clone();
+    match edit {
+        Edit::AddNode {
+            parent,
+            ty,
+            name,
+            pos,
+        } => add_node(&mut d, parent, ty, name.as_deref(), *pos, registry)?,
+        Edit::RemoveNodes { paths } => {
+            for p in paths {
+                remove_node(&mut d, p)?;
+            }
+        }
+        Edit::Rename { path, name } => rename(&mut d, path, name)?,
+        Edit::Connect { from, to, input } => connect(&mut d, from, to, *input, registry)?,
+        Edit::Disconnect { to, input } => {
+            let n = node_mut(&mut d, to)?;
+            if let Some(slot) = n.inputs.get_mut(*input) {
+                *slot = None;
+            }
+            while n.inputs.last() == Some(&None) {
+                n.inputs.pop();
+            }
+        }
+        Edit::SetParam { path, param, value } => set_param(&mut d, path, param, value, registry)?,
+        Edit::SetKey {
+            path,
+            param,
+            component,
+            frame,
+            value,
+        } => crate::keys::set_key(
+            node_mut(&mut d, path)?,
+            path,
+            param,
+            *component,
+            *frame,
+            *value,
+            registry,
+        )?,
+        Edit::DeleteKey {
+            path,
+            param,
+            component,
+            frame,
+        } => crate::keys::delete_key(node_mut(&mut d, path)?, path, param, *component, *frame)?,
+        Edit::SetFlag { path, flag, on } => set_flag(&mut d, path, *flag, *on)?,
+        Edit::Move { positions } => {
+            for (path, p) in positions {
+                set_position(node_mut(&mut d, path)?, *p);
+            }
+        }
+        Edit::Paste {
+            parent,
+            nodes,
+            offset,
+        } => paste(&mut d, parent, nodes, *offset, registry)?,
+    }
+    Ok(d)
+}
+
+fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
+    let round = |v: f64| (v * 10.0).round() / 10.0;
+    n.extra
+        .insert(UI_KEY.into(), json!({"pos": [round(p[0]), round(p[1])]}));
+}
+
+fn check_type(path: &str, ty: &str, registry: &Registry) -> Result<(), EditError> {
+    if ty == "subnet" || registry.get(ty).is_some() {
+        return Ok(());
+    }
+    let hint = registry.closest(ty);
+    Err(refuse(
+        path,
+        match hint.first() {
+            Some(h) => format!("unknown node type `{ty}` (did you mean `{h}`?)"),
+            None => format!("unknown node type `{ty}`"),
+        },
+    ))
+}
+
+fn add_node(
+    d: &mut Document,
+    parent: &str,
+    ty: &str,
+    name: Option<&str>,
+    pos: Option<[f64; 2]>,
+    registry: &Registry,
+) -> Result<(), EditError> {
+    check_type(parent, ty, registry)?;
+    let net = network_mut(d, parent)?;
+    let name = match name {
+        Some(n) => {
+            check_name(&join(parent, n), n)?;
+            if net.nodes.contains_key(n) {
+                return Err(refuse(&join(parent, n), "a node of that name exists"));
+            }
+            n.to_owned()
+        }
+        None => unique_name(net, ty),
+    };
+    let mut node = NodeDoc {
+        ty: ty.to_owned(),
+        params: BTreeMap::new(),
+        inputs: Vec::new(),
+        bypass: false,
+        display: false,
+        network: (ty == "subnet").then(|| Box::new(NetworkDoc::default())),
+        promote: BTreeMap::new(),
+        extra: BTreeMap::new(),
+    };
+    if let Some(p) = pos {
+        set_position(&mut node, p);
+    }
+    net.nodes.insert(name, node);
+    Ok(())
+}
+
+fn remove_node(d: &mut Document, path: &str) -> Result<(), EditError> {
+    let (parent, name) = split_path(path).ok_or_else(|| refuse(path, "not a node path"))?;
+    let net = network_mut(d, parent)?;
+    if net.nodes.remove(name).is_none() {
+        return Err(refuse(path, "no such node"));
+    }
+    for n in net.nodes.values_mut() {
+        for slot in n.inputs.iter_mut() {
+            if slot.as_deref() == Some(name) {
+                *slot = None;
+            }
+        }
+        while n.inputs.last() == Some(&None) {
+            n.inputs.pop();
+        }
+    }
+    if net.output.as_deref() == Some(name) {
+        net.output = None;
+    }
+    // A subnet's promotions that targeted the removed node go with it.
+    if parent != "/" {
+        let subnet = node_mut(d, parent)?;
+        subnet
+            .promote
+            .retain(|_, target| target.split('/').next() != Some(name));
+    }
+    Ok(())
+}
+
+fn rename(d: &mut Document, path: &str, new: &str) -> Result<(), EditError> {
+    let (parent, old) = split_path(path).ok_or_else(|| refuse(path, "not a node path"))?;
+    check_name(path, new)?;
+    if old == new {
+        return Ok(());
+    }
+    let net = network_mut(d, parent)?;
+    if net.nodes.contains_key(new) {
+        return Err(refuse(path, format!("a node named `{new}` exists")));
+    }
+    let node = net
+        .nodes
+        .remove(old)
+        .ok_or_else(|| refuse(path, "no such node"))?;
+    net.nodes.insert(new.to_owned(), node);
+    for n in net.nodes.values_mut() {
+        for slot in n.inputs.iter_mut().flatten() {
+            if slot == old {
+                *slot = new.to_owned();
+            }
+        }
+    }
+    if net.output.as_deref() == Some(old) {
+        net.output = Some(new.to_owned());
+    }
+    if parent != "/" {
+        let subnet = node_mut(d, parent)?;
+        for target in subnet.promote.values_mut() {
+            if let Some(rest) = target.strip_prefix(&format!("{old}/")) {
+                *target = format!("{new}/{rest}");
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The port type a node produces, and the type of its input `k` (None when it has no such input).
+fn port_types(node: &NodeDoc, registry: &Registry, k: usize) -> (PortType, Option<PortType>) {
+    if node.ty == "subnet" {
+        return (PortType::Geometry, Some(PortType::Geometry));
+    }
+    let Some(op) = registry.get(&node.ty) else {
+        return (PortType::Geometry, None);
+    };
+    let spec = op.spec();
+    let input = spec
+        .inputs
+        .get(k)
+        .or_else(|| spec.variadic.then(|| spec.inputs.last()).flatten())
+        .map(|i| i.ty);
+    (spec.output, input)
+}
+
+fn connect(
+    d: &mut Document,
+    from: &str,
+    to: &str,
+    input: usize,
+    registry: &Registry,
+) -> Result<(), EditError> {
+    let (pf, from_name) = split_path(from).ok_or_else(|| refuse(from, "not a node path"))?;
+    let (pt, to_name) = split_path(to).ok_or_else(|| refuse(to, "not a node path"))?;
+    if pf != pt {
+        return Err(refuse(to, "wires join nodes of the same network"));
+    }
+    let net = network_mut(d, pt)?;
+    let source = net
+        .nodes
+        .get(from_name)
+        .ok_or_else(|| refuse(from, "no such node"))?;
+    let target = net
+        .nodes
+        .get(to_name)
+        .ok_or_else(|| refuse(to, "no such node"))?;
+    let (out_ty, _) = port_types(source, registry, 0);
+    let (_, in_ty) = port_types(target, registry, input);
+    let in_ty = in_ty.ok_or_else(|| refuse(to, format!("has no input {}", input + 1)))?;
+    if in_ty != out_ty {
+        return Err(refuse(
+            to,
+            format!(
+                "input {} takes {in_ty}, but `{from_name}` produces {out_ty}",
+                input + 1
+            ),
+        ));
+    }
+    if from_name == to_name || upstream(net, from_name).contains(to_name) {
+        return Err(refuse(
+            to,
+            format!("wiring `{from_name}` into it would make a cycle"),
+        ));
+    }
+    let target = net.nodes.get_mut(to_name).expect("checked above");
+    if target.inputs.len() <= input {
+        target.inputs.resize(input + 1, None);
+    }
+    target.inputs[input] = Some(from_name.to_owned());
+    Ok(())
+}
+
+/// Every node `name` depends on, directly or not.
+fn upstream<'n>(net: &'n NetworkDoc, name: &'n str) -> BTreeSet<&'n str> {
+    let mut seen = BTreeSet::new();
+    let mut stack = vec![name];
+    while let Some(n) = stack.pop() {
+        for i in net
+            .nodes
+            .get(n)
+            .into_iter()
+            .flat_map(|n| n.inputs.iter().flatten())
+        {
+            if seen.insert(i.as_str()) {
+                stack.push(i.as_str());
+            }
+        }
+    }
+    seen
+}
+
+fn set_param(
+    d: &mut Document,
+    path: &str,
+    param: &str,
+    value: &Json,
+    registry: &Registry,
+) -> Result<(), EditError> {
+    let node = node_mut(d, path)?;
+    let known = if node.ty == "subnet" {
+        node.promote.contains_key(param)
+    } else {
+        registry
+            .get(&node.ty)
+            .is_some_and(|op| op.spec().param(param).is_some())
+    };
+    if !known {
+        return Err(refuse(path, format!("has no parameter `{param}`")));
+    }
+    if value.is_null() {
+        node.params.remove(param);
+    } else {
+        node.params.insert(param.to_owned(), value.clone());
+    }
+    Ok(())
+}
+
+fn set_flag(d: &mut Document, path: &str, flag: Flag, on: bool) -> Result<(), EditError> {
+    let (parent, name) = split_path(path).ok_or_else(|| refuse(path, "not a node path"))?;
+    let net = network_mut(d, parent)?;
+    if !net.nodes.contains_key(name) {
+        return Err(refuse(path, "no such node"));
+    }
+    match flag {
+        Flag::Bypass => net.nodes.get_mut(name).expect("checked").bypass = on,
+        Flag::Display => {
+            // One display node per network, as in Houdini; it is the output.
+            for (n, node) in net.nodes.iter_mut() {
+                node.display = on && n == name;
+            }
+            if on && net.output.is_some() {
+                net.output = Some(name.to_owned());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn paste(
+    d: &mut Document,
+    parent: &str,
+    nodes: &BTreeMap<String, NodeDoc>,
+    offset: [f64; 2],
+    registry: &Registry,
+) -> Result<(), EditError> {
+    for (name, n) in nodes {
+        check_name(&join(parent, name), name)?;
+        check_type(&join(parent, name), &n.ty, registry)?;
+    }
+    let net = network_mut(d, parent)?;
+    let mut renamed: BTreeMap<&str, String> = BTreeMap::new();
+    for name in nodes.keys() {
+        let fresh = unique_name(net, name);
+        net.nodes.insert(
+            fresh.clone(),
+            NodeDoc {
+                ..nodes[name].clone()
+            },
+        );
+        renamed.insert(name, fresh);
+    }
+    for fresh in renamed.values() {
+        let n = net.nodes.get_mut(fresh).expect("just inserted");
+        n.display = false;
+        for slot in n.inputs.iter_mut() {
+            *slot = slot.as_deref().and_then(|s| {
+                if s.starts_with('@') {
+                    Some(s.to_owned())
+                } else {
+                    renamed.get(s).cloned()
+                }
+            });
+        }
+        while n.inputs.last() == Some(&None) {
+            n.inputs.pop();
+        }
+        if let Some(pos) = n.extra.get(UI_KEY).and_then(|u| u.get("pos")).cloned() {
+            if let Some([x, y]) = serde_json::from_value::<[f64; 2]>(pos)
+                .ok()
+                .map(|p| [p[0], p[1]])
+            {
+                set_position(n, [x + offset[0], y + offset[1]]);
+            }
+        }
+    }
+    Ok(())
+}

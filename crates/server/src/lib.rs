@@ -1,0 +1,351 @@
+//! geode's studio server: `geode serve` opens a network in a live session and serves the browser studio (embedded in the binary) over HTTP and a WebSocket on loopback, behind a session token.
+//!
+//! Nothing depends on this crate but the CLI; it sits on graph, nodes and io.
+
+mod catalogue;
+mod cooker;
+pub mod edits;
+mod hub;
+mod keys;
+pub mod security;
+pub mod session;
+mod sheet;
+mod studio;
+pub mod viewport;
+
+use std::net::{IpAddr, Ipv4Addr, SocketAddr};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use axum::body::Bytes;
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::extract::{Query, State};
+use axum::http::{header, StatusCode};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
+use geode_graph::Cache;
+use tokio::sync::broadcast::error::RecvError;
+
+pub use session::Session;
+pub use studio::Studio;
+
+/// The largest message a studio may send (edits and requests are small;
+/// a pasted network of a few hundred nodes fits).
+pub const MAX_MESSAGE: usize = 1 << 20;
+
+/// The studio's built front end (committed; CI checks it matches its sources).
+mod assets {
+    pub const INDEX: &[u8] = include_bytes!("../../../studio/dist/index.html");
+    pub const JS: &[u8] = include_bytes!("../../../studio/dist/studio.js");
+    pub const CSS: &[u8] = include_bytes!("../../../studio/dist/studio.css");
+}
+
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub network: Option<PathBuf>,
+    /// 0 picks a free port.
+    pub port: u16,
+    /// Loopback unless set explicitly.
+    pub bind: Option<IpAddr>,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ServeError {
+    #[error(transparent)]
+    Session(#[from] session::SessionError),
+    #[error("cannot listen on {addr}: {source}")]
+    Bind {
+        addr: SocketAddr,
+        source: std::io::Error,
+    },
+    #[error("cannot start the server's runtime: {0}")]
+    Runtime(std::io::Error),
+}
+
+/// A running server.
+pub struct Running {
+    pub addr: SocketAddr,
+    /// The address to open, token included.
+    pub url: String,
+    pub token: String,
+    shutdown: Option<tokio::sync::oneshot::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Running {
+    /// Blocks until the server stops (it stops when dropped from another thread or on Ctrl-C).
+    pub fn wait(mut self) {
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+impl Drop for Running {
+    fn drop(&mut self) {
+        if let Some(s) = self.shutdown.take() {
+            let _ = s.send(());
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+#[derive(Clone)]
+struct App {
+    studio: Arc<Studio>,
+    catalogue: Arc<str>,
+}
+
+/// Opens the session and starts serving on a thread of its own.
+pub fn start(opts: Options) -> Result<Running, ServeError> {
+    let registry = Arc::new(geode_nodes::registry());
+    let session = Session::open(opts.network.as_deref(), registry.clone())?;
+    let catalogue: Arc<str> = catalogue::catalogue(&registry).to_string().into();
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+        .map_err(ServeError::Runtime)?;
+    let ip = opts.bind.unwrap_or(IpAddr::V4(Ipv4Addr::LOCALHOST));
+    let addr = SocketAddr::new(ip, opts.port);
+    let listener = runtime
+        .block_on(tokio::net::TcpListener::bind(addr))
+        .map_err(|source| ServeError::Bind { addr, source })?;
+    let addr = listener
+        .local_addr()
+        .map_err(|source| ServeError::Bind { addr, source })?;
+    let token = security::new_token();
+    let guard = Arc::new(security::Guard::new(token.clone(), addr));
+    let app = App {
+        studio: Studio::new(session, Arc::new(Cache::from_env())),
+        catalogue,
+    };
+    let router = Router::new()
+        .route("/", get(index))
+        .route(
+            "/studio.js",
+            get(|| asset(assets::JS, "text/javascript; charset=utf-8")),
+        )
+        .route(
+            "/studio.css",
+            get(|| asset(assets::CSS, "text/css; charset=utf-8")),
+        )
+        .route("/api/catalogue", get(catalogue_json))
+        .route("/api/state", get(state_json))
+        .route("/api/trace.json", get(trace_json))
+        .route("/api/export", get(export))
+        .route("/ws", get(socket))
+        .layer(axum::middleware::from_fn_with_state(guard, security::guard))
+        .with_state(app);
+    let (tx, rx) = tokio::sync::oneshot::channel::<()>();
+    let thread = std::thread::Builder::new()
+        .name("geode-serve".into())
+        .spawn(move || {
+            runtime.block_on(async move {
+                let stop = async {
+                    tokio::select! {
+                        _ = rx => {}
+                        _ = tokio::signal::ctrl_c() => {}
+                    }
+                };
+                let _ = axum::serve(listener, router)
+                    .with_graceful_shutdown(stop)
+                    .await;
+            });
+            runtime.shutdown_background();
+        })
+        .map_err(ServeError::Runtime)?;
+    let host = if ip.is_loopback() {
+        "127.0.0.1".to_owned()
+    } else {
+        addr.ip().to_string()
+    };
+    Ok(Running {
+        url: format!("http://{host}:{}/?token={token}", addr.port()),
+        addr,
+        token,
+        shutdown: Some(tx),
+        thread: Some(thread),
+    })
+}
+
+async fn index(Query(q): Query<std::collections::HashMap<String, String>>) -> Response {
+    let mut r = asset_response(assets::INDEX, "text/html; charset=utf-8");
+    if let Some(t) = q.get("token") {
+        // The page's assets and socket then carry the token without it in every URL.
+        let cookie = format!(
+            "{}={t}; HttpOnly; SameSite=Strict; Path=/",
+            security::COOKIE
+        );
+        if let Ok(v) = header::HeaderValue::from_str(&cookie) {
+            r.headers_mut().insert(header::SET_COOKIE, v);
+        }
+    }
+    r
+}
+
+async fn asset(body: &'static [u8], mime: &'static str) -> Response {
+    asset_response(body, mime)
+}
+
+fn asset_response(body: &'static [u8], mime: &'static str) -> Response {
+    (
+        [
+            (header::CONTENT_TYPE, mime),
+            (header::CACHE_CONTROL, "no-cache"),
+            (header::X_CONTENT_TYPE_OPTIONS, "nosniff"),
+        ],
+        body,
+    )
+        .into_response()
+}
+
+fn json_response(body: String) -> Response {
+    ([(header::CONTENT_TYPE, "application/json")], body).into_response()
+}
+
+async fn catalogue_json(State(app): State<App>) -> Response {
+    json_response(app.catalogue.to_string())
+}
+
+async fn state_json(State(app): State<App>) -> Response {
+    json_response(app.studio.state().to_string())
+}
+
+async fn trace_json(State(app): State<App>) -> Response {
+    let events = app.studio.hub.last().map(|l| l.events).unwrap_or_default();
+    let mut r = json_response(hub::chrome_trace(&events).to_string());
+    r.headers_mut().insert(
+        header::CONTENT_DISPOSITION,
+        header::HeaderValue::from_static("attachment; filename=\"geode-trace.json\""),
+    );
+    r
+}
+
+/// The viewed result in a file format, as a download (nothing is written
+/// anywhere the user did not ask).
+async fn export(
+    State(app): State<App>,
+    Query(q): Query<std::collections::HashMap<String, String>>,
+) -> Response {
+    let format = q
+        .get("format")
+        .map(String::as_str)
+        .unwrap_or("glb")
+        .to_owned();
+    let last = app.studio.hub.last();
+    let result = tokio::task::spawn_blocking(move || export_bytes(last, &format)).await;
+    match result {
+        Ok(Ok((name, bytes))) => (
+            [
+                (header::CONTENT_TYPE, "application/octet-stream".to_owned()),
+                (
+                    header::CONTENT_DISPOSITION,
+                    format!("attachment; filename=\"{name}\""),
+                ),
+            ],
+            Bytes::from(bytes),
+        )
+            .into_response(),
+        Ok(Err(e)) => (StatusCode::BAD_REQUEST, e).into_response(),
+        Err(_) => (StatusCode::INTERNAL_SERVER_ERROR, "the export failed").into_response(),
+    }
+}
+
+fn export_bytes(last: Option<hub::Last>, format: &str) -> Result<(String, Vec<u8>), String> {
+    let last = last.ok_or("nothing has cooked yet")?;
+    let Some(geode_op::Value::Geometry(g)) = &last.value else {
+        return Err("the viewed node has no geometry to export (bundles: extract an entry)".into());
+    };
+    let fmt = geode_io::Format::from_path(std::path::Path::new(&format!("x.{format}")))
+        .filter(|f| f.can_write())
+        .ok_or_else(|| format!("cannot export to `{format}` (obj, stl, ply, glb, usda)"))?;
+    let name = format!(
+        "{}.{}",
+        last.node.trim_start_matches('/').replace('/', "_"),
+        fmt.extension()
+    );
+    let dir = std::env::temp_dir().join(format!("geode-export-{}", security::new_token()));
+    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
+    let path = dir.join(&name);
+    let written = geode_io::write(g, &path, &geode_io::NoProgress).map_err(|e| e.to_string());
+    let bytes = written.and_then(|()| std::fs::read(&path).map_err(|e| e.to_string()));
+    let _ = std::fs::remove_dir_all(&dir);
+    Ok((name, bytes?))
+}
+
+async fn socket(State(app): State<App>, ws: WebSocketUpgrade) -> Response {
+    ws.max_message_size(MAX_MESSAGE)
+        .max_frame_size(MAX_MESSAGE)
+        .on_upgrade(move |s| talk(app.studio, s))
+}
+
+fn to_message(o: hub::Out) -> Message {
+    match o {
+        hub::Out::Text(t) => Message::Text(t.as_ref().into()),
+        hub::Out::Binary(b) => Message::Binary(b),
+    }
+}
+
+/// One studio's socket: the current state and last result first, then
+/// requests in and broadcasts out until either side closes.
+async fn talk(studio: Arc<Studio>, mut ws: WebSocket) {
+    let mut rx = studio.hub.subscribe();
+    let mut hello = vec![Message::Text(studio.state().to_string().into())];
+    if let Some(last) = studio.hub.last() {
+        hello.extend(last.messages.into_iter().map(to_message));
+    }
+    for m in hello {
+        if ws.send(m).await.is_err() {
+            return;
+        }
+    }
+    loop {
+        tokio::select! {
+            incoming = ws.recv() => {
+                let Some(Ok(msg)) = incoming else { return };
+                let reply = match msg {
+                    Message::Text(t) => {
+                        let s = studio.clone();
+                        let text = t.to_string();
+                        tokio::task::spawn_blocking(move || match serde_json::from_str::<studio::Envelope>(&text) {
+                            Ok(env) => s.handle(env),
+                            Err(e) => serde_json::json!({"type": "reply", "ok": false, "error": format!("bad request: {e}")}),
+                        })
+                        .await
+                        .unwrap_or_else(|_| serde_json::json!({"type": "reply", "ok": false, "error": "the request failed"}))
+                    }
+                    Message::Close(_) => return,
+                    _ => continue,
+                };
+                if ws.send(Message::Text(reply.to_string().into())).await.is_err() {
+                    return;
+                }
+            }
+            out = rx.recv() => {
+                let msg = match out {
+                    Ok(o) => to_message(o),
+                    // Too slow to keep up: catch up with the newest state and result.
+                    Err(RecvError::Lagged(_)) => {
+                        let mut catch_up = vec![Message::Text(studio.state().to_string().into())];
+                        if let Some(last) = studio.hub.last() {
+                            catch_up.extend(last.messages.into_iter().map(to_message));
+                        }
+                        let last = catch_up.pop().expect("one message at least");
+                        for m in catch_up {
+                            if ws.send(m).await.is_err() { return; }
+                        }
+                        last
+                    }
+                    Err(RecvError::Closed) => return,
+                };
+                if ws.send(msg).await.is_err() {
+                    return;
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,203 @@
+//! The live session: the opened network document, edits validated by the loader, undo and redo, the dirty marker, atomic save.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use geode_graph::{Document, LoadError, Network};
+use geode_op::Registry;
+use serde_json::{json, Value as Json};
+
+use crate::edits::{self, Edit, EditError};
+
+/// Undo steps kept (documents are small; this bounds a long session).
+const UNDO_DEPTH: usize = 1000;
+
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    #[error("{path}: {source}")]
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: {source}")]
+    Syntax {
+        path: PathBuf,
+        source: geode_graph::SyntaxError,
+    },
+    #[error(transparent)]
+    Write(#[from] geode_io::IoError),
+    #[error("the network has no file yet: give a path to save as")]
+    NoPath,
+    #[error("save as `{0}`: a network file ends in .json")]
+    NotJson(PathBuf),
+}
+
+/// The opened network and its history.
+pub struct Session {
+    registry: Arc<Registry>,
+    path: Option<PathBuf>,
+    doc: Document,
+    /// The document as last read or saved (dirty = differs).
+    saved: Document,
+    undo: Vec<Document>,
+    redo: Vec<Document>,
+    /// The parameter the last edit set, when the client asked to merge
+    /// (a slider drag is one undo step).
+    merge_target: Option<(String, String)>,
+    network: Result<Network, Vec<LoadError>>,
+    /// Bumped by every change of the document.
+    version: u64,
+}
+
+impl Session {
+    /// Opens `path` (a missing file starts an empty network that will be saved there).
+    pub fn open(path: Option<&Path>, registry: Arc<Registry>) -> Result<Session, SessionError> {
+        let doc = match path {
+            Some(p) if p.exists() => {
+                let text = std::fs::read_to_string(p).map_err(|source| SessionError::Read {
+                    path: p.to_owned(),
+                    source,
+                })?;
+                Document::from_json(&text).map_err(|source| SessionError::Syntax {
+                    path: p.to_owned(),
+                    source,
+                })?
+            }
+            _ => Document::new(),
+        };
+        let network = Network::load(&doc, &registry);
+        Ok(Session {
+            registry,
+            path: path.map(Path::to_owned),
+            saved: doc.clone(),
+            doc,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            merge_target: None,
+            network,
+            version: 1,
+        })
+    }
+
+    pub fn registry(&self) -> &Arc<Registry> {
+        &self.registry
+    }
+
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
+    pub fn path(&self) -> Option<&Path> {
+        self.path.as_deref()
+    }
+
+    pub fn version(&self) -> u64 {
+        self.version
+    }
+
+    /// The loaded network, or every problem the loader found.
+    pub fn network(&self) -> &Result<Network, Vec<LoadError>> {
+        &self.network
+    }
+
+    pub fn is_dirty(&self) -> bool {
+        self.doc != self.saved
+    }
+
+    /// Applies an edit; `merge` folds it into the previous step when both set
+    /// the same parameter (dragging a slider is one undo step).
+    pub fn edit(&mut self, edit: &Edit, merge: bool) -> Result<(), EditError> {
+        let next = edits::apply(&self.doc, edit, &self.registry)?;
+        let target = match edit {
+            Edit::SetParam { path, param, .. } => Some((path.clone(), param.clone())),
+            _ => None,
+        };
+        let merged = merge && target.is_some() && target == self.merge_target;
+        if !merged {
+            self.undo.push(self.doc.clone());
+            if self.undo.len() > UNDO_DEPTH {
+                self.undo.remove(0);
+            }
+        }
+        self.merge_target = target;
+        self.redo.clear();
+        self.replace(next);
+        Ok(())
+    }
+
+    pub fn undo(&mut self) -> bool {
+        let Some(prev) = self.undo.pop() else {
+            return false;
+        };
+        self.redo.push(self.doc.clone());
+        self.merge_target = None;
+        self.replace(prev);
+        true
+    }
+
+    pub fn redo(&mut self) -> bool {
+        let Some(next) = self.redo.pop() else {
+            return false;
+        };
+        self.undo.push(self.doc.clone());
+        self.merge_target = None;
+        self.replace(next);
+        true
+    }
+
+    fn replace(&mut self, doc: Document) {
+        self.network = Network::load(&doc, &self.registry);
+        self.doc = doc;
+        self.version += 1;
+    }
+
+    /// Writes the document in canonical form (as `geode fmt`), atomically, to
+    /// its file or to `save_as` (which then becomes its file).
+    pub fn save(&mut self, save_as: Option<&Path>) -> Result<PathBuf, SessionError> {
+        let path = match save_as {
+            Some(p) if p.extension().and_then(|e| e.to_str()) != Some("json") => {
+                return Err(SessionError::NotJson(p.to_owned()))
+            }
+            Some(p) => p.to_owned(),
+            None => self.path.clone().ok_or(SessionError::NoPath)?,
+        };
+        let text = self.doc.to_json();
+        geode_io::write_atomic(&path, |w| {
+            w.write_all(text.as_bytes())
+                .map_err(|e| geode_io::IoError::os(&path, e))
+        })?;
+        self.saved = self.doc.clone();
+        self.path = Some(path.clone());
+        self.version += 1;
+        Ok(path)
+    }
+
+    /// Load problems keyed for the studio: node path, parameter, message.
+    pub fn problems(&self) -> Vec<Json> {
+        let (errors, notes) = match &self.network {
+            Ok(n) => (&[][..], n.notes()),
+            Err(e) => (&e[..], &[][..]),
+        };
+        let item = |e: &LoadError, level: &str| json!({"path": e.path, "param": e.param, "message": e.message, "level": level});
+        errors
+            .iter()
+            .map(|e| item(e, "error"))
+            .chain(notes.iter().map(|e| item(e, "note")))
+            .collect()
+    }
+
+    /// The session as the studio shows it.
+    pub fn state(&self) -> Json {
+        json!({
+            "type": "state",
+            "version": self.version,
+            "path": self.path.as_ref().map(|p| p.display().to_string()),
+            "document": self.doc,
+            "problems": self.problems(),
+            "dirty": self.is_dirty(),
+            "canUndo": !self.undo.is_empty(),
+            "canRedo": !self.redo.is_empty(),
+            "output": self.network.as_ref().ok().and_then(|n| n.output().map(str::to_owned)),
+        })
+    }
+}

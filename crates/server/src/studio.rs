@@ -1,0 +1,277 @@
+//! The studio's state behind the socket: the session, what is viewed (solo node, frame, auto-solo), and the requests a studio sends, each answered by a reply and, on change, a new state for everyone plus a latest-wins cook.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use geode_graph::Cache;
+use geode_op::CookEnv;
+use serde::Deserialize;
+use serde_json::{json, Value as Json};
+
+use crate::cooker::{CookRequest, Cooker};
+use crate::edits::Edit;
+use crate::hub::Hub;
+use crate::session::Session;
+use crate::sheet;
+
+/// What the viewport shows.
+#[derive(Clone, Debug, Default)]
+pub struct View {
+    /// A node shown instead of the network's output (seed 004's solo view).
+    pub solo: Option<String>,
+    /// Whether `solo` was chosen by a tagged parameter (auto-solo).
+    pub auto: bool,
+    pub frame: f64,
+}
+
+/// A request from a studio.
+#[derive(Debug, Deserialize)]
+#[serde(tag = "op", rename_all = "snake_case")]
+pub enum Request {
+    Edit {
+        edit: Edit,
+        #[serde(default)]
+        merge: bool,
+    },
+    Undo,
+    Redo,
+    /// Solo view of a node (`null`: the network's output).
+    View {
+        node: Option<String>,
+    },
+    Frame {
+        frame: f64,
+    },
+    Save {
+        #[serde(default)]
+        path: Option<PathBuf>,
+    },
+    /// Rows of the viewed result for the spreadsheet.
+    Sheet {
+        class: sheet::Class,
+        start: usize,
+        count: usize,
+        #[serde(default)]
+        entry: Option<String>,
+    },
+    /// Stop the cook in flight.
+    Cancel,
+}
+
+#[derive(Debug, Deserialize)]
+pub struct Envelope {
+    #[serde(default)]
+    pub id: Option<u64>,
+    #[serde(flatten)]
+    pub request: Request,
+}
+
+pub struct Studio {
+    session: Mutex<Session>,
+    view: Mutex<View>,
+    generation: AtomicU64,
+    /// Held while a change is published and its cook started, so that cooks
+    /// start in the order of their generations.
+    order: Mutex<()>,
+    cooker: Cooker,
+    pub hub: Arc<Hub>,
+    env: CookEnv,
+}
+
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|p| p.into_inner())
+}
+
+impl Studio {
+    pub fn new(session: Session, cache: Arc<Cache>) -> Arc<Studio> {
+        let hub = Hub::new();
+        let env = match session.path() {
+            Some(p) => CookEnv::for_network(p),
+            None => CookEnv::from_process(),
+        };
+        let studio = Arc::new(Studio {
+            session: Mutex::new(session),
+            view: Mutex::new(View {
+                frame: 1.0,
+                ..View::default()
+            }),
+            generation: AtomicU64::new(0),
+            order: Mutex::new(()),
+            cooker: Cooker::new(cache, hub.clone()),
+            hub,
+            env,
+        });
+        studio.changed(None);
+        studio
+    }
+
+    /// The state every studio shows: the session and the view.
+    pub fn state(&self) -> Json {
+        let mut s = lock(&self.session).state();
+        let v = lock(&self.view).clone();
+        s["view"] = json!({"solo": v.solo, "auto": v.auto, "frame": v.frame});
+        s["generation"] = json!(self.generation.load(Ordering::SeqCst));
+        s
+    }
+
+    /// After any change: re-point the view, publish the state, cook what is viewed.
+    fn changed(&self, tagged: Option<(&str, &str)>) {
+        let _order = lock(&self.order);
+        let session = lock(&self.session);
+        let mut view = lock(&self.view);
+        let generation = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
+        let net = session.network().as_ref().ok();
+        if let (Some(net), Some((node, param))) = (net, tagged) {
+            if let Some(target) = net.tagged_target(node, param) {
+                view.solo = Some(target);
+                view.auto = true;
+            }
+        }
+        if let (Some(net), Some(solo)) = (net, view.solo.clone()) {
+            if !net.paths().any(|p| p == solo) {
+                view.solo = None;
+                view.auto = false;
+            }
+        }
+        let target = view
+            .solo
+            .clone()
+            .or_else(|| net.and_then(|n| n.output().map(str::to_owned)));
+        let frame = view.frame;
+        drop(view);
+        let request = match (session.network(), &target) {
+            (Ok(net), Some(node)) => Some(CookRequest {
+                generation,
+                network: net.clone(),
+                node: node.clone(),
+                frame,
+                env: self.env.clone(),
+            }),
+            _ => None,
+        };
+        let load_failed = session.network().is_err();
+        drop(session);
+        self.hub.send_json(&self.state());
+        match request {
+            Some(r) => self.cooker.start(r),
+            None => {
+                self.cooker.cancel(generation);
+                let why = if load_failed {
+                    "the network has errors (see the nodes marked red)"
+                } else {
+                    "nothing to show: set a display flag or view a node"
+                };
+                self.hub.blocked(generation, target.as_deref(), why);
+            }
+        }
+    }
+
+    /// Handles one request; the reply goes to the sender only.
+    pub fn handle(&self, env: Envelope) -> Json {
+        let reply = |r: Result<Json, String>| match r {
+            Ok(extra) => {
+                let mut j = json!({"type": "reply", "id": env.id, "ok": true});
+                if let Json::Object(m) = extra {
+                    j.as_object_mut().expect("object").extend(m);
+                }
+                j
+            }
+            Err(e) => json!({"type": "reply", "id": env.id, "ok": false, "error": e}),
+        };
+        reply(self.dispatch(env.request))
+    }
+
+    fn dispatch(&self, request: Request) -> Result<Json, String> {
+        match request {
+            Request::Edit { edit, merge } => {
+                lock(&self.session)
+                    .edit(&edit, merge)
+                    .map_err(|e| e.to_string())?;
+                let tagged = match &edit {
+                    Edit::SetParam { path, param, .. } | Edit::SetKey { path, param, .. } => {
+                        Some((path.as_str(), param.as_str()))
+                    }
+                    _ => None,
+                };
+                self.changed(tagged);
+            }
+            Request::Undo | Request::Redo => {
+                let mut s = lock(&self.session);
+                let done = if matches!(request, Request::Undo) {
+                    s.undo()
+                } else {
+                    s.redo()
+                };
+                drop(s);
+                if !done {
+                    return Err("nothing to undo or redo".into());
+                }
+                self.changed(None);
+            }
+            Request::View { node } => {
+                {
+                    let mut v = lock(&self.view);
+                    v.solo = node;
+                    v.auto = false;
+                }
+                self.changed(None);
+            }
+            Request::Frame { frame } => {
+                if !frame.is_finite() {
+                    return Err("the frame must be a finite number".into());
+                }
+                lock(&self.view).frame = frame;
+                self.changed(None);
+            }
+            Request::Save { path } => {
+                let saved = lock(&self.session)
+                    .save(path.as_deref())
+                    .map_err(|e| e.to_string())?;
+                self.hub.send_json(&self.state());
+                return Ok(json!({"saved": saved.display().to_string()}));
+            }
+            Request::Sheet {
+                class,
+                start,
+                count,
+                entry,
+            } => return self.sheet(class, start, count, entry.as_deref()),
+            Request::Cancel => {
+                let _order = lock(&self.order);
+                let g = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
+                self.cooker.cancel(g);
+            }
+        }
+        Ok(Json::Null)
+    }
+
+    fn sheet(
+        &self,
+        class: sheet::Class,
+        start: usize,
+        count: usize,
+        entry: Option<&str>,
+    ) -> Result<Json, String> {
+        let last = self.hub.last().ok_or("nothing has cooked yet")?;
+        let geo = match (&last.value, entry) {
+            (Some(geode_op::Value::Geometry(g)), _) => g.clone(),
+            (Some(geode_op::Value::Bundle(b)), Some(e)) => b
+                .entries
+                .get(e)
+                .cloned()
+                .ok_or_else(|| format!("the bundle has no entry `{e}`"))?,
+            (Some(geode_op::Value::Bundle(b)), None) => b
+                .entries
+                .values()
+                .next()
+                .cloned()
+                .ok_or("the bundle is empty")?,
+            _ => return Err("the viewed node has no geometry".into()),
+        };
+        let mut j = sheet::window(&geo, class, start, count);
+        j["generation"] = json!(last.generation);
+        j["node"] = json!(last.node);
+        Ok(j)
+    }
+}

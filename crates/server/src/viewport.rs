@@ -1,0 +1,407 @@
+//! Geometry for the browser's viewport as one binary message of typed arrays: polygons as triangles, polylines, loose points, `N` and `Cd`, packed instances as one prototype plus a matrix per instance.
+//!
+//! Layout: `GEO1`, a little-endian u32 header length, the JSON header
+//! (padded to 4 bytes), then the arrays, each at a 4-byte aligned offset the
+//! header names (`[byte offset, element count]`), so the browser views them
+//! without copying.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use geode_geo::ops::{bounds, Aabb};
+use geode_geo::{AttribClass, AttribData, Geometry, PrimKind};
+use geode_op::Value;
+use glam::{Mat4, Vec3};
+use serde_json::{json, Value as Json};
+
+pub const MAGIC: &[u8; 4] = b"GEO1";
+
+/// The bytes a geometry's viewport encoding may take before it is refused
+/// (the browser must hold it too).
+pub const MAX_BYTES: usize = 1 << 30;
+
+/// Pads to a multiple of 4 bytes (typed arrays need aligned offsets).
+fn pad4(bytes: &mut Vec<u8>, fill: u8) {
+    bytes.resize(bytes.len().next_multiple_of(4), fill);
+}
+
+/// Arrays appended at aligned offsets.
+#[derive(Default)]
+struct Arrays {
+    bytes: Vec<u8>,
+}
+
+impl Arrays {
+    fn push<T: bytemuck::Pod>(&mut self, items: &[T], per_item: usize) -> Json {
+        let offset = self.bytes.len();
+        self.bytes.extend_from_slice(bytemuck::cast_slice(items));
+        pad4(&mut self.bytes, 0);
+        debug_assert_eq!(std::mem::size_of_val(items) / 4 % per_item, 0);
+        json!([offset, std::mem::size_of_val(items) / 4])
+    }
+}
+
+/// A vec3 (or the rgb of a vec4) attribute column as `Vec3`s.
+fn vec3_column(data: &AttribData) -> Option<Vec<Vec3>> {
+    match data {
+        AttribData::Vec3(v) => Some(v.clone()),
+        AttribData::Vec4(v) => Some(v.iter().map(|c| c.truncate()).collect()),
+        _ => None,
+    }
+}
+
+/// Where a display attribute lives and its values.
+struct Source {
+    class: AttribClass,
+    values: Vec<Vec3>,
+}
+
+fn display_attrib(g: &Geometry, name: &str) -> Option<Source> {
+    [
+        AttribClass::Vertex,
+        AttribClass::Point,
+        AttribClass::Primitive,
+        AttribClass::Detail,
+    ]
+    .into_iter()
+    .find_map(|class| {
+        let a = g.attrib(class, name)?;
+        Some(Source {
+            class,
+            values: vec3_column(a.data())?,
+        })
+    })
+}
+
+impl Source {
+    /// The value at a corner (vertex `v` of primitive `prim` on point `pt`).
+    fn at(&self, prim: usize, v: usize, pt: usize) -> Vec3 {
+        let i = match self.class {
+            AttribClass::Point => pt,
+            AttribClass::Vertex => v,
+            AttribClass::Primitive => prim,
+            AttribClass::Detail => 0,
+        };
+        self.values.get(i).copied().unwrap_or(Vec3::ONE)
+    }
+}
+
+/// Corner lists of the fan triangles of every polygon: (prim, vertex, point).
+fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
+    let vp = g.vertex_points();
+    let mut tris = Vec::new();
+    for prim in 0..g.num_prims() {
+        if g.prim_kind(prim) != PrimKind::Polygon {
+            continue;
+        }
+        let r = g.prim_vertex_range(prim);
+        let c = |v: usize| (prim as u32, v as u32, vp[v]);
+        for k in r.start + 1..r.end.saturating_sub(1) {
+            tris.push([c(r.start), c(k), c(k + 1)]);
+        }
+    }
+    tris
+}
+
+/// One drawable part of a geometry (packed instances aside).
+fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
+    let mut part = serde_json::Map::new();
+    part.insert("name".into(), json!(name));
+    let normals = display_attrib(g, "N");
+    let colors = display_attrib(g, "Cd");
+    let tris = triangle_corners(g);
+    let per_corner = |s: &Option<Source>| {
+        s.as_ref()
+            .is_some_and(|s| matches!(s.class, AttribClass::Vertex | AttribClass::Primitive))
+    };
+    let p = g.positions();
+    if per_corner(&normals) || per_corner(&colors) {
+        // Values that differ per corner: every triangle corner gets its own.
+        let corners = || tris.iter().flatten();
+        let pos: Vec<Vec3> = corners().map(|c| p[c.2 as usize]).collect();
+        part.insert("corners".into(), arrays.push(&pos, 3));
+        for (key, src) in [("cornerNormals", &normals), ("cornerColors", &colors)] {
+            if let Some(s) = src {
+                let v: Vec<Vec3> = corners()
+                    .map(|c| s.at(c.0 as usize, c.1 as usize, c.2 as usize))
+                    .collect();
+                part.insert(key.into(), arrays.push(&v, 3));
+            }
+        }
+    } else if !tris.is_empty() {
+        let idx: Vec<u32> = tris.iter().flatten().map(|c| c.2).collect();
+        part.insert("triangles".into(), arrays.push(&idx, 1));
+    }
+    part.insert("positions".into(), arrays.push(p, 3));
+    for (key, src) in [("normals", &normals), ("colors", &colors)] {
+        match src {
+            Some(s) if s.class == AttribClass::Point => {
+                part.insert(key.into(), arrays.push(&s.values, 3));
+            }
+            Some(s) if s.class == AttribClass::Detail => {
+                let c = s.values.first().copied().unwrap_or(Vec3::ONE);
+                part.insert(format!("{key}Uniform"), json!([c.x, c.y, c.z]));
+            }
+            _ => {}
+        }
+    }
+    let (lines, loose) = lines_and_loose_points(g);
+    if !lines.is_empty() {
+        part.insert("lines".into(), arrays.push(&lines, 2));
+    }
+    if !loose.is_empty() {
+        part.insert("points".into(), arrays.push(&loose, 1));
+    }
+    Json::Object(part)
+}
+
+/// Segments of every polyline (and patch hulls), and the points no primitive uses.
+fn lines_and_loose_points(g: &Geometry) -> (Vec<u32>, Vec<u32>) {
+    let mut used = vec![false; g.num_points()];
+    let mut lines = Vec::new();
+    for prim in 0..g.num_prims() {
+        let pts = g.prim_points(prim);
+        for &q in pts {
+            used[q as usize] = true;
+        }
+        if matches!(g.prim_kind(prim), PrimKind::Polyline | PrimKind::Patch(_)) {
+            for w in pts.windows(2) {
+                lines.extend_from_slice(w);
+            }
+        }
+    }
+    let loose = (0..g.num_points() as u32)
+        .filter(|&i| !used[i as usize])
+        .collect();
+    (lines, loose)
+}
+
+/// The instances of every distinct prototype (nested packs flattened).
+fn collect_instances(
+    g: &Geometry,
+    parent: Mat4,
+    out: &mut Vec<(Arc<Geometry>, Vec<Mat4>)>,
+    index: &mut HashMap<*const Geometry, usize>,
+) {
+    for prim in 0..g.num_prims() {
+        let (Some(inst), Some(m)) = (g.packed_instance(prim), g.packed_world_transform(prim))
+        else {
+            continue;
+        };
+        let world = parent * m;
+        let key = Arc::as_ptr(&inst.source);
+        let slot = *index.entry(key).or_insert_with(|| {
+            out.push((inst.source.clone(), Vec::new()));
+            out.len() - 1
+        });
+        out[slot].1.push(world);
+        if inst.source.has_packed() {
+            collect_instances(&inst.source, world, out, index);
+        }
+    }
+}
+
+/// Estimated encoding size, to refuse before allocating.
+fn estimate(g: &Geometry) -> usize {
+    g.num_points() * 40 + g.num_vertices() * 80 + g.packed_instances().len() * 64
+}
+
+/// Why a value cannot be shown.
+#[derive(Debug, thiserror::Error)]
+pub enum ShowError {
+    #[error(
+        "the result would take {0} for the viewport (limit {1}); view an earlier node or reduce it"
+    )]
+    TooLarge(String, String),
+    #[error("a field has no geometry to draw: mesh it with a polygonise node to see it")]
+    Field,
+}
+
+/// Encodes a value for the viewport: the header's parts and stats, and the message bytes.
+pub fn encode(value: &Value, header_extra: Json) -> Result<Vec<u8>, ShowError> {
+    let geos: Vec<(String, Arc<Geometry>)> = match value {
+        Value::Geometry(g) => vec![(String::new(), g.clone())],
+        Value::Bundle(b) => b
+            .entries
+            .iter()
+            .map(|(n, g)| (n.clone(), g.clone()))
+            .collect(),
+        _ => return Err(ShowError::Field),
+    };
+    let size: usize = geos.iter().map(|(_, g)| estimate(g)).sum();
+    if size > MAX_BYTES {
+        let h = |b: usize| geode_op::human_bytes(b as f64);
+        return Err(ShowError::TooLarge(h(size), h(MAX_BYTES)));
+    }
+    let mut arrays = Arrays::default();
+    let mut parts = Vec::new();
+    let mut bbox = Aabb::empty();
+    for (name, g) in &geos {
+        if let Some(b) = bounds(g) {
+            bbox = bbox.union(&b);
+        }
+        parts.push(encode_part(g, name, &mut arrays));
+        let mut protos = Vec::new();
+        collect_instances(g, Mat4::IDENTITY, &mut protos, &mut HashMap::new());
+        for (k, (proto, mats)) in protos.iter().enumerate() {
+            let mut part = encode_part(proto, &format!("{name}#proto{k}"), &mut arrays);
+            let flat: Vec<f32> = mats.iter().flat_map(|m| m.to_cols_array()).collect();
+            part["instances"] = arrays.push(&flat, 16);
+            let pb = bounds(proto).unwrap_or(Aabb::empty());
+            part["protoBounds"] = json!([pb.min.to_array(), pb.max.to_array()]);
+            parts.push(part);
+        }
+    }
+    let mut header = header_extra;
+    header["parts"] = Json::Array(parts);
+    header["bounds"] = if bbox.is_empty() {
+        Json::Null
+    } else {
+        json!([bbox.min.to_array(), bbox.max.to_array()])
+    };
+    let mut head = serde_json::to_vec(&header).expect("headers serialise");
+    pad4(&mut head, b' ');
+    let mut out = Vec::with_capacity(8 + head.len() + arrays.bytes.len());
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&(head.len() as u32).to_le_bytes());
+    out.extend_from_slice(&head);
+    out.extend_from_slice(&arrays.bytes);
+    Ok(out)
+}
+
+/// Counts, bounds and memory of a value (the viewport's readout).
+pub fn stats(value: &Value) -> Json {
+    match value {
+        Value::Geometry(g) => geometry_stats(g),
+        Value::Bundle(b) => json!({
+            "bundle": b.entries.iter().map(|(n, g)| (n.clone(), geometry_stats(g))).collect::<serde_json::Map<_, _>>(),
+        }),
+        _ => json!({"field": true}),
+    }
+}
+
+pub fn geometry_stats(g: &Geometry) -> Json {
+    let mut kinds: HashMap<&str, usize> = HashMap::new();
+    for k in g.prim_kinds() {
+        *kinds.entry(k.name()).or_default() += 1;
+    }
+    let b = bounds(g);
+    json!({
+        "points": g.num_points(),
+        "vertices": g.num_vertices(),
+        "primitives": g.num_prims(),
+        "kinds": kinds,
+        "bounds": b.map(|b| json!([b.min.to_array(), b.max.to_array()])),
+        "memory": g.memory_bytes(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geode_geo::{AttribValue, Attribute, TypeInfo};
+    use glam::Vec3;
+
+    /// The header and the arrays of an encoded message.
+    fn decode(bytes: &[u8]) -> (Json, &[u8]) {
+        assert_eq!(&bytes[..4], MAGIC);
+        let n = u32::from_le_bytes(bytes[4..8].try_into().unwrap()) as usize;
+        assert_eq!(n % 4, 0);
+        (
+            serde_json::from_slice(&bytes[8..8 + n]).unwrap(),
+            &bytes[8 + n..],
+        )
+    }
+
+    fn floats(body: &[u8], at: &Json) -> Vec<f32> {
+        let (off, len) = (
+            at[0].as_u64().unwrap() as usize,
+            at[1].as_u64().unwrap() as usize,
+        );
+        assert_eq!(off % 4, 0);
+        bytemuck::cast_slice::<u8, f32>(&body[off..off + len * 4]).to_vec()
+    }
+
+    fn uints(body: &[u8], at: &Json) -> Vec<u32> {
+        let (off, len) = (
+            at[0].as_u64().unwrap() as usize,
+            at[1].as_u64().unwrap() as usize,
+        );
+        bytemuck::cast_slice::<u8, u32>(&body[off..off + len * 4]).to_vec()
+    }
+
+    fn quad() -> Geometry {
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
+        Geometry::from_polygons(p, vec![0, 1, 2, 3], &[4]).unwrap()
+    }
+
+    #[test]
+    fn polygons_become_fan_triangles_over_shared_points() {
+        let bytes = encode(&Value::Geometry(Arc::new(quad())), json!({"generation": 3})).unwrap();
+        let (h, body) = decode(&bytes);
+        assert_eq!(h["generation"], 3);
+        let part = &h["parts"][0];
+        assert_eq!(uints(body, &part["triangles"]), vec![0, 1, 2, 0, 2, 3]);
+        assert_eq!(floats(body, &part["positions"])[3..6], [1.0, 0.0, 0.0]);
+        assert_eq!(h["bounds"], json!([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]]));
+        assert!(part.get("corners").is_none());
+    }
+
+    #[test]
+    fn primitive_colours_are_expanded_per_corner() {
+        let mut g = quad();
+        g.set_attrib(
+            AttribClass::Primitive,
+            "Cd",
+            Attribute::new(
+                AttribValue::Vec3(Vec3::new(1.0, 0.0, 0.0)),
+                TypeInfo::Color,
+                1,
+            ),
+        )
+        .unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let (h, body) = decode(&bytes);
+        let part = &h["parts"][0];
+        assert_eq!(floats(body, &part["corners"]).len(), 6 * 3);
+        assert_eq!(
+            floats(body, &part["cornerColors"]),
+            [1.0, 0.0, 0.0].repeat(6)
+        );
+    }
+
+    #[test]
+    fn packed_instances_are_one_prototype_and_a_matrix_each() {
+        let proto = Arc::new(quad());
+        let mut g = Geometry::new();
+        for x in 0..3 {
+            let pt = g.add_point(Vec3::new(x as f32 * 2.0, 0.0, 0.0));
+            g.add_packed(pt, proto.clone(), glam::Mat4::IDENTITY)
+                .unwrap();
+        }
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let (h, body) = decode(&bytes);
+        let parts = h["parts"].as_array().unwrap();
+        assert_eq!(parts.len(), 2, "the host part and one prototype");
+        let m = floats(body, &parts[1]["instances"]);
+        assert_eq!(m.len(), 3 * 16);
+        assert_eq!(m[16 + 12], 2.0, "the second instance's translation x");
+        assert_eq!(uints(body, &parts[1]["triangles"]).len(), 6);
+        assert_eq!(h["bounds"][1][0], 5.0);
+    }
+
+    #[test]
+    fn polylines_and_loose_points() {
+        let mut g = Geometry::new();
+        let a = g.add_point(Vec3::ZERO);
+        let b = g.add_point(Vec3::X);
+        let c = g.add_point(Vec3::Y);
+        g.add_point(Vec3::Z);
+        g.add_polyline(&[a, b, c]).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let (h, body) = decode(&bytes);
+        let part = &h["parts"][0];
+        assert_eq!(uints(body, &part["lines"]), vec![0, 1, 1, 2]);
+        assert_eq!(uints(body, &part["points"]), vec![3]);
+    }
+}

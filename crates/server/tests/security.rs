@@ -1,0 +1,246 @@
+//! Security of `geode serve`: the token on every request and on the socket, `Host` and `Origin` checks, bounded messages, loopback by default.
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+
+use geode_server::{start, Options, Running};
+use tokio_tungstenite::tungstenite::{self, client::IntoClientRequest, http::HeaderValue, Message};
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn server() -> (Running, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("primitives.json");
+    std::fs::copy(example("primitives.json"), &net).unwrap();
+    let running = start(Options {
+        network: Some(net),
+        port: 0,
+        bind: None,
+    })
+    .unwrap();
+    (running, dir)
+}
+
+/// A raw HTTP/1.1 GET with the given headers; the status code and body.
+fn get(r: &Running, path: &str, headers: &[(&str, String)]) -> (u16, String) {
+    let mut s = TcpStream::connect(r.addr).unwrap();
+    let mut req = format!("GET {path} HTTP/1.1\r\nConnection: close\r\n");
+    for (k, v) in headers {
+        req.push_str(&format!("{k}: {v}\r\n"));
+    }
+    req.push_str("\r\n");
+    s.write_all(req.as_bytes()).unwrap();
+    let mut out = Vec::new();
+    s.read_to_end(&mut out).unwrap();
+    let text = String::from_utf8_lossy(&out).into_owned();
+    let status = text[9..12].parse().unwrap();
+    let body = text
+        .split_once("\r\n\r\n")
+        .map(|x| x.1.to_owned())
+        .unwrap_or_default();
+    (status, body)
+}
+
+fn host(r: &Running) -> (&'static str, String) {
+    ("Host", format!("127.0.0.1:{}", r.addr.port()))
+}
+
+#[test]
+fn the_default_address_is_loopback() {
+    let (r, _d) = server();
+    assert!(r.addr.ip().is_loopback());
+    assert!(r.url.starts_with("http://127.0.0.1:"));
+    assert!(r.url.contains(&format!("token={}", r.token)));
+    assert_eq!(r.token.len(), 32);
+}
+
+#[test]
+fn requests_without_the_right_token_are_refused() {
+    let (r, _d) = server();
+    let (status, body) = get(&r, "/", &[host(&r)]);
+    assert_eq!(status, 401, "{body}");
+    assert!(body.contains("token"));
+    assert_eq!(
+        get(&r, "/?token=0123456789abcdef0123456789abcdef", &[host(&r)]).0,
+        401
+    );
+    assert_eq!(
+        get(
+            &r,
+            "/api/catalogue",
+            &[host(&r), ("X-Geode-Token", "nope".into())]
+        )
+        .0,
+        401
+    );
+    assert_eq!(
+        get(
+            &r,
+            "/api/state",
+            &[host(&r), ("Cookie", "geode_token=wrong".into())]
+        )
+        .0,
+        401
+    );
+    // The right token, three ways.
+    assert_eq!(get(&r, &format!("/?token={}", r.token), &[host(&r)]).0, 200);
+    assert_eq!(
+        get(
+            &r,
+            "/api/catalogue",
+            &[host(&r), ("X-Geode-Token", r.token.clone())]
+        )
+        .0,
+        200
+    );
+    let (status, body) = get(
+        &r,
+        "/api/state",
+        &[host(&r), ("Cookie", format!("geode_token={}", r.token))],
+    );
+    assert_eq!(status, 200);
+    assert!(body.contains("\"document\""));
+}
+
+#[test]
+fn foreign_hosts_and_origins_are_refused() {
+    let (r, _d) = server();
+    let auth = ("X-Geode-Token", r.token.clone());
+    let port = r.addr.port();
+    // DNS rebinding: the attacker's name resolving to 127.0.0.1.
+    let (status, body) = get(
+        &r,
+        "/api/state",
+        &[("Host", format!("evil.example:{port}")), auth.clone()],
+    );
+    assert_eq!(status, 403, "{body}");
+    assert_eq!(
+        get(&r, "/api/state", std::slice::from_ref(&auth)).0,
+        403,
+        "no Host at all"
+    );
+    let (status, body) = get(
+        &r,
+        "/api/state",
+        &[
+            host(&r),
+            auth.clone(),
+            ("Origin", "http://evil.example".into()),
+        ],
+    );
+    assert_eq!(status, 403, "{body}");
+    assert_eq!(
+        get(
+            &r,
+            "/api/state",
+            &[
+                host(&r),
+                auth.clone(),
+                ("Origin", format!("http://127.0.0.1:{}", port + 1))
+            ]
+        )
+        .0,
+        403
+    );
+    assert_eq!(
+        get(
+            &r,
+            "/api/state",
+            &[
+                host(&r),
+                auth.clone(),
+                ("Origin", format!("http://localhost:{port}"))
+            ]
+        )
+        .0,
+        200
+    );
+    assert_eq!(
+        get(
+            &r,
+            "/api/state",
+            &[("Host", format!("localhost:{port}")), auth]
+        )
+        .0,
+        200
+    );
+}
+
+fn ws_request(
+    r: &Running,
+    token: Option<&str>,
+    origin: Option<&str>,
+) -> tungstenite::handshake::client::Request {
+    let url = match token {
+        Some(t) => format!("ws://127.0.0.1:{}/ws?token={t}", r.addr.port()),
+        None => format!("ws://127.0.0.1:{}/ws", r.addr.port()),
+    };
+    let mut req = url.into_client_request().unwrap();
+    if let Some(o) = origin {
+        req.headers_mut()
+            .insert("Origin", HeaderValue::from_str(o).unwrap());
+    }
+    req
+}
+
+fn refused_status(e: tungstenite::Error) -> u16 {
+    match e {
+        tungstenite::Error::Http(resp) => resp.status().as_u16(),
+        other => panic!("expected an HTTP refusal, got {other}"),
+    }
+}
+
+#[test]
+fn the_socket_needs_the_token_and_the_studio_origin() {
+    let (r, _d) = server();
+    let connect = |req| {
+        tungstenite::connect(req)
+            .map(|_| ())
+            .map_err(refused_status)
+    };
+    assert_eq!(connect(ws_request(&r, None, None)), Err(401));
+    assert_eq!(connect(ws_request(&r, Some("bad"), None)), Err(401));
+    assert_eq!(
+        connect(ws_request(&r, Some(&r.token), Some("http://evil.example"))),
+        Err(403)
+    );
+    let own = format!("http://127.0.0.1:{}", r.addr.port());
+    let (mut ws, _) = tungstenite::connect(ws_request(&r, Some(&r.token), Some(&own))).unwrap();
+    // The first message is the session's state.
+    let first = ws.read().unwrap();
+    assert!(first.to_text().unwrap().contains("\"type\":\"state\""));
+}
+
+#[test]
+fn an_oversized_message_closes_the_socket_unanswered() {
+    let (r, _d) = server();
+    let (mut ws, _) = tungstenite::connect(ws_request(&r, Some(&r.token), None)).unwrap();
+    let big = format!(
+        r#"{{"op":"edit","id":1,"edit":{{"kind":"set_param","path":"/box","param":"size","value":"{}"}}}}"#,
+        "x".repeat(geode_server::MAX_MESSAGE + 1)
+    );
+    let _ = ws.send(Message::text(big));
+    loop {
+        match ws.read() {
+            Ok(Message::Text(t)) => assert!(
+                !t.contains("\"type\":\"reply\""),
+                "the oversized request was answered: {t}"
+            ),
+            Ok(Message::Close(_)) | Err(_) => break,
+            Ok(_) => {}
+        }
+    }
+    // The session is untouched.
+    let (status, body) = get(
+        &r,
+        "/api/state",
+        &[host(&r), ("X-Geode-Token", r.token.clone())],
+    );
+    assert_eq!(status, 200);
+    assert!(!body.contains("xxxxxxxx"));
+}

@@ -1,0 +1,326 @@
+//! The live session: edits checked as the loader checks files, wires and names kept consistent, keys, undo and redo, slider drags as one step, saving in `geode fmt`'s form.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use geode_graph::Document;
+use geode_server::edits::{apply, Edit};
+use geode_server::Session;
+use serde_json::{json, Value};
+
+fn example(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn registry() -> Arc<geode_op::Registry> {
+    Arc::new(geode_nodes::registry())
+}
+
+fn edit(j: Value) -> Edit {
+    serde_json::from_value(j).unwrap()
+}
+
+fn doc(name: &str) -> Document {
+    Document::from_json(&std::fs::read_to_string(example(name)).unwrap()).unwrap()
+}
+
+#[test]
+fn adding_names_nodes_as_houdini_does_and_refuses_unknown_types() {
+    let r = registry();
+    let d = apply(
+        &doc("coral.json"),
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "box"})),
+        &r,
+    )
+    .unwrap();
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "box", "pos": [10, 20]})),
+        &r,
+    )
+    .unwrap();
+    assert!(d.network.nodes.contains_key("box1") && d.network.nodes.contains_key("box2"));
+    assert_eq!(
+        d.network.nodes["box2"].extra["ui"]["pos"],
+        json!([10.0, 20.0])
+    );
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "boxx"})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/: unknown node type `boxx` (did you mean `box`?)"
+    );
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "add_node", "parent": "/nowhere", "type": "box"})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(e.to_string(), "/nowhere: no such subnetwork");
+}
+
+#[test]
+fn renaming_rewires_inputs_output_and_promotions() {
+    let r = registry();
+    let d = apply(
+        &doc("coral.json"),
+        &edit(json!({"kind": "rename", "path": "/both", "name": "result"})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(d.network.output.as_deref(), Some("result"));
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "rename", "path": "/grow", "name": "branches"})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(
+        d.network.nodes["tubes"].inputs,
+        vec![Some("branches".to_owned())]
+    );
+    assert!(geode_graph::Network::load(&d, &r).is_ok());
+    let d = apply(
+        &doc("rig.json"),
+        &edit(json!({"kind": "rename", "path": "/rig/raise", "name": "lifted"})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(d.network.nodes["rig"].promote["lift"], "lifted/translate");
+    assert!(geode_graph::Network::load(&d, &r).is_ok());
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "rename", "path": "/rig", "name": "9lives"})),
+        &r,
+    )
+    .unwrap_err();
+    assert!(e.message.contains("is not a node name"), "{e}");
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "rename", "path": "/rig", "name": "plate"})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(e.message, "a node named `plate` exists");
+}
+
+#[test]
+fn wires_refuse_cycles_and_mismatched_ports() {
+    let r = registry();
+    let d = doc("coral.json");
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "connect", "from": "/both", "to": "/grow", "input": 0})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/grow: wiring `both` into it would make a cycle"
+    );
+    // A field into a geometry input.
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "connect", "from": "/skeleton", "to": "/beside", "input": 0})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/beside: input 1 takes geometry, but `skeleton` produces field"
+    );
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "connect", "from": "/crown", "to": "/smooth", "input": 0})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(
+        d.network.nodes["smooth"].inputs,
+        vec![Some("crown".to_owned())]
+    );
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "disconnect", "to": "/both", "input": 1})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(
+        d.network.nodes["both"].inputs,
+        vec![Some("tubes".to_owned())]
+    );
+}
+
+#[test]
+fn removing_a_node_drops_its_wires_and_the_output() {
+    let r = registry();
+    let d = apply(
+        &doc("coral.json"),
+        &edit(json!({"kind": "remove_nodes", "paths": ["/grow", "/both"]})),
+        &r,
+    )
+    .unwrap();
+    assert!(d.network.nodes["tubes"].inputs.is_empty());
+    assert_eq!(d.network.output, None);
+}
+
+#[test]
+fn parameters_are_checked_by_the_loader_not_refused() {
+    let r = registry();
+    let mut s = Session::open(Some(&example("coral.json")), r).unwrap();
+    s.edit(
+        &edit(json!({"kind": "set_param", "path": "/grow", "param": "kill", "value": -1})),
+        false,
+    )
+    .unwrap();
+    let problems = s.problems();
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert_eq!(problems[0]["path"], "/grow");
+    assert_eq!(problems[0]["param"], "kill");
+    assert!(problems[0]["message"]
+        .as_str()
+        .unwrap()
+        .contains("below the minimum"));
+    // An unknown parameter names nothing: refused.
+    let e = s
+        .edit(
+            &edit(json!({"kind": "set_param", "path": "/grow", "param": "kil", "value": 1})),
+            false,
+        )
+        .unwrap_err();
+    assert_eq!(e.to_string(), "/grow: has no parameter `kil`");
+    s.edit(
+        &edit(json!({"kind": "set_param", "path": "/grow", "param": "kill", "value": null})),
+        false,
+    )
+    .unwrap();
+    assert!(s.network().is_ok());
+    assert!(!s.document().network.nodes["grow"]
+        .params
+        .contains_key("kill"));
+}
+
+#[test]
+fn keys_turn_constants_into_channels_and_back() {
+    let r = registry();
+    let mut s = Session::open(Some(&example("coral.json")), r).unwrap();
+    let key = |frame: f64, value: f64| {
+        edit(
+            json!({"kind": "set_key", "path": "/beside", "param": "translate", "component": 1, "frame": frame, "value": value}),
+        )
+    };
+    s.edit(&key(1.0, 0.0), false).unwrap();
+    s.edit(&key(24.0, 2.0), false).unwrap();
+    s.edit(&key(24.0, 3.0), false).unwrap();
+    let t = &s.document().network.nodes["beside"].params["translate"];
+    assert_eq!(t[0], json!(3));
+    assert_eq!(
+        t[1],
+        json!({"keys": [{"frame": 1.0, "value": 0.0}, {"frame": 24.0, "value": 3.0}]})
+    );
+    let net = s.network().as_ref().unwrap();
+    assert!(net.is_animated("/beside"));
+    let del = |frame: f64| {
+        edit(
+            json!({"kind": "delete_key", "path": "/beside", "param": "translate", "component": 1, "frame": frame}),
+        )
+    };
+    s.edit(&del(1.0), false).unwrap();
+    s.edit(&del(24.0), false).unwrap();
+    assert_eq!(
+        s.document().network.nodes["beside"].params["translate"],
+        json!([3, 3.0, 0])
+    );
+    let e = s.edit(&del(5.0), false).unwrap_err();
+    assert!(e.message.contains("not animated"), "{e}");
+}
+
+#[test]
+fn undo_redo_and_a_drag_as_one_step() {
+    let r = registry();
+    let mut s = Session::open(Some(&example("coral.json")), r).unwrap();
+    let original = s.document().clone();
+    let set =
+        |v: f64| edit(json!({"kind": "set_param", "path": "/grow", "param": "step", "value": v}));
+    s.edit(&set(0.06), false).unwrap();
+    s.edit(&set(0.07), true).unwrap();
+    s.edit(&set(0.08), true).unwrap();
+    assert!(s.is_dirty());
+    assert!(s.undo());
+    assert_eq!(s.document(), &original, "the drag undoes as one step");
+    assert!(!s.is_dirty());
+    assert!(!s.undo());
+    assert!(s.redo());
+    assert_eq!(
+        s.document().network.nodes["grow"].params["step"],
+        json!(0.08)
+    );
+    // A new edit clears the redo stack.
+    s.edit(&set(0.05), false).unwrap();
+    assert!(!s.redo());
+}
+
+#[test]
+fn save_writes_what_geode_fmt_writes_and_keeps_unknown_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("coral.json");
+    let mut text = std::fs::read_to_string(example("coral.json")).unwrap();
+    text = text.replacen(
+        "\"version\": 1,",
+        "\"version\": 1, \"studio_future\": {\"x\": 1},",
+        1,
+    );
+    std::fs::write(&path, &text).unwrap();
+    let mut s = Session::open(Some(&path), registry()).unwrap();
+    s.edit(
+        &edit(json!({"kind": "move", "positions": {"/grow": [12.34, 56.78]}})),
+        false,
+    )
+    .unwrap();
+    assert!(s.is_dirty());
+    s.save(None).unwrap();
+    assert!(!s.is_dirty());
+    let saved = std::fs::read_to_string(&path).unwrap();
+    // `geode fmt` is: parse, then write the document's canonical JSON.
+    assert_eq!(Document::from_json(&saved).unwrap().to_json(), saved);
+    assert!(saved.contains("\"studio_future\""));
+    assert!(
+        saved.contains("\"pos\": [\n          12.3,\n          56.8\n        ]"),
+        "{saved}"
+    );
+    let e = s.save(Some(&dir.path().join("x.txt"))).unwrap_err();
+    assert!(e.to_string().contains("ends in .json"));
+    let other = dir.path().join("copy.json");
+    s.save(Some(&other)).unwrap();
+    assert_eq!(s.path(), Some(other.as_path()));
+}
+
+#[test]
+fn paste_renames_collisions_and_keeps_inner_wires_only() {
+    let r = registry();
+    let d = doc("coral.json");
+    let nodes = json!({
+        "grow": d.network.nodes["grow"],
+        "tubes": d.network.nodes["tubes"],
+    });
+    let d2 = apply(
+        &d,
+        &edit(json!({"kind": "paste", "parent": "/", "nodes": nodes, "offset": [30, 30]})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(
+        d2.network.nodes["tubes1"].inputs,
+        vec![Some("grow1".to_owned())]
+    );
+    assert!(
+        d2.network.nodes["grow1"].inputs.is_empty(),
+        "wires from outside the copy are dropped"
+    );
+}

@@ -1,0 +1,94 @@
+// Test harness: starts a real `geode serve` on a copy of an example network and drives Debian's Chromium with playwright-core.
+
+import { spawn } from 'node:child_process';
+import { cpSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { dirname, join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+export const repo = resolve(here, '../..');
+export const geodeBin = process.env.GEODE_BIN ?? join(repo, 'target/debug/geode');
+export const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+
+/**
+ * Copies `examples/` to a fresh folder (so saves never touch the repository), adds `files`
+ * (name to text), and serves `name` from it.
+ */
+export async function serve(name, extraArgs = [], files = {}) {
+  const dir = mkdtempSync(join(tmpdir(), 'geode-studio-'));
+  cpSync(join(repo, 'examples'), dir, { recursive: true });
+  for (const [file, text] of Object.entries(files)) writeFileSync(join(dir, file), text);
+  const network = join(dir, name);
+  const proc = spawn(geodeBin, ['serve', network, '--port', '0', ...extraArgs], { stdio: ['ignore', 'pipe', 'pipe'] });
+  let stderr = '';
+  proc.stderr.on('data', (d) => (stderr += d));
+  const url = await new Promise((resolveUrl, reject) => {
+    let out = '';
+    proc.stdout.on('data', (d) => {
+      out += d;
+      const m = /geode studio: (\S+)/.exec(out);
+      if (m) resolveUrl(m[1]);
+    });
+    proc.on('exit', (code) => reject(new Error(`geode serve exited (${code}): ${stderr}`)));
+    setTimeout(() => reject(new Error(`geode serve printed no URL: ${stderr}`)), 60_000);
+  });
+  return {
+    url,
+    dir,
+    network,
+    proc,
+    stderr: () => stderr,
+    async stop() {
+      proc.kill('SIGTERM');
+      await new Promise((r) => (proc.exitCode !== null ? r() : proc.on('exit', r)));
+      rmSync(dir, { recursive: true, force: true });
+    },
+  };
+}
+
+export async function browser() {
+  // playwright gives the browser a fresh, empty profile of its own.
+  const b = await chromium.launch({
+    executablePath: chromiumPath,
+    headless: true,
+    args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking', '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+  });
+  return {
+    b,
+    async close() {
+      await b.close();
+    },
+  };
+}
+
+/** Opens the studio and waits until it drew its first result. */
+export async function open(b, url, { width = 1400, height = 900 } = {}) {
+  const page = await b.newPage({ viewport: { width, height } });
+  const errors = [];
+  page.on('pageerror', (e) => errors.push(String(e)));
+  await page.goto(url);
+  await page.waitForFunction(() => window.__geode?.store.catalogue.size > 0 && window.__geode.store.state);
+  return { page, errors };
+}
+
+/** Waits for a cook newer than `after` (a generation) to be drawn or to fail; returns the cook message. */
+export async function nextCook(page, after, timeout = 60_000) {
+  await page.waitForFunction(
+    (g) => {
+      const c = window.__geode.store.cooked;
+      if (!c || c.generation <= g) return false;
+      return !c.hasGeometry || window.__geode.drawn?.generation === c.generation;
+    },
+    after,
+    { timeout },
+  );
+  return page.evaluate(() => window.__geode.store.cooked);
+}
+
+/** An example network's text. */
+export const example = (name) => readFileSync(join(repo, 'examples', name), 'utf8');
+
+export const generation = (page) => page.evaluate(() => window.__geode.store.cooked?.generation ?? 0);
+export const drawn = (page) => page.evaluate(() => window.__geode.drawn);

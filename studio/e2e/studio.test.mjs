@@ -1,0 +1,269 @@
+// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
+
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import { readFileSync, writeFileSync, copyFileSync } from 'node:fs';
+import { after, before, describe, test } from 'node:test';
+import { browser, drawn, generation, geodeBin, nextCook, open, serve } from './harness.mjs';
+
+let chrome;
+before(async () => {
+  chrome = await browser();
+});
+after(async () => {
+  await chrome?.close();
+});
+
+/** Clicks a node of the editor by name. */
+async function clickNode(page, name) {
+  // Right of the labels and left of the display flag, at any zoom.
+  const box = await page.locator(`g.node[data-node="${name}"] rect.body`).boundingBox();
+  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
+}
+
+/** Types into a parameter's first text field and commits it with Enter. */
+async function setParam(page, param, text, index = 0) {
+  const field = page.locator(`.param[data-param="${param}"] input[type=text]`).nth(index);
+  await field.fill(text);
+  await field.press('Enter');
+}
+
+describe('the coral', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('coral.json');
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0, 120_000);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('a space-colonization parameter edited in the panel changes the drawn geometry', async () => {
+    await clickNode(page, 'grow');
+    await page.waitForSelector('.param[data-param="kill"]');
+    const before = await drawn(page);
+    const g = await generation(page);
+    await setParam(page, 'step', '0.09');
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    const now = await drawn(page);
+    assert.notEqual(now.checksum, before.checksum, 'the viewport shows new geometry');
+    const doc = await page.evaluate(() => window.__geode.store.state.document.nodes.grow.params.step);
+    assert.equal(doc, 0.09);
+  });
+
+  test('a bad value shows the node error, and fixing it clears it', async () => {
+    await clickNode(page, 'grow');
+    let g = await generation(page);
+    await setParam(page, 'kill', '-1');
+    await nextCook(page, g);
+    await page.waitForSelector('g.node.error[data-node="grow"]');
+    const message = await page.locator('.param[data-param="kill"] .param-error').textContent();
+    assert.match(message, /below the minimum/);
+    g = await generation(page);
+    await setParam(page, 'kill', '0.1');
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok);
+    assert.equal(await page.locator('g.node.error').count(), 0);
+  });
+
+  test('Tab menu creates a node, a drag wires it, undo and redo', async () => {
+    const count = () => page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes).length);
+    const n0 = await count();
+    await page.locator('#editor svg').hover({ position: { x: 60, y: 60 } });
+    await page.keyboard.press('Tab');
+    await page.locator('.tab-menu input').fill('box');
+    await page.locator('.tab-item[data-type="box"]').waitFor();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction((n) => Object.keys(window.__geode.store.state.document.nodes).length === n + 1, n0);
+    const name = await page.evaluate(() => Object.entries(window.__geode.store.state.document.nodes).find(([, n]) => n.type === 'box')[0]);
+    // Drag from the box's output to the merge's free input.
+    const out = page.locator(`g.node[data-node="${name}"] circle.port.out`);
+    const free = page.locator('g.node[data-node="both"] circle.port.in:not(.connected)').first();
+    const a = await out.boundingBox();
+    const b = await free.boundingBox();
+    await page.mouse.move(a.x + a.width / 2, a.y + a.height / 2);
+    await page.mouse.down();
+    await page.mouse.move((a.x + b.x) / 2, (a.y + b.y) / 2, { steps: 4 });
+    await page.mouse.move(b.x + b.width / 2, b.y + b.height / 2, { steps: 4 });
+    await page.mouse.up();
+    const wired = (n) => page.evaluate((n) => window.__geode.store.state.document.nodes.both.inputs.includes(n), n);
+    await page.waitForFunction((n) => window.__geode.store.state.document.nodes.both.inputs.includes(n), name);
+    await page.locator('#editor svg').focus();
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction((n) => !window.__geode.store.state.document.nodes.both.inputs.includes(n), name);
+    assert.equal(await wired(name), false);
+    await page.keyboard.press('Control+Shift+z');
+    await page.waitForFunction((n) => window.__geode.store.state.document.nodes.both.inputs.includes(n), name);
+    // Undo the wire and the node: the network is as it was.
+    await page.keyboard.press('Control+z');
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction((n) => Object.keys(window.__geode.store.state.document.nodes).length === n, n0);
+  });
+
+  test('scrubbing the timeline recooks at the new frame', async () => {
+    const before = await drawn(page);
+    const g = await generation(page);
+    await page.locator('#timeline .frame').fill('40');
+    await page.locator('#timeline .frame').press('Enter');
+    const cooked = await nextCook(page, g);
+    assert.equal(cooked.frame, 40);
+    assert.notEqual((await drawn(page)).checksum, before.checksum);
+  });
+
+  test('playing a range twice serves the second pass from the cache', async () => {
+    await page.locator('#timeline .start').fill('2');
+    await page.locator('#timeline .start').press('Enter');
+    await page.locator('#timeline .end').fill('6');
+    await page.locator('#timeline .end').press('Enter');
+    await page.evaluate(() => window.__geode.timeline.playLog.splice(0));
+    await page.locator('#timeline .play').click();
+    await page.waitForFunction(() => window.__geode.timeline.playLog.length >= 12, null, { timeout: 120_000 });
+    await page.locator('#timeline .play').click();
+    const log = await page.evaluate(() => window.__geode.timeline.playLog.slice());
+    // The first pass starts wherever the frame was; a full pass is frames 2-6 in order.
+    const firstStart = log.findIndex((e) => e.frame === 2);
+    const first = log.slice(firstStart, firstStart + 5);
+    const second = log.slice(firstStart + 5, firstStart + 10);
+    assert.deepEqual(first.map((e) => e.frame), [2, 3, 4, 5, 6]);
+    assert.deepEqual(second.map((e) => e.frame), [2, 3, 4, 5, 6]);
+    assert.ok(first.some((e) => e.misses > 0), 'the first pass cooks');
+    assert.ok(second.every((e) => e.misses === 0 && e.hits > 0), `the second pass is all cache hits: ${JSON.stringify(second)}`);
+    await page.locator('.panel-tabs button[data-panel="trace"]').click();
+    assert.ok((await page.locator('.trace-row.hit').count()) > 0, 'the trace panel shows the hits');
+    await page.locator('.panel-tabs button[data-panel="sheet"]').click();
+  });
+
+  test('an edit during a long cook wins over it', async () => {
+    // At the last frame the coral is fully grown: meshing it at depth 10 takes seconds.
+    let g = await generation(page);
+    await page.locator('#timeline .frame').fill('61');
+    await page.locator('#timeline .frame').press('Enter');
+    await nextCook(page, g, 120_000);
+    await clickNode(page, 'smooth');
+    const g0 = await generation(page);
+    await setParam(page, 'depth', '10');
+    // The deep cook starts; change the depth again while it runs.
+    await page.waitForFunction((g) => window.__geode.store.state.generation > g, g0);
+    const slow = await page.evaluate(() => window.__geode.store.state.generation);
+    await page.waitForTimeout(150);
+    await setParam(page, 'depth', '5');
+    await page.waitForFunction((g) => window.__geode.store.state.generation > g, slow);
+    const fast = await page.evaluate(() => window.__geode.store.state.generation);
+    const cooked = await nextCook(page, slow);
+    assert.equal(cooked.generation, fast, 'the newer edit is the one shown');
+    await page.waitForTimeout(1500);
+    const late = await page.evaluate((g) => window.__geode.cooks.filter((c) => c.generation === g).length, slow);
+    assert.equal(late, 0, 'the cancelled cook never delivered a result');
+    assert.equal((await drawn(page)).generation, fast);
+  });
+
+  test('save writes the canonical form, byte-identical to geode fmt', async () => {
+    assert.ok(await page.evaluate(() => window.__geode.store.state.dirty));
+    await page.locator('#editor svg').focus();
+    await page.keyboard.press('Control+s');
+    await page.waitForFunction(() => !window.__geode.store.state.dirty);
+    const saved = readFileSync(server.network, 'utf8');
+    const copy = server.network.replace(/\.json$/, '.fmt.json');
+    copyFileSync(server.network, copy);
+    execFileSync(geodeBin, ['fmt', copy]);
+    assert.equal(readFileSync(copy, 'utf8'), saved);
+    assert.match(saved, /"depth": 5/);
+  });
+
+  test('screenshot for the README', async () => {
+    await page.locator('#timeline .frame').fill('61');
+    const g = await generation(page);
+    await page.locator('#timeline .frame').press('Enter');
+    await nextCook(page, g, 120_000);
+    await clickNode(page, 'grow');
+    await page.waitForTimeout(300);
+    const png = await page.screenshot();
+    writeFileSync(process.env.GEODE_SCREENSHOT ?? `${server.dir}/studio.png`, png);
+  });
+});
+
+describe('the rig (subnet)', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('rig.json');
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0, 60_000);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('dive into the subnet and solo an inner node', async () => {
+    await clickNode(page, 'rig');
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('g.node[data-node="post"]');
+    await clickNode(page, 'post');
+    const g = await generation(page);
+    await page.keyboard.press('w');
+    const cooked = await nextCook(page, g);
+    assert.equal(cooked.node, '/rig/post');
+    assert.equal((await drawn(page)).node, '/rig/post');
+    await page.keyboard.press('u');
+    await page.waitForSelector('g.node[data-node="welded"]');
+    const g2 = await generation(page);
+    await page.locator('#solo-state').click();
+    assert.equal((await nextCook(page, g2)).node, '/welded');
+  });
+
+  test('auto-solo: a promoted parameter shows the node it drives', async () => {
+    await clickNode(page, 'rig');
+    await page.waitForSelector('.param[data-param="lift"]');
+    const g = await generation(page);
+    await setParam(page, 'lift', '3', 1);
+    const cooked = await nextCook(page, g);
+    assert.equal(cooked.node, '/rig/raise');
+    const view = await page.evaluate(() => window.__geode.store.state.view);
+    assert.deepEqual([view.solo, view.auto], ['/rig/raise', true]);
+    assert.match(await page.locator('#hud').textContent(), /auto-solo/);
+  });
+});
+
+describe('the million instances', () => {
+  test('load, draw and orbit interactively', async () => {
+    const server = await serve('instances_million.json');
+    const { page } = await open(chrome.b, server.url);
+    try {
+      await nextCook(page, 0, 300_000);
+      const d = await drawn(page);
+      assert.equal(d.instances, 1_000_000);
+      // Orbit for a while and time the frames drawn.
+      const box = await page.locator('#viewport canvas').boundingBox();
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      await page.mouse.down();
+      const t0 = Date.now();
+      for (let i = 0; i < 10; i++) {
+        await page.mouse.move(box.x + box.width / 2 + i * 15, box.y + box.height / 2 + i * 4);
+        await page.evaluate(() => new Promise((r) => requestAnimationFrame(() => r())));
+      }
+      await page.mouse.up();
+      const perFrame = (Date.now() - t0) / 10;
+      console.log(`million instances: drawn in ${d.drawMs.toFixed(0)} ms after receipt, ${perFrame.toFixed(0)} ms per orbit frame`);
+      assert.ok(perFrame < 500, `orbiting stays interactive (${perFrame} ms per frame)`);
+      // The spreadsheet holds a million points but only draws the rows on screen.
+      await page.waitForFunction(() => document.querySelectorAll('.sheet-row[data-row]').length > 0);
+      const body = page.locator('.sheet-body');
+      const t1 = Date.now();
+      await body.evaluate((el) => (el.scrollTop = el.scrollHeight));
+      await page.waitForSelector('.sheet-row[data-row="999999"]');
+      await page.waitForFunction(() => !document.querySelector('.sheet-row[data-row="999999"]').textContent.includes('…'));
+      const scrolled = Date.now() - t1;
+      const rows = await page.locator('.sheet-row[data-row]').count();
+      console.log(`million instances: spreadsheet to row 999,999 in ${scrolled} ms, ${rows} rows in the page`);
+      assert.ok(rows < 100, `only the visible rows exist (${rows})`);
+    } finally {
+      await page.close();
+      await server.stop();
+    }
+  });
+});

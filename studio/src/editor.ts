@@ -1,0 +1,381 @@
+// The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error), rename, dive into subnets.
+
+import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, wires } from './network';
+import type { DocNetwork, DocNode } from './protocol';
+import type { AppStore } from './store';
+
+const SVG = 'http://www.w3.org/2000/svg';
+
+export interface EditorActions {
+  edit(edit: Record<string, unknown>): Promise<boolean>;
+  view(path: string | null): void;
+  select(paths: string[], current?: string | null): void;
+  openTabMenu(x: number, y: number, at: [number, number]): void;
+}
+
+function el<K extends keyof SVGElementTagNameMap>(tag: K, attrs: Record<string, string | number>, parent?: Element) {
+  const e = document.createElementNS(SVG, tag);
+  for (const [k, v] of Object.entries(attrs)) e.setAttribute(k, String(v));
+  parent?.appendChild(e);
+  return e;
+}
+
+type Drag =
+  | { kind: 'pan'; x: number; y: number; tx: number; ty: number }
+  | { kind: 'move'; x: number; y: number; start: Map<string, [number, number]>; moved: boolean }
+  | { kind: 'box'; x0: number; y0: number; x1: number; y1: number; add: boolean }
+  | { kind: 'wire'; from: string; x: number; y: number };
+
+export class NetworkEditor {
+  readonly svg: SVGSVGElement;
+  private root: SVGGElement;
+  private tx = 0;
+  private ty = 0;
+  private zoom = 1;
+  private drag: Drag | null = null;
+  private positions = new Map<string, [number, number]>();
+  /** Positions moved locally, until the document confirms them. */
+  private pending = new Map<string, [number, number]>();
+  private framedAt: string | null = null;
+  private mouse: [number, number] = [0, 0];
+
+  constructor(
+    private host: HTMLElement,
+    private store: AppStore,
+    private actions: EditorActions,
+  ) {
+    this.svg = el('svg', { class: 'net-svg', tabindex: 0 }) as SVGSVGElement;
+    host.appendChild(this.svg);
+    this.root = el('g', {}, this.svg);
+    this.svg.addEventListener('wheel', (e) => this.onWheel(e), { passive: false });
+    this.svg.addEventListener('pointerdown', (e) => this.onDown(e));
+    window.addEventListener('pointermove', (e) => this.onMove(e));
+    window.addEventListener('pointerup', (e) => this.onUp(e));
+    this.svg.addEventListener('pointermove', (e) => {
+      this.mouse = this.toWorld(e.clientX, e.clientY);
+    });
+    this.svg.addEventListener('dblclick', (e) => this.onDoubleClick(e));
+  }
+
+  /** The world position under the mouse (where the Tab menu puts a node). */
+  mouseWorld(): [number, number] {
+    return this.mouse;
+  }
+
+  private net(): DocNetwork | null {
+    const s = this.store.state;
+    return s ? networkAt(s.document, this.store.at) : null;
+  }
+
+  private toWorld(cx: number, cy: number): [number, number] {
+    const r = this.svg.getBoundingClientRect();
+    return [(cx - r.left - this.tx) / this.zoom, (cy - r.top - this.ty) / this.zoom];
+  }
+
+  private apply() {
+    this.root.setAttribute('transform', `translate(${this.tx},${this.ty}) scale(${this.zoom})`);
+  }
+
+  /** Fits every node (or the selected ones) in view. */
+  frame(selectedOnly = false) {
+    const names = [...this.positions.keys()].filter((n) => !selectedOnly || this.store.selected.has(join(this.store.at, n)));
+    const r = this.svg.getBoundingClientRect();
+    if (!names.length || r.width === 0) return;
+    const xs = names.map((n) => this.positions.get(n)![0]);
+    const ys = names.map((n) => this.positions.get(n)![1]);
+    const [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
+    const [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
+    this.zoom = Math.min(1.5, Math.min(r.width / (x1 - x0), r.height / (y1 - y0)));
+    this.tx = (r.width - (x1 - x0) * this.zoom) / 2 - x0 * this.zoom;
+    this.ty = (r.height - (y1 - y0) * this.zoom) / 2 - y0 * this.zoom;
+    this.apply();
+  }
+
+  private onWheel(e: WheelEvent) {
+    e.preventDefault();
+    const r = this.svg.getBoundingClientRect();
+    const [mx, my] = [e.clientX - r.left, e.clientY - r.top];
+    const k = Math.exp(-e.deltaY * 0.0015);
+    const z = Math.min(4, Math.max(0.1, this.zoom * k));
+    this.tx = mx - ((mx - this.tx) * z) / this.zoom;
+    this.ty = my - ((my - this.ty) * z) / this.zoom;
+    this.zoom = z;
+    this.apply();
+  }
+
+  private target(e: Event): { node?: string; port?: string; input?: number; flag?: string } {
+    const t = (e.target as Element).closest('[data-node]');
+    if (!t) return {};
+    const d = (e.target as Element).closest('[data-port],[data-input],[data-flag]') as HTMLElement | null;
+    return {
+      node: t.getAttribute('data-node') ?? undefined,
+      port: d?.getAttribute('data-port') ?? undefined,
+      input: d?.hasAttribute('data-input') ? Number(d.getAttribute('data-input')) : undefined,
+      flag: d?.getAttribute('data-flag') ?? undefined,
+    };
+  }
+
+  private onDown(e: PointerEvent) {
+    this.svg.focus();
+    const t = this.target(e);
+    const [wx, wy] = this.toWorld(e.clientX, e.clientY);
+    if (e.button === 1 || (e.button === 0 && e.altKey)) {
+      this.drag = { kind: 'pan', x: e.clientX, y: e.clientY, tx: this.tx, ty: this.ty };
+      return;
+    }
+    if (e.button !== 0) return;
+    if (!t.node) {
+      this.drag = { kind: 'box', x0: wx, y0: wy, x1: wx, y1: wy, add: e.shiftKey };
+      return;
+    }
+    const path = join(this.store.at, t.node);
+    if (t.flag === 'display') {
+      void this.actions.edit({ kind: 'set_flag', path, flag: 'display', on: true });
+      return;
+    }
+    if (t.flag === 'bypass') {
+      const node = this.net()?.nodes[t.node];
+      void this.actions.edit({ kind: 'set_flag', path, flag: 'bypass', on: !node?.bypass });
+      return;
+    }
+    if (t.port === 'out') {
+      this.drag = { kind: 'wire', from: t.node, x: wx, y: wy };
+      return;
+    }
+    if (t.input !== undefined) {
+      // Dragging off a connected input picks its wire up.
+      const from = this.net()?.nodes[t.node]?.inputs?.[t.input];
+      if (from) {
+        void this.actions.edit({ kind: 'disconnect', to: path, input: t.input });
+        this.drag = { kind: 'wire', from, x: wx, y: wy };
+      }
+      return;
+    }
+    const sel = new Set(this.store.selected);
+    if (e.shiftKey) {
+      if (sel.has(path)) sel.delete(path);
+      else sel.add(path);
+    } else if (!sel.has(path)) {
+      sel.clear();
+      sel.add(path);
+    }
+    this.actions.select([...sel], path);
+    const start = new Map<string, [number, number]>();
+    for (const p of sel) {
+      const name = p.slice(p.lastIndexOf('/') + 1);
+      const at = this.positions.get(name);
+      if (at) start.set(name, [...at] as [number, number]);
+    }
+    this.drag = { kind: 'move', x: wx, y: wy, start, moved: false };
+  }
+
+  private onMove(e: PointerEvent) {
+    const d = this.drag;
+    if (!d) return;
+    const [wx, wy] = this.toWorld(e.clientX, e.clientY);
+    if (d.kind === 'pan') {
+      this.tx = d.tx + e.clientX - d.x;
+      this.ty = d.ty + e.clientY - d.y;
+      this.apply();
+    } else if (d.kind === 'move') {
+      const [dx, dy] = [wx - d.x, wy - d.y];
+      if (Math.abs(dx) + Math.abs(dy) > 2) d.moved = true;
+      for (const [n, [x, y]] of d.start) this.pending.set(n, [x + dx, y + dy]);
+      this.render();
+    } else if (d.kind === 'box') {
+      d.x1 = wx;
+      d.y1 = wy;
+      this.render();
+    } else if (d.kind === 'wire') {
+      d.x = wx;
+      d.y = wy;
+      this.render();
+    }
+  }
+
+  private onUp(e: PointerEvent) {
+    const d = this.drag;
+    this.drag = null;
+    if (!d) return;
+    if (d.kind === 'move' && d.moved) {
+      const positions: Record<string, [number, number]> = {};
+      for (const n of d.start.keys()) positions[join(this.store.at, n)] = this.pending.get(n)!;
+      void this.actions.edit({ kind: 'move', positions });
+    } else if (d.kind === 'box') {
+      const [x0, x1] = [Math.min(d.x0, d.x1), Math.max(d.x0, d.x1)];
+      const [y0, y1] = [Math.min(d.y0, d.y1), Math.max(d.y0, d.y1)];
+      const hit = [...this.positions]
+        .filter(([, [x, y]]) => x + NODE_W > x0 && x < x1 && y + NODE_H > y0 && y < y1)
+        .map(([n]) => join(this.store.at, n));
+      const sel = d.add ? new Set([...this.store.selected, ...hit]) : new Set(hit);
+      this.actions.select([...sel], hit[0] ?? (sel.size ? this.store.current : null));
+      this.render();
+    } else if (d.kind === 'wire') {
+      const t = this.target(e);
+      if (t.node && t.node !== d.from) {
+        const node = this.net()?.nodes[t.node];
+        const input = t.input ?? firstFreeInput(node, this.store.catalogue.get(node?.type ?? '')?.inputs.length ?? 1);
+        void this.actions.edit({ kind: 'connect', from: join(this.store.at, d.from), to: join(this.store.at, t.node), input });
+      }
+      this.render();
+    }
+  }
+
+  private onDoubleClick(e: MouseEvent) {
+    const t = this.target(e);
+    if (!t.node) return;
+    const node = this.net()?.nodes[t.node];
+    if ((e.target as Element).closest('.node-name')) {
+      this.rename(t.node);
+    } else if (node?.type === 'subnet') {
+      this.dive(join(this.store.at, t.node));
+    }
+  }
+
+  /** Shows the network inside a subnet. */
+  dive(path: string) {
+    if (nodeAt(this.store.state!.document, path)?.type !== 'subnet') return;
+    this.store.at = path;
+    this.actions.select([], null);
+  }
+
+  /** Back to the network containing this one. */
+  up() {
+    if (this.store.at === '/') return;
+    const at = this.store.at;
+    this.store.at = at.slice(0, at.lastIndexOf('/')) || '/';
+    this.actions.select([at], at);
+  }
+
+  /** An inline text field over the node's name. */
+  rename(name: string) {
+    const p = this.positions.get(name);
+    if (!p) return;
+    const r = this.svg.getBoundingClientRect();
+    const hr = this.host.getBoundingClientRect();
+    const input = document.createElement('input');
+    input.className = 'rename';
+    input.value = name;
+    input.style.left = `${r.left - hr.left + this.tx + p[0] * this.zoom}px`;
+    input.style.top = `${r.top - hr.top + this.ty + p[1] * this.zoom}px`;
+    this.host.appendChild(input);
+    input.focus();
+    input.select();
+    let done = false;
+    const finish = async (commit: boolean) => {
+      if (done) return;
+      done = true;
+      const to = input.value.trim();
+      input.remove();
+      if (commit && to && to !== name) {
+        const path = join(this.store.at, name);
+        if (await this.actions.edit({ kind: 'rename', path, name: to })) {
+          this.actions.select([join(this.store.at, to)], join(this.store.at, to));
+        }
+      }
+      this.svg.focus();
+    };
+    input.addEventListener('keydown', (e) => {
+      e.stopPropagation();
+      if (e.key === 'Enter') void finish(true);
+      if (e.key === 'Escape') void finish(false);
+    });
+    input.addEventListener('blur', () => void finish(true));
+  }
+
+  render() {
+    const net = this.net();
+    this.root.replaceChildren();
+    if (!net) return;
+    this.positions = layout(net);
+    for (const [n, p] of this.pending) {
+      const doc = net.nodes[n]?.ui?.pos;
+      if (this.drag?.kind === 'move' || !doc || doc[0] !== p[0] || doc[1] !== p[1]) {
+        if (net.nodes[n]) this.positions.set(n, p);
+      }
+      if (!this.drag && doc && Math.abs(doc[0] - p[0]) < 0.11 && Math.abs(doc[1] - p[1]) < 0.11) this.pending.delete(n);
+    }
+    if (this.framedAt !== this.store.at && this.positions.size) {
+      this.framedAt = this.store.at;
+      this.frame();
+    }
+    const wireLayer = el('g', { class: 'wires' }, this.root);
+    for (const w of wires(net)) {
+      const a = this.positions.get(w.from);
+      const b = this.positions.get(w.to);
+      if (!a || !b) continue;
+      const count = Math.max(net.nodes[w.to].inputs?.length ?? 1, this.inputsOf(net.nodes[w.to]));
+      drawWire(wireLayer, [a[0] + NODE_W / 2, a[1] + NODE_H], [b[0] + portX(w.input, count), b[1]], `wire from-${w.from} to-${w.to}`);
+    }
+    for (const [name, node] of Object.entries(net.nodes)) this.drawNode(name, node, this.positions.get(name)!);
+    const d = this.drag;
+    if (d?.kind === 'wire') {
+      const a = this.positions.get(d.from);
+      if (a) drawWire(this.root, [a[0] + NODE_W / 2, a[1] + NODE_H], [d.x, d.y], 'wire live');
+    }
+    if (d?.kind === 'box') {
+      el('rect', { class: 'box-select', x: Math.min(d.x0, d.x1), y: Math.min(d.y0, d.y1), width: Math.abs(d.x1 - d.x0), height: Math.abs(d.y1 - d.y0) }, this.root);
+    }
+  }
+
+  private inputsOf(node: DocNode): number {
+    const t = this.store.catalogue.get(node.type);
+    const declared = t?.inputs.length ?? 1;
+    return t?.variadic ? Math.max(declared, (node.inputs?.length ?? 0) + 1) : declared;
+  }
+
+  private drawNode(name: string, node: DocNode, [x, y]: [number, number]) {
+    const s = this.store;
+    const path = join(s.at, name);
+    const problems = (s.state?.problems ?? []).filter((p) => p.level !== 'note' && (p.path === path || p.path.startsWith(path + '/')));
+    const cookErr = (s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled');
+    const errors = [...problems, ...cookErr];
+    const viewed = (s.state?.view.solo ?? s.state?.output) === path;
+    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', viewed ? 'viewed' : '', node.type === 'subnet' ? 'subnet' : ''];
+    const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
+    el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
+    el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);
+    el('rect', { class: 'flag display-flag' + (node.display || viewed ? ' on' : ''), x: NODE_W - 14, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'display' }, g);
+    const label = el('text', { class: 'node-name', x: 20, y: 13 }, g);
+    label.textContent = name;
+    const ty = el('text', { class: 'node-type', x: 20, y: 25 }, g);
+    ty.textContent = node.type;
+    const count = this.inputsOf(node);
+    for (let i = 0; i < count; i++) {
+      const connected = !!node.inputs?.[i];
+      const port = el('circle', { class: 'port in' + (connected ? ' connected' : ''), cx: portX(i, count), cy: 0, r: 5, 'data-input': i }, g);
+      const t = s.catalogue.get(node.type)?.inputs[Math.min(i, (s.catalogue.get(node.type)?.inputs.length ?? 1) - 1)];
+      el('title', {}, port).textContent = `${t?.name ?? 'input ' + (i + 1)} (${t?.type ?? 'geometry'})`;
+    }
+    const outType = s.catalogue.get(node.type)?.output ?? 'geometry';
+    el('circle', { class: `port out type-${outType}`, cx: NODE_W / 2, cy: NODE_H, r: 5, 'data-port': 'out' }, g);
+    const badge = s.badges.get(path);
+    const progress = s.progress.get(path);
+    if (progress !== undefined && progress < 1) {
+      el('rect', { class: 'progress', x: 0, y: NODE_H + 3, width: NODE_W * progress, height: 3 }, g);
+    }
+    const info = el('text', { class: 'badge' + (badge?.hit ? ' hit' : ''), x: NODE_W + 8, y: 13 }, g);
+    info.textContent = badge ? (badge.hit ? 'cache' : `${badge.ms < 10 ? badge.ms.toFixed(1) : Math.round(badge.ms)} ms`) : '';
+    if (errors.length) {
+      const t = el('text', { class: 'error-text', x: NODE_W + 8, y: 26 }, g);
+      const msg = errors[0].param ? `${errors[0].param}: ${errors[0].message}` : errors[0].message;
+      t.textContent = msg.length > 60 ? msg.slice(0, 57) + '…' : msg;
+      el('title', {}, g).textContent = errors.map((e) => `${e.param ? e.param + ': ' : ''}${e.message}`).join('\n');
+    }
+  }
+}
+
+function portX(i: number, count: number): number {
+  return ((i + 1) * NODE_W) / (count + 1);
+}
+
+function firstFreeInput(node: DocNode | undefined, declared: number): number {
+  const ins = node?.inputs ?? [];
+  for (let i = 0; i < Math.max(declared, ins.length); i++) if (!ins[i]) return i;
+  return ins.length;
+}
+
+function drawWire(parent: Element, [x0, y0]: [number, number], [x1, y1]: [number, number], cls: string) {
+  const dy = Math.max(30, Math.abs(y1 - y0) / 2);
+  el('path', { class: cls, d: `M${x0},${y0} C${x0},${y0 + dy} ${x1},${y1 - dy} ${x1},${y1}` }, parent);
+}

@@ -1,0 +1,355 @@
+// The studio page: connects to `geode serve`, wires the editor, parameter panel, timeline, viewport, spreadsheet and trace to the session, and binds Houdini's keys.
+
+import './style.css';
+import { NetworkEditor } from './editor';
+import { join, lastKeyFrame, nodeAt, parentOf } from './network';
+import { ParamPanel } from './params';
+import { Connection, decodeGeometry, type CookedMsg, type NodeType, type ServerMsg } from './protocol';
+import { Spreadsheet, type SheetClass } from './sheet';
+import { createStore } from './store';
+import { TabMenu } from './tabmenu';
+import { Timeline } from './timeline';
+import { renderTrace } from './trace';
+import { Viewport, type Drawn } from './viewport';
+
+const $ = <T extends HTMLElement>(sel: string) => document.querySelector(sel) as T;
+
+const store = createStore();
+const token = new URLSearchParams(location.search).get('token') ?? '';
+const status = $('#status');
+const log: string[] = [];
+
+function say(text: string, bad = false) {
+  status.textContent = text;
+  status.classList.toggle('bad', bad);
+  log.push(text);
+}
+
+async function edit(e: Record<string, unknown>, merge = false): Promise<boolean> {
+  const r = await conn.request({ op: 'edit', edit: e, merge });
+  if (!r.ok) say(r.error ?? 'refused', true);
+  return r.ok;
+}
+
+function select(paths: string[], current?: string | null) {
+  store.selected = new Set(paths);
+  if (current !== undefined) store.current = current;
+  store.notify();
+}
+
+function view(path: string | null) {
+  void conn.request({ op: 'view', node: path });
+}
+
+function setFrame(f: number) {
+  void conn.request({ op: 'frame', frame: Math.round(f) });
+}
+
+const viewport = new Viewport($('#viewport'));
+const editor = new NetworkEditor($('#editor'), store, {
+  edit,
+  view,
+  select,
+  openTabMenu: () => undefined,
+});
+const params = new ParamPanel($('#params'), store, { edit });
+const timeline = new Timeline($('#timeline'), store, setFrame);
+const tabMenu = new TabMenu(() => [...store.catalogue.values()]);
+const sheet = new Spreadsheet(
+  $('#sheet'),
+  async (cls: SheetClass, start: number, count: number) => {
+    const r = await conn.request({ op: 'sheet', class: cls, start, count });
+    return r.ok ? (r as never) : null;
+  },
+  (row) => {
+    const p = ['P[x]', 'P[y]', 'P[z]'].map((k) => Number(row[k]));
+    viewport.select(p.every(Number.isFinite) ? [p as [number, number, number]] : []);
+  },
+);
+
+/** What tests and benchmarks read: the last state, cook and drawing. */
+const probe = {
+  store,
+  timeline,
+  viewport,
+  log,
+  drawn: null as Drawn | null,
+  cooks: [] as CookedMsg[],
+  received: 0,
+  /** When the last `cooked` message arrived (performance.now()). */
+  cookedAt: 0,
+  edit,
+  request: (body: Record<string, unknown>) => conn.request(body),
+};
+(window as unknown as { __geode: typeof probe }).__geode = probe;
+
+let pendingCooked: CookedMsg | null = null;
+
+function onMessage(msg: ServerMsg) {
+  switch (msg.type) {
+    case 'state': {
+      store.state = msg;
+      if (!store.rangeSet) store.range = [1, Math.max(24, lastKeyFrame(msg.document))];
+      if (store.at !== '/' && !nodeAt(msg.document, store.at)) store.at = '/';
+      store.selected = new Set([...store.selected].filter((p) => nodeAt(msg.document, p)));
+      if (store.current && !nodeAt(msg.document, store.current)) store.current = null;
+      if (!store.current && msg.view.solo) store.current = msg.view.solo;
+      store.progress.clear();
+      break;
+    }
+    case 'progress':
+      if (msg.generation === store.state?.generation) store.progress.set(msg.node, msg.fraction);
+      break;
+    case 'cooked': {
+      if (store.cooked && msg.generation < store.cooked.generation) return;
+      store.cooked = msg;
+      probe.cooks.push(msg);
+      probe.cookedAt = performance.now();
+      for (const e of msg.events) store.badges.set(e.path, { ms: e.ms, hit: e.hit });
+      store.progress.clear();
+      const misses = msg.events.filter((e) => !e.hit).length;
+      if (msg.ok) say(`${msg.node} cooked in ${(msg.ms ?? 0).toFixed(1)} ms (${msg.events.length - misses} from cache, ${misses} cooked)`);
+      else if (!msg.errors.every((e) => e.kind === 'cancelled')) say(msg.errors.map((e) => `${e.path}: ${e.message}`).join('; '), true);
+      if (msg.hasGeometry) pendingCooked = msg;
+      else if (msg.ok) viewport.clear();
+      sheet.invalidate(msg.generation);
+      if (msg.frame !== undefined && (msg.ok || !msg.hasGeometry)) timeline.cooked(msg.frame, msg.events.length - misses, misses);
+      renderTrace($('#trace'), msg);
+      break;
+    }
+    case 'reply':
+      break;
+  }
+  store.notify();
+}
+
+function onBinary(buf: ArrayBuffer) {
+  const received = performance.now();
+  probe.received = received;
+  const g = decodeGeometry(buf);
+  if (store.cooked && g.generation < store.cooked.generation) return;
+  const framed = pendingCooked?.node !== viewport.drawn?.node;
+  void viewport.show(g, received, framed).then((d) => {
+    probe.drawn = d;
+    renderHud();
+  });
+  pendingCooked = null;
+}
+
+const conn = new Connection(
+  `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws?token=${encodeURIComponent(token)}`,
+  onMessage,
+  onBinary,
+  () => say('Disconnected from geode serve: restart it and reload this page.', true),
+);
+
+function human(b: number): string {
+  const u = ['B', 'KiB', 'MiB', 'GiB'];
+  let i = 0;
+  while (b >= 1024 && i < 3) {
+    b /= 1024;
+    i++;
+  }
+  return `${b.toFixed(i ? 1 : 0)} ${u[i]}`;
+}
+
+function renderHud() {
+  const s = store.state;
+  const c = store.cooked;
+  const shown = s?.view.solo ?? s?.output ?? '—';
+  const st = c?.stats as { points?: number; primitives?: number; vertices?: number; memory?: number; bounds?: number[][] | null } | null | undefined;
+  const d = viewport.drawn;
+  const lines = [
+    `${shown}${s?.view.solo ? (s.view.auto ? ' (auto-solo)' : ' (solo)') : ''}`,
+    st?.points !== undefined ? `${st.points} points · ${st.primitives} prims · ${st.vertices} vertices · ${human(st.memory ?? 0)}` : '',
+    st?.bounds ? `bounds ${st.bounds.map((v) => `(${v.map((x) => x.toFixed(2)).join(', ')})`).join(' – ')}` : '',
+    d ? `${d.triangles} triangles drawn${d.instances ? ` · ${d.instances} instances${d.instancesAsPoints ? ' as points' : ''}` : ''}` : '',
+  ];
+  $('#hud').textContent = lines.filter(Boolean).join('\n');
+}
+
+function renderTop() {
+  const s = store.state;
+  $('#file').textContent = (s?.path ?? 'untitled') + (s?.dirty ? ' ●' : '');
+  $('#file').classList.toggle('dirty', !!s?.dirty);
+  ($('#undo') as HTMLButtonElement).disabled = !s?.canUndo;
+  ($('#redo') as HTMLButtonElement).disabled = !s?.canRedo;
+  const crumbs = $('#crumbs');
+  crumbs.replaceChildren();
+  const parts = store.at.split('/').filter(Boolean);
+  ['/', ...parts].forEach((p, i) => {
+    const b = document.createElement('button');
+    b.textContent = i === 0 ? 'obj' : p;
+    const at = i === 0 ? '/' : '/' + parts.slice(0, i).join('/');
+    b.addEventListener('click', () => {
+      store.at = at;
+      store.notify();
+    });
+    crumbs.appendChild(b);
+  });
+  const solo = $('#solo-state');
+  solo.textContent = s?.view.solo ? `viewing ${s.view.solo}${s.view.auto ? ' (auto)' : ''} ✕` : '';
+}
+
+store.subscribe(() => {
+  editor.render();
+  params.render();
+  timeline.render();
+  renderTop();
+  renderHud();
+});
+
+async function save(path?: string) {
+  const r = await conn.request(path ? { op: 'save', path } : { op: 'save' });
+  if (r.ok) say(`saved ${String(r.saved)}`);
+  else say(r.error ?? 'save failed', true);
+}
+
+function copy() {
+  const s = store.state;
+  if (!s) return;
+  const nodes: Record<string, unknown> = {};
+  for (const p of store.selected) {
+    if (parentOf(p) !== store.at) continue;
+    nodes[p.slice(p.lastIndexOf('/') + 1)] = nodeAt(s.document, p);
+  }
+  localStorage.setItem('geode-clipboard', JSON.stringify(nodes));
+  say(`copied ${Object.keys(nodes).length} nodes`);
+}
+
+async function paste() {
+  const text = localStorage.getItem('geode-clipboard');
+  if (!text) return;
+  await edit({ kind: 'paste', parent: store.at, nodes: JSON.parse(text) as unknown, offset: [30, 30] });
+}
+
+function openTab() {
+  const r = editor.svg.getBoundingClientRect();
+  const at = editor.mouseWorld();
+  tabMenu.open(r.left + r.width / 3, r.top + 40, (t: NodeType) => {
+    void (async () => {
+      const before = new Set(Object.keys(store.state ? (nodeAt(store.state.document, store.at)?.network?.nodes ?? (store.at === '/' ? store.state.document.nodes : {})) : {}));
+      if (await edit({ kind: 'add_node', parent: store.at, type: t.name, pos: at })) {
+        const net = store.at === '/' ? store.state!.document.nodes : (nodeAt(store.state!.document, store.at)?.network?.nodes ?? {});
+        const fresh = Object.keys(net).find((n) => !before.has(n));
+        if (fresh) select([join(store.at, fresh)], join(store.at, fresh));
+      }
+    })();
+  });
+}
+
+document.addEventListener('keydown', (e) => {
+  const typing = (e.target as HTMLElement).closest('input, select, textarea');
+  const mod = e.ctrlKey || e.metaKey;
+  if (mod && e.key.toLowerCase() === 's') {
+    e.preventDefault();
+    void save();
+    return;
+  }
+  if (typing) return;
+  if (mod && e.key.toLowerCase() === 'z') {
+    e.preventDefault();
+    void conn.request({ op: e.shiftKey ? 'redo' : 'undo' });
+    return;
+  }
+  if (mod && e.key.toLowerCase() === 'y') {
+    e.preventDefault();
+    void conn.request({ op: 'redo' });
+    return;
+  }
+  if (mod && e.key.toLowerCase() === 'c') return copy();
+  if (mod && e.key.toLowerCase() === 'v') return void paste();
+  if (mod) return;
+  const inViewport = (e.target as HTMLElement).closest?.('#viewport') || document.querySelector('#viewport:hover');
+  const current = store.current;
+  switch (e.key) {
+    case 'Tab':
+      e.preventDefault();
+      openTab();
+      break;
+    case 'Delete':
+    case 'Backspace':
+      if (store.selected.size) void edit({ kind: 'remove_nodes', paths: [...store.selected] });
+      break;
+    case 'Enter':
+      if (current) editor.dive(current);
+      store.notify();
+      break;
+    case 'u':
+    case 'U':
+      editor.up();
+      store.notify();
+      break;
+    case 'f':
+    case 'F':
+      if (inViewport) viewport.frame(true);
+      else editor.frame(store.selected.size > 0);
+      break;
+    case 'a':
+    case 'h':
+      if (inViewport) viewport.frame(false);
+      else editor.frame(false);
+      break;
+    case 'r':
+    case 'R':
+      if (current) void edit({ kind: 'set_flag', path: current, flag: 'display', on: true });
+      break;
+    case 'q':
+    case 'Q':
+      if (current) void edit({ kind: 'set_flag', path: current, flag: 'bypass', on: !nodeAt(store.state!.document, current)?.bypass });
+      break;
+    case 'w':
+    case 'W':
+      // Solo view of the current node (W: the view flag, where Houdini has template).
+      if (current) view(store.state?.view.solo === current ? null : current);
+      break;
+    case 'Escape':
+      void conn.request({ op: 'cancel' });
+      break;
+    case 'F2':
+      if (current && parentOf(current) === store.at) editor.rename(current.slice(current.lastIndexOf('/') + 1));
+      break;
+    case ' ':
+      if (!inViewport) {
+        e.preventDefault();
+        timeline.toggle();
+      }
+      break;
+  }
+});
+
+$('#undo').addEventListener('click', () => void conn.request({ op: 'undo' }));
+$('#redo').addEventListener('click', () => void conn.request({ op: 'redo' }));
+$('#save').addEventListener('click', () => void save());
+$('#save-as').addEventListener('click', () => {
+  const p = window.prompt('Save the network as (a .json path on the machine running geode serve):', store.state?.path ?? 'network.json');
+  if (p) void save(p);
+});
+$('#export').addEventListener('change', () => {
+  const sel = $('#export') as HTMLSelectElement;
+  if (sel.value) window.open(`/api/export?format=${sel.value}`, '_blank');
+  sel.value = '';
+});
+$('#solo-state').addEventListener('click', () => view(null));
+$('#view-btn').addEventListener('click', () => store.current && view(store.current));
+for (const [id, key] of [['#wire', 'wireframe'], ['#flat', 'forceFlat']] as const) {
+  $(id).addEventListener('change', () => {
+    viewport[key] = ($(id) as HTMLInputElement).checked;
+    viewport.rebuild();
+  });
+}
+for (const b of document.querySelectorAll<HTMLButtonElement>('.panel-tabs button')) {
+  b.addEventListener('click', () => {
+    document.querySelectorAll<HTMLElement>('.panel-tabs button').forEach((x) => x.classList.toggle('on', x === b));
+    $('#sheet').hidden = b.dataset.panel !== 'sheet';
+    $('#trace').hidden = b.dataset.panel !== 'trace';
+    if (b.dataset.panel === 'sheet') sheet.draw();
+  });
+}
+
+void fetch(`/api/catalogue`)
+  .then((r) => r.json() as Promise<{ nodes: NodeType[] }>)
+  .then((c) => {
+    for (const t of c.nodes) store.catalogue.set(t.name, t);
+    store.notify();
+  });

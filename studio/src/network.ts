@@ -1,0 +1,125 @@
+// Reading the network document: the network at a path, node paths, wires, and an automatic layout for nodes the file gives no position.
+
+import type { DocNetwork, DocNode } from './protocol';
+
+export const NODE_W = 132;
+export const NODE_H = 30;
+const GAP_X = 40;
+const GAP_Y = 60;
+
+/** `/` joined with a name: `/a` + `b` = `/a/b`. */
+export function join(parent: string, name: string): string {
+  return parent === '/' ? `/${name}` : `${parent}/${name}`;
+}
+
+/** The network at `path` (`/` or a subnet's path), or null. */
+export function networkAt(root: DocNetwork, path: string): DocNetwork | null {
+  let net: DocNetwork | undefined = root;
+  for (const name of path.split('/').filter(Boolean)) {
+    net = net?.nodes[name]?.network;
+    if (!net) return null;
+  }
+  return net ?? null;
+}
+
+/** The node at an absolute path, or null. */
+export function nodeAt(root: DocNetwork, path: string): DocNode | null {
+  const i = path.lastIndexOf('/');
+  const net = networkAt(root, i <= 0 ? '/' : path.slice(0, i));
+  return net?.nodes[path.slice(i + 1)] ?? null;
+}
+
+export function parentOf(path: string): string {
+  const i = path.lastIndexOf('/');
+  return i <= 0 ? '/' : path.slice(0, i);
+}
+
+export interface Wire {
+  from: string;
+  to: string;
+  input: number;
+}
+
+/** Wires between the nodes of one network (subnet inputs `@N` are drawn from the network's input markers). */
+export function wires(net: DocNetwork): Wire[] {
+  const out: Wire[] = [];
+  for (const [to, node] of Object.entries(net.nodes)) {
+    (node.inputs ?? []).forEach((from, input) => {
+      if (from) out.push({ from, to, input });
+    });
+  }
+  return out;
+}
+
+/**
+ * Positions for every node: the file's where given, else a layered layout
+ * (each node one row below its deepest input, rows centred), as Houdini
+ * lays out a network it has no positions for.
+ */
+export function layout(net: DocNetwork): Map<string, [number, number]> {
+  const names = Object.keys(net.nodes);
+  const depth = new Map<string, number>();
+  const visiting = new Set<string>();
+  const depthOf = (n: string): number => {
+    const known = depth.get(n);
+    if (known !== undefined) return known;
+    if (visiting.has(n)) return 0;
+    visiting.add(n);
+    const ins = (net.nodes[n]?.inputs ?? []).filter((i): i is string => !!i && i in net.nodes);
+    const d = ins.length ? Math.max(...ins.map(depthOf)) + 1 : 0;
+    visiting.delete(n);
+    depth.set(n, d);
+    return d;
+  };
+  const rows = new Map<number, string[]>();
+  for (const n of names) {
+    const d = depthOf(n);
+    rows.set(d, [...(rows.get(d) ?? []), n]);
+  }
+  const pos = new Map<string, [number, number]>();
+  for (const [d, row] of rows) {
+    const width = row.length * NODE_W + (row.length - 1) * GAP_X;
+    row.forEach((n, k) => pos.set(n, [k * (NODE_W + GAP_X) - width / 2, d * (NODE_H + GAP_Y)]));
+  }
+  for (const n of names) {
+    const p = net.nodes[n].ui?.pos;
+    if (Array.isArray(p) && p.length === 2 && p.every(Number.isFinite)) pos.set(n, [p[0], p[1]]);
+  }
+  return pos;
+}
+
+/** A channel's value at `frame` (linear between keys, held outside them). */
+export function channelAt(keys: { frame: number; value: number }[], frame: number): number {
+  if (!keys.length) return 0;
+  if (frame <= keys[0].frame) return keys[0].value;
+  const last = keys[keys.length - 1];
+  if (frame >= last.frame) return last.value;
+  for (let i = 1; i < keys.length; i++) {
+    const a = keys[i - 1];
+    const b = keys[i];
+    if (frame <= b.frame) return a.value + ((b.value - a.value) * (frame - a.frame)) / (b.frame - a.frame);
+  }
+  return last.value;
+}
+
+export interface Keyed {
+  keys: { frame: number; value: number }[];
+}
+
+export function isChannel(v: unknown): v is Keyed {
+  return typeof v === 'object' && v !== null && Array.isArray((v as Keyed).keys);
+}
+
+/** The last key frame of any channel in the document (the timeline's default end). */
+export function lastKeyFrame(net: DocNetwork): number {
+  let last = 0;
+  const visit = (v: unknown) => {
+    if (isChannel(v)) for (const k of v.keys) last = Math.max(last, k.frame);
+    else if (Array.isArray(v)) v.forEach(visit);
+  };
+  for (const node of Object.values(net.nodes)) {
+    Object.values(node.params ?? {}).forEach(visit);
+    if (node.network) last = Math.max(last, lastKeyFrame(node.network));
+  }
+  return last;
+}

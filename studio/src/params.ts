@@ -1,0 +1,315 @@
+// The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
+
+import { channelAt, isChannel, join, nodeAt } from './network';
+import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
+import type { AppStore } from './store';
+
+export interface ParamActions {
+  edit(edit: Record<string, unknown>, merge?: boolean): Promise<boolean>;
+}
+
+/** A parameter as the panel shows it: its declaration and where its value lives. */
+interface Row {
+  decl: ParamDecl;
+  /** The node whose document holds the value, and the name there. */
+  path: string;
+  name: string;
+  /** For promoted parameters: the inner node it drives. */
+  drives?: string;
+}
+
+/** A typed text as the document stores it: a number when it reads as one, else the text (the loader then says what was expected). */
+export function parseNumber(text: string): number | string {
+  const t = text.trim();
+  if (t !== '' && Number.isFinite(Number(t))) return Number(t);
+  return text;
+}
+
+/** The column an error message points at (`column 7: ...`), if any. */
+export function errorColumn(message: string): number | null {
+  const m = /column (\d+)/.exec(message);
+  return m ? Number(m[1]) : null;
+}
+
+const COMPONENTS: Record<string, number> = { float: 1, int: 1, toggle: 1, vec2: 2, vec3: 3, vec4: 4 };
+
+function components(decl: ParamDecl, value: unknown): unknown[] {
+  const n = COMPONENTS[decl.type] ?? 0;
+  if (n === 1) return [value];
+  return Array.isArray(value) ? value : [value];
+}
+
+function fmt(v: number): string {
+  return Number.isInteger(v) ? String(v) : String(Number(v.toPrecision(6)));
+}
+
+export class ParamPanel {
+  private shownKey = '';
+  private deferred = false;
+
+  constructor(
+    private host: HTMLElement,
+    private store: AppStore,
+    private actions: ParamActions,
+  ) {
+    host.addEventListener('focusout', () => {
+      if (this.deferred) {
+        this.deferred = false;
+        setTimeout(() => this.render(), 0);
+      }
+    });
+  }
+
+  private rows(path: string, node: DocNode): Row[] {
+    const s = this.store;
+    if (node.type === 'subnet') {
+      return Object.entries(node.promote ?? {}).flatMap(([name, target]) => {
+        const [inner, param] = target.split('/');
+        const innerNode = nodeAt(s.state!.document, join(path, inner));
+        const decl = s.catalogue.get(innerNode?.type ?? '')?.params.find((p) => p.name === param);
+        return decl ? [{ decl: { ...decl, name, label: `${name} → ${target}` }, path, name, drives: join(path, inner) }] : [];
+      });
+    }
+    return (s.catalogue.get(node.type)?.params ?? []).map((decl) => ({ decl, path, name: decl.name }));
+  }
+
+  render() {
+    const s = this.store;
+    const path = s.current;
+    const node = path && s.state ? nodeAt(s.state.document, path) : null;
+    const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(s.cooked?.errors ?? [])}`;
+    if (key === this.shownKey) return;
+    if (this.host.contains(document.activeElement) && document.activeElement !== this.host) {
+      this.deferred = true;
+      return;
+    }
+    this.shownKey = key;
+    this.host.replaceChildren();
+    if (!path || !node) {
+      this.host.innerHTML = '<div class="empty">Select a node to see its parameters.</div>';
+      return;
+    }
+    const type: NodeType | undefined = s.catalogue.get(node.type);
+    const head = document.createElement('div');
+    head.className = 'param-head';
+    head.innerHTML = '<b></b> <span class="type"></span><div class="help"></div>';
+    head.querySelector('b')!.textContent = path;
+    head.querySelector('.type')!.textContent = type?.label ?? node.type;
+    head.querySelector('.help')!.textContent = type?.summary ?? (node.type === 'subnet' ? 'Subnetwork: its promoted parameters.' : '');
+    this.host.appendChild(head);
+    const problems: Problem[] = [
+      ...(s.state?.problems ?? []).filter((p) => p.path === path),
+      ...(s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled'),
+    ];
+    const general = problems.filter((p) => !p.param);
+    for (const p of general) {
+      const d = document.createElement('div');
+      d.className = p.level === 'note' ? 'note' : 'param-error';
+      d.textContent = p.message;
+      this.host.appendChild(d);
+    }
+    const rows = this.rows(path, node);
+    if (!rows.length) {
+      const d = document.createElement('div');
+      d.className = 'empty';
+      d.textContent = node.type === 'subnet' ? 'No promoted parameters.' : 'No parameters.';
+      this.host.appendChild(d);
+    }
+    for (const row of rows) this.host.appendChild(this.rowElement(row, node, problems.filter((p) => p.param?.split(/[[.]/)[0] === row.name)));
+  }
+
+  private rowElement(row: Row, node: DocNode, problems: Problem[]): HTMLElement {
+    const { decl } = row;
+    const frame = this.store.state?.view.frame ?? 1;
+    const stored = node.params?.[row.name];
+    const value = stored ?? decl.default;
+    const div = document.createElement('div');
+    div.className = 'param';
+    div.dataset.param = row.name;
+    const label = document.createElement('label');
+    label.textContent = decl.label;
+    label.title = `${decl.name}: ${decl.help}${decl.affects ? `\n(shows ${decl.affects} when changed)` : ''}`;
+    if (decl.affects || row.drives) label.classList.add('tagged');
+    div.appendChild(label);
+    const comps = components(decl, value);
+    const animated = comps.some(isChannel);
+    const keyedHere = comps.some((c) => isChannel(c) && c.keys.some((k) => k.frame === frame));
+    if (animated) div.classList.add('animated');
+    if (keyedHere) div.classList.add('keyed');
+    if (decl.animatable && (COMPONENTS[decl.type] ?? 0) > 0) {
+      const key = document.createElement('button');
+      key.className = 'key';
+      key.textContent = keyedHere ? '◆' : '◇';
+      key.title = keyedHere ? 'Delete the key at this frame' : 'Set a key at this frame';
+      key.addEventListener('click', () => {
+        comps.forEach((c, component) => {
+          if (keyedHere) {
+            if (isChannel(c) && c.keys.some((k) => k.frame === frame)) {
+              void this.actions.edit({ kind: 'delete_key', path: row.path, param: row.name, component, frame });
+            }
+          } else {
+            const v = isChannel(c) ? channelAt(c.keys, frame) : Number(c);
+            void this.actions.edit({ kind: 'set_key', path: row.path, param: row.name, component, frame, value: Number.isFinite(v) ? v : 0 });
+          }
+        });
+      });
+      div.appendChild(key);
+    }
+    const widgets = document.createElement('div');
+    widgets.className = 'widgets';
+    div.appendChild(widgets);
+    const set = (v: unknown, merge = false) => this.actions.edit({ kind: 'set_param', path: row.path, param: row.name, value: v }, merge);
+    this.widgets(widgets, decl, value, frame, set, (component, v) =>
+      this.actions.edit({ kind: 'set_key', path: row.path, param: row.name, component, frame, value: v }),
+    );
+    if (stored !== undefined) {
+      const reset = document.createElement('button');
+      reset.className = 'reset';
+      reset.textContent = '↺';
+      reset.title = 'Revert to the default';
+      reset.addEventListener('click', () => void set(null));
+      div.appendChild(reset);
+    }
+    for (const p of problems) {
+      const e = document.createElement('div');
+      e.className = 'param-error';
+      e.textContent = p.param && p.param !== row.name ? `${p.param}: ${p.message}` : p.message;
+      const col = errorColumn(p.message);
+      const text = widgets.querySelector('input[type=text]') as HTMLInputElement | null;
+      if (col !== null && text) {
+        const caret = document.createElement('pre');
+        caret.className = 'caret';
+        caret.textContent = `${text.value}\n${' '.repeat(Math.max(0, col - 1))}^`;
+        e.appendChild(caret);
+      }
+      text?.classList.add('bad');
+      div.appendChild(e);
+    }
+    return div;
+  }
+
+  /** The input widgets for one declaration (also used for the fields of list rows). */
+  private widgets(
+    host: HTMLElement,
+    decl: ParamDecl,
+    value: unknown,
+    frame: number,
+    set: (v: unknown, merge?: boolean) => unknown,
+    setKey: (component: number, v: number) => unknown,
+  ) {
+    const n = COMPONENTS[decl.type] ?? 0;
+    if (decl.type === 'toggle') {
+      const c = document.createElement('input');
+      c.type = 'checkbox';
+      c.checked = value === true || value === 1;
+      c.addEventListener('change', () => void set(c.checked));
+      host.appendChild(c);
+    } else if (n >= 1) {
+      const comps = components(decl, value);
+      const texts: HTMLInputElement[] = comps.map((c, k) => {
+        const t = document.createElement('input');
+        t.type = 'text';
+        t.className = 'num' + (isChannel(c) ? ' animated' : '');
+        t.value = isChannel(c) ? fmt(channelAt(c.keys, frame)) : typeof c === 'number' ? fmt(c) : String(c);
+        t.addEventListener('change', () => {
+          const v = parseNumber(t.value);
+          if (isChannel(c) && typeof v === 'number') {
+            void setKey(k, v);
+            return;
+          }
+          const all = texts.map((x) => parseNumber(x.value));
+          void set(n === 1 ? all[0] : all.map((x, i) => (isChannel(comps[i]) ? comps[i] : x)));
+        });
+        t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
+        host.appendChild(t);
+        return t;
+      });
+      if (n === 1 && !isChannel(comps[0])) {
+        const cur = Number(comps[0]);
+        const dflt = Number(decl.default) || 0;
+        const lo = decl.min ?? Math.min(0, cur);
+        const hi = decl.max ?? Math.max(1, Math.abs(dflt) * 2, Number.isFinite(cur) ? cur * 1.5 : 1);
+        const slider = document.createElement('input');
+        slider.type = 'range';
+        slider.min = String(lo);
+        slider.max = String(hi);
+        slider.step = decl.type === 'int' ? '1' : String((hi - lo) / 1000);
+        slider.value = String(Number.isFinite(cur) ? cur : lo);
+        let dragging = false;
+        slider.addEventListener('pointerdown', () => (dragging = false));
+        slider.addEventListener('input', () => {
+          const v = decl.type === 'int' ? Math.round(Number(slider.value)) : Number(Number(slider.value).toPrecision(6));
+          texts[0].value = fmt(v);
+          void set(v, dragging);
+          dragging = true;
+        });
+        slider.addEventListener('change', () => slider.blur());
+        host.appendChild(slider);
+      }
+    } else if (decl.type === 'menu') {
+      const sel = document.createElement('select');
+      for (const item of decl.items ?? []) {
+        const o = document.createElement('option');
+        o.value = o.textContent = item;
+        sel.appendChild(o);
+      }
+      sel.value = String(value);
+      sel.addEventListener('change', () => void set(sel.value));
+      host.appendChild(sel);
+    } else if (decl.type === 'list') {
+      this.listWidget(host, decl, Array.isArray(value) ? value : [], frame, set);
+    } else {
+      const t = document.createElement('input');
+      t.type = 'text';
+      t.className = decl.type === 'file' ? 'file' : 'text';
+      t.value = String(value ?? '');
+      if (decl.type === 'file') t.placeholder = '$HIP/… or a path';
+      t.addEventListener('change', () => void set(t.value));
+      t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
+      host.appendChild(t);
+    }
+  }
+
+  private listWidget(host: HTMLElement, decl: ParamDecl, rows: unknown[], frame: number, set: (v: unknown) => unknown) {
+    const table = document.createElement('div');
+    table.className = 'list';
+    const fields = decl.fields ?? [];
+    rows.forEach((r, k) => {
+      const row = (typeof r === 'object' && r !== null ? r : {}) as Record<string, unknown>;
+      const line = document.createElement('div');
+      line.className = 'list-row';
+      const num = document.createElement('span');
+      num.textContent = String(k);
+      line.appendChild(num);
+      for (const f of fields) {
+        const cell = document.createElement('div');
+        cell.className = 'list-cell';
+        cell.title = `${f.label}: ${f.help}`;
+        const name = document.createElement('small');
+        name.textContent = f.name;
+        cell.appendChild(name);
+        this.widgets(cell, f, row[f.name] ?? f.default, frame, (v) => {
+          const next = rows.map((x, i) => (i === k ? { ...row, [f.name]: v } : x));
+          return set(next);
+        }, () => undefined);
+        line.appendChild(cell);
+      }
+      const del = document.createElement('button');
+      del.textContent = '−';
+      del.title = 'Remove this row';
+      del.addEventListener('click', () => void set(rows.filter((_, i) => i !== k)));
+      line.appendChild(del);
+      table.appendChild(line);
+    });
+    const add = document.createElement('button');
+    add.textContent = '+ row';
+    add.addEventListener('click', () => {
+      const fresh: Record<string, unknown> = {};
+      for (const f of fields) fresh[f.name] = f.default;
+      void set([...rows, fresh]);
+    });
+    table.appendChild(add);
+    host.appendChild(table);
+  }
+}
+

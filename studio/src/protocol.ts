@@ -1,0 +1,219 @@
+// The studio's side of the protocol: message types, the binary geometry decoder, and the socket with request/reply ids.
+
+export interface ParamDecl {
+  name: string;
+  label: string;
+  type: 'float' | 'int' | 'toggle' | 'vec2' | 'vec3' | 'vec4' | 'string' | 'file' | 'menu' | 'list';
+  default: unknown;
+  min: number | null;
+  max: number | null;
+  animatable: boolean;
+  help: string;
+  affects: string | null;
+  items?: string[];
+  fields?: ParamDecl[];
+}
+
+export interface NodeType {
+  name: string;
+  label: string;
+  category: string;
+  summary: string;
+  help: string;
+  inputs: { name: string; type: string; required: boolean }[];
+  variadic: boolean;
+  output: string;
+  params: ParamDecl[];
+  timeDependent: boolean;
+}
+
+export interface DocNode {
+  type: string;
+  params?: Record<string, unknown>;
+  inputs?: (string | null)[];
+  bypass?: boolean;
+  display?: boolean;
+  network?: DocNetwork;
+  promote?: Record<string, string>;
+  ui?: { pos?: [number, number] };
+  [extra: string]: unknown;
+}
+
+export interface DocNetwork {
+  nodes: Record<string, DocNode>;
+  output?: string;
+}
+
+export interface Problem {
+  path: string;
+  param: string | null;
+  message: string;
+  level?: string;
+  kind?: string;
+}
+
+export interface StateMsg {
+  type: 'state';
+  version: number;
+  generation: number;
+  path: string | null;
+  document: DocNetwork & { geode: string; version: number };
+  problems: Problem[];
+  dirty: boolean;
+  canUndo: boolean;
+  canRedo: boolean;
+  output: string | null;
+  view: { solo: string | null; auto: boolean; frame: number };
+}
+
+export interface CookEventMsg {
+  path: string;
+  type: string;
+  hit: boolean;
+  start: number;
+  ms: number;
+  bytes: number;
+}
+
+export interface GeometryStats {
+  points: number;
+  vertices: number;
+  primitives: number;
+  kinds: Record<string, number>;
+  bounds: [number[], number[]] | null;
+  memory: number;
+}
+
+export interface CookedMsg {
+  type: 'cooked';
+  generation: number;
+  node: string | null;
+  frame?: number;
+  ok: boolean;
+  errors: Problem[];
+  events: CookEventMsg[];
+  stats?: GeometryStats | { bundle: Record<string, GeometryStats> } | { field: true } | null;
+  ms?: number;
+  hasGeometry?: boolean;
+}
+
+export interface ProgressMsg {
+  type: 'progress';
+  generation: number;
+  node: string;
+  fraction: number;
+}
+
+export interface ReplyMsg {
+  type: 'reply';
+  id: number | null;
+  ok: boolean;
+  error?: string;
+  [extra: string]: unknown;
+}
+
+export type ServerMsg = StateMsg | CookedMsg | ProgressMsg | ReplyMsg;
+
+/** One drawable part of a decoded geometry: typed-array views into the message. */
+export interface GeometryPart {
+  name: string;
+  positions: Float32Array;
+  triangles?: Uint32Array;
+  normals?: Float32Array;
+  colors?: Float32Array;
+  normalsUniform?: number[];
+  colorsUniform?: number[];
+  corners?: Float32Array;
+  cornerNormals?: Float32Array;
+  cornerColors?: Float32Array;
+  lines?: Uint32Array;
+  points?: Uint32Array;
+  instances?: Float32Array;
+  protoBounds?: [number[], number[]];
+}
+
+export interface DecodedGeometry {
+  generation: number;
+  node: string;
+  bounds: [number[], number[]] | null;
+  parts: GeometryPart[];
+  bytes: number;
+}
+
+const FLOAT_KEYS = ['positions', 'normals', 'colors', 'corners', 'cornerNormals', 'cornerColors', 'instances'] as const;
+const UINT_KEYS = ['triangles', 'lines', 'points'] as const;
+
+/** Decodes a `GEO1` message (see crates/server/src/viewport.rs) without copying its arrays. */
+export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
+  const magic = new TextDecoder().decode(new Uint8Array(buf, 0, 4));
+  if (magic !== 'GEO1') throw new Error(`not a geometry message (${JSON.stringify(magic)})`);
+  const headerLen = new DataView(buf).getUint32(4, true);
+  const header = JSON.parse(new TextDecoder().decode(new Uint8Array(buf, 8, headerLen))) as {
+    generation: number;
+    node: string;
+    bounds: [number[], number[]] | null;
+    parts: Record<string, unknown>[];
+  };
+  const base = 8 + headerLen;
+  const parts = header.parts.map((p) => {
+    const part: GeometryPart = { name: String(p.name), positions: new Float32Array(0) };
+    const out = part as unknown as Record<string, unknown>;
+    for (const k of FLOAT_KEYS) {
+      const r = p[k] as [number, number] | undefined;
+      if (r) out[k] = new Float32Array(buf, base + r[0], r[1]);
+    }
+    for (const k of UINT_KEYS) {
+      const r = p[k] as [number, number] | undefined;
+      if (r) out[k] = new Uint32Array(buf, base + r[0], r[1]);
+    }
+    for (const k of ['normalsUniform', 'colorsUniform', 'protoBounds'] as const) {
+      if (p[k]) out[k] = p[k];
+    }
+    return part;
+  });
+  return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength };
+}
+
+type Listener = (msg: ServerMsg) => void;
+type BinaryListener = (buf: ArrayBuffer) => void;
+
+/** The studio's socket: requests carry ids and resolve with their reply. */
+export class Connection {
+  private ws: WebSocket;
+  private nextId = 1;
+  private pending = new Map<number, (r: ReplyMsg) => void>();
+  private opened: Promise<void>;
+
+  constructor(
+    url: string,
+    private onMessage: Listener,
+    private onBinary: BinaryListener,
+    onClose: () => void,
+  ) {
+    this.ws = new WebSocket(url);
+    this.ws.binaryType = 'arraybuffer';
+    this.opened = new Promise((resolve) => this.ws.addEventListener('open', () => resolve()));
+    this.ws.addEventListener('close', onClose);
+    this.ws.addEventListener('message', (ev) => {
+      if (typeof ev.data !== 'string') {
+        this.onBinary(ev.data as ArrayBuffer);
+        return;
+      }
+      const msg = JSON.parse(ev.data) as ServerMsg;
+      if (msg.type === 'reply' && msg.id != null) {
+        this.pending.get(msg.id)?.(msg);
+        this.pending.delete(msg.id);
+      }
+      this.onMessage(msg);
+    });
+  }
+
+  async request(body: Record<string, unknown>): Promise<ReplyMsg> {
+    await this.opened;
+    const id = this.nextId++;
+    return new Promise((resolve) => {
+      this.pending.set(id, resolve);
+      this.ws.send(JSON.stringify({ ...body, id }));
+    });
+  }
+}

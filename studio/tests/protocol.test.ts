@@ -1,0 +1,77 @@
+// Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
+import { expect, test } from 'vitest';
+import { decodeGeometry } from '../src/protocol';
+import { errorColumn, parseNumber } from '../src/params';
+import { filterCatalogue } from '../src/tabmenu';
+import { chunksFor } from '../src/sheet';
+import { checksum } from '../src/viewport';
+import type { NodeType } from '../src/protocol';
+
+function message(header: object, arrays: ArrayBufferView[]): ArrayBuffer {
+  let head = new TextEncoder().encode(JSON.stringify(header));
+  const pad = (4 - (head.length % 4)) % 4;
+  head = new Uint8Array([...head, ...new Array(pad).fill(32)]);
+  const body = arrays.reduce((n, a) => n + a.byteLength, 0);
+  const out = new Uint8Array(8 + head.length + body);
+  out.set(new TextEncoder().encode('GEO1'));
+  new DataView(out.buffer).setUint32(4, head.length, true);
+  out.set(head, 8);
+  let at = 8 + head.length;
+  for (const a of arrays) {
+    out.set(new Uint8Array(a.buffer, a.byteOffset, a.byteLength), at);
+    at += a.byteLength;
+  }
+  return out.buffer;
+}
+
+test('decodes typed arrays at their offsets without copying', () => {
+  const positions = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]);
+  const triangles = new Uint32Array([0, 1, 2]);
+  const buf = message(
+    { generation: 7, node: '/a', bounds: [[0, 0, 0], [1, 1, 0]], parts: [{ name: '', positions: [0, 9], triangles: [36, 3], colorsUniform: [1, 0, 0] }] },
+    [positions, triangles],
+  );
+  const g = decodeGeometry(buf);
+  expect(g.generation).toBe(7);
+  expect(g.node).toBe('/a');
+  expect([...g.parts[0].positions]).toEqual([...positions]);
+  expect([...g.parts[0].triangles!]).toEqual([0, 1, 2]);
+  expect(g.parts[0].colorsUniform).toEqual([1, 0, 0]);
+  expect(g.parts[0].positions.buffer).toBe(buf);
+});
+
+test('refuses what is not a geometry message', () => {
+  expect(() => decodeGeometry(new TextEncoder().encode('JSON{}  ').buffer)).toThrow(/not a geometry message/);
+});
+
+test('typed numbers become numbers, anything else stays text for the loader to judge', () => {
+  expect(parseNumber(' 2.5 ')).toBe(2.5);
+  expect(parseNumber('-1e3')).toBe(-1000);
+  expect(parseNumber('abc')).toBe('abc');
+  expect(parseNumber('')).toBe('');
+});
+
+test('expression errors point at their column', () => {
+  expect(errorColumn('column 7: expected an operand')).toBe(7);
+  expect(errorColumn('value -1 is below the minimum 0')).toBeNull();
+});
+
+test('the Tab menu ranks exact and prefix matches first', () => {
+  const t = (name: string, label: string, summary = '', category = 'Geometry') => ({ name, label, summary, category }) as NodeType;
+  const all = [t('frep_box', 'FRep Box'), t('box', 'Box'), t('group_bbox', 'Group by Bounding Box'), t('sphere', 'Sphere', 'a round ball')];
+  expect(filterCatalogue(all, 'box').map((x) => x.name)).toEqual(['box', 'frep_box', 'group_bbox']);
+  expect(filterCatalogue(all, 'round').map((x) => x.name)).toEqual(['sphere']);
+  expect(filterCatalogue(all, '').length).toBe(4);
+});
+
+test('spreadsheet chunks cover the visible rows', () => {
+  expect(chunksFor(0, 10)).toEqual([0]);
+  expect(chunksFor(150, 450)).toEqual([0, 1, 2]);
+});
+
+test('the drawn-geometry checksum sees a changed value', () => {
+  const a = new Float32Array([1, 2, 3]);
+  const b = new Float32Array([1, 2, 3.5]);
+  expect(checksum(a)).not.toBe(checksum(b));
+  expect(checksum(a)).toBe(checksum(new Float32Array([1, 2, 3])));
+});
