@@ -149,7 +149,9 @@ describe('the coral', () => {
     // The deep cook starts; change the depth again while it runs.
     await page.waitForFunction((g) => window.__geode.store.state.generation > g, g0);
     const slow = await page.evaluate(() => window.__geode.store.state.generation);
-    await page.waitForTimeout(150);
+    // Progress streams while the deep cook runs, and the node shows it.
+    await page.waitForFunction((g) => window.__geode.progress.some((p) => p.generation === g && p.node === '/smooth' && p.fraction > 0 && p.fraction < 1), slow, { timeout: 20_000 });
+    await page.waitForSelector('g.node[data-node="smooth"] rect.progress');
     await setParam(page, 'depth', '5');
     await page.waitForFunction((g) => window.__geode.store.state.generation > g, slow);
     const fast = await page.evaluate(() => window.__geode.store.state.generation);
@@ -175,7 +177,7 @@ describe('the coral', () => {
   });
 
   test('screenshot for the README', async () => {
-    await page.locator('#timeline .frame').fill('61');
+    await page.locator('#timeline .frame').fill('60');
     const g = await generation(page);
     await page.locator('#timeline .frame').press('Enter');
     await nextCook(page, g, 120_000);

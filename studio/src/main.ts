@@ -4,7 +4,7 @@ import './style.css';
 import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
-import { Connection, decodeGeometry, type CookedMsg, type NodeType, type ServerMsg } from './protocol';
+import { Connection, decodeGeometry, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
 import { createStore } from './store';
 import { TabMenu } from './tabmenu';
@@ -75,6 +75,9 @@ const probe = {
   log,
   drawn: null as Drawn | null,
   cooks: [] as CookedMsg[],
+  progress: [] as ProgressMsg[],
+  /** The last redraws' times: editor, parameters, the rest (ms). */
+  panes: [] as number[][],
   received: 0,
   /** When the last `cooked` message arrived (performance.now()). */
   cookedAt: 0,
@@ -82,8 +85,6 @@ const probe = {
   request: (body: Record<string, unknown>) => conn.request(body),
 };
 (window as unknown as { __geode: typeof probe }).__geode = probe;
-
-let pendingCooked: CookedMsg | null = null;
 
 function onMessage(msg: ServerMsg) {
   switch (msg.type) {
@@ -99,6 +100,8 @@ function onMessage(msg: ServerMsg) {
     }
     case 'progress':
       if (msg.generation === store.state?.generation) store.progress.set(msg.node, msg.fraction);
+      probe.progress.push(msg);
+      if (probe.progress.length > 1000) probe.progress.shift();
       break;
     case 'cooked': {
       if (store.cooked && msg.generation < store.cooked.generation) return;
@@ -110,8 +113,7 @@ function onMessage(msg: ServerMsg) {
       const misses = msg.events.filter((e) => !e.hit).length;
       if (msg.ok) say(`${msg.node} cooked in ${(msg.ms ?? 0).toFixed(1)} ms (${msg.events.length - misses} from cache, ${misses} cooked)`);
       else if (!msg.errors.every((e) => e.kind === 'cancelled')) say(msg.errors.map((e) => `${e.path}: ${e.message}`).join('; '), true);
-      if (msg.hasGeometry) pendingCooked = msg;
-      else if (msg.ok) viewport.clear();
+      if (!msg.hasGeometry && msg.ok) viewport.clear();
       sheet.invalidate(msg.generation);
       if (msg.frame !== undefined && (msg.ok || !msg.hasGeometry)) timeline.cooked(msg.frame, msg.events.length - misses, misses);
       renderTrace($('#trace'), msg);
@@ -128,12 +130,12 @@ function onBinary(buf: ArrayBuffer) {
   probe.received = received;
   const g = decodeGeometry(buf);
   if (store.cooked && g.generation < store.cooked.generation) return;
-  const framed = pendingCooked?.node !== viewport.drawn?.node;
+  // A newly viewed node is framed; a recook of the same node keeps the camera.
+  const framed = g.node !== viewport.drawn?.node;
   void viewport.show(g, received, framed).then((d) => {
     probe.drawn = d;
     renderHud();
   });
-  pendingCooked = null;
 }
 
 const conn = new Connection(
@@ -192,11 +194,16 @@ function renderTop() {
 }
 
 store.subscribe(() => {
+  const t0 = performance.now();
   editor.render();
+  const t1 = performance.now();
   params.render();
+  const t2 = performance.now();
   timeline.render();
   renderTop();
   renderHud();
+  probe.panes.push([t1 - t0, t2 - t1, performance.now() - t2]);
+  if (probe.panes.length > 100) probe.panes.shift();
 });
 
 async function save(path?: string) {

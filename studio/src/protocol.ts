@@ -126,6 +126,8 @@ export interface GeometryPart {
   corners?: Float32Array;
   cornerNormals?: Float32Array;
   cornerColors?: Float32Array;
+  /** Triangles over the corner vertices (split where values differ). */
+  cornerTriangles?: Uint32Array;
   lines?: Uint32Array;
   points?: Uint32Array;
   instances?: Float32Array;
@@ -141,7 +143,7 @@ export interface DecodedGeometry {
 }
 
 const FLOAT_KEYS = ['positions', 'normals', 'colors', 'corners', 'cornerNormals', 'cornerColors', 'instances'] as const;
-const UINT_KEYS = ['triangles', 'lines', 'points'] as const;
+const UINT_KEYS = ['triangles', 'cornerTriangles', 'lines', 'points'] as const;
 
 /** Decodes a `GEO1` message (see crates/server/src/viewport.rs) without copying its arrays. */
 export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {

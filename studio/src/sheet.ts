@@ -104,7 +104,7 @@ export class Spreadsheet {
 
   draw() {
     this.spacer.style.height = `${this.total * ROW_H}px`;
-    const widths = this.columns.map((c) => Math.max(70, c.length * 8 + 16));
+    const widths = this.columns.map((c) => Math.max(96, c.length * 8 + 16));
     const row = (cells: string[], cls: string, index?: number) => {
       const d = document.createElement('div');
       d.className = cls;

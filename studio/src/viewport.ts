@@ -109,6 +109,7 @@ export class Viewport {
     this.bounds = bounds;
     if (bounds && (first || frameIt)) this.frame();
     this.renderer.render(this.scene, this.camera);
+    this.needsRender = false;
     return new Promise((resolve) =>
       requestAnimationFrame(() => {
         const now = performance.now();
@@ -146,7 +147,7 @@ export class Viewport {
   }
 
   private addPart(part: GeometryPart, drawn: Drawn) {
-    const tris = part.corners ? part.corners.length / 9 : (part.triangles?.length ?? 0) / 3;
+    const tris = (part.cornerTriangles ?? part.triangles ?? []).length / 3;
     const count = part.instances ? part.instances.length / 16 : 1;
     if (part.instances && count * tris > INSTANCE_TRIANGLE_BUDGET) {
       // Too many triangles: one point per instance at its origin.
@@ -181,6 +182,7 @@ export class Viewport {
       let hasColors = false;
       if (part.corners) {
         geo.setAttribute('position', new THREE.BufferAttribute(part.corners, 3));
+        if (part.cornerTriangles) geo.setIndex(new THREE.BufferAttribute(part.cornerTriangles, 1));
         if (part.cornerNormals) geo.setAttribute('normal', new THREE.BufferAttribute(part.cornerNormals, 3));
         if (part.cornerColors) geo.setAttribute('color', new THREE.BufferAttribute(part.cornerColors, 3));
         hasNormals = !!part.cornerNormals;
@@ -193,6 +195,7 @@ export class Viewport {
         hasNormals = !!part.normals;
         hasColors = !!part.colors;
       }
+      if (hasNormals) repairNormals(geo);
       const flat = this.forceFlat || !hasNormals;
       const mat = new THREE.MeshStandardMaterial({ color: hasColors ? 0xffffff : uniform, vertexColors: hasColors, flatShading: flat, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
       objects.push(part.instances ? instanced(geo, mat, part.instances) : new THREE.Mesh(geo, mat));
@@ -252,6 +255,22 @@ export class Viewport {
     b.expandByScalar((this.bounds?.getSize(new THREE.Vector3()).length() ?? 1) * 0.02);
     this.selection = b;
   }
+}
+
+/**
+ * Zero normals (points merged from geometry without `N` get the default) are
+ * replaced by normals computed from the triangles; the others are kept.
+ */
+export function repairNormals(geo: THREE.BufferGeometry) {
+  const n = geo.getAttribute('normal') as THREE.BufferAttribute;
+  const zero: number[] = [];
+  for (let i = 0; i < n.count; i++) if (n.getX(i) === 0 && n.getY(i) === 0 && n.getZ(i) === 0) zero.push(i);
+  if (!zero.length) return;
+  const kept = n.clone();
+  geo.computeVertexNormals();
+  const computed = geo.getAttribute('normal') as THREE.BufferAttribute;
+  for (const i of zero) kept.setXYZ(i, computed.getX(i), computed.getY(i), computed.getZ(i));
+  geo.setAttribute('normal', kept);
 }
 
 function instanced(geo: THREE.BufferGeometry, mat: THREE.Material, matrices: Float32Array): THREE.InstancedMesh {

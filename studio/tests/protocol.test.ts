@@ -4,7 +4,8 @@ import { decodeGeometry } from '../src/protocol';
 import { errorColumn, parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
 import { chunksFor } from '../src/sheet';
-import { checksum } from '../src/viewport';
+import { checksum, repairNormals } from '../src/viewport';
+import * as THREE from 'three';
 import type { NodeType } from '../src/protocol';
 
 function message(header: object, arrays: ArrayBufferView[]): ArrayBuffer {
@@ -74,4 +75,15 @@ test('the drawn-geometry checksum sees a changed value', () => {
   const b = new Float32Array([1, 2, 3.5]);
   expect(checksum(a)).not.toBe(checksum(b));
   expect(checksum(a)).toBe(checksum(new Float32Array([1, 2, 3])));
+});
+
+test('zero normals are replaced by computed ones, the others kept', () => {
+  const geo = new THREE.BufferGeometry();
+  geo.setAttribute('position', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]), 3));
+  geo.setIndex([0, 1, 2]);
+  geo.setAttribute('normal', new THREE.BufferAttribute(new Float32Array([0, 0, 0, 1, 0, 0, 0, 0, 0]), 3));
+  repairNormals(geo);
+  const n = geo.getAttribute('normal');
+  expect([n.getX(0), n.getY(0), n.getZ(0)]).toEqual([0, 0, 1]);
+  expect([n.getX(1), n.getY(1), n.getZ(1)]).toEqual([1, 0, 0]);
 });

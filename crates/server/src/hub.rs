@@ -131,8 +131,9 @@ impl Reporter for Hub {
             "hasGeometry": geometry.is_some(),
             "encodeMs": encode_ms,
         });
-        messages.push(Out::Text(j.to_string().into()));
+        // The geometry first: the page decodes and uploads it while it reads the rest.
         messages.extend(geometry.map(Out::Binary));
+        messages.push(Out::Text(j.to_string().into()));
         self.publish(Last {
             generation: done.generation,
             node: done.node,

@@ -103,6 +103,56 @@ fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
     tris
 }
 
+/// Drawn vertices where values differ per corner: corners on one point with
+/// equal normal and colour share a vertex (Houdini splits only at seams).
+struct Split {
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    colors: Vec<Vec3>,
+    triangles: Vec<u32>,
+}
+
+fn split_vertices(
+    g: &Geometry,
+    tris: &[[(u32, u32, u32); 3]],
+    normals: Option<&Source>,
+    colors: Option<&Source>,
+) -> Split {
+    const NONE: u32 = u32::MAX;
+    let p = g.positions();
+    // Drawn vertices of each point as a linked list: head per point, next per vertex.
+    let mut head = vec![NONE; g.num_points()];
+    let mut next: Vec<u32> = Vec::new();
+    let mut out = Split {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        colors: Vec::new(),
+        triangles: Vec::with_capacity(tris.len() * 3),
+    };
+    for &(prim, vertex, point) in tris.iter().flatten() {
+        let at = |s: Option<&Source>| {
+            s.map_or(Vec3::ZERO, |s| {
+                s.at(prim as usize, vertex as usize, point as usize)
+            })
+        };
+        let (n, c) = (at(normals), at(colors));
+        let mut i = head[point as usize];
+        while i != NONE && (out.normals[i as usize] != n || out.colors[i as usize] != c) {
+            i = next[i as usize];
+        }
+        if i == NONE {
+            i = out.positions.len() as u32;
+            out.positions.push(p[point as usize]);
+            out.normals.push(n);
+            out.colors.push(c);
+            next.push(head[point as usize]);
+            head[point as usize] = i;
+        }
+        out.triangles.push(i);
+    }
+    out
+}
+
 /// One drawable part of a geometry (packed instances aside).
 fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
     let mut part = serde_json::Map::new();
@@ -116,18 +166,15 @@ fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
     };
     let p = g.positions();
     if per_corner(&normals) || per_corner(&colors) {
-        // Values that differ per corner: every triangle corner gets its own.
-        let corners = || tris.iter().flatten();
-        let pos: Vec<Vec3> = corners().map(|c| p[c.2 as usize]).collect();
-        part.insert("corners".into(), arrays.push(&pos, 3));
-        for (key, src) in [("cornerNormals", &normals), ("cornerColors", &colors)] {
-            if let Some(s) = src {
-                let v: Vec<Vec3> = corners()
-                    .map(|c| s.at(c.0 as usize, c.1 as usize, c.2 as usize))
-                    .collect();
-                part.insert(key.into(), arrays.push(&v, 3));
-            }
+        let split = split_vertices(g, &tris, normals.as_ref(), colors.as_ref());
+        part.insert("corners".into(), arrays.push(&split.positions, 3));
+        if normals.is_some() {
+            part.insert("cornerNormals".into(), arrays.push(&split.normals, 3));
         }
+        if colors.is_some() {
+            part.insert("cornerColors".into(), arrays.push(&split.colors, 3));
+        }
+        part.insert("cornerTriangles".into(), arrays.push(&split.triangles, 1));
     } else if !tris.is_empty() {
         let idx: Vec<u32> = tris.iter().flatten().map(|c| c.2).collect();
         part.insert("triangles".into(), arrays.push(&idx, 1));
@@ -363,10 +410,40 @@ mod tests {
         let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
         let (h, body) = decode(&bytes);
         let part = &h["parts"][0];
-        assert_eq!(floats(body, &part["corners"]).len(), 6 * 3);
+        // One colour for the whole quad: its four corners stay four vertices.
+        assert_eq!(floats(body, &part["corners"]).len(), 4 * 3);
         assert_eq!(
             floats(body, &part["cornerColors"]),
-            [1.0, 0.0, 0.0].repeat(6)
+            [1.0, 0.0, 0.0].repeat(4)
+        );
+        assert_eq!(
+            uints(body, &part["cornerTriangles"]),
+            vec![0, 1, 2, 0, 2, 3]
+        );
+    }
+
+    #[test]
+    fn corners_split_where_their_values_differ() {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::Y,
+            Vec3::new(2.0, 0.0, 0.0),
+        ];
+        let mut g = Geometry::from_polygons(p, vec![0, 1, 2, 3, 1, 4, 2], &[4, 3]).unwrap();
+        let red = AttribValue::Vec3(Vec3::X);
+        let mut cd = Attribute::new(red, TypeInfo::Color, 2);
+        cd.values_mut().set(1, &AttribValue::Vec3(Vec3::Y)).unwrap();
+        g.set_attrib(AttribClass::Primitive, "Cd", cd).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let (h, body) = decode(&bytes);
+        let part = &h["parts"][0];
+        // Points 1 and 2 are on both faces, of different colours: 4 + 3 vertices.
+        assert_eq!(floats(body, &part["corners"]).len(), 7 * 3);
+        assert_eq!(
+            uints(body, &part["cornerTriangles"]),
+            vec![0, 1, 2, 0, 2, 3, 4, 5, 6]
         );
     }
 

@@ -1,4 +1,4 @@
-//! Security of `geode serve`: the token on every request and on the socket, `Host` and `Origin` checks, bounded messages, loopback by default.
+//! `geode serve` over HTTP: security (the token on every request and on the socket, `Host` and `Origin` checks, bounded messages, loopback by default), export of the viewed node and the Chrome trace.
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
@@ -243,4 +243,62 @@ fn an_oversized_message_closes_the_socket_unanswered() {
     );
     assert_eq!(status, 200);
     assert!(!body.contains("xxxxxxxx"));
+}
+
+/// Waits until the session's first cook is done (its trace has spans).
+fn cooked(r: &Running) -> serde_json::Value {
+    let auth = [host(r), ("X-Geode-Token", r.token.clone())];
+    for _ in 0..600 {
+        let (status, body) = get(r, "/api/trace.json", &auth);
+        assert_eq!(status, 200);
+        let trace: serde_json::Value = serde_json::from_str(&body).unwrap();
+        if trace["traceEvents"]
+            .as_array()
+            .is_some_and(|e| !e.is_empty())
+        {
+            return trace;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(100));
+    }
+    panic!("the first cook did not finish in a minute");
+}
+
+#[test]
+fn the_trace_names_every_node_of_the_cook() {
+    let (r, _d) = server();
+    let trace = cooked(&r);
+    let names: Vec<&str> = trace["traceEvents"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["name"].as_str().unwrap())
+        .collect();
+    for node in ["/ring", "/spin", "/all", "/out"] {
+        assert!(names.contains(&node), "{node} missing from {names:?}");
+    }
+    assert!(trace["traceEvents"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|e| e["ph"] == "X" && e["dur"].as_f64().unwrap() >= 0.0));
+}
+
+#[test]
+fn export_downloads_the_viewed_node_in_the_asked_format() {
+    let (r, dir) = server();
+    cooked(&r);
+    let auth = [host(&r), ("X-Geode-Token", r.token.clone())];
+    let (status, body) = get(&r, "/api/export?format=obj", &auth);
+    assert_eq!(status, 200);
+    let vertices = body.lines().filter(|l| l.starts_with("v ")).count();
+    assert!(vertices > 100, "{vertices} vertices");
+    let (status, body) = get(&r, "/api/export?format=xyz", &auth);
+    assert_eq!(status, 400);
+    assert_eq!(body, "cannot export to `xyz` (obj, stl, ply, glb, usda)");
+    // Nothing was written beside the network.
+    let files: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(files, vec![std::ffi::OsString::from("primitives.json")]);
 }
