@@ -14,10 +14,20 @@ after(async () => {
   await chrome?.close();
 });
 
+/** The box of an element the editor may be redrawing: asked again until it is there. */
+async function boxOf(locator) {
+  for (let i = 0; i < 50; i++) {
+    const b = await locator.boundingBox().catch(() => null);
+    if (b) return b;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`no box for ${locator}`);
+}
+
 /** Clicks a node of the editor by name. */
 async function clickNode(page, name) {
   // Right of the labels and left of the display flag, at any zoom.
-  const box = await page.locator(`g.node[data-node="${name}"] rect.body`).boundingBox();
+  const box = await boxOf(page.locator(`g.node[data-node="${name}"] rect.body`));
   await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
 }
 
@@ -83,8 +93,8 @@ describe('the coral', () => {
     // Drag from the box's output to the merge's free input.
     const out = page.locator(`g.node[data-node="${name}"] circle.port.out`);
     const free = page.locator('g.node[data-node="both"] circle.port.in:not(.connected)').first();
-    const a = await out.boundingBox();
-    const b = await free.boundingBox();
+    const a = await boxOf(out);
+    const b = await boxOf(free);
     await page.mouse.move(a.x + a.width / 2, a.y + a.height / 2);
     await page.mouse.down();
     await page.mouse.move((a.x + b.x) / 2, (a.y + b.y) / 2, { steps: 4 });
@@ -163,6 +173,31 @@ describe('the coral', () => {
     assert.equal((await drawn(page)).generation, fast);
   });
 
+  test('copy and paste, a key set and deleted at the current frame', async () => {
+    await clickNode(page, 'beside');
+    await page.keyboard.press('Control+c');
+    await page.keyboard.press('Control+v');
+    await page.waitForFunction(() => 'beside1' in window.__geode.store.state.document.nodes);
+    const pasted = await page.evaluate(() => window.__geode.store.state.document.nodes.beside1);
+    // As in Houdini, a pasted node keeps its parameters, not wires from outside the copy.
+    assert.equal(pasted.type, 'transform');
+    assert.deepEqual(pasted.params.translate, [3, 0, 0]);
+    assert.equal(pasted.inputs, undefined);
+    await clickNode(page, 'beside');
+    const frame = await page.evaluate(() => window.__geode.store.state.view.frame);
+    await page.locator('.param[data-param="translate"] button.key').click();
+    await page.waitForFunction(() => Array.isArray(window.__geode.store.state.document.nodes.beside.params.translate?.[0]?.keys));
+    const t = await page.evaluate(() => window.__geode.store.state.document.nodes.beside.params.translate);
+    assert.deepEqual(t[0], { keys: [{ frame, value: 3 }] });
+    await page.waitForSelector('.param.keyed[data-param="translate"]');
+    await page.locator('.param[data-param="translate"] button.key').click();
+    await page.waitForFunction(() => typeof window.__geode.store.state.document.nodes.beside.params.translate[0] === 'number');
+    // Delete removes the selected node.
+    await clickNode(page, 'beside1');
+    await page.keyboard.press('Delete');
+    await page.waitForFunction(() => !('beside1' in window.__geode.store.state.document.nodes));
+  });
+
   test('save writes the canonical form, byte-identical to geode fmt', async () => {
     assert.ok(await page.evaluate(() => window.__geode.store.state.dirty));
     await page.locator('#editor svg').focus();
@@ -174,17 +209,6 @@ describe('the coral', () => {
     execFileSync(geodeBin, ['fmt', copy]);
     assert.equal(readFileSync(copy, 'utf8'), saved);
     assert.match(saved, /"depth": 5/);
-  });
-
-  test('screenshot for the README', async () => {
-    await page.locator('#timeline .frame').fill('60');
-    const g = await generation(page);
-    await page.locator('#timeline .frame').press('Enter');
-    await nextCook(page, g, 120_000);
-    await clickNode(page, 'grow');
-    await page.waitForTimeout(300);
-    const png = await page.screenshot();
-    writeFileSync(process.env.GEODE_SCREENSHOT ?? `${server.dir}/studio.png`, png);
   });
 });
 
@@ -228,6 +252,27 @@ describe('the rig (subnet)', () => {
     const view = await page.evaluate(() => window.__geode.store.state.view);
     assert.deepEqual([view.solo, view.auto], ['/rig/raise', true]);
     assert.match(await page.locator('#hud').textContent(), /auto-solo/);
+  });
+});
+
+describe('the README screenshot', () => {
+  test('the coral fully grown, its network and parameters', async () => {
+    const server = await serve('coral.json');
+    const { page } = await open(chrome.b, server.url);
+    try {
+      await nextCook(page, 0, 120_000);
+      const g = await generation(page);
+      await page.locator('#timeline .frame').fill('61');
+      await page.locator('#timeline .frame').press('Enter');
+      await nextCook(page, g, 300_000);
+      await clickNode(page, 'grow');
+      await page.waitForSelector('.param[data-param="kill"]');
+      await page.waitForTimeout(300);
+      writeFileSync(process.env.GEODE_SCREENSHOT ?? `${server.dir}/studio.png`, await page.screenshot());
+    } finally {
+      await page.close();
+      await server.stop();
+    }
   });
 });
 

@@ -79,7 +79,9 @@ export class ParamPanel {
     const node = path && s.state ? nodeAt(s.state.document, path) : null;
     const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(s.cooked?.errors ?? [])}`;
     if (key === this.shownKey) return;
-    if (this.host.contains(document.activeElement) && document.activeElement !== this.host) {
+    // A field being typed in or a slider being dragged is not swept away under the user.
+    const active = document.activeElement;
+    if (active && this.host.contains(active) && active.matches('input, select, textarea')) {
       this.deferred = true;
       return;
     }

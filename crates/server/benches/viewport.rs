@@ -16,7 +16,7 @@ fn main() {
 fn grid_1m_triangles(bencher: divan::Bencher) {
     // 708 x 708 points: 707^2 quads, 999,698 triangles.
     let g = Value::Geometry(Arc::new(primitives::grid(Vec2::splat(10.0), 708, 708)));
-    bencher.bench(|| encode(&g, serde_json::json!({})).unwrap().len());
+    bencher.bench(|| encode(&g, serde_json::json!({})).unwrap().bytes.len());
 }
 
 #[divan::bench(sample_count = 10)]
@@ -32,5 +32,5 @@ fn packed_1m_instances(bencher: divan::Bencher) {
         g.add_packed(pt, proto.clone(), Mat4::IDENTITY).unwrap();
     }
     let v = Value::Geometry(Arc::new(g));
-    bencher.bench(|| encode(&v, serde_json::json!({})).unwrap().len());
+    bencher.bench(|| encode(&v, serde_json::json!({})).unwrap().bytes.len());
 }

@@ -114,7 +114,10 @@ impl Reporter for Hub {
             let encoded = viewport::encode(v, header);
             encode_ms = began.elapsed().as_secs_f64() * 1e3;
             match encoded {
-                Ok(bytes) => geometry = Some(Bytes::from(bytes)),
+                Ok(e) => {
+                    stats["bounds"] = e.bounds;
+                    geometry = Some(Bytes::from(e.bytes));
+                }
                 Err(e) => errors.push(json!({"path": done.node, "param": null, "kind": "resource", "message": e.to_string()})),
             }
         }

@@ -126,22 +126,26 @@ impl Session {
     }
 
     pub fn undo(&mut self) -> bool {
-        let Some(prev) = self.undo.pop() else {
-            return false;
-        };
-        self.redo.push(self.doc.clone());
-        self.merge_target = None;
-        self.replace(prev);
-        true
+        self.travel(true)
     }
 
     pub fn redo(&mut self) -> bool {
-        let Some(next) = self.redo.pop() else {
+        self.travel(false)
+    }
+
+    /// One step back (undo) or forward (redo) through the history.
+    fn travel(&mut self, back: bool) -> bool {
+        let (from, to) = if back {
+            (&mut self.undo, &mut self.redo)
+        } else {
+            (&mut self.redo, &mut self.undo)
+        };
+        let Some(doc) = from.pop() else {
             return false;
         };
-        self.undo.push(self.doc.clone());
+        to.push(self.doc.clone());
         self.merge_target = None;
-        self.replace(next);
+        self.replace(doc);
         true
     }
 

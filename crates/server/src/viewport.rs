@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use geode_geo::ops::{bounds, Aabb};
+use geode_geo::ops::Aabb;
 use geode_geo::{AttribClass, AttribData, Geometry, PrimKind};
 use geode_op::Value;
 use glam::{Mat4, Vec3};
@@ -103,6 +103,23 @@ fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
     tris
 }
 
+/// The point indices of the fan triangles of every polygon.
+fn fan_indices(g: &Geometry) -> Vec<u32> {
+    let vp = g.vertex_points();
+    let offsets = g.prim_offsets();
+    let mut idx = Vec::with_capacity(g.num_vertices().saturating_sub(2 * g.num_prims()) * 3);
+    for (prim, kind) in g.prim_kinds().iter().enumerate() {
+        if *kind != PrimKind::Polygon {
+            continue;
+        }
+        let (a, b) = (offsets[prim] as usize, offsets[prim + 1] as usize);
+        for k in a + 1..b.saturating_sub(1) {
+            idx.extend_from_slice(&[vp[a], vp[k], vp[k + 1]]);
+        }
+    }
+    idx
+}
+
 /// Drawn vertices where values differ per corner: corners on one point with
 /// equal normal and colour share a vertex (Houdini splits only at seams).
 struct Split {
@@ -159,14 +176,13 @@ fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
     part.insert("name".into(), json!(name));
     let normals = display_attrib(g, "N");
     let colors = display_attrib(g, "Cd");
-    let tris = triangle_corners(g);
     let per_corner = |s: &Option<Source>| {
         s.as_ref()
             .is_some_and(|s| matches!(s.class, AttribClass::Vertex | AttribClass::Primitive))
     };
     let p = g.positions();
     if per_corner(&normals) || per_corner(&colors) {
-        let split = split_vertices(g, &tris, normals.as_ref(), colors.as_ref());
+        let split = split_vertices(g, &triangle_corners(g), normals.as_ref(), colors.as_ref());
         part.insert("corners".into(), arrays.push(&split.positions, 3));
         if normals.is_some() {
             part.insert("cornerNormals".into(), arrays.push(&split.normals, 3));
@@ -175,9 +191,20 @@ fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
             part.insert("cornerColors".into(), arrays.push(&split.colors, 3));
         }
         part.insert("cornerTriangles".into(), arrays.push(&split.triangles, 1));
-    } else if !tris.is_empty() {
-        let idx: Vec<u32> = tris.iter().flatten().map(|c| c.2).collect();
-        part.insert("triangles".into(), arrays.push(&idx, 1));
+    } else {
+        let idx = fan_indices(g);
+        if !idx.is_empty() {
+            part.insert("triangles".into(), arrays.push(&idx, 1));
+        }
+    }
+    let (lines, loose) = lines_and_loose_points(g);
+    if !part.contains_key("triangles")
+        && !part.contains_key("cornerTriangles")
+        && lines.is_empty()
+        && loose.is_empty()
+    {
+        // Only instances (or nothing): their points travel in the matrices.
+        return Json::Object(part);
     }
     part.insert("positions".into(), arrays.push(p, 3));
     for (key, src) in [("normals", &normals), ("colors", &colors)] {
@@ -192,7 +219,6 @@ fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
             _ => {}
         }
     }
-    let (lines, loose) = lines_and_loose_points(g);
     if !lines.is_empty() {
         part.insert("lines".into(), arrays.push(&lines, 2));
     }
@@ -230,6 +256,8 @@ fn collect_instances(
     out: &mut Vec<(Arc<Geometry>, Vec<Mat4>)>,
     index: &mut HashMap<*const Geometry, usize>,
 ) {
+    // Runs of instances share a prototype: look the map up only when it changes.
+    let mut last: Option<(*const Geometry, usize)> = None;
     for prim in 0..g.num_prims() {
         let (Some(inst), Some(m)) = (g.packed_instance(prim), g.packed_world_transform(prim))
         else {
@@ -237,14 +265,45 @@ fn collect_instances(
         };
         let world = parent * m;
         let key = Arc::as_ptr(&inst.source);
-        let slot = *index.entry(key).or_insert_with(|| {
-            out.push((inst.source.clone(), Vec::new()));
-            out.len() - 1
-        });
+        let slot = match last {
+            Some((k, slot)) if k == key => slot,
+            _ => {
+                let slot = *index.entry(key).or_insert_with(|| {
+                    // Usually one prototype has them all: size its list once.
+                    let capacity = if out.is_empty() { g.num_prims() } else { 0 };
+                    out.push((inst.source.clone(), Vec::with_capacity(capacity)));
+                    out.len() - 1
+                });
+                last = Some((key, slot));
+                slot
+            }
+        };
         out[slot].1.push(world);
         if inst.source.has_packed() {
             collect_instances(&inst.source, world, out, index);
         }
+    }
+}
+
+/// Bounds of a geometry's own points (instances are bounded by their prototypes).
+fn point_bounds(g: &Geometry) -> Aabb {
+    g.positions().iter().fold(Aabb::empty(), |mut b, p| {
+        b.include(*p);
+        b
+    })
+}
+
+/// The box enclosing `b` after the affine `m`, from its centre and half extent
+/// (Arvo's method: the same box as its eight corners give, in a few operations).
+fn transformed(b: &Aabb, m: &Mat4) -> Aabb {
+    if b.is_empty() {
+        return *b;
+    }
+    let centre = m.transform_point3(b.center());
+    let half = glam::Mat3::from_mat4(*m).abs() * (b.size() * 0.5);
+    Aabb {
+        min: centre - half,
+        max: centre + half,
     }
 }
 
@@ -264,8 +323,16 @@ pub enum ShowError {
     Field,
 }
 
-/// Encodes a value for the viewport: the header's parts and stats, and the message bytes.
-pub fn encode(value: &Value, header_extra: Json) -> Result<Vec<u8>, ShowError> {
+/// A value encoded for the viewport.
+pub struct Encoded {
+    /// The `GEO1` message.
+    pub bytes: Vec<u8>,
+    /// `[[min], [max]]` of everything drawn, or null.
+    pub bounds: Json,
+}
+
+/// Encodes a value for the viewport (`header_extra` goes into the header).
+pub fn encode(value: &Value, header_extra: Json) -> Result<Encoded, ShowError> {
     let geos: Vec<(String, Arc<Geometry>)> = match value {
         Value::Geometry(g) => vec![(String::new(), g.clone())],
         Value::Bundle(b) => b
@@ -280,43 +347,46 @@ pub fn encode(value: &Value, header_extra: Json) -> Result<Vec<u8>, ShowError> {
         let h = |b: usize| geode_op::human_bytes(b as f64);
         return Err(ShowError::TooLarge(h(size), h(MAX_BYTES)));
     }
-    let mut arrays = Arrays::default();
+    let mut arrays = Arrays {
+        bytes: Vec::with_capacity(size + (1 << 16)),
+    };
     let mut parts = Vec::new();
     let mut bbox = Aabb::empty();
     for (name, g) in &geos {
-        if let Some(b) = bounds(g) {
-            bbox = bbox.union(&b);
-        }
+        bbox = bbox.union(&point_bounds(g));
         parts.push(encode_part(g, name, &mut arrays));
         let mut protos = Vec::new();
         collect_instances(g, Mat4::IDENTITY, &mut protos, &mut HashMap::new());
         for (k, (proto, mats)) in protos.iter().enumerate() {
             let mut part = encode_part(proto, &format!("{name}#proto{k}"), &mut arrays);
-            let flat: Vec<f32> = mats.iter().flat_map(|m| m.to_cols_array()).collect();
-            part["instances"] = arrays.push(&flat, 16);
-            let pb = bounds(proto).unwrap_or(Aabb::empty());
+            part["instances"] = arrays.push(mats, 16);
+            let pb = point_bounds(proto);
+            bbox = mats.iter().fold(bbox, |b, m| b.union(&transformed(&pb, m)));
             part["protoBounds"] = json!([pb.min.to_array(), pb.max.to_array()]);
             parts.push(part);
         }
     }
-    let mut header = header_extra;
-    header["parts"] = Json::Array(parts);
-    header["bounds"] = if bbox.is_empty() {
+    let bounds = if bbox.is_empty() {
         Json::Null
     } else {
         json!([bbox.min.to_array(), bbox.max.to_array()])
     };
+    let mut header = header_extra;
+    header["parts"] = Json::Array(parts);
+    header["bounds"] = bounds.clone();
     let mut head = serde_json::to_vec(&header).expect("headers serialise");
     pad4(&mut head, b' ');
-    let mut out = Vec::with_capacity(8 + head.len() + arrays.bytes.len());
-    out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&(head.len() as u32).to_le_bytes());
-    out.extend_from_slice(&head);
-    out.extend_from_slice(&arrays.bytes);
-    Ok(out)
+    let mut prefix = Vec::with_capacity(8 + head.len());
+    prefix.extend_from_slice(MAGIC);
+    prefix.extend_from_slice(&(head.len() as u32).to_le_bytes());
+    prefix.extend_from_slice(&head);
+    // The header goes in front of the arrays in place (one move, no second buffer).
+    let mut bytes = arrays.bytes;
+    bytes.splice(0..0, prefix);
+    Ok(Encoded { bytes, bounds })
 }
 
-/// Counts, bounds and memory of a value (the viewport's readout).
+/// Counts and memory of a value (the viewport's readout; bounds come with the geometry).
 pub fn stats(value: &Value) -> Json {
     match value {
         Value::Geometry(g) => geometry_stats(g),
@@ -332,13 +402,11 @@ pub fn geometry_stats(g: &Geometry) -> Json {
     for k in g.prim_kinds() {
         *kinds.entry(k.name()).or_default() += 1;
     }
-    let b = bounds(g);
     json!({
         "points": g.num_points(),
         "vertices": g.num_vertices(),
         "primitives": g.num_prims(),
         "kinds": kinds,
-        "bounds": b.map(|b| json!([b.min.to_array(), b.max.to_array()])),
         "memory": g.memory_bytes(),
     })
 }
@@ -384,7 +452,9 @@ mod tests {
 
     #[test]
     fn polygons_become_fan_triangles_over_shared_points() {
-        let bytes = encode(&Value::Geometry(Arc::new(quad())), json!({"generation": 3})).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(quad())), json!({"generation": 3}))
+            .unwrap()
+            .bytes;
         let (h, body) = decode(&bytes);
         assert_eq!(h["generation"], 3);
         let part = &h["parts"][0];
@@ -407,7 +477,9 @@ mod tests {
             ),
         )
         .unwrap();
-        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({}))
+            .unwrap()
+            .bytes;
         let (h, body) = decode(&bytes);
         let part = &h["parts"][0];
         // One colour for the whole quad: its four corners stay four vertices.
@@ -436,7 +508,9 @@ mod tests {
         let mut cd = Attribute::new(red, TypeInfo::Color, 2);
         cd.values_mut().set(1, &AttribValue::Vec3(Vec3::Y)).unwrap();
         g.set_attrib(AttribClass::Primitive, "Cd", cd).unwrap();
-        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({}))
+            .unwrap()
+            .bytes;
         let (h, body) = decode(&bytes);
         let part = &h["parts"][0];
         // Points 1 and 2 are on both faces, of different colours: 4 + 3 vertices.
@@ -456,7 +530,9 @@ mod tests {
             g.add_packed(pt, proto.clone(), glam::Mat4::IDENTITY)
                 .unwrap();
         }
-        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({}))
+            .unwrap()
+            .bytes;
         let (h, body) = decode(&bytes);
         let parts = h["parts"].as_array().unwrap();
         assert_eq!(parts.len(), 2, "the host part and one prototype");
@@ -475,7 +551,9 @@ mod tests {
         let c = g.add_point(Vec3::Y);
         g.add_point(Vec3::Z);
         g.add_polyline(&[a, b, c]).unwrap();
-        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({})).unwrap();
+        let bytes = encode(&Value::Geometry(Arc::new(g)), json!({}))
+            .unwrap()
+            .bytes;
         let (h, body) = decode(&bytes);
         let part = &h["parts"][0];
         assert_eq!(uints(body, &part["lines"]), vec![0, 1, 1, 2]);
