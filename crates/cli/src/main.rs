@@ -201,6 +201,13 @@ fn serve(
         bind,
     })?;
     println!("geode studio: {}", running.url);
+    if bind.is_some_and(|ip| ip.is_unspecified()) {
+        eprintln!(
+            "from another machine: http://<this machine's address>:{}/?token={}",
+            running.addr.port(),
+            running.token
+        );
+    }
     use std::io::Write as _;
     let _ = std::io::stdout().flush();
     if open {

@@ -158,10 +158,14 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
             runtime.shutdown_background();
         })
         .map_err(ServeError::Runtime)?;
-    let host = if ip.is_loopback() {
+    // Bound to every address, this machine's own browser still comes by loopback.
+    let host = if ip.is_loopback() || ip.is_unspecified() {
         "127.0.0.1".to_owned()
     } else {
-        addr.ip().to_string()
+        std::net::SocketAddr::new(addr.ip(), 0)
+            .to_string()
+            .trim_end_matches(":0")
+            .to_owned()
     };
     Ok(Running {
         url: format!("http://{host}:{}/?token={token}", addr.port()),

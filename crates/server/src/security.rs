@@ -14,6 +14,10 @@ pub struct Guard {
     pub token: String,
     /// `host:port` values the `Host` header may take.
     pub hosts: Vec<String>,
+    /// Bound beyond loopback (`--bind`): any IP literal with this port is
+    /// also a valid `Host`/`Origin` (rebinding needs a domain name, so IP
+    /// literals stay safe).
+    ip_hosts: Option<u16>,
 }
 
 /// A token of 128 random bits, as hex.
@@ -45,7 +49,21 @@ impl Guard {
         if !hosts.contains(&own) {
             hosts.push(own);
         }
-        Guard { token, hosts }
+        let ip_hosts = (!bound.ip().is_loopback()).then_some(port);
+        Guard {
+            token,
+            hosts,
+            ip_hosts,
+        }
+    }
+
+    /// Whether `host` (a `Host` value or an origin without its scheme) names this studio.
+    fn is_own(&self, host: &str) -> bool {
+        self.hosts.iter().any(|ok| ok.eq_ignore_ascii_case(host))
+            || self.ip_hosts.is_some_and(|port| {
+                host.parse::<std::net::SocketAddr>()
+                    .is_ok_and(|a| a.port() == port)
+            })
     }
 
     fn token_in(&self, headers: &HeaderMap, query: Option<&str>) -> bool {
@@ -80,7 +98,7 @@ impl Guard {
         query: Option<&str>,
     ) -> Result<(), (StatusCode, &'static str)> {
         let host = headers.get(header::HOST).and_then(|h| h.to_str().ok());
-        if !host.is_some_and(|h| self.hosts.iter().any(|ok| ok.eq_ignore_ascii_case(h))) {
+        if !host.is_some_and(|h| self.is_own(h)) {
             return Err((
                 StatusCode::FORBIDDEN,
                 "refused: the Host header is not this studio's address",
@@ -88,7 +106,7 @@ impl Guard {
         }
         if let Some(origin) = headers.get(header::ORIGIN) {
             let ok = origin.to_str().ok().and_then(|o| o.strip_prefix("http://"));
-            if !ok.is_some_and(|o| self.hosts.iter().any(|h| h.eq_ignore_ascii_case(o))) {
+            if !ok.is_some_and(|o| self.is_own(o)) {
                 return Err((StatusCode::FORBIDDEN, "refused: cross-origin request"));
             }
         }

@@ -14,15 +14,16 @@ const UNDO_DEPTH: usize = 1000;
 
 #[derive(Debug, thiserror::Error)]
 pub enum SessionError {
-    #[error("{path}: {source}")]
+    // The causes are part of the message, not sources: shown once.
+    #[error("{path}: {cause}")]
     Read {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
-    #[error("{path}: {source}")]
+    #[error("{path}: {cause}")]
     Syntax {
         path: PathBuf,
-        source: geode_graph::SyntaxError,
+        cause: geode_graph::SyntaxError,
     },
     #[error(transparent)]
     Write(#[from] geode_io::IoError),
@@ -54,13 +55,13 @@ impl Session {
     pub fn open(path: Option<&Path>, registry: Arc<Registry>) -> Result<Session, SessionError> {
         let doc = match path {
             Some(p) if p.exists() => {
-                let text = std::fs::read_to_string(p).map_err(|source| SessionError::Read {
+                let text = std::fs::read_to_string(p).map_err(|cause| SessionError::Read {
                     path: p.to_owned(),
-                    source,
+                    cause,
                 })?;
-                Document::from_json(&text).map_err(|source| SessionError::Syntax {
+                Document::from_json(&text).map_err(|cause| SessionError::Syntax {
                     path: p.to_owned(),
-                    source,
+                    cause,
                 })?
             }
             _ => Document::new(),

@@ -277,3 +277,49 @@ fn export_downloads_the_viewed_node_in_the_asked_format() {
         .collect();
     assert_eq!(files, vec![std::ffi::OsString::from("primitives.json")]);
 }
+
+#[test]
+fn bound_beyond_loopback_it_answers_ip_hosts_but_not_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("primitives.json");
+    std::fs::copy(example("primitives.json"), &net).unwrap();
+    let r = start(Options {
+        network: Some(net),
+        port: 0,
+        bind: Some("0.0.0.0".parse().unwrap()),
+    })
+    .unwrap();
+    let port = r.addr.port();
+    let auth = ("X-Geode-Token", r.token.clone());
+    let status = |h: String| get(&r, "/api/state", &[("Host", h), auth.clone()]).0;
+    assert_eq!(status(format!("192.0.2.7:{port}")), 200);
+    assert_eq!(status(format!("[2001:db8::1]:{port}")), 200);
+    assert_eq!(status(format!("192.0.2.7:{}", port + 1)), 403);
+    assert_eq!(status(format!("evil.example:{port}")), 403);
+    assert_eq!(
+        get(&r, "/api/state", &[("Host", format!("192.0.2.7:{port}"))]).0,
+        401
+    );
+}
+
+#[test]
+fn a_file_that_is_not_json_is_refused_with_its_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("bad.json");
+    std::fs::write(&net, "{\"geode\": \"network\",\n \"version\": }").unwrap();
+    let e = start(Options {
+        network: Some(net.clone()),
+        port: 0,
+        bind: None,
+    })
+    .err()
+    .unwrap();
+    assert_eq!(
+        e.to_string(),
+        format!("{}: line 2, column 13: expected value", net.display())
+    );
+    assert!(
+        std::error::Error::source(&e).is_none(),
+        "the cause is printed once"
+    );
+}
