@@ -14,13 +14,18 @@ fn example(name: &str) -> PathBuf {
 }
 
 fn server() -> (Running, tempfile::TempDir) {
+    server_on(None)
+}
+
+/// A studio on a copy of the primitives example, bound to `bind` (loopback by default).
+fn server_on(bind: Option<std::net::IpAddr>) -> (Running, tempfile::TempDir) {
     let dir = tempfile::tempdir().unwrap();
     let net = dir.path().join("primitives.json");
     std::fs::copy(example("primitives.json"), &net).unwrap();
     let running = start(Options {
         network: Some(net),
         port: 0,
-        bind: None,
+        bind,
     })
     .unwrap();
     (running, dir)
@@ -280,15 +285,7 @@ fn export_downloads_the_viewed_node_in_the_asked_format() {
 
 #[test]
 fn bound_beyond_loopback_it_answers_ip_hosts_but_not_names() {
-    let dir = tempfile::tempdir().unwrap();
-    let net = dir.path().join("primitives.json");
-    std::fs::copy(example("primitives.json"), &net).unwrap();
-    let r = start(Options {
-        network: Some(net),
-        port: 0,
-        bind: Some("0.0.0.0".parse().unwrap()),
-    })
-    .unwrap();
+    let (r, _d) = server_on(Some("0.0.0.0".parse().unwrap()));
     let port = r.addr.port();
     let auth = ("X-Geode-Token", r.token.clone());
     let status = |h: String| get(&r, "/api/state", &[("Host", h), auth.clone()]).0;
