@@ -34,12 +34,6 @@ pub fn load(path: &Path) -> Result<(Document, Network)> {
     }
 }
 
-/// The cook's environment: `$HIP` is the network file's folder, as in
-/// Houdini (unless `HIP` is set), and the memory budget `GEODE_MEMORY_MB`.
-pub fn cook_env(network: &Path) -> CookEnv {
-    CookEnv::for_network(network)
-}
-
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).
 pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
     match (frame, range) {
@@ -90,7 +84,7 @@ pub struct CookArgs<'a> {
 
 pub fn cook(args: CookArgs) -> Result<()> {
     let (_, net) = load(args.network)?;
-    let env = cook_env(args.network);
+    let env = CookEnv::for_network(args.network);
     let target = match args.node {
         Some(n) => n.to_owned(),
         None => net.output().map(str::to_owned).ok_or_else(|| {

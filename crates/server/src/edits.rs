@@ -94,7 +94,7 @@ pub struct EditError {
     pub message: String,
 }
 
-fn refuse(path: &str, message: impl Into<String>) -> EditError {
+pub(crate) fn refuse(path: &str, message: impl Into<String>) -> EditError {
     EditError {
         path: path.to_owned(),
         message: message.into(),

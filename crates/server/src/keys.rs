@@ -4,14 +4,7 @@ use geode_graph::document::NodeDoc;
 use geode_op::{ParamDefault, Registry};
 use serde_json::{json, Value as Json};
 
-use crate::edits::EditError;
-
-fn refuse(path: &str, message: impl Into<String>) -> EditError {
-    EditError {
-        path: path.to_owned(),
-        message: message.into(),
-    }
-}
+use crate::edits::{refuse, EditError};
 
 /// The components of a numeric default as the document writes them.
 fn default_components(d: ParamDefault) -> Vec<Json> {

@@ -86,37 +86,34 @@ impl Source {
     }
 }
 
-/// Corner lists of the fan triangles of every polygon: (prim, vertex, point).
-fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
-    let vp = g.vertex_points();
-    let mut tris = Vec::new();
-    for prim in 0..g.num_prims() {
-        if g.prim_kind(prim) != PrimKind::Polygon {
-            continue;
-        }
-        let r = g.prim_vertex_range(prim);
-        let c = |v: usize| (prim as u32, v as u32, vp[v]);
-        for k in r.start + 1..r.end.saturating_sub(1) {
-            tris.push([c(r.start), c(k), c(k + 1)]);
-        }
-    }
-    tris
-}
-
-/// The point indices of the fan triangles of every polygon.
-fn fan_indices(g: &Geometry) -> Vec<u32> {
+/// Visits the fan triangles of every polygon (first vertex as apex) as
+/// corners (prim, vertex, point): the one triangulation the viewport uses.
+fn for_each_fan(g: &Geometry, mut f: impl FnMut([(u32, u32, u32); 3])) {
     let vp = g.vertex_points();
     let offsets = g.prim_offsets();
-    let mut idx = Vec::with_capacity(g.num_vertices().saturating_sub(2 * g.num_prims()) * 3);
     for (prim, kind) in g.prim_kinds().iter().enumerate() {
         if *kind != PrimKind::Polygon {
             continue;
         }
         let (a, b) = (offsets[prim] as usize, offsets[prim + 1] as usize);
+        let c = |v: usize| (prim as u32, v as u32, vp[v]);
         for k in a + 1..b.saturating_sub(1) {
-            idx.extend_from_slice(&[vp[a], vp[k], vp[k + 1]]);
+            f([c(a), c(k), c(k + 1)]);
         }
     }
+}
+
+/// The corners of every fan triangle.
+fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
+    let mut tris = Vec::new();
+    for_each_fan(g, |t| tris.push(t));
+    tris
+}
+
+/// The point indices of the fan triangles of every polygon.
+fn fan_indices(g: &Geometry) -> Vec<u32> {
+    let mut idx = Vec::with_capacity(g.num_vertices().saturating_sub(2 * g.num_prims()) * 3);
+    for_each_fan(g, |t| idx.extend_from_slice(&[t[0].2, t[1].2, t[2].2]));
     idx
 }
 
