@@ -117,7 +117,11 @@ fn estimate_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
         .find(|(n, _, _)| *n == case)
         .expect("a known case");
     bencher.bench(|| {
-        geode_frep::polygonise::estimate(&f, &MeshOptions::new([-half; 3], [half; 3], DEPTH))
-            .unwrap()
+        geode_frep::polygonise::estimate(
+            &f,
+            &MeshOptions::new([-half; 3], [half; 3], DEPTH),
+            &|| false,
+        )
+        .unwrap()
     });
 }

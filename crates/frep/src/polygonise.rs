@@ -608,12 +608,19 @@ pub struct MeshEstimate {
 /// Estimates the cells with surface (and the bytes meshing takes) from the
 /// octree pruned only down to nodes of about 64^3 over the box, so it takes
 /// milliseconds at any depth: a surface crossing a node of side n cells
-/// crosses about n^2 of its cells.
-pub fn estimate(field: &Field, opts: &MeshOptions) -> Result<MeshEstimate, MeshError> {
+/// crosses about n^2 of its cells. `cancel` is polled per octree node.
+pub fn estimate(
+    field: &Field,
+    opts: &MeshOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<MeshEstimate, MeshError> {
     let (grid, tape, top) = setup(field, opts)?;
     let stop = top.saturating_sub(6);
     let mut nodes = Vec::new();
-    surviving_bricks(tape, &grid, (top, stop), [0, 0, 0], &mut nodes, &|| false);
+    surviving_bricks(tape, &grid, (top, stop), [0, 0, 0], &mut nodes, cancel);
+    if cancel() {
+        return Err(MeshError::Cancelled);
+    }
     let side = (B << stop) as f64;
     let surface_cells = nodes.len() as f64 * CROSSING_FACTOR * side * side;
     Ok(MeshEstimate {

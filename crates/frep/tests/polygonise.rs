@@ -238,7 +238,7 @@ fn the_meshing_estimate_is_close_to_the_cells_meshed() {
     for (name, f) in [("sphere", sphere), ("torus", torus), ("gyroid", gyroid)] {
         for depth in [7, 8] {
             let opts = MeshOptions::new([-1.0; 3], [1.0; 3], depth);
-            let est = geode_frep::polygonise::estimate(&f, &opts).unwrap();
+            let est = geode_frep::polygonise::estimate(&f, &opts, &|| false).unwrap();
             let (_, stats) = polygonise(&f, &opts, &|| false, &|_| {}).unwrap();
             let ratio = est.surface_cells / stats.cells_with_surface as f64;
             eprintln!(

@@ -91,11 +91,12 @@ pub fn inside(
 }
 
 /// `count` points on triangles, uniform by area: returns each point and the
-/// triangle it lies on.
+/// triangle it lies on. `cancel` is polled per point (an atomic load).
 pub fn on_surface(
     triangles: &[[Vec3; 3]],
     count: usize,
     seed: u64,
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Vec<(Vec3, u32)>, ScatterError> {
     let mut cdf = Vec::with_capacity(triangles.len());
     let mut total = 0.0f64;
@@ -106,9 +107,13 @@ pub fn on_surface(
     if total.is_nan() || total <= 0.0 {
         return Err(ScatterError::NoArea);
     }
-    Ok((0..count as u64)
+    // Collecting into an Option stops every worker at the first None.
+    (0..count as u64)
         .into_par_iter()
         .map(|i| {
+            if cancel() {
+                return None;
+            }
             let target = geode_geo::random::unit_f64(seed, i, 0) * total;
             let k = cdf
                 .partition_point(|&c| c <= target)
@@ -117,9 +122,10 @@ pub fn on_surface(
             // Uniform in the triangle: the square-root warp.
             let (r1, r2) = (unit(seed, i, 1).sqrt(), unit(seed, i, 2));
             let p = t[0] * (1.0 - r1) + t[1] * (r1 * (1.0 - r2)) + t[2] * (r1 * r2);
-            (p, k as u32)
+            Some((p, k as u32))
         })
-        .collect())
+        .collect::<Option<Vec<_>>>()
+        .ok_or(ScatterError::Cancelled)
 }
 
 /// Total area of triangles.
@@ -172,7 +178,7 @@ pub fn eliminate(
     let key = |p: Vec3| (p / reach).floor().as_ivec3();
     let mut grid: HashMap<geode_geo::glam::IVec3, Vec<u32>> = HashMap::new();
     for (i, p) in points.iter().enumerate() {
-        if i.is_multiple_of(65536) && cancel() {
+        if i.is_multiple_of(4096) && cancel() {
             return Err(ScatterError::Cancelled);
         }
         grid.entry(key(*p)).or_default().push(i as u32);

@@ -850,7 +850,12 @@ fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(
     if opts.depth < 9 {
         return Ok(());
     }
-    let est = geode_frep::polygonise::estimate(f, opts).map_err(|e| ctx.kernel_at("depth", e))?;
+    let cancel = || ctx.cancel.is_cancelled();
+    let est = match geode_frep::polygonise::estimate(f, opts, &cancel) {
+        Ok(est) => est,
+        Err(MeshError::Cancelled) => return Err(CookError::cancelled(ctx.path)),
+        Err(e) => return Err(ctx.kernel_at("depth", e)),
+    };
     ctx.reserve(
         "depth",
         est.bytes,

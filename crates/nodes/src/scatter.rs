@@ -162,10 +162,11 @@ fn cook_scatter(
     let seed = p.int(&SEED)? as u64;
     let relax = p.toggle(&RELAX)?;
     let wanted = if relax { count * OVERSAMPLE } else { count };
-    let mut found = scatter::on_surface(&tris, wanted, seed).map_err(|e| scatter_error(ctx, e))?;
+    let cancel = || ctx.cancel.is_cancelled();
+    let mut found =
+        scatter::on_surface(&tris, wanted, seed, &cancel).map_err(|e| scatter_error(ctx, e))?;
     if relax {
         let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
-        let cancel = || ctx.cancel.is_cancelled();
         let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2, &cancel)
             .map_err(|e| scatter_error(ctx, e))?;
         found = keep.into_iter().map(|i| found[i]).collect();

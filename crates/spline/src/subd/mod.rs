@@ -189,7 +189,11 @@ pub fn refine_levels(
     let mut all = vec![positions];
     for k in 0..levels {
         let adjacency = full_last || k + 1 < levels;
-        let child = refine_topology_with(&level, method == CreaseMethod::Chaikin, adjacency);
+        let child =
+            refine_topology_with(&level, method == CreaseMethod::Chaikin, adjacency, &|| {
+                false
+            })
+            .expect("never stopped");
         let pl = plan(&level, &child, method == CreaseMethod::Chaikin);
         let out = refine_values(&level, &child, &pl, all.last().expect("a level"), 3);
         all.push(out);
@@ -212,7 +216,7 @@ pub(crate) fn points(flat: &[f64]) -> Vec<DVec3> {
 pub fn subdivide(
     g: &Geometry,
     opts: &SubdOptions,
-    cancel: &dyn Fn() -> bool,
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, SubdError> {
     let (mut level, _, method) = base_level(g, opts)?;
     let chaikin = method == CreaseMethod::Chaikin;
@@ -254,7 +258,8 @@ pub fn subdivide(
     };
     for k in 0..levels {
         stop()?;
-        let child = refine_topology_with(&level, chaikin, opts.limit || k + 1 < levels);
+        let child = refine_topology_with(&level, chaikin, opts.limit || k + 1 < levels, cancel)
+            .ok_or(SubdError::Cancelled)?;
         stop()?;
         let pl = plan(&level, &child, chaikin);
         stop()?;

@@ -88,14 +88,29 @@ fn child_edge_sharpness(p: &Level, e: u32, v: u32, chaikin_rule: bool) -> f32 {
 /// The child level of `p` (vertices: parent vertices' children, then faces',
 /// then edges'; a quad per parent face corner).
 pub fn refine_topology(p: &Level, chaikin_rule: bool) -> Level {
-    refine_topology_with(p, chaikin_rule, true)
+    refine_topology_with(p, chaikin_rule, true, &|| false).expect("never stopped")
+}
+
+/// Rows between two polls of `stop` in the serial adjacency walks: a few
+/// milliseconds of work, so a cancel lands promptly on the finest levels.
+const ROWS_PER_POLL: usize = 1 << 14;
+
+/// Whether a walk at row `i` should give up.
+fn stopped_at(i: usize, stop: &(dyn Fn() -> bool + Sync)) -> bool {
+    i.is_multiple_of(ROWS_PER_POLL) && stop()
 }
 
 /// The child level, with its adjacency rows (edges' faces, vertices' faces
 /// and edges) only when `adjacency`: a last level that is only output (not
 /// refined further, no limit masks) does without them, as OpenSubdiv's
-/// uniform refinement does by default.
-pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> Level {
+/// uniform refinement does by default. `None` when `stop` said so, polled
+/// between phases and within the adjacency walks.
+pub fn refine_topology_with(
+    p: &Level,
+    chaikin_rule: bool,
+    adjacency: bool,
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Option<Level> {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let vc = |v: u32| v;
     let fc = |f: usize| (nv + f) as u32;
@@ -120,6 +135,9 @@ pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> L
             es[0] = child_edge_sharpness(p, e, a, chaikin_rule);
             es[1] = child_edge_sharpness(p, e, b, chaikin_rule);
         });
+    if stop() {
+        return None;
+    }
     let face_of: Vec<u32> = (0..nf)
         .into_par_iter()
         .flat_map_iter(|f| std::iter::repeat_n(f as u32, p.faces.row(f).len()))
@@ -153,6 +171,9 @@ pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> L
                 fe[child_slot(n, k, i)] = edges[i];
             }
         });
+    if stop() {
+        return None;
+    }
     let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
     let mut child = Level {
         num_vertices: nv + nf + ne,
@@ -179,17 +200,25 @@ pub fn refine_topology_with(p: &Level, chaikin_rule: bool, adjacency: bool) -> L
             .collect(),
         ..Level::default()
     };
+    if stop() {
+        return None;
+    }
     if !adjacency {
-        return child;
+        return Some(child);
     }
     let (edge_faces, (vertex_faces, vertex_edges)) = rayon::join(
-        || child_edge_faces(p),
-        || rayon::join(|| child_vertex_faces(p), || child_vertex_edges(p)),
+        || child_edge_faces(p, stop),
+        || {
+            rayon::join(
+                || child_vertex_faces(p, stop),
+                || child_vertex_edges(p, stop),
+            )
+        },
     );
-    child.edge_faces = edge_faces;
-    child.vertex_faces = vertex_faces;
-    child.vertex_edges = vertex_edges;
-    child
+    child.edge_faces = edge_faces?;
+    child.vertex_faces = vertex_faces?;
+    child.vertex_edges = vertex_edges?;
+    Some(child)
 }
 
 /// Where item `i` of the child quad of corner `k` (vertex child, next edge
@@ -257,13 +286,16 @@ pub(crate) fn next_corner(p: &Level, f: u32, c: usize) -> usize {
 /// a half of parent edge `e` lies in the quads at its end's corner of each
 /// face of `e`; an interior edge of corner `c` in the quads of `c` and the
 /// next corner.
-fn child_edge_faces(p: &Level) -> Rows {
+fn child_edge_faces(p: &Level, stop: &(dyn Fn() -> bool + Sync)) -> Option<Rows> {
     let corners = p.faces.items.len();
     let mut w = RowWriter::with_capacity(
         2 * p.edge_verts.len() + corners,
         2 * p.edge_faces.items.len() + 2 * corners,
     );
     for (e, ends) in p.edge_verts.iter().enumerate() {
+        if stopped_at(e, stop) {
+            return None;
+        }
         for end in ends {
             for &f in p.edge_faces.row(e) {
                 let c = corner_of_edge(p, f, e as u32);
@@ -279,24 +311,30 @@ fn child_edge_faces(p: &Level) -> Rows {
         }
     }
     for f in 0..p.faces.len() {
+        if stopped_at(f, stop) {
+            return None;
+        }
         for c in p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize {
             w.push(c as u32);
             w.push(next_corner(p, f as u32, c) as u32);
             w.end_row();
         }
     }
-    w.rows
+    Some(w.rows)
 }
 
 /// Child vertices' faces: a vertex child lies in the quad of each of its
 /// parent's corners, a face child in its face's quads, an edge child in the
 /// quads at both ends of each face of its edge.
-fn child_vertex_faces(p: &Level) -> Rows {
+fn child_vertex_faces(p: &Level, stop: &(dyn Fn() -> bool + Sync)) -> Option<Rows> {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let corners = p.faces.items.len();
     let mut w = RowWriter::with_capacity(nv + nf + ne, 2 * corners + 2 * p.edge_faces.items.len());
     // Corners of each parent vertex, grouped (faces in the parent's order).
     for v in 0..nv {
+        if stopped_at(v, stop) {
+            return None;
+        }
         let mut last = u32::MAX;
         for &f in p.vertex_faces.row(v) {
             if f == last {
@@ -319,6 +357,9 @@ fn child_vertex_faces(p: &Level) -> Rows {
         w.end_row();
     }
     for e in 0..ne {
+        if stopped_at(e, stop) {
+            return None;
+        }
         for &f in p.edge_faces.row(e) {
             let c = corner_of_edge(p, f, e as u32);
             w.push(c as u32);
@@ -326,13 +367,13 @@ fn child_vertex_faces(p: &Level) -> Rows {
         }
         w.end_row();
     }
-    w.rows
+    Some(w.rows)
 }
 
 /// Child vertices' edges: a vertex child's are the halves of its parent's
 /// edges at it, a face child's its interior edges, an edge child's its two
 /// halves and the interior edge in each face of its edge.
-fn child_vertex_edges(p: &Level) -> Rows {
+fn child_vertex_edges(p: &Level, stop: &(dyn Fn() -> bool + Sync)) -> Option<Rows> {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let corners = p.faces.items.len();
     let mut w = RowWriter::with_capacity(
@@ -340,6 +381,9 @@ fn child_vertex_edges(p: &Level) -> Rows {
         p.vertex_edges.items.len() + corners + 2 * ne + p.edge_faces.items.len(),
     );
     for v in 0..nv {
+        if stopped_at(v, stop) {
+            return None;
+        }
         for &e in p.vertex_edges.row(v) {
             let [a, b] = p.edge_verts[e as usize];
             if a == v as u32 {
@@ -358,6 +402,9 @@ fn child_vertex_edges(p: &Level) -> Rows {
         w.end_row();
     }
     for e in 0..ne {
+        if stopped_at(e, stop) {
+            return None;
+        }
         w.push(2 * e as u32);
         w.push(2 * e as u32 + 1);
         for &f in p.edge_faces.row(e) {
@@ -365,7 +412,7 @@ fn child_vertex_edges(p: &Level) -> Rows {
         }
         w.end_row();
     }
-    w.rows
+    Some(w.rows)
 }
 
 /// The rules of every parent vertex and edge, from parent and child sharpness.
