@@ -349,6 +349,33 @@ impl AttribData {
         true
     }
 
+    /// A float-based column as flat floats and the floats per element
+    /// (None for int and string columns).
+    pub fn as_floats(&self) -> Option<(&[f32], usize)> {
+        Some(match self {
+            AttribData::Float(v) => (v.as_slice(), 1),
+            AttribData::Vec2(v) => (bytemuck::cast_slice(v), 2),
+            AttribData::Vec3(v) => (bytemuck::cast_slice(v), 3),
+            AttribData::Vec4(v) => (bytemuck::cast_slice(v), 4),
+            AttribData::Quat(v) => (bytemuck::cast_slice(v), 4),
+            AttribData::Mat4(v) => (bytemuck::cast_slice(v), 16),
+            AttribData::Int(_) | AttribData::String(_) => return None,
+        })
+    }
+
+    /// Mutable form of [`AttribData::as_floats`]; the length cannot change.
+    pub fn as_floats_mut(&mut self) -> Option<(&mut [f32], usize)> {
+        Some(match self {
+            AttribData::Float(v) => (v.as_mut_slice(), 1),
+            AttribData::Vec2(v) => (bytemuck::cast_slice_mut(v), 2),
+            AttribData::Vec3(v) => (bytemuck::cast_slice_mut(v), 3),
+            AttribData::Vec4(v) => (bytemuck::cast_slice_mut(v), 4),
+            AttribData::Quat(v) => (bytemuck::cast_slice_mut(v), 4),
+            AttribData::Mat4(v) => (bytemuck::cast_slice_mut(v), 16),
+            AttribData::Int(_) | AttribData::String(_) => return None,
+        })
+    }
+
     /// The raw bytes of a numeric column (None for strings).
     pub fn as_bytes(&self) -> Option<&[u8]> {
         each_column!(self, v => Some(bytemuck::cast_slice(v)), _s => None)
@@ -430,6 +457,12 @@ impl Attribute {
 
     pub fn is_empty(&self) -> bool {
         self.data.is_empty()
+    }
+
+    /// The column's floats, flat, and the floats per element (float-based
+    /// columns only).
+    pub fn floats_mut(&mut self) -> Option<(&mut [f32], usize)> {
+        self.data.as_floats_mut()
     }
 
     typed_access!(as_f32, as_f32_mut, Float, f32);

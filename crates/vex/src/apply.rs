@@ -1,0 +1,328 @@
+//! Applies the effects batches queued, after every element ran: each
+//! batch's effects in (element, order) sequence, batches in order, so the
+//! result is the sequential one. New points are appended as they come; new
+//! primitives are built after (`addvertex` may still grow them); then
+//! attribute and group writes; removals last, since they renumber.
+
+use std::collections::HashMap;
+
+use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
+
+use crate::builtins::Val;
+use crate::run::set_value;
+use crate::world::{Effect, EffectKind, Mode};
+use crate::RunError;
+
+struct NewPrim {
+    polyline: bool,
+    points: Vec<u32>,
+    elem: u32,
+}
+
+/// Applies `batches` to `out`; returns what `printf` printed, in order.
+pub fn apply(
+    out: &mut Geometry,
+    snapshot: &Geometry,
+    mut batches: Vec<Vec<Effect>>,
+) -> Result<Vec<String>, RunError> {
+    let (base_points, base_prims) = (snapshot.num_points() as i32, snapshot.num_prims() as i32);
+    for b in &mut batches {
+        b.sort_by_key(|e| (e.elem, e.seq));
+    }
+    // Provisional numbers are per batch: map them to final ones.
+    let mut point_maps: Vec<HashMap<i32, u32>> = Vec::with_capacity(batches.len());
+    let mut prim_maps: Vec<HashMap<i32, usize>> = Vec::with_capacity(batches.len());
+    let mut new_prims: Vec<NewPrim> = Vec::new();
+    for batch in &batches {
+        let mut points = HashMap::new();
+        let mut prims = HashMap::new();
+        for e in batch {
+            match &e.kind {
+                EffectKind::AddPoint { handle, from, pos } => {
+                    let id = match from {
+                        Some(src) if (0..out.num_points() as i32).contains(src) => {
+                            copy_point(out, *src as usize)
+                        }
+                        Some(src) => {
+                            return Err(RunError::At {
+                                elem: e.elem,
+                                pos: Default::default(),
+                                msg: format!("addpoint: point {src} does not exist"),
+                            })
+                        }
+                        None => out.add_point((*pos).into()),
+                    };
+                    points.insert(*handle, id);
+                }
+                EffectKind::AddPrim {
+                    handle,
+                    polyline,
+                    points: pts,
+                } => {
+                    let resolved = pts
+                        .iter()
+                        .map(|&p| resolve_point(p, &points, base_points, out, e.elem))
+                        .collect::<Result<Vec<u32>, _>>()?;
+                    prims.insert(*handle, new_prims.len());
+                    new_prims.push(NewPrim {
+                        polyline: *polyline,
+                        points: resolved,
+                        elem: e.elem,
+                    });
+                }
+                EffectKind::AddVertex { prim, point } => {
+                    let pt = resolve_point(*point, &points, base_points, out, e.elem)?;
+                    match prims.get(prim) {
+                        Some(&k) => new_prims[k].points.push(pt),
+                        None => {
+                            return Err(RunError::At {
+                                elem: e.elem,
+                                pos: Default::default(),
+                                msg: format!("addvertex: primitive {prim} was not created by this wrangle; only new primitives take vertices"),
+                            })
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        point_maps.push(points);
+        prim_maps.push(prims);
+    }
+    for p in &new_prims {
+        let r = if p.polyline {
+            out.add_polyline(&p.points)
+        } else {
+            out.add_polygon(&p.points)
+        };
+        r.map_err(|err| RunError::At {
+            elem: p.elem,
+            pos: Default::default(),
+            msg: format!("addprim: {err}"),
+        })?;
+    }
+    let prim_id = |k: usize| base_prims as usize + k;
+    let mut printed = Vec::new();
+    let mut dead_points: Vec<usize> = Vec::new();
+    let mut dead_prims: Vec<(usize, bool)> = Vec::new();
+    for (b, batch) in batches.iter().enumerate() {
+        let point = |h: i32| -> Option<usize> {
+            if h >= base_points {
+                point_maps[b].get(&h).map(|&p| p as usize)
+            } else {
+                usize::try_from(h).ok()
+            }
+        };
+        let prim = |h: i32| -> Option<usize> {
+            if h >= base_prims {
+                prim_maps[b].get(&h).map(|&k| prim_id(k))
+            } else {
+                usize::try_from(h).ok()
+            }
+        };
+        for e in batch {
+            match &e.kind {
+                EffectKind::SetAttr {
+                    class,
+                    name,
+                    target,
+                    vtx,
+                    value,
+                    mode,
+                } => {
+                    let idx = match class {
+                        AttribClass::Point => point(*target),
+                        AttribClass::Primitive => prim(*target),
+                        AttribClass::Vertex => prim(*target).and_then(|p| {
+                            let r = out.prim_vertex_range(p);
+                            usize::try_from(*vtx)
+                                .ok()
+                                .filter(|v| *v < r.len())
+                                .map(|v| r.start + v)
+                        }),
+                        AttribClass::Detail => Some(0),
+                    };
+                    let count = match class {
+                        AttribClass::Point => out.num_points(),
+                        AttribClass::Primitive => out.num_prims(),
+                        AttribClass::Vertex => out.num_vertices(),
+                        AttribClass::Detail => 1,
+                    };
+                    // Writes to elements that do not exist are ignored, as in VEX.
+                    if let Some(i) = idx.filter(|&i| i < count) {
+                        set_attr(out, *class, name, i, value, *mode, e.elem)?;
+                    }
+                }
+                EffectKind::SetGroup {
+                    class,
+                    name,
+                    target,
+                    on,
+                } => {
+                    let (idx, len) = if *class == AttribClass::Point {
+                        (point(*target), out.num_points())
+                    } else {
+                        (prim(*target), out.num_prims())
+                    };
+                    if let Some(i) = idx.filter(|&i| i < len) {
+                        set_group(out, *class, name, i, *on)?;
+                    }
+                }
+                EffectKind::RemovePoint { point: p } => dead_points.extend(point(*p)),
+                EffectKind::RemovePrim {
+                    prim: p,
+                    and_points,
+                } => dead_prims.extend(prim(*p).map(|p| (p, *and_points))),
+                EffectKind::Print(s) => printed.push(s.clone()),
+                _ => {}
+            }
+        }
+    }
+    if !dead_prims.is_empty() {
+        let n = out.num_prims();
+        let with_points = dead_prims.iter().any(|d| d.1);
+        let group = Group::from_members(n, dead_prims.iter().map(|d| d.0));
+        ops::delete_prims(out, &group, with_points);
+    }
+    if !dead_points.is_empty() {
+        let group = Group::from_members(out.num_points(), dead_points);
+        ops::delete_points(out, &group);
+    }
+    Ok(printed)
+}
+
+fn resolve_point(
+    h: i32,
+    map: &HashMap<i32, u32>,
+    base: i32,
+    out: &Geometry,
+    elem: u32,
+) -> Result<u32, RunError> {
+    let p = if h >= base {
+        map.get(&h).copied()
+    } else {
+        u32::try_from(h).ok()
+    };
+    p.filter(|&p| (p as usize) < out.num_points())
+        .ok_or_else(|| RunError::At {
+            elem,
+            pos: Default::default(),
+            msg: format!("point {h} does not exist"),
+        })
+}
+
+/// A new point with every attribute of point `src`.
+fn copy_point(out: &mut Geometry, src: usize) -> u32 {
+    let p = out.positions()[src];
+    let id = out.add_point(p) as usize;
+    let names: Vec<String> = out
+        .attribs(AttribClass::Point)
+        .names()
+        .map(String::from)
+        .collect();
+    for name in names {
+        let table = out.attribs_mut(AttribClass::Point);
+        if let Some(a) = table.get_mut(&name) {
+            let v = a.data().get(src);
+            let _ = a.values_mut().set(id, &v);
+        }
+    }
+    id as u32
+}
+
+fn value_type(v: &Val) -> Option<AttribValue> {
+    Some(match v {
+        Val::I(_) => AttribValue::Int(0),
+        Val::S(_) => AttribValue::String(String::new()),
+        Val::F(_, 1) => AttribValue::Float(0.0),
+        Val::F(_, 2) => AttribValue::Vec2(Default::default()),
+        Val::F(_, 3) => AttribValue::Vec3(Default::default()),
+        Val::F(_, 4) => AttribValue::Vec4(Default::default()),
+        Val::F(_, 16) => AttribValue::Mat4(Default::default()),
+        _ => return None,
+    })
+}
+
+fn set_attr(
+    out: &mut Geometry,
+    class: AttribClass,
+    name: &str,
+    i: usize,
+    value: &Val,
+    mode: Mode,
+    elem: u32,
+) -> Result<(), RunError> {
+    let len = match class {
+        AttribClass::Point => out.num_points(),
+        AttribClass::Primitive => out.num_prims(),
+        AttribClass::Vertex => out.num_vertices(),
+        AttribClass::Detail => 1,
+    };
+    let table = out.attribs_mut(class);
+    if table.get(name).is_none() {
+        let zero = value_type(value).ok_or_else(|| RunError::At {
+            elem,
+            pos: Default::default(),
+            msg: format!("cannot create attribute '{name}' from this value"),
+        })?;
+        table
+            .insert(name, Attribute::new(zero, TypeInfo::None, len))
+            .map_err(|e| RunError::Geometry(e.to_string()))?;
+    }
+    let attr = table.get_mut(name).expect("just made");
+    let old = crate::builtins::attrib_value(attr.data(), i);
+    let new = combine(&old, value, mode);
+    set_value(attr, i, &new);
+    Ok(())
+}
+
+/// `old (mode) value`, per component.
+fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
+    let op = |a: f32, b: f32| match mode {
+        Mode::Add => a + b,
+        Mode::Min => a.min(b),
+        Mode::Max => a.max(b),
+        Mode::Mult => a * b,
+        Mode::Set | Mode::Append => b,
+    };
+    match (old, v, mode) {
+        (_, _, Mode::Set) => v.clone(),
+        (Val::S(a), b, Mode::Append | Mode::Add) => Val::S(format!("{a}{}", b.s())),
+        (Val::I(a), b, _) => Val::I(op(*a as f32, b.f()) as i32),
+        (Val::F(a, n), b, _) => {
+            let f = b.floats();
+            let xs: Vec<f32> = (0..*n as usize)
+                .map(|k| op(a[k], f.get(k).copied().unwrap_or_else(|| b.f())))
+                .collect();
+            Val::vec(&xs)
+        }
+        _ => v.clone(),
+    }
+}
+
+fn set_group(
+    out: &mut Geometry,
+    class: AttribClass,
+    name: &str,
+    i: usize,
+    on: bool,
+) -> Result<(), RunError> {
+    let existing = if class == AttribClass::Point {
+        out.point_groups().get(name)
+    } else {
+        out.prim_groups().get(name)
+    };
+    let len = if class == AttribClass::Point {
+        out.num_points()
+    } else {
+        out.num_prims()
+    };
+    let mut g = existing.cloned().unwrap_or_else(|| Group::new(len));
+    g.set(i, on);
+    let r = if class == AttribClass::Point {
+        out.set_point_group(name, g)
+    } else {
+        out.set_prim_group(name, g)
+    };
+    r.map_err(|e| RunError::Geometry(e.to_string()))
+}

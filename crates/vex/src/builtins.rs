@@ -1,0 +1,513 @@
+//! Library functions that run as calls over a batch (per lane): random and
+//! noise, geometry reads, queued geometry writes, strings, arrays and the
+//! matrix and quaternion functions. Component-wise math is lowered to IR
+//! instructions instead (see `lower`).
+
+use geode_geo::{AttribClass, AttribData};
+
+use crate::exec::Frame;
+use crate::ir::{CallSite, Loc, LANES};
+use crate::ty::{Elem, Ty};
+use crate::world::{EffectKind, World};
+use crate::{noise, Program, RunError};
+
+pub use crate::world::Mode;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Builtin {
+    Rand,
+    Noise,
+    SNoise,
+    CurlNoise,
+    /// point/prim/vertex/detail: read an attribute of class `0`.
+    Read(AttribClass),
+    NPoints,
+    NPrims,
+    NVertices,
+    PrimPoints,
+    PointPrims,
+    Neighbours,
+    NeighbourCount,
+    NearPoint,
+    NearPoints,
+    InGroup(AttribClass),
+    HasAttrib(AttribClass),
+    SetAttrib(AttribClass),
+    AddPoint,
+    AddPrim,
+    AddVertex,
+    RemovePoint,
+    RemovePrim,
+    SetGroup(AttribClass),
+    // Arrays and strings.
+    Len,
+    Push,
+    Pop,
+    Insert,
+    RemoveIndex,
+    Find,
+    Sort,
+    Reverse,
+    Resize,
+    ArrayOf,
+    IndexGet,
+    IndexSet,
+    Sprintf,
+    Itoa,
+    Atof,
+    Atoi,
+    Concat,
+    StartsWith,
+    EndsWith,
+    Split,
+    StrLen,
+    // Matrices and quaternions.
+    MatMul,
+    VecMat,
+    Invert,
+    Transpose,
+    Determinant,
+    Ident,
+    QMultiply,
+    QRotate,
+    QConvert,
+    Quaternion,
+    QuaternionAxis,
+    EulerToQuaternion,
+    Dihedral,
+    Rotate,
+    Scale,
+    Translate,
+    MakeTransform,
+    LookAt,
+    Print,
+}
+
+/// A value of one lane, as the per-lane library reads and writes it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Val {
+    I(i32),
+    /// Float slots (1, 2, 3, 4, 9 or 16 used).
+    F([f32; 16], u8),
+    S(String),
+    AF(Vec<f32>, u8),
+    AI(Vec<i32>),
+    AS(Vec<String>),
+}
+
+impl Val {
+    pub fn float(x: f32) -> Val {
+        Val::vec(&[x])
+    }
+
+    pub fn vec(xs: &[f32]) -> Val {
+        let mut a = [0.0; 16];
+        a[..xs.len()].copy_from_slice(xs);
+        Val::F(a, xs.len() as u8)
+    }
+
+    pub fn floats(&self) -> &[f32] {
+        match self {
+            Val::F(a, n) => &a[..*n as usize],
+            _ => &[],
+        }
+    }
+
+    pub fn f(&self) -> f32 {
+        match self {
+            Val::I(i) => *i as f32,
+            Val::F(a, _) => a[0],
+            _ => 0.0,
+        }
+    }
+
+    pub fn i(&self) -> i32 {
+        match self {
+            Val::I(i) => *i,
+            Val::F(a, _) => a[0] as i32,
+            _ => 0,
+        }
+    }
+
+    pub fn s(&self) -> &str {
+        match self {
+            Val::S(s) => s,
+            _ => "",
+        }
+    }
+
+    pub fn v3(&self) -> [f32; 3] {
+        let f = self.floats();
+        [
+            f.first().copied().unwrap_or(0.0),
+            f.get(1).copied().unwrap_or(0.0),
+            f.get(2).copied().unwrap_or(0.0),
+        ]
+    }
+}
+
+/// Lane `l` of the value at `loc`.
+pub fn read(fr: &Frame, loc: Loc, l: usize) -> Val {
+    let r = loc.reg as usize;
+    match loc.ty {
+        Ty::Int => Val::I(fr.i[r * LANES + l]),
+        Ty::Str => Val::S(fr.s[r * LANES + l].clone()),
+        Ty::Array(e) => match e {
+            Elem::Int => Val::AI(fr.ai[r * LANES + l].clone()),
+            Elem::Str => Val::AS(fr.as_[r * LANES + l].clone()),
+            _ => Val::AF(fr.af[r * LANES + l].clone(), e.ty().floats() as u8),
+        },
+        Ty::Void => Val::I(0),
+        t => {
+            let mut a = [0.0; 16];
+            for (k, x) in a.iter_mut().enumerate().take(t.floats()) {
+                *x = fr.f[(r + k) * LANES + l];
+            }
+            Val::F(a, t.floats() as u8)
+        }
+    }
+}
+
+/// Stores `v` in lane `l` of `loc`, converting int and float as VEX does.
+pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
+    let r = loc.reg as usize;
+    match (loc.ty, v) {
+        (Ty::Void, _) => {}
+        (Ty::Int, v) => fr.i[r * LANES + l] = v.i(),
+        (Ty::Str, Val::S(s)) => fr.s[r * LANES + l] = s,
+        (Ty::Str, _) => fr.s[r * LANES + l].clear(),
+        (Ty::Array(Elem::Int), Val::AI(a)) => fr.ai[r * LANES + l] = a,
+        (Ty::Array(Elem::Str), Val::AS(a)) => fr.as_[r * LANES + l] = a,
+        (Ty::Array(_), Val::AF(a, _)) => fr.af[r * LANES + l] = a,
+        (Ty::Array(Elem::Int), _) => fr.ai[r * LANES + l].clear(),
+        (Ty::Array(Elem::Str), _) => fr.as_[r * LANES + l].clear(),
+        (Ty::Array(_), _) => fr.af[r * LANES + l].clear(),
+        (t, v) => {
+            let n = t.floats();
+            match v {
+                Val::F(a, m) if m as usize >= n => {
+                    for (k, x) in a.iter().enumerate().take(n) {
+                        fr.f[(r + k) * LANES + l] = *x;
+                    }
+                }
+                Val::F(a, 1) => {
+                    for k in 0..n {
+                        fr.f[(r + k) * LANES + l] = a[0];
+                    }
+                }
+                Val::F(a, m) => {
+                    for (k, x) in a.iter().enumerate().take(n) {
+                        fr.f[(r + k) * LANES + l] = if k < m as usize { *x } else { 0.0 };
+                    }
+                }
+                other => {
+                    let x = other.f();
+                    for k in 0..n {
+                        fr.f[(r + k) * LANES + l] = x;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Runs one call over the lanes its mask selects.
+pub fn call(
+    p: &Program,
+    site: &CallSite,
+    fr: &mut Frame,
+    world: &mut World,
+) -> Result<(), RunError> {
+    let mut args = Vec::with_capacity(site.args.len());
+    for l in 0..fr.n {
+        if let Some(m) = site.mask {
+            if fr.i[m as usize * LANES + l] == 0 {
+                continue;
+            }
+        }
+        args.clear();
+        args.extend(site.args.iter().map(|a| read(fr, *a, l)));
+        let out = lane(p, site, &args, l, world)?;
+        write(fr, site.out, l, out);
+    }
+    Ok(())
+}
+
+fn rand_of(seed: &[f32], salt: u64) -> f32 {
+    let mut h: u64 = 0x9e37_79b9_7f4a_7c15 ^ salt;
+    for s in seed {
+        h = (h ^ u64::from(s.to_bits())).wrapping_mul(0xff51_afd7_ed55_8ccd);
+        h ^= h >> 33;
+    }
+    geode_geo::random::unit(h, 0, salt)
+}
+
+fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Result<Val, RunError> {
+    let out_ty = site.out.ty;
+    let err = |msg: String| RunError::At {
+        elem: w.elem_of(l),
+        pos: site.pos,
+        msg,
+    };
+    Ok(match site.f {
+        Builtin::Rand => {
+            let seed: Vec<f32> = a
+                .iter()
+                .flat_map(|v| match v {
+                    Val::I(i) => vec![*i as f32],
+                    v => v.floats().to_vec(),
+                })
+                .collect();
+            let n = out_ty.floats().max(1);
+            let xs: Vec<f32> = (0..n).map(|k| rand_of(&seed, k as u64)).collect();
+            Val::vec(&xs)
+        }
+        Builtin::Noise | Builtin::SNoise => {
+            let pos = a[0].v3();
+            let n = out_ty.floats().max(1);
+            let xs: Vec<f32> = (0..n)
+                .map(|k| {
+                    let v = noise::perlin(pos, k as i32);
+                    if site.f == Builtin::Noise {
+                        0.5 + 0.5 * v
+                    } else {
+                        v
+                    }
+                })
+                .collect();
+            Val::vec(&xs)
+        }
+        Builtin::CurlNoise => Val::vec(&noise::curl(a[0].v3())),
+        Builtin::Read(class) => {
+            let g = w.input(a[0].i());
+            let name = a[1].s();
+            let idx = if class == AttribClass::Detail {
+                0
+            } else {
+                a[2].i()
+            };
+            match g.and_then(|g| crate::world::read_attrib(g, class, name, idx)) {
+                Some(v) => v,
+                None => Val::I(0),
+            }
+        }
+        Builtin::NPoints => Val::I(w.input(a[0].i()).map_or(0, |g| g.num_points() as i32)),
+        Builtin::NPrims => Val::I(w.input(a[0].i()).map_or(0, |g| g.num_prims() as i32)),
+        Builtin::NVertices => Val::I(w.input(a[0].i()).map_or(0, |g| g.num_vertices() as i32)),
+        Builtin::PrimPoints => {
+            let g = w.input(a[0].i());
+            let prim = a[1].i();
+            Val::AI(
+                g.filter(|g| prim >= 0 && (prim as usize) < g.num_prims())
+                    .map_or(Vec::new(), |g| {
+                        g.prim_points(prim as usize)
+                            .iter()
+                            .map(|&p| p as i32)
+                            .collect()
+                    }),
+            )
+        }
+        Builtin::PointPrims | Builtin::Neighbours | Builtin::NeighbourCount => {
+            let input = a[0].i();
+            let pt = a[1].i();
+            let list: Vec<i32> = match w.topology(input) {
+                Some(t) if pt >= 0 && (pt as usize) < t.point_count() => {
+                    if site.f == Builtin::PointPrims {
+                        t.topo
+                            .point_prims(pt as usize)
+                            .iter()
+                            .map(|&p| p as i32)
+                            .collect()
+                    } else {
+                        t.topo
+                            .point_neighbours(pt as usize)
+                            .iter()
+                            .map(|&p| p as i32)
+                            .collect()
+                    }
+                }
+                _ => Vec::new(),
+            };
+            if site.f == Builtin::NeighbourCount {
+                Val::I(list.len() as i32)
+            } else {
+                Val::AI(list)
+            }
+        }
+        Builtin::NearPoint => {
+            let max = a.get(2).map_or(f32::INFINITY, Val::f);
+            Val::I(
+                w.nearest(a[0].i(), a[1].v3(), max, 1)
+                    .first()
+                    .map_or(-1, |&p| p as i32),
+            )
+        }
+        Builtin::NearPoints => {
+            let max = a[2].f();
+            let count = a.get(3).map_or(usize::MAX, |c| c.i().max(0) as usize);
+            Val::AI(
+                w.nearest(a[0].i(), a[1].v3(), max, count)
+                    .into_iter()
+                    .map(|p| p as i32)
+                    .collect(),
+            )
+        }
+        Builtin::InGroup(class) => {
+            let g = w.input(a[0].i());
+            let idx = a[2].i();
+            let groups = g.map(|g| {
+                if class == AttribClass::Point {
+                    g.point_groups()
+                } else {
+                    g.prim_groups()
+                }
+            });
+            Val::I(i32::from(
+                groups.and_then(|gs| gs.get(a[1].s())).is_some_and(|grp| {
+                    idx >= 0 && (idx as usize) < grp.len() && grp.contains(idx as usize)
+                }),
+            ))
+        }
+        Builtin::HasAttrib(class) => Val::I(i32::from(
+            w.input(a[0].i())
+                .is_some_and(|g| g.attrib(class, a[1].s()).is_some()),
+        )),
+        Builtin::SetAttrib(class) => {
+            // (geo, name, [elem, [vtx,]] value, [mode])
+            let (target, vtx, value, mode) = match class {
+                AttribClass::Detail => (0, -1, 2, 3),
+                AttribClass::Vertex => (a[2].i(), a[3].i(), 4, 5),
+                _ => (a[2].i(), -1, 3, 4),
+            };
+            let mode = match a.get(mode).map(Val::s) {
+                None | Some("set") => Mode::Set,
+                Some("add") => Mode::Add,
+                Some("min") => Mode::Min,
+                Some("max") => Mode::Max,
+                Some("mult") | Some("multiply") => Mode::Mult,
+                Some("append") => Mode::Append,
+                Some(other) => {
+                    return Err(err(format!(
+                        "unknown mode \"{other}\": expected set, add, min, max, mult or append"
+                    )))
+                }
+            };
+            w.queue(
+                l,
+                EffectKind::SetAttr {
+                    class,
+                    name: a[1].s().to_string(),
+                    target,
+                    vtx,
+                    value: a[value].clone(),
+                    mode,
+                },
+            );
+            Val::I(0)
+        }
+        Builtin::AddPoint => {
+            let from = match &a[1] {
+                Val::I(pt) => Some(*pt),
+                _ => None,
+            };
+            let handle = w.new_point();
+            w.queue(
+                l,
+                EffectKind::AddPoint {
+                    handle,
+                    from,
+                    pos: a[1].v3(),
+                },
+            );
+            Val::I(handle)
+        }
+        Builtin::AddPrim => {
+            let kind = a[1].s();
+            let polyline = match kind {
+                "poly" => false,
+                "polyline" => true,
+                other => {
+                    return Err(err(format!(
+                        "addprim: unknown type \"{other}\": expected \"poly\" or \"polyline\""
+                    )))
+                }
+            };
+            let points: Vec<i32> = a[2..]
+                .iter()
+                .flat_map(|v| match v {
+                    Val::AI(v) => v.clone(),
+                    v => vec![v.i()],
+                })
+                .collect();
+            let handle = w.new_prim();
+            w.queue(
+                l,
+                EffectKind::AddPrim {
+                    handle,
+                    polyline,
+                    points,
+                },
+            );
+            Val::I(handle)
+        }
+        Builtin::AddVertex => {
+            w.queue(
+                l,
+                EffectKind::AddVertex {
+                    prim: a[1].i(),
+                    point: a[2].i(),
+                },
+            );
+            Val::I(0)
+        }
+        Builtin::RemovePoint => {
+            w.queue(l, EffectKind::RemovePoint { point: a[1].i() });
+            Val::I(1)
+        }
+        Builtin::RemovePrim => {
+            w.queue(
+                l,
+                EffectKind::RemovePrim {
+                    prim: a[1].i(),
+                    and_points: a.get(2).is_some_and(|v| v.i() != 0),
+                },
+            );
+            Val::I(1)
+        }
+        Builtin::SetGroup(class) => {
+            let on = a.get(3).is_none_or(|v| v.i() != 0);
+            w.queue(
+                l,
+                EffectKind::SetGroup {
+                    class,
+                    name: a[1].s().to_string(),
+                    target: a[2].i(),
+                    on,
+                },
+            );
+            Val::I(0)
+        }
+        Builtin::Print => {
+            w.queue(
+                l,
+                EffectKind::Print(crate::library::sprintf(a[0].s(), &a[1..])),
+            );
+            Val::S(String::new())
+        }
+        _ => return crate::library::lane(p, site, a).map_err(err),
+    })
+}
+
+/// An attribute's value at an element, as a lane value.
+pub fn attrib_value(data: &AttribData, i: usize) -> Val {
+    match data {
+        AttribData::Float(v) => Val::float(v[i]),
+        AttribData::Int(v) => Val::I(v[i]),
+        AttribData::Vec2(v) => Val::vec(&v[i].to_array()),
+        AttribData::Vec3(v) => Val::vec(&v[i].to_array()),
+        AttribData::Vec4(v) => Val::vec(&v[i].to_array()),
+        AttribData::Quat(v) => Val::vec(&v[i].to_array()),
+        AttribData::Mat4(v) => Val::vec(&v[i].to_cols_array()),
+        AttribData::String(s) => Val::S(s.get(i).to_string()),
+    }
+}

@@ -1,0 +1,825 @@
+//! Type checking and lowering of a parsed snippet to the batch IR: values
+//! get registers, vector math becomes per-component instructions, control
+//! flow becomes masks, and user functions are inlined (VEX forbids
+//! recursion and passes arguments by reference).
+
+use std::collections::HashMap;
+
+use crate::ast::*;
+use crate::bind::{BindSpec, Binding};
+use crate::builtins::Builtin;
+use crate::ir::*;
+use crate::lex::Pos;
+use crate::ty::{Elem, Ty};
+use crate::{CompileError, Counts};
+
+/// Register counters, saved and restored around statements so temporaries
+/// are reused.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Alloc {
+    pub c: Counts,
+}
+
+pub(crate) struct Lower<'a> {
+    pub ops: Vec<Op>,
+    pub calls: Vec<CallSite>,
+    pub strings: Vec<String>,
+    pub alloc: Alloc,
+    pub high: Counts,
+    scopes: Vec<Vec<(String, Loc)>>,
+    /// Masks in effect, innermost last (block, loop, function masks).
+    masks: Vec<Reg>,
+    loops: Vec<(usize, usize)>,
+    /// Per inlined function: (mask stack index of its live mask, return slot).
+    funcs: Vec<(Option<usize>, Option<Loc>)>,
+    inlining: Vec<String>,
+    functions: HashMap<String, Vec<&'a Function>>,
+    pub bindings: &'a [Binding],
+    pub spec: &'a BindSpec<'a>,
+    /// Which bindings the snippet assigns.
+    pub written: Vec<bool>,
+    /// A register holding 1 in every lane (masks start from it), set by
+    /// the program's first instruction.
+    ones: Reg,
+}
+
+pub(crate) type LResult<T> = Result<T, CompileError>;
+
+fn err<T>(pos: Pos, msg: impl Into<String>) -> LResult<T> {
+    Err(CompileError::at(pos, msg))
+}
+
+impl<'a> Lower<'a> {
+    pub fn new(
+        snippet: &'a Snippet,
+        bindings: &'a [Binding],
+        spec: &'a BindSpec<'a>,
+        base: Counts,
+    ) -> Lower<'a> {
+        let mut functions: HashMap<String, Vec<&Function>> = HashMap::new();
+        for f in &snippet.functions {
+            functions.entry(f.name.clone()).or_default().push(f);
+        }
+        let mut base = base;
+        let ones = bump(&mut base.i, 1);
+        Lower {
+            ops: vec![Op::IConst { d: ones, v: 1 }],
+            calls: Vec::new(),
+            strings: Vec::new(),
+            alloc: Alloc { c: base },
+            high: base,
+            scopes: vec![Vec::new()],
+            masks: Vec::new(),
+            loops: Vec::new(),
+            funcs: Vec::new(),
+            inlining: Vec::new(),
+            functions,
+            bindings,
+            spec,
+            ones,
+            written: vec![false; bindings.len()],
+        }
+    }
+
+    // ---- registers -------------------------------------------------------
+
+    pub fn alloc(&mut self, ty: Ty) -> Loc {
+        let c = &mut self.alloc.c;
+        let reg = match ty {
+            Ty::Int => bump(&mut c.i, 1),
+            Ty::Str => bump(&mut c.s, 1),
+            Ty::Void => 0,
+            Ty::Array(Elem::Int) => bump(&mut c.ai, 1),
+            Ty::Array(Elem::Str) => bump(&mut c.as_, 1),
+            Ty::Array(_) => bump(&mut c.af, 1),
+            t => bump(&mut c.f, t.floats() as u32),
+        };
+        self.high = self.high.max(&self.alloc.c);
+        Loc { ty, reg }
+    }
+
+    pub fn emit_op(&mut self, op: Op) -> usize {
+        self.emit(op)
+    }
+
+    pub fn masks_mut(&mut self) -> &mut Vec<Reg> {
+        &mut self.masks
+    }
+
+    pub fn mark_written(&mut self, binding: usize) {
+        self.written[binding] = true;
+    }
+
+    fn emit(&mut self, op: Op) -> usize {
+        self.ops.push(op);
+        self.ops.len() - 1
+    }
+
+    fn here(&self) -> u32 {
+        self.ops.len() as u32
+    }
+
+    fn patch(&mut self, at: usize, to: u32) {
+        match &mut self.ops[at] {
+            Op::Jump { to: t } | Op::JumpIfNone { to: t, .. } => *t = to,
+            _ => unreachable!("only jumps are patched"),
+        }
+    }
+
+    pub fn fconst(&mut self, v: f32) -> Loc {
+        let d = self.alloc(Ty::Float);
+        self.emit(Op::FConst { d: d.reg, v });
+        d
+    }
+
+    pub fn iconst(&mut self, v: i32) -> Loc {
+        let d = self.alloc(Ty::Int);
+        self.emit(Op::IConst { d: d.reg, v });
+        d
+    }
+
+    pub fn sconst(&mut self, s: &str) -> Loc {
+        let idx = match self.strings.iter().position(|x| x == s) {
+            Some(i) => i,
+            None => {
+                self.strings.push(s.to_string());
+                self.strings.len() - 1
+            }
+        };
+        let d = self.alloc(Ty::Str);
+        self.emit(Op::SConst {
+            d: d.reg,
+            s: idx as u32,
+        });
+        d
+    }
+
+    /// The current mask register, if any lanes are masked off.
+    pub fn mask(&self) -> Option<Reg> {
+        self.masks.last().copied()
+    }
+
+    fn ones(&mut self) -> Reg {
+        self.ones
+    }
+
+    /// A copy of the current mask (all ones when unmasked) in a new register.
+    fn mask_copy(&mut self) -> Reg {
+        let d = self.alloc(Ty::Int).reg;
+        match self.mask() {
+            Some(m) => self.emit(Op::IMov { d, s: m }),
+            None => {
+                let o = self.ones();
+                self.emit(Op::IMov { d, s: o })
+            }
+        };
+        d
+    }
+
+    pub fn ibin(&mut self, op: IBinOp, a: Reg, b: Reg) -> Reg {
+        let d = self.alloc(Ty::Int).reg;
+        self.emit(Op::IBin { op, d, a, b });
+        d
+    }
+
+    /// `reg = reg op other`, through a temporary (no aliasing).
+    fn update_int(&mut self, reg: Reg, op: IBinOp, other: Reg) {
+        let t = self.ibin(op, reg, other);
+        self.emit(Op::IMov { d: reg, s: t });
+    }
+
+    // ---- storing ---------------------------------------------------------
+
+    /// Copies `src` into `dst` (same type) on the lanes of the current mask.
+    pub fn store(&mut self, dst: Loc, src: Loc) {
+        if dst == src {
+            return;
+        }
+        let m = self.mask();
+        match dst.ty {
+            Ty::Void => {}
+            Ty::Int => {
+                self.emit(match m {
+                    Some(m) => Op::ISel {
+                        d: dst.reg,
+                        s: src.reg,
+                        m,
+                    },
+                    None => Op::IMov {
+                        d: dst.reg,
+                        s: src.reg,
+                    },
+                });
+            }
+            Ty::Str => {
+                self.emit(match m {
+                    Some(m) => Op::SSel {
+                        d: dst.reg,
+                        s: src.reg,
+                        m,
+                    },
+                    None => Op::SMov {
+                        d: dst.reg,
+                        s: src.reg,
+                    },
+                });
+            }
+            Ty::Array(e) => {
+                let file = arr_file(e);
+                self.emit(match m {
+                    Some(m) => Op::ASel {
+                        file,
+                        d: dst.reg,
+                        s: src.reg,
+                        m,
+                    },
+                    None => Op::AMov {
+                        file,
+                        d: dst.reg,
+                        s: src.reg,
+                    },
+                });
+            }
+            t => {
+                for k in 0..t.floats() as u32 {
+                    let (d, s) = (dst.reg + k, src.reg + k);
+                    self.emit(match m {
+                        Some(m) => Op::FSel { d, s, m },
+                        None => Op::FMov { d, s },
+                    });
+                }
+            }
+        }
+    }
+
+    /// An unmasked copy into a fresh register.
+    pub fn copy(&mut self, src: Loc) -> Loc {
+        let d = self.alloc(src.ty);
+        let saved = std::mem::take(&mut self.masks);
+        self.store(d, src);
+        self.masks = saved;
+        d
+    }
+
+    // ---- statements ------------------------------------------------------
+
+    pub fn body(&mut self, stmts: &[Stmt]) -> LResult<()> {
+        for s in stmts {
+            self.stmt(s)?;
+        }
+        Ok(())
+    }
+
+    fn scoped(&mut self, f: impl FnOnce(&mut Self) -> LResult<()>) -> LResult<()> {
+        let mark = self.alloc;
+        self.scopes.push(Vec::new());
+        let r = f(self);
+        self.scopes.pop();
+        self.alloc = mark;
+        r
+    }
+
+    pub fn declare(&mut self, name: &str, loc: Loc, pos: Pos) -> LResult<()> {
+        let scope = self.scopes.last_mut().expect("a scope");
+        if scope.iter().any(|(n, _)| n == name) {
+            return err(pos, format!("redeclaration of '{name}'"));
+        }
+        scope.push((name.to_string(), loc));
+        Ok(())
+    }
+
+    pub fn lookup(&self, name: &str) -> Option<Loc> {
+        self.scopes
+            .iter()
+            .rev()
+            .find_map(|s| s.iter().rev().find(|(n, _)| n == name).map(|(_, l)| *l))
+    }
+
+    fn visible_names(&self) -> Vec<String> {
+        self.scopes
+            .iter()
+            .flatten()
+            .map(|(n, _)| n.clone())
+            .collect()
+    }
+
+    fn stmt(&mut self, s: &Stmt) -> LResult<()> {
+        match s {
+            Stmt::Empty => Ok(()),
+            Stmt::Expr(e) => {
+                let mark = self.alloc;
+                self.expr(e, None)?;
+                self.alloc = mark;
+                Ok(())
+            }
+            Stmt::Decls(ds) => {
+                for d in ds {
+                    let loc = self.alloc(d.ty);
+                    let mark = self.alloc;
+                    if let Some(init) = &d.init {
+                        let v = self.expr(init, Some(d.ty))?;
+                        let v = self.convert(v, d.ty, init.pos)?;
+                        self.store_unmasked_if_fresh(loc, v);
+                    } else {
+                        self.zero(loc);
+                    }
+                    self.alloc = mark;
+                    self.declare(&d.name, loc, d.pos)?;
+                }
+                Ok(())
+            }
+            Stmt::Block(b) => self.scoped(|me| me.body(b)),
+            Stmt::If(c, then, other) => self.if_stmt(c, then, other.as_deref()),
+            Stmt::While(c, body) => self.scoped(|me| me.loop_stmt(Some(c), None, body, false)),
+            Stmt::DoWhile(body, c) => self.scoped(|me| me.loop_stmt(Some(c), None, body, true)),
+            Stmt::For(init, c, step, body) => self.scoped(|me| {
+                if let Some(i) = init {
+                    me.stmt(i)?;
+                }
+                me.loop_stmt(c.as_ref(), step.as_ref(), body, false)
+            }),
+            Stmt::Foreach {
+                index,
+                elem,
+                array,
+                body,
+            } => self.scoped(|me| me.foreach(index.as_deref(), elem, array, body)),
+            Stmt::Break(pos) | Stmt::Continue(pos) => {
+                let Some(&(active_at, live_at)) = self.loops.last() else {
+                    return err(
+                        *pos,
+                        format!(
+                            "'{}' outside a loop",
+                            if matches!(s, Stmt::Break(_)) {
+                                "break"
+                            } else {
+                                "continue"
+                            }
+                        ),
+                    );
+                };
+                let from = if matches!(s, Stmt::Break(_)) {
+                    active_at
+                } else {
+                    live_at
+                };
+                self.leave(from);
+                Ok(())
+            }
+            Stmt::Return(v, pos) => self.return_stmt(v.as_ref(), *pos),
+        }
+    }
+
+    /// Declarations initialise every lane (the variable is new), so the
+    /// store ignores the mask.
+    fn store_unmasked_if_fresh(&mut self, dst: Loc, src: Loc) {
+        let saved = std::mem::take(&mut self.masks);
+        self.store(dst, src);
+        self.masks = saved;
+    }
+
+    fn zero(&mut self, loc: Loc) {
+        match loc.ty {
+            Ty::Int => {
+                self.emit(Op::IConst { d: loc.reg, v: 0 });
+            }
+            Ty::Str => {
+                let e = self.sconst("");
+                self.store_unmasked_if_fresh(loc, e);
+            }
+            Ty::Array(_) | Ty::Void => {
+                // Array registers of a frame start empty and a declaration
+                // inside a loop must reset them: copy from a fresh one.
+                if let Ty::Array(e) = loc.ty {
+                    let fresh = self.alloc(loc.ty);
+                    self.emit(Op::Call {
+                        call: self.calls.len() as u32,
+                    });
+                    self.calls.push(CallSite {
+                        f: Builtin::ArrayOf,
+                        args: vec![],
+                        out: fresh,
+                        mask: None,
+                        pos: Pos::default(),
+                    });
+                    self.emit(Op::AMov {
+                        file: arr_file(e),
+                        d: loc.reg,
+                        s: fresh.reg,
+                    });
+                }
+            }
+            t => {
+                for k in 0..t.floats() as u32 {
+                    self.emit(Op::FConst {
+                        d: loc.reg + k,
+                        v: 0.0,
+                    });
+                }
+            }
+        }
+    }
+
+    /// Lanes of the current mask leave every mask from stack index `from`
+    /// upward (break, continue, return).
+    fn leave(&mut self, from: usize) {
+        let Some(m) = self.mask() else { return };
+        let gone = self.copy(Loc {
+            ty: Ty::Int,
+            reg: m,
+        });
+        for k in from..self.masks.len() {
+            let r = self.masks[k];
+            self.update_int(r, IBinOp::AndNot, gone.reg);
+        }
+    }
+
+    fn if_stmt(&mut self, c: &Expr, then: &Stmt, other: Option<&Stmt>) -> LResult<()> {
+        let mark = self.alloc;
+        let cond = self.truth(c)?;
+        let (m_then, m_else) = match self.mask() {
+            Some(m) => (
+                self.ibin(IBinOp::LAnd, m, cond),
+                self.ibin(IBinOp::AndNot, m, cond),
+            ),
+            None => {
+                let o = self.ones();
+                (
+                    self.ibin(IBinOp::LAnd, o, cond),
+                    self.ibin(IBinOp::AndNot, o, cond),
+                )
+            }
+        };
+        let skip_then = self.emit(Op::JumpIfNone { m: m_then, to: 0 });
+        self.masks.push(m_then);
+        let r = self.scoped(|me| me.stmt(then));
+        self.masks.pop();
+        r?;
+        if let Some(o) = other {
+            let at = self.here();
+            self.patch(skip_then, at);
+            let skip_else = self.emit(Op::JumpIfNone { m: m_else, to: 0 });
+            self.masks.push(m_else);
+            let r = self.scoped(|me| me.stmt(o));
+            self.masks.pop();
+            r?;
+            let end = self.here();
+            self.patch(skip_else, end);
+        } else {
+            let end = self.here();
+            self.patch(skip_then, end);
+        }
+        self.alloc = mark;
+        Ok(())
+    }
+
+    fn loop_stmt(
+        &mut self,
+        cond: Option<&Expr>,
+        step: Option<&Expr>,
+        body: &Stmt,
+        post_test: bool,
+    ) -> LResult<()> {
+        let active = self.mask_copy();
+        self.masks.push(active);
+        let active_at = self.masks.len() - 1;
+        let top = self.here();
+        self.emit(Op::Poll);
+        let mut exit = None;
+        if !post_test {
+            if let Some(c) = cond {
+                let mark = self.alloc;
+                let t = self.truth(c)?;
+                self.update_int(active, IBinOp::LAnd, t);
+                self.alloc = mark;
+            }
+            exit = Some(self.emit(Op::JumpIfNone { m: active, to: 0 }));
+        }
+        let live = self.mask_copy();
+        self.masks.push(live);
+        self.loops.push((active_at, active_at + 1));
+        let r = self.scoped(|me| me.stmt(body));
+        self.loops.pop();
+        self.masks.pop();
+        r?;
+        if let Some(s) = step {
+            let mark = self.alloc;
+            self.expr(s, None)?;
+            self.alloc = mark;
+        }
+        if post_test {
+            if let Some(c) = cond {
+                let mark = self.alloc;
+                let t = self.truth(c)?;
+                self.update_int(active, IBinOp::LAnd, t);
+                self.alloc = mark;
+            }
+            exit = Some(self.emit(Op::JumpIfNone { m: active, to: 0 }));
+        }
+        self.emit(Op::Jump { to: top });
+        let end = self.here();
+        if let Some(x) = exit {
+            self.patch(x, end);
+        }
+        self.masks.pop();
+        Ok(())
+    }
+
+    fn foreach(
+        &mut self,
+        index: Option<&str>,
+        elem: &Decl,
+        array: &Expr,
+        body: &Stmt,
+    ) -> LResult<()> {
+        let arr = self.expr(array, None)?;
+        let Ty::Array(e) = arr.ty else {
+            return err(array.pos, format!("foreach needs an array, not {}", arr.ty));
+        };
+        if elem.ty != e.ty() && !(elem.ty.is_numeric() && e.ty().is_numeric()) {
+            return err(
+                elem.pos,
+                format!("foreach over {} cannot bind {}", arr.ty, elem.ty.a()),
+            );
+        }
+        let arr = self.copy(arr);
+        let i = self.alloc(Ty::Int);
+        self.emit(Op::IConst { d: i.reg, v: 0 });
+        let n = self.call_site(Builtin::Len, vec![arr], Ty::Int, elem.pos);
+        let x = self.alloc(elem.ty);
+        if let Some(name) = index {
+            self.declare(name, i, elem.pos)?;
+        }
+        self.declare(&elem.name, x, elem.pos)?;
+        // while (i < n) { x = arr[i]; body; i++ }
+        let active = self.mask_copy();
+        self.masks.push(active);
+        let active_at = self.masks.len() - 1;
+        let top = self.here();
+        self.emit(Op::Poll);
+        let t = self.alloc(Ty::Int);
+        self.emit(Op::ICmp {
+            op: Cmp::Lt,
+            d: t.reg,
+            a: i.reg,
+            b: n.reg,
+        });
+        self.update_int(active, IBinOp::LAnd, t.reg);
+        let exit = self.emit(Op::JumpIfNone { m: active, to: 0 });
+        let item = self.call_site(Builtin::IndexGet, vec![arr, i], e.ty(), elem.pos);
+        let item = self.convert(item, elem.ty, elem.pos)?;
+        self.store(x, item);
+        let live = self.mask_copy();
+        self.masks.push(live);
+        self.loops.push((active_at, active_at + 1));
+        let r = self.scoped(|me| me.stmt(body));
+        self.loops.pop();
+        self.masks.pop();
+        r?;
+        let one = self.iconst(1);
+        let next = self.ibin(IBinOp::Add, i.reg, one.reg);
+        self.store(
+            i,
+            Loc {
+                ty: Ty::Int,
+                reg: next,
+            },
+        );
+        self.emit(Op::Jump { to: top });
+        let end = self.here();
+        self.patch(exit, end);
+        self.masks.pop();
+        Ok(())
+    }
+
+    fn return_stmt(&mut self, v: Option<&Expr>, pos: Pos) -> LResult<()> {
+        let Some(&(live_at, slot)) = self.funcs.last() else {
+            return err(pos, "'return' outside a function");
+        };
+        match (v, slot) {
+            (Some(e), Some(slot)) => {
+                let x = self.expr(e, Some(slot.ty))?;
+                let x = self.convert(x, slot.ty, e.pos)?;
+                self.store(slot, x);
+            }
+            (Some(e), None) => return err(e.pos, "a void function cannot return a value"),
+            (None, Some(s)) if s.ty != Ty::Void => {
+                return err(pos, format!("this function must return {}", s.ty.a()))
+            }
+            (None, _) => {}
+        }
+        if let Some(at) = live_at {
+            self.leave(at);
+        }
+        Ok(())
+    }
+
+    // ---- user functions --------------------------------------------------
+
+    /// Inlines user function `name` if one takes these arguments.
+    pub fn user_call(&mut self, name: &str, args: &[Expr], pos: Pos) -> LResult<Option<Loc>> {
+        let Some(cands) = self.functions.get(name).cloned() else {
+            return Ok(None);
+        };
+        let mut vals = Vec::new();
+        for a in args {
+            vals.push(self.expr(a, None)?);
+        }
+        let chosen = cands
+            .iter()
+            .filter(|f| f.params.len() == args.len())
+            .min_by_key(|f| {
+                f.params
+                    .iter()
+                    .zip(&vals)
+                    .map(|(p, v)| {
+                        if p.ty == v.ty {
+                            0
+                        } else if convertible(v.ty, p.ty) {
+                            1
+                        } else {
+                            100
+                        }
+                    })
+                    .sum::<u32>()
+            })
+            .copied();
+        let Some(f) = chosen.filter(|f| {
+            f.params
+                .iter()
+                .zip(&vals)
+                .all(|(p, v)| p.ty == v.ty || convertible(v.ty, p.ty))
+        }) else {
+            let got: Vec<String> = vals.iter().map(|v| v.ty.to_string()).collect();
+            return err(
+                pos,
+                format!("no form of '{name}' takes ({})", got.join(", ")),
+            );
+        };
+        if self.inlining.iter().any(|n| n == name) {
+            return err(
+                pos,
+                format!("'{name}' calls itself: VEX functions cannot recurse"),
+            );
+        }
+        // Arguments pass by reference: an argument of the parameter's type is
+        // the parameter itself, so writes reach the caller.
+        let mut params = Vec::new();
+        for ((p, v), a) in f.params.iter().zip(&vals).zip(args) {
+            let loc = if v.ty == p.ty {
+                *v
+            } else {
+                self.convert(*v, p.ty, a.pos)?
+            };
+            params.push((p.name.clone(), loc));
+        }
+        let slot = (f.ret != Ty::Void).then(|| self.alloc(f.ret));
+        if let Some(s) = slot {
+            self.zero(s);
+        }
+        let returns = count_returns(&f.body);
+        let simple =
+            returns == 0 || (returns == 1 && matches!(f.body.last(), Some(Stmt::Return(..))));
+        let live_at = if simple {
+            None
+        } else {
+            let live = self.mask_copy();
+            self.masks.push(live);
+            Some(self.masks.len() - 1)
+        };
+        self.inlining.push(name.to_string());
+        self.funcs.push((
+            live_at,
+            slot.or(Some(Loc {
+                ty: Ty::Void,
+                reg: 0,
+            })),
+        ));
+        let saved_scopes = std::mem::replace(&mut self.scopes, vec![params]);
+        let saved_loops = std::mem::take(&mut self.loops);
+        let r = self.scoped(|me| me.body(&f.body));
+        self.scopes = saved_scopes;
+        self.loops = saved_loops;
+        self.funcs.pop();
+        self.inlining.pop();
+        if live_at.is_some() {
+            self.masks.pop();
+        }
+        r?;
+        Ok(Some(slot.unwrap_or(Loc {
+            ty: Ty::Void,
+            reg: 0,
+        })))
+    }
+
+    pub fn function_names(&self) -> Vec<String> {
+        self.functions.keys().cloned().collect()
+    }
+
+    pub fn undeclared(&self, name: &str, pos: Pos) -> CompileError {
+        let names = self.visible_names();
+        CompileError::at(
+            pos,
+            format!(
+                "undeclared variable '{name}'{}",
+                crate::suggest(name, names.iter().map(String::as_str))
+            ),
+        )
+    }
+
+    /// Emits a library call over the current mask into a new register.
+    pub fn call_site(&mut self, f: Builtin, args: Vec<Loc>, out: Ty, pos: Pos) -> Loc {
+        let out = self.alloc(out);
+        let call = self.calls.len() as u32;
+        self.calls.push(CallSite {
+            f,
+            args,
+            out,
+            mask: self.mask(),
+            pos,
+        });
+        self.emit(Op::Call { call });
+        out
+    }
+
+    /// Lowers the snippet's own statements: a top-level `return` ends the
+    /// element, as in a wrangle.
+    pub fn snippet_body(&mut self, body: &[Stmt]) -> LResult<()> {
+        let live_at = if count_returns(body) > 0 {
+            let live = self.mask_copy();
+            self.masks.push(live);
+            Some(self.masks.len() - 1)
+        } else {
+            None
+        };
+        self.funcs.push((
+            live_at,
+            Some(Loc {
+                ty: Ty::Void,
+                reg: 0,
+            }),
+        ));
+        let r = self.body(body);
+        self.funcs.pop();
+        r
+    }
+
+    pub fn finish(self) -> (Vec<Op>, Vec<CallSite>, Vec<String>, Counts) {
+        (self.ops, self.calls, self.strings, self.high)
+    }
+}
+
+fn bump(c: &mut u32, n: u32) -> Reg {
+    let r = *c;
+    *c += n;
+    r
+}
+
+pub fn arr_file(e: Elem) -> ArrFile {
+    match e {
+        Elem::Int => ArrFile::I,
+        Elem::Str => ArrFile::S,
+        _ => ArrFile::F,
+    }
+}
+
+/// Whether VEX converts `from` to `to` implicitly.
+pub fn convertible(from: Ty, to: Ty) -> bool {
+    from == to
+        || (from.is_numeric()
+            && to.is_numeric()
+            && !(from.is_matrix() && !to.is_matrix() && to != Ty::Float))
+}
+
+fn count_returns(stmts: &[Stmt]) -> usize {
+    stmts
+        .iter()
+        .map(|s| match s {
+            Stmt::Return(..) => 1,
+            Stmt::Block(b) => count_returns(b),
+            Stmt::If(_, a, b) => {
+                count_returns(std::slice::from_ref(a))
+                    + b.as_ref()
+                        .map_or(0, |b| count_returns(std::slice::from_ref(b)))
+            }
+            Stmt::While(_, b) | Stmt::DoWhile(b, _) | Stmt::For(_, _, _, b) => {
+                count_returns(std::slice::from_ref(b))
+            }
+            Stmt::Foreach { body, .. } => count_returns(std::slice::from_ref(body)),
+            _ => 0,
+        })
+        .sum()
+}
+
+impl Counts {
+    fn max(&self, o: &Counts) -> Counts {
+        Counts {
+            f: self.f.max(o.f),
+            i: self.i.max(o.i),
+            s: self.s.max(o.s),
+            af: self.af.max(o.af),
+            ai: self.ai.max(o.ai),
+            as_: self.as_.max(o.as_),
+        }
+    }
+}

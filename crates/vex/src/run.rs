@@ -1,0 +1,379 @@
+//! Running a compiled snippet over geometry: elements go in batches of
+//! `LANES`, in parallel; each batch loads its bindings from the input's
+//! snapshot columns, runs, and stores the written bindings into the output
+//! columns (disjoint slices per batch). Queued effects apply afterwards in
+//! element order (see `apply`), so any thread count gives the same bytes.
+
+use rayon::prelude::*;
+
+use geode_geo::{AttribClass, AttribValue, Attribute, Geometry, StringColumn, TypeInfo};
+
+use crate::bind::{attrib_type, Source};
+use crate::builtins::Val;
+use crate::exec::{self, Frame};
+use crate::ir::LANES;
+use crate::world::{Effect, Shared, World};
+use crate::{apply, Program, RunError};
+
+/// What a run may be told beyond the program and its geometry.
+pub struct RunOptions<'a> {
+    /// Only these elements (sorted), as the node's group selects them.
+    pub group: Option<&'a [u32]>,
+    pub cancel: &'a (dyn Fn() -> bool + Sync),
+}
+
+/// What a run printed (`printf`), in element order.
+#[derive(Debug, Default)]
+pub struct RunReport {
+    pub printed: Vec<String>,
+}
+
+/// A binding's values for loading, resolved once per run.
+enum Read<'g> {
+    F(&'g [f32], usize),
+    I(&'g [i32]),
+    S(&'g StringColumn),
+    Zero,
+    Elem,
+    Table(Vec<u32>),
+    Const(f64),
+    Uniform(Val),
+}
+
+/// A batch's queued effects and its sinks back.
+type BatchOut<'o> = (Vec<Effect>, Vec<Sink<'o>>);
+
+/// Where a batch stores a written binding.
+enum Sink<'o> {
+    F(&'o mut [f32], usize),
+    I(&'o mut [i32]),
+    /// Gathered, then written once every batch ran (strings, groups).
+    Later(Vec<Val>),
+}
+
+fn elem_count(g: &Geometry, class: AttribClass) -> usize {
+    match class {
+        AttribClass::Point => g.num_points(),
+        AttribClass::Primitive => g.num_prims(),
+        AttribClass::Vertex => g.num_vertices(),
+        AttribClass::Detail => 1,
+    }
+}
+
+/// The semantic tag a created attribute gets from its name.
+fn type_info(name: &str) -> TypeInfo {
+    match name {
+        "P" => TypeInfo::Position,
+        "N" => TypeInfo::Normal,
+        "v" | "up" | "accel" | "force" => TypeInfo::Vector,
+        "Cd" => TypeInfo::Color,
+        "orient" | "rot" => TypeInfo::Quaternion,
+        _ => TypeInfo::None,
+    }
+}
+
+/// Runs `p` on `out` (a copy of input 0, whose snapshot is `inputs[0]`).
+pub fn run(
+    p: &Program,
+    out: &mut Geometry,
+    inputs: &[Option<&Geometry>],
+    opts: &RunOptions,
+) -> Result<RunReport, RunError> {
+    let snapshot = inputs.first().copied().flatten().ok_or(RunError::NoInput)?;
+    let class = p.run_over;
+    let total = elem_count(snapshot, class);
+    let n = opts.group.map_or(total, <[u32]>::len);
+    let reads = reads(p, snapshot, inputs);
+    // Written attributes leave the geometry while batches write them.
+    let mut taken: Vec<(usize, AttribClass, String, Attribute)> = Vec::new();
+    for (b, bind) in p.bindings.iter().enumerate() {
+        if let (
+            true,
+            Source::Attr {
+                input: 0,
+                class: c,
+                attrib,
+            },
+        ) = (p.written[b], &bind.source)
+        {
+            let len = elem_count(out, *c);
+            let attr = match out.attribs_mut(*c).remove(attrib) {
+                Some(a) => a,
+                None => {
+                    let ty = attrib_type(bind.ty).ok_or(RunError::Unsupported(format!(
+                        "@{} of type {}",
+                        bind.name, bind.ty
+                    )))?;
+                    Attribute::new(AttribValue::zero(ty), type_info(attrib), len)
+                }
+            };
+            taken.push((b, *c, attrib.clone(), attr));
+        }
+    }
+    let batches = n.div_ceil(LANES);
+    let contiguous = opts.group.is_none();
+    let written: Vec<usize> = taken.iter().map(|t| t.0).collect();
+    let mut sinks: Vec<Vec<Sink>> = (0..batches).map(|_| Vec::new()).collect();
+    for (_, _, _, attr) in taken.iter_mut() {
+        let later = || (0..batches).map(|_| Sink::Later(Vec::new())).collect();
+        let floats = attr.data().as_floats().is_some();
+        let ints = attr.as_i32().is_some();
+        let chunks: Vec<Sink> = if !contiguous {
+            later()
+        } else if floats {
+            let (f, w) = attr.floats_mut().expect("a float column");
+            f.chunks_mut(LANES * w).map(|c| Sink::F(c, w)).collect()
+        } else if ints {
+            let i = attr.as_i32_mut().expect("an int column");
+            i.chunks_mut(LANES).map(Sink::I).collect()
+        } else {
+            later()
+        };
+        for (k, c) in chunks.into_iter().enumerate().take(batches) {
+            sinks[k].push(c);
+        }
+    }
+    let shared = Shared::new(inputs.to_vec());
+    let results: Vec<Result<BatchOut, RunError>> = sinks
+        .into_par_iter()
+        .enumerate()
+        .map_init(
+            || Frame::new(p),
+            |fr, (k, mut sinks)| {
+                if (opts.cancel)() {
+                    return Err(RunError::Cancelled);
+                }
+                let lanes: Vec<u32> = match opts.group {
+                    Some(g) => g[k * LANES..((k + 1) * LANES).min(n)].to_vec(),
+                    None => (k * LANES..((k + 1) * LANES).min(n))
+                        .map(|e| e as u32)
+                        .collect(),
+                };
+                let mut world = World::new(&shared, opts.cancel);
+                world.elems = lanes;
+                fr.n = world.elems.len();
+                load(p, fr, &reads, &world.elems);
+                exec::run(p, fr, &mut world)?;
+                for (sink, &b) in sinks.iter_mut().zip(&written) {
+                    store(p, fr, b, sink);
+                }
+                Ok((world.effects, sinks))
+            },
+        )
+        .collect();
+    let mut effects = Vec::with_capacity(batches);
+    let mut later: Vec<Vec<Option<Vec<Val>>>> = Vec::with_capacity(batches);
+    for r in results {
+        let (e, s) = r?;
+        effects.push(e);
+        later.push(
+            s.into_iter()
+                .map(|s| match s {
+                    Sink::Later(v) => Some(v),
+                    _ => None,
+                })
+                .collect(),
+        );
+    }
+    // Put the columns back, with values gathered for later.
+    for (slot, (_, c, name, mut attr)) in taken.into_iter().enumerate() {
+        let mut lane_base = 0;
+        for (k, batch) in later.iter_mut().enumerate() {
+            if let Some(Some(vals)) = batch.get_mut(slot) {
+                for (l, v) in vals.drain(..).enumerate() {
+                    let e = opts
+                        .group
+                        .map_or(k * LANES + l, |g| g[lane_base + l] as usize);
+                    set_value(&mut attr, e, &v);
+                }
+            }
+            lane_base += LANES;
+        }
+        out.attribs_mut(c)
+            .insert(&name, attr)
+            .map_err(|e| RunError::Geometry(e.to_string()))?;
+    }
+    let printed = apply::apply(out, snapshot, effects)?;
+    Ok(RunReport { printed })
+}
+
+/// Writes a lane value into an attribute, converting as VEX does.
+pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
+    let value = match (attr.default_value(), v) {
+        (AttribValue::String(_), v) => AttribValue::String(v.s().to_string()),
+        (AttribValue::Int(_), v) => AttribValue::Int(v.i()),
+        (AttribValue::Float(_), v) => AttribValue::Float(v.f()),
+        (d, v) => {
+            let f = v.floats();
+            let g = |k: usize| {
+                f.get(k)
+                    .copied()
+                    .unwrap_or_else(|| if f.len() == 1 { f[0] } else { 0.0 })
+            };
+            match d {
+                AttribValue::Vec2(_) => AttribValue::Vec2([g(0), g(1)].into()),
+                AttribValue::Vec3(_) => AttribValue::Vec3([g(0), g(1), g(2)].into()),
+                AttribValue::Vec4(_) => AttribValue::Vec4([g(0), g(1), g(2), g(3)].into()),
+                AttribValue::Quat(_) => {
+                    AttribValue::Quat(geode_geo::glam::Quat::from_xyzw(g(0), g(1), g(2), g(3)))
+                }
+                AttribValue::Mat4(_) => AttribValue::Mat4(geode_geo::glam::Mat4::from_cols_array(
+                    &std::array::from_fn(g),
+                )),
+                other => other.clone(),
+            }
+        }
+    };
+    // Types match by construction.
+    let _ = attr.values_mut().set(e, &value);
+}
+
+fn reads<'g>(
+    p: &Program,
+    snapshot: &'g Geometry,
+    inputs: &[Option<&'g Geometry>],
+) -> Vec<Read<'g>> {
+    p.bindings
+        .iter()
+        .map(|b| match &b.source {
+            Source::Attr {
+                input,
+                class,
+                attrib,
+            } => {
+                let Some(a) = inputs
+                    .get(*input)
+                    .copied()
+                    .flatten()
+                    .and_then(|g| g.attrib(*class, attrib))
+                else {
+                    return Read::Zero;
+                };
+                if let Some((f, w)) = a.data().as_floats() {
+                    Read::F(f, w)
+                } else if let Some(i) = a.as_i32() {
+                    Read::I(i)
+                } else if let Some(s) = a.as_strings() {
+                    Read::S(s)
+                } else {
+                    Read::Zero
+                }
+            }
+            Source::Detail(name) => {
+                match crate::world::read_attrib(snapshot, AttribClass::Detail, name, 0) {
+                    Some(v) => Read::Uniform(v),
+                    None => Read::Zero,
+                }
+            }
+            Source::Elem => Read::Elem,
+            Source::PointOfVertex => Read::Table(snapshot.vertex_points().to_vec()),
+            Source::PrimOfVertex => {
+                let offs = snapshot.prim_offsets();
+                let mut t = vec![0u32; snapshot.num_vertices()];
+                for prim in 0..snapshot.num_prims() {
+                    t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
+                }
+                Read::Table(t)
+            }
+            Source::Const(c) => Read::Const(*c),
+        })
+        .collect()
+}
+
+/// Fills every binding's registers for the batch's elements.
+fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
+    for (b, r) in p.bindings.iter().zip(reads) {
+        let reg = b.loc.reg as usize;
+        let width = b.ty.floats();
+        match (r, b.ty) {
+            (Read::F(col, w), _) if width > 0 => {
+                for k in 0..width {
+                    let dst = &mut fr.f[(reg + k) * LANES..][..LANES];
+                    if k < *w {
+                        for (l, &e) in elems.iter().enumerate() {
+                            dst[l] = col.get(e as usize * w + k).copied().unwrap_or(0.0);
+                        }
+                    } else {
+                        dst.fill(0.0);
+                    }
+                }
+            }
+            (Read::I(col), crate::ty::Ty::Int) => {
+                let dst = &mut fr.i[reg * LANES..][..LANES];
+                for (l, &e) in elems.iter().enumerate() {
+                    dst[l] = col.get(e as usize).copied().unwrap_or(0);
+                }
+            }
+            (Read::S(col), _) => {
+                for (l, &e) in elems.iter().enumerate() {
+                    let s = if (e as usize) < col.indices.len() {
+                        col.get(e as usize)
+                    } else {
+                        ""
+                    };
+                    fr.s[reg * LANES + l].clear();
+                    fr.s[reg * LANES + l].push_str(s);
+                }
+            }
+            (Read::Elem, _) | (Read::Table(_), _) => {
+                let dst = &mut fr.i[reg * LANES..][..LANES];
+                for (l, &e) in elems.iter().enumerate() {
+                    dst[l] = match r {
+                        Read::Table(t) => t.get(e as usize).map_or(-1, |&x| x as i32),
+                        _ => e as i32,
+                    };
+                }
+            }
+            (Read::Const(c), t) => {
+                if t == crate::ty::Ty::Int {
+                    fr.i[reg * LANES..][..LANES].fill(*c as i32);
+                } else {
+                    for k in 0..width {
+                        fr.f[(reg + k) * LANES..][..LANES].fill(*c as f32);
+                    }
+                }
+            }
+            (Read::Uniform(v), _) => {
+                for l in 0..LANES {
+                    crate::builtins::write(fr, b.loc, l, v.clone());
+                }
+            }
+            _ => {
+                // Absent attributes read as zero.
+                match b.ty {
+                    crate::ty::Ty::Int => fr.i[reg * LANES..][..LANES].fill(0),
+                    crate::ty::Ty::Str => fr.s[reg * LANES..][..LANES]
+                        .iter_mut()
+                        .for_each(String::clear),
+                    _ => {
+                        for k in 0..width {
+                            fr.f[(reg + k) * LANES..][..LANES].fill(0.0);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Stores binding `b`'s registers for the batch's lanes into its sink.
+fn store(p: &Program, fr: &Frame, b: usize, sink: &mut Sink) {
+    let bind = &p.bindings[b];
+    let reg = bind.loc.reg as usize;
+    match sink {
+        Sink::F(dst, w) => {
+            let width = bind.ty.floats().min(*w);
+            for k in 0..width {
+                let src = &fr.f[(reg + k) * LANES..][..LANES];
+                for (l, &x) in src.iter().enumerate().take(fr.n) {
+                    dst[l * *w + k] = x;
+                }
+            }
+        }
+        Sink::I(dst) => dst[..fr.n].copy_from_slice(&fr.i[reg * LANES..][..fr.n]),
+        Sink::Later(vals) => {
+            vals.clear();
+            vals.extend((0..fr.n).map(|l| crate::builtins::read(fr, bind.loc, l)));
+        }
+    }
+}

@@ -1,0 +1,186 @@
+//! What the library sees of the geometry while a batch runs: the inputs'
+//! snapshots, indexes built once per input (topology, k-d tree), and the
+//! effects the batch queues (writes to other elements, new and removed
+//! geometry) to be applied after every element ran.
+
+use std::sync::{Arc, OnceLock};
+
+use geode_geo::{AttribClass, Geometry, Topology};
+
+use crate::builtins::{attrib_value, Val};
+use crate::kdtree::KdTree;
+
+/// How `set*attrib` combines with the value already there.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    Set,
+    Add,
+    Min,
+    Max,
+    Mult,
+    Append,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum EffectKind {
+    SetAttr {
+        class: AttribClass,
+        name: String,
+        target: i32,
+        vtx: i32,
+        value: Val,
+        mode: Mode,
+    },
+    AddPoint {
+        handle: i32,
+        from: Option<i32>,
+        pos: [f32; 3],
+    },
+    AddPrim {
+        handle: i32,
+        polyline: bool,
+        points: Vec<i32>,
+    },
+    AddVertex {
+        prim: i32,
+        point: i32,
+    },
+    RemovePoint {
+        point: i32,
+    },
+    RemovePrim {
+        prim: i32,
+        and_points: bool,
+    },
+    SetGroup {
+        class: AttribClass,
+        name: String,
+        target: i32,
+        on: bool,
+    },
+    Print(String),
+}
+
+/// An effect with the element that queued it and its order in that element.
+#[derive(Clone, Debug)]
+pub struct Effect {
+    pub elem: u32,
+    pub seq: u32,
+    pub kind: EffectKind,
+}
+
+/// A topology and its point count, built on first use.
+pub struct Topo {
+    pub topo: Arc<Topology>,
+    points: usize,
+}
+
+impl Topo {
+    pub fn point_count(&self) -> usize {
+        self.points
+    }
+}
+
+/// Per-run data shared by every batch.
+pub struct Shared<'a> {
+    pub inputs: Vec<Option<&'a Geometry>>,
+    topo: Vec<OnceLock<Topo>>,
+    trees: Vec<OnceLock<KdTree>>,
+}
+
+impl<'a> Shared<'a> {
+    pub fn new(inputs: Vec<Option<&'a Geometry>>) -> Shared<'a> {
+        let n = inputs.len();
+        Shared {
+            inputs,
+            topo: (0..n).map(|_| OnceLock::new()).collect(),
+            trees: (0..n).map(|_| OnceLock::new()).collect(),
+        }
+    }
+}
+
+/// One batch's view: the shared inputs and its queued effects.
+pub struct World<'s, 'a> {
+    pub shared: &'s Shared<'a>,
+    pub cancel: &'s (dyn Fn() -> bool + Sync),
+    /// Element number of each lane.
+    pub elems: Vec<u32>,
+    pub effects: Vec<Effect>,
+    seq: u32,
+    new_points: i32,
+    new_prims: i32,
+}
+
+impl<'s, 'a> World<'s, 'a> {
+    pub fn new(shared: &'s Shared<'a>, cancel: &'s (dyn Fn() -> bool + Sync)) -> World<'s, 'a> {
+        World {
+            shared,
+            cancel,
+            elems: Vec::new(),
+            effects: Vec::new(),
+            seq: 0,
+            new_points: 0,
+            new_prims: 0,
+        }
+    }
+
+    pub fn elem_of(&self, lane: usize) -> u32 {
+        self.elems.get(lane).copied().unwrap_or(0)
+    }
+
+    pub fn input(&self, i: i32) -> Option<&'a Geometry> {
+        usize::try_from(i)
+            .ok()
+            .and_then(|i| self.shared.inputs.get(i).copied().flatten())
+    }
+
+    pub fn topology(&self, i: i32) -> Option<&Topo> {
+        let g = self.input(i)?;
+        Some(self.shared.topo[i as usize].get_or_init(|| Topo {
+            topo: g.topology(),
+            points: g.num_points(),
+        }))
+    }
+
+    /// Up to `count` points of input `i` within `radius` of `q`, nearest first.
+    pub fn nearest(&self, i: i32, q: [f32; 3], radius: f32, count: usize) -> Vec<u32> {
+        let Some(g) = self.input(i) else {
+            return Vec::new();
+        };
+        let tree = self.shared.trees[i as usize]
+            .get_or_init(|| KdTree::new(g.positions().iter().map(|p| p.to_array()).collect()));
+        tree.nearest(q, radius, count)
+    }
+
+    pub fn queue(&mut self, lane: usize, kind: EffectKind) {
+        self.seq += 1;
+        self.effects.push(Effect {
+            elem: self.elem_of(lane),
+            seq: self.seq,
+            kind,
+        });
+    }
+
+    /// A provisional number for a new point: past the input's points,
+    /// counted within this batch (resolved when the batch's effects apply).
+    pub fn new_point(&mut self) -> i32 {
+        self.new_points += 1;
+        self.input(0).map_or(0, |g| g.num_points() as i32) + self.new_points - 1
+    }
+
+    pub fn new_prim(&mut self) -> i32 {
+        self.new_prims += 1;
+        self.input(0).map_or(0, |g| g.num_prims() as i32) + self.new_prims - 1
+    }
+}
+
+/// An attribute's value at element `idx` of class `class`, if it exists.
+pub fn read_attrib(g: &Geometry, class: AttribClass, name: &str, idx: i32) -> Option<Val> {
+    if class == AttribClass::Point && name == "P" {
+        let p = g.positions().get(usize::try_from(idx).ok()?)?;
+        return Some(Val::vec(&p.to_array()));
+    }
+    let a = g.attrib(class, name)?;
+    let i = usize::try_from(idx).ok().filter(|&i| i < a.len())?;
+    Some(attrib_value(a.data(), i))
+}
