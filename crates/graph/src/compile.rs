@@ -4,7 +4,8 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use geode_op::{
-    CookEnv, ListSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
+    CookEnv, ListSpec, NodeSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType,
+    Registry, SPARE_TYPES,
 };
 use serde_json::Value as Json;
 
@@ -98,6 +99,8 @@ pub(crate) enum NodeKind {
     Op {
         op: Arc<dyn Operator>,
         params: Vec<CompiledParam>,
+        /// Spare parameters the network declared, by name.
+        spare: Vec<(String, CompiledParam)>,
     },
     /// A subnetwork: its value is its output node's.
     Subnet { output: Option<usize> },
@@ -175,7 +178,7 @@ impl Network {
     /// its parameters, and so in its key.
     pub(crate) fn params_at(&self, i: usize, frame: f64, env: &CookEnv) -> Params {
         match &self.nodes[i].kind {
-            NodeKind::Op { params, .. } => Params::declared(
+            NodeKind::Op { params, spare, .. } => Params::declared(
                 &self.nodes[i].path,
                 params
                     .iter()
@@ -188,6 +191,12 @@ impl Network {
                         };
                         (p.spec, v)
                     })
+                    .collect(),
+            )
+            .with_spare(
+                spare
+                    .iter()
+                    .map(|(n, p)| (n.clone(), p.eval(frame)))
                     .collect(),
             ),
             NodeKind::Subnet { .. } | NodeKind::Invalid => {
@@ -220,7 +229,10 @@ impl Network {
     /// Whether any parameter of node `path` is animated.
     pub fn is_animated(&self, path: &str) -> bool {
         self.index(path).is_some_and(|i| match &self.nodes[i].kind {
-            NodeKind::Op { params, .. } => params.iter().any(CompiledParam::is_animated),
+            NodeKind::Op { params, spare, .. } => params
+                .iter()
+                .chain(spare.iter().map(|s| &s.1))
+                .any(CompiledParam::is_animated),
             NodeKind::Subnet { .. } | NodeKind::Invalid => false,
         })
     }
@@ -321,6 +333,7 @@ impl Builder<'_> {
                     Some(op) => NodeKind::Op {
                         op: Arc::clone(op),
                         params: Vec::new(),
+                        spare: Vec::new(),
                     },
                     None => {
                         let near = self.registry.closest(&doc.ty);
@@ -682,6 +695,58 @@ impl Builder<'_> {
         Some(ParamSource::Components(comps))
     }
 
+    /// The spare parameters `doc` declares on a node of type `spec`, with
+    /// their values from `params` (each type's default when absent).
+    fn spare_params(
+        &mut self,
+        path: &str,
+        spec: &'static NodeSpec,
+        doc: &NodeDoc,
+    ) -> Vec<(String, CompiledParam)> {
+        let mut out = Vec::new();
+        if !doc.spare.is_empty() && !spec.spare {
+            self.errors.push(LoadError::node(
+                path,
+                format!("a {} node takes no spare parameters", spec.name),
+            ));
+            return out;
+        }
+        for (name, ty) in &doc.spare {
+            if spec.param(name).is_some() {
+                self.errors.push(LoadError::param(
+                    path,
+                    name,
+                    "a spare parameter cannot reuse the name of one of the node's own parameters",
+                ));
+                continue;
+            }
+            let Some(pspec) = ParamSpec::spare(ty) else {
+                self.errors.push(LoadError::param(
+                    path,
+                    name,
+                    format!(
+                        "unknown spare parameter type `{ty}`: expected one of {}",
+                        SPARE_TYPES.join(", ")
+                    ),
+                ));
+                continue;
+            };
+            let source = match doc.params.get(name) {
+                Some(j) => self.parse_named(path, name, pspec, j),
+                None => None,
+            };
+            let source = source.unwrap_or_else(|| default_source(pspec));
+            out.push((
+                name.clone(),
+                CompiledParam {
+                    spec: pspec,
+                    source,
+                },
+            ));
+        }
+        out
+    }
+
     fn compile_params(&mut self) {
         // Promoted values, applied to their target after the target's own parameters.
         let mut overrides: BTreeMap<(usize, String), (String, Json)> = BTreeMap::new();
@@ -692,11 +757,13 @@ impl Builder<'_> {
                 NodeKind::Op { op, .. } => {
                     let spec = op.spec();
                     let mut given: BTreeMap<&str, &Json> = BTreeMap::new();
+                    let spare = self.spare_params(&path, spec, &doc);
                     for (name, j) in &doc.params {
                         match spec.param(name) {
                             Some(_) => {
                                 given.insert(name.as_str(), j);
                             }
+                            None if spare.iter().any(|(n, _)| n == name) => {}
                             None => {
                                 let hint = closest(name, spec.params.iter().map(|p| p.name));
                                 self.errors.push(LoadError::node(
@@ -715,7 +782,7 @@ impl Builder<'_> {
                         let source = source.unwrap_or_else(|| default_source(spec));
                         params.push(CompiledParam { spec, source });
                     }
-                    self.nodes[i].kind = NodeKind::Op { op, params };
+                    self.nodes[i].kind = NodeKind::Op { op, params, spare };
                 }
                 NodeKind::Invalid => {}
                 NodeKind::Subnet { .. } => {

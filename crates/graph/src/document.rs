@@ -49,6 +49,11 @@ pub struct NodeDoc {
     /// For `type: "subnet"`: the inner network.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub network: Option<Box<NetworkDoc>>,
+    /// Spare parameters the network declares on the node, name -> type
+    /// (float, int, toggle, vector2, vector, vector4, string); their values
+    /// go in `params` like any other.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub spare: BTreeMap<String, String>,
     /// For subnets: promoted parameters, name -> "inner_node/parameter".
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub promote: BTreeMap<String, String>,

@@ -107,6 +107,7 @@ fn no_progress(_: &str, _: f32) {}
 /// input identities (and the frame itself for time-dependent nodes).
 fn cook_key(
     spec: &NodeSpec,
+    reads_frame: bool,
     params: &Params,
     inputs: &[Option<Cooked>],
     extra: Option<u128>,
@@ -122,6 +123,12 @@ fn cook_key(
         h.update(b"=");
         v.hash_into(&mut h);
     }
+    for (name, v) in params.spares() {
+        h.update(b"spare:");
+        h.update(&(name.len() as u64).to_le_bytes());
+        h.update(name.as_bytes());
+        v.hash_into(&mut h);
+    }
     for inp in inputs {
         match inp {
             Some(c) => h.update(&c.identity.to_le_bytes()),
@@ -131,7 +138,7 @@ fn cook_key(
     if let Some(x) = extra {
         h.update(&x.to_le_bytes());
     }
-    if spec.time_dependent {
+    if reads_frame {
         h.update(&frame.to_le_bytes());
     }
     h.digest128()
@@ -206,7 +213,14 @@ impl Run<'_, '_> {
         let params = net.params_at(i, self.opts.frame, &self.opts.env);
         let output = writes_files(spec, &params);
         let extra = op.key_extra(&params).map_err(|e| vec![e])?;
-        let key = cook_key(spec, &params, &inputs, extra, self.opts.frame);
+        let key = cook_key(
+            spec,
+            op.reads_frame(&params),
+            &params,
+            &inputs,
+            extra,
+            self.opts.frame,
+        );
         let span = tracing::info_span!(
             "cook",
             node = %n.path,

@@ -25,6 +25,7 @@ mod skin;
 mod subd;
 mod transform;
 mod util;
+mod wrangle;
 
 pub use expr::{Expr, ExprError};
 pub use patches::for_file;
@@ -56,5 +57,6 @@ pub fn registry() -> Registry {
     hspline::register(&mut r);
     attach::register(&mut r);
     skin::register(&mut r);
+    wrangle::register(&mut r);
     r
 }

@@ -13,6 +13,7 @@ pub use context::{CancelToken, CookContext, CookError, ErrorKind, ProgressFn};
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
 pub use param::{
     LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,
+    SPARE_TYPES,
 };
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};
@@ -52,6 +53,9 @@ pub struct NodeSpec {
     /// while any of them names a file, the node cooks every time it is pulled
     /// and its result is never served from or stored in the cache.
     pub writes: &'static [&'static str],
+    /// Whether a network may declare spare parameters on the node (read by
+    /// its cook by name: a wrangle's `ch()`).
+    pub spare: bool,
 }
 
 /// A required geometry input.
@@ -85,7 +89,14 @@ impl NodeSpec {
             params,
             time_dependent: false,
             writes: &[],
+            spare: false,
         }
+    }
+
+    /// The node takes spare parameters declared in the network.
+    pub const fn spare_params(mut self) -> NodeSpec {
+        self.spare = true;
+        self
     }
 
     /// Declares the file parameters the cook writes.
@@ -141,6 +152,13 @@ pub trait Operator: Send + Sync {
     /// recooks the node (DESIGN.md invariant 4).
     fn key_extra(&self, _params: &Params) -> Result<Option<u128>, CookError> {
         Ok(None)
+    }
+
+    /// Whether a cook with these parameters reads the frame (then the frame
+    /// is in its key): the spec's flag, or the operator's finer answer (a
+    /// wrangle reads it only when its snippet names `@Frame` or `@Time`).
+    fn reads_frame(&self, _params: &Params) -> bool {
+        self.spec().time_dependent
     }
 }
 

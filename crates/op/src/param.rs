@@ -124,6 +124,65 @@ pub struct ParamSpec {
     pub affects: Option<&'static str>,
 }
 
+/// The type names `ParamSpec::spare` accepts, for error messages.
+pub const SPARE_TYPES: &[&str] = &[
+    "float", "int", "toggle", "vector2", "vector", "vector4", "string",
+];
+
+const SPARE_HELP: &str = "A spare parameter declared by the network.";
+
+static SPARE_SPECS: [ParamSpec; 7] = [
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Float,
+        ParamDefault::Float(0.0),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Int,
+        ParamDefault::Int(0),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Toggle,
+        ParamDefault::Toggle(false),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Vec2,
+        ParamDefault::Vec2([0.0; 2]),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Vec3,
+        ParamDefault::Vec3([0.0; 3]),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::Vec4,
+        ParamDefault::Vec4([0.0; 4]),
+        SPARE_HELP,
+    ),
+    ParamSpec::new(
+        "spare",
+        "Spare",
+        ParamType::String,
+        ParamDefault::Str(""),
+        SPARE_HELP,
+    ),
+];
+
 impl ParamSpec {
     /// A parameter with no range, animatable when numeric, no tag.
     pub const fn new(
@@ -193,6 +252,22 @@ impl ParamSpec {
             ParamDefault::EmptyList,
             help,
         )
+    }
+
+    /// The declaration a spare parameter of type `ty` (as a network names
+    /// it: float, int, toggle, vector2, vector, vector4, string) takes: one
+    /// static spec per type, the name carried beside it.
+    pub fn spare(ty: &str) -> Option<&'static ParamSpec> {
+        Some(match ty {
+            "float" => &SPARE_SPECS[0],
+            "int" => &SPARE_SPECS[1],
+            "toggle" => &SPARE_SPECS[2],
+            "vector2" => &SPARE_SPECS[3],
+            "vector" => &SPARE_SPECS[4],
+            "vector4" => &SPARE_SPECS[5],
+            "string" => &SPARE_SPECS[6],
+            _ => return None,
+        })
     }
 
     /// Builds a value of this parameter's type from numeric components.
@@ -307,6 +382,8 @@ pub struct Params {
     values: Vec<(&'static str, ParamValue)>,
     /// The declarations, where known (list rows need their fields).
     specs: Vec<&'static ParamSpec>,
+    /// Spare parameters the network declared on the node, by name.
+    spare: Vec<(String, ParamValue)>,
 }
 
 impl Params {
@@ -316,6 +393,7 @@ impl Params {
             prefix: String::new(),
             values,
             specs: Vec::new(),
+            spare: Vec::new(),
         }
     }
 
@@ -329,6 +407,7 @@ impl Params {
             prefix: String::new(),
             specs: values.iter().map(|(s, _)| *s).collect(),
             values: values.into_iter().map(|(s, v)| (s.name, v)).collect(),
+            spare: Vec::new(),
         }
     }
 
@@ -337,6 +416,22 @@ impl Params {
     pub fn name(&self, name: &(impl ParamName + ?Sized)) -> String {
         let name = name.param_name();
         format!("{}{name}", self.prefix)
+    }
+
+    /// These parameters with the node's spare parameters beside them.
+    pub fn with_spare(mut self, spare: Vec<(String, ParamValue)>) -> Params {
+        self.spare = spare;
+        self
+    }
+
+    /// A spare parameter's value.
+    pub fn spare(&self, name: &str) -> Option<&ParamValue> {
+        self.spare.iter().find(|(n, _)| n == name).map(|(_, v)| v)
+    }
+
+    /// The spare parameters, in declaration order (cache keys cover them).
+    pub fn spares(&self) -> &[(String, ParamValue)] {
+        &self.spare
     }
 
     pub fn iter(&self) -> impl Iterator<Item = &(&'static str, ParamValue)> {
@@ -426,6 +521,7 @@ impl Params {
                         .zip(row.iter().cloned())
                         .collect(),
                     specs: l.fields.iter().collect(),
+                    spare: Vec::new(),
                 })
                 .collect()),
             _ => Err(self.wrong(name, "list")),

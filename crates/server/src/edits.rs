@@ -281,6 +281,7 @@ fn add_node(
         bypass: false,
         display: false,
         network: (ty == "subnet").then(|| Box::new(NetworkDoc::default())),
+        spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),
     };

@@ -1194,7 +1194,10 @@ impl<'a> Lower<'a> {
 
     fn convert_arg(&mut self, v: Loc, to: Ty, name: &str, pos: Pos) -> LResult<Loc> {
         if !convertible(v.ty, to) {
-            return err(pos, format!("'{name}' expects {} here, not {}", to.a(), v.ty.a()));
+            return err(
+                pos,
+                format!("'{name}' expects {} here, not {}", to.a(), v.ty.a()),
+            );
         }
         self.convert(v, to, pos)
     }

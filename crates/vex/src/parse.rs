@@ -399,14 +399,35 @@ impl Parser {
             let ty = self.parse_type()?;
             let name = self.ident()?;
             self.expect(";")?;
-            (Some(first), Decl { name, ty, init: None, pos: epos })
+            (
+                Some(first),
+                Decl {
+                    name,
+                    ty,
+                    init: None,
+                    pos: epos,
+                },
+            )
         } else {
-            (None, Decl { name: first, ty: first_ty, init: None, pos })
+            (
+                None,
+                Decl {
+                    name: first,
+                    ty: first_ty,
+                    init: None,
+                    pos,
+                },
+            )
         };
         let array = self.expr()?;
         self.expect(")")?;
         let body = Box::new(self.statement()?);
-        Ok(Stmt::Foreach { index, elem, array, body })
+        Ok(Stmt::Foreach {
+            index,
+            elem,
+            array,
+            body,
+        })
     }
 
     pub fn expr(&mut self) -> PResult<Expr> {

@@ -313,7 +313,17 @@ fn every_documented_program_gives_its_documented_result() {
     assert!(CASES.len() >= 150, "{} cases", CASES.len());
     let failures: Vec<String> = CASES
         .iter()
-        .filter_map(|(src, name, want)| check(src, name, want).err().map(|e| format!("{src}\n    {e}")))
+        .filter_map(|(src, name, want)| {
+            check(src, name, want)
+                .err()
+                .map(|e| format!("{src}\n    {e}"))
+        })
         .collect();
-    assert!(failures.is_empty(), "{} of {} failed:\n{}", failures.len(), CASES.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} failed:\n{}",
+        failures.len(),
+        CASES.len(),
+        failures.join("\n")
+    );
 }

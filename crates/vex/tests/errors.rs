@@ -14,7 +14,10 @@ fn undeclared_variable_names_the_closest_declared_one() {
         msg("float speed = 1;\n@P.y += sped;"),
         "line 2, column 9: undeclared variable 'sped' (did you mean 'speed'?)"
     );
-    assert_eq!(msg("@P.y += zzz;"), "line 1, column 9: undeclared variable 'zzz'");
+    assert_eq!(
+        msg("@P.y += zzz;"),
+        "line 1, column 9: undeclared variable 'zzz'"
+    );
 }
 
 #[test]
@@ -31,39 +34,81 @@ fn unknown_function_names_the_closest_known_one() {
 
 #[test]
 fn wrong_argument_types_list_what_was_given() {
-    assert_eq!(msg("vector c = cross(1.0, @P);"), "line 1, column 12: no form of 'cross' takes (float, vector)");
-    assert_eq!(msg("int n = npoints(\"a\");"), "line 1, column 17: 'npoints' expects an int here, not a string");
-    assert_eq!(msg("float x = fit(1, 2);"), "line 1, column 11: 'fit' takes 5 arguments, not 2");
-    assert_eq!(msg("string s = \"a\"; float x = s * 2;"), "line 1, column 29: operator '*' has no form for string and int");
+    assert_eq!(
+        msg("vector c = cross(1.0, @P);"),
+        "line 1, column 12: no form of 'cross' takes (float, vector)"
+    );
+    assert_eq!(
+        msg("int n = npoints(\"a\");"),
+        "line 1, column 17: 'npoints' expects an int here, not a string"
+    );
+    assert_eq!(
+        msg("float x = fit(1, 2);"),
+        "line 1, column 11: 'fit' takes 5 arguments, not 2"
+    );
+    assert_eq!(
+        msg("string s = \"a\"; float x = s * 2;"),
+        "line 1, column 29: operator '*' has no form for string and int"
+    );
 }
 
 #[test]
 fn redeclaration_is_refused_in_one_scope_but_not_in_an_inner_one() {
-    assert_eq!(msg("int x = 1;\nfloat x = 2;"), "line 2, column 7: redeclaration of 'x'");
+    assert_eq!(
+        msg("int x = 1;\nfloat x = 2;"),
+        "line 2, column 7: redeclaration of 'x'"
+    );
     let g = detail("int x = 1; { float x = 2; } i@r = x;");
     assert_eq!(di(&g, "r"), 1);
 }
 
 #[test]
 fn syntax_errors_say_what_was_expected() {
-    assert_eq!(msg("@P.y += 1\n@P.x = 2;"), "line 2, column 1: expected ';' but found '@P'");
-    assert_eq!(msg("if (1 { }"), "line 1, column 7: expected ')' but found '{'");
-    assert_eq!(msg("float x = ;"), "line 1, column 11: expected an expression but found ';'");
-    assert_eq!(msg("s@n = \"open;"), "line 1, column 7: unterminated string");
+    assert_eq!(
+        msg("@P.y += 1\n@P.x = 2;"),
+        "line 2, column 1: expected ';' but found '@P'"
+    );
+    assert_eq!(
+        msg("if (1 { }"),
+        "line 1, column 7: expected ')' but found '{'"
+    );
+    assert_eq!(
+        msg("float x = ;"),
+        "line 1, column 11: expected an expression but found ';'"
+    );
+    assert_eq!(
+        msg("s@n = \"open;"),
+        "line 1, column 7: unterminated string"
+    );
 }
 
 #[test]
 fn type_errors_of_bindings_and_assignments() {
-    assert_eq!(msg("i@a = 1; f@a = 2;"), "line 1, column 10: @a is bound as i@a (int) and f@a (float)");
+    assert_eq!(
+        msg("i@a = 1; f@a = 2;"),
+        "line 1, column 10: @a is bound as i@a (int) and f@a (float)"
+    );
     assert_eq!(msg("@ptnum = 3;"), "line 1, column 1: @ptnum is read-only");
-    assert_eq!(msg("vector v = \"x\";"), "line 1, column 12: cannot convert string to vector");
+    assert_eq!(
+        msg("vector v = \"x\";"),
+        "line 1, column 12: cannot convert string to vector"
+    );
     assert_eq!(msg("break;"), "line 1, column 1: 'break' outside a loop");
-    assert_eq!(msg("float f(float x) { return f(x); } f@a = f(1);"), "line 1, column 27: 'f' calls itself: VEX functions cannot recurse");
+    assert_eq!(
+        msg("float f(float x) { return f(x); } f@a = f(1);"),
+        "line 1, column 27: 'f' calls itself: VEX functions cannot recurse"
+    );
 }
 
 #[test]
 fn runtime_errors_name_the_element() {
     let g = four_points();
-    let e = wrangle_with("if (@ptnum == 2) addprim(0, \"nurbs\", 0, 1);", geode_geo::AttribClass::Point, &g, &[]).unwrap_err();
+    let e = wrangle_with(
+        "if (@ptnum == 2) addprim(0, \"nurbs\", 0, 1);",
+        geode_geo::AttribClass::Point,
+        &g,
+        &[],
+    )
+    .unwrap_err();
     assert_eq!(e, "element 2 (line 1, column 18): addprim: unknown type \"nurbs\": expected \"poly\" or \"polyline\"");
 }

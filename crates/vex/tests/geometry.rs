@@ -16,14 +16,28 @@ fn xs(g: &Geometry) -> Vec<f32> {
 #[test]
 fn elements_read_the_snapshot_not_each_others_writes() {
     let g = four_points();
-    let out = wrangle("@P.x += point(0, \"P\", (@ptnum + 1) % 4).x;", AttribClass::Point, &g);
+    let out = wrangle(
+        "@P.x += point(0, \"P\", (@ptnum + 1) % 4).x;",
+        AttribClass::Point,
+        &g,
+    );
     assert_eq!(xs(&out), vec![1.0, 3.0, 5.0, 3.0]);
 }
 
 #[test]
 fn an_element_sees_its_own_writes() {
-    let out = wrangle("@P.x = 10 + @ptnum; f@r = @P.x * 2;", AttribClass::Point, &four_points());
-    assert_eq!(out.attrib(AttribClass::Point, "r").unwrap().as_f32().unwrap(), &[20.0, 22.0, 24.0, 26.0]);
+    let out = wrangle(
+        "@P.x = 10 + @ptnum; f@r = @P.x * 2;",
+        AttribClass::Point,
+        &four_points(),
+    );
+    assert_eq!(
+        out.attrib(AttribClass::Point, "r")
+            .unwrap()
+            .as_f32()
+            .unwrap(),
+        &[20.0, 22.0, 24.0, 26.0]
+    );
 }
 
 #[test]
@@ -33,10 +47,32 @@ fn writes_to_other_elements_apply_in_element_order() {
         AttribClass::Point,
         &four_points(),
     );
-    assert_eq!(out.attrib(AttribClass::Point, "sum").unwrap().as_i32().unwrap()[0], 6);
-    assert_eq!(out.attrib(AttribClass::Point, "last").unwrap().as_i32().unwrap()[0], 3);
-    assert_eq!(out.attrib(AttribClass::Point, "big").unwrap().as_i32().unwrap()[0], 6);
-    let d = wrangle("setdetailattrib(0, \"total\", @P.x, \"add\");", AttribClass::Point, &four_points());
+    assert_eq!(
+        out.attrib(AttribClass::Point, "sum")
+            .unwrap()
+            .as_i32()
+            .unwrap()[0],
+        6
+    );
+    assert_eq!(
+        out.attrib(AttribClass::Point, "last")
+            .unwrap()
+            .as_i32()
+            .unwrap()[0],
+        3
+    );
+    assert_eq!(
+        out.attrib(AttribClass::Point, "big")
+            .unwrap()
+            .as_i32()
+            .unwrap()[0],
+        6
+    );
+    let d = wrangle(
+        "setdetailattrib(0, \"total\", @P.x, \"add\");",
+        AttribClass::Point,
+        &four_points(),
+    );
     assert_eq!(df(&d, "total"), 6.0);
 }
 
@@ -53,8 +89,20 @@ fn new_points_and_primitives_are_numbered_in_element_order() {
         assert_eq!(out.positions()[4 + i].to_array(), [i as f32, 1.0, 0.0]);
         assert_eq!(out.prim_points(i), &[i as u32, 4 + i as u32]);
     }
-    assert_eq!(out.attrib(AttribClass::Primitive, "from").unwrap().as_i32().unwrap(), &[0, 1, 2, 3]);
-    assert_eq!(out.attrib(AttribClass::Point, "top").unwrap().as_i32().unwrap(), &[0, 0, 0, 0, 1, 1, 1, 1]);
+    assert_eq!(
+        out.attrib(AttribClass::Primitive, "from")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[0, 1, 2, 3]
+    );
+    assert_eq!(
+        out.attrib(AttribClass::Point, "top")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[0, 0, 0, 0, 1, 1, 1, 1]
+    );
 }
 
 #[test]
@@ -66,41 +114,102 @@ fn addprim_then_addvertex_builds_a_polygon() {
     );
     assert_eq!(out.num_prims(), 1);
     assert_eq!(out.prim_points(0), &[0, 1, 2]);
-    let copy = wrangle("int p = addpoint(0, 3); setpointattrib(0, \"P\", p, {9, 9, 9});", AttribClass::Detail, &four_points());
+    let copy = wrangle(
+        "int p = addpoint(0, 3); setpointattrib(0, \"P\", p, {9, 9, 9});",
+        AttribClass::Detail,
+        &four_points(),
+    );
     assert_eq!(copy.num_points(), 5);
     assert_eq!(copy.positions()[4].to_array(), [9.0, 9.0, 9.0]);
 }
 
 #[test]
 fn removals_apply_after_the_run() {
-    let out = wrangle("if (@ptnum % 2) removepoint(0, @ptnum); f@seen = npoints(0);", AttribClass::Point, &four_points());
+    let out = wrangle(
+        "if (@ptnum % 2) removepoint(0, @ptnum); f@seen = npoints(0);",
+        AttribClass::Point,
+        &four_points(),
+    );
     assert_eq!(xs(&out), vec![0.0, 2.0]);
-    assert_eq!(out.attrib(AttribClass::Point, "seen").unwrap().as_f32().unwrap(), &[4.0, 4.0]);
+    assert_eq!(
+        out.attrib(AttribClass::Point, "seen")
+            .unwrap()
+            .as_f32()
+            .unwrap(),
+        &[4.0, 4.0]
+    );
     let grid = primitives::grid(Vec2::splat(1.0), 3, 3);
     let n = grid.num_prims();
-    let out = wrangle("if (@primnum == 0) removeprim(0, @primnum, 1);", AttribClass::Primitive, &grid);
+    let out = wrangle(
+        "if (@primnum == 0) removeprim(0, @primnum, 1);",
+        AttribClass::Primitive,
+        &grid,
+    );
     assert_eq!(out.num_prims(), n - 1);
 }
 
 #[test]
 fn groups_are_set_and_read() {
-    let out = wrangle("setpointgroup(0, \"odd\", @ptnum, @ptnum % 2);", AttribClass::Point, &four_points());
+    let out = wrangle(
+        "setpointgroup(0, \"odd\", @ptnum, @ptnum % 2);",
+        AttribClass::Point,
+        &four_points(),
+    );
     let g = out.point_groups().get("odd").expect("the group");
-    assert_eq!((0..4).map(|i| g.contains(i)).collect::<Vec<_>>(), vec![false, true, false, true]);
-    let read = wrangle("i@in = inpointgroup(0, \"odd\", @ptnum);", AttribClass::Point, &out);
-    assert_eq!(read.attrib(AttribClass::Point, "in").unwrap().as_i32().unwrap(), &[0, 1, 0, 1]);
+    assert_eq!(
+        (0..4).map(|i| g.contains(i)).collect::<Vec<_>>(),
+        vec![false, true, false, true]
+    );
+    let read = wrangle(
+        "i@in = inpointgroup(0, \"odd\", @ptnum);",
+        AttribClass::Point,
+        &out,
+    );
+    assert_eq!(
+        read.attrib(AttribClass::Point, "in")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[0, 1, 0, 1]
+    );
 }
 
 #[test]
 fn primitives_and_vertices_bind_their_numbers() {
     let grid = primitives::grid(Vec2::splat(1.0), 3, 3);
-    let out = wrangle("i@n = len(primpoints(0, @primnum)) * 100 + @primnum;", AttribClass::Primitive, &grid);
+    let out = wrangle(
+        "i@n = len(primpoints(0, @primnum)) * 100 + @primnum;",
+        AttribClass::Primitive,
+        &grid,
+    );
     let n: Vec<i32> = (0..grid.num_prims() as i32).map(|p| 400 + p).collect();
-    assert_eq!(out.attrib(AttribClass::Primitive, "n").unwrap().as_i32().unwrap(), n.as_slice());
-    let out = wrangle("i@pr = @primnum; i@pt = @ptnum; i@v = @vtxnum;", AttribClass::Vertex, &grid);
-    let pr = out.attrib(AttribClass::Vertex, "pr").unwrap().as_i32().unwrap();
-    let pt = out.attrib(AttribClass::Vertex, "pt").unwrap().as_i32().unwrap();
-    let v = out.attrib(AttribClass::Vertex, "v").unwrap().as_i32().unwrap();
+    assert_eq!(
+        out.attrib(AttribClass::Primitive, "n")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        n.as_slice()
+    );
+    let out = wrangle(
+        "i@pr = @primnum; i@pt = @ptnum; i@v = @vtxnum;",
+        AttribClass::Vertex,
+        &grid,
+    );
+    let pr = out
+        .attrib(AttribClass::Vertex, "pr")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    let pt = out
+        .attrib(AttribClass::Vertex, "pt")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    let v = out
+        .attrib(AttribClass::Vertex, "v")
+        .unwrap()
+        .as_i32()
+        .unwrap();
     for i in 0..grid.num_vertices() {
         assert_eq!(v[i], i as i32);
         assert_eq!(pt[i], grid.vertex_points()[i] as i32);
@@ -114,17 +223,41 @@ fn other_inputs_are_read_by_number_and_by_opinput_bindings() {
     for p in other.positions_mut() {
         p.y = 5.0;
     }
-    let (out, _) = wrangle_with("@P.y = @opinput1_P.y + point(1, \"P\", 0).y; i@n = npoints(1);", AttribClass::Point, &four_points(), &[&other]).unwrap();
+    let (out, _) = wrangle_with(
+        "@P.y = @opinput1_P.y + point(1, \"P\", 0).y; i@n = npoints(1);",
+        AttribClass::Point,
+        &four_points(),
+        &[&other],
+    )
+    .unwrap();
     assert!(out.positions().iter().all(|p| p.y == 10.0));
-    assert_eq!(out.attrib(AttribClass::Point, "n").unwrap().as_i32().unwrap(), &[4; 4]);
+    assert_eq!(
+        out.attrib(AttribClass::Point, "n")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[4; 4]
+    );
 }
 
 #[test]
 fn neighbours_follow_the_topology() {
     let grid = primitives::grid(Vec2::splat(1.0), 3, 3);
-    let out = wrangle("i@nc = neighbourcount(0, @ptnum); i@np = len(pointprims(0, @ptnum));", AttribClass::Point, &grid);
-    let nc = out.attrib(AttribClass::Point, "nc").unwrap().as_i32().unwrap();
-    let np = out.attrib(AttribClass::Point, "np").unwrap().as_i32().unwrap();
+    let out = wrangle(
+        "i@nc = neighbourcount(0, @ptnum); i@np = len(pointprims(0, @ptnum));",
+        AttribClass::Point,
+        &grid,
+    );
+    let nc = out
+        .attrib(AttribClass::Point, "nc")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    let np = out
+        .attrib(AttribClass::Point, "np")
+        .unwrap()
+        .as_i32()
+        .unwrap();
     // A 3x3-quad grid has 4x4 points: point 5 is inside (4 quads, 4
     // neighbours), point 4 on an edge, point 0 a corner.
     assert_eq!((nc[5], np[5]), (4, 4));
@@ -134,7 +267,13 @@ fn neighbours_follow_the_topology() {
 
 #[test]
 fn printf_prints_in_element_order() {
-    let (_, report) = wrangle_with("printf(\"%d;\", @ptnum);", AttribClass::Point, &four_points(), &[]).unwrap();
+    let (_, report) = wrangle_with(
+        "printf(\"%d;\", @ptnum);",
+        AttribClass::Point,
+        &four_points(),
+        &[],
+    )
+    .unwrap();
     assert_eq!(report.printed.concat(), "0;1;2;3;");
 }
 
@@ -145,8 +284,20 @@ fn a_group_limits_the_elements() {
     let p = geode_vex::compile("@P.y = 1;", &s).unwrap();
     let mut out = g.clone();
     let cancel = || false;
-    geode_vex::run(&p, &mut out, &[Some(&g)], &geode_vex::RunOptions { group: Some(&[1, 3]), cancel: &cancel }).unwrap();
-    assert_eq!(out.positions().iter().map(|p| p.y).collect::<Vec<_>>(), vec![0.0, 1.0, 0.0, 1.0]);
+    geode_vex::run(
+        &p,
+        &mut out,
+        &[Some(&g)],
+        &geode_vex::RunOptions {
+            group: Some(&[1, 3]),
+            cancel: &cancel,
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        out.positions().iter().map(|p| p.y).collect::<Vec<_>>(),
+        vec![0.0, 1.0, 0.0, 1.0]
+    );
 }
 
 #[test]
@@ -157,7 +308,15 @@ fn an_endless_loop_stops_on_cancel() {
     let mut out = g.clone();
     let t0 = std::time::Instant::now();
     let cancel = move || t0.elapsed().as_millis() > 50;
-    let r = geode_vex::run(&p, &mut out, &[Some(&g)], &geode_vex::RunOptions { group: None, cancel: &cancel });
+    let r = geode_vex::run(
+        &p,
+        &mut out,
+        &[Some(&g)],
+        &geode_vex::RunOptions {
+            group: None,
+            cancel: &cancel,
+        },
+    );
     assert_eq!(r.unwrap_err(), geode_vex::RunError::Cancelled);
 }
 
@@ -178,12 +337,19 @@ if (@ptnum % 11 == 3) removepoint(0, @ptnum);
 fn one_and_many_threads_give_the_same_bytes() {
     let grid = primitives::grid(Vec2::splat(4.0), 120, 120);
     let run_on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
         pool.install(|| wrangle(BUSY, AttribClass::Point, &grid))
     };
     let one = run_on(1);
     assert!(one.num_points() > grid.num_points());
     for threads in [2, 3, 8] {
-        assert_eq!(run_on(threads).content_hash(), one.content_hash(), "{threads} threads");
+        assert_eq!(
+            run_on(threads).content_hash(),
+            one.content_hash(),
+            "{threads} threads"
+        );
     }
 }

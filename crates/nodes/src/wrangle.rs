@@ -1,0 +1,189 @@
+//! The wrangle node (Houdini's Attribute Wrangle): runs a VEX snippet over
+//! the points, vertices, primitives or detail of its first input, reading
+//! up to three more inputs and the node's spare parameters through `ch()`.
+
+use geode_geo::AttribClass;
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
+    ParamType as T, ParamValue, Params, PortType, Registry, Value,
+};
+use geode_vex::{BindSpec, Channel, RunError, RunOptions};
+
+use crate::util::{geometry, input};
+
+const RUN_OVER_CLASSES: &[&str] = &["points", "vertices", "primitives", "detail"];
+
+const SNIPPET: P = P::new(
+    "snippet",
+    "VEXpression",
+    T::String,
+    D::Str(""),
+    "VEX code run once per element: @bindings, locals, functions, loops and SideFX's library (see docs/wrangle.md).",
+);
+const RUN_OVER: P = P::new(
+    "run_over",
+    "Run Over",
+    T::Menu(RUN_OVER_CLASSES),
+    D::Str("points"),
+    "The elements the snippet runs over; detail runs it once.",
+);
+const GROUP: P = P::new(
+    "group",
+    "Group",
+    T::String,
+    D::Str(""),
+    "Only the elements of this group (points or primitives, as run over); empty for all.",
+);
+
+const fn optional(name: &'static str) -> InputSpec {
+    InputSpec {
+        name,
+        ty: PortType::Geometry,
+        required: false,
+    }
+}
+
+static WRANGLE: NodeSpec = NodeSpec::new(
+    "wrangle",
+    "Attribute Wrangle",
+    "attributes",
+    "Runs a VEX snippet over every point, vertex, primitive or the detail of input 1. Every element reads the input as it was; writes to other elements, new and removed geometry apply after all ran, in element order. ch(\"name\") reads the node's spare parameters.",
+    &[
+        InputSpec { name: "geometry", ty: PortType::Geometry, required: true },
+        optional("input 2"),
+        optional("input 3"),
+        optional("input 4"),
+    ],
+    &[SNIPPET, RUN_OVER, GROUP],
+)
+.spare_params();
+
+/// Seconds per frame for `@Time`: Houdini's default 24 frames a second,
+/// frame 1 at time 0.
+const FPS: f64 = 24.0;
+
+fn channel(v: &ParamValue) -> Channel {
+    match v {
+        ParamValue::Float(x) => Channel::Num(vec![*x]),
+        ParamValue::Int(i) => Channel::Num(vec![*i as f64]),
+        ParamValue::Toggle(b) => Channel::Num(vec![f64::from(u8::from(*b))]),
+        ParamValue::Vector(v) => Channel::Num(v.clone()),
+        ParamValue::String(s) => Channel::Str(s.clone()),
+        ParamValue::List(_) => Channel::Num(Vec::new()),
+    }
+}
+
+fn run_over(p: &Params) -> Result<AttribClass, CookError> {
+    Ok(match p.string(&RUN_OVER)? {
+        "vertices" => AttribClass::Vertex,
+        "primitives" => AttribClass::Primitive,
+        "detail" => AttribClass::Detail,
+        _ => AttribClass::Point,
+    })
+}
+
+struct Wrangle;
+
+impl Operator for Wrangle {
+    fn spec(&self) -> &'static NodeSpec {
+        &WRANGLE
+    }
+
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        p: &Params,
+    ) -> Result<Value, CookError> {
+        let g0 = input(ctx, inputs, 0)?;
+        let others: Vec<Option<&geode_geo::Geometry>> = (1..4)
+            .map(|i| {
+                inputs
+                    .get(i)
+                    .and_then(|v| v.as_ref())
+                    .and_then(|v| v.as_geometry())
+                    .map(|g| g.as_ref())
+            })
+            .collect();
+        let mut all = vec![Some(g0.as_ref())];
+        all.extend(others);
+        let class = run_over(p)?;
+        let channels = |name: &str| p.spare(name).map(channel);
+        let names = || p.spares().iter().map(|(n, _)| n.clone()).collect();
+        let spec = BindSpec {
+            run_over: class,
+            inputs: all.clone(),
+            channels: &channels,
+            channel_names: &names,
+            frame: ctx.frame,
+            time: (ctx.frame - 1.0) / FPS,
+        };
+        let program = geode_vex::compile(p.string(&SNIPPET)?, &spec)
+            .map_err(|e| ctx.kernel_at("snippet", e))?;
+        let group = group_members(ctx, p, g0, class)?;
+        let mut out = geode_geo::Geometry::clone(g0);
+        let cancel = ctx.cancel_fn();
+        let opts = RunOptions {
+            group: group.as_deref(),
+            cancel: &cancel,
+        };
+        match geode_vex::run(&program, &mut out, &all, &opts) {
+            Ok(_) => geometry(out),
+            Err(RunError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+            Err(e) => Err(ctx.kernel_at("snippet", e)),
+        }
+    }
+
+    fn reads_frame(&self, p: &Params) -> bool {
+        p.string(&SNIPPET)
+            .is_ok_and(|s| s.contains("@Frame") || s.contains("@Time"))
+    }
+}
+
+/// The sorted members of the named group, or None for every element.
+fn group_members(
+    ctx: &CookContext,
+    p: &Params,
+    g: &geode_geo::Geometry,
+    class: AttribClass,
+) -> Result<Option<Vec<u32>>, CookError> {
+    let name = p.string(&GROUP)?;
+    if name.is_empty() {
+        return Ok(None);
+    }
+    let groups = match class {
+        AttribClass::Point => g.point_groups(),
+        AttribClass::Primitive => g.prim_groups(),
+        _ => {
+            return Err(ctx.param_error(
+                "group",
+                "a group selects points or primitives; run over those to use one",
+            ))
+        }
+    };
+    let Some(grp) = groups.get(name) else {
+        let known: Vec<&str> = groups.keys().map(String::as_str).collect();
+        return Err(ctx.param_error(
+            "group",
+            format!(
+                "no {} group `{name}`{}",
+                if class == AttribClass::Point {
+                    "point"
+                } else {
+                    "primitive"
+                },
+                geode_vex::suggest(name, known.into_iter())
+            ),
+        ));
+    };
+    Ok(Some(
+        (0..grp.len())
+            .filter(|&i| grp.contains(i))
+            .map(|i| i as u32)
+            .collect(),
+    ))
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(Wrangle);
+}

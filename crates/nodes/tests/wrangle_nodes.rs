@@ -1,0 +1,101 @@
+//! The wrangle node in networks: spare parameters (animated too) read by
+//! `ch()`, errors naming node, parameter, line and column, groups, extra
+//! inputs, and the frame in the key only when the snippet reads it.
+
+mod common;
+use common::*;
+
+use geode_geo::AttribClass;
+
+#[test]
+fn ch_reads_animated_spare_parameters() {
+    let nodes = r#"
+        "g": {"type": "grid", "params": {"rows": 4, "columns": 4}},
+        "w": {"type": "wrangle", "inputs": ["g"],
+              "spare": {"amp": "float", "dir": "vector", "label": "string", "steps": "int"},
+              "params": {"snippet": "@P += chv(\"dir\") * ch(\"amp\") * chi(\"steps\"); s@label = chs(\"label\");",
+                         "amp": {"keys": [{"frame": 1, "value": 0}, {"frame": 11, "value": 1}]},
+                         "dir": [0, 1, 0], "label": "hi", "steps": 2}}"#;
+    let at = |frame: f64| cook_at(nodes, "w", frame).unwrap().as_geometry().unwrap().clone();
+    let (f1, f6) = (at(1.0), at(6.0));
+    assert!(f1.positions().iter().all(|p| p.y.abs() < 1e-6));
+    assert!(f6.positions().iter().all(|p| (p.y - 1.0).abs() < 1e-5), "{:?}", f6.positions()[0]);
+    let label = f6.attrib(AttribClass::Point, "label").unwrap().as_strings().unwrap().get(0).to_string();
+    assert_eq!(label, "hi");
+}
+
+#[test]
+fn compile_errors_name_node_parameter_line_and_column() {
+    let e = err(
+        r#""g": {"type": "grid"},
+           "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "float speed = 1;\n@P.y += sped;"}}"#,
+        "w",
+    );
+    assert!(e.contains("/w"), "{e}");
+    assert!(e.contains("snippet"), "{e}");
+    assert!(e.contains("line 2, column 9: undeclared variable 'sped' (did you mean 'speed'?)"), "{e}");
+    let e = err(
+        r#""g": {"type": "grid"},
+           "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "float"}, "params": {"snippet": "@P.y = ch(\"ampp\");"}}"#,
+        "w",
+    );
+    assert!(e.contains("ch(\"ampp\"): the node has no parameter 'ampp' (did you mean 'amp'?)"), "{e}");
+}
+
+#[test]
+fn spare_declarations_are_checked_when_the_network_loads() {
+    let e = err(r#""w": {"type": "grid", "spare": {"amp": "float"}}"#, "w");
+    assert!(e.contains("a grid node takes no spare parameters"), "{e}");
+    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "double"}}"#, "w");
+    assert!(e.contains("unknown spare parameter type `double`"), "{e}");
+    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"group": "float"}}"#, "w");
+    assert!(e.contains("cannot reuse the name"), "{e}");
+    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "float"}, "params": {"amp": "x"}}"#, "w");
+    assert!(e.contains("amp"), "{e}");
+}
+
+#[test]
+fn a_group_selects_the_elements_and_a_missing_one_is_named() {
+    let g = geo(
+        r#""g": {"type": "grid", "params": {"rows": 2, "columns": 2}},
+           "s": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "setpointgroup(0, \"first\", @ptnum, @ptnum == 0);"}},
+           "w": {"type": "wrangle", "inputs": ["s"], "params": {"group": "first", "snippet": "@P.y = 5;"}}"#,
+        "w",
+    );
+    let ys: Vec<f32> = g.positions().iter().map(|p| p.y).collect();
+    assert_eq!(ys[0], 5.0);
+    assert!(ys[1..].iter().all(|y| *y == 0.0));
+    let e = err(
+        r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "params": {"group": "frist", "snippet": "@P.y = 5;"}}"#,
+        "w",
+    );
+    assert!(e.contains("no point group `frist`"), "{e}");
+}
+
+#[test]
+fn second_input_is_read_by_point_and_opinput() {
+    let g = geo(
+        r#""a": {"type": "grid", "params": {"rows": 3, "columns": 3}},
+           "b": {"type": "transform", "inputs": ["a"], "params": {"translate": [0, 2, 0]}},
+           "w": {"type": "wrangle", "inputs": ["a", "b"], "params": {"snippet": "@P.y = @opinput1_P.y + point(1, \"P\", @ptnum).y;"}}"#,
+        "w",
+    );
+    assert!(g.positions().iter().all(|p| (p.y - 4.0).abs() < 1e-6));
+}
+
+#[test]
+fn the_frame_keys_only_snippets_that_read_it() {
+    let still = r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "@P.y = 1;"}}"#;
+    let moving = r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "@P.y = @Frame;"}}"#;
+    let y = |nodes: &str, f: f64| cook_at(nodes, "w", f).unwrap().as_geometry().unwrap().positions()[0].y;
+    assert_eq!((y(still, 1.0), y(still, 3.0)), (1.0, 1.0));
+    assert_eq!((y(moving, 1.0), y(moving, 3.0)), (1.0, 3.0));
+    let keyed = |nodes: &str, f: f64| {
+        let net = geode_graph::load_str(&net(nodes, "w"), &geode_nodes::registry()).unwrap();
+        let cache = geode_graph::Cache::new(1 << 26);
+        let e = geode_graph::Engine::new(net, &cache);
+        e.cook_output(&geode_graph::CookOptions::at_frame(f)).unwrap().value.identity()
+    };
+    assert_eq!(keyed(still, 1.0), keyed(still, 2.0));
+    assert_ne!(keyed(moving, 1.0), keyed(moving, 2.0));
+}
