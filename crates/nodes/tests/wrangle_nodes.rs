@@ -16,11 +16,27 @@ fn ch_reads_animated_spare_parameters() {
               "params": {"snippet": "@P += chv(\"dir\") * ch(\"amp\") * chi(\"steps\"); s@label = chs(\"label\");",
                          "amp": {"keys": [{"frame": 1, "value": 0}, {"frame": 11, "value": 1}]},
                          "dir": [0, 1, 0], "label": "hi", "steps": 2}}"#;
-    let at = |frame: f64| cook_at(nodes, "w", frame).unwrap().as_geometry().unwrap().clone();
+    let at = |frame: f64| {
+        cook_at(nodes, "w", frame)
+            .unwrap()
+            .as_geometry()
+            .unwrap()
+            .clone()
+    };
     let (f1, f6) = (at(1.0), at(6.0));
     assert!(f1.positions().iter().all(|p| p.y.abs() < 1e-6));
-    assert!(f6.positions().iter().all(|p| (p.y - 1.0).abs() < 1e-5), "{:?}", f6.positions()[0]);
-    let label = f6.attrib(AttribClass::Point, "label").unwrap().as_strings().unwrap().get(0).to_string();
+    assert!(
+        f6.positions().iter().all(|p| (p.y - 1.0).abs() < 1e-5),
+        "{:?}",
+        f6.positions()[0]
+    );
+    let label = f6
+        .attrib(AttribClass::Point, "label")
+        .unwrap()
+        .as_strings()
+        .unwrap()
+        .get(0)
+        .to_string();
     assert_eq!(label, "hi");
 }
 
@@ -33,24 +49,39 @@ fn compile_errors_name_node_parameter_line_and_column() {
     );
     assert!(e.contains("/w"), "{e}");
     assert!(e.contains("snippet"), "{e}");
-    assert!(e.contains("line 2, column 9: undeclared variable 'sped' (did you mean 'speed'?)"), "{e}");
+    assert!(
+        e.contains("line 2, column 9: undeclared variable 'sped' (did you mean 'speed'?)"),
+        "{e}"
+    );
     let e = err(
         r#""g": {"type": "grid"},
            "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "float"}, "params": {"snippet": "@P.y = ch(\"ampp\");"}}"#,
         "w",
     );
-    assert!(e.contains("ch(\"ampp\"): the node has no parameter 'ampp' (did you mean 'amp'?)"), "{e}");
+    assert!(
+        e.contains("ch(\"ampp\"): the node has no parameter 'ampp' (did you mean 'amp'?)"),
+        "{e}"
+    );
 }
 
 #[test]
 fn spare_declarations_are_checked_when_the_network_loads() {
     let e = err(r#""w": {"type": "grid", "spare": {"amp": "float"}}"#, "w");
     assert!(e.contains("a grid node takes no spare parameters"), "{e}");
-    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "double"}}"#, "w");
+    let e = err(
+        r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "double"}}"#,
+        "w",
+    );
     assert!(e.contains("unknown spare parameter type `double`"), "{e}");
-    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"group": "float"}}"#, "w");
+    let e = err(
+        r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"group": "float"}}"#,
+        "w",
+    );
     assert!(e.contains("cannot reuse the name"), "{e}");
-    let e = err(r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "float"}, "params": {"amp": "x"}}"#, "w");
+    let e = err(
+        r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "spare": {"amp": "float"}, "params": {"amp": "x"}}"#,
+        "w",
+    );
     assert!(e.contains("amp"), "{e}");
 }
 
@@ -87,14 +118,24 @@ fn second_input_is_read_by_point_and_opinput() {
 fn the_frame_keys_only_snippets_that_read_it() {
     let still = r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "@P.y = 1;"}}"#;
     let moving = r#""g": {"type": "grid"}, "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "@P.y = @Frame;"}}"#;
-    let y = |nodes: &str, f: f64| cook_at(nodes, "w", f).unwrap().as_geometry().unwrap().positions()[0].y;
+    let y = |nodes: &str, f: f64| {
+        cook_at(nodes, "w", f)
+            .unwrap()
+            .as_geometry()
+            .unwrap()
+            .positions()[0]
+            .y
+    };
     assert_eq!((y(still, 1.0), y(still, 3.0)), (1.0, 1.0));
     assert_eq!((y(moving, 1.0), y(moving, 3.0)), (1.0, 3.0));
     let keyed = |nodes: &str, f: f64| {
         let net = geode_graph::load_str(&net(nodes, "w"), &geode_nodes::registry()).unwrap();
         let cache = geode_graph::Cache::new(1 << 26);
         let e = geode_graph::Engine::new(net, &cache);
-        e.cook_output(&geode_graph::CookOptions::at_frame(f)).unwrap().value.identity()
+        e.cook_output(&geode_graph::CookOptions::at_frame(f))
+            .unwrap()
+            .value
+            .identity()
     };
     assert_eq!(keyed(still, 1.0), keyed(still, 2.0));
     assert_ne!(keyed(moving, 1.0), keyed(moving, 2.0));

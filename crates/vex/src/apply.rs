@@ -4,14 +4,42 @@
 //! primitives are built after (`addvertex` may still grow them); then
 //! attribute and group writes; removals last, since they renumber.
 
-use std::collections::HashMap;
-
 use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
 
 use crate::builtins::Val;
 use crate::run::set_value;
 use crate::world::{Effect, EffectKind, Mode};
 use crate::RunError;
+
+/// Final numbers of a batch's provisional handles (`base + k` -> slot k).
+#[derive(Default)]
+struct Handles {
+    base: i32,
+    ids: Vec<Option<u32>>,
+}
+
+impl Handles {
+    fn new(base: i32) -> Handles {
+        Handles {
+            base,
+            ids: Vec::new(),
+        }
+    }
+
+    fn insert(&mut self, h: i32, id: u32) {
+        let k = (h - self.base) as usize;
+        if self.ids.len() <= k {
+            self.ids.resize(k + 1, None);
+        }
+        self.ids[k] = Some(id);
+    }
+
+    fn get(&self, h: &i32) -> Option<u32> {
+        usize::try_from(h - self.base)
+            .ok()
+            .and_then(|k| self.ids.get(k).copied().flatten())
+    }
+}
 
 struct NewPrim {
     polyline: bool,
@@ -25,34 +53,42 @@ pub fn apply(
     snapshot: &Geometry,
     mut batches: Vec<Vec<Effect>>,
 ) -> Result<Vec<String>, RunError> {
+    if batches.iter().all(Vec::is_empty) {
+        return Ok(Vec::new());
+    }
     let (base_points, base_prims) = (snapshot.num_points() as i32, snapshot.num_prims() as i32);
     for b in &mut batches {
         b.sort_by_key(|e| (e.elem, e.seq));
     }
     // Provisional numbers are per batch: map them to final ones.
-    let mut point_maps: Vec<HashMap<i32, u32>> = Vec::with_capacity(batches.len());
-    let mut prim_maps: Vec<HashMap<i32, usize>> = Vec::with_capacity(batches.len());
+    let mut point_maps: Vec<Handles> = Vec::with_capacity(batches.len());
+    let mut prim_maps: Vec<Handles> = Vec::with_capacity(batches.len());
     let mut new_prims: Vec<NewPrim> = Vec::new();
+    // New points are numbered as they come and added together after.
+    let first_new = out.num_points();
+    let mut pending: Vec<([f32; 3], Option<usize>)> = Vec::new();
     for batch in &batches {
-        let mut points = HashMap::new();
-        let mut prims = HashMap::new();
+        let mut points = Handles::new(base_points);
+        let mut prims = Handles::new(base_prims);
         for e in batch {
             match &e.kind {
                 EffectKind::AddPoint { handle, from, pos } => {
-                    let id = match from {
-                        Some(src) if (0..out.num_points() as i32).contains(src) => {
-                            copy_point(out, *src as usize)
-                        }
-                        Some(src) => {
-                            return Err(RunError::At {
-                                elem: e.elem,
-                                pos: Default::default(),
-                                msg: format!("addpoint: point {src} does not exist"),
-                            })
-                        }
-                        None => out.add_point((*pos).into()),
+                    let total = first_new + pending.len();
+                    let from = match from {
+                        Some(src) => match usize::try_from(*src).ok().filter(|&s| s < total) {
+                            Some(s) => Some(s),
+                            None => {
+                                return Err(RunError::At {
+                                    elem: e.elem,
+                                    pos: Default::default(),
+                                    msg: format!("addpoint: point {src} does not exist"),
+                                })
+                            }
+                        },
+                        None => None,
                     };
-                    points.insert(*handle, id);
+                    points.insert(*handle, total as u32);
+                    pending.push((*pos, from));
                 }
                 EffectKind::AddPrim {
                     handle,
@@ -61,9 +97,17 @@ pub fn apply(
                 } => {
                     let resolved = pts
                         .iter()
-                        .map(|&p| resolve_point(p, &points, base_points, out, e.elem))
+                        .map(|&p| {
+                            resolve_point(
+                                p,
+                                &points,
+                                base_points,
+                                first_new + pending.len(),
+                                e.elem,
+                            )
+                        })
                         .collect::<Result<Vec<u32>, _>>()?;
-                    prims.insert(*handle, new_prims.len());
+                    prims.insert(*handle, new_prims.len() as u32);
                     new_prims.push(NewPrim {
                         polyline: *polyline,
                         points: resolved,
@@ -71,9 +115,15 @@ pub fn apply(
                     });
                 }
                 EffectKind::AddVertex { prim, point } => {
-                    let pt = resolve_point(*point, &points, base_points, out, e.elem)?;
+                    let pt = resolve_point(
+                        *point,
+                        &points,
+                        base_points,
+                        first_new + pending.len(),
+                        e.elem,
+                    )?;
                     match prims.get(prim) {
-                        Some(&k) => new_prims[k].points.push(pt),
+                        Some(k) => new_prims[k as usize].points.push(pt),
                         None => {
                             return Err(RunError::At {
                                 elem: e.elem,
@@ -88,6 +138,13 @@ pub fn apply(
         }
         point_maps.push(points);
         prim_maps.push(prims);
+    }
+    let positions: Vec<geode_geo::glam::Vec3> = pending.iter().map(|(p, _)| (*p).into()).collect();
+    out.add_points(&positions);
+    for (k, (_, from)) in pending.iter().enumerate() {
+        if let Some(src) = from {
+            copy_point(out, *src, first_new + k);
+        }
     }
     for p in &new_prims {
         let r = if p.polyline {
@@ -108,14 +165,14 @@ pub fn apply(
     for (b, batch) in batches.iter().enumerate() {
         let point = |h: i32| -> Option<usize> {
             if h >= base_points {
-                point_maps[b].get(&h).map(|&p| p as usize)
+                point_maps[b].get(&h).map(|p| p as usize)
             } else {
                 usize::try_from(h).ok()
             }
         };
         let prim = |h: i32| -> Option<usize> {
             if h >= base_prims {
-                prim_maps[b].get(&h).map(|&k| prim_id(k))
+                prim_maps[b].get(&h).map(|k| prim_id(k as usize))
             } else {
                 usize::try_from(h).ok()
             }
@@ -193,17 +250,17 @@ pub fn apply(
 
 fn resolve_point(
     h: i32,
-    map: &HashMap<i32, u32>,
+    map: &Handles,
     base: i32,
-    out: &Geometry,
+    count: usize,
     elem: u32,
 ) -> Result<u32, RunError> {
     let p = if h >= base {
-        map.get(&h).copied()
+        map.get(&h)
     } else {
         u32::try_from(h).ok()
     };
-    p.filter(|&p| (p as usize) < out.num_points())
+    p.filter(|&p| (p as usize) < count)
         .ok_or_else(|| RunError::At {
             elem,
             pos: Default::default(),
@@ -211,10 +268,8 @@ fn resolve_point(
         })
 }
 
-/// A new point with every attribute of point `src`.
-fn copy_point(out: &mut Geometry, src: usize) -> u32 {
-    let p = out.positions()[src];
-    let id = out.add_point(p) as usize;
+/// Every attribute (position included) of point `src` onto point `id`.
+fn copy_point(out: &mut Geometry, src: usize, id: usize) {
     let names: Vec<String> = out
         .attribs(AttribClass::Point)
         .names()
@@ -227,7 +282,6 @@ fn copy_point(out: &mut Geometry, src: usize) -> u32 {
             let _ = a.values_mut().set(id, &v);
         }
     }
-    id as u32
 }
 
 fn value_type(v: &Val) -> Option<AttribValue> {

@@ -196,7 +196,7 @@ fn mov<T: Clone>(file: &mut [T], d: Reg, s: Reg) {
 pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
     let mut pc = 0usize;
     let mut polls = 0u32;
-    let mut masks = vec![0i32; LANES];
+    let mut masks = [0i32; LANES];
     while pc < p.ops.len() {
         match &p.ops[pc] {
             Op::FConst { d, v } => fr.f[*d as usize * LANES..][..LANES].fill(*v),

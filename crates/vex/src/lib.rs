@@ -18,11 +18,11 @@ mod calls;
 mod exec;
 mod expr;
 mod ir;
-mod kdtree;
+pub mod kdtree;
 mod lex;
 mod library;
 mod lower;
-mod noise;
+pub mod noise;
 mod parse;
 mod run;
 pub mod ty;
@@ -162,4 +162,13 @@ fn edit_distance(a: &str, b: &str) -> usize {
         prev = cur;
     }
     prev[b.len()]
+}
+
+impl std::fmt::Debug for Program {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        for (i, op) in self.ops.iter().enumerate() {
+            writeln!(f, "{i:4} {op:?}")?;
+        }
+        Ok(())
+    }
 }

@@ -113,7 +113,13 @@ pub fn run(
     let batches = n.div_ceil(LANES);
     let contiguous = opts.group.is_none();
     let written: Vec<usize> = taken.iter().map(|t| t.0).collect();
-    let mut sinks: Vec<Vec<Sink>> = (0..batches).map(|_| Vec::new()).collect();
+    let gathered = !contiguous
+        || taken
+            .iter()
+            .any(|t| t.3.data().as_floats().is_none() && t.3.as_i32().is_none());
+    let mut sinks: Vec<Vec<Sink>> = (0..batches)
+        .map(|_| Vec::with_capacity(written.len()))
+        .collect();
     for (_, _, _, attr) in taken.iter_mut() {
         let later = || (0..batches).map(|_| Sink::Later(Vec::new())).collect();
         let floats = attr.data().as_floats().is_some();
@@ -162,18 +168,20 @@ pub fn run(
         )
         .collect();
     let mut effects = Vec::with_capacity(batches);
-    let mut later: Vec<Vec<Option<Vec<Val>>>> = Vec::with_capacity(batches);
+    let mut later: Vec<Vec<Option<Vec<Val>>>> = Vec::new();
     for r in results {
         let (e, s) = r?;
         effects.push(e);
-        later.push(
-            s.into_iter()
-                .map(|s| match s {
-                    Sink::Later(v) => Some(v),
-                    _ => None,
-                })
-                .collect(),
-        );
+        if gathered {
+            later.push(
+                s.into_iter()
+                    .map(|s| match s {
+                        Sink::Later(v) => Some(v),
+                        _ => None,
+                    })
+                    .collect(),
+            );
+        }
     }
     // Put the columns back, with values gathered for later.
     for (slot, (_, c, name, mut attr)) in taken.into_iter().enumerate() {
@@ -280,21 +288,109 @@ fn reads<'g>(
         .collect()
 }
 
+/// Spreads interleaved values (`x y z x y z ...`) into one register row per
+/// component, in one pass; fixed widths let the compiler unroll it.
+fn deinterleave(src: &[f32], w: usize, rows: &mut [f32]) {
+    fn fixed<const W: usize>(src: &[f32], rows: &mut [f32]) {
+        let (items, _) = src.as_chunks::<W>();
+        let rows: [&mut [f32]; W] = split_rows(rows);
+        for (l, item) in items.iter().enumerate().take(LANES) {
+            for k in 0..W {
+                rows[k][l] = item[k];
+            }
+        }
+    }
+    match w {
+        1 => rows[..src.len()].copy_from_slice(src),
+        2 => fixed::<2>(src, rows),
+        3 => fixed::<3>(src, rows),
+        4 => fixed::<4>(src, rows),
+        _ => {
+            for (l, item) in src.chunks_exact(w).enumerate() {
+                for (k, x) in item.iter().enumerate() {
+                    rows[k * LANES + l] = *x;
+                }
+            }
+        }
+    }
+}
+
+/// `W` disjoint register rows of `LANES` floats.
+fn split_rows<const W: usize>(rows: &mut [f32]) -> [&mut [f32]; W] {
+    let mut rest = rows;
+    std::array::from_fn(|_| {
+        let (row, tail) = std::mem::take(&mut rest).split_at_mut(LANES);
+        rest = tail;
+        row
+    })
+}
+
+/// The inverse of `deinterleave`: register rows into interleaved values.
+fn interleave(rows: &[f32], w: usize, dst: &mut [f32]) {
+    fn fixed<const W: usize>(rows: &[f32], dst: &mut [f32]) {
+        let (items, _) = dst.as_chunks_mut::<W>();
+        let rows: [&[f32]; W] = std::array::from_fn(|k| &rows[k * LANES..(k + 1) * LANES]);
+        for (l, item) in items.iter_mut().enumerate().take(LANES) {
+            for k in 0..W {
+                item[k] = rows[k][l];
+            }
+        }
+    }
+    match w {
+        1 => {
+            let n = dst.len();
+            dst.copy_from_slice(&rows[..n]);
+        }
+        2 => fixed::<2>(rows, dst),
+        3 => fixed::<3>(rows, dst),
+        4 => fixed::<4>(rows, dst),
+        _ => {
+            for (l, item) in dst.chunks_exact_mut(w).enumerate() {
+                for (k, x) in item.iter_mut().enumerate() {
+                    *x = rows[k * LANES + l];
+                }
+            }
+        }
+    }
+}
+
+/// The elements as a range when they are consecutive.
+fn contiguous(elems: &[u32]) -> Option<std::ops::Range<usize>> {
+    let (first, last) = (*elems.first()? as usize, *elems.last()? as usize);
+    (last + 1 - first == elems.len()).then_some(first..last + 1)
+}
+
 /// Fills every binding's registers for the batch's elements.
 fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
     for (b, r) in p.bindings.iter().zip(reads) {
         let reg = b.loc.reg as usize;
         let width = b.ty.floats();
         match (r, b.ty) {
+            (Read::F(col, w), _)
+                if width > 0
+                    && *w == width
+                    && contiguous(elems).is_some_and(|r| r.end * w <= col.len()) =>
+            {
+                let r = contiguous(elems).expect("checked");
+                let rows = &mut fr.f[reg * LANES..(reg + width) * LANES];
+                deinterleave(&col[r.start * w..r.end * w], *w, rows);
+            }
             (Read::F(col, w), _) if width > 0 => {
+                let run = contiguous(elems).filter(|r| r.end * w <= col.len());
                 for k in 0..width {
                     let dst = &mut fr.f[(reg + k) * LANES..][..LANES];
-                    if k < *w {
+                    if k >= *w {
+                        dst.fill(0.0);
+                    } else if let Some(r) = &run {
+                        // One strided pass over a slice: no per-element checks.
+                        let src = &col[r.start * w..r.end * w];
+                        for (d, s) in dst.iter_mut().zip(src.chunks_exact(*w)) {
+                            *d = s[k];
+                        }
+                    } else {
                         for (l, &e) in elems.iter().enumerate() {
                             dst[l] = col.get(e as usize * w + k).copied().unwrap_or(0.0);
                         }
-                    } else {
-                        dst.fill(0.0);
                     }
                 }
             }
@@ -361,12 +457,19 @@ fn store(p: &Program, fr: &Frame, b: usize, sink: &mut Sink) {
     let bind = &p.bindings[b];
     let reg = bind.loc.reg as usize;
     match sink {
+        Sink::F(dst, w) if *w == bind.ty.floats() => {
+            interleave(
+                &fr.f[reg * LANES..(reg + *w) * LANES],
+                *w,
+                &mut dst[..fr.n * *w],
+            );
+        }
         Sink::F(dst, w) => {
             let width = bind.ty.floats().min(*w);
             for k in 0..width {
-                let src = &fr.f[(reg + k) * LANES..][..LANES];
-                for (l, &x) in src.iter().enumerate().take(fr.n) {
-                    dst[l * *w + k] = x;
+                let src = &fr.f[(reg + k) * LANES..][..fr.n];
+                for (d, &x) in dst.chunks_exact_mut(*w).zip(src) {
+                    d[k] = x;
                 }
             }
         }
