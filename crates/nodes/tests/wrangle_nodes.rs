@@ -140,3 +140,44 @@ fn the_frame_keys_only_snippets_that_read_it() {
     assert_eq!(keyed(still, 1.0), keyed(still, 2.0));
     assert_ne!(keyed(moving, 1.0), keyed(moving, 2.0));
 }
+
+/// Seed 003's frames (examples/chain_vex.json) against polyframe's discrete
+/// parallel transport on the same curve: both start from their own first
+/// frame and turn by the same steps, so frame j relative to frame 0 must
+/// agree.
+#[test]
+fn seed_003_frames_equal_polyframes_parallel_transport() {
+    use geode_geo::glam::DQuat;
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/chain_vex.json");
+    let mut doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    doc["nodes"]["reference"] = serde_json::json!({
+        "type": "polyframe", "inputs": ["curve"], "params": {"method": "parallel_transport", "tangent": "next"}
+    });
+    let net = geode_graph::load_str(&doc.to_string(), &geode_nodes::registry()).unwrap();
+    let cache = geode_graph::Cache::new(1 << 28);
+    let engine = geode_graph::Engine::new(net, &cache);
+    let opts = geode_graph::CookOptions::at_frame(1.0);
+    let orient = |node: &str| -> Vec<DQuat> {
+        let v = engine.cook(node, &opts).unwrap_or_else(|e| panic!("{e:?}"));
+        let g = v.value.as_geometry().unwrap().clone();
+        let a = g.attrib(AttribClass::Point, "orient").expect("orient");
+        let q: Vec<[f32; 4]> = match a.data() {
+            geode_geo::AttribData::Vec4(v) => v.iter().map(|x| x.to_array()).collect(),
+            geode_geo::AttribData::Quat(v) => v.iter().map(|x| x.to_array()).collect(),
+            other => panic!("orient is {:?}", other.attrib_type()),
+        };
+        q.iter().map(|q| DQuat::from_xyzw(q[0] as f64, q[1] as f64, q[2] as f64, q[3] as f64).normalize()).collect()
+    };
+    let (vex, reference) = (orient("/compute_parallel_frame"), orient("/reference"));
+    assert_eq!(vex.len(), reference.len());
+    let mut worst = 0.0f64;
+    for j in 0..vex.len() {
+        // Compare as rotation matrices (a quaternion and its negation agree).
+        let a = geode_geo::glam::DMat3::from_quat(vex[j] * vex[0].inverse());
+        let b = geode_geo::glam::DMat3::from_quat(reference[j] * reference[0].inverse());
+        let d = (a - b).to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        worst = worst.max(d);
+    }
+    eprintln!("largest difference over {} frames: {worst:e}", vex.len());
+    assert!(worst < 1e-6, "frames differ by {worst:e}");
+}

@@ -31,6 +31,8 @@ pub enum Builtin {
     NearPoint,
     NearPoints,
     InGroup(AttribClass),
+    /// The half-edge functions (a half-edge is the vertex it leaves from).
+    Hedge(HedgeFn),
     HasAttrib(AttribClass),
     SetAttrib(AttribClass),
     AddPoint,
@@ -81,6 +83,17 @@ pub enum Builtin {
     MakeTransform,
     LookAt,
     Print,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HedgeFn {
+    PointHedge,
+    PrimHedge,
+    Next,
+    SrcPoint,
+    DstPoint,
+    IsValid,
+    Prim,
 }
 
 /// A value of one lane, as the per-lane library reads and writes it.
@@ -368,6 +381,7 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                 }),
             ))
         }
+        Builtin::Hedge(f) => Val::I(w.input(a[0].i()).map_or(-1, |g| crate::world::hedge(g, f, a[1].i()))),
         Builtin::HasAttrib(class) => Val::I(i32::from(
             w.input(a[0].i())
                 .is_some_and(|g| g.attrib(class, a[1].s()).is_some()),

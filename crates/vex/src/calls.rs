@@ -138,6 +138,13 @@ pub const LIBRARY: &[&str] = &[
     "maketransform",
     "lookat",
     "printf",
+    "pointhedge",
+    "primhedge",
+    "hedge_next",
+    "hedge_srcpoint",
+    "hedge_dstpoint",
+    "hedge_isvalid",
+    "hedge_prim",
 ];
 
 fn err<T>(pos: Pos, msg: impl Into<String>) -> LResult<T> {
@@ -797,6 +804,20 @@ impl<'a> Lower<'a> {
             "nearpoints" => {
                 self.arity(name, args, 3, 4, pos)?;
                 call(self, B::NearPoints, &[int, Ty::Vec3, Ty::Float, int], ia)
+            }
+            "pointhedge" | "primhedge" | "hedge_next" | "hedge_srcpoint" | "hedge_dstpoint" | "hedge_isvalid" | "hedge_prim" => {
+                use crate::builtins::HedgeFn as H;
+                self.arity(name, args, 2, 2, pos)?;
+                let f = match name {
+                    "pointhedge" => H::PointHedge,
+                    "primhedge" => H::PrimHedge,
+                    "hedge_next" => H::Next,
+                    "hedge_srcpoint" => H::SrcPoint,
+                    "hedge_dstpoint" => H::DstPoint,
+                    "hedge_isvalid" => H::IsValid,
+                    _ => H::Prim,
+                };
+                call(self, B::Hedge(f), &[int, int], int)
             }
             "inpointgroup" | "inprimgroup" => {
                 self.arity(name, args, 3, 3, pos)?;

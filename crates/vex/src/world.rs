@@ -184,3 +184,37 @@ pub fn read_attrib(g: &Geometry, class: AttribClass, name: &str, idx: i32) -> Op
     let i = usize::try_from(idx).ok().filter(|&i| i < a.len())?;
     Some(attrib_value(a.data(), i))
 }
+
+/// Half-edges as Houdini's VEX numbers them: a half-edge is the vertex it
+/// leaves from, running to the next vertex of its primitive (a polygon
+/// wraps; a polyline's last vertex starts none). -1 where there is none.
+pub fn hedge(g: &Geometry, f: crate::builtins::HedgeFn, x: i32) -> i32 {
+    use crate::builtins::HedgeFn as H;
+    use geode_geo::PrimKind;
+    let offsets = g.prim_offsets();
+    let prim_of = |v: usize| offsets.partition_point(|&o| o as usize <= v) - 1;
+    // The vertex after `v` in its primitive, if `v` starts a half-edge.
+    let next = |v: usize| -> Option<usize> {
+        let p = prim_of(v);
+        let r = g.prim_vertex_range(p);
+        let closed = g.prim_kind(p) == PrimKind::Polygon;
+        if v + 1 < r.end {
+            Some(v + 1)
+        } else if closed && r.len() > 1 {
+            Some(r.start)
+        } else {
+            None
+        }
+    };
+    let valid = |h: i32| usize::try_from(h).ok().filter(|&v| v < g.num_vertices() && next(v).is_some());
+    let out = match f {
+        H::PointHedge => (0..g.num_vertices()).find(|&v| g.vertex_points()[v] as i32 == x && next(v).is_some()),
+        H::PrimHedge => usize::try_from(x).ok().filter(|&p| p < g.num_prims()).map(|p| g.prim_vertex_range(p).start).filter(|&v| next(v).is_some()),
+        H::Next => valid(x).and_then(next).filter(|&v| next(v).is_some()),
+        H::SrcPoint => valid(x).map(|v| g.vertex_points()[v] as usize),
+        H::DstPoint => valid(x).and_then(next).map(|v| g.vertex_points()[v] as usize),
+        H::IsValid => return i32::from(valid(x).is_some()),
+        H::Prim => valid(x).map(prim_of),
+    };
+    out.map_or(-1, |v| v as i32)
+}
