@@ -102,8 +102,17 @@ pub(crate) enum NodeKind {
         /// Spare parameters the network declared, by name.
         spare: Vec<(String, CompiledParam)>,
     },
-    /// A subnetwork: its value is its output node's.
-    Subnet { output: Option<usize> },
+    /// A subnetwork: its value is its output node's; a loop or solver
+    /// (`block`) cooks it repeatedly.
+    Subnet {
+        output: Option<usize>,
+        block: Option<crate::block::Block>,
+    },
+    /// Inside a loop or solver: what `@N` or `@meta` gives on each pass.
+    Feed {
+        block: usize,
+        slot: crate::block::FeedSlot,
+    },
     /// A node of an unknown type (only while loading: load then fails).
     Invalid,
 }
@@ -168,7 +177,9 @@ impl Network {
     pub fn node_type(&self, path: &str) -> Option<&str> {
         self.index(path).map(|i| match &self.nodes[i].kind {
             NodeKind::Op { op, .. } => op.spec().name,
+            NodeKind::Subnet { block: Some(b), .. } => b.kind.name(),
             NodeKind::Subnet { .. } => "subnet",
+            NodeKind::Feed { .. } => "feed",
             NodeKind::Invalid => "invalid",
         })
     }
@@ -199,7 +210,11 @@ impl Network {
                     .map(|(n, p)| (n.clone(), p.eval(frame)))
                     .collect(),
             ),
-            NodeKind::Subnet { .. } | NodeKind::Invalid => {
+            NodeKind::Subnet { block: Some(b), .. } => Params::declared(
+                &self.nodes[i].path,
+                b.params.iter().map(|p| (p.spec, p.eval(frame))).collect(),
+            ),
+            NodeKind::Subnet { .. } | NodeKind::Feed { .. } | NodeKind::Invalid => {
                 Params::new(&self.nodes[i].path, Vec::new())
             }
         }
@@ -233,7 +248,10 @@ impl Network {
                 .iter()
                 .chain(spare.iter().map(|s| &s.1))
                 .any(CompiledParam::is_animated),
-            NodeKind::Subnet { .. } | NodeKind::Invalid => false,
+            NodeKind::Subnet { block: Some(b), .. } => {
+                b.params.iter().any(CompiledParam::is_animated)
+            }
+            NodeKind::Subnet { .. } | NodeKind::Feed { .. } | NodeKind::Invalid => false,
         })
     }
 
@@ -322,12 +340,18 @@ impl Builder<'_> {
                 ));
                 continue;
             }
-            let kind = if doc.ty == "subnet" {
+            let block = crate::block::BlockKind::from_type(&doc.ty);
+            let kind = if doc.ty == "subnet" || block.is_some() {
                 if doc.network.is_none() {
-                    self.errors
-                        .push(LoadError::node(&path, "a subnet needs a \"network\""));
+                    self.errors.push(LoadError::node(
+                        &path,
+                        format!("a {} needs a \"network\"", doc.ty),
+                    ));
                 }
-                NodeKind::Subnet { output: None }
+                NodeKind::Subnet {
+                    output: None,
+                    block: block.map(crate::block::Block::new),
+                }
             } else {
                 match self.registry.get(&doc.ty) {
                     Some(op) => NodeKind::Op {
@@ -351,7 +375,10 @@ impl Builder<'_> {
                     }
                 }
             };
-            if doc.ty != "subnet" && (doc.network.is_some() || !doc.promote.is_empty()) {
+            if doc.ty != "subnet"
+                && block.is_none()
+                && (doc.network.is_some() || !doc.promote.is_empty())
+            {
                 self.errors.push(LoadError::node(
                     &path,
                     "only subnets have a \"network\" or \"promote\"",
@@ -370,7 +397,7 @@ impl Builder<'_> {
             if let Some(inner) = &doc.network {
                 self.collect(inner, &path, Some(idx));
                 let out = self.network_output(inner, &path, Some(idx));
-                if let NodeKind::Subnet { output } = &mut self.nodes[idx].kind {
+                if let NodeKind::Subnet { output, .. } = &mut self.nodes[idx].kind {
                     *output = out;
                 }
             }
@@ -406,14 +433,80 @@ impl Builder<'_> {
         }
     }
 
+    /// Whether node `i` sits directly inside a loop or solver.
+    fn in_block(&self, i: usize) -> bool {
+        self.nodes[i]
+            .parent
+            .is_some_and(|p| matches!(self.nodes[p].kind, NodeKind::Subnet { block: Some(_), .. }))
+    }
+
+    /// The feed node a reference `@N` or `@meta` inside a block resolves to
+    /// (made on first use, one per block and slot).
+    fn feed(&mut self, i: usize, k: usize, s: &str) -> Option<usize> {
+        use crate::block::FeedSlot;
+        let block = self.nodes[i].parent.expect("inside a block");
+        let path = self.nodes[i].path.clone();
+        let slot = match &s[1..] {
+            "meta" => FeedSlot::Meta,
+            n => match n.parse::<usize>() {
+                Ok(n) if n < self.nodes[block].inputs.len() => FeedSlot::Input(n),
+                Ok(_) => {
+                    self.errors.push(LoadError::node(
+                        &path,
+                        format!(
+                            "input {} refers to `{s}` but the {} has {} inputs",
+                            k + 1,
+                            self.docs[block].ty,
+                            self.nodes[block].inputs.len()
+                        ),
+                    ));
+                    return None;
+                }
+                Err(_) => {
+                    self.errors.push(LoadError::node(
+                        &path,
+                        format!(
+                            "input {} refers to `{s}`, expected `@` and a number, or `@meta`",
+                            k + 1
+                        ),
+                    ));
+                    return None;
+                }
+            },
+        };
+        let feed_path = format!("{}/{s}", self.nodes[block].path);
+        if let Some(&j) = self.by_path.get(&feed_path) {
+            return Some(j);
+        }
+        let j = self.nodes.len();
+        self.by_path.insert(feed_path.clone(), j);
+        self.nodes.push(Node {
+            path: feed_path,
+            kind: NodeKind::Feed { block, slot },
+            inputs: Vec::new(),
+            bypass: false,
+            parent: Some(block),
+        });
+        let mut doc = self.docs[block].clone();
+        doc.ty = "feed".into();
+        doc.params.clear();
+        doc.inputs.clear();
+        doc.network = None;
+        self.docs.push(doc);
+        Some(j)
+    }
+
     fn resolve_inputs(&mut self) {
-        for i in 0..self.nodes.len() {
+        let count = self.nodes.len();
+        for i in 0..count {
             let path = self.nodes[i].path.clone();
             let prefix = &path[..path.rfind('/').unwrap_or(0)];
             let mut inputs = Vec::new();
-            for (k, inp) in self.docs[i].inputs.iter().enumerate() {
+            let given = self.docs[i].inputs.clone();
+            for (k, inp) in given.iter().enumerate() {
                 let resolved = match inp {
                     None => None,
+                    Some(s) if s.starts_with('@') && self.in_block(i) => self.feed(i, k, s),
                     Some(s) if s.starts_with('@') => {
                         let parent = self.nodes[i].parent;
                         match (parent, s[1..].parse::<usize>()) {
@@ -784,8 +877,25 @@ impl Builder<'_> {
                     }
                     self.nodes[i].kind = NodeKind::Op { op, params, spare };
                 }
-                NodeKind::Invalid => {}
-                NodeKind::Subnet { .. } => {
+                NodeKind::Invalid | NodeKind::Feed { .. } => {}
+                NodeKind::Subnet { block, .. } => {
+                    let own: Vec<&'static ParamSpec> = block
+                        .as_ref()
+                        .map_or(Vec::new(), |b| b.kind.params().iter().collect());
+                    let mut compiled = Vec::new();
+                    for spec in &own {
+                        let source = doc
+                            .params
+                            .get(spec.name)
+                            .and_then(|j| self.parse_param(&path, spec, j));
+                        compiled.push(CompiledParam {
+                            spec,
+                            source: source.unwrap_or_else(|| default_source(spec)),
+                        });
+                    }
+                    if let NodeKind::Subnet { block: Some(b), .. } = &mut self.nodes[i].kind {
+                        b.params = compiled;
+                    }
                     for (name, target) in &doc.promote {
                         let Some((inner, param)) = target.rsplit_once('/') else {
                             self.errors.push(LoadError::node(&path, format!("promoted parameter `{name}` must name `node/parameter`, found `{target}`")));
@@ -807,7 +917,7 @@ impl Builder<'_> {
                         }
                     }
                     for name in doc.params.keys() {
-                        if !doc.promote.contains_key(name) {
+                        if !doc.promote.contains_key(name) && !own.iter().any(|s| s.name == name) {
                             self.errors.push(LoadError::node(&path, format!("unknown parameter `{name}` (a subnet has only its promoted parameters)")));
                         }
                     }
@@ -852,7 +962,13 @@ impl Builder<'_> {
             }
             match &n.kind {
                 NodeKind::Op { op, .. } => return Some(op.spec().output),
-                NodeKind::Subnet { output } => i = (*output)?,
+                NodeKind::Feed { block, slot } => match slot {
+                    crate::block::FeedSlot::Meta => return Some(PortType::Geometry),
+                    crate::block::FeedSlot::Input(n) => {
+                        i = self.nodes[*block].inputs.get(*n).copied().flatten()?
+                    }
+                },
+                NodeKind::Subnet { output, .. } => i = (*output)?,
                 NodeKind::Invalid => return None,
             }
         }
@@ -1002,7 +1118,10 @@ fn find_cycles(net: &Network) -> Vec<LoadError> {
     let deps = |i: usize| -> Vec<usize> {
         let n = &net.nodes[i];
         let mut d: Vec<usize> = n.inputs.iter().flatten().copied().collect();
-        if let NodeKind::Subnet { output: Some(o) } = n.kind {
+        if let NodeKind::Subnet {
+            output: Some(o), ..
+        } = n.kind
+        {
             d.push(o);
         }
         d

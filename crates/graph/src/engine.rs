@@ -10,6 +10,7 @@ use geode_op::{
 use rayon::prelude::*;
 use xxhash_rust::xxh3::Xxh3;
 
+use crate::block::{self, BlockKind, FeedSlot};
 use crate::cache::{Cache, Cached};
 use crate::compile::{Network, NodeKind};
 
@@ -91,12 +92,23 @@ struct Cooked {
     identity: u128,
 }
 
+impl Cooked {
+    fn of(value: Value) -> Cooked {
+        Cooked {
+            identity: value.identity(),
+            value,
+        }
+    }
+}
+
 type Slot = OnceLock<Result<Cooked, Vec<CookError>>>;
 
 struct Run<'e, 'o> {
     engine: &'e Engine<'e>,
     opts: &'o CookOptions<'o>,
     slots: Vec<Slot>,
+    /// Inside a loop's or solver's pass: the values its feed nodes give.
+    feeds: Vec<(usize, Cooked)>,
     events: Mutex<Vec<CookEvent>>,
     began: Instant,
 }
@@ -192,8 +204,15 @@ impl Run<'_, '_> {
             };
         }
         let op = match &n.kind {
-            NodeKind::Subnet { output: Some(o) } => return self.node(*o),
-            NodeKind::Subnet { output: None } => {
+            NodeKind::Feed { block, slot } => return self.feed(i, *block, *slot),
+            NodeKind::Subnet {
+                block: Some(b),
+                output,
+            } => return self.cook_block(i, b.kind, *output, inputs),
+            NodeKind::Subnet {
+                output: Some(o), ..
+            } => return self.node(*o),
+            NodeKind::Subnet { output: None, .. } => {
                 return Err(vec![CookError::new(
                     &n.path,
                     ErrorKind::Network,
@@ -301,6 +320,170 @@ impl Run<'_, '_> {
         Ok(Cooked { value, identity })
     }
 
+    /// Runs `f` on a fresh run of the network at `frame` whose feed nodes
+    /// give `feeds` (a loop's or solver's pass); its events join this run's.
+    fn pass<T>(&self, frame: f64, feeds: Vec<(usize, Cooked)>, f: impl FnOnce(&Run) -> T) -> T {
+        let opts = CookOptions {
+            frame,
+            cancel: self.opts.cancel.clone(),
+            progress: self.opts.progress,
+            env: self.opts.env.clone(),
+        };
+        let run = Run {
+            engine: self.engine,
+            opts: &opts,
+            slots: (0..self.engine.net.nodes.len())
+                .map(|_| OnceLock::new())
+                .collect(),
+            feeds,
+            events: Mutex::new(Vec::new()),
+            began: self.began,
+        };
+        let out = f(&run);
+        let events = run.events.into_inner().unwrap_or_else(|p| p.into_inner());
+        self.events
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .extend(events);
+        out
+    }
+
+    /// A feed's value: the pass's, or outside a pass (solo view of a node in
+    /// a block) the first pass's.
+    fn feed(&self, i: usize, block: usize, slot: FeedSlot) -> Result<Cooked, Vec<CookError>> {
+        if let Some((_, c)) = self.feeds.iter().find(|(j, _)| *j == i) {
+            return Ok(c.clone());
+        }
+        let net = &self.engine.net;
+        match slot {
+            FeedSlot::Input(k) => match net.nodes[block].inputs.get(k).copied().flatten() {
+                Some(j) => self.node(j),
+                None => Err(vec![CookError::new(
+                    &net.nodes[i].path,
+                    ErrorKind::Input,
+                    format!("input {k} of {} is not connected", net.nodes[block].path),
+                )]),
+            },
+            FeedSlot::Meta => Ok(Cooked::of(block::meta(&[
+                ("iteration", 0),
+                ("numiterations", 1),
+            ]))),
+        }
+    }
+
+    /// The feeds of one pass of block `i`: the feedback, the block's other
+    /// inputs and the pass's numbers.
+    fn feeds_of(
+        &self,
+        i: usize,
+        feedback: &Cooked,
+        inputs: &[Option<Cooked>],
+        meta: &Cooked,
+    ) -> Vec<(usize, Cooked)> {
+        let net = &self.engine.net;
+        (0..net.nodes.len())
+            .filter_map(|j| match &net.nodes[j].kind {
+                NodeKind::Feed { block, slot } if *block == i => match slot {
+                    FeedSlot::Input(0) => Some((j, feedback.clone())),
+                    FeedSlot::Input(k) => inputs.get(*k).cloned().flatten().map(|c| (j, c)),
+                    FeedSlot::Meta => Some((j, meta.clone())),
+                },
+                _ => None,
+            })
+            .collect()
+    }
+
+    /// Cooks a loop (N passes, or until its stop attribute) or a solver
+    /// (a pass per frame from its start frame to this one).
+    fn cook_block(
+        &self,
+        i: usize,
+        kind: BlockKind,
+        output: Option<usize>,
+        inputs: Vec<Option<Cooked>>,
+    ) -> Result<Cooked, Vec<CookError>> {
+        let net = &self.engine.net;
+        let path = net.nodes[i].path.clone();
+        let fail = |m: String| vec![CookError::new(&path, ErrorKind::Network, m)];
+        let out = output.ok_or_else(|| fail(format!("the {} has no output node", kind.name())))?;
+        let first = inputs
+            .first()
+            .cloned()
+            .flatten()
+            .ok_or_else(|| fail(format!("the {} needs input 1 to start from", kind.name())))?;
+        let params = net.params_at(i, self.opts.frame, &self.opts.env);
+        let mut value = first;
+        match kind {
+            BlockKind::Loop => {
+                let (n, stop) = block::loop_settings(&params).map_err(|e| vec![e])?;
+                for k in 0..n {
+                    if self.opts.cancel.is_cancelled() {
+                        return Err(vec![CookError::cancelled(&path)]);
+                    }
+                    let meta = Cooked::of(block::meta(&[
+                        ("iteration", k as i32),
+                        ("numiterations", n as i32),
+                    ]));
+                    let feeds = self.feeds_of(i, &value, &inputs, &meta);
+                    value = self
+                        .pass(self.opts.frame, feeds, |r| r.node(out))
+                        .map_err(|e| {
+                            e.into_iter()
+                                .map(|x| block::in_pass(x, &path, &format!("iteration {k}")))
+                                .collect::<Vec<_>>()
+                        })?;
+                    if block::stops(&value.value, &stop) {
+                        break;
+                    }
+                }
+            }
+            BlockKind::Solver => {
+                let start = block::start_frame(&params).map_err(|e| vec![e])?;
+                let frame = self.opts.frame;
+                if frame < start {
+                    return Ok(value);
+                }
+                // The input at the start frame, and the other inputs at each frame.
+                let input_node = net.nodes[i].inputs[0].expect("input 1 is connected");
+                if frame != start {
+                    value = self.pass(start, Vec::new(), |r| r.node(input_node))?;
+                }
+                let mut f = start;
+                loop {
+                    if self.opts.cancel.is_cancelled() {
+                        return Err(vec![CookError::cancelled(&path)]);
+                    }
+                    let at_f: Vec<Option<Cooked>> = if f == frame {
+                        inputs.clone()
+                    } else {
+                        let nodes = net.nodes[i].inputs.clone();
+                        self.pass(f, Vec::new(), |r| {
+                            nodes
+                                .iter()
+                                .map(|n| n.map(|j| r.node(j)).transpose())
+                                .collect::<Result<Vec<_>, _>>()
+                        })?
+                    };
+                    let meta = Cooked::of(block::meta(&[
+                        ("frame", f as i32),
+                        ("start_frame", start as i32),
+                    ]));
+                    let feeds = self.feeds_of(i, &value, &at_f, &meta);
+                    value = self.pass(f, feeds, |r| r.node(out)).map_err(|e| {
+                        e.into_iter()
+                            .map(|x| block::in_pass(x, &path, &format!("frame {f}")))
+                            .collect::<Vec<_>>()
+                    })?;
+                    if f + 1.0 > frame {
+                        break;
+                    }
+                    f += 1.0;
+                }
+            }
+        }
+        Ok(value)
+    }
+
     fn record(&self, e: CookEvent) {
         self.events
             .lock()
@@ -332,6 +515,7 @@ impl<'c> Engine<'c> {
             engine: self,
             opts,
             slots: (0..self.net.nodes.len()).map(|_| OnceLock::new()).collect(),
+            feeds: Vec::new(),
             events: Mutex::new(Vec::new()),
             began: Instant::now(),
         };

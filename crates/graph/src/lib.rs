@@ -5,6 +5,7 @@
 //! [`Cache`], solo view of any inner node, and a `tracing` span per cook.
 //! Knows no concrete node: node types come from a [`geode_op::Registry`].
 
+mod block;
 pub mod cache;
 pub mod channel;
 mod compile;

@@ -149,7 +149,8 @@ fn the_frame_keys_only_snippets_that_read_it() {
 fn seed_003_frames_equal_polyframes_parallel_transport() {
     use geode_geo::glam::DQuat;
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/chain_vex.json");
-    let mut doc: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let mut doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
     doc["nodes"]["reference"] = serde_json::json!({
         "type": "polyframe", "inputs": ["curve"], "params": {"method": "parallel_transport", "tangent": "next"}
     });
@@ -166,7 +167,11 @@ fn seed_003_frames_equal_polyframes_parallel_transport() {
             geode_geo::AttribData::Quat(v) => v.iter().map(|x| x.to_array()).collect(),
             other => panic!("orient is {:?}", other.attrib_type()),
         };
-        q.iter().map(|q| DQuat::from_xyzw(q[0] as f64, q[1] as f64, q[2] as f64, q[3] as f64).normalize()).collect()
+        q.iter()
+            .map(|q| {
+                DQuat::from_xyzw(q[0] as f64, q[1] as f64, q[2] as f64, q[3] as f64).normalize()
+            })
+            .collect()
     };
     let (vex, reference) = (orient("/compute_parallel_frame"), orient("/reference"));
     assert_eq!(vex.len(), reference.len());
@@ -175,7 +180,10 @@ fn seed_003_frames_equal_polyframes_parallel_transport() {
         // Compare as rotation matrices (a quaternion and its negation agree).
         let a = geode_geo::glam::DMat3::from_quat(vex[j] * vex[0].inverse());
         let b = geode_geo::glam::DMat3::from_quat(reference[j] * reference[0].inverse());
-        let d = (a - b).to_cols_array().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let d = (a - b)
+            .to_cols_array()
+            .iter()
+            .fold(0.0f64, |m, x| m.max(x.abs()));
         worst = worst.max(d);
     }
     eprintln!("largest difference over {} frames: {worst:e}", vex.len());

@@ -381,7 +381,10 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                 }),
             ))
         }
-        Builtin::Hedge(f) => Val::I(w.input(a[0].i()).map_or(-1, |g| crate::world::hedge(g, f, a[1].i()))),
+        Builtin::Hedge(f) => Val::I(
+            w.input(a[0].i())
+                .map_or(-1, |g| crate::world::hedge(g, f, a[1].i())),
+        ),
         Builtin::HasAttrib(class) => Val::I(i32::from(
             w.input(a[0].i())
                 .is_some_and(|g| g.attrib(class, a[1].s()).is_some()),

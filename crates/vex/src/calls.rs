@@ -805,7 +805,8 @@ impl<'a> Lower<'a> {
                 self.arity(name, args, 3, 4, pos)?;
                 call(self, B::NearPoints, &[int, Ty::Vec3, Ty::Float, int], ia)
             }
-            "pointhedge" | "primhedge" | "hedge_next" | "hedge_srcpoint" | "hedge_dstpoint" | "hedge_isvalid" | "hedge_prim" => {
+            "pointhedge" | "primhedge" | "hedge_next" | "hedge_srcpoint" | "hedge_dstpoint"
+            | "hedge_isvalid" | "hedge_prim" => {
                 use crate::builtins::HedgeFn as H;
                 self.arity(name, args, 2, 2, pos)?;
                 let f = match name {

@@ -206,13 +206,25 @@ pub fn hedge(g: &Geometry, f: crate::builtins::HedgeFn, x: i32) -> i32 {
             None
         }
     };
-    let valid = |h: i32| usize::try_from(h).ok().filter(|&v| v < g.num_vertices() && next(v).is_some());
+    let valid = |h: i32| {
+        usize::try_from(h)
+            .ok()
+            .filter(|&v| v < g.num_vertices() && next(v).is_some())
+    };
     let out = match f {
-        H::PointHedge => (0..g.num_vertices()).find(|&v| g.vertex_points()[v] as i32 == x && next(v).is_some()),
-        H::PrimHedge => usize::try_from(x).ok().filter(|&p| p < g.num_prims()).map(|p| g.prim_vertex_range(p).start).filter(|&v| next(v).is_some()),
+        H::PointHedge => {
+            (0..g.num_vertices()).find(|&v| g.vertex_points()[v] as i32 == x && next(v).is_some())
+        }
+        H::PrimHedge => usize::try_from(x)
+            .ok()
+            .filter(|&p| p < g.num_prims())
+            .map(|p| g.prim_vertex_range(p).start)
+            .filter(|&v| next(v).is_some()),
         H::Next => valid(x).and_then(next).filter(|&v| next(v).is_some()),
         H::SrcPoint => valid(x).map(|v| g.vertex_points()[v] as usize),
-        H::DstPoint => valid(x).and_then(next).map(|v| g.vertex_points()[v] as usize),
+        H::DstPoint => valid(x)
+            .and_then(next)
+            .map(|v| g.vertex_points()[v] as usize),
         H::IsValid => return i32::from(valid(x).is_some()),
         H::Prim => valid(x).map(prim_of),
     };
