@@ -255,6 +255,84 @@ describe('the rig (subnet)', () => {
   });
 });
 
+const LOOPED_WRANGLE = JSON.stringify({
+  geode: 'network',
+  version: 1,
+  output: 'l',
+  nodes: {
+    g: { type: 'grid', params: { rows: 4, columns: 4 } },
+    l: {
+      type: 'loop',
+      inputs: ['g'],
+      params: { iterations: 3 },
+      network: {
+        output: 'w',
+        nodes: { w: { type: 'wrangle', inputs: ['@0'], spare: { amp: 'float' }, params: { snippet: '@P.y += ch("amp");', amp: 0.5 } } },
+      },
+    },
+  },
+});
+
+describe('a wrangle in a loop', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('looped.json', [], { 'looped.json': LOOPED_WRANGLE });
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0, 60_000);
+    await clickNode(page, 'l');
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('g.node[data-node="w"]');
+    await clickNode(page, 'w');
+    await page.waitForSelector('.param[data-param="snippet"] textarea.code');
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  /** Replaces the snippet in its code editor and commits it (Ctrl+Enter). */
+  async function setSnippet(text) {
+    const field = page.locator('.param[data-param="snippet"] textarea.code');
+    await field.fill(text);
+    await field.press('Control+Enter');
+  }
+
+  test('the snippet is edited as code and the loop recooks', async () => {
+    const before = await drawn(page);
+    const g = await generation(page);
+    await setSnippet('@P.y += ch("amp") * 2;');
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    const doc = await page.evaluate(() => window.__geode.store.state.document.nodes.l.network.nodes.w.params.snippet);
+    assert.equal(doc, '@P.y += ch("amp") * 2;');
+    assert.notEqual((await drawn(page)).checksum, before.checksum);
+  });
+
+  test('a compile error shows at the snippet with its line and column', async () => {
+    const g = await generation(page);
+    await setSnippet('float a = 1;\n@P.y += nope;');
+    await nextCook(page, g);
+    const message = await page.locator('.param[data-param="snippet"] .param-error').textContent();
+    assert.match(message, /line 2, column 9: undeclared variable 'nope'/);
+    const g2 = await generation(page);
+    await setSnippet('@P.y += ch("amp");');
+    assert.ok((await nextCook(page, g2)).ok);
+  });
+
+  test('spare parameters are declared, set and removed in the panel', async () => {
+    assert.equal(await page.locator('.param[data-param="amp"]').count(), 1);
+    await page.locator('.spare-adder input').fill('freq');
+    await page.locator('.spare-adder select').selectOption('vector');
+    await page.locator('.spare-adder button').click();
+    await page.waitForSelector('.param[data-param="freq"]');
+    const spare = await page.evaluate(() => window.__geode.store.state.document.nodes.l.network.nodes.w.spare);
+    assert.deepEqual(spare, { amp: 'float', freq: 'vector' });
+    await page.locator('.param[data-param="freq"] button.reset').first().click();
+    await page.waitForFunction(() => !window.__geode.store.state.document.nodes.l.network.nodes.w.spare.freq);
+  });
+});
+
 describe('the README screenshot', () => {
   test('the coral fully grown, its network and parameters', async () => {
     const server = await serve('coral.json');

@@ -1,6 +1,7 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error), rename, dive into subnets.
 
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, wires } from './network';
+import { hasNetwork } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
 import type { AppStore } from './store';
 
@@ -227,14 +228,14 @@ export class NetworkEditor {
     const node = this.net()?.nodes[t.node];
     if ((e.target as Element).closest('.node-name')) {
       this.rename(t.node);
-    } else if (node?.type === 'subnet') {
+    } else if (hasNetwork(node)) {
       this.dive(join(this.store.at, t.node));
     }
   }
 
   /** Shows the network inside a subnet. */
   dive(path: string) {
-    if (nodeAt(this.store.state!.document, path)?.type !== 'subnet') return;
+    if (!hasNetwork(nodeAt(this.store.state!.document, path))) return;
     this.store.at = path;
     this.actions.select([], null);
   }
@@ -331,7 +332,7 @@ export class NetworkEditor {
     const cookErr = (s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled');
     const errors = [...problems, ...cookErr];
     const viewed = (s.state?.view.solo ?? s.state?.output) === path;
-    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', viewed ? 'viewed' : '', node.type === 'subnet' ? 'subnet' : ''];
+    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', viewed ? 'viewed' : '', hasNetwork(node) ? 'subnet' : ''];
     const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
     el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);

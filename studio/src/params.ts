@@ -1,6 +1,7 @@
 // The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
 
 import { channelAt, isChannel, join, nodeAt } from './network';
+import { spareDecls } from './protocol';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
 import type { AppStore } from './store';
 
@@ -16,6 +17,8 @@ interface Row {
   name: string;
   /** For promoted parameters: the inner node it drives. */
   drives?: string;
+  /** A spare parameter the node declares (removable). */
+  spare?: boolean;
 }
 
 /** A typed text as the document stores it: a number when it reads as one, else the text (the loader then says what was expected). */
@@ -62,15 +65,15 @@ export class ParamPanel {
 
   private rows(path: string, node: DocNode): Row[] {
     const s = this.store;
-    if (node.type === 'subnet') {
-      return Object.entries(node.promote ?? {}).flatMap(([name, target]) => {
-        const [inner, param] = target.split('/');
-        const innerNode = nodeAt(s.state!.document, join(path, inner));
-        const decl = s.catalogue.get(innerNode?.type ?? '')?.params.find((p) => p.name === param);
-        return decl ? [{ decl: { ...decl, name, label: `${name} → ${target}` }, path, name, drives: join(path, inner) }] : [];
-      });
-    }
-    return (s.catalogue.get(node.type)?.params ?? []).map((decl) => ({ decl, path, name: decl.name }));
+    const promoted: Row[] = Object.entries(node.promote ?? {}).flatMap(([name, target]) => {
+      const [inner, param] = target.split('/');
+      const innerNode = nodeAt(s.state!.document, join(path, inner));
+      const decl = s.catalogue.get(innerNode?.type ?? '')?.params.find((p) => p.name === param);
+      return decl ? [{ decl: { ...decl, name, label: `${name} → ${target}` }, path, name, drives: join(path, inner) }] : [];
+    });
+    const own = (s.catalogue.get(node.type)?.params ?? []).map((decl) => ({ decl, path, name: decl.name }));
+    const spare = spareDecls(node).map((decl) => ({ decl, path, name: decl.name, spare: true }));
+    return [...own, ...spare, ...promoted];
   }
 
   render() {
@@ -118,6 +121,7 @@ export class ParamPanel {
       this.host.appendChild(d);
     }
     for (const row of rows) this.host.appendChild(this.rowElement(row, node, problems.filter((p) => p.param?.split(/[[.]/)[0] === row.name)));
+    if (type?.spare) this.host.appendChild(this.spareAdder(path));
   }
 
   private rowElement(row: Row, node: DocNode, problems: Problem[]): HTMLElement {
@@ -164,6 +168,14 @@ export class ParamPanel {
     this.widgets(widgets, decl, value, frame, set, (component, v) =>
       this.actions.edit({ kind: 'set_key', path: row.path, param: row.name, component, frame, value: v }),
     );
+    if (row.spare) {
+      const remove = document.createElement('button');
+      remove.className = 'reset';
+      remove.textContent = '×';
+      remove.title = 'Remove this spare parameter';
+      remove.addEventListener('click', () => void this.actions.edit({ kind: 'set_spare', path: row.path, name: row.name, type: null }));
+      div.appendChild(remove);
+    }
     if (stored !== undefined) {
       const reset = document.createElement('button');
       reset.className = 'reset';
@@ -260,6 +272,22 @@ export class ParamPanel {
       host.appendChild(sel);
     } else if (decl.type === 'list') {
       this.listWidget(host, decl, Array.isArray(value) ? value : [], frame, set);
+    } else if (decl.code) {
+      // Code (a wrangle's snippet): applied on leaving the editor or Ctrl+Enter.
+      const t = document.createElement('textarea');
+      t.className = 'code';
+      t.spellcheck = false;
+      t.value = String(value ?? '');
+      t.rows = Math.min(24, Math.max(6, t.value.split('\n').length + 1));
+      t.addEventListener('change', () => void set(t.value));
+      t.addEventListener('keydown', (e) => {
+        if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) t.blur();
+        if (e.key === 'Tab') {
+          e.preventDefault();
+          t.setRangeText('    ', t.selectionStart, t.selectionEnd, 'end');
+        }
+      });
+      host.appendChild(t);
     } else {
       const t = document.createElement('input');
       t.type = 'text';
@@ -270,6 +298,32 @@ export class ParamPanel {
       t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
       host.appendChild(t);
     }
+  }
+
+  /** Declares a spare parameter (read in a snippet with ch()). */
+  private spareAdder(path: string): HTMLElement {
+    const div = document.createElement('div');
+    div.className = 'param spare-adder';
+    const name = document.createElement('input');
+    name.type = 'text';
+    name.placeholder = 'new spare parameter';
+    name.className = 'text';
+    const ty = document.createElement('select');
+    for (const t of ['float', 'int', 'toggle', 'vector2', 'vector', 'vector4', 'string']) {
+      const o = document.createElement('option');
+      o.value = o.textContent = t;
+      ty.appendChild(o);
+    }
+    const add = document.createElement('button');
+    add.textContent = '+';
+    add.title = 'Add a spare parameter';
+    const submit = () => {
+      if (name.value.trim()) void this.actions.edit({ kind: 'set_spare', path, name: name.value.trim(), type: ty.value });
+    };
+    add.addEventListener('click', submit);
+    name.addEventListener('keydown', (e) => e.key === 'Enter' && submit());
+    div.append(name, ty, add);
+    return div;
   }
 
   private listWidget(host: HTMLElement, decl: ParamDecl, rows: unknown[], frame: number, set: (v: unknown) => unknown) {

@@ -12,6 +12,8 @@ export interface ParamDecl {
   affects: string | null;
   items?: string[];
   fields?: ParamDecl[];
+  /** A string holding code: a multi-line editor. */
+  code?: boolean;
 }
 
 export interface NodeType {
@@ -25,6 +27,10 @@ export interface NodeType {
   output: string;
   params: ParamDecl[];
   timeDependent: boolean;
+  /** Holds a network (subnet, loop, solver). */
+  network?: boolean;
+  /** Takes spare parameters declared in the network. */
+  spare?: boolean;
 }
 
 export interface DocNode {
@@ -35,6 +41,8 @@ export interface DocNode {
   display?: boolean;
   network?: DocNetwork;
   promote?: Record<string, string>;
+  /** Spare parameters: name -> type (float, int, toggle, vector2, vector, vector4, string). */
+  spare?: Record<string, string>;
   ui?: { pos?: [number, number] };
   [extra: string]: unknown;
 }
@@ -218,4 +226,38 @@ export class Connection {
       this.ws.send(JSON.stringify({ ...body, id }));
     });
   }
+}
+
+/** Whether a node holds a network the editor can dive into (subnet, loop, solver). */
+export function hasNetwork(node: DocNode | null | undefined): boolean {
+  return !!node && (node.network !== undefined || ['subnet', 'loop', 'solver'].includes(node.type));
+}
+
+const SPARE_TYPES: Record<string, { type: ParamDecl['type']; default: unknown }> = {
+  float: { type: 'float', default: 0 },
+  int: { type: 'int', default: 0 },
+  toggle: { type: 'toggle', default: false },
+  vector2: { type: 'vec2', default: [0, 0] },
+  vector: { type: 'vec3', default: [0, 0, 0] },
+  vector4: { type: 'vec4', default: [0, 0, 0, 0] },
+  string: { type: 'string', default: '' },
+};
+
+/** Declarations of a node's spare parameters, as the panel shows them. */
+export function spareDecls(node: DocNode): ParamDecl[] {
+  return Object.entries(node.spare ?? {}).flatMap(([name, ty]) => {
+    const t = SPARE_TYPES[ty];
+    if (!t) return [];
+    return [{
+      name,
+      label: name,
+      type: t.type,
+      default: t.default,
+      min: null,
+      max: null,
+      animatable: t.type !== 'string',
+      help: `Spare parameter (${ty}), read in the snippet with ch("${name}").`,
+      affects: null,
+    }];
+  });
 }

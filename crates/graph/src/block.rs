@@ -50,6 +50,23 @@ impl BlockKind {
         }
     }
 
+    pub const ALL: [BlockKind; 2] = [BlockKind::Loop, BlockKind::Solver];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            BlockKind::Loop => "For-Loop with Feedback",
+            BlockKind::Solver => "Solver",
+        }
+    }
+
+    /// What the block does, for the catalogue.
+    pub fn help(self) -> &'static str {
+        match self {
+            BlockKind::Loop => "Cooks its network a number of times, each pass on the previous pass's result (@0), until a detail attribute says stop; @meta gives detail attributes iteration and numiterations, @1.. the loop's other inputs.",
+            BlockKind::Solver => "Cooks its network once per frame on the previous frame's result (@0), the start frame on the input; @meta gives detail attributes frame and start_frame, @1.. the solver's other inputs at the frame. Scrubbing forward reuses every cached frame.",
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             BlockKind::Loop => "loop",

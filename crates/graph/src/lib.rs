@@ -12,6 +12,7 @@ mod compile;
 pub mod document;
 mod engine;
 
+pub use block::BlockKind;
 pub use cache::{Cache, CacheStats};
 pub use compile::{LoadError, Network, Promotion};
 pub use document::{Document, SyntaxError};

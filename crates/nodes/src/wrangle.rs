@@ -19,7 +19,8 @@ const SNIPPET: P = P::new(
     T::String,
     D::Str(""),
     "VEX code run once per element: @bindings, locals, functions, loops and SideFX's library (see docs/wrangle.md).",
-);
+)
+.code();
 const RUN_OVER: P = P::new(
     "run_over",
     "Run Over",

@@ -122,6 +122,9 @@ pub struct ParamSpec {
     pub help: &'static str,
     /// Name of the inner node this parameter affects (solo view's auto mode).
     pub affects: Option<&'static str>,
+    /// A string holding code (a wrangle's snippet): shown as a multi-line
+    /// editor.
+    pub code: bool,
 }
 
 /// The type names `ParamSpec::spare` accepts, for error messages.
@@ -205,7 +208,14 @@ impl ParamSpec {
             ),
             help,
             affects: None,
+            code: false,
         }
+    }
+
+    /// Marks a string parameter as code (a multi-line editor in the studio).
+    pub const fn code(mut self) -> ParamSpec {
+        self.code = true;
+        self
     }
 
     pub const fn range(mut self, min: f64, max: f64) -> ParamSpec {

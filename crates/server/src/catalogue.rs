@@ -43,6 +43,9 @@ pub fn param_json(p: &ParamSpec) -> Json {
         "help": p.help,
         "affects": p.affects,
     });
+    if p.code {
+        j["code"] = json!(true);
+    }
     match p.ty {
         ParamType::Menu(items) => j["items"] = json!(items),
         ParamType::List(l) => {
@@ -72,9 +75,30 @@ pub fn catalogue(registry: &Registry) -> Json {
                 "output": s.output.to_string(),
                 "params": s.params.iter().map(param_json).collect::<Vec<_>>(),
                 "timeDependent": s.time_dependent,
+                "spare": s.spare,
             })
         })
         .collect();
+    for kind in geode_graph::BlockKind::ALL {
+        nodes.push(json!({
+            "name": kind.name(),
+            "label": kind.label(),
+            "category": "Flow",
+            "summary": kind.help().split(", ").next().unwrap_or(""),
+            "help": kind.help(),
+            "inputs": [
+                {"name": "input 1", "type": "geometry", "required": true},
+                {"name": "input 2", "type": "geometry", "required": false},
+                {"name": "input 3", "type": "geometry", "required": false},
+                {"name": "input 4", "type": "geometry", "required": false},
+            ],
+            "variadic": false,
+            "output": "geometry",
+            "params": kind.params().iter().map(param_json).collect::<Vec<_>>(),
+            "timeDependent": kind == geode_graph::BlockKind::Solver,
+            "network": true,
+        }));
+    }
     nodes.push(json!({
         "name": "subnet",
         "label": "Subnetwork",
@@ -91,6 +115,7 @@ pub fn catalogue(registry: &Registry) -> Json {
         "output": "geometry",
         "params": [],
         "timeDependent": false,
+        "network": true,
     }));
     nodes.sort_by(|a, b| {
         (a["category"].as_str(), a["name"].as_str())

@@ -44,6 +44,14 @@ pub enum Edit {
         param: String,
         value: Json,
     },
+    /// Declares a spare parameter of `ty` on a node that takes them, or with
+    /// `ty` null removes it and its value.
+    SetSpare {
+        path: String,
+        name: String,
+        #[serde(rename = "type")]
+        ty: Option<String>,
+    },
     /// Sets a key of component `component` at `frame` (a constant becomes a channel).
     SetKey {
         path: String,
@@ -198,6 +206,9 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             }
         }
         Edit::SetParam { path, param, value } => set_param(&mut d, path, param, value, registry)?,
+        Edit::SetSpare { path, name, ty } => {
+            set_spare(&mut d, path, name, ty.as_deref(), registry)?
+        }
         Edit::SetKey {
             path,
             param,
@@ -241,7 +252,10 @@ fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
 }
 
 fn check_type(path: &str, ty: &str, registry: &Registry) -> Result<(), EditError> {
-    if ty == "subnet" || registry.get(ty).is_some() {
+    if ty == "subnet"
+        || geode_graph::BlockKind::from_type(ty).is_some()
+        || registry.get(ty).is_some()
+    {
         return Ok(());
     }
     let hint = registry.closest(ty);
@@ -280,7 +294,8 @@ fn add_node(
         inputs: Vec::new(),
         bypass: false,
         display: false,
-        network: (ty == "subnet").then(|| Box::new(NetworkDoc::default())),
+        network: (ty == "subnet" || geode_graph::BlockKind::from_type(ty).is_some())
+            .then(|| Box::new(NetworkDoc::default())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),
@@ -448,13 +463,7 @@ fn set_param(
     registry: &Registry,
 ) -> Result<(), EditError> {
     let node = node_mut(d, path)?;
-    let known = if node.ty == "subnet" {
-        node.promote.contains_key(param)
-    } else {
-        registry
-            .get(&node.ty)
-            .is_some_and(|op| op.spec().param(param).is_some())
-    };
+    let known = node.promote.contains_key(param) || param_spec(node, param, registry).is_some();
     if !known {
         return Err(refuse(path, format!("has no parameter `{param}`")));
     }
@@ -462,6 +471,85 @@ fn set_param(
         node.params.remove(param);
     } else {
         node.params.insert(param.to_owned(), value.clone());
+    }
+    Ok(())
+}
+
+/// The declaration of a node's parameter: the node type's own, a loop's or
+/// solver's, or a spare parameter the node declares.
+pub(crate) fn param_spec(
+    node: &NodeDoc,
+    param: &str,
+    registry: &Registry,
+) -> Option<&'static geode_op::ParamSpec> {
+    if let Some(kind) = geode_graph::BlockKind::from_type(&node.ty) {
+        return kind.params().iter().find(|p| p.name == param);
+    }
+    registry
+        .get(&node.ty)
+        .and_then(|op| op.spec().param(param))
+        .or_else(|| {
+            node.spare
+                .get(param)
+                .and_then(|ty| geode_op::ParamSpec::spare(ty))
+        })
+}
+
+fn set_spare(
+    d: &mut Document,
+    path: &str,
+    name: &str,
+    ty: Option<&str>,
+    registry: &Registry,
+) -> Result<(), EditError> {
+    let node = node_mut(d, path)?;
+    let Some(op) = registry.get(&node.ty) else {
+        return Err(refuse(
+            path,
+            format!("a {} takes no spare parameters", node.ty),
+        ));
+    };
+    if !op.spec().spare {
+        return Err(refuse(
+            path,
+            format!("a {} takes no spare parameters", node.ty),
+        ));
+    }
+    match ty {
+        None => {
+            node.spare.remove(name);
+            node.params.remove(name);
+        }
+        Some(ty) => {
+            if geode_op::ParamSpec::spare(ty).is_none() {
+                return Err(refuse(
+                    path,
+                    format!(
+                        "unknown spare parameter type `{ty}`: expected one of {}",
+                        geode_op::SPARE_TYPES.join(", ")
+                    ),
+                ));
+            }
+            let valid = !name.is_empty()
+                && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+                && !name.starts_with(|c: char| c.is_ascii_digit());
+            if !valid {
+                return Err(refuse(
+                    path,
+                    format!("`{name}` is not a parameter name (letters, digits and _)"),
+                ));
+            }
+            if op.spec().param(name).is_some() {
+                return Err(refuse(
+                    path,
+                    format!("`{name}` is one of the node's own parameters"),
+                ));
+            }
+            if node.spare.get(name).is_some_and(|t| t != ty) {
+                node.params.remove(name);
+            }
+            node.spare.insert(name.to_owned(), ty.to_owned());
+        }
     }
     Ok(())
 }

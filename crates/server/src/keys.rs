@@ -26,9 +26,7 @@ fn components(
     param: &str,
     registry: &Registry,
 ) -> Result<Vec<Json>, EditError> {
-    let spec = registry
-        .get(&node.ty)
-        .and_then(|op| op.spec().param(param))
+    let spec = crate::edits::param_spec(node, param, registry)
         .ok_or_else(|| refuse(path, format!("has no keyable parameter `{param}`")))?;
     if !spec.animatable || spec.ty.components() == 0 {
         return Err(refuse(
