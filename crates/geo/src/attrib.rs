@@ -38,6 +38,9 @@ pub enum AttribType {
     Quat,
     Mat4,
     String,
+    /// Arrays per element (Houdini's `i[]@` and `f[]@`).
+    IntArray,
+    FloatArray,
 }
 
 impl fmt::Display for AttribType {
@@ -51,6 +54,8 @@ impl fmt::Display for AttribType {
             AttribType::Quat => "quaternion",
             AttribType::Mat4 => "matrix4",
             AttribType::String => "string",
+            AttribType::IntArray => "int array",
+            AttribType::FloatArray => "float array",
         })
     }
 }
@@ -103,6 +108,8 @@ pub enum AttribValue {
     Quat(Quat),
     Mat4(Mat4),
     String(String),
+    IntArray(Vec<i32>),
+    FloatArray(Vec<f32>),
 }
 
 impl AttribValue {
@@ -116,6 +123,8 @@ impl AttribValue {
             AttribValue::Quat(_) => AttribType::Quat,
             AttribValue::Mat4(_) => AttribType::Mat4,
             AttribValue::String(_) => AttribType::String,
+            AttribValue::IntArray(_) => AttribType::IntArray,
+            AttribValue::FloatArray(_) => AttribType::FloatArray,
         }
     }
 
@@ -130,6 +139,8 @@ impl AttribValue {
             AttribType::Quat => AttribValue::Quat(Quat::IDENTITY),
             AttribType::Mat4 => AttribValue::Mat4(Mat4::IDENTITY),
             AttribType::String => AttribValue::String(String::new()),
+            AttribType::IntArray => AttribValue::IntArray(Vec::new()),
+            AttribType::FloatArray => AttribValue::FloatArray(Vec::new()),
         }
     }
 }
@@ -169,13 +180,17 @@ pub enum AttribData {
     Quat(Vec<Quat>),
     Mat4(Vec<Mat4>),
     String(StringColumn),
+    IntArray(Vec<Vec<i32>>),
+    FloatArray(Vec<Vec<f32>>),
 }
 
-/// Runs `$body` with `$v` bound to the inner `Vec` of every numeric variant, and
-/// `$s` for the string column.
+/// Runs `$body` with `$v` bound to the inner `Vec` of every numeric variant,
+/// `$s` for the string column and `$a` for an array column.
 macro_rules! each_column {
-    ($data:expr, $v:ident => $body:expr, $s:ident => $sbody:expr) => {
+    ($data:expr, $v:ident => $body:expr, $s:ident => $sbody:expr, $a:ident => $abody:expr) => {
         match $data {
+            AttribData::IntArray($a) => $abody,
+            AttribData::FloatArray($a) => $abody,
             AttribData::Float($v) => $body,
             AttribData::Int($v) => $body,
             AttribData::Vec2($v) => $body,
@@ -203,6 +218,8 @@ impl AttribData {
                 table: vec![s.clone()],
                 indices: vec![0; len],
             }),
+            AttribValue::IntArray(a) => AttribData::IntArray(vec![a.clone(); len]),
+            AttribValue::FloatArray(a) => AttribData::FloatArray(vec![a.clone(); len]),
         }
     }
 
@@ -216,11 +233,13 @@ impl AttribData {
             AttribData::Quat(_) => AttribType::Quat,
             AttribData::Mat4(_) => AttribType::Mat4,
             AttribData::String(_) => AttribType::String,
+            AttribData::IntArray(_) => AttribType::IntArray,
+            AttribData::FloatArray(_) => AttribType::FloatArray,
         }
     }
 
     pub fn len(&self) -> usize {
-        each_column!(self, v => v.len(), s => s.indices.len())
+        each_column!(self, v => v.len(), s => s.indices.len(), a => a.len())
     }
 
     pub fn is_empty(&self) -> bool {
@@ -238,6 +257,8 @@ impl AttribData {
             AttribData::Quat(v) => AttribValue::Quat(v[i]),
             AttribData::Mat4(v) => AttribValue::Mat4(v[i]),
             AttribData::String(s) => AttribValue::String(s.get(i).to_owned()),
+            AttribData::IntArray(v) => AttribValue::IntArray(v[i].clone()),
+            AttribData::FloatArray(v) => AttribValue::FloatArray(v[i].clone()),
         }
     }
 
@@ -255,6 +276,8 @@ impl AttribData {
                 let k = s.intern(x);
                 s.indices[i] = k;
             }
+            (AttribData::IntArray(v), AttribValue::IntArray(x)) => v[i].clone_from(x),
+            (AttribData::FloatArray(v), AttribValue::FloatArray(x)) => v[i].clone_from(x),
             (_, other) => return Err(other.attrib_type()),
         }
         Ok(())
@@ -274,6 +297,8 @@ impl AttribData {
                 let k = s.intern(x);
                 s.indices.resize(len, k);
             }
+            (AttribData::IntArray(v), AttribValue::IntArray(x)) => v.resize(len, x.clone()),
+            (AttribData::FloatArray(v), AttribValue::FloatArray(x)) => v.resize(len, x.clone()),
             (data, _) => unreachable!(
                 "attribute default type checked on creation ({})",
                 data.attrib_type()
@@ -298,6 +323,12 @@ impl AttribData {
                 table: s.table.clone(),
                 indices: pick(&s.indices, indices),
             }),
+            AttribData::IntArray(v) => {
+                AttribData::IntArray(indices.iter().map(|&i| v[i as usize].clone()).collect())
+            }
+            AttribData::FloatArray(v) => {
+                AttribData::FloatArray(indices.iter().map(|&i| v[i as usize].clone()).collect())
+            }
         }
     }
 
@@ -323,9 +354,11 @@ impl AttribData {
             AttribData::Quat(v) => {
                 AttribData::Quat(mix(v, pairs, |a, b, t| a.slerp(b, t).normalize()))
             }
-            AttribData::Int(_) | AttribData::Mat4(_) | AttribData::String(_) => {
-                self.gather(&nearest)
-            }
+            AttribData::Int(_)
+            | AttribData::Mat4(_)
+            | AttribData::String(_)
+            | AttribData::IntArray(_)
+            | AttribData::FloatArray(_) => self.gather(&nearest),
         }
     }
 
@@ -344,6 +377,8 @@ impl AttribData {
                 a.indices
                     .extend(b.indices.iter().map(|&i| remap[i as usize]));
             }
+            (AttribData::IntArray(a), AttribData::IntArray(b)) => a.extend_from_slice(b),
+            (AttribData::FloatArray(a), AttribData::FloatArray(b)) => a.extend_from_slice(b),
             _ => return false,
         }
         true
@@ -359,7 +394,10 @@ impl AttribData {
             AttribData::Vec4(v) => (bytemuck::cast_slice(v), 4),
             AttribData::Quat(v) => (bytemuck::cast_slice(v), 4),
             AttribData::Mat4(v) => (bytemuck::cast_slice(v), 16),
-            AttribData::Int(_) | AttribData::String(_) => return None,
+            AttribData::Int(_)
+            | AttribData::String(_)
+            | AttribData::IntArray(_)
+            | AttribData::FloatArray(_) => return None,
         })
     }
 
@@ -372,13 +410,16 @@ impl AttribData {
             AttribData::Vec4(v) => (bytemuck::cast_slice_mut(v), 4),
             AttribData::Quat(v) => (bytemuck::cast_slice_mut(v), 4),
             AttribData::Mat4(v) => (bytemuck::cast_slice_mut(v), 16),
-            AttribData::Int(_) | AttribData::String(_) => return None,
+            AttribData::Int(_)
+            | AttribData::String(_)
+            | AttribData::IntArray(_)
+            | AttribData::FloatArray(_) => return None,
         })
     }
 
     /// The raw bytes of a numeric column (None for strings).
     pub fn as_bytes(&self) -> Option<&[u8]> {
-        each_column!(self, v => Some(bytemuck::cast_slice(v)), _s => None)
+        each_column!(self, v => Some(bytemuck::cast_slice(v)), _s => None, _a => None)
     }
 }
 

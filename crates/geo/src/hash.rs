@@ -38,7 +38,15 @@ fn put_value(h: &mut Xxh3, v: &AttribValue) {
         AttribValue::Quat(x) => h.update(bytemuck::bytes_of(x)),
         AttribValue::Mat4(x) => h.update(bytemuck::bytes_of(x)),
         AttribValue::String(s) => put_str(h, s),
+        AttribValue::IntArray(a) => put_array(h, bytemuck::cast_slice(a)),
+        AttribValue::FloatArray(a) => put_array(h, bytemuck::cast_slice(a)),
     }
+}
+
+/// An array value: its length then its bytes, so element boundaries count.
+fn put_array(h: &mut Xxh3, bytes: &[u8]) {
+    h.update(&(bytes.len() as u64).to_le_bytes());
+    h.update(bytes);
 }
 
 /// Strings hash by value: indices are renumbered in order of first use so two
@@ -74,6 +82,18 @@ fn put_table(h: &mut Xxh3, t: &AttribTable) {
         put_value(h, a.default_value());
         match a.data() {
             AttribData::String(s) => put_strings(h, &s.table, &s.indices),
+            AttribData::IntArray(rows) => {
+                let mut r = Xxh3::new();
+                rows.iter()
+                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
+                h.update(&r.digest128().to_le_bytes());
+            }
+            AttribData::FloatArray(rows) => {
+                let mut r = Xxh3::new();
+                rows.iter()
+                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
+                h.update(&r.digest128().to_le_bytes());
+            }
             d => {
                 let bytes = d.as_bytes().expect("numeric column");
                 h.update(&hash_bytes(bytes).to_le_bytes());

@@ -189,3 +189,65 @@ fn seed_003_frames_equal_polyframes_parallel_transport() {
     eprintln!("largest difference over {} frames: {worst:e}", vex.len());
     assert!(worst < 1e-6, "frames differ by {worst:e}");
 }
+
+/// Seed 001's solver (examples/coral_vex.json): the growth reaches a state
+/// that no further frame changes, and every node of the skeleton lies within
+/// the influence radius plus one step of an attractor the solid was filled
+/// with (or is the birth point).
+#[test]
+fn seed_001_growth_terminates_inside_the_influence_region() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/coral_vex.json");
+    let text = std::fs::read_to_string(path).unwrap();
+    let net = geode_graph::load_str(&text, &geode_nodes::registry()).unwrap();
+    let cache = geode_graph::Cache::new(1 << 29);
+    let engine = geode_graph::Engine::new(net, &cache);
+    let at = |node: &str, frame: f64| {
+        let r = engine
+            .cook(node, &geode_graph::CookOptions::at_frame(frame))
+            .unwrap_or_else(|e| panic!("{e:?}"));
+        r.value.as_geometry().unwrap().clone()
+    };
+    let food = at("/food", 1.0);
+    let (late, later) = (at("/grow", 90.0), at("/grow", 120.0));
+    assert_eq!(
+        late.content_hash(),
+        later.content_hash(),
+        "the growth still changes after frame 90"
+    );
+    let nodes: Vec<usize> = {
+        let g = late.point_groups().get("nodes").expect("the nodes group");
+        (0..g.len()).filter(|&i| g.contains(i)).collect()
+    };
+    assert!(nodes.len() > 200, "only {} nodes grew", nodes.len());
+    assert!(
+        late.num_prims() + 1 >= nodes.len(),
+        "every node but the birth point hangs on a branch"
+    );
+    let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let inner = &doc["nodes"]["grow"]["network"]["nodes"];
+    let reach = inner["associate"]["params"]["infrad"].as_f64().unwrap() as f32
+        + inner["grow"]["params"]["rad"].as_f64().unwrap() as f32;
+    let birth = geode_geo::glam::Vec3::new(0.0, 0.1, 0.0);
+    for &n in &nodes {
+        let p = late.positions()[n];
+        let near = food
+            .positions()
+            .iter()
+            .map(|a| a.distance(p))
+            .fold(f32::INFINITY, f32::min);
+        assert!(
+            near <= reach + 1e-4 || p.distance(birth) < 1e-6,
+            "node {n} at {p} is {near} from every attractor"
+        );
+    }
+    // Every attractor was consumed or is out of any node's reach.
+    let left = late
+        .point_groups()
+        .get("attractors")
+        .map_or(0, |g| (0..g.len()).filter(|&i| g.contains(i)).count());
+    assert!(
+        left < food.num_points() / 10,
+        "{left} of {} attractors left",
+        food.num_points()
+    );
+}

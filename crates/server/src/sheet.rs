@@ -27,12 +27,20 @@ fn components(v: &AttribValue) -> Vec<String> {
         AttribValue::Quat(q) => q.to_array().map(f).to_vec(),
         AttribValue::Mat4(m) => m.to_cols_array().map(f).to_vec(),
         AttribValue::String(s) => vec![s.clone()],
+        AttribValue::IntArray(a) => vec![format!("{a:?}")],
+        AttribValue::FloatArray(a) => {
+            vec![format!("{:?}", a.iter().map(|x| f(*x)).collect::<Vec<_>>()).replace('"', "")]
+        }
     }
 }
 
 fn width(t: AttribType) -> usize {
     match t {
-        AttribType::Float | AttribType::Int | AttribType::String => 1,
+        AttribType::Float
+        | AttribType::Int
+        | AttribType::String
+        | AttribType::IntArray
+        | AttribType::FloatArray => 1,
         AttribType::Vec2 => 2,
         AttribType::Vec3 => 3,
         AttribType::Vec4 | AttribType::Quat => 4,

@@ -293,6 +293,8 @@ fn value_type(v: &Val) -> Option<AttribValue> {
         Val::F(_, 3) => AttribValue::Vec3(Default::default()),
         Val::F(_, 4) => AttribValue::Vec4(Default::default()),
         Val::F(_, 16) => AttribValue::Mat4(Default::default()),
+        Val::AI(_) => AttribValue::IntArray(Vec::new()),
+        Val::AF(_, 1) => AttribValue::FloatArray(Vec::new()),
         _ => return None,
     })
 }
@@ -341,6 +343,24 @@ fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
     };
     match (old, v, mode) {
         (_, _, Mode::Set) => v.clone(),
+        (Val::AI(a), b, Mode::Append | Mode::Add) => {
+            let mut a = a.clone();
+            match b {
+                Val::AI(x) => a.extend_from_slice(x),
+                Val::AF(x, _) => a.extend(x.iter().map(|f| *f as i32)),
+                x => a.push(x.i()),
+            }
+            Val::AI(a)
+        }
+        (Val::AF(a, w), b, Mode::Append | Mode::Add) => {
+            let mut a = a.clone();
+            match b {
+                Val::AF(x, _) => a.extend_from_slice(x),
+                Val::AI(x) => a.extend(x.iter().map(|i| *i as f32)),
+                x => a.extend_from_slice(x.floats()),
+            }
+            Val::AF(a, *w)
+        }
         (Val::S(a), b, Mode::Append | Mode::Add) => Val::S(format!("{a}{}", b.s())),
         (Val::I(a), b, _) => Val::I(op(*a as f32, b.f()) as i32),
         (Val::F(a, n), b, _) => {

@@ -87,6 +87,8 @@ pub fn ty_of(data: &AttribData) -> Option<Ty> {
         AttribData::Vec4(_) | AttribData::Quat(_) => Ty::Vec4,
         AttribData::Mat4(_) => Ty::Mat4,
         AttribData::String(_) => Ty::Str,
+        AttribData::IntArray(_) => Ty::Array(crate::ty::Elem::Int),
+        AttribData::FloatArray(_) => Ty::Array(crate::ty::Elem::Float),
     })
 }
 
@@ -100,6 +102,8 @@ pub fn attrib_type(ty: Ty) -> Option<AttribType> {
         Ty::Vec4 => AttribType::Vec4,
         Ty::Mat4 => AttribType::Mat4,
         Ty::Str => AttribType::String,
+        Ty::Array(crate::ty::Elem::Int) => AttribType::IntArray,
+        Ty::Array(crate::ty::Elem::Float) => AttribType::FloatArray,
         _ => return None,
     })
 }
@@ -186,14 +190,21 @@ pub fn bindings(
     // Typed uses decide first; untyped uses adopt them.
     let mut typed: Vec<(String, Ty, crate::lex::Pos, char)> = Vec::new();
     for (name, prefix, array, pos) in &uses {
-        if *array {
+        if *array && !matches!(prefix, Some('i') | Some('f')) {
             return Err(CompileError::at(
                 *pos,
-                format!("@{name}: array attributes are not supported yet"),
+                format!(
+                    "@{name}: only int and float array attributes (i[]@, f[]@) are supported yet"
+                ),
             ));
         }
         if let Some(p) = prefix {
             let ty = Ty::from_prefix(*p).expect("the lexer accepts known prefixes");
+            let ty = if *array {
+                ty.array().expect("a scalar type")
+            } else {
+                ty
+            };
             if let Some((_, t0, _, p0)) = typed.iter().find(|t| t.0 == *name) {
                 if *t0 != ty {
                     return Err(CompileError::at(
@@ -234,6 +245,9 @@ pub fn bindings(
         let reg = match ty {
             Ty::Int => bump(&mut counts.i, 1),
             Ty::Str => bump(&mut counts.s, 1),
+            Ty::Array(crate::ty::Elem::Int) => bump(&mut counts.ai, 1),
+            Ty::Array(crate::ty::Elem::Str) => bump(&mut counts.as_, 1),
+            Ty::Array(_) => bump(&mut counts.af, 1),
             t => bump(&mut counts.f, t.floats() as u32),
         };
         out.push(Binding {

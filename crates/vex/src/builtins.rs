@@ -28,8 +28,9 @@ pub enum Builtin {
     PointPrims,
     Neighbours,
     NeighbourCount,
-    NearPoint,
-    NearPoints,
+    /// With a point group as the second argument when true.
+    NearPoint(bool),
+    NearPoints(bool),
     InGroup(AttribClass),
     /// The half-edge functions (a half-edge is the vertex it leaves from).
     Hedge(HedgeFn),
@@ -347,23 +348,22 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                 Val::AI(list)
             }
         }
-        Builtin::NearPoint => {
-            let max = a.get(2).map_or(f32::INFINITY, Val::f);
-            Val::I(
-                w.nearest(a[0].i(), a[1].v3(), max, 1)
-                    .first()
-                    .map_or(-1, |&p| p as i32),
-            )
-        }
-        Builtin::NearPoints => {
-            let max = a[2].f();
-            let count = a.get(3).map_or(usize::MAX, |c| c.i().max(0) as usize);
-            Val::AI(
-                w.nearest(a[0].i(), a[1].v3(), max, count)
-                    .into_iter()
-                    .map(|p| p as i32)
-                    .collect(),
-            )
+        Builtin::NearPoint(grouped) | Builtin::NearPoints(grouped) => {
+            let k = usize::from(grouped);
+            let group = if grouped { a[1].s() } else { "" };
+            let max = a.get(2 + k).map_or(f32::INFINITY, Val::f);
+            let single = matches!(site.f, Builtin::NearPoint(_));
+            let count = if single {
+                1
+            } else {
+                a.get(3 + k).map_or(usize::MAX, |c| c.i().max(0) as usize)
+            };
+            let found = w.nearest(a[0].i(), group, a[1 + k].v3(), max, count);
+            if single {
+                Val::I(found.first().map_or(-1, |&p| p as i32))
+            } else {
+                Val::AI(found.into_iter().map(|p| p as i32).collect())
+            }
         }
         Builtin::InGroup(class) => {
             let g = w.input(a[0].i());
@@ -526,5 +526,7 @@ pub fn attrib_value(data: &AttribData, i: usize) -> Val {
         AttribData::Quat(v) => Val::vec(&v[i].to_array()),
         AttribData::Mat4(v) => Val::vec(&v[i].to_cols_array()),
         AttribData::String(s) => Val::S(s.get(i).to_string()),
+        AttribData::IntArray(v) => Val::AI(v[i].clone()),
+        AttribData::FloatArray(v) => Val::AF(v[i].clone(), 1),
     }
 }

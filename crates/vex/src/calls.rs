@@ -797,13 +797,38 @@ impl<'a> Lower<'a> {
                 self.arity(name, args, 2, 2, pos)?;
                 call(self, B::NeighbourCount, &[int, int], int)
             }
-            "nearpoint" => {
-                self.arity(name, args, 2, 3, pos)?;
-                call(self, B::NearPoint, &[int, Ty::Vec3, Ty::Float], int)
-            }
-            "nearpoints" => {
-                self.arity(name, args, 3, 4, pos)?;
-                call(self, B::NearPoints, &[int, Ty::Vec3, Ty::Float, int], ia)
+            "nearpoint" | "nearpoints" => {
+                // (geo, [group,] position, [maxdist, [maxpoints]]): the
+                // group form when the second argument is a string.
+                let grouped = args.len() >= 3
+                    && match &args[1].kind {
+                        ExprKind::Str(_) => true,
+                        ExprKind::Var(v) => self.lookup(v).is_some_and(|l| l.ty == Ty::Str),
+                        _ => false,
+                    };
+                let (lo, hi) = match (name, grouped) {
+                    ("nearpoint", false) => (2, 3),
+                    ("nearpoint", true) => (3, 4),
+                    (_, false) => (3, 4),
+                    (_, true) => (4, 5),
+                };
+                self.arity(name, args, lo, hi, pos)?;
+                let mut specs = vec![int];
+                if grouped {
+                    specs.push(s);
+                }
+                specs.extend([Ty::Vec3, Ty::Float, int]);
+                let f = if name == "nearpoint" {
+                    B::NearPoint(grouped)
+                } else {
+                    B::NearPoints(grouped)
+                };
+                call(
+                    self,
+                    f,
+                    &specs[..args.len()],
+                    if name == "nearpoint" { int } else { ia },
+                )
             }
             "pointhedge" | "primhedge" | "hedge_next" | "hedge_srcpoint" | "hedge_dstpoint"
             | "hedge_isvalid" | "hedge_prim" => {

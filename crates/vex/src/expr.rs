@@ -377,6 +377,11 @@ impl<'a> Lower<'a> {
                 }
                 (true, true) => Ok(self.call_site(Builtin::MatMul, vec![x, y], Ty::Mat4, pos)),
                 (false, true) => Ok(self.call_site(Builtin::VecMat, vec![x, y], x.ty, pos)),
+                // matrix * vector: the vector as a column, i.e. v * transpose(m).
+                (true, false) if y.ty.is_vector() => {
+                    let t = self.call_site(Builtin::Transpose, vec![x], x.ty, pos);
+                    Ok(self.call_site(Builtin::VecMat, vec![y, t], y.ty, pos))
+                }
                 _ => Err(no_form()),
             };
         }

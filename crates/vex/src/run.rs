@@ -38,6 +38,8 @@ enum Read<'g> {
     Table(Vec<u32>),
     Const(f64),
     Uniform(Val),
+    AI(&'g [Vec<i32>]),
+    AF(&'g [Vec<f32>]),
 }
 
 /// A batch's queued effects and its sinks back.
@@ -209,6 +211,16 @@ pub fn run(
 pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
     let value = match (attr.default_value(), v) {
         (AttribValue::String(_), v) => AttribValue::String(v.s().to_string()),
+        (AttribValue::IntArray(_), Val::AI(a)) => AttribValue::IntArray(a.clone()),
+        (AttribValue::IntArray(_), Val::AF(a, _)) => {
+            AttribValue::IntArray(a.iter().map(|x| *x as i32).collect())
+        }
+        (AttribValue::IntArray(_), v) => AttribValue::IntArray(vec![v.i()]),
+        (AttribValue::FloatArray(_), Val::AF(a, _)) => AttribValue::FloatArray(a.clone()),
+        (AttribValue::FloatArray(_), Val::AI(a)) => {
+            AttribValue::FloatArray(a.iter().map(|x| *x as f32).collect())
+        }
+        (AttribValue::FloatArray(_), v) => AttribValue::FloatArray(v.floats().to_vec()),
         (AttribValue::Int(_), v) => AttribValue::Int(v.i()),
         (AttribValue::Float(_), v) => AttribValue::Float(v.f()),
         (d, v) => {
@@ -257,6 +269,11 @@ fn reads<'g>(
                 else {
                     return Read::Zero;
                 };
+                match a.data() {
+                    geode_geo::AttribData::IntArray(v) => return Read::AI(v),
+                    geode_geo::AttribData::FloatArray(v) => return Read::AF(v),
+                    _ => {}
+                }
                 if let Some((f, w)) = a.data().as_floats() {
                     Read::F(f, w)
                 } else if let Some(i) = a.as_i32() {
@@ -429,6 +446,20 @@ fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
                     }
                 }
             }
+            (Read::AI(col), _) => {
+                for (l, &e) in elems.iter().enumerate() {
+                    let dst = &mut fr.ai[reg * LANES + l];
+                    dst.clear();
+                    dst.extend_from_slice(col.get(e as usize).map_or(&[][..], Vec::as_slice));
+                }
+            }
+            (Read::AF(col), _) => {
+                for (l, &e) in elems.iter().enumerate() {
+                    let dst = &mut fr.af[reg * LANES + l];
+                    dst.clear();
+                    dst.extend_from_slice(col.get(e as usize).map_or(&[][..], Vec::as_slice));
+                }
+            }
             (Read::Uniform(v), _) => {
                 for l in 0..LANES {
                     crate::builtins::write(fr, b.loc, l, v.clone());
@@ -441,6 +472,15 @@ fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
                     crate::ty::Ty::Str => fr.s[reg * LANES..][..LANES]
                         .iter_mut()
                         .for_each(String::clear),
+                    crate::ty::Ty::Array(crate::ty::Elem::Int) => fr.ai[reg * LANES..][..LANES]
+                        .iter_mut()
+                        .for_each(Vec::clear),
+                    crate::ty::Ty::Array(crate::ty::Elem::Str) => fr.as_[reg * LANES..][..LANES]
+                        .iter_mut()
+                        .for_each(Vec::clear),
+                    crate::ty::Ty::Array(_) => fr.af[reg * LANES..][..LANES]
+                        .iter_mut()
+                        .for_each(Vec::clear),
                     _ => {
                         for k in 0..width {
                             fr.f[(reg + k) * LANES..][..LANES].fill(0.0);

@@ -81,11 +81,16 @@ impl Topo {
     }
 }
 
+/// A k-d tree over one point group and the point numbers of its members.
+type GroupTree = (KdTree, Vec<u32>);
+
 /// Per-run data shared by every batch.
 pub struct Shared<'a> {
     pub inputs: Vec<Option<&'a Geometry>>,
     topo: Vec<OnceLock<Topo>>,
     trees: Vec<OnceLock<KdTree>>,
+    /// Trees over one point group of an input, made on first use.
+    group_trees: std::sync::Mutex<Vec<(usize, String, Arc<GroupTree>)>>,
 }
 
 impl<'a> Shared<'a> {
@@ -95,6 +100,7 @@ impl<'a> Shared<'a> {
             inputs,
             topo: (0..n).map(|_| OnceLock::new()).collect(),
             trees: (0..n).map(|_| OnceLock::new()).collect(),
+            group_trees: std::sync::Mutex::new(Vec::new()),
         }
     }
 }
@@ -142,14 +148,49 @@ impl<'s, 'a> World<'s, 'a> {
         }))
     }
 
-    /// Up to `count` points of input `i` within `radius` of `q`, nearest first.
-    pub fn nearest(&self, i: i32, q: [f32; 3], radius: f32, count: usize) -> Vec<u32> {
+    /// Up to `count` points of input `i` (of point group `group` unless it
+    /// is empty) within `radius` of `q`, nearest first.
+    pub fn nearest(&self, i: i32, group: &str, q: [f32; 3], radius: f32, count: usize) -> Vec<u32> {
         let Some(g) = self.input(i) else {
             return Vec::new();
         };
-        let tree = self.shared.trees[i as usize]
-            .get_or_init(|| KdTree::new(g.positions().iter().map(|p| p.to_array()).collect()));
-        tree.nearest(q, radius, count)
+        let i = i as usize;
+        if group.is_empty() {
+            let tree = self.shared.trees[i]
+                .get_or_init(|| KdTree::new(g.positions().iter().map(|p| p.to_array()).collect()));
+            return tree.nearest(q, radius, count);
+        }
+        let tree = {
+            let mut cache = self
+                .shared
+                .group_trees
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
+            match cache.iter().find(|(k, name, _)| *k == i && name == group) {
+                Some((_, _, t)) => Arc::clone(t),
+                None => {
+                    let members: Vec<u32> = match g.point_groups().get(group) {
+                        Some(grp) => (0..grp.len())
+                            .filter(|&p| grp.contains(p))
+                            .map(|p| p as u32)
+                            .collect(),
+                        None => Vec::new(),
+                    };
+                    let pts = members
+                        .iter()
+                        .map(|&p| g.positions()[p as usize].to_array())
+                        .collect();
+                    let t = Arc::new((KdTree::new(pts), members));
+                    cache.push((i, group.to_string(), Arc::clone(&t)));
+                    t
+                }
+            }
+        };
+        tree.0
+            .nearest(q, radius, count)
+            .into_iter()
+            .map(|k| tree.1[k as usize])
+            .collect()
     }
 
     pub fn queue(&mut self, lane: usize, kind: EffectKind) {

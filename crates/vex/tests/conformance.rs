@@ -267,6 +267,8 @@ const CASES: &[(&str, &str, Want)] = &[
     ("matrix3 m = {1,2,3,4,5,6,7,8,9}; matrix3 t = transpose(m); f@r = t.xy;", "r", F(4.0)),
     ("matrix3 m = {2,0,0,0,3,0,0,0,4}; f@r = determinant(m);", "r", F(24.0)),
     ("matrix3 m = 2; v@r = {1, 2, 3} * m;", "r", V(&[2.0, 4.0, 6.0])),
+    ("matrix3 m = {0,1,0,-1,0,0,0,0,1}; v@r = m * {1, 0, 0};", "r", V(&[0.0, -1.0, 0.0])),
+    ("int a[]; i[]@list = a; push(a, 4); i[]@list = a; i@r = len(i[]@list);", "r", I(1)),
     ("matrix a = ident(); translate(a, {1, 0, 0}); matrix b = ident(); scale(b, {2, 2, 2}); v@r = {0, 0, 0} * (a * b);", "r", V(&[2.0, 0.0, 0.0])),
     ("matrix m = maketransform(0, 0, {1, 2, 3}, {0, 0, 90}, {1, 1, 1}); v@r = {1, 0, 0} * m;", "r", V(&[1.0, 3.0, 3.0])),
     ("matrix3 m = maketransform({0, 0, 1}, {0, 1, 0}); v@r = {1, 2, 3} * m;", "r", V(&[1.0, 2.0, 3.0])),

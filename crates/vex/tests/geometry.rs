@@ -353,3 +353,42 @@ fn one_and_many_threads_give_the_same_bytes() {
         );
     }
 }
+
+#[test]
+fn array_attributes_are_bound_and_appended_to() {
+    let out = wrangle(
+        "i[]@assoc = array(); setpointattrib(0, \"assoc\", 0, array(@ptnum), \"append\"); f[]@w = array(@P.x, 1);",
+        AttribClass::Point,
+        &four_points(),
+    );
+    match out.attrib(AttribClass::Point, "assoc").unwrap().data() {
+        geode_geo::AttribData::IntArray(v) => {
+            assert_eq!(v, &vec![vec![0, 1, 2, 3], vec![], vec![], vec![]])
+        }
+        other => panic!("{:?}", other.attrib_type()),
+    }
+    match out.attrib(AttribClass::Point, "w").unwrap().data() {
+        geode_geo::AttribData::FloatArray(v) => assert_eq!(v[2], vec![2.0, 1.0]),
+        other => panic!("{:?}", other.attrib_type()),
+    }
+    let read = wrangle(
+        "int a[] = i[]@assoc; i@n = len(a);",
+        AttribClass::Point,
+        &out,
+    );
+    assert_eq!(
+        read.attrib(AttribClass::Point, "n")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[4, 0, 0, 0]
+    );
+    let near = wrangle("setpointgroup(0, \"far\", @ptnum, @ptnum >= 2); i@n = nearpoint(0, \"far\", {0, 0, 0}, 10);", AttribClass::Point, &four_points());
+    assert_eq!(
+        near.attrib(AttribClass::Point, "n")
+            .unwrap()
+            .as_i32()
+            .unwrap(),
+        &[-1; 4]
+    );
+}
