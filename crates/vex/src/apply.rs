@@ -41,9 +41,13 @@ impl Handles {
     }
 }
 
+/// A new primitive: its points are `flat[start..start + len]`, then any
+/// `addvertex` made after another primitive was started (`extra`).
 struct NewPrim {
     polyline: bool,
-    points: Vec<u32>,
+    start: usize,
+    len: usize,
+    extra: Vec<u32>,
     elem: u32,
 }
 
@@ -67,6 +71,7 @@ pub fn apply(
     // New points are numbered as they come and added together after.
     let first_new = out.num_points();
     let mut pending: Vec<([f32; 3], Option<usize>)> = Vec::new();
+    let mut flat: Vec<u32> = Vec::new();
     for batch in &batches {
         let mut points = Handles::new(base_points);
         let mut prims = Handles::new(base_prims);
@@ -95,22 +100,22 @@ pub fn apply(
                     polyline,
                     points: pts,
                 } => {
-                    let resolved = pts
-                        .iter()
-                        .map(|&p| {
-                            resolve_point(
-                                p,
-                                &points,
-                                base_points,
-                                first_new + pending.len(),
-                                e.elem,
-                            )
-                        })
-                        .collect::<Result<Vec<u32>, _>>()?;
+                    let start = flat.len();
+                    for &p in pts.as_slice() {
+                        flat.push(resolve_point(
+                            p,
+                            &points,
+                            base_points,
+                            first_new + pending.len(),
+                            e.elem,
+                        )?);
+                    }
                     prims.insert(*handle, new_prims.len() as u32);
                     new_prims.push(NewPrim {
                         polyline: *polyline,
-                        points: resolved,
+                        start,
+                        len: flat.len() - start,
+                        extra: Vec::new(),
                         elem: e.elem,
                     });
                 }
@@ -123,7 +128,16 @@ pub fn apply(
                         e.elem,
                     )?;
                     match prims.get(prim) {
-                        Some(k) => new_prims[k as usize].points.push(pt),
+                        Some(k) => {
+                            let last = k as usize + 1 == new_prims.len();
+                            let p = &mut new_prims[k as usize];
+                            if last && p.extra.is_empty() && p.start + p.len == flat.len() {
+                                flat.push(pt);
+                                p.len += 1;
+                            } else {
+                                p.extra.push(pt);
+                            }
+                        }
                         None => {
                             return Err(RunError::At {
                                 elem: e.elem,
@@ -146,11 +160,21 @@ pub fn apply(
             copy_point(out, *src, first_new + k);
         }
     }
+    let mut scratch: Vec<u32> = Vec::new();
     for p in &new_prims {
-        let r = if p.polyline {
-            out.add_polyline(&p.points)
+        let own = &flat[p.start..p.start + p.len];
+        let pts = if p.extra.is_empty() {
+            own
         } else {
-            out.add_polygon(&p.points)
+            scratch.clear();
+            scratch.extend_from_slice(own);
+            scratch.extend_from_slice(&p.extra);
+            &scratch
+        };
+        let r = if p.polyline {
+            out.add_polyline(pts)
+        } else {
+            out.add_polygon(pts)
         };
         r.map_err(|err| RunError::At {
             elem: p.elem,
@@ -179,14 +203,15 @@ pub fn apply(
         };
         for e in batch {
             match &e.kind {
-                EffectKind::SetAttr {
-                    class,
-                    name,
-                    target,
-                    vtx,
-                    value,
-                    mode,
-                } => {
+                EffectKind::SetAttr(set) => {
+                    let crate::world::SetAttr {
+                        class,
+                        name,
+                        target,
+                        vtx,
+                        value,
+                        mode,
+                    } = set.as_ref();
                     let idx = match class {
                         AttribClass::Point => point(*target),
                         AttribClass::Primitive => prim(*target),

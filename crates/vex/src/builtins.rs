@@ -232,15 +232,22 @@ pub fn call(
     fr: &mut Frame,
     world: &mut World,
 ) -> Result<(), RunError> {
-    let mut args = Vec::with_capacity(site.args.len());
+    let mut args: Vec<Val> = site
+        .consts
+        .iter()
+        .map(|c| c.clone().unwrap_or(Val::I(0)))
+        .collect();
     for l in 0..fr.n {
         if let Some(m) = site.mask {
             if fr.i[m as usize * LANES + l] == 0 {
                 continue;
             }
         }
-        args.clear();
-        args.extend(site.args.iter().map(|a| read(fr, *a, l)));
+        for (k, a) in site.args.iter().enumerate() {
+            if site.consts[k].is_none() {
+                args[k] = read(fr, *a, l);
+            }
+        }
         let out = lane(p, site, &args, l, world)?;
         write(fr, site.out, l, out);
     }
@@ -411,14 +418,14 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
             };
             w.queue(
                 l,
-                EffectKind::SetAttr {
+                EffectKind::SetAttr(Box::new(crate::world::SetAttr {
                     class,
                     name: a[1].s().to_string(),
                     target,
                     vtx,
                     value: a[value].clone(),
                     mode,
-                },
+                })),
             );
             Val::I(0)
         }
@@ -449,13 +456,13 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     )))
                 }
             };
-            let points: Vec<i32> = a[2..]
-                .iter()
-                .flat_map(|v| match v {
-                    Val::AI(v) => v.clone(),
-                    v => vec![v.i()],
-                })
-                .collect();
+            let mut points = crate::world::Points::new();
+            for v in &a[2..] {
+                match v {
+                    Val::AI(v) => v.iter().for_each(|p| points.push(*p)),
+                    v => points.push(v.i()),
+                }
+            }
             let handle = w.new_prim();
             w.queue(
                 l,

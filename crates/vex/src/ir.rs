@@ -235,6 +235,8 @@ pub struct Loc {
 pub struct CallSite {
     pub f: Builtin,
     pub args: Vec<Loc>,
+    /// The arguments that are literals, read once instead of per lane.
+    pub consts: Vec<Option<crate::builtins::Val>>,
     pub out: Loc,
     /// Lanes the call applies to (side effects): `None` for all.
     pub mask: Option<Reg>,

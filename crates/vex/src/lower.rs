@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use crate::ast::*;
 use crate::bind::{BindSpec, Binding};
-use crate::builtins::Builtin;
+use crate::builtins::{Builtin, Val};
 use crate::ir::*;
 use crate::lex::Pos;
 use crate::ty::{Elem, Ty};
@@ -36,6 +36,9 @@ pub(crate) struct Lower<'a> {
     functions: HashMap<String, Vec<&'a Function>>,
     pub bindings: &'a [Binding],
     pub spec: &'a BindSpec<'a>,
+    /// Registers holding a literal (set by the constant helpers, dropped
+    /// when the register is allocated again): calls read them once.
+    consts: Vec<(Loc, Val)>,
     /// Which bindings the snippet assigns.
     pub written: Vec<bool>,
     /// A register holding 1 in every lane (masks start from it), set by
@@ -78,6 +81,7 @@ impl<'a> Lower<'a> {
             spec,
             ones,
             written: vec![false; bindings.len()],
+            consts: Vec::new(),
         }
     }
 
@@ -95,7 +99,10 @@ impl<'a> Lower<'a> {
             t => bump(&mut c.f, t.floats() as u32),
         };
         self.high = self.high.max(&self.alloc.c);
-        Loc { ty, reg }
+        let loc = Loc { ty, reg };
+        // A reused register no longer holds the constant it held.
+        self.consts.retain(|(l, _)| !overlaps(*l, loc));
+        loc
     }
 
     pub fn emit_op(&mut self, op: Op) -> usize {
@@ -129,12 +136,14 @@ impl<'a> Lower<'a> {
     pub fn fconst(&mut self, v: f32) -> Loc {
         let d = self.alloc(Ty::Float);
         self.emit(Op::FConst { d: d.reg, v });
+        self.consts.push((d, Val::float(v)));
         d
     }
 
     pub fn iconst(&mut self, v: i32) -> Loc {
         let d = self.alloc(Ty::Int);
         self.emit(Op::IConst { d: d.reg, v });
+        self.consts.push((d, Val::I(v)));
         d
     }
 
@@ -151,6 +160,7 @@ impl<'a> Lower<'a> {
             d: d.reg,
             s: idx as u32,
         });
+        self.consts.push((d, Val::S(s.to_string())));
         d
     }
 
@@ -398,6 +408,7 @@ impl<'a> Lower<'a> {
                     self.calls.push(CallSite {
                         f: Builtin::ArrayOf,
                         args: vec![],
+                        consts: vec![],
                         out: fresh,
                         mask: None,
                         pos: Pos::default(),
@@ -729,11 +740,21 @@ impl<'a> Lower<'a> {
 
     /// Emits a library call over the current mask into a new register.
     pub fn call_site(&mut self, f: Builtin, args: Vec<Loc>, out: Ty, pos: Pos) -> Loc {
+        let consts = args
+            .iter()
+            .map(|a| {
+                self.consts
+                    .iter()
+                    .find(|(l, _)| l == a)
+                    .map(|(_, v)| v.clone())
+            })
+            .collect();
         let out = self.alloc(out);
         let call = self.calls.len() as u32;
         self.calls.push(CallSite {
             f,
             args,
+            consts,
             out,
             mask: self.mask(),
             pos,
@@ -767,6 +788,22 @@ impl<'a> Lower<'a> {
     pub fn finish(self) -> (Vec<Op>, Vec<CallSite>, Vec<String>, Counts) {
         (self.ops, self.calls, self.strings, self.high)
     }
+}
+
+/// Whether two locations share a register of the same file.
+fn overlaps(a: Loc, b: Loc) -> bool {
+    let file = |t: Ty| match t {
+        Ty::Int => 0,
+        Ty::Str => 1,
+        Ty::Array(Elem::Int) => 2,
+        Ty::Array(Elem::Str) => 3,
+        Ty::Array(_) => 4,
+        Ty::Void => 5,
+        _ => 6,
+    };
+    let span = |l: Loc| l.reg..l.reg + (l.ty.floats() as u32).max(1);
+    let (x, y) = (span(a), span(b));
+    file(a.ty) == file(b.ty) && x.start < y.end && y.start < x.end
 }
 
 fn bump(c: &mut u32, n: u32) -> Reg {

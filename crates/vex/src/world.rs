@@ -23,14 +23,8 @@ pub enum Mode {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum EffectKind {
-    SetAttr {
-        class: AttribClass,
-        name: String,
-        target: i32,
-        vtx: i32,
-        value: Val,
-        mode: Mode,
-    },
+    /// Boxed: the rare large variant stays out of every effect's size.
+    SetAttr(Box<SetAttr>),
     AddPoint {
         handle: i32,
         from: Option<i32>,
@@ -39,7 +33,7 @@ pub enum EffectKind {
     AddPrim {
         handle: i32,
         polyline: bool,
-        points: Vec<i32>,
+        points: Points,
     },
     AddVertex {
         prim: i32,
@@ -59,6 +53,59 @@ pub enum EffectKind {
         on: bool,
     },
     Print(String),
+}
+
+/// The points `addprim` was given: up to four kept inline (the common
+/// segment, triangle and quad allocate nothing), more on the heap.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Points {
+    Inline([i32; 4], u8),
+    Heap(Vec<i32>),
+}
+
+impl Points {
+    pub fn new() -> Points {
+        Points::Inline([0; 4], 0)
+    }
+
+    pub fn push(&mut self, p: i32) {
+        match self {
+            Points::Inline(a, n) if (*n as usize) < a.len() => {
+                a[*n as usize] = p;
+                *n += 1;
+            }
+            Points::Inline(a, n) => {
+                let mut v = a[..*n as usize].to_vec();
+                v.push(p);
+                *self = Points::Heap(v);
+            }
+            Points::Heap(v) => v.push(p),
+        }
+    }
+
+    pub fn as_slice(&self) -> &[i32] {
+        match self {
+            Points::Inline(a, n) => &a[..*n as usize],
+            Points::Heap(v) => v,
+        }
+    }
+}
+
+impl Default for Points {
+    fn default() -> Points {
+        Points::new()
+    }
+}
+
+/// A write to another element's attribute.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SetAttr {
+    pub class: AttribClass,
+    pub name: String,
+    pub target: i32,
+    pub vtx: i32,
+    pub value: Val,
+    pub mode: Mode,
 }
 
 /// An effect with the element that queued it and its order in that element.
