@@ -4,8 +4,8 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use geode_op::{
-    CookEnv, ListSpec, NodeSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType,
-    Registry, SPARE_TYPES,
+    CookEnv, ListSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
+    SPARE_TYPES,
 };
 use serde_json::Value as Json;
 
@@ -107,6 +107,9 @@ pub(crate) enum NodeKind {
     Subnet {
         output: Option<usize>,
         block: Option<crate::block::Block>,
+        /// Spare parameters declared on the subnet: inner nodes that take
+        /// spare parameters read them as `../name`.
+        spare: Vec<(String, CompiledParam)>,
     },
     /// Inside a loop or solver: what `@N` or `@meta` gives on each pass.
     Feed {
@@ -204,12 +207,7 @@ impl Network {
                     })
                     .collect(),
             )
-            .with_spare(
-                spare
-                    .iter()
-                    .map(|(n, p)| (n.clone(), p.eval(frame)))
-                    .collect(),
-            ),
+            .with_spare(self.spares_at(i, spare, frame)),
             NodeKind::Subnet { block: Some(b), .. } => Params::declared(
                 &self.nodes[i].path,
                 b.params.iter().map(|p| (p.spec, p.eval(frame))).collect(),
@@ -218,6 +216,35 @@ impl Network {
                 Params::new(&self.nodes[i].path, Vec::new())
             }
         }
+    }
+
+    /// A node's spare parameters at `frame`, then (for node types that take
+    /// them) each enclosing subnet's as `../name`, `../../name`...
+    fn spares_at(
+        &self,
+        i: usize,
+        own: &[(String, CompiledParam)],
+        frame: f64,
+    ) -> Vec<(String, ParamValue)> {
+        let mut out: Vec<(String, ParamValue)> = own
+            .iter()
+            .map(|(n, p)| (n.clone(), p.eval(frame)))
+            .collect();
+        let takes = matches!(&self.nodes[i].kind, NodeKind::Op { op, .. } if op.spec().spare);
+        let mut up = String::new();
+        let mut at = self.nodes[i].parent;
+        while let (true, Some(p)) = (takes, at) {
+            up.push_str("../");
+            if let NodeKind::Subnet { spare, .. } = &self.nodes[p].kind {
+                out.extend(
+                    spare
+                        .iter()
+                        .map(|(n, c)| (format!("{up}{n}"), c.eval(frame))),
+                );
+            }
+            at = self.nodes[p].parent;
+        }
+        out
     }
 
     /// The node a parameter is tagged with: the inner node a promoted subnet
@@ -351,6 +378,7 @@ impl Builder<'_> {
                 NodeKind::Subnet {
                     output: None,
                     block: block.map(crate::block::Block::new),
+                    spare: Vec::new(),
                 }
             } else {
                 match self.registry.get(&doc.ty) {
@@ -793,19 +821,20 @@ impl Builder<'_> {
     fn spare_params(
         &mut self,
         path: &str,
-        spec: &'static NodeSpec,
+        accepts: Option<&str>,
+        own: &dyn Fn(&str) -> bool,
         doc: &NodeDoc,
     ) -> Vec<(String, CompiledParam)> {
         let mut out = Vec::new();
-        if !doc.spare.is_empty() && !spec.spare {
+        if let (false, Some(ty)) = (doc.spare.is_empty(), accepts) {
             self.errors.push(LoadError::node(
                 path,
-                format!("a {} node takes no spare parameters", spec.name),
+                format!("a {ty} node takes no spare parameters"),
             ));
             return out;
         }
         for (name, ty) in &doc.spare {
-            if spec.param(name).is_some() {
+            if own(name) {
                 self.errors.push(LoadError::param(
                     path,
                     name,
@@ -850,7 +879,9 @@ impl Builder<'_> {
                 NodeKind::Op { op, .. } => {
                     let spec = op.spec();
                     let mut given: BTreeMap<&str, &Json> = BTreeMap::new();
-                    let spare = self.spare_params(&path, spec, &doc);
+                    let refuses = (!spec.spare).then_some(spec.name);
+                    let spare =
+                        self.spare_params(&path, refuses, &|n| spec.param(n).is_some(), &doc);
                     for (name, j) in &doc.params {
                         match spec.param(name) {
                             Some(_) => {
@@ -893,8 +924,21 @@ impl Builder<'_> {
                             source: source.unwrap_or_else(|| default_source(spec)),
                         });
                     }
-                    if let NodeKind::Subnet { block: Some(b), .. } = &mut self.nodes[i].kind {
-                        b.params = compiled;
+                    let taken: Vec<String> = own
+                        .iter()
+                        .map(|p| p.name.to_owned())
+                        .chain(doc.promote.keys().cloned())
+                        .collect();
+                    let spare =
+                        self.spare_params(&path, None, &|n| taken.iter().any(|t| t == n), &doc);
+                    if let NodeKind::Subnet {
+                        block: b, spare: s, ..
+                    } = &mut self.nodes[i].kind
+                    {
+                        if let Some(b) = b {
+                            b.params = compiled;
+                        }
+                        *s = spare.clone();
                     }
                     for (name, target) in &doc.promote {
                         let Some((inner, param)) = target.rsplit_once('/') else {
@@ -917,7 +961,10 @@ impl Builder<'_> {
                         }
                     }
                     for name in doc.params.keys() {
-                        if !doc.promote.contains_key(name) && !own.iter().any(|s| s.name == name) {
+                        if !doc.promote.contains_key(name)
+                            && !own.iter().any(|s| s.name == name)
+                            && !spare.iter().any(|(n, _)| n == name)
+                        {
                             self.errors.push(LoadError::node(&path, format!("unknown parameter `{name}` (a subnet has only its promoted parameters)")));
                         }
                     }

@@ -208,6 +208,7 @@ impl Run<'_, '_> {
             NodeKind::Subnet {
                 block: Some(b),
                 output,
+                ..
             } => return self.cook_block(i, b.kind, *output, inputs),
             NodeKind::Subnet {
                 output: Some(o), ..

@@ -134,3 +134,26 @@ fn blocks_are_checked_when_the_network_loads() {
         "{e}"
     );
 }
+
+#[test]
+fn wrangles_read_an_enclosing_subnets_spare_parameters() {
+    let g = geo(
+        r#""g": {"type": "grid", "params": {"rows": 2, "columns": 2}},
+           "l": {"type": "loop", "inputs": ["g"], "spare": {"lift": "float"},
+                 "params": {"iterations": 2, "lift": {"keys": [{"frame": 1, "value": 0.25}, {"frame": 5, "value": 1}]}},
+                 "network": {"output": "step", "nodes": {
+                     "step": {"type": "wrangle", "inputs": ["@0"], "params": {"snippet": "@P.y += ch(\"../lift\");"}}}}}"#,
+        "l",
+    );
+    assert_eq!(y0(&g), 0.5);
+    let e = err(
+        r#""g": {"type": "grid"},
+           "s": {"type": "subnet", "inputs": ["g"], "spare": {"lift": "float"}, "network": {"output": "w", "nodes": {
+               "w": {"type": "wrangle", "inputs": ["@0"], "params": {"snippet": "@P.y += ch(\"../lfit\");"}}}}}"#,
+        "s",
+    );
+    assert!(
+        e.contains("no parameter '../lfit' (did you mean '../lift'?)"),
+        "{e}"
+    );
+}

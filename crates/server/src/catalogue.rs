@@ -97,6 +97,7 @@ pub fn catalogue(registry: &Registry) -> Json {
             "params": kind.params().iter().map(param_json).collect::<Vec<_>>(),
             "timeDependent": kind == geode_graph::BlockKind::Solver,
             "network": true,
+            "spare": true,
         }));
     }
     nodes.push(json!({
@@ -116,6 +117,7 @@ pub fn catalogue(registry: &Registry) -> Json {
         "params": [],
         "timeDependent": false,
         "network": true,
+        "spare": true,
     }));
     nodes.sort_by(|a, b| {
         (a["category"].as_str(), a["name"].as_str())

@@ -483,7 +483,9 @@ pub(crate) fn param_spec(
     registry: &Registry,
 ) -> Option<&'static geode_op::ParamSpec> {
     if let Some(kind) = geode_graph::BlockKind::from_type(&node.ty) {
-        return kind.params().iter().find(|p| p.name == param);
+        if let Some(p) = kind.params().iter().find(|p| p.name == param) {
+            return Some(p);
+        }
     }
     registry
         .get(&node.ty)
@@ -503,18 +505,18 @@ fn set_spare(
     registry: &Registry,
 ) -> Result<(), EditError> {
     let node = node_mut(d, path)?;
-    let Some(op) = registry.get(&node.ty) else {
-        return Err(refuse(
-            path,
-            format!("a {} takes no spare parameters", node.ty),
-        ));
-    };
-    if !op.spec().spare {
+    // Subnets, loops and solvers take them for their inner nodes (`../name`).
+    let block = geode_graph::BlockKind::from_type(&node.ty);
+    let op = registry.get(&node.ty);
+    if node.ty != "subnet" && block.is_none() && !op.is_some_and(|op| op.spec().spare) {
         return Err(refuse(
             path,
             format!("a {} takes no spare parameters", node.ty),
         ));
     }
+    let own = op.is_some_and(|op| op.spec().param(name).is_some())
+        || node.promote.contains_key(name)
+        || block.is_some_and(|k| k.params().iter().any(|p| p.name == name));
     match ty {
         None => {
             node.spare.remove(name);
@@ -539,7 +541,7 @@ fn set_spare(
                     format!("`{name}` is not a parameter name (letters, digits and _)"),
                 ));
             }
-            if op.spec().param(name).is_some() {
+            if own {
                 return Err(refuse(
                     path,
                     format!("`{name}` is one of the node's own parameters"),

@@ -324,3 +324,39 @@ fn paste_renames_collisions_and_keeps_inner_wires_only() {
         "wires from outside the copy are dropped"
     );
 }
+
+#[test]
+fn spare_parameters_are_declared_where_taken_and_keyed_like_any_other() {
+    let r = registry();
+    let d = apply(&doc("chain_vex.json"), &edit(json!({"kind": "set_spare", "path": "/compute_tangent", "name": "gain", "type": "float"})), &r).unwrap();
+    assert_eq!(d.network.nodes["compute_tangent"].spare["gain"], "float");
+    let d = apply(&d, &edit(json!({"kind": "set_key", "path": "/compute_tangent", "param": "gain", "component": 0, "frame": 5, "value": 2})), &r).unwrap();
+    assert!(d.network.nodes["compute_tangent"].params["gain"]["keys"].is_array());
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "set_spare", "path": "/curve", "name": "gain", "type": "float"})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/curve: a curve_helix takes no spare parameters"
+    );
+    let e = apply(&d, &edit(json!({"kind": "set_spare", "path": "/compute_tangent", "name": "snippet", "type": "float"})), &r).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/compute_tangent: `snippet` is one of the node's own parameters"
+    );
+    let d = apply(
+        &d,
+        &edit(
+            json!({"kind": "set_spare", "path": "/compute_tangent", "name": "gain", "type": null}),
+        ),
+        &r,
+    )
+    .unwrap();
+    assert!(d.network.nodes["compute_tangent"].spare.is_empty());
+    assert!(!d.network.nodes["compute_tangent"]
+        .params
+        .contains_key("gain"));
+}
