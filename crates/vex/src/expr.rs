@@ -552,33 +552,38 @@ impl<'a> Lower<'a> {
                         let idx = self.copy(idx);
                         Ok(Target::Elem { arr: l, idx })
                     }
-                    t if t.is_vector() || t.is_matrix() => {
-                        let k = self.const_index(i)?;
-                        let width = if t.is_matrix() {
-                            (t.floats() as f64).sqrt() as u32
-                        } else {
-                            t.floats() as u32
-                        };
-                        if k >= width {
-                            return err(i.pos, format!("index {k} is past the end of {}", t.a()));
-                        }
-                        if t.is_matrix() {
-                            let row = Ty::of_floats(width as usize).expect("a row");
-                            return Ok(Target::Regs(Loc {
-                                ty: row,
-                                reg: l.reg + k * width,
-                            }));
-                        }
-                        Ok(Target::Regs(Loc {
-                            ty: Ty::Float,
-                            reg: l.reg + k,
-                        }))
-                    }
+                    t if t.is_vector() || t.is_matrix() => Ok(Target::Regs(self.component(l, i)?)),
                     t => err(e.pos, format!("{} cannot be indexed", t.a())),
                 }
             }
             _ => err(e.pos, "this expression cannot be assigned to"),
         }
+    }
+
+    /// `v[k]` of a vector (a component) or a matrix (a row), `k` constant:
+    /// the registers themselves, so it reads and assigns alike.
+    fn component(&mut self, v: Loc, i: &Expr) -> LResult<Loc> {
+        let t = v.ty;
+        let k = self.const_index(i)?;
+        let width = if t.is_matrix() {
+            (t.floats() as f64).sqrt() as u32
+        } else {
+            t.floats() as u32
+        };
+        if k >= width {
+            return err(i.pos, format!("index {k} is past the end of {}", t.a()));
+        }
+        if t.is_matrix() {
+            let row = Ty::of_floats(width as usize).expect("a row");
+            return Ok(Loc {
+                ty: row,
+                reg: v.reg + k * width,
+            });
+        }
+        Ok(Loc {
+            ty: Ty::Float,
+            reg: v.reg + k,
+        })
     }
 
     fn const_index(&mut self, i: &Expr) -> LResult<u32> {
@@ -666,28 +671,7 @@ impl<'a> Lower<'a> {
                 let idx = self.convert(idx, Ty::Int, i.pos)?;
                 Ok(self.call_site(Builtin::IndexGet, vec![v, idx], Ty::Str, pos))
             }
-            t if t.is_vector() || t.is_matrix() => {
-                let k = self.const_index(i)?;
-                let width = if t.is_matrix() {
-                    (t.floats() as f64).sqrt() as u32
-                } else {
-                    t.floats() as u32
-                };
-                if k >= width {
-                    return err(i.pos, format!("index {k} is past the end of {}", t.a()));
-                }
-                if t.is_matrix() {
-                    let row = Ty::of_floats(width as usize).expect("a row");
-                    return Ok(Loc {
-                        ty: row,
-                        reg: v.reg + k * width,
-                    });
-                }
-                Ok(Loc {
-                    ty: Ty::Float,
-                    reg: v.reg + k,
-                })
-            }
+            t if t.is_vector() || t.is_matrix() => self.component(v, i),
             t => err(pos, format!("{} cannot be indexed", t.a())),
         }
     }

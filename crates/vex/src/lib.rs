@@ -31,9 +31,9 @@ mod world;
 pub use bind::{BindSpec, Channel};
 pub use ir::LANES;
 pub use lex::Pos;
-pub use run::{RunOptions, RunReport};
+pub use run::{run, RunOptions, RunReport};
 
-use geode_geo::{AttribClass, Geometry};
+use geode_geo::AttribClass;
 
 /// A compile error at a line and column of the snippet.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -128,16 +128,6 @@ pub fn compile(src: &str, spec: &BindSpec) -> Result<Program, CompileError> {
         written,
         run_over: spec.run_over,
     })
-}
-
-/// Runs `p` on `out`, a copy of `inputs[0]` that receives the results.
-pub fn run(
-    p: &Program,
-    out: &mut Geometry,
-    inputs: &[Option<&Geometry>],
-    opts: &RunOptions,
-) -> Result<RunReport, RunError> {
-    run::run(p, out, inputs, opts)
 }
 
 /// ` (did you mean 'x'?)` for the known name closest to `name`, if close.

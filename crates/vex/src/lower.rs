@@ -202,63 +202,16 @@ impl<'a> Lower<'a> {
 
     /// Copies `src` into `dst` (same type) on the lanes of the current mask.
     pub fn store(&mut self, dst: Loc, src: Loc) {
-        if dst == src {
+        if dst == src || dst.ty == Ty::Void {
             return;
         }
         let m = self.mask();
-        match dst.ty {
-            Ty::Void => {}
-            Ty::Int => {
-                self.emit(match m {
-                    Some(m) => Op::ISel {
-                        d: dst.reg,
-                        s: src.reg,
-                        m,
-                    },
-                    None => Op::IMov {
-                        d: dst.reg,
-                        s: src.reg,
-                    },
-                });
+        if dst.ty.is_floaty() {
+            for k in 0..dst.ty.floats() as u32 {
+                self.emit(copy_op(Ty::Float, dst.reg + k, src.reg + k, m));
             }
-            Ty::Str => {
-                self.emit(match m {
-                    Some(m) => Op::SSel {
-                        d: dst.reg,
-                        s: src.reg,
-                        m,
-                    },
-                    None => Op::SMov {
-                        d: dst.reg,
-                        s: src.reg,
-                    },
-                });
-            }
-            Ty::Array(e) => {
-                let file = arr_file(e);
-                self.emit(match m {
-                    Some(m) => Op::ASel {
-                        file,
-                        d: dst.reg,
-                        s: src.reg,
-                        m,
-                    },
-                    None => Op::AMov {
-                        file,
-                        d: dst.reg,
-                        s: src.reg,
-                    },
-                });
-            }
-            t => {
-                for k in 0..t.floats() as u32 {
-                    let (d, s) = (dst.reg + k, src.reg + k);
-                    self.emit(match m {
-                        Some(m) => Op::FSel { d, s, m },
-                        None => Op::FMov { d, s },
-                    });
-                }
-            }
+        } else {
+            self.emit(copy_op(dst.ty, dst.reg, src.reg, m));
         }
     }
 
@@ -787,6 +740,30 @@ impl<'a> Lower<'a> {
 
     pub fn finish(self) -> (Vec<Op>, Vec<CallSite>, Vec<String>, Counts) {
         (self.ops, self.calls, self.strings, self.high)
+    }
+}
+
+/// The instruction copying register `s` to `d` for a value of `ty` (one
+/// register of its file), on the lanes of mask `m` or all of them.
+fn copy_op(ty: Ty, d: Reg, s: Reg, m: Option<Reg>) -> Op {
+    match (ty, m) {
+        (Ty::Int, Some(m)) => Op::ISel { d, s, m },
+        (Ty::Int, None) => Op::IMov { d, s },
+        (Ty::Str, Some(m)) => Op::SSel { d, s, m },
+        (Ty::Str, None) => Op::SMov { d, s },
+        (Ty::Array(e), Some(m)) => Op::ASel {
+            file: arr_file(e),
+            d,
+            s,
+            m,
+        },
+        (Ty::Array(e), None) => Op::AMov {
+            file: arr_file(e),
+            d,
+            s,
+        },
+        (_, Some(m)) => Op::FSel { d, s, m },
+        (_, None) => Op::FMov { d, s },
     }
 }
 
