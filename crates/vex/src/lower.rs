@@ -451,13 +451,7 @@ impl<'a> Lower<'a> {
         self.emit(Op::Poll);
         let mut exit = None;
         if !post_test {
-            if let Some(c) = cond {
-                let mark = self.alloc;
-                let t = self.truth(c)?;
-                self.update_int(active, IBinOp::LAnd, t);
-                self.alloc = mark;
-            }
-            exit = Some(self.emit(Op::JumpIfNone { m: active, to: 0 }));
+            exit = Some(self.loop_test(cond, active)?);
         }
         let live = self.mask_copy();
         self.masks.push(live);
@@ -472,13 +466,7 @@ impl<'a> Lower<'a> {
             self.alloc = mark;
         }
         if post_test {
-            if let Some(c) = cond {
-                let mark = self.alloc;
-                let t = self.truth(c)?;
-                self.update_int(active, IBinOp::LAnd, t);
-                self.alloc = mark;
-            }
-            exit = Some(self.emit(Op::JumpIfNone { m: active, to: 0 }));
+            exit = Some(self.loop_test(cond, active)?);
         }
         self.emit(Op::Jump { to: top });
         let end = self.here();
@@ -487,6 +475,18 @@ impl<'a> Lower<'a> {
         }
         self.masks.pop();
         Ok(())
+    }
+
+    /// Narrows a loop's `active` lanes by its condition and emits the exit
+    /// jump (patched by the caller) taken when none is left.
+    fn loop_test(&mut self, cond: Option<&Expr>, active: Reg) -> LResult<usize> {
+        if let Some(c) = cond {
+            let mark = self.alloc;
+            let t = self.truth(c)?;
+            self.update_int(active, IBinOp::LAnd, t);
+            self.alloc = mark;
+        }
+        Ok(self.emit(Op::JumpIfNone { m: active, to: 0 }))
     }
 
     fn foreach(
