@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use glam::{Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
 
 use crate::error::GeoError;
 
@@ -37,10 +37,13 @@ pub enum AttribType {
     Vec4,
     Quat,
     Mat4,
+    Mat3,
     String,
     /// Arrays per element (Houdini's `i[]@` and `f[]@`).
     IntArray,
     FloatArray,
+    Vec3Array,
+    StringArray,
 }
 
 impl fmt::Display for AttribType {
@@ -53,9 +56,12 @@ impl fmt::Display for AttribType {
             AttribType::Vec4 => "vector4",
             AttribType::Quat => "quaternion",
             AttribType::Mat4 => "matrix4",
+            AttribType::Mat3 => "matrix3",
             AttribType::String => "string",
             AttribType::IntArray => "int array",
             AttribType::FloatArray => "float array",
+            AttribType::Vec3Array => "vector3 array",
+            AttribType::StringArray => "string array",
         })
     }
 }
@@ -107,9 +113,12 @@ pub enum AttribValue {
     Vec4(Vec4),
     Quat(Quat),
     Mat4(Mat4),
+    Mat3(Mat3),
     String(String),
     IntArray(Vec<i32>),
     FloatArray(Vec<f32>),
+    Vec3Array(Vec<Vec3>),
+    StringArray(Vec<String>),
 }
 
 impl AttribValue {
@@ -122,9 +131,12 @@ impl AttribValue {
             AttribValue::Vec4(_) => AttribType::Vec4,
             AttribValue::Quat(_) => AttribType::Quat,
             AttribValue::Mat4(_) => AttribType::Mat4,
+            AttribValue::Mat3(_) => AttribType::Mat3,
             AttribValue::String(_) => AttribType::String,
             AttribValue::IntArray(_) => AttribType::IntArray,
             AttribValue::FloatArray(_) => AttribType::FloatArray,
+            AttribValue::Vec3Array(_) => AttribType::Vec3Array,
+            AttribValue::StringArray(_) => AttribType::StringArray,
         }
     }
 
@@ -138,9 +150,12 @@ impl AttribValue {
             AttribType::Vec4 => AttribValue::Vec4(Vec4::ZERO),
             AttribType::Quat => AttribValue::Quat(Quat::IDENTITY),
             AttribType::Mat4 => AttribValue::Mat4(Mat4::IDENTITY),
+            AttribType::Mat3 => AttribValue::Mat3(Mat3::IDENTITY),
             AttribType::String => AttribValue::String(String::new()),
             AttribType::IntArray => AttribValue::IntArray(Vec::new()),
             AttribType::FloatArray => AttribValue::FloatArray(Vec::new()),
+            AttribType::Vec3Array => AttribValue::Vec3Array(Vec::new()),
+            AttribType::StringArray => AttribValue::StringArray(Vec::new()),
         }
     }
 }
@@ -179,9 +194,12 @@ pub enum AttribData {
     Vec4(Vec<Vec4>),
     Quat(Vec<Quat>),
     Mat4(Vec<Mat4>),
+    Mat3(Vec<Mat3>),
     String(StringColumn),
     IntArray(Vec<Vec<i32>>),
     FloatArray(Vec<Vec<f32>>),
+    Vec3Array(Vec<Vec<Vec3>>),
+    StringArray(Vec<Vec<String>>),
 }
 
 /// Runs `$body` with `$v` bound to the inner `Vec` of every numeric variant,
@@ -191,6 +209,8 @@ macro_rules! each_column {
         match $data {
             AttribData::IntArray($a) => $abody,
             AttribData::FloatArray($a) => $abody,
+            AttribData::Vec3Array($a) => $abody,
+            AttribData::StringArray($a) => $abody,
             AttribData::Float($v) => $body,
             AttribData::Int($v) => $body,
             AttribData::Vec2($v) => $body,
@@ -198,6 +218,7 @@ macro_rules! each_column {
             AttribData::Vec4($v) => $body,
             AttribData::Quat($v) => $body,
             AttribData::Mat4($v) => $body,
+            AttribData::Mat3($v) => $body,
             AttribData::String($s) => $sbody,
         }
     };
@@ -214,12 +235,15 @@ impl AttribData {
             AttribValue::Vec4(x) => AttribData::Vec4(vec![*x; len]),
             AttribValue::Quat(x) => AttribData::Quat(vec![*x; len]),
             AttribValue::Mat4(x) => AttribData::Mat4(vec![*x; len]),
+            AttribValue::Mat3(x) => AttribData::Mat3(vec![*x; len]),
             AttribValue::String(s) => AttribData::String(StringColumn {
                 table: vec![s.clone()],
                 indices: vec![0; len],
             }),
             AttribValue::IntArray(a) => AttribData::IntArray(vec![a.clone(); len]),
             AttribValue::FloatArray(a) => AttribData::FloatArray(vec![a.clone(); len]),
+            AttribValue::Vec3Array(a) => AttribData::Vec3Array(vec![a.clone(); len]),
+            AttribValue::StringArray(a) => AttribData::StringArray(vec![a.clone(); len]),
         }
     }
 
@@ -232,9 +256,12 @@ impl AttribData {
             AttribData::Vec4(_) => AttribType::Vec4,
             AttribData::Quat(_) => AttribType::Quat,
             AttribData::Mat4(_) => AttribType::Mat4,
+            AttribData::Mat3(_) => AttribType::Mat3,
             AttribData::String(_) => AttribType::String,
             AttribData::IntArray(_) => AttribType::IntArray,
             AttribData::FloatArray(_) => AttribType::FloatArray,
+            AttribData::Vec3Array(_) => AttribType::Vec3Array,
+            AttribData::StringArray(_) => AttribType::StringArray,
         }
     }
 
@@ -256,9 +283,12 @@ impl AttribData {
             AttribData::Vec4(v) => AttribValue::Vec4(v[i]),
             AttribData::Quat(v) => AttribValue::Quat(v[i]),
             AttribData::Mat4(v) => AttribValue::Mat4(v[i]),
+            AttribData::Mat3(v) => AttribValue::Mat3(v[i]),
             AttribData::String(s) => AttribValue::String(s.get(i).to_owned()),
             AttribData::IntArray(v) => AttribValue::IntArray(v[i].clone()),
             AttribData::FloatArray(v) => AttribValue::FloatArray(v[i].clone()),
+            AttribData::Vec3Array(v) => AttribValue::Vec3Array(v[i].clone()),
+            AttribData::StringArray(v) => AttribValue::StringArray(v[i].clone()),
         }
     }
 
@@ -272,12 +302,15 @@ impl AttribData {
             (AttribData::Vec4(v), AttribValue::Vec4(x)) => v[i] = *x,
             (AttribData::Quat(v), AttribValue::Quat(x)) => v[i] = *x,
             (AttribData::Mat4(v), AttribValue::Mat4(x)) => v[i] = *x,
+            (AttribData::Mat3(v), AttribValue::Mat3(x)) => v[i] = *x,
             (AttribData::String(s), AttribValue::String(x)) => {
                 let k = s.intern(x);
                 s.indices[i] = k;
             }
             (AttribData::IntArray(v), AttribValue::IntArray(x)) => v[i].clone_from(x),
             (AttribData::FloatArray(v), AttribValue::FloatArray(x)) => v[i].clone_from(x),
+            (AttribData::Vec3Array(v), AttribValue::Vec3Array(x)) => v[i].clone_from(x),
+            (AttribData::StringArray(v), AttribValue::StringArray(x)) => v[i].clone_from(x),
             (_, other) => return Err(other.attrib_type()),
         }
         Ok(())
@@ -293,12 +326,15 @@ impl AttribData {
             (AttribData::Vec4(v), AttribValue::Vec4(x)) => v.resize(len, *x),
             (AttribData::Quat(v), AttribValue::Quat(x)) => v.resize(len, *x),
             (AttribData::Mat4(v), AttribValue::Mat4(x)) => v.resize(len, *x),
+            (AttribData::Mat3(v), AttribValue::Mat3(x)) => v.resize(len, *x),
             (AttribData::String(s), AttribValue::String(x)) => {
                 let k = s.intern(x);
                 s.indices.resize(len, k);
             }
             (AttribData::IntArray(v), AttribValue::IntArray(x)) => v.resize(len, x.clone()),
             (AttribData::FloatArray(v), AttribValue::FloatArray(x)) => v.resize(len, x.clone()),
+            (AttribData::Vec3Array(v), AttribValue::Vec3Array(x)) => v.resize(len, x.clone()),
+            (AttribData::StringArray(v), AttribValue::StringArray(x)) => v.resize(len, x.clone()),
             (data, _) => unreachable!(
                 "attribute default type checked on creation ({})",
                 data.attrib_type()
@@ -319,6 +355,7 @@ impl AttribData {
             AttribData::Vec4(v) => AttribData::Vec4(pick(v, indices)),
             AttribData::Quat(v) => AttribData::Quat(pick(v, indices)),
             AttribData::Mat4(v) => AttribData::Mat4(pick(v, indices)),
+            AttribData::Mat3(v) => AttribData::Mat3(pick(v, indices)),
             AttribData::String(s) => AttribData::String(StringColumn {
                 table: s.table.clone(),
                 indices: pick(&s.indices, indices),
@@ -328,6 +365,12 @@ impl AttribData {
             }
             AttribData::FloatArray(v) => {
                 AttribData::FloatArray(indices.iter().map(|&i| v[i as usize].clone()).collect())
+            }
+            AttribData::Vec3Array(v) => {
+                AttribData::Vec3Array(indices.iter().map(|&i| v[i as usize].clone()).collect())
+            }
+            AttribData::StringArray(v) => {
+                AttribData::StringArray(indices.iter().map(|&i| v[i as usize].clone()).collect())
             }
         }
     }
@@ -356,9 +399,12 @@ impl AttribData {
             }
             AttribData::Int(_)
             | AttribData::Mat4(_)
+            | AttribData::Mat3(_)
             | AttribData::String(_)
             | AttribData::IntArray(_)
-            | AttribData::FloatArray(_) => self.gather(&nearest),
+            | AttribData::FloatArray(_)
+            | AttribData::Vec3Array(_)
+            | AttribData::StringArray(_) => self.gather(&nearest),
         }
     }
 
@@ -372,6 +418,7 @@ impl AttribData {
             (AttribData::Vec4(a), AttribData::Vec4(b)) => a.extend_from_slice(b),
             (AttribData::Quat(a), AttribData::Quat(b)) => a.extend_from_slice(b),
             (AttribData::Mat4(a), AttribData::Mat4(b)) => a.extend_from_slice(b),
+            (AttribData::Mat3(a), AttribData::Mat3(b)) => a.extend_from_slice(b),
             (AttribData::String(a), AttribData::String(b)) => {
                 let remap: Vec<u32> = b.table.iter().map(|s| a.intern(s)).collect();
                 a.indices
@@ -379,6 +426,8 @@ impl AttribData {
             }
             (AttribData::IntArray(a), AttribData::IntArray(b)) => a.extend_from_slice(b),
             (AttribData::FloatArray(a), AttribData::FloatArray(b)) => a.extend_from_slice(b),
+            (AttribData::Vec3Array(a), AttribData::Vec3Array(b)) => a.extend_from_slice(b),
+            (AttribData::StringArray(a), AttribData::StringArray(b)) => a.extend_from_slice(b),
             _ => return false,
         }
         true
@@ -394,10 +443,13 @@ impl AttribData {
             AttribData::Vec4(v) => (bytemuck::cast_slice(v), 4),
             AttribData::Quat(v) => (bytemuck::cast_slice(v), 4),
             AttribData::Mat4(v) => (bytemuck::cast_slice(v), 16),
+            AttribData::Mat3(v) => (bytemuck::cast_slice(v), 9),
             AttribData::Int(_)
             | AttribData::String(_)
             | AttribData::IntArray(_)
-            | AttribData::FloatArray(_) => return None,
+            | AttribData::FloatArray(_)
+            | AttribData::Vec3Array(_)
+            | AttribData::StringArray(_) => return None,
         })
     }
 
@@ -410,10 +462,13 @@ impl AttribData {
             AttribData::Vec4(v) => (bytemuck::cast_slice_mut(v), 4),
             AttribData::Quat(v) => (bytemuck::cast_slice_mut(v), 4),
             AttribData::Mat4(v) => (bytemuck::cast_slice_mut(v), 16),
+            AttribData::Mat3(v) => (bytemuck::cast_slice_mut(v), 9),
             AttribData::Int(_)
             | AttribData::String(_)
             | AttribData::IntArray(_)
-            | AttribData::FloatArray(_) => return None,
+            | AttribData::FloatArray(_)
+            | AttribData::Vec3Array(_)
+            | AttribData::StringArray(_) => return None,
         })
     }
 
@@ -513,6 +568,7 @@ impl Attribute {
     typed_access!(as_vec4, as_vec4_mut, Vec4, Vec4);
     typed_access!(as_quat, as_quat_mut, Quat, Quat);
     typed_access!(as_mat4, as_mat4_mut, Mat4, Mat4);
+    typed_access!(as_mat3, as_mat3_mut, Mat3, Mat3);
 
     pub fn as_strings(&self) -> Option<&StringColumn> {
         match &self.data {

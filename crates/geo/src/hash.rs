@@ -37,9 +37,15 @@ fn put_value(h: &mut Xxh3, v: &AttribValue) {
         AttribValue::Vec4(x) => h.update(bytemuck::bytes_of(x)),
         AttribValue::Quat(x) => h.update(bytemuck::bytes_of(x)),
         AttribValue::Mat4(x) => h.update(bytemuck::bytes_of(x)),
+        AttribValue::Mat3(x) => h.update(bytemuck::bytes_of(x)),
         AttribValue::String(s) => put_str(h, s),
         AttribValue::IntArray(a) => put_array(h, bytemuck::cast_slice(a)),
         AttribValue::FloatArray(a) => put_array(h, bytemuck::cast_slice(a)),
+        AttribValue::Vec3Array(a) => put_array(h, bytemuck::cast_slice(a)),
+        AttribValue::StringArray(a) => {
+            h.update(&(a.len() as u64).to_le_bytes());
+            a.iter().for_each(|s| put_str(h, s));
+        }
     }
 }
 

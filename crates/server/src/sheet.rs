@@ -26,11 +26,14 @@ fn components(v: &AttribValue) -> Vec<String> {
         AttribValue::Vec4(v) => v.to_array().map(f).to_vec(),
         AttribValue::Quat(q) => q.to_array().map(f).to_vec(),
         AttribValue::Mat4(m) => m.to_cols_array().map(f).to_vec(),
+        AttribValue::Mat3(m) => m.to_cols_array().map(f).to_vec(),
         AttribValue::String(s) => vec![s.clone()],
         AttribValue::IntArray(a) => vec![format!("{a:?}")],
         AttribValue::FloatArray(a) => {
             vec![format!("{:?}", a.iter().map(|x| f(*x)).collect::<Vec<_>>()).replace('"', "")]
         }
+        AttribValue::Vec3Array(a) => vec![format!("{a:?}")],
+        AttribValue::StringArray(a) => vec![format!("{a:?}")],
     }
 }
 
@@ -40,11 +43,14 @@ fn width(t: AttribType) -> usize {
         | AttribType::Int
         | AttribType::String
         | AttribType::IntArray
-        | AttribType::FloatArray => 1,
+        | AttribType::FloatArray
+        | AttribType::Vec3Array
+        | AttribType::StringArray => 1,
         AttribType::Vec2 => 2,
         AttribType::Vec3 => 3,
         AttribType::Vec4 | AttribType::Quat => 4,
         AttribType::Mat4 => 16,
+        AttribType::Mat3 => 9,
     }
 }
 

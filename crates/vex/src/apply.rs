@@ -320,6 +320,9 @@ fn value_type(v: &Val) -> Option<AttribValue> {
         Val::F(_, 16) => AttribValue::Mat4(Default::default()),
         Val::AI(_) => AttribValue::IntArray(Vec::new()),
         Val::AF(_, 1) => AttribValue::FloatArray(Vec::new()),
+        Val::AF(_, 3) => AttribValue::Vec3Array(Vec::new()),
+        Val::AS(_) => AttribValue::StringArray(Vec::new()),
+        Val::F(_, 9) => AttribValue::Mat3(Default::default()),
         _ => return None,
     })
 }
@@ -376,6 +379,14 @@ fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
                 x => a.push(x.i()),
             }
             Val::AI(a)
+        }
+        (Val::AS(a), b, Mode::Append | Mode::Add) => {
+            let mut a = a.clone();
+            match b {
+                Val::AS(x) => a.extend_from_slice(x),
+                x => a.push(x.s().to_string()),
+            }
+            Val::AS(a)
         }
         (Val::AF(a, w), b, Mode::Append | Mode::Add) => {
             let mut a = a.clone();

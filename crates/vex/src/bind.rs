@@ -89,6 +89,9 @@ pub fn ty_of(data: &AttribData) -> Option<Ty> {
         AttribData::String(_) => Ty::Str,
         AttribData::IntArray(_) => Ty::Array(crate::ty::Elem::Int),
         AttribData::FloatArray(_) => Ty::Array(crate::ty::Elem::Float),
+        AttribData::Mat3(_) => Ty::Mat3,
+        AttribData::Vec3Array(_) => Ty::Array(crate::ty::Elem::Vec3),
+        AttribData::StringArray(_) => Ty::Array(crate::ty::Elem::Str),
     })
 }
 
@@ -104,6 +107,9 @@ pub fn attrib_type(ty: Ty) -> Option<AttribType> {
         Ty::Str => AttribType::String,
         Ty::Array(crate::ty::Elem::Int) => AttribType::IntArray,
         Ty::Array(crate::ty::Elem::Float) => AttribType::FloatArray,
+        Ty::Array(crate::ty::Elem::Vec3) => AttribType::Vec3Array,
+        Ty::Array(crate::ty::Elem::Str) => AttribType::StringArray,
+        Ty::Mat3 => AttribType::Mat3,
         _ => return None,
     })
 }
@@ -190,7 +196,7 @@ pub fn bindings(
     // Typed uses decide first; untyped uses adopt them.
     let mut typed: Vec<(String, Ty, crate::lex::Pos, char)> = Vec::new();
     for (name, prefix, array, pos) in &uses {
-        if *array && !matches!(prefix, Some('i') | Some('f')) {
+        if *array && !matches!(prefix, Some('i') | Some('f') | Some('v') | Some('s')) {
             return Err(CompileError::at(
                 *pos,
                 format!(
@@ -235,12 +241,6 @@ pub fn bindings(
                     format!("@{name} is a {f} attribute; it cannot be bound as a {e}"),
                 ));
             }
-        }
-        if ty == Ty::Mat3 && matches!(source, Source::Attr { .. }) {
-            return Err(CompileError::at(
-                *pos,
-                format!("@{name}: matrix3 attributes are not supported yet"),
-            ));
         }
         let reg = match ty {
             Ty::Int => bump(&mut counts.i, 1),

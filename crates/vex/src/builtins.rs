@@ -535,5 +535,8 @@ pub fn attrib_value(data: &AttribData, i: usize) -> Val {
         AttribData::String(s) => Val::S(s.get(i).to_string()),
         AttribData::IntArray(v) => Val::AI(v[i].clone()),
         AttribData::FloatArray(v) => Val::AF(v[i].clone(), 1),
+        AttribData::Mat3(v) => Val::vec(&v[i].to_cols_array()),
+        AttribData::Vec3Array(v) => Val::AF(v[i].iter().flat_map(|p| p.to_array()).collect(), 3),
+        AttribData::StringArray(v) => Val::AS(v[i].clone()),
     }
 }

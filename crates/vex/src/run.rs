@@ -40,6 +40,8 @@ enum Read<'g> {
     Uniform(Val),
     AI(&'g [Vec<i32>]),
     AF(&'g [Vec<f32>]),
+    AV(&'g [Vec<geode_geo::glam::Vec3>]),
+    AS(&'g [Vec<String>]),
 }
 
 /// A batch's queued effects and its sinks back.
@@ -221,6 +223,16 @@ pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
             AttribValue::FloatArray(a.iter().map(|x| *x as f32).collect())
         }
         (AttribValue::FloatArray(_), v) => AttribValue::FloatArray(v.floats().to_vec()),
+        (AttribValue::Vec3Array(_), Val::AF(a, _)) => AttribValue::Vec3Array(
+            a.chunks_exact(3)
+                .map(|c| geode_geo::glam::Vec3::new(c[0], c[1], c[2]))
+                .collect(),
+        ),
+        (AttribValue::Vec3Array(_), v) => {
+            AttribValue::Vec3Array(vec![geode_geo::glam::Vec3::from(v.v3())])
+        }
+        (AttribValue::StringArray(_), Val::AS(a)) => AttribValue::StringArray(a.clone()),
+        (AttribValue::StringArray(_), v) => AttribValue::StringArray(vec![v.s().to_string()]),
         (AttribValue::Int(_), v) => AttribValue::Int(v.i()),
         (AttribValue::Float(_), v) => AttribValue::Float(v.f()),
         (d, v) => {
@@ -238,6 +250,9 @@ pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
                     AttribValue::Quat(geode_geo::glam::Quat::from_xyzw(g(0), g(1), g(2), g(3)))
                 }
                 AttribValue::Mat4(_) => AttribValue::Mat4(geode_geo::glam::Mat4::from_cols_array(
+                    &std::array::from_fn(g),
+                )),
+                AttribValue::Mat3(_) => AttribValue::Mat3(geode_geo::glam::Mat3::from_cols_array(
                     &std::array::from_fn(g),
                 )),
                 other => other.clone(),
@@ -272,6 +287,8 @@ fn reads<'g>(
                 match a.data() {
                     geode_geo::AttribData::IntArray(v) => return Read::AI(v),
                     geode_geo::AttribData::FloatArray(v) => return Read::AF(v),
+                    geode_geo::AttribData::Vec3Array(v) => return Read::AV(v),
+                    geode_geo::AttribData::StringArray(v) => return Read::AS(v),
                     _ => {}
                 }
                 if let Some((f, w)) = a.data().as_floats() {
@@ -458,6 +475,22 @@ fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
                     let dst = &mut fr.af[reg * LANES + l];
                     dst.clear();
                     dst.extend_from_slice(col.get(e as usize).map_or(&[][..], Vec::as_slice));
+                }
+            }
+            (Read::AV(col), _) => {
+                for (l, &e) in elems.iter().enumerate() {
+                    let dst = &mut fr.af[reg * LANES + l];
+                    dst.clear();
+                    if let Some(row) = col.get(e as usize) {
+                        dst.extend(row.iter().flat_map(|p| p.to_array()));
+                    }
+                }
+            }
+            (Read::AS(col), _) => {
+                for (l, &e) in elems.iter().enumerate() {
+                    let dst = &mut fr.as_[reg * LANES + l];
+                    dst.clear();
+                    dst.extend(col.get(e as usize).into_iter().flatten().cloned());
                 }
             }
             (Read::Uniform(v), _) => {

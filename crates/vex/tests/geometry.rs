@@ -392,3 +392,38 @@ fn array_attributes_are_bound_and_appended_to() {
         &[-1; 4]
     );
 }
+
+#[test]
+fn matrix3_vector_and_string_array_attributes_round_trip() {
+    let out = wrangle(
+        "3@xf = ident() * (@ptnum + 1); v[]@trail = array(@P, @P * 2); s[]@tags = array(\"a\", itoa(@ptnum));",
+        AttribClass::Point,
+        &four_points(),
+    );
+    let xf = out.attrib(AttribClass::Point, "xf").unwrap();
+    assert_eq!(
+        xf.as_mat3().unwrap()[2],
+        geode_geo::glam::Mat3::from_diagonal(geode_geo::glam::Vec3::splat(3.0))
+    );
+    match out.attrib(AttribClass::Point, "trail").unwrap().data() {
+        geode_geo::AttribData::Vec3Array(v) => assert_eq!(
+            v[1],
+            vec![geode_geo::glam::Vec3::X, geode_geo::glam::Vec3::X * 2.0]
+        ),
+        other => panic!("{:?}", other.attrib_type()),
+    }
+    match out.attrib(AttribClass::Point, "tags").unwrap().data() {
+        geode_geo::AttribData::StringArray(v) => {
+            assert_eq!(v[3], vec!["a".to_string(), "3".to_string()])
+        }
+        other => panic!("{:?}", other.attrib_type()),
+    }
+    let read = wrangle("matrix3 m = 3@xf; vector t[] = v[]@trail; string s[] = s[]@tags; f@r = m.zz + t[1].x + len(s);", AttribClass::Point, &out);
+    assert_eq!(
+        read.attrib(AttribClass::Point, "r")
+            .unwrap()
+            .as_f32()
+            .unwrap(),
+        &[3.0, 6.0, 9.0, 12.0]
+    );
+}
