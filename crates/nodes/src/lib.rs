@@ -11,6 +11,7 @@ mod file;
 mod flow;
 mod frames;
 mod frep;
+mod frep_file;
 mod frep_mesh;
 mod groups;
 mod growth;
@@ -40,6 +41,7 @@ pub fn registry() -> Registry {
     transform::register(&mut r);
     flow::register(&mut r);
     frep::register(&mut r);
+    frep_file::register(&mut r);
     frep_mesh::register(&mut r);
     attributes::register(&mut r);
     groups::register(&mut r);

@@ -61,6 +61,7 @@ fn setup(node: &str, dir: &str) -> (Vec<String>, String) {
         ),
         "switch" | "merge" => (vec![r#""in0": {"type": "box"}"#.into()], "{}".into()),
         "file" => (vec![], format!(r#"{{"file": "{dir}/in.obj"}}"#)),
+        "frep_file" => (vec![], format!(r#"{{"file": "{dir}/ball.vm"}}"#)),
         "write" => (
             vec![r#""in0": {"type": "box"}"#.into()],
             format!(r#"{{"file": "{dir}/out.$F4.obj"}}"#),
@@ -138,6 +139,12 @@ fn every_node_cooks_on_defaults_and_is_a_pure_function_of_its_key() {
     std::fs::write(
         dir.path().join("in.obj"),
         "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    // A ball of radius 0.5 in fidget's sign (negative inside).
+    std::fs::write(
+        dir.path().join("ball.vm"),
+        "_0 var-x\n_1 var-y\n_2 var-z\n_3 square _0\n_4 square _1\n_5 square _2\n_6 add _3 _4\n_7 add _6 _5\n_8 sqrt _7\n_9 const 0.5\n_a sub _8 _9\n",
     )
     .unwrap();
     let registry = geode_nodes::registry();

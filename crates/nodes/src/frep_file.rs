@@ -1,0 +1,61 @@
+//! The frep_file node: a field read from a program file (fidget's `.vm`
+//! SSA text). A 2D program (no `var-z`) is a prism along z: polygonise's
+//! bounds give its height.
+
+use geode_op::{
+    CookContext, CookError, FnOperator, NodeSpec, ParamDefault as D, ParamSpec as P,
+    ParamType as T, Params, PortType, Registry, Value,
+};
+
+const FREP_FILE_FILE: P = P::new(
+    "file",
+    "File",
+    T::File,
+    D::Str(""),
+    "A fidget `.vm` program (negative inside in fidget; geode flips it to positive inside).",
+);
+
+static FREP_FILE: NodeSpec = NodeSpec::new(
+    "frep_file",
+    "FRep File",
+    "frep",
+    "Reads a field from a fidget `.vm` program. A program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height).",
+    &[],
+    &[FREP_FILE_FILE],
+)
+.output(PortType::Field);
+
+fn cook_frep_file(
+    ctx: &CookContext,
+    _inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let path = p.string(&FREP_FILE_FILE)?;
+    if path.is_empty() {
+        return Err(ctx.param_error("file", "names no file to read"));
+    }
+    if !path.ends_with(".vm") {
+        return Err(ctx.param_error("file", format!("{path}: expected a fidget .vm program")));
+    }
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| ctx.io("file", geode_io::IoError::os(path, e)))?;
+    ctx.check()?;
+    let field = geode_frep::vm::parse_vm(&text).map_err(|e| {
+        ctx.param_error("file", format!("{path}, {e}"))
+            .with_source(e)
+    })?;
+    Ok(Value::Field(field))
+}
+
+fn key_frep_file(p: &Params) -> Result<Option<u128>, CookError> {
+    // The program's text is part of the key: editing the file recooks.
+    Ok(crate::file::content_key(p.string(&FREP_FILE_FILE)?))
+}
+
+pub fn register(r: &mut Registry) {
+    r.add(FnOperator {
+        spec: &FREP_FILE,
+        cook: cook_frep_file,
+        key_extra: Some(key_frep_file),
+    });
+}
