@@ -7,7 +7,7 @@
 use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
 
 use crate::builtins::Val;
-use crate::run::set_value;
+use crate::run::{elem_count, set_value};
 use crate::world::{Effect, EffectKind, Mode};
 use crate::RunError;
 
@@ -186,6 +186,8 @@ pub fn apply(
     let mut printed = Vec::new();
     let mut dead_points: Vec<usize> = Vec::new();
     let mut dead_prims: Vec<(usize, bool)> = Vec::new();
+    // Group writes: ((point group?, name), members), stored once at the end.
+    let mut groups: Vec<((bool, String), Group)> = Vec::new();
     for (b, batch) in batches.iter().enumerate() {
         let point = |h: i32| -> Option<usize> {
             if h >= base_points {
@@ -224,12 +226,7 @@ pub fn apply(
                         }),
                         AttribClass::Detail => Some(0),
                     };
-                    let count = match class {
-                        AttribClass::Point => out.num_points(),
-                        AttribClass::Primitive => out.num_prims(),
-                        AttribClass::Vertex => out.num_vertices(),
-                        AttribClass::Detail => 1,
-                    };
+                    let count = elem_count(out, *class);
                     // Writes to elements that do not exist are ignored, as in VEX.
                     if let Some(i) = idx.filter(|&i| i < count) {
                         set_attr(out, *class, name, i, value, *mode, e.elem)?;
@@ -247,7 +244,26 @@ pub fn apply(
                         (prim(*target), out.num_prims())
                     };
                     if let Some(i) = idx.filter(|&i| i < len) {
-                        set_group(out, *class, name, i, *on)?;
+                        // Gathered per group and stored once after the loop:
+                        // storing per write would copy the group each time.
+                        let key = (*class == AttribClass::Point, name.clone());
+                        let grp = match groups.iter().position(|(k, _)| *k == key) {
+                            Some(k) => &mut groups[k].1,
+                            None => {
+                                let existing = if key.0 {
+                                    out.point_groups()
+                                } else {
+                                    out.prim_groups()
+                                };
+                                let g = existing
+                                    .get(name)
+                                    .cloned()
+                                    .unwrap_or_else(|| Group::new(len));
+                                groups.push((key, g));
+                                &mut groups.last_mut().expect("just pushed").1
+                            }
+                        };
+                        grp.set(i, *on);
                     }
                 }
                 EffectKind::RemovePoint { point: p } => dead_points.extend(point(*p)),
@@ -259,6 +275,14 @@ pub fn apply(
                 _ => {}
             }
         }
+    }
+    for ((points, name), g) in groups {
+        let r = if points {
+            out.set_point_group(&name, g)
+        } else {
+            out.set_prim_group(&name, g)
+        };
+        r.map_err(|e| RunError::Geometry(e.to_string()))?;
     }
     if !dead_prims.is_empty() {
         let n = out.num_prims();
@@ -336,12 +360,7 @@ fn set_attr(
     mode: Mode,
     elem: u32,
 ) -> Result<(), RunError> {
-    let len = match class {
-        AttribClass::Point => out.num_points(),
-        AttribClass::Primitive => out.num_prims(),
-        AttribClass::Vertex => out.num_vertices(),
-        AttribClass::Detail => 1,
-    };
+    let len = elem_count(out, class);
     let table = out.attribs_mut(class);
     if table.get(name).is_none() {
         let zero = value_type(value).ok_or_else(|| RunError::At {
@@ -408,31 +427,4 @@ fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
         }
         _ => v.clone(),
     }
-}
-
-fn set_group(
-    out: &mut Geometry,
-    class: AttribClass,
-    name: &str,
-    i: usize,
-    on: bool,
-) -> Result<(), RunError> {
-    let existing = if class == AttribClass::Point {
-        out.point_groups().get(name)
-    } else {
-        out.prim_groups().get(name)
-    };
-    let len = if class == AttribClass::Point {
-        out.num_points()
-    } else {
-        out.num_prims()
-    };
-    let mut g = existing.cloned().unwrap_or_else(|| Group::new(len));
-    g.set(i, on);
-    let r = if class == AttribClass::Point {
-        out.set_point_group(name, g)
-    } else {
-        out.set_prim_group(name, g)
-    };
-    r.map_err(|e| RunError::Geometry(e.to_string()))
 }

@@ -269,14 +269,7 @@ fn bump(c: &mut u32, n: u32) -> u32 {
 /// Where `@name` reads from, and the type of the attribute if one exists.
 fn source(name: &str, spec: &BindSpec, input0: Option<&Geometry>) -> (Source, Option<Ty>) {
     let class = spec.run_over;
-    let count = |c: AttribClass| -> f64 {
-        input0.map_or(0.0, |g| match c {
-            AttribClass::Point => g.num_points(),
-            AttribClass::Primitive => g.num_prims(),
-            AttribClass::Vertex => g.num_vertices(),
-            AttribClass::Detail => 1,
-        } as f64)
-    };
+    let count = |c: AttribClass| input0.map_or(0.0, |g| crate::run::elem_count(g, c) as f64);
     let special = match (name, class) {
         ("elemnum", _) => Some(Source::Elem),
         ("ptnum", AttribClass::Point)

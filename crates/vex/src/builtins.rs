@@ -3,6 +3,8 @@
 //! matrix and quaternion functions. Component-wise math is lowered to IR
 //! instructions instead (see `lower`).
 
+use std::sync::Arc;
+
 use geode_geo::{AttribClass, AttribData};
 
 use crate::exec::Frame;
@@ -388,10 +390,18 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                 }),
             ))
         }
-        Builtin::Hedge(f) => Val::I(
-            w.input(a[0].i())
-                .map_or(-1, |g| crate::world::hedge(g, f, a[1].i())),
-        ),
+        Builtin::Hedge(f) => {
+            let input = a[0].i();
+            let topology = || {
+                w.topology(input)
+                    .map(|t| Arc::clone(&t.topo))
+                    .expect("the input exists")
+            };
+            Val::I(
+                w.input(input)
+                    .map_or(-1, |g| crate::world::hedge(g, topology, f, a[1].i())),
+            )
+        }
         Builtin::HasAttrib(class) => Val::I(i32::from(
             w.input(a[0].i())
                 .is_some_and(|g| g.attrib(class, a[1].s()).is_some()),

@@ -453,13 +453,7 @@ impl<'a> Lower<'a> {
         if !post_test {
             exit = Some(self.loop_test(cond, active)?);
         }
-        let live = self.mask_copy();
-        self.masks.push(live);
-        self.loops.push((active_at, active_at + 1));
-        let r = self.scoped(|me| me.stmt(body));
-        self.loops.pop();
-        self.masks.pop();
-        r?;
+        self.loop_body(active_at, body)?;
         if let Some(s) = step {
             let mark = self.alloc;
             self.expr(s, None)?;
@@ -475,6 +469,18 @@ impl<'a> Lower<'a> {
         }
         self.masks.pop();
         Ok(())
+    }
+
+    /// A loop's body under its own live mask (what `continue` narrows),
+    /// with `break` narrowing from the loop's active mask at `active_at`.
+    fn loop_body(&mut self, active_at: usize, body: &Stmt) -> LResult<()> {
+        let live = self.mask_copy();
+        self.masks.push(live);
+        self.loops.push((active_at, active_at + 1));
+        let r = self.scoped(|me| me.stmt(body));
+        self.loops.pop();
+        self.masks.pop();
+        r
     }
 
     /// Narrows a loop's `active` lanes by its condition and emits the exit
@@ -533,13 +539,7 @@ impl<'a> Lower<'a> {
         let item = self.call_site(Builtin::IndexGet, vec![arr, i], e.ty(), elem.pos);
         let item = self.convert(item, elem.ty, elem.pos)?;
         self.store(x, item);
-        let live = self.mask_copy();
-        self.masks.push(live);
-        self.loops.push((active_at, active_at + 1));
-        let r = self.scoped(|me| me.stmt(body));
-        self.loops.pop();
-        self.masks.pop();
-        r?;
+        self.loop_body(active_at, body)?;
         let one = self.iconst(1);
         let next = self.ibin(IBinOp::Add, i.reg, one.reg);
         self.store(

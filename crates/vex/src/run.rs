@@ -55,7 +55,8 @@ enum Sink<'o> {
     Later(Vec<Val>),
 }
 
-fn elem_count(g: &Geometry, class: AttribClass) -> usize {
+/// Elements of `class` in `g` (the detail has one).
+pub(crate) fn elem_count(g: &Geometry, class: AttribClass) -> usize {
     match class {
         AttribClass::Point => g.num_points(),
         AttribClass::Primitive => g.num_prims(),

@@ -276,7 +276,12 @@ pub fn read_attrib(g: &Geometry, class: AttribClass, name: &str, idx: i32) -> Op
 /// Half-edges as Houdini's VEX numbers them: a half-edge is the vertex it
 /// leaves from, running to the next vertex of its primitive (a polygon
 /// wraps; a polyline's last vertex starts none). -1 where there is none.
-pub fn hedge(g: &Geometry, f: crate::builtins::HedgeFn, x: i32) -> i32 {
+pub fn hedge(
+    g: &Geometry,
+    topology: impl Fn() -> Arc<Topology>,
+    f: crate::builtins::HedgeFn,
+    x: i32,
+) -> i32 {
     use crate::builtins::HedgeFn as H;
     use geode_geo::PrimKind;
     let offsets = g.prim_offsets();
@@ -301,7 +306,17 @@ pub fn hedge(g: &Geometry, f: crate::builtins::HedgeFn, x: i32) -> i32 {
     };
     let out = match f {
         H::PointHedge => {
-            (0..g.num_vertices()).find(|&v| g.vertex_points()[v] as i32 == x && next(v).is_some())
+            // The point's primitives (from the topology), not every vertex.
+            let p = usize::try_from(x).ok().filter(|&p| p < g.num_points());
+            let topo = p.map(|_| topology());
+            p.and_then(|p| {
+                topo.as_ref()?
+                    .point_prims(p)
+                    .iter()
+                    .flat_map(|&prim| g.prim_vertex_range(prim as usize))
+                    .filter(|&v| g.vertex_points()[v] as usize == p && next(v).is_some())
+                    .min()
+            })
         }
         H::PrimHedge => usize::try_from(x)
             .ok()
