@@ -6,12 +6,16 @@
 //! a feature-preserving dual-contouring polygoniser into `geode-geo`
 //! geometry. Knows nothing of nodes, graphs or files.
 
+mod brick;
 pub mod eval;
+mod features;
 pub mod field;
 pub mod interval;
+mod lattice;
 mod pinch;
 pub mod polygonise;
 mod qef;
+mod recovery;
 pub mod shapes;
 pub mod tape;
 pub mod vm;

@@ -7,6 +7,7 @@
 pub struct Qef {
     ata: [[f64; 3]; 3],
     atb: [f64; 3],
+    btb: f64,
     mass: [f64; 3],
     count: u32,
 }
@@ -61,7 +62,35 @@ impl Qef {
             self.atb[i] += n[i] * d;
             self.mass[i] += p[i];
         }
+        self.btb += d * d;
         self.count += 1;
+    }
+
+    /// The planes of both (QEFs are sums of squares, so they add).
+    pub fn merge(&mut self, o: &Qef) {
+        for i in 0..3 {
+            for j in 0..3 {
+                self.ata[i][j] += o.ata[i][j];
+            }
+            self.atb[i] += o.atb[i];
+            self.mass[i] += o.mass[i];
+        }
+        self.btb += o.btb;
+        self.count += o.count;
+    }
+
+    /// The sum of squared distances from `x` to the planes.
+    pub fn error(&self, x: [f64; 3]) -> f64 {
+        let mut e = self.btb;
+        for i in 0..3 {
+            let ax: f64 = (0..3).map(|j| self.ata[i][j] * x[j]).sum();
+            e += x[i] * ax - 2.0 * x[i] * self.atb[i];
+        }
+        e.max(0.0)
+    }
+
+    pub fn count(&self) -> u32 {
+        self.count
     }
 
     pub fn mass_point(&self) -> [f64; 3] {
@@ -69,29 +98,73 @@ impl Qef {
         self.mass.map(|m| m * k)
     }
 
-    /// The minimiser, with singular values below `truncate` times the
-    /// largest treated as zero (those directions stay at the mass point).
-    pub fn solve(&self, truncate: f64) -> [f64; 3] {
+    /// The eigen-decomposition the minimisers of every rank are read from.
+    pub fn solver(&self) -> Solver {
         let c = self.mass_point();
-        // Solve A^T A y = A^T b - A^T A c for y = x - c.
+        // Minimisers are x = c + y with A^T A y = A^T b - A^T A c.
         let mut rhs = self.atb;
         for (i, r) in rhs.iter_mut().enumerate() {
             *r -= self.ata[i][0] * c[0] + self.ata[i][1] * c[1] + self.ata[i][2] * c[2];
         }
         let (w, v) = symmetric_eigen(self.ata);
-        let wmax = w.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let mut y = [0.0; 3];
-        for k in 0..3 {
-            if wmax == 0.0 || w[k].abs() < truncate * wmax {
-                continue;
-            }
-            // y += v_k (v_k . rhs) / w_k
-            let proj = v[0][k] * rhs[0] + v[1][k] * rhs[1] + v[2][k] * rhs[2];
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|&a, &b| w[b].abs().total_cmp(&w[a].abs()));
+        Solver {
+            mass: c,
+            rhs,
+            w: order.map(|k| w[k]),
+            v: order.map(|k| [v[0][k], v[1][k], v[2][k]]),
+        }
+    }
+
+    /// The minimiser, with singular values below `truncate` times the
+    /// largest treated as zero (those directions stay at the mass point).
+    #[cfg(test)]
+    pub fn solve(&self, truncate: f64) -> [f64; 3] {
+        let s = self.solver();
+        s.solve(s.rank(truncate))
+    }
+}
+
+/// A QEF's minimisers by rank, around its mass point: rank 0 is the mass
+/// point, each further rank adds the next strongest direction (rank 3 of a
+/// box corner's planes is the corner, rank 2 a point on an edge's line).
+#[derive(Clone, Copy, Debug)]
+pub struct Solver {
+    mass: [f64; 3],
+    rhs: [f64; 3],
+    /// Eigenvalues, strongest first, and their unit eigenvectors.
+    w: [f64; 3],
+    v: [[f64; 3]; 3],
+}
+
+impl Solver {
+    /// How many directions the planes pin down: eigenvalues at least
+    /// `truncate` times the largest (1 on a face, 2 on an edge, 3 at a corner).
+    pub fn rank(&self, truncate: f64) -> usize {
+        let wmax = self.w[0].abs();
+        if wmax.is_nan() || wmax <= 0.0 {
+            return 0;
+        }
+        self.w.iter().filter(|x| x.abs() >= truncate * wmax).count()
+    }
+
+    /// The direction left free at rank 2 (along an edge's line).
+    pub fn free_direction(&self) -> [f64; 3] {
+        self.v[2]
+    }
+
+    /// The least-squares point moving only along the `rank` strongest directions.
+    pub fn solve(&self, rank: usize) -> [f64; 3] {
+        let mut x = self.mass;
+        for k in 0..rank.min(3) {
+            let v = self.v[k];
+            let proj = v[0] * self.rhs[0] + v[1] * self.rhs[1] + v[2] * self.rhs[2];
             for i in 0..3 {
-                y[i] += v[i][k] * proj / w[k];
+                x[i] += v[i] * proj / self.w[k];
             }
         }
-        [c[0] + y[0], c[1] + y[1], c[2] + y[2]]
+        x
     }
 }
 

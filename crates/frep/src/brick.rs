@@ -1,0 +1,300 @@
+//! Dual contouring of one brick of 8^3 cells: corner samples, edge
+//! crossings solved in batches, one vertex per connected surface component
+//! of a cell placed on its features (see `features`), and the dual-edge
+//! references from which the mesher builds quads.
+
+use geode_geo::glam::Vec3;
+
+use crate::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
+use crate::features::{self, Plane, Proposal};
+use crate::lattice::{outward_normals, Crossings, Lattice};
+use crate::polygonise::Grid;
+use crate::recovery::{
+    cell_box, cell_slot, recover_features, verify_features, Candidate, CellTable, Check,
+};
+use crate::tape::Tape;
+
+/// Cells per brick edge.
+pub(crate) const B: usize = 8;
+
+pub(crate) struct BrickOut {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    /// (edge key, slot around the edge, local vertex, outward is +axis).
+    pub refs: Vec<(u64, u8, u32, bool)>,
+    /// Local vertices whose component holds both crossings of an ambiguous
+    /// face: the only ones that can be pinched (see `pinch`).
+    pub pinched: Vec<u32>,
+    pub cells: usize,
+}
+
+pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
+    (axis as u64) << 60 | (c[0] as u64) << 40 | (c[1] as u64) << 20 | c[2] as u64
+}
+
+/// Local edge id (0..12) of the cube edge along `axis` whose lower corner
+/// has offsets `p` (0 or 1 on the other axes).
+fn local_edge(axis: usize, p: [usize; 3]) -> usize {
+    axis * 4 + p[(axis + 1) % 3] + 2 * p[(axis + 2) % 3]
+}
+
+fn corner_index(p: [usize; 3]) -> usize {
+    p[0] + 2 * p[1] + 4 * p[2]
+}
+
+/// Pairs of local edges joined across each face, from the asymptotic
+/// decider; for each ambiguous face, one edge of each of its two segments.
+fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>, ambiguous: &mut Vec<(usize, usize)>) {
+    for axis in 0..3 {
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        for side in 0..2 {
+            // Corners in cyclic order (0,0), (1,0), (1,1), (0,1) over (u, w).
+            let cyc = [(0, 0), (1, 0), (1, 1), (0, 1)];
+            let mut pos = [[0usize; 3]; 4];
+            for (i, (a, b)) in cyc.iter().enumerate() {
+                pos[i][axis] = side;
+                pos[i][u] = *a;
+                pos[i][w] = *b;
+            }
+            let f: [f32; 4] = pos.map(|p| v[corner_index(p)]);
+            let inside = f.map(|x| x >= 0.0);
+            // Edge i joins cyclic corners i and i+1.
+            let edge = |i: usize| {
+                let (p, q) = (pos[i], pos[(i + 1) % 4]);
+                let ax = (0..3).find(|&k| p[k] != q[k]).expect("adjacent corners");
+                let lo = if p[ax] < q[ax] { p } else { q };
+                local_edge(ax, lo)
+            };
+            let crossed: Vec<usize> = (0..4)
+                .filter(|&i| inside[i] != inside[(i + 1) % 4])
+                .collect();
+            match crossed.len() {
+                2 => pairs.push((edge(crossed[0]), edge(crossed[1]))),
+                4 => {
+                    ambiguous.push((edge(0), edge(2)));
+                    let denom = f[0] + f[2] - f[1] - f[3];
+                    let saddle = if denom != 0.0 {
+                        (f[0] * f[2] - f[1] * f[3]) / denom
+                    } else {
+                        (f[0] + f[1] + f[2] + f[3]) * 0.25
+                    };
+                    if (saddle >= 0.0) == inside[0] {
+                        // Corners 0 and 2 connect through the face: 1 and 3 are cut off.
+                        pairs.push((edge(0), edge(1)));
+                        pairs.push((edge(2), edge(3)));
+                    } else {
+                        pairs.push((edge(3), edge(0)));
+                        pairs.push((edge(1), edge(2)));
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+fn find(parent: &mut [usize; 12], mut i: usize) -> usize {
+    while parent[i] != i {
+        parent[i] = parent[parent[i]];
+        i = parent[i];
+    }
+    i
+}
+
+/// Meshes one brick with `tape` (valid over the brick) and `ring_tape`
+/// (valid one cell beyond it, for feature recovery).
+pub(crate) fn mesh_brick(
+    (tape, ring_tape): (&Tape, &Tape),
+    grid: &Grid,
+    brick: [usize; 3],
+    sharpness: f64,
+) -> BrickOut {
+    let base = brick.map(|b| b * B);
+    let mut batch = BatchEval::new(tape);
+    let mut point = PointEval::new(tape);
+    let mut grads = BatchGradEval::new(tape);
+    let mut grad = GradEval::new(tape);
+    let mut lattice = Lattice::sample(&mut batch, grid, base);
+    let mut crossings = Crossings::new();
+    let roots = lattice.crossed_edges(grid, (0, B as isize));
+    crossings.add(&mut batch, &mut point, &mut grads, roots);
+    let mut out = BrickOut {
+        positions: Vec::new(),
+        normals: Vec::new(),
+        refs: Vec::new(),
+        pinched: Vec::new(),
+        cells: 0,
+    };
+    let mut vertex_points: Vec<[f64; 3]> = Vec::new();
+    let mut cells = CellTable::new();
+    let mut cell_planes: Vec<(usize, Plane)> = Vec::with_capacity(12);
+    let mut roots_seen: Vec<usize> = Vec::with_capacity(4);
+    let mut scratch: Vec<Plane> = Vec::with_capacity(12);
+    let mut edge_info: Vec<(usize, u64, u8, bool)> = Vec::with_capacity(12);
+    // Edge and corner points still to check against the field, all at once:
+    // (vertex, its planes in `unverified_planes`, cell, candidate index).
+    let mut unverified: Vec<Check> = Vec::new();
+    let mut unverified_planes: Vec<Plane> = Vec::new();
+    let mut candidates: Vec<Candidate> = Vec::new();
+    let mut pairs = Vec::with_capacity(12);
+    let mut ambiguous = Vec::with_capacity(6);
+    for k in 0..B {
+        for j in 0..B {
+            for i in 0..B {
+                let cell = [base[0] + i, base[1] + j, base[2] + k];
+                if (0..3).any(|a| cell[a] + 1 >= grid.corners[a]) {
+                    continue;
+                }
+                let local = [i as isize, j as isize, k as isize];
+                let v: [f32; 8] = std::array::from_fn(|c| {
+                    lattice.at([
+                        local[0] + (c & 1) as isize,
+                        local[1] + (c >> 1 & 1) as isize,
+                        local[2] + (c >> 2 & 1) as isize,
+                    ])
+                });
+                let inside = v.map(|x| x >= 0.0);
+                if inside.iter().all(|&s| s) || inside.iter().all(|&s| !s) {
+                    continue;
+                }
+                out.cells += 1;
+                // Crossed edges and their connected components.
+                let mut crossed = [false; 12];
+                for axis in 0..3 {
+                    for c in 0..8 {
+                        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
+                        if p[axis] == 0 {
+                            let mut q = p;
+                            q[axis] = 1;
+                            crossed[local_edge(axis, p)] =
+                                inside[corner_index(p)] != inside[corner_index(q)];
+                        }
+                    }
+                }
+                pairs.clear();
+                ambiguous.clear();
+                face_pairs(&v, &mut pairs, &mut ambiguous);
+                let mut parent: [usize; 12] = std::array::from_fn(|e| e);
+                for &(a, b) in &pairs {
+                    let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+                    parent[ra] = rb;
+                }
+                let mut component_vertex: [u32; 12] = [u32::MAX; 12];
+                cell_planes.clear();
+                roots_seen.clear();
+                edge_info.clear();
+                for axis in 0..3 {
+                    for c in 0..8 {
+                        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
+                        if p[axis] != 0 || !crossed[local_edge(axis, p)] {
+                            continue;
+                        }
+                        let e = local_edge(axis, p);
+                        let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
+                        let key = edge_key(axis, lo);
+                        // Every crossed edge of the brick was solved above.
+                        let corner = [i + p[0], j + p[1], k + p[2]].map(|x| x as isize);
+                        let Some(&plane) = crossings.get(axis, corner) else {
+                            continue;
+                        };
+                        let root = find(&mut parent, e);
+                        if !roots_seen.contains(&root) {
+                            roots_seen.push(root);
+                        }
+                        cell_planes.push((root, plane));
+                        // Slot of this cell around the edge, counter-clockwise about +axis.
+                        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                        let slot = match (p[u] == 0, p[w] == 0) {
+                            (false, false) => 0,
+                            (true, false) => 1,
+                            (true, true) => 2,
+                            (false, true) => 3,
+                        };
+                        let outward_plus = inside[corner_index(p)];
+                        edge_info.push((e, key, slot, outward_plus));
+                    }
+                }
+                let bounds = cell_box(grid, cell, 0);
+                let slot = cell_slot(local);
+                for root in &roots_seen {
+                    scratch.clear();
+                    scratch.extend(
+                        cell_planes
+                            .iter()
+                            .filter(|(r, _)| r == root)
+                            .map(|(_, p)| *p),
+                    );
+                    let vertex = out.positions.len();
+                    let placed = match features::propose(&scratch, sharpness, &bounds, grid.h) {
+                        Proposal::Fits(placed) => placed,
+                        Proposal::Verify(placed) => {
+                            let planes = unverified_planes.len()..;
+                            unverified_planes.extend_from_slice(&scratch);
+                            let planes = planes.start..unverified_planes.len();
+                            let candidate = (roots_seen.len() == 1).then_some(candidates.len());
+                            unverified.push((vertex, planes, bounds, candidate));
+                            placed
+                        }
+                        Proposal::Unfit {
+                            rank,
+                            achieved,
+                            qef,
+                            reduced,
+                        } => {
+                            let point = features::best_on_surface(
+                                &scratch, &qef, reduced, sharpness, &bounds, &mut grad, grid.h,
+                            );
+                            features::Placed {
+                                point,
+                                rank,
+                                achieved,
+                                qef,
+                            }
+                        }
+                    };
+                    let x = placed.point;
+                    let rank = if roots_seen.len() == 1 {
+                        candidates.push(Candidate {
+                            vertex: out.positions.len() as u32,
+                            cell: [i as u8, j as u8, k as u8],
+                            rank: placed.achieved as u8,
+                        });
+                        placed.rank as u8
+                    } else {
+                        0
+                    };
+                    cells.merge(slot, &placed.qef, rank);
+                    component_vertex[*root] = out.positions.len() as u32;
+                    out.positions
+                        .push(Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32));
+                    vertex_points.push(x);
+                }
+                for &(a, b) in &ambiguous {
+                    let root = find(&mut parent, a);
+                    if root == find(&mut parent, b)
+                        && !out.pinched.contains(&component_vertex[root])
+                    {
+                        out.pinched.push(component_vertex[root]);
+                    }
+                }
+                for &(e, key, slot, plus) in &edge_info {
+                    let root = find(&mut parent, e);
+                    out.refs.push((key, slot, component_vertex[root], plus));
+                }
+            }
+        }
+    }
+    let checks = (unverified.as_slice(), unverified_planes.as_slice());
+    let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
+    verify_features(tape, grid, sharpness, checks, &mut candidates, vertices);
+    if cells.ranks.iter().any(|&r| r >= 2) {
+        let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
+        let state = (&mut lattice, &mut crossings, &mut cells);
+        recover_features(ring_tape, grid, sharpness, state, &candidates, vertices);
+    }
+    out.normals = outward_normals(&mut point, &mut grads, &vertex_points)
+        .into_iter()
+        .map(|n| Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32))
+        .collect();
+    out
+}

@@ -1,0 +1,354 @@
+//! Sharp features at any orientation: boxes and wedges turned by seeded
+//! random rotations, checked against the exact surface (every vertex on it)
+//! and the exact corners (each reproduced by a vertex).
+
+use geode_frep::shapes::block;
+use geode_frep::{polygonise, Field, MeshOptions};
+use geode_geo::Geometry;
+
+/// splitmix64: a seeded stream of uniform numbers in [0, 1).
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// A uniformly distributed rotation (Shoemake's unit quaternion) as rows.
+    fn rotation(&mut self) -> [[f64; 3]; 3] {
+        let (u1, u2, u3) = (self.next(), self.next(), self.next());
+        let tau = std::f64::consts::TAU;
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        let (x, y, z, w) = (
+            a * (tau * u2).sin(),
+            a * (tau * u2).cos(),
+            b * (tau * u3).sin(),
+            b * (tau * u3).cos(),
+        );
+        [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y - z * w),
+                2.0 * (x * z + y * w),
+            ],
+            [
+                2.0 * (x * y + z * w),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z - x * w),
+            ],
+            [
+                2.0 * (x * z - y * w),
+                2.0 * (y * z + x * w),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ]
+    }
+}
+
+fn apply(r: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2])
+}
+
+fn transpose(r: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| r[j][i]))
+}
+
+/// Unsigned distance from `q` (in the box's frame) to the surface of the box
+/// with half-extents `h` centred at the origin.
+fn box_surface_distance(q: [f64; 3], h: [f64; 3]) -> f64 {
+    let d: [f64; 3] = std::array::from_fn(|k| q[k].abs() - h[k]);
+    let outside = d.iter().map(|x| x.max(0.0).powi(2)).sum::<f64>().sqrt();
+    let inside = d[0].max(d[1]).max(d[2]).min(0.0);
+    outside + inside.abs()
+}
+
+fn mesh(f: &Field, half: f64, depth: u32) -> Geometry {
+    polygonise(
+        f,
+        &MeshOptions::new([-half; 3], [half; 3], depth),
+        &|| false,
+        &|_| {},
+    )
+    .unwrap()
+    .0
+}
+
+#[test]
+fn rotated_boxes_keep_every_vertex_on_the_surface_and_every_corner() {
+    let mut rng = Rng(0x6e0de);
+    let depth = 6;
+    let half_box = 1.0;
+    let cell = 2.0 * half_box / (1u64 << depth) as f64;
+    let mut worst_vertex = 0.0f64;
+    let mut worst_corner = 0.0f64;
+    for case in 0..12 {
+        let r = rng.rotation();
+        let h = [
+            0.25 + 0.25 * rng.next(),
+            0.25 + 0.25 * rng.next(),
+            0.25 + 0.25 * rng.next(),
+        ];
+        let c = [
+            0.05 * (rng.next() - 0.5),
+            0.05 * (rng.next() - 0.5),
+            0.05 * (rng.next() - 0.5),
+        ];
+        // A point p samples the box's frame at R^T (p - c).
+        let rt = transpose(&r);
+        let o = apply(&rt, c).map(|x| -x);
+        let f = block([0.0; 3], h).affine_inverse(rt, o);
+        let g = mesh(&f, half_box, depth);
+        let report = g.topology().manifold_report(&g);
+        assert!(report.is_closed_manifold(), "case {case}: {report:?}");
+        let to_box = |p: [f64; 3]| apply(&rt, std::array::from_fn(|k| p[k] - c[k]));
+        for p in g.positions() {
+            let q = to_box([p.x as f64, p.y as f64, p.z as f64]);
+            let d = box_surface_distance(q, h);
+            if d / cell > 0.05 {
+                eprintln!("case {case} vertex {q:?} of {h:?}: {} at {p:?}", d / cell);
+            }
+            worst_vertex = worst_vertex.max(d / cell);
+        }
+        for s in 0..8 {
+            let local = [
+                if s & 1 == 0 { -h[0] } else { h[0] },
+                if s & 2 == 0 { -h[1] } else { h[1] },
+                if s & 4 == 0 { -h[2] } else { h[2] },
+            ];
+            let corner = apply(&r, local).map(|x| x);
+            let corner: [f64; 3] = std::array::from_fn(|k| corner[k] + c[k]);
+            let nearest = g
+                .positions()
+                .iter()
+                .map(|p| {
+                    ((p.x as f64 - corner[0]).powi(2)
+                        + (p.y as f64 - corner[1]).powi(2)
+                        + (p.z as f64 - corner[2]).powi(2))
+                    .sqrt()
+                })
+                .fold(f64::INFINITY, f64::min);
+            if nearest / cell > 0.02 {
+                eprintln!("case {case} corner {corner:?} missed by {}", nearest / cell);
+            }
+            worst_corner = worst_corner.max(nearest / cell);
+        }
+    }
+    eprintln!("worst vertex {worst_vertex:.4} cells, worst corner {worst_corner:.4} cells");
+    assert!(
+        worst_vertex <= 0.01,
+        "a vertex lies {worst_vertex} cells off the surface"
+    );
+    assert!(
+        worst_corner <= 0.02,
+        "a corner is missed by {worst_corner} cells"
+    );
+}
+
+/// Solves the 3x3 system `rows x = rhs` (Cramer's rule); None when singular.
+fn solve3(rows: [[f64; 3]; 3], rhs: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(rows);
+    if d.abs() < 1e-9 {
+        return None;
+    }
+    Some(std::array::from_fn(|k| {
+        let mut m = rows;
+        for (row, r) in m.iter_mut().zip(rhs) {
+            row[k] = r;
+        }
+        det(m) / d
+    }))
+}
+
+/// Boxes with four corners cut off (faces meeting at 125 degrees as well as
+/// 90), turned by random rotations. Cuts are deep enough that corners stay
+/// several cells apart: one vertex per cell cannot keep two corners that
+/// share a cell, at any orientation.
+#[test]
+fn cut_boxes_keep_their_faces_and_corners() {
+    let mut rng = Rng(0x9017);
+    let depth = 6;
+    let cell = 2.0 / (1u64 << depth) as f64;
+    let (mut worst_vertex, mut worst_corner, mut corners_seen) = (0.0f64, 0.0f64, 0);
+    for case in 0..8 {
+        let r = rng.rotation();
+        let s3 = 1.0 / 3f64.sqrt();
+        let h = [
+            0.4 + 0.1 * rng.next(),
+            0.4 + 0.1 * rng.next(),
+            0.4 + 0.1 * rng.next(),
+        ];
+        let mut planes: Vec<([f64; 3], f64)> = Vec::new();
+        for (axis, sign) in (0..3).flat_map(|a| [(a, 1.0), (a, -1.0)]) {
+            let mut n = [0.0; 3];
+            n[axis] = sign;
+            planes.push((apply(&r, n), h[axis]));
+        }
+        for corner in [
+            [1.0, 1.0, 1.0],
+            [-1.0, 1.0, -1.0],
+            [1.0, -1.0, -1.0],
+            [-1.0, -1.0, 1.0],
+        ] {
+            let n = corner.map(|c: f64| c * s3);
+            let reach = (h[0] + h[1] + h[2]) * s3;
+            planes.push((apply(&r, n), reach - 0.12 - 0.08 * rng.next()));
+        }
+        let (x, y, z) = (Field::x(), Field::y(), Field::z());
+        let f = planes
+            .iter()
+            .map(|(n, d)| *d - (&x * n[0] + &y * n[1] + &z * n[2]))
+            .reduce(|a, b| a.min(b))
+            .unwrap()
+            .min(geode_frep::shapes::sphere([0.0; 3], 0.95));
+        let g = mesh(&f, 1.0, depth);
+        let report = g.topology().manifold_report(&g);
+        assert!(report.is_closed_manifold(), "case {case}: {report:?}");
+        // The exact solid: inside every half-space (the bounding ball clips
+        // only where the planes leave the polytope open).
+        let inside_margin = |p: [f64; 3]| {
+            planes
+                .iter()
+                .map(|(n, d)| d - (n[0] * p[0] + n[1] * p[1] + n[2] * p[2]))
+                .fold(f64::INFINITY, f64::min)
+                .min(0.95 - (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt())
+        };
+        for p in g.positions() {
+            let d = inside_margin([p.x as f64, p.y as f64, p.z as f64]).abs();
+            if d / cell > 0.01 {
+                eprintln!("case {case} vertex {p:?} off by {}", d / cell);
+            }
+            worst_vertex = worst_vertex.max(d / cell);
+        }
+        for i in 0..planes.len() {
+            for j in i + 1..planes.len() {
+                for k in j + 1..planes.len() {
+                    let rows = [planes[i].0, planes[j].0, planes[k].0];
+                    let Some(c) = solve3(rows, [planes[i].1, planes[j].1, planes[k].1]) else {
+                        continue;
+                    };
+                    // A corner of the polytope, away from the clipping ball.
+                    if inside_margin(c) < -1e-9 || c.iter().map(|v| v * v).sum::<f64>() > 0.8 {
+                        continue;
+                    }
+                    corners_seen += 1;
+                    let nearest = g
+                        .positions()
+                        .iter()
+                        .map(|p| {
+                            ((p.x as f64 - c[0]).powi(2)
+                                + (p.y as f64 - c[1]).powi(2)
+                                + (p.z as f64 - c[2]).powi(2))
+                            .sqrt()
+                        })
+                        .fold(f64::INFINITY, f64::min);
+                    if nearest / cell > 0.02 {
+                        eprintln!("case {case} corner {c:?} missed by {}", nearest / cell);
+                    }
+                    worst_corner = worst_corner.max(nearest / cell);
+                }
+            }
+        }
+    }
+    eprintln!("{corners_seen} corners, worst vertex {worst_vertex:.4} cells, worst corner {worst_corner:.4} cells");
+    assert!(corners_seen >= 8 * 16);
+    assert!(
+        worst_vertex <= 0.01,
+        "a vertex lies {worst_vertex} cells off the surface"
+    );
+    assert!(
+        worst_corner <= 0.02,
+        "a corner is missed by {worst_corner} cells"
+    );
+}
+
+/// The seed's screw thread: a sawtooth helix of pitch 0.25 whose crest, at
+/// radius 0.42, is where the turn's fraction is one half.
+fn thread() -> Field {
+    let (x, y, z) = (Field::x(), Field::y(), Field::z());
+    let turns = z.atan2(x.clone()) / std::f64::consts::TAU + y.clone() / 0.25;
+    let radius = (x.square() + z.square()).sqrt();
+    let thread = 0.42 - radius - 0.3 * (turns.modulo(1.0) - 0.5).abs();
+    thread.min(geode_frep::shapes::cylinder([0.0; 3], 1.0, 0.8))
+}
+
+/// Distance from `p` to the crest helix (r = 0.42, fraction of a turn 1/2),
+/// measured across the unrolled cylinder.
+fn crest_distance(p: [f64; 3]) -> f64 {
+    let r = (p[0] * p[0] + p[2] * p[2]).sqrt();
+    let turns = p[2].atan2(p[0]) / std::f64::consts::TAU + p[1] / 0.25;
+    let off = turns - turns.floor() - 0.5;
+    let slope = 0.25 / (std::f64::consts::TAU * 0.42);
+    let across = 0.25 * off.abs() / (1.0 + slope * slope).sqrt();
+    ((r - 0.42).powi(2) + across.powi(2)).sqrt()
+}
+
+#[test]
+fn the_screw_crest_is_meshed_on_the_exact_crest() {
+    let (lo, hi, depth) = ([-0.6, -0.9, -0.6], [0.6, 0.9, 0.6], 7);
+    let opts = MeshOptions::new(lo, hi, depth);
+    let g = polygonise(&thread(), &opts, &|| false, &|_| {}).unwrap().0;
+    let report = g.topology().manifold_report(&g);
+    assert!(report.is_closed_manifold(), "{report:?}");
+    let h = 1.8 / (1u64 << depth) as f64;
+    let origin = lo.map(|x| x - h);
+    let cell_of = |p: [f64; 3]| -> [i64; 3] {
+        std::array::from_fn(|a| ((p[a] - origin[a]) / h).floor() as i64)
+    };
+    let mut by_cell: std::collections::HashMap<[i64; 3], Vec<[f64; 3]>> = Default::default();
+    for p in g.positions() {
+        let p = [p.x as f64, p.y as f64, p.z as f64];
+        by_cell.entry(cell_of(p)).or_default().push(p);
+    }
+    // Walk the crest helix away from the shaft's ends; each cell it passes
+    // through holds a vertex on it.
+    let (mut worst, mut cells, mut grazed) = (0.0f64, std::collections::BTreeSet::new(), 0);
+    for step in 0..20_000 {
+        let y = -0.6 + 1.2 * step as f64 / 20_000.0;
+        // turns = theta / tau + y / 0.25 = k + 1/2 for the crest.
+        let t = y / 0.25;
+        let theta = (0.5 - (t - t.floor())) * std::f64::consts::TAU;
+        let s = [0.42 * theta.cos(), y, 0.42 * theta.sin()];
+        let c = cell_of(s);
+        let distance_to_cell_face = (0..3)
+            .map(|a| {
+                let f = (s[a] - origin[a]) / h;
+                (f - f.floor()).min(f.ceil() - f)
+            })
+            .fold(f64::INFINITY, f64::min);
+        if distance_to_cell_face < 0.05 || !cells.insert(c) {
+            continue;
+        }
+        let Some(vertices) = by_cell.get(&c) else {
+            // The crest only grazes this cell: no grid corner of it is inside.
+            grazed += 1;
+            continue;
+        };
+        let best = vertices
+            .iter()
+            .map(|&p| crest_distance(p) / h)
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(best);
+        if best > 0.01 {
+            eprintln!(
+                "crest cell {c:?} best {best:.3} at {s:?} verts {}",
+                vertices.len()
+            );
+        }
+    }
+    eprintln!(
+        "{} crest cells ({grazed} grazed), worst {worst:.4} cells",
+        cells.len()
+    );
+    assert!(cells.len() > 200);
+    assert!(
+        worst <= 0.01,
+        "a crest cell's vertex lies {worst} cells off the crest"
+    );
+}
