@@ -2,9 +2,10 @@
 //! random rotations, checked against the exact surface (every vertex on it)
 //! and the exact corners (each reproduced by a vertex).
 
+mod common;
+
 use geode_frep::shapes::block;
 use geode_frep::{polygonise, Field, MeshOptions};
-use geode_geo::Geometry;
 
 /// splitmix64: a seeded stream of uniform numbers in [0, 1).
 struct Rng(u64);
@@ -64,16 +65,7 @@ fn box_surface_distance(q: [f64; 3], h: [f64; 3]) -> f64 {
     outside + inside.abs()
 }
 
-fn mesh(f: &Field, half: f64, depth: u32) -> Geometry {
-    polygonise(
-        f,
-        &MeshOptions::new([-half; 3], [half; 3], depth),
-        &|| false,
-        &|_| {},
-    )
-    .unwrap()
-    .0
-}
+use common::mesh;
 
 #[test]
 fn rotated_boxes_keep_every_vertex_on_the_surface_and_every_corner() {
@@ -117,33 +109,16 @@ fn rotated_boxes_keep_every_vertex_on_the_surface_and_every_corner() {
                 if s & 2 == 0 { -h[1] } else { h[1] },
                 if s & 4 == 0 { -h[2] } else { h[2] },
             ];
-            let corner = apply(&r, local).map(|x| x);
-            let corner: [f64; 3] = std::array::from_fn(|k| corner[k] + c[k]);
-            let nearest = g
-                .positions()
-                .iter()
-                .map(|p| {
-                    ((p.x as f64 - corner[0]).powi(2)
-                        + (p.y as f64 - corner[1]).powi(2)
-                        + (p.z as f64 - corner[2]).powi(2))
-                    .sqrt()
-                })
-                .fold(f64::INFINITY, f64::min);
+            let turned = apply(&r, local);
+            let corner: [f64; 3] = std::array::from_fn(|k| turned[k] + c[k]);
+            let nearest = common::nearest_vertex(&g, corner);
             if nearest / cell > 0.02 {
                 eprintln!("case {case} corner {corner:?} missed by {}", nearest / cell);
             }
             worst_corner = worst_corner.max(nearest / cell);
         }
     }
-    eprintln!("worst vertex {worst_vertex:.4} cells, worst corner {worst_corner:.4} cells");
-    assert!(
-        worst_vertex <= 0.01,
-        "a vertex lies {worst_vertex} cells off the surface"
-    );
-    assert!(
-        worst_corner <= 0.02,
-        "a corner is missed by {worst_corner} cells"
-    );
+    common::assert_sharp(worst_vertex, worst_corner);
 }
 
 /// Solves the 3x3 system `rows x = rhs` (Cramer's rule); None when singular.
@@ -238,16 +213,7 @@ fn cut_boxes_keep_their_faces_and_corners() {
                         continue;
                     }
                     corners_seen += 1;
-                    let nearest = g
-                        .positions()
-                        .iter()
-                        .map(|p| {
-                            ((p.x as f64 - c[0]).powi(2)
-                                + (p.y as f64 - c[1]).powi(2)
-                                + (p.z as f64 - c[2]).powi(2))
-                            .sqrt()
-                        })
-                        .fold(f64::INFINITY, f64::min);
+                    let nearest = common::nearest_vertex(&g, c);
                     if nearest / cell > 0.02 {
                         eprintln!("case {case} corner {c:?} missed by {}", nearest / cell);
                     }
@@ -256,16 +222,8 @@ fn cut_boxes_keep_their_faces_and_corners() {
             }
         }
     }
-    eprintln!("{corners_seen} corners, worst vertex {worst_vertex:.4} cells, worst corner {worst_corner:.4} cells");
-    assert!(corners_seen >= 8 * 16);
-    assert!(
-        worst_vertex <= 0.01,
-        "a vertex lies {worst_vertex} cells off the surface"
-    );
-    assert!(
-        worst_corner <= 0.02,
-        "a corner is missed by {worst_corner} cells"
-    );
+    assert!(corners_seen >= 8 * 16, "{corners_seen} corners");
+    common::assert_sharp(worst_vertex, worst_corner);
 }
 
 /// The seed's screw thread: a sawtooth helix of pitch 0.25 whose crest, at

@@ -2,20 +2,13 @@
 //! the surface, sharp box corners and edges, normals, manifoldness, cost
 //! following the surface, determinism, cancellation.
 
+mod common;
+
 use geode_frep::shapes::{block, sphere, torus, union};
 use geode_frep::{polygonise, Field, GradEval, MeshOptions, PointEval, Tape};
 use geode_geo::{ops, AttribClass, Geometry};
 
-fn mesh(f: &Field, half: f64, depth: u32) -> Geometry {
-    polygonise(
-        f,
-        &MeshOptions::new([-half; 3], [half; 3], depth),
-        &|| false,
-        &|_| {},
-    )
-    .unwrap()
-    .0
-}
+use common::mesh;
 
 fn closed_manifold(g: &Geometry) {
     let r = g.topology().manifold_report(g);
@@ -87,16 +80,7 @@ fn box_corners_and_edges_are_sharp_at_coarse_resolution() {
                     c[1] + sy * half[1],
                     c[2] + sz * half[2],
                 ];
-                let nearest = g
-                    .positions()
-                    .iter()
-                    .map(|p| {
-                        ((p.x as f64 - corner[0]).powi(2)
-                            + (p.y as f64 - corner[1]).powi(2)
-                            + (p.z as f64 - corner[2]).powi(2))
-                        .sqrt()
-                    })
-                    .fold(f64::INFINITY, f64::min);
+                let nearest = common::nearest_vertex(&g, corner);
                 assert!(nearest < 1e-4, "corner {corner:?} missed by {nearest}");
             }
         }
