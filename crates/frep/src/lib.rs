@@ -10,6 +10,7 @@ mod brick;
 pub mod eval;
 mod features;
 pub mod field;
+pub mod hyperfun;
 pub mod interval;
 mod lattice;
 mod pinch;
@@ -22,6 +23,7 @@ pub mod vm;
 
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
+pub use hyperfun::{parse_hf, HfError};
 pub use interval::Interval;
 pub use polygonise::{polygonise, sample, MeshError, MeshEstimate, MeshOptions, MeshStats};
 pub use tape::{Choice, Instr, Tape};

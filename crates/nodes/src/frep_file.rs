@@ -1,6 +1,6 @@
-//! The frep_file node: a field read from a program file (fidget's `.vm`
-//! SSA text). A 2D program (no `var-z`) is a prism along z: polygonise's
-//! bounds give its height.
+//! The frep_file node: a field read from a program file, fidget's `.vm`
+//! SSA text or a HyperFun `.hf` program. A 2D `.vm` program (no `var-z`)
+//! is a prism along z: polygonise's bounds give its height.
 
 use geode_op::{
     CookContext, CookError, FnOperator, NodeSpec, ParamDefault as D, ParamSpec as P,
@@ -12,16 +12,24 @@ const FREP_FILE_FILE: P = P::new(
     "File",
     T::File,
     D::Str(""),
-    "A fidget `.vm` program (negative inside in fidget; geode flips it to positive inside).",
+    "A fidget `.vm` program (negative inside in fidget; geode flips it to positive inside) or a HyperFun `.hf` program.",
+);
+
+const FREP_FILE_OBJECT: P = P::new(
+    "object",
+    "Object",
+    T::String,
+    D::Str(""),
+    "For a HyperFun program: the object to read (empty: the last one defined). Its parameter array `a` is all zeros.",
 );
 
 static FREP_FILE: NodeSpec = NodeSpec::new(
     "frep_file",
     "FRep File",
     "frep",
-    "Reads a field from a fidget `.vm` program. A program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height).",
+    "Reads a field from a fidget `.vm` program or a HyperFun `.hf` program (its language, compiled to a field: arrays, `if`, `while` with conditions known before meshing, the set operations and the FRep library). A `.vm` program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height).",
     &[],
-    &[FREP_FILE_FILE],
+    &[FREP_FILE_FILE, FREP_FILE_OBJECT],
 )
 .output(PortType::Field);
 
@@ -34,16 +42,30 @@ fn cook_frep_file(
     if path.is_empty() {
         return Err(ctx.param_error("file", "names no file to read"));
     }
-    if !path.ends_with(".vm") {
-        return Err(ctx.param_error("file", format!("{path}: expected a fidget .vm program")));
+    let extension = path.to_lowercase();
+    let hyperfun = extension.ends_with(".hf");
+    if !hyperfun && !extension.ends_with(".vm") {
+        return Err(ctx.param_error(
+            "file",
+            format!("{path}: expected a fidget .vm or a HyperFun .hf program"),
+        ));
     }
     let text = std::fs::read_to_string(path)
         .map_err(|e| ctx.io("file", geode_io::IoError::os(path, e)))?;
     ctx.check()?;
-    let field = geode_frep::vm::parse_vm(&text).map_err(|e| {
-        ctx.param_error("file", format!("{path}, {e}"))
-            .with_source(e)
-    })?;
+    let field = if hyperfun {
+        let object = p.string(&FREP_FILE_OBJECT)?;
+        let object = (!object.is_empty()).then_some(object);
+        geode_frep::parse_hf(&text, object, &[]).map_err(|e| {
+            ctx.param_error("file", format!("{path}, {e}"))
+                .with_source(e)
+        })?
+    } else {
+        geode_frep::vm::parse_vm(&text).map_err(|e| {
+            ctx.param_error("file", format!("{path}, {e}"))
+                .with_source(e)
+        })?
+    };
     Ok(Value::Field(field))
 }
 
