@@ -4,7 +4,10 @@
 
 use crate::field::{binary, unary, Binary, Unary};
 use crate::interval::{self, Interval};
-use crate::tape::{Choice, Instr, Tape};
+use std::sync::Arc;
+
+use crate::capsules::CapsuleSet;
+use crate::tape::{Choice, Choices, Instr, Tape};
 
 /// Evaluates one point at a time, reusing its registers.
 pub struct PointEval<'t> {
@@ -29,6 +32,10 @@ impl<'t> PointEval<'t> {
                 Instr::Unary { op, out, a } => r[out as usize] = unary(op, r[a as usize]),
                 Instr::Binary { op, out, a, b } => {
                     r[out as usize] = binary(op, r[a as usize], r[b as usize])
+                }
+                Instr::Capsules { set, out, x, y, z } => {
+                    let p = [r[x as usize], r[y as usize], r[z as usize]];
+                    r[out as usize] = self.tape.capsule_set(set).value(p)
                 }
             }
         }
@@ -159,6 +166,19 @@ impl<'t> BatchEval<'t> {
                     );
                     lane_binary(op, a, b, &mut dst[..len]);
                 }
+                Instr::Capsules { set, out, x, y, z } => {
+                    let set = self.tape.capsule_set(set);
+                    let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
+                    let mut values = [0f32; LANES];
+                    set.values(
+                        &regs[x..x + len],
+                        &regs[y..y + len],
+                        &regs[z..z + len],
+                        &mut values[..len],
+                    );
+                    let o = out as usize * LANES;
+                    regs[o..o + len].copy_from_slice(&values[..len]);
+                }
             }
         }
     }
@@ -186,7 +206,7 @@ fn arg<'a>(before: &'a [f32], after: &'a [f32], o: usize, x: usize, len: usize) 
 pub struct IntervalEval<'t> {
     tape: &'t Tape,
     regs: Vec<Interval>,
-    choices: Vec<Choice>,
+    choices: Choices,
 }
 
 impl<'t> IntervalEval<'t> {
@@ -194,13 +214,17 @@ impl<'t> IntervalEval<'t> {
         IntervalEval {
             tape,
             regs: vec![Interval::point(0.0); tape.slots()],
-            choices: vec![Choice::Both; tape.len()],
+            choices: Choices {
+                per_instr: vec![Choice::Both; tape.len()],
+                narrowed: Vec::new(),
+            },
         }
     }
 
     pub fn eval(&mut self, x: Interval, y: Interval, z: Interval) -> Interval {
         let axes = [x, y, z];
         let r = &mut self.regs;
+        self.choices.narrowed.clear();
         for (i, ins) in self.tape.instrs().iter().enumerate() {
             match *ins {
                 Instr::Var { out, axis } => r[out as usize] = axes[axis as usize],
@@ -209,15 +233,23 @@ impl<'t> IntervalEval<'t> {
                 Instr::Binary { op, out, a, b } => {
                     let (v, c) = interval::binary(op, r[a as usize], r[b as usize]);
                     r[out as usize] = v;
-                    self.choices[i] = c;
+                    self.choices.per_instr[i] = c;
+                }
+                Instr::Capsules { set, out, x, y, z } => {
+                    let set = self.tape.capsule_set(set);
+                    let (v, narrowed) = set.interval(r[x as usize], r[y as usize], r[z as usize]);
+                    r[out as usize] = v;
+                    if let Some(n) = narrowed {
+                        self.choices.narrowed.push((i as u32, Arc::new(n)));
+                    }
                 }
             }
         }
         r[self.tape.output()]
     }
 
-    /// The choices of the last evaluation, one per instruction.
-    pub fn choices(&self) -> &[Choice] {
+    /// What the last evaluation proved (see [`Tape::simplify`]).
+    pub fn choices(&self) -> &Choices {
         &self.choices
     }
 }
@@ -322,6 +354,15 @@ fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
     }
 }
 
+/// A capsule union at space-mapped arguments: its gradient by the chain rule.
+fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
+    let (v, g) = set.value_gradient(args.map(|a| a.v));
+    Grad {
+        v,
+        d: std::array::from_fn(|k| (0..3).map(|j| g[j] * args[j].d[k]).sum()),
+    }
+}
+
 /// Evaluates value and exact gradient (forward-mode automatic differentiation).
 pub struct GradEval<'t> {
     tape: &'t Tape,
@@ -357,6 +398,10 @@ impl<'t> GradEval<'t> {
                 Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
                 Instr::Binary { op, out, a, b } => {
                     r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
+                }
+                Instr::Capsules { set, out, x, y, z } => {
+                    let args = [r[x as usize], r[y as usize], r[z as usize]];
+                    r[out as usize] = grad_capsules(self.tape.capsule_set(set), args)
                 }
             }
         }
@@ -417,6 +462,15 @@ impl<'t> BatchGradEval<'t> {
                             (out as usize * LANES, a as usize * LANES, b as usize * LANES);
                         for i in 0..len {
                             regs[o + i] = grad_binary(op, regs[a + i], regs[b + i]);
+                        }
+                    }
+                    Instr::Capsules { set, out, x, y, z } => {
+                        let set = self.tape.capsule_set(set);
+                        let o = out as usize * LANES;
+                        let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
+                        for i in 0..len {
+                            let args = [regs[x + i], regs[y + i], regs[z + i]];
+                            regs[o + i] = grad_capsules(set, args);
                         }
                     }
                 }

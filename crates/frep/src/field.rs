@@ -3,6 +3,8 @@
 use std::ops;
 use std::sync::Arc;
 
+use crate::capsules::CapsuleSet;
+
 /// One-argument operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Unary {
@@ -54,6 +56,9 @@ pub enum Node {
     Const(f64),
     Unary(Unary, Field),
     Binary(Binary, Field, Field),
+    /// A union of capsules evaluated at the point given by three fields
+    /// (x, y and z unless space-mapped).
+    Capsules(Arc<CapsuleSet>, [Field; 3]),
 }
 
 /// A node with its structural hash and size, computed once at construction.
@@ -101,6 +106,15 @@ fn make(node: Node) -> Field {
             h.update(&b.0.hash.to_le_bytes());
             a.0.size.saturating_add(b.0.size).saturating_add(1)
         }
+        Node::Capsules(set, args) => {
+            h.update(b"capsules");
+            h.update(&set.identity().to_le_bytes());
+            for a in args {
+                h.update(&a.0.hash.to_le_bytes());
+            }
+            let args = args.iter().fold(0u64, |s, a| s.saturating_add(a.0.size));
+            args.saturating_add(set.len() as u64)
+        }
     };
     Field(Arc::new(Inner {
         node,
@@ -124,6 +138,16 @@ impl Field {
 
     pub fn constant(v: f64) -> Field {
         make(Node::Const(v))
+    }
+
+    /// The union of a set of capsules at (x, y, z).
+    pub fn capsules(set: CapsuleSet) -> Field {
+        Field::capsules_at(&Arc::new(set), [Field::x(), Field::y(), Field::z()])
+    }
+
+    /// The union of a shared set of capsules at the point `args` give.
+    pub fn capsules_at(set: &Arc<CapsuleSet>, args: [Field; 3]) -> Field {
+        make(Node::Capsules(Arc::clone(set), args))
     }
 
     pub fn node(&self) -> &Node {
@@ -217,6 +241,7 @@ impl Field {
             Node::Const(c) => *c,
             Node::Unary(op, a) => unary(*op, a.eval_tree(p)),
             Node::Binary(op, a, b) => binary(*op, a.eval_tree(p), b.eval_tree(p)),
+            Node::Capsules(set, args) => set.value(args.each_ref().map(|a| a.eval_tree(p))),
         }
     }
 }
@@ -233,6 +258,7 @@ impl Drop for Field {
                         stack.push(a);
                         stack.push(b);
                     }
+                    Node::Capsules(_, args) => stack.extend(args),
                     _ => {}
                 }
             }

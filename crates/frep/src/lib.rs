@@ -7,6 +7,7 @@
 //! geometry. Knows nothing of nodes, graphs or files.
 
 mod brick;
+pub mod capsules;
 pub mod eval;
 mod features;
 pub mod field;
@@ -21,10 +22,11 @@ pub mod shapes;
 pub mod tape;
 pub mod vm;
 
+pub use capsules::CapsuleSet;
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use hyperfun::{parse_hf, HfError};
 pub use interval::Interval;
 pub use polygonise::{polygonise, sample, MeshError, MeshEstimate, MeshOptions, MeshStats};
-pub use tape::{Choice, Instr, Tape};
+pub use tape::{Choice, Choices, Instr, Tape};
 pub use vm::{parse_vm, VmError};

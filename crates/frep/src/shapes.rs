@@ -8,6 +8,7 @@
 
 use std::collections::HashMap;
 
+use crate::capsules::CapsuleSet;
 use crate::field::{Field, Node};
 
 fn xyz() -> (Field, Field, Field) {
@@ -164,7 +165,20 @@ pub fn bounded_blend(f1: &Field, f2: &Field, f3: &Field, a: [f64; 4], union_op: 
 
 /// The union (exact max) of any number of solids; None when there are none.
 pub fn union_all(solids: impl IntoIterator<Item = Field>) -> Option<Field> {
-    solids.into_iter().reduce(|u, f| u.max(f))
+    // A balanced tree, not a chain: interval pruning decides a subtree at
+    // once, and the tape's depth stays logarithmic.
+    let mut level: Vec<Field> = solids.into_iter().collect();
+    while level.len() > 1 {
+        level = level
+            .chunks(2)
+            .map(|pair| match pair {
+                [a, b] => a.max(b),
+                [a] => a.clone(),
+                _ => unreachable!("chunks of two"),
+            })
+            .collect();
+    }
+    level.pop()
 }
 
 /// Grows (d > 0) or shrinks (d < 0) a solid by `d` (exact for distance fields).
@@ -196,6 +210,7 @@ impl Field {
                         stack.push((a, false));
                         stack.push((b, false));
                     }
+                    Node::Capsules(_, args) => stack.extend(args.iter().map(|a| (a, false))),
                     _ => {}
                 }
                 continue;
@@ -208,6 +223,7 @@ impl Field {
                 Node::Const(_) => f.clone(),
                 Node::Unary(op, a) => get(a).unary(*op),
                 Node::Binary(op, a, b) => get(a).binary(*op, get(b)),
+                Node::Capsules(set, args) => Field::capsules_at(set, args.each_ref().map(get)),
             };
             done.insert(key, new);
         }
@@ -287,33 +303,7 @@ impl Field {
 /// A sphere swept along a polyline: the union of capsules, each segment's
 /// radius interpolated linearly between its end points' radii.
 pub fn sphere_sweep(points: &[[f64; 3]], radii: &[f64]) -> Option<Field> {
-    let (x, y, z) = xyz();
-    let segments: Vec<(usize, usize)> = if points.len() == 1 {
-        vec![(0, 0)]
-    } else {
-        (0..points.len() - 1).map(|i| (i, i + 1)).collect()
-    };
-    union_all(segments.into_iter().map(|(i, j)| {
-        let (a, b) = (points[i], points[j]);
-        let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-        let len2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-        let (px, py, pz) = (&x - a[0], &y - a[1], &z - a[2]);
-        // Parameter of the closest point on the segment, clamped to it.
-        let t = if len2 > 0.0 {
-            ((&px * ab[0] + &py * ab[1] + &pz * ab[2]) / len2)
-                .max(0.0)
-                .min(1.0)
-        } else {
-            Field::constant(0.0)
-        };
-        let dist = length3(
-            &(&px - &t * ab[0]),
-            &(&py - &t * ab[1]),
-            &(&pz - &t * ab[2]),
-        );
-        let r = radii[i] + &t * (radii[j] - radii[i]);
-        r - dist
-    }))
+    CapsuleSet::new(&CapsuleSet::polyline_segments(points, radii)).map(Field::capsules)
 }
 
 /// The exact solid a tagged mesh primitive approximates, in its local frame

@@ -2,6 +2,9 @@
 
 use std::collections::HashMap;
 
+use std::sync::Arc;
+
+use crate::capsules::CapsuleSet;
 use crate::field::{binary, unary, Binary, Field, Node, Unary};
 
 /// One instruction. Arguments and outputs are registers (after allocation)
@@ -27,6 +30,15 @@ pub enum Instr {
         a: u32,
         b: u32,
     },
+    /// The union of capsule set `set` (an index into [`Tape::capsule_set`])
+    /// at the point in registers `x`, `y`, `z`.
+    Capsules {
+        set: u32,
+        out: u32,
+        x: u32,
+        y: u32,
+        z: u32,
+    },
 }
 
 impl Instr {
@@ -35,25 +47,40 @@ impl Instr {
             Instr::Var { out, .. }
             | Instr::Const { out, .. }
             | Instr::Unary { out, .. }
-            | Instr::Binary { out, .. } => out,
+            | Instr::Binary { out, .. }
+            | Instr::Capsules { out, .. } => out,
         }
     }
 
-    fn args(&self) -> [Option<u32>; 2] {
+    fn args(&self) -> [Option<u32>; 3] {
         match *self {
-            Instr::Var { .. } | Instr::Const { .. } => [None, None],
-            Instr::Unary { a, .. } => [Some(a), None],
-            Instr::Binary { a, b, .. } => [Some(a), Some(b)],
+            Instr::Var { .. } | Instr::Const { .. } => [None; 3],
+            Instr::Unary { a, .. } => [Some(a), None, None],
+            Instr::Binary { a, b, .. } => [Some(a), Some(b), None],
+            Instr::Capsules { x, y, z, .. } => [Some(x), Some(y), Some(z)],
         }
     }
 
-    fn with(&self, out: u32, a: u32, b: u32) -> Instr {
+    /// The same operation writing `out` from arguments `args` (unused ones ignored).
+    fn with(&self, out: u32, args: [u32; 3]) -> Instr {
+        let [a, b, c] = args;
         match *self {
             Instr::Var { axis, .. } => Instr::Var { out, axis },
             Instr::Const { value, .. } => Instr::Const { out, value },
             Instr::Unary { op, .. } => Instr::Unary { op, out, a },
             Instr::Binary { op, .. } => Instr::Binary { op, out, a, b },
+            Instr::Capsules { set, .. } => Instr::Capsules {
+                set,
+                out,
+                x: a,
+                y: b,
+                z: c,
+            },
         }
+    }
+
+    fn with_args(&self, out: u32, args: [Option<u32>; 3]) -> Instr {
+        self.with(out, args.map(|a| a.unwrap_or(0)))
     }
 }
 
@@ -66,6 +93,15 @@ pub enum Choice {
     Right,
 }
 
+/// What an interval evaluation over a region proved: the decisive argument
+/// of every `min`/`max`, and the capsule sets narrowed to the capsules that
+/// may win there (by instruction index).
+#[derive(Clone, Debug, Default)]
+pub struct Choices {
+    pub per_instr: Vec<Choice>,
+    pub narrowed: Vec<(u32, Arc<CapsuleSet>)>,
+}
+
 /// A compiled field: instructions in evaluation order over `slots` registers,
 /// the result in register `output`.
 #[derive(Clone, Debug)]
@@ -76,6 +112,8 @@ pub struct Tape {
     instrs: Vec<Instr>,
     slots: u32,
     output: u32,
+    /// The capsule sets `Instr::Capsules` refer to.
+    capsule_sets: Vec<Arc<CapsuleSet>>,
 }
 
 #[derive(Hash, PartialEq, Eq)]
@@ -84,6 +122,7 @@ enum Key {
     Const(u64),
     Unary(Unary, u32),
     Binary(Binary, u32, u32),
+    Capsules(u128, [u32; 3]),
 }
 
 impl Tape {
@@ -93,6 +132,7 @@ impl Tape {
         let mut ssa: Vec<Instr> = Vec::new();
         let mut by_ptr: HashMap<*const (), u32> = HashMap::new();
         let mut by_key: HashMap<Key, u32> = HashMap::new();
+        let mut capsule_sets: Vec<Arc<CapsuleSet>> = Vec::new();
         let consts = |ssa: &Vec<Instr>, v: u32| match ssa[v as usize] {
             Instr::Const { value, .. } => Some(value),
             _ => None,
@@ -112,6 +152,7 @@ impl Tape {
                         stack.push((b, false));
                         stack.push((a, false));
                     }
+                    Node::Capsules(_, args) => stack.extend(args.iter().rev().map(|a| (a, false))),
                     _ => {}
                 }
                 continue;
@@ -150,24 +191,41 @@ impl Tape {
                         ),
                     }
                 }
+                Node::Capsules(set, args) => {
+                    let [x, y, z] = args.each_ref().map(get);
+                    let index = match capsule_sets
+                        .iter()
+                        .position(|s| s.identity() == set.identity())
+                    {
+                        Some(i) => i,
+                        None => {
+                            capsule_sets.push(Arc::clone(set));
+                            capsule_sets.len() - 1
+                        }
+                    };
+                    let instr = Instr::Capsules {
+                        set: index as u32,
+                        out: 0,
+                        x,
+                        y,
+                        z,
+                    };
+                    (Key::Capsules(set.identity(), [x, y, z]), instr)
+                }
             };
             let id = *by_key.entry(key).or_insert_with(|| {
                 let id = ssa.len() as u32;
-                ssa.push(instr.with(
-                    id,
-                    instr.args()[0].unwrap_or(0),
-                    instr.args()[1].unwrap_or(0),
-                ));
+                ssa.push(instr.with_args(id, instr.args()));
                 id
             });
             by_ptr.insert(ptr, id);
         }
         let output = by_ptr[&field.ptr()];
-        Tape::from_ssa(ssa, output)
+        Tape::from_ssa(ssa, output, capsule_sets)
     }
 
     /// Keeps only what the output needs, then allocates registers.
-    fn from_ssa(ssa: Vec<Instr>, output: u32) -> Tape {
+    fn from_ssa(ssa: Vec<Instr>, output: u32, capsule_sets: Vec<Arc<CapsuleSet>>) -> Tape {
         // Dead-code elimination and renumbering.
         let mut live = vec![false; ssa.len()];
         live[output as usize] = true;
@@ -182,9 +240,9 @@ impl Tape {
         let mut compact = Vec::new();
         for (i, ins) in ssa.iter().enumerate() {
             if live[i] {
-                let [a, b] = ins.args().map(|x| x.map_or(0, |x| new_id[x as usize]));
+                let args = ins.args().map(|x| x.map_or(0, |x| new_id[x as usize]));
                 new_id[i] = compact.len() as u32;
-                compact.push(ins.with(compact.len() as u32, a, b));
+                compact.push(ins.with(compact.len() as u32, args));
             }
         }
         let output = new_id[output as usize];
@@ -203,26 +261,26 @@ impl Tape {
         let mut slots = 0u32;
         let mut instrs = Vec::with_capacity(compact.len());
         for (i, ins) in compact.iter().enumerate() {
-            let [a, b] = ins.args();
-            let ra = a.map_or(0, |a| reg_of[a as usize]);
-            let rb = b.map_or(0, |b| reg_of[b as usize]);
+            let args = ins.args();
+            let regs = args.map(|a| a.map_or(0, |a| reg_of[a as usize]));
             let out = free.pop().unwrap_or_else(|| {
                 slots += 1;
                 slots - 1
             });
-            for x in [a, b].into_iter().flatten() {
+            for x in args.into_iter().flatten() {
                 if last_use[x as usize] == i && !free.contains(&reg_of[x as usize]) {
                     free.push(reg_of[x as usize]);
                 }
             }
             reg_of[i] = out;
-            instrs.push(ins.with(out, ra, rb));
+            instrs.push(ins.with(out, regs));
         }
         Tape {
             ssa: compact,
             instrs,
             slots: slots.max(1),
             output: reg_of[output as usize],
+            capsule_sets,
         }
     }
 
@@ -239,6 +297,11 @@ impl Tape {
         self.output as usize
     }
 
+    /// The capsule set an `Instr::Capsules` names.
+    pub fn capsule_set(&self, set: u32) -> &CapsuleSet {
+        &self.capsule_sets[set as usize]
+    }
+
     pub fn len(&self) -> usize {
         self.instrs.len()
     }
@@ -247,36 +310,69 @@ impl Tape {
         self.instrs.is_empty()
     }
 
-    /// A shorter tape valid wherever `choices` (one per instruction, from an
-    /// interval evaluation over a region) hold: every decided `min`/`max` is
-    /// replaced by the winning argument and what no longer matters is dropped.
-    pub fn simplify(&self, choices: &[Choice]) -> Tape {
-        assert_eq!(choices.len(), self.ssa.len(), "one choice per instruction");
+    /// A shorter tape valid wherever `choices` (from an interval evaluation
+    /// over a region) hold: every decided `min`/`max` is replaced by the
+    /// winning argument, capsule sets by their narrowed sets, and what no
+    /// longer matters is dropped.
+    pub fn simplify(&self, choices: &Choices) -> Tape {
+        let per_instr = &choices.per_instr;
+        assert_eq!(
+            per_instr.len(),
+            self.ssa.len(),
+            "one choice per instruction"
+        );
         let mut alias: Vec<u32> = (0..self.ssa.len() as u32).collect();
         let mut ssa: Vec<Instr> = Vec::with_capacity(self.ssa.len());
+        let mut capsule_sets = self.capsule_sets.clone();
+        let mut narrowed = choices.narrowed.iter().peekable();
         for (i, ins) in self.ssa.iter().enumerate() {
-            let [a, b] = ins.args().map(|x| x.map(|x| alias[x as usize]));
-            match (ins, choices[i]) {
+            let args = ins.args().map(|x| x.map(|x| alias[x as usize]));
+            let mut ins = *ins;
+            match (&mut ins, per_instr[i]) {
                 (
                     Instr::Binary {
                         op: Binary::Min | Binary::Max,
                         ..
                     },
                     Choice::Left,
-                ) => alias[i] = a.expect("binary"),
+                ) => alias[i] = args[0].expect("binary"),
                 (
                     Instr::Binary {
                         op: Binary::Min | Binary::Max,
                         ..
                     },
                     Choice::Right,
-                ) => alias[i] = b.expect("binary"),
+                ) => alias[i] = args[1].expect("binary"),
+                (Instr::Capsules { set, .. }, _) => {
+                    if let Some((_, narrow)) = narrowed.next_if(|(at, _)| *at as usize == i) {
+                        *set = capsule_sets.len() as u32;
+                        capsule_sets.push(Arc::clone(narrow));
+                    }
+                }
                 _ => {}
             }
-            ssa.push(ins.with(i as u32, a.unwrap_or(0), b.unwrap_or(0)));
+            ssa.push(ins.with_args(i as u32, args));
         }
         let output = alias[self.output_ssa() as usize];
-        Tape::from_ssa(ssa, output)
+        let mut tape = Tape::from_ssa(ssa, output, capsule_sets);
+        tape.drop_unused_capsule_sets();
+        tape
+    }
+
+    /// Keeps only the capsule sets live instructions name, renumbered.
+    fn drop_unused_capsule_sets(&mut self) {
+        let mut renumber: Vec<Option<u32>> = vec![None; self.capsule_sets.len()];
+        let mut kept = Vec::new();
+        for ins in self.ssa.iter_mut().chain(self.instrs.iter_mut()) {
+            if let Instr::Capsules { set, .. } = ins {
+                let new = *renumber[*set as usize].get_or_insert_with(|| {
+                    kept.push(Arc::clone(&self.capsule_sets[*set as usize]));
+                    kept.len() as u32 - 1
+                });
+                *set = new;
+            }
+        }
+        self.capsule_sets = kept;
     }
 
     fn output_ssa(&self) -> u32 {

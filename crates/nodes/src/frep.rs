@@ -3,7 +3,7 @@
 //! nodes that turn fields into geometry. Fields travel on `field` wires.
 
 use geode_frep::shapes;
-use geode_frep::{Field, MeshError, MeshOptions};
+use geode_frep::{CapsuleSet, Field, MeshError, MeshOptions};
 use geode_geo::{AttribClass, AttribData, Attribute, TypeInfo};
 use geode_op::{
     CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamName,
@@ -466,7 +466,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         .and_then(|a| a.as_f32());
     let r = p.float(&SWEEP_RADIUS)?;
     let pos = g.positions();
-    let mut sweeps = Vec::new();
+    let mut segments = Vec::new();
     for prim in 0..g.num_prims() {
         if g.prim_kind(prim) != geode_geo::PrimKind::Polyline {
             continue;
@@ -481,10 +481,11 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
             .iter()
             .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
             .collect();
-        sweeps.extend(shapes::sphere_sweep(&points, &radii));
+        segments.extend(CapsuleSet::polyline_segments(&points, &radii));
     }
-    shapes::union_all(sweeps)
-        .map(Value::Field)
+    // One set for every polyline: its hierarchy spans the whole skeleton.
+    CapsuleSet::new(&segments)
+        .map(|set| Value::Field(Field::capsules(set)))
         .ok_or_else(|| ctx.input_error("the input has no polylines to sweep along"))
 }
 

@@ -1,0 +1,615 @@
+//! Unions of many capsules (sphere sweeps along polylines) as one field
+//! primitive over a bounding-volume hierarchy: point, gradient and interval
+//! evaluation visit only the capsules that can decide the value where they
+//! look, and an interval evaluation over a region narrows the set to the
+//! capsules that may win there (the tape keeps the narrowed set).
+//!
+//! Each capsule is `r(t) - |p - (a + t (b - a))|` with `t` the clamped
+//! parameter of the point of the segment nearest `p` and `r` interpolated
+//! linearly between the end radii; the union is the maximum. The maximum is
+//! exact in floating point, so visiting fewer capsules never changes a value.
+
+use crate::interval::Interval;
+
+/// One segment with its end radii.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Capsule {
+    a: [f64; 3],
+    ab: [f64; 3],
+    /// `1 / |ab|^2`, or 0 for a point (then `t` is always 0).
+    inv_len2: f64,
+    ra: f64,
+    dr: f64,
+}
+
+/// A hierarchy node: the box of its segments (radii not included), the
+/// largest radius under it, its capsules `start..end` and, for an inner node,
+/// its second child (the first is the next node).
+#[derive(Clone, Copy, Debug)]
+struct BvhNode {
+    lo: [f64; 3],
+    hi: [f64; 3],
+    r_max: f64,
+    start: u32,
+    end: u32,
+    second: u32,
+}
+
+/// Capsules per leaf, and the set size under which evaluation is a plain loop.
+const LEAF: usize = 4;
+const LINEAR: usize = 8;
+/// The set size over which a batch first looks for the capsules near it.
+const SEARCHED: usize = 16;
+
+/// A union of capsules with its hierarchy; immutable once built.
+#[derive(Debug)]
+pub struct CapsuleSet {
+    /// In hierarchy order.
+    caps: Vec<Capsule>,
+    nodes: Vec<BvhNode>,
+    identity: u128,
+}
+
+impl PartialEq for CapsuleSet {
+    fn eq(&self, other: &CapsuleSet) -> bool {
+        self.identity == other.identity
+    }
+}
+
+fn sub(p: [f64; 3], q: [f64; 3]) -> [f64; 3] {
+    [p[0] - q[0], p[1] - q[1], p[2] - q[2]]
+}
+
+fn dot(p: [f64; 3], q: [f64; 3]) -> f64 {
+    p[0] * q[0] + p[1] * q[1] + p[2] * q[2]
+}
+
+/// Distance from a point to a box (0 inside).
+fn point_box_distance(p: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> f64 {
+    let d: [f64; 3] = std::array::from_fn(|k| (lo[k] - p[k]).max(p[k] - hi[k]).max(0.0));
+    dot(d, d).sqrt()
+}
+
+/// Distance between two boxes (0 when they overlap).
+fn box_box_distance(lo: [f64; 3], hi: [f64; 3], lo2: [f64; 3], hi2: [f64; 3]) -> f64 {
+    let d: [f64; 3] = std::array::from_fn(|k| (lo2[k] - hi[k]).max(lo[k] - hi2[k]).max(0.0));
+    dot(d, d).sqrt()
+}
+
+impl Capsule {
+    fn new(a: [f64; 3], b: [f64; 3], ra: f64, rb: f64) -> Capsule {
+        let ab = sub(b, a);
+        let len2 = dot(ab, ab);
+        Capsule {
+            a,
+            ab,
+            inv_len2: if len2 > 0.0 { 1.0 / len2 } else { 0.0 },
+            ra,
+            dr: rb - ra,
+        }
+    }
+
+    fn b(&self) -> [f64; 3] {
+        std::array::from_fn(|k| self.a[k] + self.ab[k])
+    }
+
+    fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        let b = self.b();
+        (
+            std::array::from_fn(|k| self.a[k].min(b[k])),
+            std::array::from_fn(|k| self.a[k].max(b[k])),
+        )
+    }
+
+    fn r_min(&self) -> f64 {
+        self.ra.min(self.ra + self.dr)
+    }
+
+    fn r_max(&self) -> f64 {
+        self.ra.max(self.ra + self.dr)
+    }
+
+    /// The clamped parameter of the nearest point, whether it was clamped,
+    /// and the offset from that point to `p`.
+    fn nearest(&self, p: [f64; 3]) -> (f64, bool, [f64; 3]) {
+        let ap = sub(p, self.a);
+        let t = dot(ap, self.ab) * self.inv_len2;
+        let clamped = !(t > 0.0 && t < 1.0);
+        let t = t.clamp(0.0, 1.0);
+        (t, clamped, std::array::from_fn(|k| ap[k] - t * self.ab[k]))
+    }
+
+    fn value(&self, p: [f64; 3]) -> f64 {
+        let (t, _, d) = self.nearest(p);
+        self.ra + t * self.dr - dot(d, d).sqrt()
+    }
+
+    fn distance(&self, p: [f64; 3]) -> f64 {
+        let (_, _, d) = self.nearest(p);
+        dot(d, d).sqrt()
+    }
+
+    /// Value and gradient; on the segment itself the distance's gradient is
+    /// taken as 0 (a subgradient), as the evaluators do for `sqrt` at 0.
+    fn value_gradient(&self, p: [f64; 3]) -> (f64, [f64; 3]) {
+        let (t, clamped, d) = self.nearest(p);
+        let dist = dot(d, d).sqrt();
+        let mut g = [0.0; 3];
+        if dist > 0.0 {
+            // d = p - a - t ab; with t free, dd/dp = I - ab ab^T / |ab|^2.
+            let along = if clamped {
+                0.0
+            } else {
+                dot(d, self.ab) * self.inv_len2
+            };
+            for k in 0..3 {
+                g[k] = -(d[k] - along * self.ab[k]) / dist;
+            }
+        }
+        if !clamped {
+            for (gk, abk) in g.iter_mut().zip(self.ab) {
+                *gk += self.dr * abk * self.inv_len2;
+            }
+        }
+        (self.ra + t * self.dr - dist, g)
+    }
+}
+
+/// A capsule in single precision, for batches (as the batch evaluator's
+/// other operations are): four lanes per instruction instead of two.
+#[derive(Clone, Copy)]
+struct Capsule32 {
+    a: [f32; 3],
+    ab: [f32; 3],
+    inv_len2: f32,
+    ra: f32,
+    dr: f32,
+}
+
+impl Capsule32 {
+    fn of(c: &Capsule) -> Capsule32 {
+        Capsule32 {
+            a: c.a.map(|v| v as f32),
+            ab: c.ab.map(|v| v as f32),
+            inv_len2: c.inv_len2 as f32,
+            ra: c.ra as f32,
+            dr: c.dr as f32,
+        }
+    }
+
+    #[inline(always)]
+    fn value(&self, x: f32, y: f32, z: f32) -> f32 {
+        let (px, py, pz) = (x - self.a[0], y - self.a[1], z - self.a[2]);
+        let t =
+            ((px * self.ab[0] + py * self.ab[1] + pz * self.ab[2]) * self.inv_len2).clamp(0.0, 1.0);
+        let (dx, dy, dz) = (
+            px - t * self.ab[0],
+            py - t * self.ab[1],
+            pz - t * self.ab[2],
+        );
+        self.ra + t * self.dr - (dx * dx + dy * dy + dz * dz).sqrt()
+    }
+}
+
+impl CapsuleSet {
+    /// The capsules of the polyline `points` (one sphere for a single point),
+    /// radii per point.
+    pub fn polyline_segments(
+        points: &[[f64; 3]],
+        radii: &[f64],
+    ) -> Vec<([f64; 3], [f64; 3], f64, f64)> {
+        if points.len() == 1 {
+            return vec![(points[0], points[0], radii[0], radii[0])];
+        }
+        points
+            .windows(2)
+            .zip(radii.windows(2))
+            .map(|(p, r)| (p[0], p[1], r[0], r[1]))
+            .collect()
+    }
+
+    /// Builds the hierarchy over segments `(a, b, ra, rb)`; `None` when empty.
+    pub fn new(segments: &[([f64; 3], [f64; 3], f64, f64)]) -> Option<CapsuleSet> {
+        if segments.is_empty() {
+            return None;
+        }
+        let caps: Vec<Capsule> = segments
+            .iter()
+            .map(|&(a, b, ra, rb)| Capsule::new(a, b, ra, rb))
+            .collect();
+        let identity = {
+            use xxhash_rust::xxh3::Xxh3;
+            let mut h = Xxh3::new();
+            h.update(b"capsules");
+            for &(a, b, ra, rb) in segments {
+                for v in a.iter().chain(&b).chain(&[ra, rb]) {
+                    h.update(&v.to_bits().to_le_bytes());
+                }
+            }
+            h.digest128()
+        };
+        Some(CapsuleSet::build(caps, identity))
+    }
+
+    fn build(mut caps: Vec<Capsule>, identity: u128) -> CapsuleSet {
+        let mut nodes = Vec::with_capacity(2 * caps.len() / LEAF + 1);
+        let n = caps.len();
+        build_node(&mut caps, 0, n, &mut nodes);
+        CapsuleSet {
+            caps,
+            nodes,
+            identity,
+        }
+    }
+
+    /// Structural identity: equal for equal segment lists.
+    pub fn identity(&self) -> u128 {
+        self.identity
+    }
+
+    pub fn len(&self) -> usize {
+        self.caps.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.caps.is_empty()
+    }
+
+    /// The union's value at `p`.
+    pub fn value(&self, p: [f64; 3]) -> f64 {
+        let i = self.winner(p);
+        self.caps[i].value(p)
+    }
+
+    /// The union's value and gradient at `p` (the winning capsule's).
+    pub fn value_gradient(&self, p: [f64; 3]) -> (f64, [f64; 3]) {
+        let i = self.winner(p);
+        self.caps[i].value_gradient(p)
+    }
+
+    /// The first capsule (in hierarchy order) of the largest value at `p`.
+    fn winner(&self, p: [f64; 3]) -> usize {
+        let mut best = (f64::NEG_INFINITY, 0usize);
+        let consider = |best: &mut (f64, usize), range: std::ops::Range<usize>| {
+            for i in range {
+                let v = self.caps[i].value(p);
+                if v > best.0 {
+                    *best = (v, i);
+                }
+            }
+        };
+        if self.caps.len() <= LINEAR || p.iter().any(|c| !c.is_finite()) {
+            consider(&mut best, 0..self.caps.len());
+            return best.1;
+        }
+        // Median splits keep the depth under 64 for any set that fits in memory.
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = stack[top];
+            let node = &self.nodes[n as usize];
+            if node.r_max - point_box_distance(p, node.lo, node.hi) < best.0 {
+                continue;
+            }
+            if node.second == 0 {
+                consider(&mut best, node.start as usize..node.end as usize);
+                continue;
+            }
+            // The nearer child last on the stack: visited first, it raises
+            // the bound that prunes the other.
+            let (first, second) = (n + 1, node.second);
+            let d = |c: u32| {
+                let c = &self.nodes[c as usize];
+                point_box_distance(p, c.lo, c.hi)
+            };
+            let (later, sooner) = if d(first) <= d(second) {
+                (second, first)
+            } else {
+                (first, second)
+            };
+            stack[top] = later;
+            stack[top + 1] = sooner;
+            top += 2;
+        }
+        best.1
+    }
+
+    /// Bounds of the union over a box, and the set narrowed to the capsules
+    /// that may win somewhere in it (`None`: all of them may).
+    pub fn interval(
+        &self,
+        x: Interval,
+        y: Interval,
+        z: Interval,
+    ) -> (Interval, Option<CapsuleSet>) {
+        let lo = [x.lo, y.lo, z.lo];
+        let hi = [x.hi, y.hi, z.hi];
+        if lo.iter().chain(&hi).any(|v| v.is_nan()) {
+            return (Interval::new(f64::NEG_INFINITY, f64::INFINITY), None);
+        }
+        let (best_lo, mut candidates) = self.candidates(lo, hi);
+        let best_hi = candidates
+            .iter()
+            .fold(f64::NEG_INFINITY, |m, &(_, h)| m.max(h));
+        let narrowed = (candidates.len() < self.caps.len()).then(|| {
+            candidates.sort_unstable_by_key(|&(i, _)| i);
+            let caps = candidates
+                .iter()
+                .map(|&(i, _)| self.caps[i as usize])
+                .collect();
+            CapsuleSet::build(caps, narrowed_identity(self.identity, &candidates))
+        });
+        (Interval::new(best_lo, best_hi), narrowed)
+    }
+
+    /// The union's values at many points (`out[i]` at `(xs[i], ys[i],
+    /// zs[i])`): the capsules that may win in the points' bounding box
+    /// found once, then each evaluated over all the points in a loop the
+    /// compiler vectorises.
+    pub fn values(&self, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) {
+        let axes = [xs, ys, zs];
+        let lo: [f64; 3] = axes.map(|a| a.iter().fold(f32::INFINITY, |m, &v| m.min(v)) as f64);
+        let hi: [f64; 3] = axes.map(|a| a.iter().fold(f32::NEG_INFINITY, |m, &v| m.max(v)) as f64);
+        if lo.iter().chain(&hi).any(|v| !v.is_finite()) {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = self.value([xs[i], ys[i], zs[i]].map(f64::from)) as f32;
+            }
+            return;
+        }
+        // A small set costs less evaluated whole than searched.
+        let candidates: Vec<(u32, f64)> = if self.caps.len() <= SEARCHED {
+            (0..self.caps.len() as u32).map(|i| (i, 0.0)).collect()
+        } else {
+            self.candidates(lo, hi).1
+        };
+        let mut best = [f32::NEG_INFINITY; crate::eval::LANES];
+        for chunk_start in (0..out.len()).step_by(best.len()) {
+            let n = (out.len() - chunk_start).min(best.len());
+            let best = &mut best[..n];
+            best.fill(f32::NEG_INFINITY);
+            let at = |k: usize| &axes[k][chunk_start..chunk_start + n];
+            let (px, py, pz) = (at(0), at(1), at(2));
+            for &(c, _) in &candidates {
+                let c = Capsule32::of(&self.caps[c as usize]);
+                for (((b, &x), &y), &z) in best.iter_mut().zip(px).zip(py).zip(pz) {
+                    *b = b.max(c.value(x, y, z));
+                }
+            }
+            for (o, b) in out[chunk_start..chunk_start + n]
+                .iter_mut()
+                .zip(best.iter())
+            {
+                *o = *b;
+            }
+        }
+    }
+
+    /// The capsules that may give the union's value somewhere in the box
+    /// `lo..hi` (finite), each with the upper bound of its value there, and
+    /// the largest lower bound of any capsule's value (the union's lower
+    /// bound). Bounds per capsule: its distance to the segment is convex, so
+    /// its largest value over the box is at a corner; its smallest is at
+    /// least the boxes' distance and the centre's distance less half the
+    /// diagonal.
+    fn candidates(&self, lo: [f64; 3], hi: [f64; 3]) -> (f64, Vec<(u32, f64)>) {
+        let finite = lo.iter().chain(&hi).all(|v| v.is_finite());
+        let center: [f64; 3] = std::array::from_fn(|k| 0.5 * (lo[k] + hi[k]));
+        let half_diagonal = 0.5 * dot(sub(hi, lo), sub(hi, lo)).sqrt();
+        let corners: [[f64; 3]; 8] = std::array::from_fn(|c| {
+            std::array::from_fn(|k| if c >> k & 1 == 0 { lo[k] } else { hi[k] })
+        });
+        // The upper bound first: a capsule that cannot reach the best lower
+        // bound so far cannot raise it either, and its corners are skipped.
+        let upper = |c: &Capsule| {
+            let (clo, chi) = c.bounds();
+            let mut near = box_box_distance(lo, hi, clo, chi);
+            if finite {
+                near = near.max(c.distance(center) - half_diagonal);
+            }
+            c.r_max() - near
+        };
+        let lower = |c: &Capsule| {
+            if !finite {
+                return f64::NEG_INFINITY;
+            }
+            c.r_min() - corners.iter().fold(0.0f64, |m, &p| m.max(c.distance(p)))
+        };
+        let mut best_lo = f64::NEG_INFINITY;
+        let mut candidates: Vec<(u32, f64)> = Vec::new();
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if node.r_max - box_box_distance(lo, hi, node.lo, node.hi) < best_lo {
+                continue;
+            }
+            if node.second == 0 {
+                for i in node.start..node.end {
+                    let c = &self.caps[i as usize];
+                    let h = upper(c);
+                    if h >= best_lo {
+                        best_lo = best_lo.max(lower(c));
+                        candidates.push((i, h));
+                    }
+                }
+                continue;
+            }
+            let (first, second) = (n + 1, node.second);
+            let d = |c: u32| {
+                let c = &self.nodes[c as usize];
+                box_box_distance(lo, hi, c.lo, c.hi)
+            };
+            if d(first) <= d(second) {
+                stack.extend([second, first]);
+            } else {
+                stack.extend([first, second]);
+            }
+        }
+        candidates.retain(|&(_, h)| h >= best_lo);
+        (best_lo, candidates)
+    }
+}
+
+fn narrowed_identity(parent: u128, kept: &[(u32, f64)]) -> u128 {
+    use xxhash_rust::xxh3::Xxh3;
+    let mut h = Xxh3::new();
+    h.update(&parent.to_le_bytes());
+    for &(i, _) in kept {
+        h.update(&i.to_le_bytes());
+    }
+    h.digest128()
+}
+
+/// Builds the node over `caps[start..end]` (reordering them) depth first:
+/// split at the median of the segment midpoints along the box's longest axis.
+fn build_node(caps: &mut [Capsule], start: usize, end: usize, nodes: &mut Vec<BvhNode>) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    let mut r_max = f64::NEG_INFINITY;
+    for c in &caps[start..end] {
+        let (clo, chi) = c.bounds();
+        for k in 0..3 {
+            lo[k] = lo[k].min(clo[k]);
+            hi[k] = hi[k].max(chi[k]);
+        }
+        r_max = r_max.max(c.r_max());
+    }
+    let index = nodes.len();
+    nodes.push(BvhNode {
+        lo,
+        hi,
+        r_max,
+        start: start as u32,
+        end: end as u32,
+        second: 0,
+    });
+    // A set evaluated as a plain loop needs no hierarchy under its root.
+    if end - start <= LEAF || (start == 0 && end <= LINEAR) {
+        return;
+    }
+    let axis = (0..3)
+        .max_by(|&a, &b| (hi[a] - lo[a]).total_cmp(&(hi[b] - lo[b])))
+        .unwrap_or(0);
+    let mid = |c: &Capsule| 2.0 * c.a[axis] + c.ab[axis];
+    // A partition about the median (linear time); the same input always
+    // gives the same hierarchy.
+    let half = (end - start) / 2;
+    caps[start..end].select_nth_unstable_by(half, |p, q| mid(p).total_cmp(&mid(q)));
+    let half = start + half;
+    build_node(caps, start, half, nodes);
+    let second = nodes.len() as u32;
+    build_node(caps, half, end, nodes);
+    nodes[index].second = second;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic pseudo-random walk of `n` segments.
+    fn walk(n: usize) -> Vec<([f64; 3], [f64; 3], f64, f64)> {
+        let mut s = 0x2545_f491_4f6c_dd1du64;
+        let mut rnd = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let mut p = [0.0; 3];
+        let mut r = 0.05;
+        (0..n)
+            .map(|_| {
+                let q = [p[0] + 0.2 * rnd(), p[1] + 0.2 * rnd(), p[2] + 0.2 * rnd()];
+                let r2 = (r + 0.02 * rnd()).max(0.005);
+                let seg = (p, q, r, r2);
+                (p, r) = (q, r2);
+                seg
+            })
+            .collect()
+    }
+
+    #[test]
+    fn hierarchy_gives_the_plain_maximum() {
+        let segs = walk(500);
+        let set = CapsuleSet::new(&segs).unwrap();
+        let plain = |p: [f64; 3]| {
+            segs.iter()
+                .map(|&(a, b, ra, rb)| Capsule::new(a, b, ra, rb).value(p))
+                .fold(f64::NEG_INFINITY, f64::max)
+        };
+        for i in 0..2000 {
+            let t = i as f64 * 0.618;
+            let p = [t.sin() * 1.5, (1.3 * t).cos() * 1.5, (0.7 * t).sin() * 1.5];
+            assert_eq!(set.value(p), plain(p), "at {p:?}");
+        }
+    }
+
+    #[test]
+    fn intervals_bound_every_value_and_keep_every_winner() {
+        let segs = walk(300);
+        let set = CapsuleSet::new(&segs).unwrap();
+        for i in 0..200 {
+            let t = i as f64 * 0.377;
+            let c = [t.sin(), (1.7 * t).cos(), (0.3 * t).sin()];
+            let h = 0.02 + 0.1 * (i % 5) as f64;
+            let iv = |k: usize| Interval::new(c[k] - h, c[k] + h);
+            let (range, narrowed) = set.interval(iv(0), iv(1), iv(2));
+            for j in 0..64 {
+                let f = |s: usize| ((j >> s) & 3) as f64 / 3.0 * 2.0 - 1.0;
+                let p = [c[0] + h * f(0), c[1] + h * f(2), c[2] + h * f(4)];
+                let v = set.value(p);
+                assert!(range.contains(v), "{v} outside {range:?}");
+                if let Some(n) = &narrowed {
+                    assert_eq!(n.value(p), v, "the narrowed set changes the value");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn batches_give_the_point_values() {
+        let set = CapsuleSet::new(&walk(400)).unwrap();
+        let n = 700;
+        let coord = |i: usize, k: usize| 0.3 * (i as f32 * (0.37 + 0.21 * k as f32)).sin();
+        let axes: [Vec<f32>; 3] = std::array::from_fn(|k| (0..n).map(|i| coord(i, k)).collect());
+        let mut out = vec![0f32; n];
+        set.values(&axes[0], &axes[1], &axes[2], &mut out);
+        for i in 0..n {
+            let p = [axes[0][i], axes[1][i], axes[2][i]].map(f64::from);
+            let exact = set.value(p) as f32;
+            assert!(
+                (out[i] - exact).abs() <= 1e-5,
+                "point {i}: {} vs {exact}",
+                out[i]
+            );
+        }
+    }
+
+    #[test]
+    fn gradients_match_differences() {
+        let set = CapsuleSet::new(&walk(50)).unwrap();
+        let e = 1e-6;
+        for i in 0..300 {
+            let t = i as f64 * 0.91;
+            let p = [0.4 * t.sin(), 0.4 * (1.1 * t).cos(), 0.4 * (0.5 * t).sin()];
+            let (v, g) = set.value_gradient(p);
+            assert_eq!(v, set.value(p));
+            for k in 0..3 {
+                let mut q = p;
+                q[k] += e;
+                let mut r = p;
+                r[k] -= e;
+                let fd = (set.value(q) - set.value(r)) / (2.0 * e);
+                // Kinks (where the winner changes) are rare at these points.
+                if (fd - g[k]).abs() > 1e-4 {
+                    let (_, gq) = set.value_gradient(q);
+                    assert!(
+                        (gq[k] - g[k]).abs() > 1e-3,
+                        "gradient {k} at {p:?}: {} vs {fd}",
+                        g[k]
+                    );
+                }
+            }
+        }
+    }
+}
