@@ -255,6 +255,20 @@ impl CapsuleSet {
         self.caps.is_empty()
     }
 
+    /// Bytes held by the capsules and their hierarchy.
+    pub fn memory_bytes(&self) -> usize {
+        self.caps.len() * std::mem::size_of::<Capsule>()
+            + self.nodes.len() * std::mem::size_of::<BvhNode>()
+    }
+
+    /// A step for central differences of the union's value: a thousandth of
+    /// the set's extent, coarse enough for single-precision batches.
+    pub fn difference_step(&self) -> f64 {
+        let root = &self.nodes[0];
+        let extent = (0..3).map(|k| root.hi[k] - root.lo[k]).fold(0.0, f64::max);
+        1e-3 * (extent + root.r_max).max(1e-6)
+    }
+
     /// The union's value at `p`.
     pub fn value(&self, p: [f64; 3]) -> f64 {
         let i = self.winner(p);

@@ -164,6 +164,32 @@ impl Field {
         self.0.size
     }
 
+    /// Bytes held by the shared DAG: its distinct nodes and capsule sets.
+    pub fn memory_bytes(&self) -> usize {
+        let mut seen = std::collections::HashSet::new();
+        let mut sets = std::collections::HashSet::new();
+        let mut bytes = 0;
+        let mut stack = vec![self];
+        while let Some(f) = stack.pop() {
+            if !seen.insert(f.ptr()) {
+                continue;
+            }
+            bytes += std::mem::size_of::<Inner>() + 16;
+            match f.node() {
+                Node::Unary(_, a) => stack.push(a),
+                Node::Binary(_, a, b) => stack.extend([a, b]),
+                Node::Capsules(set, args) => {
+                    if sets.insert(Arc::as_ptr(set)) {
+                        bytes += set.memory_bytes();
+                    }
+                    stack.extend(args);
+                }
+                _ => {}
+            }
+        }
+        bytes
+    }
+
     /// The address identifying this shared node (for memoised traversals).
     pub(crate) fn ptr(&self) -> *const () {
         Arc::as_ptr(&self.0) as *const ()

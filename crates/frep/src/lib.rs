@@ -8,6 +8,7 @@
 
 mod brick;
 pub mod capsules;
+pub mod distance;
 pub mod eval;
 mod features;
 pub mod field;

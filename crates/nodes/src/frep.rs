@@ -13,7 +13,7 @@ use geode_op::{
 use crate::expr::Expr;
 use crate::util::input_owned;
 
-const FIELD_IN: InputSpec = InputSpec {
+pub(crate) const FIELD_IN: InputSpec = InputSpec {
     name: "field",
     ty: PortType::Field,
     required: true,
@@ -31,7 +31,7 @@ const TWO_FIELDS: &[InputSpec] = &[
     },
 ];
 
-fn field_input<'a>(
+pub(crate) fn field_input<'a>(
     ctx: &CookContext,
     inputs: &'a [Option<Value>],
     i: usize,
@@ -52,7 +52,7 @@ fn v3(p: &Params, name: &(impl ParamName + ?Sized)) -> Result<[f64; 3], CookErro
     p.vector::<3>(name)
 }
 
-fn out(f: Field) -> Result<Value, CookError> {
+pub(crate) fn out(f: Field) -> Result<Value, CookError> {
     Ok(Value::Field(f))
 }
 
@@ -681,35 +681,6 @@ fn cook_deform(
     })
 }
 
-const OFFSET_DISTANCE: P = P::new(
-    "distance",
-    "Distance",
-    T::Float,
-    D::Float(0.1),
-    "Offset distance.",
-);
-
-static OFFSET: NodeSpec = NodeSpec::new(
-    "frep_offset",
-    "FRep Offset",
-    "frep",
-    "Grows (positive) or shrinks (negative) a solid by a distance.",
-    &[FIELD_IN],
-    &[OFFSET_DISTANCE],
-)
-.output(PortType::Field);
-
-fn cook_offset(
-    ctx: &CookContext,
-    inputs: &[Option<Value>],
-    p: &Params,
-) -> Result<Value, CookError> {
-    out(shapes::offset(
-        field_input(ctx, inputs, 0)?,
-        p.float(&OFFSET_DISTANCE)?,
-    ))
-}
-
 const MORPH_ALPHA: P =
     P::new("alpha", "Alpha", T::Float, D::Float(0.5), "Blend factor.").range(0.0, 1.0);
 
@@ -927,7 +898,6 @@ pub fn register(r: &mut Registry) {
     r.node(&INSTANCE, cook_instance);
     r.node(&TRANSFORM, cook_transform);
     r.node(&DEFORM, cook_deform);
-    r.node(&OFFSET, cook_offset);
     r.node(&MORPH, cook_morph);
     r.node(&EXPRESSION, cook_expression);
     r.node(&POLYGONISE, cook_polygonise);

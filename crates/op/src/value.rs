@@ -98,8 +98,7 @@ impl Value {
         match self {
             Value::Geometry(g) => g.memory_bytes(),
             Value::Bundle(b) => b.entries.values().map(|g| g.memory_bytes()).sum(),
-            // Nodes are shared, so the expanded size over-counts; it is a bound.
-            Value::Field(f) => (f.tree_size().min(1 << 20) as usize) * 64,
+            Value::Field(f) => f.memory_bytes(),
         }
     }
 }

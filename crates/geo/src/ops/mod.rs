@@ -1,4 +1,4 @@
-//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate.
+//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts and wall thickness.
 
 mod bounds;
 mod edit;
@@ -6,6 +6,8 @@ mod fuse;
 mod instance;
 mod merge;
 mod normals;
+mod raycast;
+mod thickness;
 mod transform;
 mod triangulate;
 mod unpack;
@@ -17,6 +19,8 @@ pub use fuse::{fuse_points, FuseStats};
 pub use instance::instance_transforms;
 pub use merge::merge;
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
+pub use raycast::{RayHit, TriangleBvh};
+pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};
 pub use unpack::{unpack, unpack_with, unpacked_bytes};

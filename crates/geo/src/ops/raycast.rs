@@ -1,0 +1,253 @@
+//! Ray casts against triangles through a bounding-volume hierarchy (median
+//! splits on the widest centroid axis, four triangles a leaf), built once
+//! and shared by every ray of a query.
+
+use glam::Vec3;
+
+/// Triangles per leaf.
+const LEAF: usize = 4;
+
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    lo: Vec3,
+    hi: Vec3,
+    /// Leaf: triangles `start..end` (in `order`). Inner: `end == start` and
+    /// the children are the next node and `second`.
+    start: u32,
+    end: u32,
+    second: u32,
+}
+
+/// A hit: the distance along the ray (in units of its direction's length)
+/// and the triangle's index in the list given to [`TriangleBvh::new`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayHit {
+    pub t: f32,
+    pub triangle: u32,
+}
+
+/// Triangles by their corners, with their hierarchy; immutable once built.
+pub struct TriangleBvh {
+    corners: Vec<[Vec3; 3]>,
+    /// Triangle indices in hierarchy order.
+    order: Vec<u32>,
+    nodes: Vec<Node>,
+}
+
+fn bounds_of(corners: &[[Vec3; 3]], tris: &[u32]) -> (Vec3, Vec3) {
+    tris.iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &t| {
+            let c = &corners[t as usize];
+            (
+                lo.min(c[0]).min(c[1]).min(c[2]),
+                hi.max(c[0]).max(c[1]).max(c[2]),
+            )
+        })
+}
+
+impl TriangleBvh {
+    /// The hierarchy over `triangles` (indices into `positions`).
+    pub fn new(positions: &[Vec3], triangles: &[[u32; 3]]) -> TriangleBvh {
+        let corners: Vec<[Vec3; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|i| positions[i as usize]))
+            .collect();
+        let centroids: Vec<Vec3> = corners.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect();
+        let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
+        let mut nodes = Vec::with_capacity(2 * triangles.len() / LEAF + 1);
+        build(&corners, &centroids, &mut order, 0, &mut nodes);
+        TriangleBvh {
+            corners,
+            order,
+            nodes,
+        }
+    }
+
+    /// The nearest hit with `t` in `(t_min, t_max)` of the ray `origin + t dir`,
+    /// ignoring triangles `skip` rejects; ties go to the lower index.
+    pub fn first_hit(
+        &self,
+        origin: Vec3,
+        dir: Vec3,
+        t_min: f32,
+        mut t_max: f32,
+        skip: impl Fn(u32) -> bool,
+    ) -> Option<RayHit> {
+        if self.corners.is_empty() {
+            return None;
+        }
+        let inv = dir.recip();
+        let mut best: Option<RayHit> = None;
+        let mut stack = Vec::with_capacity(64);
+        stack.push(0u32);
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if !slab_hit(node.lo, node.hi, origin, inv, t_min, t_max) {
+                continue;
+            }
+            if node.end > node.start {
+                for &tri in &self.order[node.start as usize..node.end as usize] {
+                    if skip(tri) {
+                        continue;
+                    }
+                    let Some(t) = triangle_hit(&self.corners[tri as usize], origin, dir) else {
+                        continue;
+                    };
+                    let better = match best {
+                        Some(b) => t < b.t || (t == b.t && tri < b.triangle),
+                        None => true,
+                    };
+                    if t > t_min && t <= t_max && better {
+                        best = Some(RayHit { t, triangle: tri });
+                        t_max = t;
+                    }
+                }
+            } else {
+                stack.push(node.second);
+                stack.push(n + 1);
+            }
+        }
+        best
+    }
+}
+
+fn build(
+    corners: &[[Vec3; 3]],
+    centroids: &[Vec3],
+    order: &mut [u32],
+    offset: u32,
+    nodes: &mut Vec<Node>,
+) {
+    let (lo, hi) = bounds_of(corners, order);
+    let me = nodes.len();
+    nodes.push(Node {
+        lo,
+        hi,
+        start: offset,
+        end: offset + order.len() as u32,
+        second: 0,
+    });
+    if order.len() <= LEAF {
+        return;
+    }
+    let (clo, chi) = order
+        .iter()
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &t| {
+            (l.min(centroids[t as usize]), h.max(centroids[t as usize]))
+        });
+    let axis = (chi - clo).max_position();
+    let mid = order.len() / 2;
+    order.select_nth_unstable_by(mid, |&a, &b| {
+        centroids[a as usize][axis]
+            .total_cmp(&centroids[b as usize][axis])
+            .then(a.cmp(&b))
+    });
+    nodes[me].end = offset;
+    let (left, right) = order.split_at_mut(mid);
+    build(corners, centroids, left, offset, nodes);
+    nodes[me].second = nodes.len() as u32;
+    build(corners, centroids, right, offset + mid as u32, nodes);
+}
+
+/// Whether the ray meets the box within `(t_min, t_max)` (slab test).
+fn slab_hit(lo: Vec3, hi: Vec3, origin: Vec3, inv: Vec3, t_min: f32, t_max: f32) -> bool {
+    let a = (lo - origin) * inv;
+    let b = (hi - origin) * inv;
+    let near = a.min(b).max_element().max(t_min);
+    let far = a.max(b).min_element().min(t_max);
+    // NaN (a zero direction component on the slab's plane) fails neither test.
+    near <= far || near.is_nan() || far.is_nan()
+}
+
+/// Barycentric slack: a ray through a shared edge or corner hits at least
+/// one of the triangles there despite rounding (no cracks in closed meshes).
+const EDGE_SLACK: f32 = 1e-6;
+
+/// Möller–Trumbore: the ray's parameter at the triangle, either side facing.
+fn triangle_hit(c: &[Vec3; 3], origin: Vec3, dir: Vec3) -> Option<f32> {
+    let e1 = c[1] - c[0];
+    let e2 = c[2] - c[0];
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < f32::MIN_POSITIVE {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = origin - c[0];
+    let u = s.dot(p) * inv;
+    if !(-EDGE_SLACK..=1.0 + EDGE_SLACK).contains(&u) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let v = dir.dot(q) * inv;
+    if v < -EDGE_SLACK || u + v > 1.0 + EDGE_SLACK {
+        return None;
+    }
+    Some(e2.dot(q) * inv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of unit squares (two triangles each) in the plane z = `z`.
+    fn grid(n: u32, z: f32, positions: &mut Vec<Vec3>, tris: &mut Vec<[u32; 3]>) {
+        let base = positions.len() as u32;
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Vec3::new(i as f32, j as f32, z));
+            }
+        }
+        let at = |i: u32, j: u32| base + j * (n + 1) + i;
+        for j in 0..n {
+            for i in 0..n {
+                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+    }
+
+    #[test]
+    fn nearest_of_stacked_planes_against_brute_force() {
+        let (mut p, mut t) = (Vec::new(), Vec::new());
+        for z in [0.0, 0.7, 2.5, -1.0] {
+            grid(12, z, &mut p, &mut t);
+        }
+        let bvh = TriangleBvh::new(&p, &t);
+        let mut seed = 7u32;
+        let mut next = || {
+            seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (seed >> 8) as f32 / (1u32 << 24) as f32
+        };
+        for _ in 0..200 {
+            let o = Vec3::new(next() * 12.0, next() * 12.0, next() * 4.0 - 1.5);
+            let d = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
+            let got = bvh
+                .first_hit(o, d, 1e-6, f32::INFINITY, |_| false)
+                .map(|h| h.t);
+            let want = t
+                .iter()
+                .filter_map(|tri| triangle_hit(&tri.map(|i| p[i as usize]), o, d))
+                .filter(|&s| s > 1e-6)
+                .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.min(s))));
+            assert_eq!(got, want, "ray {o} {d}");
+        }
+    }
+
+    #[test]
+    fn skipped_triangles_are_passed_through() {
+        let (mut p, mut t) = (Vec::new(), Vec::new());
+        grid(2, 0.0, &mut p, &mut t);
+        grid(2, 1.0, &mut p, &mut t);
+        let bvh = TriangleBvh::new(&p, &t);
+        let o = Vec3::new(0.3, 0.6, -1.0);
+        let first = bvh
+            .first_hit(o, Vec3::Z, 0.0, f32::INFINITY, |_| false)
+            .unwrap();
+        assert_eq!(first.t, 1.0);
+        let second = bvh
+            .first_hit(o, Vec3::Z, 0.0, f32::INFINITY, |tri| tri == first.triangle)
+            .unwrap();
+        assert_eq!(second.t, 2.0);
+    }
+}
