@@ -1,4 +1,4 @@
-// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
+// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors, warnings, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
 
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -330,6 +330,36 @@ describe('a wrangle in a loop', () => {
     assert.deepEqual(spare, { amp: 'float', freq: 'vector' });
     await page.locator('.param[data-param="freq"] button.reset').first().click();
     await page.waitForFunction(() => !window.__geode.store.state.document.nodes.l.network.nodes.w.spare.freq);
+  });
+});
+
+describe('the print check', () => {
+  test('a wall thinner than a cell warns on the mesh node, and thickening it clears the warning', async () => {
+    const server = await serve('frep_print_check.json');
+    const { page } = await open(chrome.b, server.url);
+    try {
+      const first = await nextCook(page, 0, 120_000);
+      assert.ok(first.ok, JSON.stringify(first.errors));
+      assert.equal(await page.locator('g.node.warning').count(), 0);
+      await clickNode(page, 'hollow');
+      await page.waitForSelector('.param[data-param="thickness"]');
+      let g = await generation(page);
+      await setParam(page, 'thickness', '0.01');
+      const thin = await nextCook(page, g, 120_000);
+      assert.ok(thin.ok, 'a warning is not an error');
+      const warned = thin.events.find((e) => e.path === '/mesh');
+      assert.match(warned.warnings[0], /thinner than a cell/);
+      await page.waitForSelector('g.node.warning[data-node="mesh"]');
+      assert.match(await page.locator('g.node.warning[data-node="mesh"] .warning-text').textContent(), /thinner than a cell/);
+      assert.match(await page.locator('#status').textContent(), /^warning: \/mesh: /);
+      g = await generation(page);
+      await setParam(page, 'thickness', '0.06');
+      await nextCook(page, g, 120_000);
+      await page.waitForFunction(() => document.querySelectorAll('g.node.warning').length === 0);
+    } finally {
+      await page.close();
+      await server.stop();
+    }
   });
 });
 

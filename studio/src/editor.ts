@@ -1,4 +1,4 @@
-// The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error), rename, dive into subnets.
+// The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, wires } from './network';
 import { hasNetwork } from './protocol';
@@ -332,7 +332,8 @@ export class NetworkEditor {
     const cookErr = (s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled');
     const errors = [...problems, ...cookErr];
     const viewed = (s.state?.view.solo ?? s.state?.output) === path;
-    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', viewed ? 'viewed' : '', hasNetwork(node) ? 'subnet' : ''];
+    const warnings = errors.length ? [] : (s.badges.get(path)?.warnings ?? []);
+    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node) ? 'subnet' : ''];
     const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
     el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);
@@ -362,6 +363,10 @@ export class NetworkEditor {
       const msg = errors[0].param ? `${errors[0].param}: ${errors[0].message}` : errors[0].message;
       t.textContent = msg.length > 60 ? msg.slice(0, 57) + '…' : msg;
       el('title', {}, g).textContent = errors.map((e) => `${e.param ? e.param + ': ' : ''}${e.message}`).join('\n');
+    } else if (warnings.length) {
+      const t = el('text', { class: 'warning-text', x: NODE_W + 8, y: 26 }, g);
+      t.textContent = warnings[0].length > 60 ? warnings[0].slice(0, 57) + '…' : warnings[0];
+      el('title', {}, g).textContent = warnings.join('\n');
     }
   }
 }

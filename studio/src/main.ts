@@ -108,10 +108,12 @@ function onMessage(msg: ServerMsg) {
       store.cooked = msg;
       probe.cooks.push(msg);
       probe.cookedAt = performance.now();
-      for (const e of msg.events) store.badges.set(e.path, { ms: e.ms, hit: e.hit });
+      for (const e of msg.events) store.badges.set(e.path, { ms: e.ms, hit: e.hit, warnings: e.warnings ?? [] });
       store.progress.clear();
       const misses = msg.events.filter((e) => !e.hit).length;
-      if (msg.ok) say(`${msg.node} cooked in ${(msg.ms ?? 0).toFixed(1)} ms (${msg.events.length - misses} from cache, ${misses} cooked)`);
+      const warned = msg.events.flatMap((e) => (e.warnings ?? []).map((w) => `${e.path}: ${w}`));
+      if (msg.ok && warned.length) say(`warning: ${warned.join('; ')}`);
+      else if (msg.ok) say(`${msg.node} cooked in ${(msg.ms ?? 0).toFixed(1)} ms (${msg.events.length - misses} from cache, ${misses} cooked)`);
       else if (!msg.errors.every((e) => e.kind === 'cancelled')) say(msg.errors.map((e) => `${e.path}: ${e.message}`).join('; '), true);
       if (!msg.hasGeometry && msg.ok) viewport.clear();
       sheet.invalidate(msg.generation);

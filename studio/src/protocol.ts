@@ -81,6 +81,8 @@ export interface CookEventMsg {
   start: number;
   ms: number;
   bytes: number;
+  /** What the cook warned of (a feature lost, a value clamped). */
+  warnings?: string[];
 }
 
 export interface GeometryStats {

@@ -9,7 +9,7 @@ export interface Store {
   /** Cook progress per node path during the current generation. */
   progress: Map<string, number>;
   /** Events of the last cook that ran each node (badges persist across cooks). */
-  badges: Map<string, { ms: number; hit: boolean }>;
+  badges: Map<string, { ms: number; hit: boolean; warnings: string[] }>;
   /** The network shown in the editor (`/` or a subnet path). */
   at: string;
   selected: Set<string>;

@@ -137,6 +137,17 @@ pub fn cook(args: CookArgs) -> Result<()> {
         if cancel.is_cancelled() {
             bail!("interrupted: nothing was written for frame {frame}");
         }
+        bar.suspend(|| {
+            for e in &result.events {
+                for w in e.warnings.iter() {
+                    eprintln!(
+                        "{}: frame {frame}: warning: {}: {w}",
+                        args.network.display(),
+                        e.path
+                    );
+                }
+            }
+        });
         if let Some(pattern) = args.output {
             let path = frame_path(pattern, frame);
             match &result.value {

@@ -13,6 +13,7 @@ use crate::recovery::{
     cell_box, cell_slot, recover_features, verify_features, Candidate, CellTable, Check,
 };
 use crate::tape::Tape;
+use crate::thin;
 
 /// Cells per brick edge.
 pub(crate) const B: usize = 8;
@@ -26,6 +27,8 @@ pub(crate) struct BrickOut {
     /// face: the only ones that can be pinched (see `pinch`).
     pub pinched: Vec<u32>,
     pub cells: usize,
+    /// Cells holding surface that none of their corners shows (see `thin`).
+    pub missed: Vec<[usize; 3]>,
 }
 
 pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
@@ -115,6 +118,7 @@ pub(crate) fn mesh_brick(
     let mut grads = BatchGradEval::new(tape);
     let mut grad = GradEval::new(tape);
     let mut lattice = Lattice::sample(&mut batch, grid, base);
+    let missed = thin::missed_cells((&mut batch, &mut grads), &lattice, grid, base);
     let mut crossings = Crossings::new();
     let roots = lattice.crossed_edges(grid, (0, B as isize));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
@@ -124,6 +128,7 @@ pub(crate) fn mesh_brick(
         refs: Vec::new(),
         pinched: Vec::new(),
         cells: 0,
+        missed,
     };
     let mut vertex_points: Vec<[f64; 3]> = Vec::new();
     let mut cells = CellTable::new();

@@ -21,6 +21,7 @@ mod qef;
 mod recovery;
 pub mod shapes;
 pub mod tape;
+mod thin;
 pub mod vm;
 
 pub use capsules::CapsuleSet;

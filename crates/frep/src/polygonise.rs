@@ -56,14 +56,34 @@ pub enum MeshError {
     BadDepth(u32),
 }
 
-/// Counters of a meshing run (for tests and benchmarks).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// Counters of a meshing run (for tests, benchmarks and warnings).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MeshStats {
     pub bricks_total: usize,
     pub bricks_meshed: usize,
     pub cells_with_surface: usize,
     /// Vertices added where one vertex was shared by two sheets.
     pub vertices_split: usize,
+    /// Cells proven to hold surface that none of their corners shows: a
+    /// feature thinner than a cell, missing from the mesh there.
+    pub thin_cells: usize,
+    /// The box of those cells (model units), when there are any.
+    pub thin_region: Option<([f64; 3], [f64; 3])>,
+}
+
+impl MeshStats {
+    fn add_missed(&mut self, grid: &Grid, cells: &[[usize; 3]]) {
+        for c in cells {
+            let (lo, hi) = (grid.point(*c), grid.point(c.map(|x| x + 1)));
+            let (mut rlo, mut rhi) = self.thin_region.unwrap_or((lo, hi));
+            for a in 0..3 {
+                rlo[a] = rlo[a].min(lo[a]);
+                rhi[a] = rhi[a].max(hi[a]);
+            }
+            self.thin_region = Some((rlo, rhi));
+        }
+        self.thin_cells += cells.len();
+    }
 }
 
 pub(crate) struct Grid {
@@ -296,6 +316,8 @@ pub fn polygonise(
         bricks_meshed: outs.len(),
         cells_with_surface: 0,
         vertices_split: 0,
+        thin_cells: 0,
+        thin_region: None,
     };
     for (brick, o) in outs.into_iter().enumerate() {
         let offset = positions.len() as u32;
@@ -304,6 +326,7 @@ pub fn polygonise(
         refs.extend(o.refs.into_iter().map(|(k, s, v, p)| (k, s, v + offset, p)));
         pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
         stats.cells_with_surface += o.cells;
+        stats.add_missed(&grid, &o.missed);
     }
     stop()?;
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));

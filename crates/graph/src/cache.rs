@@ -1,6 +1,6 @@
 //! The process-wide cook cache: values by 128-bit key, bounded by bytes, least recently used evicted first.
 
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use geode_op::Value;
 use lru::LruCache;
@@ -12,6 +12,8 @@ pub struct Cached {
     pub value: Value,
     pub identity: u128,
     pub bytes: usize,
+    /// The cook's warnings, replayed on every hit.
+    pub warnings: Arc<[String]>,
 }
 
 /// Counters, for tests, traces and `geode cook --stats`.
@@ -165,6 +167,7 @@ mod tests {
             identity: v.identity(),
             bytes: v.bytes(),
             value: v,
+            warnings: Arc::from([]),
         }
     }
 

@@ -1,11 +1,11 @@
 //! The cook engine: pulls inputs (independent branches in parallel), keys every cook by content, consults the cache, traces each cook.
 
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
 use geode_op::{
     CancelToken, CookContext, CookEnv, CookError, ErrorKind, NodeSpec, ParamValue, Params,
-    ProgressFn, Value,
+    ProgressFn, Value, Warnings,
 };
 use rayon::prelude::*;
 use xxhash_rust::xxh3::Xxh3;
@@ -58,6 +58,8 @@ pub struct CookEvent {
     pub start: f64,
     pub seconds: f64,
     pub bytes: usize,
+    /// What the cook warned of (replayed from the cache on a hit).
+    pub warnings: Arc<[String]>,
 }
 
 /// A cook's value and what ran to produce it.
@@ -264,6 +266,7 @@ impl Run<'_, '_> {
                 start: (start - self.began).as_secs_f64(),
                 seconds: start.elapsed().as_secs_f64(),
                 bytes: c.bytes,
+                warnings: c.warnings,
             });
             progress(&n.path, 1.0);
             return Ok(Cooked {
@@ -272,12 +275,14 @@ impl Run<'_, '_> {
             });
         }
         span.record("hit", false);
+        let warnings = Warnings::new();
         let ctx = CookContext {
             path: &n.path,
             frame: self.opts.frame,
             cancel: &self.opts.cancel,
             on_progress: progress,
             env: &self.opts.env,
+            warnings: &warnings,
         };
         let values: Vec<Option<Value>> = inputs
             .iter()
@@ -298,6 +303,10 @@ impl Run<'_, '_> {
         let identity = value.identity();
         let bytes = value.bytes();
         span.record("bytes", bytes);
+        let warnings: Arc<[String]> = warnings.take().into();
+        for w in warnings.iter() {
+            tracing::warn!(node = %n.path, "{w}");
+        }
         if !output {
             self.engine.cache.insert(
                 key,
@@ -305,6 +314,7 @@ impl Run<'_, '_> {
                     value: value.clone(),
                     identity,
                     bytes,
+                    warnings: Arc::clone(&warnings),
                 },
             );
         }
@@ -316,6 +326,7 @@ impl Run<'_, '_> {
             start: (start - self.began).as_secs_f64(),
             seconds: start.elapsed().as_secs_f64(),
             bytes,
+            warnings,
         });
         progress(&n.path, 1.0);
         Ok(Cooked { value, identity })

@@ -780,7 +780,7 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
     "polygonise",
     "Polygonise",
     "frep",
-    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells.",
+    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells. Surface thinner than a cell that the cells' corners miss (a wall, a gap, a sharp tip) is found and reported in a warning naming its region, never lost silently.",
     &[FIELD_IN],
     &[
         BOUNDS_MIN,
@@ -806,13 +806,35 @@ fn cook_polygonise(
     let cancel = || ctx.cancel.is_cancelled();
     let progress = |x: f32| ctx.progress(x);
     match geode_frep::polygonise(f, &opts, &cancel, &progress) {
-        Ok((g, _)) => Ok(Value::geometry(g)),
+        Ok((g, stats)) => {
+            warn_of_thin_features(ctx, &opts, &stats);
+            Ok(Value::geometry(g))
+        }
         Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
         Err(MeshError::BadBounds) => {
             Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
         }
         Err(e) => Err(ctx.kernel_at("depth", e)),
     }
+}
+
+/// Names the region where surface thinner than a cell is missing.
+fn warn_of_thin_features(ctx: &CookContext, opts: &MeshOptions, stats: &geode_frep::MeshStats) {
+    let Some((lo, hi)) = stats.thin_region else {
+        return;
+    };
+    let longest = (0..3)
+        .map(|a| opts.max[a] - opts.min[a])
+        .fold(0.0, f64::max);
+    let cell = longest / (1u64 << opts.depth) as f64;
+    let at = |p: [f64; 3]| format!("({:.4}, {:.4}, {:.4})", p[0], p[1], p[2]);
+    ctx.warn(format!(
+        "surface thinner than a cell ({cell:.4}: a wall, a gap or a sharp tip) is missing from the mesh in {} cells between {} and {}: raise depth (now {}) or thicken it",
+        stats.thin_cells,
+        at(lo),
+        at(hi),
+        opts.depth
+    ));
 }
 
 /// Refuses meshing the memory budget cannot hold, from the kernel's

@@ -1,7 +1,7 @@
-//! What a cook receives besides its inputs (frame, node path, cancellation, progress, environment) and its typed error.
+//! What a cook receives besides its inputs (frame, node path, cancellation, progress, environment, where to put warnings) and its typed error.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use crate::env::{human_bytes, CookEnv};
 
@@ -112,6 +112,29 @@ impl CookError {
     }
 }
 
+/// What a cook warns of (the result stands, but the user should know: a
+/// feature lost, a value clamped), kept in the order given. A pure function
+/// of the cook's key like its value, so the cache keeps them together.
+#[derive(Debug, Default)]
+pub struct Warnings(Mutex<Vec<String>>);
+
+impl Warnings {
+    pub fn new() -> Warnings {
+        Warnings::default()
+    }
+
+    pub fn push(&self, message: String) {
+        self.0
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .push(message);
+    }
+
+    pub fn take(&self) -> Vec<String> {
+        std::mem::take(&mut *self.0.lock().unwrap_or_else(|e| e.into_inner()))
+    }
+}
+
 /// Receives (node path, fraction done) as cooks progress.
 pub type ProgressFn<'a> = dyn Fn(&str, f32) + Sync + 'a;
 
@@ -124,6 +147,7 @@ pub struct CookContext<'a> {
     pub on_progress: &'a ProgressFn<'a>,
     /// Hidden inputs (`$HIP`) and limits; what of it a cook reads is in its key.
     pub env: &'a CookEnv,
+    pub warnings: &'a Warnings,
 }
 
 impl CookContext<'_> {
@@ -139,6 +163,11 @@ impl CookContext<'_> {
     /// What kernels poll for cancellation.
     pub fn cancel_fn(&self) -> impl Fn() -> bool + Sync + '_ {
         self.cancel.as_fn()
+    }
+
+    /// Warns of something the user should know about the result.
+    pub fn warn(&self, message: impl Into<String>) {
+        self.warnings.push(message.into());
     }
 
     /// Reports the fraction done (0 to 1) of this node's cook.

@@ -41,7 +41,7 @@ pub fn error_json(e: &CookError) -> Json {
 }
 
 fn event_json(e: &CookEvent) -> Json {
-    json!({"path": e.path, "type": e.node_type, "hit": e.hit, "start": e.start * 1e3, "ms": e.seconds * 1e3, "bytes": e.bytes})
+    json!({"path": e.path, "type": e.node_type, "hit": e.hit, "start": e.start * 1e3, "ms": e.seconds * 1e3, "bytes": e.bytes, "warnings": &*e.warnings})
 }
 
 impl Hub {
@@ -210,6 +210,7 @@ mod tests {
             start,
             seconds,
             bytes: 0,
+            warnings: std::sync::Arc::from([]),
         };
         let t = chrome_trace(&[ev("/a", 0.0, 1.0), ev("/b", 0.5, 1.0), ev("/c", 1.2, 0.1)]);
         let lanes: Vec<u64> = t["traceEvents"]

@@ -1,0 +1,139 @@
+//! Thin features: surface inside a cell whose eight corners all share a sign
+//! (a wall, a pin or a gap thinner than a cell, which dual contouring cannot
+//! see). Proven, not guessed: from each corner near a surface, a Newton step
+//! along the gradient reaches past the zero crossing it predicts; a point of
+//! the other sign inside a cell whose corners all miss it is proof of
+//! surface there, and a point a cell deeper along the probe's gradient,
+//! back on the corner's side, shows the feature is thinner than a cell. The mesher reports such cells
+//! (a warning naming the region) instead of letting the feature vanish
+//! silently.
+
+use crate::brick::B;
+use crate::eval::{BatchEval, BatchGradEval, Grad};
+use crate::lattice::Lattice;
+use crate::polygonise::Grid;
+
+/// How far past the predicted crossing the probes land, in cells: a feature
+/// thinner than the smallest step can still slip between them.
+const OVERSHOOT: [f64; 2] = [0.1, 0.25];
+
+/// Crossings predicted further than this, in cells, are other cells' to find.
+const REACH: f64 = 1.5;
+
+/// Whether corner `c` lies nearer its surface than the field changes across
+/// one of its lattice edges: only such corners can have a crossing within a
+/// cell of them.
+fn near_surface(lattice: &Lattice, c: [isize; 3]) -> bool {
+    let v = lattice.at(c);
+    (0..3).any(|axis| {
+        [-1, 1].into_iter().any(|step| {
+            let mut n = c;
+            n[axis] += step;
+            (0..=B as isize).contains(&n[axis]) && v.abs() < (v - lattice.at(n)).abs()
+        })
+    })
+}
+
+/// The brick's cells (global coordinates) that hold surface none of their
+/// corners shows, in increasing order.
+pub(crate) fn missed_cells(
+    (batch, grads): (&mut BatchEval, &mut BatchGradEval),
+    lattice: &Lattice,
+    grid: &Grid,
+    base: [usize; 3],
+) -> Vec<[usize; 3]> {
+    let mut corners: Vec<[isize; 3]> = Vec::new();
+    for k in 0..=B as isize {
+        for j in 0..=B as isize {
+            for i in 0..=B as isize {
+                if near_surface(lattice, [i, j, k]) {
+                    corners.push([i, j, k]);
+                }
+            }
+        }
+    }
+    let points: Vec<[f64; 3]> = corners
+        .iter()
+        .map(|c| grid.point_signed(std::array::from_fn(|a| base[a] as isize + c[a])))
+        .collect();
+    let mut at = vec![Grad::default(); points.len()];
+    grads.eval(&points, &mut at);
+    // Probes past each predicted crossing, with the corner they start from.
+    let (mut xs, mut ys, mut zs, mut from) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (i, g) in at.iter().enumerate() {
+        let length = (g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]).sqrt();
+        if !(length > 0.0 && length.is_finite()) {
+            continue;
+        }
+        let reach = g.v.abs() / length;
+        // Towards zero: up the gradient from outside, down it from inside.
+        let toward = if g.v < 0.0 { 1.0 } else { -1.0 } / length;
+        for extra in OVERSHOOT {
+            let step = reach + extra * grid.h;
+            if step > REACH * grid.h {
+                continue;
+            }
+            xs.push((points[i][0] + toward * g.d[0] * step) as f32);
+            ys.push((points[i][1] + toward * g.d[1] * step) as f32);
+            zs.push((points[i][2] + toward * g.d[2] * step) as f32);
+            from.push(i);
+        }
+    }
+    let mut values = vec![0.0f32; xs.len()];
+    batch.eval(&xs, &ys, &zs, &mut values);
+    // Probes of the other sign, each with the point a cell deeper into the
+    // feature along the probe's own gradient: if that point is back on the
+    // corner's side, the feature is thinner than a cell there (a wall or a
+    // gap; a thick solid's edge clipping the cell is deep along its normal).
+    let hits: Vec<usize> = (0..values.len())
+        .filter(|&probe| (values[probe] >= 0.0) != (lattice.at(corners[from[probe]]) >= 0.0))
+        .collect();
+    let inside: Vec<[f64; 3]> = hits
+        .iter()
+        .map(|&probe| [xs[probe], ys[probe], zs[probe]].map(f64::from))
+        .collect();
+    let mut there = vec![Grad::default(); inside.len()];
+    grads.eval(&inside, &mut there);
+    let (mut bx, mut by, mut bz) = (Vec::new(), Vec::new(), Vec::new());
+    for (p, g) in inside.iter().zip(&there) {
+        // Deeper: up the gradient inside the solid, down it inside a gap.
+        let length = (g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]).sqrt();
+        let deeper = if g.v >= 0.0 { 1.0 } else { -1.0 } * grid.h / length.max(f64::MIN_POSITIVE);
+        bx.push((p[0] + deeper * g.d[0]) as f32);
+        by.push((p[1] + deeper * g.d[1]) as f32);
+        bz.push((p[2] + deeper * g.d[2]) as f32);
+    }
+    let mut beyond = vec![0.0f32; hits.len()];
+    batch.eval(&bx, &by, &bz, &mut beyond);
+    let mut missed = Vec::new();
+    for (&probe, &b) in hits.iter().zip(&beyond) {
+        let corner_inside = lattice.at(corners[from[probe]]) >= 0.0;
+        if (b >= 0.0) != corner_inside {
+            continue;
+        }
+        let p = [xs[probe], ys[probe], zs[probe]];
+        let local: [isize; 3] = std::array::from_fn(|a| {
+            ((p[a] as f64 - grid.origin[a]) / grid.h).floor() as isize - base[a] as isize
+        });
+        let global: [isize; 3] = std::array::from_fn(|a| local[a] + base[a] as isize);
+        if local.iter().any(|&x| !(0..B as isize).contains(&x))
+            || (0..3).any(|a| global[a] as usize + 1 >= grid.corners[a])
+        {
+            continue;
+        }
+        let blind = (0..8).all(|c| {
+            let q = [
+                local[0] + (c & 1),
+                local[1] + (c >> 1 & 1),
+                local[2] + (c >> 2 & 1),
+            ];
+            (lattice.at(q) >= 0.0) == corner_inside
+        });
+        if blind {
+            missed.push(global.map(|x| x as usize));
+        }
+    }
+    missed.sort_unstable_by_key(|c: &[usize; 3]| (c[2], c[1], c[0]));
+    missed.dedup();
+    missed
+}
