@@ -246,9 +246,16 @@ pub(crate) fn mesh_brick(
                             qef,
                             reduced,
                         } => {
-                            let point = features::best_on_surface(
-                                &scratch, &qef, reduced, sharpness, &bounds, &mut grad, grid.h,
-                            );
+                            let point = if rank <= 1 {
+                                // No feature: the surface curves within the cell.
+                                features::smooth_on_surface(
+                                    &qef, reduced, &bounds, &mut grad, grid.h,
+                                )
+                            } else {
+                                features::best_on_surface(
+                                    &scratch, &qef, reduced, sharpness, &bounds, &mut grad, grid.h,
+                                )
+                            };
                             features::Placed {
                                 point,
                                 rank,

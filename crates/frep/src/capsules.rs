@@ -8,6 +8,8 @@
 //! parameter of the point of the segment nearest `p` and `r` interpolated
 //! linearly between the end radii; the union is the maximum. The maximum is
 //! exact in floating point, so visiting fewer capsules never changes a value.
+//! A set may carry a floor (the mesher's: it reads values only a few cells
+//! from the surface), below which capsules drop out of every search.
 
 use crate::interval::Interval;
 
@@ -41,6 +43,12 @@ const LINEAR: usize = 8;
 /// The set size over which a batch first looks for the capsules near it.
 const SEARCHED: usize = 16;
 
+thread_local! {
+    /// The last point query's set and winner on this thread (a hint only:
+    /// answers never depend on it).
+    static LAST_WINNER: std::cell::Cell<(u128, usize)> = const { std::cell::Cell::new((0, usize::MAX)) };
+}
+
 /// A union of capsules with its hierarchy; immutable once built.
 #[derive(Debug)]
 pub struct CapsuleSet {
@@ -48,6 +56,10 @@ pub struct CapsuleSet {
     caps: Vec<Capsule>,
     nodes: Vec<BvhNode>,
     identity: u128,
+    /// The union is `max(floor, capsules)`: a mesher that reads values only
+    /// near zero floors far values, and capsules that cannot rise above the
+    /// floor drop out of every search (negative infinity: no floor).
+    floor: f64,
 }
 
 impl PartialEq for CapsuleSet {
@@ -228,10 +240,10 @@ impl CapsuleSet {
             }
             h.digest128()
         };
-        Some(CapsuleSet::build(caps, identity))
+        Some(CapsuleSet::build(caps, identity, f64::NEG_INFINITY))
     }
 
-    fn build(mut caps: Vec<Capsule>, identity: u128) -> CapsuleSet {
+    fn build(mut caps: Vec<Capsule>, identity: u128, floor: f64) -> CapsuleSet {
         let mut nodes = Vec::with_capacity(2 * caps.len() / LEAF + 1);
         let n = caps.len();
         build_node(&mut caps, 0, n, &mut nodes);
@@ -239,6 +251,27 @@ impl CapsuleSet {
             caps,
             nodes,
             identity,
+            floor,
+        }
+    }
+
+    /// The same union with values below `floor` raised to it (see the
+    /// field's doc); equal to this set wherever either is above the floor.
+    pub fn with_floor(&self, floor: f64) -> CapsuleSet {
+        let floor = floor.max(self.floor);
+        let identity = {
+            use xxhash_rust::xxh3::Xxh3;
+            let mut h = Xxh3::new();
+            h.update(&self.identity.to_le_bytes());
+            h.update(b"floor");
+            h.update(&floor.to_bits().to_le_bytes());
+            h.digest128()
+        };
+        CapsuleSet {
+            caps: self.caps.clone(),
+            nodes: self.nodes.clone(),
+            identity,
+            floor,
         }
     }
 
@@ -271,30 +304,59 @@ impl CapsuleSet {
 
     /// The union's value at `p`.
     pub fn value(&self, p: [f64; 3]) -> f64 {
-        let i = self.winner(p);
-        self.caps[i].value(p)
+        match self.winner(p) {
+            Some(i) => self.caps[i].value(p),
+            None => self.floor,
+        }
     }
 
     /// The union's value and gradient at `p` (the winning capsule's).
     pub fn value_gradient(&self, p: [f64; 3]) -> (f64, [f64; 3]) {
-        let i = self.winner(p);
-        self.caps[i].value_gradient(p)
+        match self.winner(p) {
+            Some(i) => self.caps[i].value_gradient(p),
+            None => (self.floor, [0.0; 3]),
+        }
     }
 
-    /// The first capsule (in hierarchy order) of the largest value at `p`.
-    fn winner(&self, p: [f64; 3]) -> usize {
-        let mut best = (f64::NEG_INFINITY, 0usize);
+    /// The capsule of the largest value at `p`, the lowest index among equals
+    /// (so the answer does not depend on the order capsules are visited in);
+    /// `None` where no capsule rises above the floor.
+    /// The thread's previous winner in this set is tried first: neighbouring
+    /// points mostly share a winner, and its value prunes the search.
+    fn winner(&self, p: [f64; 3]) -> Option<usize> {
+        let better =
+            |v: f64, i: usize, best: (f64, usize)| v > best.0 || (v == best.0 && i < best.1);
         let consider = |best: &mut (f64, usize), range: std::ops::Range<usize>| {
             for i in range {
                 let v = self.caps[i].value(p);
-                if v > best.0 {
+                if better(v, i, *best) {
                     *best = (v, i);
                 }
             }
         };
+        // The floor as a capsule past every index: it wins only above all.
+        let mut best = (self.floor, usize::MAX);
+        let found = |best: (f64, usize)| (best.1 != usize::MAX).then_some(best.1);
+        if p.iter().any(|c| c.is_nan()) {
+            // Not a number: the first capsule's value says so.
+            return Some(0);
+        }
         if self.caps.len() <= LINEAR || p.iter().any(|c| !c.is_finite()) {
             consider(&mut best, 0..self.caps.len());
-            return best.1;
+            if best.1 == usize::MAX && self.floor == f64::NEG_INFINITY {
+                return Some(0);
+            }
+            return found(best);
+        }
+        let hint = LAST_WINNER.with(|h| {
+            let (set, i) = h.get();
+            (set == self.identity && i < self.caps.len()).then_some(i)
+        });
+        if let Some(i) = hint {
+            let v = self.caps[i].value(p);
+            if better(v, i, best) {
+                best = (v, i);
+            }
         }
         // Median splits keep the depth under 64 for any set that fits in memory.
         let mut stack = [0u32; 64];
@@ -303,6 +365,7 @@ impl CapsuleSet {
             top -= 1;
             let n = stack[top];
             let node = &self.nodes[n as usize];
+            // Strictly below: an equal value may still win on its index.
             if node.r_max - point_box_distance(p, node.lo, node.hi) < best.0 {
                 continue;
             }
@@ -326,7 +389,13 @@ impl CapsuleSet {
             stack[top + 1] = sooner;
             top += 2;
         }
-        best.1
+        if best.1 == usize::MAX && self.floor == f64::NEG_INFINITY {
+            return Some(0);
+        }
+        if best.1 != usize::MAX {
+            LAST_WINNER.with(|h| h.set((self.identity, best.1)));
+        }
+        found(best)
     }
 
     /// Bounds of the union over a box, and the set narrowed to the capsules
@@ -343,16 +412,22 @@ impl CapsuleSet {
             return (Interval::new(f64::NEG_INFINITY, f64::INFINITY), None);
         }
         let (best_lo, mut candidates) = self.candidates(lo, hi);
-        let best_hi = candidates
-            .iter()
-            .fold(f64::NEG_INFINITY, |m, &(_, h)| m.max(h));
+        let best_hi = candidates.iter().fold(self.floor, |m, &(_, h)| m.max(h));
+        if candidates.is_empty() {
+            // Only the floor is left: one capsule keeps the set a set.
+            candidates.push((0, self.floor));
+        }
         let narrowed = (candidates.len() < self.caps.len()).then(|| {
             candidates.sort_unstable_by_key(|&(i, _)| i);
             let caps = candidates
                 .iter()
                 .map(|&(i, _)| self.caps[i as usize])
                 .collect();
-            CapsuleSet::build(caps, narrowed_identity(self.identity, &candidates))
+            CapsuleSet::build(
+                caps,
+                narrowed_identity(self.identity, &candidates),
+                self.floor,
+            )
         });
         (Interval::new(best_lo, best_hi), narrowed)
     }
@@ -377,11 +452,12 @@ impl CapsuleSet {
         } else {
             self.candidates(lo, hi).1
         };
-        let mut best = [f32::NEG_INFINITY; crate::eval::LANES];
+        let floor = self.floor as f32;
+        let mut best = [floor; crate::eval::LANES];
         for chunk_start in (0..out.len()).step_by(best.len()) {
             let n = (out.len() - chunk_start).min(best.len());
             let best = &mut best[..n];
-            best.fill(f32::NEG_INFINITY);
+            best.fill(floor);
             let at = |k: usize| &axes[k][chunk_start..chunk_start + n];
             let (px, py, pz) = (at(0), at(1), at(2));
             for &(c, _) in &candidates {
@@ -415,21 +491,27 @@ impl CapsuleSet {
         });
         // The upper bound first: a capsule that cannot reach the best lower
         // bound so far cannot raise it either, and its corners are skipped.
+        // Returns (upper bound, distance from the centre).
         let upper = |c: &Capsule| {
             let (clo, chi) = c.bounds();
             let mut near = box_box_distance(lo, hi, clo, chi);
+            let mut from_center = f64::INFINITY;
             if finite {
-                near = near.max(c.distance(center) - half_diagonal);
+                from_center = c.distance(center);
+                near = near.max(from_center - half_diagonal);
             }
-            c.r_max() - near
+            (c.r_max() - near, from_center)
         };
-        let lower = |c: &Capsule| {
-            if !finite {
+        // The distance is convex, so its largest value over the box is at a
+        // corner and at least the centre's: corners are only measured when
+        // the centre says they could raise the best lower bound.
+        let lower = |c: &Capsule, from_center: f64, best_lo: f64| {
+            if !finite || c.r_min() - from_center <= best_lo {
                 return f64::NEG_INFINITY;
             }
             c.r_min() - corners.iter().fold(0.0f64, |m, &p| m.max(c.distance(p)))
         };
-        let mut best_lo = f64::NEG_INFINITY;
+        let mut best_lo = self.floor;
         let mut candidates: Vec<(u32, f64)> = Vec::new();
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {
@@ -440,9 +522,9 @@ impl CapsuleSet {
             if node.second == 0 {
                 for i in node.start..node.end {
                     let c = &self.caps[i as usize];
-                    let h = upper(c);
+                    let (h, from_center) = upper(c);
                     if h >= best_lo {
-                        best_lo = best_lo.max(lower(c));
+                        best_lo = best_lo.max(lower(c, from_center, best_lo));
                         candidates.push((i, h));
                     }
                 }
@@ -625,5 +707,54 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A floored set equals the plain one above the floor, reads the floor
+    /// below it (with no gradient), bounds the same way over boxes, and its
+    /// narrowed sets keep the floor.
+    #[test]
+    fn a_floor_changes_nothing_above_it() {
+        let segments = walk(300);
+        let plain = CapsuleSet::new(&segments).unwrap();
+        let floored = plain.with_floor(-0.05);
+        assert_ne!(plain.identity(), floored.identity());
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut above, mut below) = (0, 0);
+        for _ in 0..2000 {
+            // Near the walk: within 0.3 of one of its points.
+            let near = segments[(next() * 300.0) as usize].0;
+            let p = near.map(|c| c + 0.6 * (next() - 0.5));
+            let (v, g) = plain.value_gradient(p);
+            let (fv, fg) = floored.value_gradient(p);
+            if v >= -0.05 {
+                above += 1;
+                assert_eq!((v, g), (fv, fg));
+            } else {
+                below += 1;
+                assert_eq!((fv, fg), (-0.05, [0.0; 3]));
+            }
+            let lo = p.map(|c| c - 0.1);
+            let hi = p.map(|c| c + 0.1);
+            let iv = |s: &CapsuleSet| {
+                s.interval(
+                    Interval::new(lo[0], hi[0]),
+                    Interval::new(lo[1], hi[1]),
+                    Interval::new(lo[2], hi[2]),
+                )
+            };
+            let ((pi, _), (fi, narrowed)) = (iv(&plain), iv(&floored));
+            assert_eq!(fi.lo, pi.lo.max(-0.05));
+            assert_eq!(fi.hi, pi.hi.max(-0.05));
+            if let Some(n) = narrowed {
+                assert_eq!(n.value(p), fv);
+            }
+        }
+        assert!(above > 100 && below > 100, "{above} {below}");
     }
 }

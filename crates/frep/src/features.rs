@@ -220,6 +220,20 @@ pub(crate) fn best_on_surface(
     }
 }
 
+/// The vertex of a featureless component whose planes disagree (the surface
+/// curves within the cell): the least-squares point, or the mass point,
+/// pushed onto the surface by Newton steps inside the cell.
+pub(crate) fn smooth_on_surface(
+    qef: &Qef,
+    reduced: Option<[f64; 3]>,
+    cell: &CellBox,
+    grad: &mut GradEval,
+    h: f64,
+) -> [f64; 3] {
+    let start = reduced.unwrap_or_else(|| cell.clamp(qef.mass_point()));
+    project_until(grad, start, cell, ON_SURFACE * h)
+}
+
 /// Planes grouped by direction: one QEF per face the crossings lie on.
 fn group_by_face(planes: &[Plane]) -> Vec<Qef> {
     let mut faces: Vec<([f64; 3], Qef)> = Vec::new();
@@ -238,11 +252,17 @@ fn group_by_face(planes: &[Plane]) -> Vec<Qef> {
 }
 
 /// Newton steps `x -= f grad / |grad|^2`, each clamped to the cell.
-fn project(grad: &mut GradEval, mut x: [f64; 3], cell: &CellBox) -> [f64; 3] {
+fn project(grad: &mut GradEval, x: [f64; 3], cell: &CellBox) -> [f64; 3] {
+    project_until(grad, x, cell, 0.0)
+}
+
+/// [`project`], stopping once the point is within `close` of the surface.
+fn project_until(grad: &mut GradEval, mut x: [f64; 3], cell: &CellBox, close: f64) -> [f64; 3] {
     for _ in 0..6 {
         let g = grad.eval(x);
         let len2 = g.d.iter().map(|d| d * d).sum::<f64>();
-        if !(len2 > 0.0 && len2.is_finite() && g.v.is_finite()) {
+        if !(len2 > 0.0 && len2.is_finite() && g.v.is_finite()) || g.v.abs() <= close * len2.sqrt()
+        {
             break;
         }
         x = cell.clamp(std::array::from_fn(|a| x[a] - g.v * g.d[a] / len2));

@@ -231,6 +231,9 @@ pub(crate) fn edge_slot(axis: usize, c: [isize; 3]) -> usize {
     axis * L * L * L + lattice_index(c)
 }
 
+/// Where along an edge (0 to 1) a crossing is accurate enough.
+const ROOT_TOLERANCE: f64 = 1e-6;
+
 /// A crossed grid edge being bracketed: the surface lies between `t0` and
 /// `t1` (parameters along a-b), where the field has values `f0` and `f1`.
 pub(crate) struct Root {
@@ -255,9 +258,12 @@ impl Root {
         }
     }
 
-    /// Narrows the bracket with the value `ft` at `t`; true once converged.
+    /// Narrows the bracket with the value `ft` at `t`; true once converged:
+    /// the bracket closed, or the secant through it puts the root within
+    /// `ROOT_TOLERANCE` of `t` (a millionth of an edge misplaces no vertex).
     pub(crate) fn update(&mut self, t: f64, ft: f64) -> bool {
-        if ft == 0.0 {
+        let slope = (self.f1 - self.f0).abs() / (self.t1 - self.t0);
+        if ft == 0.0 || ft.abs() < ROOT_TOLERANCE * slope {
             (self.t0, self.t1) = (t, t);
             return true;
         }
@@ -274,11 +280,11 @@ impl Root {
             }
             self.side = 1;
         }
-        self.t1 - self.t0 < 1e-6
+        self.t1 - self.t0 < ROOT_TOLERANCE
     }
 
     pub(crate) fn point(&self) -> [f64; 3] {
-        let t = if self.t1 - self.t0 < 1e-6 {
+        let t = if self.t1 - self.t0 < ROOT_TOLERANCE {
             0.5 * (self.t0 + self.t1)
         } else {
             self.guess()

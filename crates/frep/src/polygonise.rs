@@ -7,6 +7,7 @@
 //! over the crossings' tangent planes so sharp edges and corners survive,
 //! with analytic normals from the gradient.
 
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -16,7 +17,7 @@ use rayon::prelude::*;
 
 use crate::brick::{mesh_brick, BrickOut, B};
 use crate::eval::{BatchEval, IntervalEval};
-use crate::field::Field;
+use crate::field::{Binary, Field, Node};
 use crate::interval::Interval;
 use crate::pinch;
 use crate::shapes;
@@ -188,6 +189,44 @@ fn surviving_bricks(
     }
 }
 
+/// How far from the surface, in cells, the mesher reads the field's value
+/// (beyond it only the sign): corners next to a crossing lie within one
+/// cell of it on a distance field, thin-feature probes within two.
+const FLOOR_CELLS: f64 = 3.0;
+
+/// The field with the capsule sets it reaches through `min` and `max` alone
+/// floored at `floor` (< 0): `max(floor, f)` distributes over both, so the
+/// result equals `f` wherever either is above the floor, and has its sign
+/// everywhere; capsules that never rise above it drop out of every search.
+fn floor_capsules(f: &Field, floor: f64) -> Field {
+    // Iterative and memoised over the shared DAG: unions may be chains of
+    // many thousands of nodes, and shared ones must stay shared.
+    let mut done: HashMap<*const (), Field> = HashMap::new();
+    let mut stack: Vec<(&Field, bool)> = vec![(f, false)];
+    while let Some((g, ready)) = stack.pop() {
+        let key = g.ptr();
+        if done.contains_key(&key) {
+            continue;
+        }
+        let new = match g.node() {
+            Node::Binary(op @ (Binary::Min | Binary::Max), a, b) => {
+                let at = |h: &Field| h.ptr();
+                if !ready {
+                    stack.extend([(g, true), (a, false), (b, false)]);
+                    continue;
+                }
+                done[&at(a)].binary(*op, done[&at(b)].clone())
+            }
+            Node::Capsules(set, args) => {
+                Field::capsules_at(&Arc::new(set.with_floor(floor)), args.clone())
+            }
+            _ => g.clone(),
+        };
+        done.insert(key, new);
+    }
+    done[&f.ptr()].clone()
+}
+
 /// The cell grid, the tape of the field clipped to the box, and the octree's
 /// top level (bricks per side as a power of two).
 fn setup(field: &Field, opts: &MeshOptions) -> Result<(Grid, Arc<Tape>, u32), MeshError> {
@@ -210,7 +249,7 @@ fn setup(field: &Field, opts: &MeshOptions) -> Result<(Grid, Arc<Tape>, u32), Me
     };
     let center: [f64; 3] = std::array::from_fn(|k| 0.5 * (opts.min[k] + opts.max[k]));
     let half: [f64; 3] = std::array::from_fn(|k| 0.5 * size[k]);
-    let clipped = field.min(shapes::block(center, half));
+    let clipped = floor_capsules(&field.min(shapes::block(center, half)), -FLOOR_CELLS * h);
     let tape = Arc::new(Tape::compile(&clipped));
     let top = grid
         .bricks

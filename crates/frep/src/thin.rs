@@ -1,7 +1,8 @@
 //! Thin features: surface inside a cell whose eight corners all share a sign
 //! (a wall, a pin or a gap thinner than a cell, which dual contouring cannot
-//! see). Proven, not guessed: from each corner near a surface, a Newton step
-//! along the gradient reaches past the zero crossing it predicts; a point of
+//! see). Proven, not guessed: from each corner where the lattice predicts a
+//! crossing its next corner does not show, a Newton step along the gradient
+//! reaches past the zero crossing the gradient predicts; a point of
 //! the other sign inside a cell whose corners all miss it is proof of
 //! surface there, and a point a cell deeper along the probe's gradient,
 //! back on the corner's side, shows the feature is thinner than a cell. The mesher reports such cells
@@ -20,16 +21,27 @@ const OVERSHOOT: [f64; 2] = [0.1, 0.25];
 /// Crossings predicted further than this, in cells, are other cells' to find.
 const REACH: f64 = 1.5;
 
-/// Whether corner `c` lies nearer its surface than the field changes across
-/// one of its lattice edges: only such corners can have a crossing within a
-/// cell of them.
-fn near_surface(lattice: &Lattice, c: [isize; 3]) -> bool {
+/// Whether the lattice predicts a crossing next to corner `c` that it does
+/// not show: along some axis the field rises towards zero from the corner
+/// behind enough to cross before the corner ahead, yet the corner ahead has
+/// the same sign. A surface the corners show never does this where the
+/// field is locally linear; a feature between the corners does.
+fn crossing_missed(lattice: &Lattice, c: [isize; 3]) -> bool {
     let v = lattice.at(c);
+    // Towards zero is up from outside, down from inside.
+    let up = if v < 0.0 { 1.0 } else { -1.0 };
+    let inside = v >= 0.0;
     (0..3).any(|axis| {
         [-1, 1].into_iter().any(|step| {
-            let mut n = c;
-            n[axis] += step;
-            (0..=B as isize).contains(&n[axis]) && v.abs() < (v - lattice.at(n)).abs()
+            let (mut behind, mut ahead) = (c, c);
+            behind[axis] -= step;
+            ahead[axis] += step;
+            let lattice_range = 0..=B as isize;
+            if !lattice_range.contains(&behind[axis]) || !lattice_range.contains(&ahead[axis]) {
+                return false;
+            }
+            let rise = up * (v - lattice.at(behind));
+            rise > 0.0 && up * v + rise >= 0.0 && (lattice.at(ahead) >= 0.0) == inside
         })
     })
 }
@@ -46,7 +58,7 @@ pub(crate) fn missed_cells(
     for k in 0..=B as isize {
         for j in 0..=B as isize {
             for i in 0..=B as isize {
-                if near_surface(lattice, [i, j, k]) {
+                if crossing_missed(lattice, [i, j, k]) {
                     corners.push([i, j, k]);
                 }
             }

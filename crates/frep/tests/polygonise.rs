@@ -236,3 +236,45 @@ fn the_meshing_estimate_is_close_to_the_cells_meshed() {
         }
     }
 }
+
+/// A branching sweep of many thin capsules (the coral's kind of field):
+/// the mesher floors capsule sets it reaches through min and max at a few
+/// cells below zero, so that far capsules drop out of every search; the
+/// mesh must be the same as that of the same field the floor cannot reach
+/// (the sweep behind `* 1`), and closed.
+#[test]
+fn floored_capsule_sets_mesh_as_the_unfloored_field() {
+    use geode_frep::CapsuleSet;
+    let mut rng = common::Rng(0xc0a1);
+    let mut segments = Vec::new();
+    let mut tips = vec![[0.0, -0.8, 0.0]];
+    for _ in 0..400 {
+        let from = tips[(rng.next() * tips.len() as f64) as usize];
+        let to: [f64; 3] = std::array::from_fn(|k| {
+            let step = if k == 1 {
+                0.05 + 0.04 * rng.next()
+            } else {
+                0.12 * (rng.next() - 0.5)
+            };
+            (from[k] + step).clamp(-0.9, 0.9)
+        });
+        segments.push((
+            from,
+            to,
+            0.02 + 0.01 * rng.next(),
+            0.015 + 0.01 * rng.next(),
+        ));
+        tips.push(to);
+    }
+    let sweep = Field::capsules(CapsuleSet::new(&segments).unwrap());
+    let opts = MeshOptions::new([-1.0; 3], [1.0; 3], 7);
+    let floored = polygonise(&sweep.min(1.5), &opts, &|| false, &|_| {})
+        .unwrap()
+        .0;
+    let plain = polygonise(&(&sweep * 1.0).min(1.5), &opts, &|| false, &|_| {})
+        .unwrap()
+        .0;
+    closed_manifold(&floored);
+    assert_eq!(floored.num_points(), plain.num_points());
+    assert_eq!(floored.positions(), plain.positions());
+}

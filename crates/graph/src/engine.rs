@@ -1,4 +1,4 @@
-//! The cook engine: pulls inputs (independent branches in parallel), keys every cook by content, consults the cache, traces each cook.
+//! The cook engine: cooks what a node needs in waves (independent branches in parallel, no thread ever waiting on another's cook), keys every cook by content, consults the cache, traces each cook.
 
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
@@ -159,8 +159,75 @@ fn cook_key(
 }
 
 impl Run<'_, '_> {
+    /// The node's cooked value, cooking what it needs first (see `prepare`).
     fn node(&self, i: usize) -> Result<Cooked, Vec<CookError>> {
+        if let Some(done) = self.slots[i].get() {
+            return done.clone();
+        }
+        self.prepare(i);
         self.slots[i].get_or_init(|| self.cook_node(i)).clone()
+    }
+
+    /// The nodes `cook_node(i)` reads besides itself: its inputs, a
+    /// subnet's output, a feed's block input outside a pass.
+    fn reads(&self, i: usize) -> Vec<usize> {
+        let net = &self.engine.net;
+        let n = &net.nodes[i];
+        let mut reads: Vec<usize> = n.inputs.iter().flatten().copied().collect();
+        if n.bypass {
+            return reads;
+        }
+        match &n.kind {
+            NodeKind::Subnet {
+                block: None,
+                output: Some(o),
+                ..
+            } => reads.push(*o),
+            NodeKind::Feed {
+                block,
+                slot: FeedSlot::Input(k),
+            } if !self.feeds.iter().any(|(j, _)| *j == i) => {
+                reads.extend(net.nodes[*block].inputs.get(*k).copied().flatten());
+            }
+            _ => {}
+        }
+        reads
+    }
+
+    /// Cooks every node `target` needs that is not cooked yet, in waves:
+    /// each wave's nodes read only earlier waves', and cook in parallel.
+    /// Nothing ever waits for a node another thread is cooking (a worker
+    /// blocked on one, with that cook waiting on the worker's stolen job,
+    /// would deadlock), so independent branches still cook side by side.
+    fn prepare(&self, target: usize) {
+        // Depth of each needed node: one more than the deepest it reads.
+        let mut depth: Vec<Option<usize>> = vec![None; self.slots.len()];
+        let mut stack = vec![(target, false)];
+        while let Some((i, ready)) = stack.pop() {
+            if depth[i].is_some() || self.slots[i].get().is_some() {
+                continue;
+            }
+            let reads = self.reads(i);
+            if !ready {
+                stack.push((i, true));
+                stack.extend(reads.into_iter().map(|j| (j, false)));
+                continue;
+            }
+            let below = reads.iter().filter_map(|&j| depth[j]).max();
+            depth[i] = Some(below.map_or(0, |d| d + 1));
+        }
+        let deepest = depth.iter().flatten().copied().max().unwrap_or(0);
+        let mut waves: Vec<Vec<usize>> = vec![Vec::new(); deepest + 1];
+        for (i, d) in depth.iter().enumerate() {
+            if let Some(d) = d {
+                waves[*d].push(i);
+            }
+        }
+        for wave in waves {
+            wave.par_iter().for_each(|&i| {
+                self.slots[i].get_or_init(|| self.cook_node(i));
+            });
+        }
     }
 
     fn cook_node(&self, i: usize) -> Result<Cooked, Vec<CookError>> {
@@ -169,10 +236,10 @@ impl Run<'_, '_> {
         if self.opts.cancel.is_cancelled() {
             return Err(vec![CookError::cancelled(&n.path)]);
         }
-        // Independent branches cook in parallel; every error is reported.
+        // Cooked already (`prepare`); every error is reported.
         let results: Vec<Result<Option<Cooked>, Vec<CookError>>> = n
             .inputs
-            .par_iter()
+            .iter()
             .map(|inp| match inp {
                 Some(j) => self.node(*j).map(Some),
                 None => Ok(None),

@@ -1,6 +1,6 @@
 //! geode's node networks: the versioned JSON document ([`Document`]),
 //! keyframed channels, loading with every problem reported at once
-//! ([`Network::load`]), and the cook [`Engine`]: parallel pull of inputs,
+//! ([`Network::load`]), and the cook [`Engine`]: inputs cooked in parallel waves,
 //! content-hashed keys with early cut-off, a process-wide byte-bounded LRU
 //! [`Cache`], solo view of any inner node, and a `tracing` span per cook.
 //! Knows no concrete node: node types come from a [`geode_op::Registry`].

@@ -1,6 +1,6 @@
 //! The engine tested with toy operators: which nodes re-ran after each edit,
 //! early cut-off, frame changes, A -> B -> A cache hits, errors with exact
-//! messages, bypass, subnets, solo view and determinism.
+//! messages, bypass, subnets, solo view, determinism, and no deadlock under parallel kernels.
 
 mod common;
 
@@ -289,4 +289,50 @@ fn same_network_same_bytes_on_any_thread_count() {
         pool.install(|| cook(&text, &Cache::disabled(), 3.5).value.identity())
     };
     assert_eq!(run(1), run(4));
+}
+
+/// Shared inputs read by many nodes whose cooks join on rayon: no worker may
+/// wait for a node another is cooking (a cook blocked on a worker that stole
+/// a job waiting for that cook's node deadlocked the engine). Many cooks on
+/// four threads, each bounded by a watchdog.
+#[test]
+fn shared_inputs_under_parallel_kernels_never_deadlock() {
+    // Five layers of six nodes, each reading three of the layer below.
+    let mut nodes: Vec<String> = (0..6)
+        .map(|i| format!(r#""l0_{i}": {{"type": "spin"}}"#))
+        .collect();
+    for layer in 1..5 {
+        for i in 0..6 {
+            let reads: Vec<String> = (0..3)
+                .map(|k| format!(r#""l{}_{}""#, layer - 1, (i + k * (layer + 1)) % 6))
+                .collect();
+            nodes.push(format!(
+                r#""l{layer}_{i}": {{"type": "spin", "inputs": [{}]}}"#,
+                reads.join(", ")
+            ));
+        }
+    }
+    let ns: Vec<String> = (0..6).map(|i| format!(r#""l4_{i}""#)).collect();
+    nodes.push(format!(
+        r#""j": {{"type": "spin", "inputs": [{}]}}"#,
+        ns.join(", ")
+    ));
+    let text = format!(
+        r#"{{"geode": "network", "version": 1, "output": "j", "nodes": {{{}}}}}"#,
+        nodes.join(", ")
+    );
+    let (done, finished) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(4)
+            .build()
+            .unwrap();
+        for _ in 0..40 {
+            pool.install(|| cook(&text, &Cache::disabled(), 1.0));
+        }
+        done.send(()).unwrap();
+    });
+    finished
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .expect("the cooks finished (no deadlock)");
 }

@@ -105,6 +105,19 @@ static PACK: NodeSpec = NodeSpec::new(
 .variadic()
 .output(PortType::Bundle);
 static SLOW: NodeSpec = NodeSpec::new("slow", "Slow", "test", "", &[], &[]);
+static SPIN: NodeSpec = NodeSpec::new(
+    "spin",
+    "Spin",
+    "test",
+    "",
+    &[InputSpec {
+        name: "geometry",
+        ty: PortType::Geometry,
+        required: false,
+    }],
+    &[],
+)
+.variadic();
 
 pub static COOKS: AtomicUsize = AtomicUsize::new(0);
 
@@ -216,6 +229,38 @@ impl Operator for Slow {
     }
 }
 
+/// Passes its first input through after parallel work with short waits
+/// (a kernel that joins on rayon, during which its worker steals jobs).
+struct Spin;
+
+impl Operator for Spin {
+    fn spec(&self) -> &'static NodeSpec {
+        &SPIN
+    }
+    fn cook(
+        &self,
+        _: &CookContext,
+        inputs: &[Option<Value>],
+        _: &Params,
+    ) -> Result<Value, CookError> {
+        use rayon::prelude::*;
+        let spun: u64 = (0..32u64)
+            .into_par_iter()
+            .map(|k| {
+                std::thread::sleep(std::time::Duration::from_micros(200));
+                k
+            })
+            .sum();
+        assert_eq!(spun, 496);
+        Ok(inputs
+            .iter()
+            .flatten()
+            .next()
+            .cloned()
+            .unwrap_or_else(|| Value::geometry(Geometry::new())))
+    }
+}
+
 pub fn registry() -> Registry {
     let mut r = Registry::new();
     r.add(Points);
@@ -224,5 +269,6 @@ pub fn registry() -> Registry {
     r.add(Join);
     r.add(Pack);
     r.add(Slow);
+    r.add(Spin);
     r
 }
