@@ -11,7 +11,6 @@
 //! evaluator (point, batch, interval, gradient) handles the result as it does
 //! any other field.
 
-use std::collections::HashMap;
 use std::sync::Arc;
 
 use crate::capsules::CapsuleSet;
@@ -174,39 +173,21 @@ fn capsules_gradient(
 
 /// The gradient of `f` as three fields (memoised over the shared DAG).
 pub fn gradient(f: &Field) -> [Field; 3] {
-    let mut done: HashMap<*const (), [Field; 3]> = HashMap::new();
-    let mut stack: Vec<(&Field, bool)> = vec![(f, false)];
-    while let Some((g, ready)) = stack.pop() {
-        if done.contains_key(&g.ptr()) {
-            continue;
-        }
-        if !ready {
-            stack.push((g, true));
-            match g.node() {
-                Node::Unary(_, a) => stack.push((a, false)),
-                Node::Binary(_, a, b) => stack.extend([(a, false), (b, false)]),
-                Node::Capsules(_, args) => stack.extend(args.iter().map(|a| (a, false))),
-                _ => {}
-            }
-            continue;
-        }
-        let d = |h: &Field| &done[&h.ptr()];
-        let unit = |k: usize| std::array::from_fn(|j| Field::constant((j == k) as u8 as f64));
-        let grad = match g.node() {
+    let unit = |k: usize| std::array::from_fn(|j| Field::constant((j == k) as u8 as f64));
+    f.fold(
+        |_| true,
+        |g, d: &dyn Fn(&Field) -> [Field; 3]| match g.node() {
             Node::X => unit(0),
             Node::Y => unit(1),
             Node::Z => unit(2),
             Node::Const(_) => zero3(),
-            Node::Unary(op, a) => unary_gradient(*op, a, d(a)),
-            Node::Binary(op, a, b) => binary_gradient(*op, (a, d(a)), (b, d(b))),
+            Node::Unary(op, a) => unary_gradient(*op, a, &d(a)),
+            Node::Binary(op, a, b) => binary_gradient(*op, (a, &d(a)), (b, &d(b))),
             Node::Capsules(set, args) => {
-                capsules_gradient(set, args, &[d(&args[0]), d(&args[1]), d(&args[2])])
+                capsules_gradient(set, args, &[&d(&args[0]), &d(&args[1]), &d(&args[2])])
             }
-        };
-        done.insert(g.ptr(), grad);
-    }
-    done.remove(&f.ptr())
-        .expect("the root is differentiated last")
+        },
+    )
 }
 
 fn dot3(a: &[Field; 3], b: &[Field; 3]) -> Field {

@@ -166,28 +166,58 @@ impl Field {
 
     /// Bytes held by the shared DAG: its distinct nodes and capsule sets.
     pub fn memory_bytes(&self) -> usize {
-        let mut seen = std::collections::HashSet::new();
         let mut sets = std::collections::HashSet::new();
         let mut bytes = 0;
-        let mut stack = vec![self];
-        while let Some(f) = stack.pop() {
-            if !seen.insert(f.ptr()) {
-                continue;
-            }
-            bytes += std::mem::size_of::<Inner>() + 16;
-            match f.node() {
-                Node::Unary(_, a) => stack.push(a),
-                Node::Binary(_, a, b) => stack.extend([a, b]),
-                Node::Capsules(set, args) => {
+        self.fold(
+            |_| true,
+            |f, _: &dyn Fn(&Field)| {
+                bytes += std::mem::size_of::<Inner>() + 16;
+                if let Node::Capsules(set, _) = f.node() {
                     if sets.insert(Arc::as_ptr(set)) {
                         bytes += set.memory_bytes();
                     }
-                    stack.extend(args);
                 }
-                _ => {}
-            }
-        }
+            },
+        );
         bytes
+    }
+
+    /// The nodes this one reads, in order.
+    pub fn children(&self) -> Vec<&Field> {
+        match self.node() {
+            Node::Unary(_, a) => vec![a],
+            Node::Binary(_, a, b) => vec![a, b],
+            Node::Capsules(_, args) => args.iter().collect(),
+            Node::X | Node::Y | Node::Z | Node::Const(_) => Vec::new(),
+        }
+    }
+
+    /// A value per node, children first (in order), each shared node once: `visit`
+    /// gets the node and the values of its children (looked up by the
+    /// function it is given). Iterative, so chains of many thousands of
+    /// nodes do not overflow the stack. Nodes `descend` rejects get no
+    /// children visited (their lookups must not be called).
+    pub fn fold<T: Clone>(
+        &self,
+        descend: impl Fn(&Field) -> bool,
+        mut visit: impl FnMut(&Field, &dyn Fn(&Field) -> T) -> T,
+    ) -> T {
+        let mut done: std::collections::HashMap<*const (), T> = std::collections::HashMap::new();
+        let mut stack: Vec<(&Field, bool)> = vec![(self, false)];
+        while let Some((f, ready)) = stack.pop() {
+            if done.contains_key(&f.ptr()) {
+                continue;
+            }
+            if !ready && descend(f) {
+                stack.push((f, true));
+                // Reversed, so the first child is visited first.
+                stack.extend(f.children().into_iter().rev().map(|c| (c, false)));
+                continue;
+            }
+            let value = visit(f, &|c: &Field| done[&c.ptr()].clone());
+            done.insert(f.ptr(), value);
+        }
+        done.remove(&self.ptr()).expect("the root is visited last")
     }
 
     /// The address identifying this shared node (for memoised traversals).

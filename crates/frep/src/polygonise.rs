@@ -7,7 +7,6 @@
 //! over the crossings' tangent planes so sharp edges and corners survive,
 //! with analytic normals from the gradient.
 
-use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
@@ -199,32 +198,16 @@ const FLOOR_CELLS: f64 = 3.0;
 /// result equals `f` wherever either is above the floor, and has its sign
 /// everywhere; capsules that never rise above it drop out of every search.
 fn floor_capsules(f: &Field, floor: f64) -> Field {
-    // Iterative and memoised over the shared DAG: unions may be chains of
-    // many thousands of nodes, and shared ones must stay shared.
-    let mut done: HashMap<*const (), Field> = HashMap::new();
-    let mut stack: Vec<(&Field, bool)> = vec![(f, false)];
-    while let Some((g, ready)) = stack.pop() {
-        let key = g.ptr();
-        if done.contains_key(&key) {
-            continue;
-        }
-        let new = match g.node() {
-            Node::Binary(op @ (Binary::Min | Binary::Max), a, b) => {
-                let at = |h: &Field| h.ptr();
-                if !ready {
-                    stack.extend([(g, true), (a, false), (b, false)]);
-                    continue;
-                }
-                done[&at(a)].binary(*op, done[&at(b)].clone())
-            }
+    let min_or_max = |g: &Field| matches!(g.node(), Node::Binary(Binary::Min | Binary::Max, _, _));
+    f.fold(min_or_max, |g, get: &dyn Fn(&Field) -> Field| {
+        match g.node() {
+            Node::Binary(op @ (Binary::Min | Binary::Max), a, b) => get(a).binary(*op, get(b)),
             Node::Capsules(set, args) => {
                 Field::capsules_at(&Arc::new(set.with_floor(floor)), args.clone())
             }
             _ => g.clone(),
-        };
-        done.insert(key, new);
-    }
-    done[&f.ptr()].clone()
+        }
+    })
 }
 
 /// The cell grid, the tape of the field clipped to the box, and the octree's

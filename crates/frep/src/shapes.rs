@@ -6,8 +6,6 @@
 //! (sphere, box, torus, cylinder, plane), so offsets and blend parameters
 //! have metric meaning; the others follow HyperFun.
 
-use std::collections::HashMap;
-
 use crate::capsules::CapsuleSet;
 use crate::field::{Field, Node};
 
@@ -195,28 +193,9 @@ impl Field {
     /// The field with x, y and z replaced by other fields (space mapping):
     /// `f.remap(gx, gy, gz)(p) = f(gx(p), gy(p), gz(p))`.
     pub fn remap(&self, x: &Field, y: &Field, z: &Field) -> Field {
-        let mut done: HashMap<*const (), Field> = HashMap::new();
-        let mut stack: Vec<(&Field, bool)> = vec![(self, false)];
-        while let Some((f, ready)) = stack.pop() {
-            let key = f.ptr();
-            if done.contains_key(&key) {
-                continue;
-            }
-            if !ready {
-                stack.push((f, true));
-                match f.node() {
-                    Node::Unary(_, a) => stack.push((a, false)),
-                    Node::Binary(_, a, b) => {
-                        stack.push((a, false));
-                        stack.push((b, false));
-                    }
-                    Node::Capsules(_, args) => stack.extend(args.iter().map(|a| (a, false))),
-                    _ => {}
-                }
-                continue;
-            }
-            let get = |g: &Field| done[&g.ptr()].clone();
-            let new = match f.node() {
+        self.fold(
+            |_| true,
+            |f, get: &dyn Fn(&Field) -> Field| match f.node() {
                 Node::X => x.clone(),
                 Node::Y => y.clone(),
                 Node::Z => z.clone(),
@@ -224,10 +203,8 @@ impl Field {
                 Node::Unary(op, a) => get(a).unary(*op),
                 Node::Binary(op, a, b) => get(a).binary(*op, get(b)),
                 Node::Capsules(set, args) => Field::capsules_at(set, args.each_ref().map(get)),
-            };
-            done.insert(key, new);
-        }
-        done[&self.ptr()].clone()
+            },
+        )
     }
 
     /// The solid moved by the affine map `p -> M p + t` (given as the inverse

@@ -130,97 +130,80 @@ impl Tape {
     /// computed once, constant sub-expressions are folded.
     pub fn compile(field: &Field) -> Tape {
         let mut ssa: Vec<Instr> = Vec::new();
-        let mut by_ptr: HashMap<*const (), u32> = HashMap::new();
         let mut by_key: HashMap<Key, u32> = HashMap::new();
         let mut capsule_sets: Vec<Arc<CapsuleSet>> = Vec::new();
         let consts = |ssa: &Vec<Instr>, v: u32| match ssa[v as usize] {
             Instr::Const { value, .. } => Some(value),
             _ => None,
         };
-        // Iterative post-order: deep DAGs (thousands of ops) must not overflow the stack.
-        let mut stack: Vec<(&Field, bool)> = vec![(field, false)];
-        while let Some((f, children_done)) = stack.pop() {
-            let ptr = f.ptr();
-            if by_ptr.contains_key(&ptr) {
-                continue;
-            }
-            if !children_done {
-                stack.push((f, true));
-                match f.node() {
-                    Node::Unary(_, a) => stack.push((a, false)),
-                    Node::Binary(_, a, b) => {
-                        stack.push((b, false));
-                        stack.push((a, false));
-                    }
-                    Node::Capsules(_, args) => stack.extend(args.iter().rev().map(|a| (a, false))),
-                    _ => {}
-                }
-                continue;
-            }
-            let get = |x: &Field| by_ptr[&x.ptr()];
-            let (key, instr) = match f.node() {
-                Node::X => (Key::Var(0), Instr::Var { out: 0, axis: 0 }),
-                Node::Y => (Key::Var(1), Instr::Var { out: 0, axis: 1 }),
-                Node::Z => (Key::Var(2), Instr::Var { out: 0, axis: 2 }),
-                Node::Const(c) => (Key::Const(c.to_bits()), Instr::Const { out: 0, value: *c }),
-                Node::Unary(op, a) => {
-                    let a = get(a);
-                    match consts(&ssa, a) {
-                        Some(v) => {
-                            let c = unary(*op, v);
-                            (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+        // Children first, each shared node once (iterative: deep DAGs of
+        // thousands of ops must not overflow the stack).
+        let output = field.fold(
+            |_| true,
+            |f, get: &dyn Fn(&Field) -> u32| {
+                let (key, instr) = match f.node() {
+                    Node::X => (Key::Var(0), Instr::Var { out: 0, axis: 0 }),
+                    Node::Y => (Key::Var(1), Instr::Var { out: 0, axis: 1 }),
+                    Node::Z => (Key::Var(2), Instr::Var { out: 0, axis: 2 }),
+                    Node::Const(c) => (Key::Const(c.to_bits()), Instr::Const { out: 0, value: *c }),
+                    Node::Unary(op, a) => {
+                        let a = get(a);
+                        match consts(&ssa, a) {
+                            Some(v) => {
+                                let c = unary(*op, v);
+                                (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+                            }
+                            None => (Key::Unary(*op, a), Instr::Unary { op: *op, out: 0, a }),
                         }
-                        None => (Key::Unary(*op, a), Instr::Unary { op: *op, out: 0, a }),
                     }
-                }
-                Node::Binary(op, a, b) => {
-                    let (a, b) = (get(a), get(b));
-                    match (consts(&ssa, a), consts(&ssa, b)) {
-                        (Some(x), Some(y)) => {
-                            let c = binary(*op, x, y);
-                            (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+                    Node::Binary(op, a, b) => {
+                        let (a, b) = (get(a), get(b));
+                        match (consts(&ssa, a), consts(&ssa, b)) {
+                            (Some(x), Some(y)) => {
+                                let c = binary(*op, x, y);
+                                (Key::Const(c.to_bits()), Instr::Const { out: 0, value: c })
+                            }
+                            _ => (
+                                Key::Binary(*op, a, b),
+                                Instr::Binary {
+                                    op: *op,
+                                    out: 0,
+                                    a,
+                                    b,
+                                },
+                            ),
                         }
-                        _ => (
-                            Key::Binary(*op, a, b),
-                            Instr::Binary {
-                                op: *op,
-                                out: 0,
-                                a,
-                                b,
-                            },
-                        ),
                     }
-                }
-                Node::Capsules(set, args) => {
-                    let [x, y, z] = args.each_ref().map(get);
-                    let index = match capsule_sets
-                        .iter()
-                        .position(|s| s.identity() == set.identity())
-                    {
-                        Some(i) => i,
-                        None => {
-                            capsule_sets.push(Arc::clone(set));
-                            capsule_sets.len() - 1
-                        }
-                    };
-                    let instr = Instr::Capsules {
-                        set: index as u32,
-                        out: 0,
-                        x,
-                        y,
-                        z,
-                    };
-                    (Key::Capsules(set.identity(), [x, y, z]), instr)
-                }
-            };
-            let id = *by_key.entry(key).or_insert_with(|| {
-                let id = ssa.len() as u32;
-                ssa.push(instr.with_args(id, instr.args()));
+                    Node::Capsules(set, args) => {
+                        let [x, y, z] = args.each_ref().map(get);
+                        let index = match capsule_sets
+                            .iter()
+                            .position(|s| s.identity() == set.identity())
+                        {
+                            Some(i) => i,
+                            None => {
+                                capsule_sets.push(Arc::clone(set));
+                                capsule_sets.len() - 1
+                            }
+                        };
+                        let instr = Instr::Capsules {
+                            set: index as u32,
+                            out: 0,
+                            x,
+                            y,
+                            z,
+                        };
+                        (Key::Capsules(set.identity(), [x, y, z]), instr)
+                    }
+                };
+                let id = *by_key.entry(key).or_insert_with(|| {
+                    let id = ssa.len() as u32;
+                    ssa.push(instr.with_args(id, instr.args()));
+                    id
+                });
                 id
-            });
-            by_ptr.insert(ptr, id);
-        }
-        let output = by_ptr[&field.ptr()];
+            },
+        );
         Tape::from_ssa(ssa, output, capsule_sets)
     }
 
