@@ -149,10 +149,8 @@ pub fn copy_to_points(
         })
         .collect();
     let copies = copies.ok_or(CopyError::Cancelled)?;
-    let mut out = ops::merge(&copies.iter().collect::<Vec<_>>())?;
-    if cancel() {
-        return Err(CopyError::Cancelled);
-    }
+    let mut out = ops::merge_cancellable(&copies.iter().collect::<Vec<_>>(), cancel)?
+        .ok_or(CopyError::Cancelled)?;
     // Each copy's points get its template point's values.
     let indices: Vec<u32> = copies
         .iter()

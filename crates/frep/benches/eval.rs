@@ -37,6 +37,13 @@ fn colonnade() -> Field {
     geode_frep::parse_vm(&text).unwrap()
 }
 
+/// The gyroid part's superellipsoid as a signed distance (symbolic
+/// gradient and two Newton steps: what offsets and shells evaluate).
+fn superellipsoid_distance() -> Field {
+    let part = geode_frep::shapes::superellipsoid([0.0; 3], [0.9, 0.6, 0.6], 0.3, 0.3);
+    geode_frep::distance::signed_distance(&part)
+}
+
 fn grid() -> (Vec<f32>, Vec<f32>, Vec<f32>) {
     let n = 128usize;
     let mut xs = Vec::with_capacity(N);
@@ -50,11 +57,12 @@ fn grid() -> (Vec<f32>, Vec<f32>, Vec<f32>) {
     (xs, ys, zs)
 }
 
-#[divan::bench(args = ["gyroid", "spheres200", "colonnade"], sample_count = 5)]
+#[divan::bench(args = ["gyroid", "spheres200", "colonnade", "superellipsoid_distance"], sample_count = 5)]
 fn batch_1m_points(bencher: Bencher, which: &str) {
     let f = match which {
         "gyroid" => gyroid(),
         "spheres200" => spheres(),
+        "superellipsoid_distance" => superellipsoid_distance(),
         _ => colonnade(),
     };
     let tape = Tape::compile(&f);

@@ -28,9 +28,20 @@ fn append_groups(
 /// attributes take the first input that has each one. An attribute name with
 /// two types is an error naming it.
 pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
+    merge_cancellable(inputs, &|| false).map(|g| g.expect("never cancelled"))
+}
+
+/// Inputs appended between two polls of `cancel` in [`merge_cancellable`].
+const INPUTS_PER_POLL: usize = 256;
+
+/// [`merge`], polling `cancel` as it goes: `None` once it answers true.
+pub fn merge_cancellable(
+    inputs: &[&Geometry],
+    cancel: &dyn Fn() -> bool,
+) -> Result<Option<Geometry>, GeoError> {
     let mut out = match inputs.first() {
         Some(first) => (*first).clone(),
-        None => return Ok(Geometry::new()),
+        None => return Ok(Some(Geometry::new())),
     };
     let total_points: usize = inputs.iter().map(|g| g.num_points()).sum();
     let total_vertices: usize = inputs.iter().map(|g| g.num_vertices()).sum();
@@ -38,7 +49,10 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
     checked_u32(total_vertices, "vertex count")?;
     out.vertex_point
         .reserve(total_vertices - out.num_vertices());
-    for g in &inputs[1..] {
+    for (k, g) in inputs[1..].iter().enumerate() {
+        if k % INPUTS_PER_POLL == 0 && cancel() {
+            return Ok(None);
+        }
         let point_base = out.num_points() as u32;
         let vertex_base = out.num_vertices() as u32;
         let packed_base = out.packed.len() as u32;
@@ -73,7 +87,7 @@ pub fn merge(inputs: &[&Geometry]) -> Result<Geometry, GeoError> {
         );
     }
     out.invalidate_topology();
-    Ok(out)
+    Ok(Some(out))
 }
 
 fn merge_detail(ours: &mut AttribTable, theirs: &AttribTable) -> Result<(), GeoError> {

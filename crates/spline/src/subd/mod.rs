@@ -21,7 +21,9 @@ pub use fvar::FVarLinear;
 pub(crate) use level::Rows;
 pub use level::{Level, INFINITE};
 pub(crate) use limit::{limit_frame, limit_normals, limit_positions, mean_face_normal};
-pub(crate) use refine::{plan, refine_topology, refine_topology_with, refine_values};
+pub(crate) use refine::{
+    plan, refine_topology, refine_topology_with, refine_values, refine_values_cancellable,
+};
 
 /// OpenSubdiv's vertex boundary interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -263,10 +265,11 @@ pub fn subdivide(
         stop()?;
         let pl = plan(&level, &child, chaikin);
         stop()?;
-        positions = refine_values(&level, &child, &pl, &positions, 3);
+        positions = refine_values_cancellable(&level, &child, &pl, &positions, 3, cancel)
+            .ok_or(SubdError::Cancelled)?;
         for c in points.iter_mut() {
-            stop()?;
-            c.3 = refine_values(&level, &child, &pl, &c.3, c.2);
+            c.3 = refine_values_cancellable(&level, &child, &pl, &c.3, c.2, cancel)
+                .ok_or(SubdError::Cancelled)?;
         }
         for c in corners.iter_mut() {
             stop()?;
@@ -299,15 +302,21 @@ pub fn subdivide(
     let mut flat = Vec::with_capacity(keep.len() * 4);
     let mut counts = Vec::with_capacity(keep.len());
     let mut corner_ids = Vec::with_capacity(keep.len() * 4);
-    for &f in &keep {
+    for (k, &f) in keep.iter().enumerate() {
+        if k % (1 << 16) == 0 {
+            stop()?;
+        }
         let r = level.faces.row(f);
         flat.extend_from_slice(r);
         counts.push(r.len() as u32);
         corner_ids.extend(level.faces.offsets[f]..level.faces.offsets[f + 1]);
     }
+    stop()?;
     let mut out =
         Geometry::from_polygons(pos.iter().map(|p| p.as_vec3()).collect(), flat, &counts)?;
+    stop()?;
     for (name, info, dim, vals) in points {
+        stop()?;
         out.set_attrib(
             AttribClass::Point,
             &name,
@@ -325,6 +334,7 @@ pub fn subdivide(
         )?;
     }
     for (name, info, channel) in corners {
+        stop()?;
         let all = column(channel.dim, &channel.corner_data());
         out.set_attrib(
             AttribClass::Vertex,
@@ -337,6 +347,7 @@ pub fn subdivide(
         if name == "subd_hole" {
             continue;
         }
+        stop()?;
         out.set_attrib(
             AttribClass::Primitive,
             name,

@@ -127,31 +127,42 @@ pub fn refine_topology_with(
         .par_chunks_mut(2)
         .zip(edge_sharpness[..2 * ne].par_chunks_mut(2))
         .enumerate()
-        .for_each(|(e, (ev, es))| {
+        .try_for_each(|(e, (ev, es))| {
+            if stopped_at(e, stop) {
+                return None;
+            }
             let [a, b] = p.edge_verts[e];
             let e = e as u32;
             ev[0] = [vc(a), ec(e)];
             ev[1] = [vc(b), ec(e)];
             es[0] = child_edge_sharpness(p, e, a, chaikin_rule);
             es[1] = child_edge_sharpness(p, e, b, chaikin_rule);
-        });
-    if stop() {
-        return None;
-    }
+            Some(())
+        })?;
     let face_of: Vec<u32> = (0..nf)
         .into_par_iter()
         .flat_map_iter(|f| std::iter::repeat_n(f as u32, p.faces.row(f).len()))
         .collect();
-    inner.par_iter_mut().enumerate().for_each(|(c, ev)| {
+    if stop() {
+        return None;
+    }
+    inner.par_iter_mut().enumerate().try_for_each(|(c, ev)| {
+        if stopped_at(c, stop) {
+            return None;
+        }
         *ev = [ec(p.face_edges[c]), fc(face_of[c] as usize)];
-    });
+        Some(())
+    })?;
     let mut face_verts = vec![0u32; 4 * corners];
     let mut face_edges = vec![0u32; 4 * corners];
     face_verts
         .par_chunks_mut(4)
         .zip(face_edges.par_chunks_mut(4))
         .enumerate()
-        .for_each(|(c, (fv, fe))| {
+        .try_for_each(|(c, (fv, fe))| {
+            if stopped_at(c, stop) {
+                return None;
+            }
             let f = face_of[c] as usize;
             let base = p.faces.offsets[f] as usize;
             let n = p.faces.offsets[f + 1] as usize - base;
@@ -170,11 +181,12 @@ pub fn refine_topology_with(
                 fv[child_slot(n, k, i)] = verts[i];
                 fe[child_slot(n, k, i)] = edges[i];
             }
-        });
+            Some(())
+        })?;
+    let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
     if stop() {
         return None;
     }
-    let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
     let mut child = Level {
         num_vertices: nv + nf + ne,
         faces: Rows {
@@ -490,24 +502,37 @@ pub fn plan(p: &Level, c: &Level, chaikin_rule: bool) -> Plan {
 
 /// Refines values of `dim` components per parent vertex into child values.
 pub fn refine_values(p: &Level, c: &Level, plan: &Plan, src: &[f64], dim: usize) -> Vec<f64> {
+    refine_values_cancellable(p, c, plan, src, dim, &|| false).expect("never cancelled")
+}
+
+/// [`refine_values`], polling `cancel` between grains of work: `None` once
+/// it answers true.
+pub fn refine_values_cancellable(
+    p: &Level,
+    c: &Level,
+    plan: &Plan,
+    src: &[f64],
+    dim: usize,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Vec<f64>> {
     // Fixed widths let the compiler keep a value in registers and drop the
     // bounds checks; positions (3) are the hot case.
     match dim {
-        1 => refine_fixed::<1>(p, c, plan, src),
-        2 => refine_fixed::<2>(p, c, plan, src),
-        3 => refine_fixed::<3>(p, c, plan, src),
-        4 => refine_fixed::<4>(p, c, plan, src),
+        1 => refine_fixed::<1>(p, c, plan, src, cancel),
+        2 => refine_fixed::<2>(p, c, plan, src, cancel),
+        3 => refine_fixed::<3>(p, c, plan, src, cancel),
+        4 => refine_fixed::<4>(p, c, plan, src, cancel),
         _ => {
             // Wider values: one component at a time.
             let n = src.len() / dim.max(1);
             let columns: Vec<Vec<f64>> = (0..dim)
                 .map(|k| {
                     let column: Vec<f64> = (0..n).map(|i| src[i * dim + k]).collect();
-                    refine_fixed::<1>(p, c, plan, &column)
+                    refine_fixed::<1>(p, c, plan, &column, cancel)
                 })
-                .collect();
+                .collect::<Option<_>>()?;
             let m = columns.first().map_or(0, Vec::len);
-            (0..m * dim).map(|i| columns[i % dim][i / dim]).collect()
+            Some((0..m * dim).map(|i| columns[i % dim][i / dim]).collect())
         }
     }
 }
@@ -523,80 +548,94 @@ fn add<const N: usize>(o: &mut Value<N>, w: f64, x: &Value<N>) {
 /// Elements per parallel task: enough to amortise the scheduling.
 const GRAIN: usize = 2048;
 
-fn refine_fixed<const N: usize>(p: &Level, c: &Level, plan: &Plan, src: &[f64]) -> Vec<f64> {
+/// Runs `each(index, value)` over `part` in parallel grains, stopping at the
+/// first grain that finds `cancel` true.
+fn for_each_grain<T: Send>(
+    part: &mut [T],
+    cancel: &(dyn Fn() -> bool + Sync),
+    each: impl Fn(usize, &mut T) + Sync,
+) -> Option<()> {
+    part.par_chunks_mut(GRAIN)
+        .enumerate()
+        .try_for_each(|(grain, chunk)| {
+            if cancel() {
+                return None;
+            }
+            for (k, o) in chunk.iter_mut().enumerate() {
+                each(grain * GRAIN + k, o);
+            }
+            Some(())
+        })
+}
+
+fn refine_fixed<const N: usize>(
+    p: &Level,
+    c: &Level,
+    plan: &Plan,
+    src: &[f64],
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Vec<f64>> {
     let (nv, nf, ne) = (p.num_vertices, p.faces.len(), p.edge_verts.len());
     let (src, _) = src.as_chunks::<N>();
     let mut out = vec![[0.0f64; N]; nv + nf + ne];
     let (vertex_part, rest) = out.split_at_mut(nv);
     let (face_part, edge_part) = rest.split_at_mut(nf);
-    face_part
-        .par_iter_mut()
-        .with_min_len(GRAIN)
-        .enumerate()
-        .for_each(|(f, o)| {
-            let verts = p.faces.row(f);
-            let w = 1.0 / verts.len() as f64;
-            for &v in verts {
-                add(o, w, &src[v as usize]);
-            }
-        });
+    for_each_grain(face_part, cancel, |f, o| {
+        let verts = p.faces.row(f);
+        let w = 1.0 / verts.len() as f64;
+        for &v in verts {
+            add(o, w, &src[v as usize]);
+        }
+    })?;
     let face_points: &[Value<N>] = face_part;
-    edge_part
-        .par_iter_mut()
-        .with_min_len(GRAIN)
-        .enumerate()
-        .for_each(|(e, o)| {
-            let [a, b] = p.edge_verts[e];
-            let faces = p.edge_faces.row(e);
-            let (end_w, face_w) = scheme::edge_point(plan.edge_weight[e] as f64, faces.len());
-            let (x, y) = (&src[a as usize], &src[b as usize]);
-            for k in 0..N {
-                o[k] = end_w * (x[k] + y[k]);
+    for_each_grain(edge_part, cancel, |e, o| {
+        let [a, b] = p.edge_verts[e];
+        let faces = p.edge_faces.row(e);
+        let (end_w, face_w) = scheme::edge_point(plan.edge_weight[e] as f64, faces.len());
+        let (x, y) = (&src[a as usize], &src[b as usize]);
+        for k in 0..N {
+            o[k] = end_w * (x[k] + y[k]);
+        }
+        if face_w > 0.0 {
+            for &f in faces {
+                add(o, face_w, &face_points[f as usize]);
             }
-            if face_w > 0.0 {
-                for &f in faces {
-                    add(o, face_w, &face_points[f as usize]);
-                }
-            }
-        });
-    vertex_part
-        .par_iter_mut()
-        .with_min_len(GRAIN)
-        .enumerate()
-        .for_each(|(v, o)| {
-            let edges = p.vertex_edges.row(v);
-            let me = &src[v];
-            if edges.is_empty() {
-                *o = *me;
-                return;
-            }
-            let faces = p.vertex_faces.row(v);
-            let parent_sharp = |k: usize| is_sharp(p.edge_sharpness[edges[k] as usize]);
-            let child_sharp = |k: usize| {
-                let e = edges[k];
-                let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32);
-                is_sharp(c.edge_sharpness[half as usize])
-            };
-            scheme::blended_vertex_point(
-                false,
-                (
-                    plan.parent_rule[v],
-                    plan.child_rule[v],
-                    plan.vertex_weight[v] as f64,
-                ),
-                edges.len(),
-                faces.len(),
-                parent_sharp,
-                child_sharp,
-                &mut |t, w| match t {
-                    Term::Vertex => add(o, w, me),
-                    Term::EdgeEnd(k) => add(o, w, &src[p.other_end(edges[k], v as u32) as usize]),
-                    Term::FacePoint(k) => add(o, w, &face_points[faces[k] as usize]),
-                    Term::Opposite(_) => {}
-                },
-            );
-        });
-    out.into_flattened()
+        }
+    })?;
+    for_each_grain(vertex_part, cancel, |v, o| {
+        let edges = p.vertex_edges.row(v);
+        let me = &src[v];
+        if edges.is_empty() {
+            *o = *me;
+            return;
+        }
+        let faces = p.vertex_faces.row(v);
+        let parent_sharp = |k: usize| is_sharp(p.edge_sharpness[edges[k] as usize]);
+        let child_sharp = |k: usize| {
+            let e = edges[k];
+            let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v as u32);
+            is_sharp(c.edge_sharpness[half as usize])
+        };
+        scheme::blended_vertex_point(
+            false,
+            (
+                plan.parent_rule[v],
+                plan.child_rule[v],
+                plan.vertex_weight[v] as f64,
+            ),
+            edges.len(),
+            faces.len(),
+            parent_sharp,
+            child_sharp,
+            &mut |t, w| match t {
+                Term::Vertex => add(o, w, me),
+                Term::EdgeEnd(k) => add(o, w, &src[p.other_end(edges[k], v as u32) as usize]),
+                Term::FacePoint(k) => add(o, w, &face_points[faces[k] as usize]),
+                Term::Opposite(_) => {}
+            },
+        );
+    })?;
+    Some(out.into_flattened())
 }
 
 #[cfg(test)]
