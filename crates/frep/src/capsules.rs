@@ -335,17 +335,20 @@ impl CapsuleSet {
             }
         };
         // The floor as a capsule past every index: it wins only above all.
+        // With no floor, a point where nothing wins (infinitely far) takes
+        // the first capsule's value.
         let mut best = (self.floor, usize::MAX);
-        let found = |best: (f64, usize)| (best.1 != usize::MAX).then_some(best.1);
+        let found = |best: (f64, usize)| match best.1 {
+            usize::MAX if self.floor == f64::NEG_INFINITY => Some(0),
+            usize::MAX => None,
+            i => Some(i),
+        };
         if p.iter().any(|c| c.is_nan()) {
             // Not a number: the first capsule's value says so.
             return Some(0);
         }
         if self.caps.len() <= LINEAR || p.iter().any(|c| !c.is_finite()) {
             consider(&mut best, 0..self.caps.len());
-            if best.1 == usize::MAX && self.floor == f64::NEG_INFINITY {
-                return Some(0);
-            }
             return found(best);
         }
         let hint = LAST_WINNER.with(|h| {
@@ -388,9 +391,6 @@ impl CapsuleSet {
             stack[top] = later;
             stack[top + 1] = sooner;
             top += 2;
-        }
-        if best.1 == usize::MAX && self.floor == f64::NEG_INFINITY {
-            return Some(0);
         }
         if best.1 != usize::MAX {
             LAST_WINNER.with(|h| h.set((self.identity, best.1)));

@@ -78,9 +78,13 @@ impl TriangleBvh {
         }
         let inv = dir.recip();
         let mut best: Option<RayHit> = None;
-        let mut stack = Vec::with_capacity(64);
-        stack.push(0u32);
-        while let Some(n) = stack.pop() {
+        // Median splits keep the depth under 64 for any mesh that fits in
+        // memory; a fixed stack keeps rays free of allocation.
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = stack[top];
             let node = &self.nodes[n as usize];
             if !slab_hit(node.lo, node.hi, origin, inv, t_min, t_max) {
                 continue;
@@ -103,8 +107,9 @@ impl TriangleBvh {
                     }
                 }
             } else {
-                stack.push(node.second);
-                stack.push(n + 1);
+                stack[top] = node.second;
+                stack[top + 1] = n + 1;
+                top += 2;
             }
         }
         best
