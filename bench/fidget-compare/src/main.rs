@@ -1,7 +1,13 @@
-//! Meshing time of fidget 0.5.1 (JIT, manifold dual contouring) against
-//! geode's polygoniser on fidget's own models, same depth, same bounds
-//! ([-1, 1]^3, 2^depth cells a side), same machine, all threads.
+//! Meshing time, size and accuracy of fidget 0.5.1 (JIT, manifold dual
+//! contouring with its octree collapse) against geode's polygoniser on
+//! fidget's own models, same depth, same bounds ([-1, 1]^3, 2^depth cells a
+//! side), same machine, all threads. Accuracy is the largest distance from
+//! each mesh to the exact surface (`deviation`); geode's adaptive output is
+//! run with that distance of fidget's mesh as its tolerance, so the two
+//! compare at the same maximum deviation.
 //! Run: cargo run --release --manifest-path bench/fidget-compare/Cargo.toml
+
+mod deviation;
 
 use std::time::{Duration, Instant};
 
@@ -9,6 +15,8 @@ use fidget::context::Context;
 use fidget::jit::JitShape;
 use fidget::mesh::{Octree, Settings};
 use fidget::shape::BoundShape;
+
+use deviation::deviation;
 
 fn corpus(name: &str) -> String {
     let path = format!(
@@ -32,17 +40,34 @@ fn median<T>(runs: usize, mut f: impl FnMut() -> T) -> (Duration, T) {
     (times[runs / 2], out)
 }
 
+fn geode_mesh(g: &geode_frep::MeshOptions, field: &geode_frep::Field) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let (m, _) = geode_frep::polygonise(field, g, &|| false, &|_| {}).expect("meshes");
+    let positions = m.positions().iter().map(|p| p.to_array()).collect();
+    let tris = (0..m.num_prims())
+        .map(|p| {
+            let pts = m.prim_points(p);
+            [pts[0], pts[1], pts[2]]
+        })
+        .collect();
+    (positions, tris)
+}
+
 fn main() {
-    println!("| model | depth | fidget ms | fidget triangles | geode ms | geode triangles | geode / fidget |");
-    println!("|---|---|---|---|---|---|---|");
+    let depths: Vec<u8> = std::env::args()
+        .nth(1)
+        .map(|a| a.split(',').map(|d| d.parse().expect("depths like 6,7,8")).collect())
+        .unwrap_or(vec![6, 7, 8]);
+    println!("| model | depth | fidget ms | fidget triangles | fidget max dev | geode uniform ms | triangles | max dev | geode adaptive ms | triangles | max dev | adaptive time / fidget |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     for name in ["colonnade.vm", "bear.vm"] {
         let text = corpus(name);
         let (ctx, node) = Context::from_text(text.as_bytes()).expect("fidget parses its model");
         let shape = JitShape::new(&ctx, node).expect("a 3D shape");
         let bound: BoundShape<_, f32> = shape.try_into().expect("only x, y, z");
         let field = geode_frep::parse_vm(&text).expect("geode parses the model");
-        for depth in [6u8, 7, 8] {
-            let (tf, fm) = median(5, || {
+        for &depth in &depths {
+            let runs = if depth >= 8 { 3 } else { 5 };
+            let (tf, fm) = median(runs, || {
                 let settings = Settings {
                     depth,
                     ..Default::default()
@@ -51,17 +76,31 @@ fn main() {
                     .expect("not cancelled")
                     .walk_dual()
             });
-            let opts = geode_frep::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
-            let (tg, gm) = median(5, || {
-                geode_frep::polygonise(&field, &opts, &|| false, &|_| {}).expect("meshes")
-            });
+            let fp: Vec<[f32; 3]> = fm.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
+            let ft: Vec<[u32; 3]> = fm
+                .triangles
+                .iter()
+                .map(|t| [t.x as u32, t.y as u32, t.z as u32])
+                .collect();
+            let (fdev, _) = deviation(&field, &fp, &ft);
+            let mut opts = geode_frep::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
+            let (tu, (up, ut)) = median(runs, || geode_mesh(&opts, &field));
+            let (udev, _) = deviation(&field, &up, &ut);
+            opts.tolerance = fdev;
+            let (ta, (ap, at)) = median(runs, || geode_mesh(&opts, &field));
+            let (adev, _) = deviation(&field, &ap, &at);
             println!(
-                "| {name} | {depth} | {:.1} | {} | {:.1} | {} | {:.2} |",
+                "| {name} | {depth} | {:.1} | {} | {:.5} | {:.1} | {} | {:.5} | {:.1} | {} | {:.5} | {:.2} |",
                 tf.as_secs_f64() * 1e3,
-                fm.triangles.len(),
-                tg.as_secs_f64() * 1e3,
-                gm.0.num_prims(),
-                tg.as_secs_f64() / tf.as_secs_f64()
+                ft.len(),
+                fdev,
+                tu.as_secs_f64() * 1e3,
+                ut.len(),
+                udev,
+                ta.as_secs_f64() * 1e3,
+                at.len(),
+                adev,
+                ta.as_secs_f64() / tf.as_secs_f64()
             );
         }
     }

@@ -431,3 +431,29 @@ fn temporary_files_of_a_killed_cook_are_removed_by_the_next_write() {
         temporary()
     );
 }
+
+/// A tolerance finer than the depth can follow is not met in silence: the
+/// cook warns with how far the mesh strays.
+#[test]
+fn an_unreachable_tolerance_warns() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("fine.json");
+    std::fs::write(
+        &net,
+        r#"{"geode": "network", "version": 1, "output": "mesh", "nodes": {
+        "s": {"type": "frep_sphere", "params": {"radius": 0.8}},
+        "mesh": {"type": "polygonise", "inputs": ["s"], "params": {"depth": 3, "tolerance": 1e-9}}}}"#,
+    )
+    .unwrap();
+    let out = dir.path().join("fine.ply");
+    let o = geode(
+        &["cook", net.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("warning: /mesh: adaptive output strays up to"),
+        "{}",
+        text(&o)
+    );
+}

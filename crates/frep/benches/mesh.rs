@@ -125,3 +125,22 @@ fn estimate_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
         .unwrap()
     });
 }
+
+/// Adaptive output at depth 8 with the tolerance set to the largest
+/// deviation fidget 0.5.1's own mesh shows at that depth
+/// (`bench/fidget-compare`): colonnade 0.0028, bear 0.00589, and for the
+/// analytic cases a thousandth of the box.
+#[divan::bench(args = CASES, sample_count = 3)]
+fn adaptive_at_depth_8(bencher: divan::Bencher, case: &str) {
+    let (_, f, half) = cases()
+        .into_iter()
+        .find(|(n, _, _)| *n == case)
+        .expect("a known case");
+    let mut opts = MeshOptions::new([-half; 3], [half; 3], 8);
+    opts.tolerance = match case {
+        "colonnade" => 0.0028,
+        "bear" => 0.00589,
+        _ => 0.002 * half,
+    };
+    bencher.bench(|| polygonise(&f, &opts, &|| false, &|_| {}).unwrap());
+}

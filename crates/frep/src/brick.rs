@@ -5,6 +5,7 @@
 
 use geode_geo::glam::Vec3;
 
+use crate::cluster::{merge_cells, Clustering, Node};
 use crate::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
@@ -37,7 +38,7 @@ pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
 
 /// Local edge id (0..12) of the cube edge along `axis` whose lower corner
 /// has offsets `p` (0 or 1 on the other axes).
-fn local_edge(axis: usize, p: [usize; 3]) -> usize {
+pub(crate) fn local_edge(axis: usize, p: [usize; 3]) -> usize {
     axis * 4 + p[(axis + 1) % 3] + 2 * p[(axis + 2) % 3]
 }
 
@@ -47,7 +48,11 @@ fn corner_index(p: [usize; 3]) -> usize {
 
 /// Pairs of local edges joined across each face, from the asymptotic
 /// decider; for each ambiguous face, one edge of each of its two segments.
-fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>, ambiguous: &mut Vec<(usize, usize)>) {
+pub(crate) fn face_pairs(
+    v: &[f32; 8],
+    pairs: &mut Vec<(usize, usize)>,
+    ambiguous: &mut Vec<(usize, usize)>,
+) {
     for axis in 0..3 {
         let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
         for side in 0..2 {
@@ -96,7 +101,7 @@ fn face_pairs(v: &[f32; 8], pairs: &mut Vec<(usize, usize)>, ambiguous: &mut Vec
     }
 }
 
-fn find(parent: &mut [usize; 12], mut i: usize) -> usize {
+pub(crate) fn find(parent: &mut [usize; 12], mut i: usize) -> usize {
     while parent[i] != i {
         parent[i] = parent[parent[i]];
         i = parent[i];
@@ -110,7 +115,7 @@ pub(crate) fn mesh_brick(
     (tape, ring_tape): (&Tape, &Tape),
     grid: &Grid,
     brick: [usize; 3],
-    sharpness: f64,
+    (sharpness, tolerance): (f64, f64),
 ) -> BrickOut {
     let base = brick.map(|b| b * B);
     let mut batch = BatchEval::new(tape);
@@ -143,11 +148,15 @@ pub(crate) fn mesh_brick(
     let mut candidates: Vec<Candidate> = Vec::new();
     let mut pairs = Vec::with_capacity(12);
     let mut ambiguous = Vec::with_capacity(6);
+    // What each cell holds, for merging cells (adaptive output).
+    let mut nodes = vec![Node::Empty; B * B * B];
     for k in 0..B {
         for j in 0..B {
             for i in 0..B {
                 let cell = [base[0] + i, base[1] + j, base[2] + k];
+                let node = i + B * (j + B * k);
                 if (0..3).any(|a| cell[a] + 1 >= grid.corners[a]) {
+                    nodes[node] = Node::Blocked;
                     continue;
                 }
                 let local = [i as isize, j as isize, k as isize];
@@ -276,6 +285,16 @@ pub(crate) fn mesh_brick(
                         0
                     };
                     cells.merge(slot, &placed.qef, rank);
+                    nodes[node] = if roots_seen.len() == 1 && ambiguous.is_empty() {
+                        let vertex = out.positions.len() as u32;
+                        Node::Surface {
+                            vertex,
+                            qef: placed.qef,
+                            feature: None,
+                        }
+                    } else {
+                        Node::Blocked
+                    };
                     component_vertex[*root] = out.positions.len() as u32;
                     out.positions
                         .push(Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32));
@@ -299,10 +318,45 @@ pub(crate) fn mesh_brick(
     let checks = (unverified.as_slice(), unverified_planes.as_slice());
     let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
     verify_features(tape, grid, sharpness, checks, &mut candidates, vertices);
+    // Vertices before recovery: those it moves stand on a feature their
+    // cell's own planes do not hold (a corner seen through neighbours),
+    // which a merged cell must keep.
+    let own_placement = (tolerance > 0.0).then(|| vertex_points.clone());
     if cells.ranks.iter().any(|&r| r >= 2) {
         let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
         let state = (&mut lattice, &mut crossings, &mut cells);
         recover_features(ring_tape, grid, sharpness, state, &candidates, vertices);
+    }
+    if let Some(own) = own_placement {
+        for node in &mut nodes {
+            if let Node::Surface {
+                vertex, feature, ..
+            } = node
+            {
+                let now = vertex_points[*vertex as usize];
+                if own[*vertex as usize] != now {
+                    *feature = Some(now);
+                }
+            }
+        }
+        let value = |c: [usize; 3]| lattice.at(c.map(|x| x as isize));
+        let at = |c: [usize; 3]| grid.point([base[0] + c[0], base[1] + c[1], base[2] + c[2]]);
+        let clustering = Clustering {
+            value: &value,
+            point: &at,
+            tolerance,
+            sharpness,
+        };
+        let remap = merge_cells(&clustering, nodes, &mut grad, &mut vertex_points);
+        let added = out.positions.len()..vertex_points.len();
+        out.positions.extend(
+            vertex_points[added]
+                .iter()
+                .map(|x| Vec3::from_array(x.map(|c| c as f32))),
+        );
+        for r in &mut out.refs {
+            r.2 = remap[r.2 as usize];
+        }
     }
     out.normals = outward_normals(&mut point, &mut grads, &vertex_points)
         .into_iter()

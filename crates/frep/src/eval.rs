@@ -425,6 +425,12 @@ impl<'t> BatchGradEval<'t> {
         }
     }
 
+    /// Evaluates `tape` from now on, keeping the register buffer.
+    pub fn set_tape(&mut self, tape: &'t Tape) {
+        self.tape = tape;
+        self.regs.resize(tape.slots() * LANES, Grad::default());
+    }
+
     /// `out[i]` = value and gradient at `points[i]`.
     pub fn eval(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
         assert_eq!(points.len(), out.len(), "a result per point");

@@ -6,12 +6,15 @@
 //! a feature-preserving dual-contouring polygoniser into `geode-geo`
 //! geometry. Knows nothing of nodes, graphs or files.
 
+pub mod adaptive;
 mod brick;
 pub mod capsules;
+mod cluster;
 pub mod distance;
 pub mod eval;
 mod features;
 pub mod field;
+mod flip;
 pub mod hyperfun;
 pub mod interval;
 mod lattice;
@@ -19,11 +22,13 @@ mod pinch;
 pub mod polygonise;
 mod qef;
 mod recovery;
+mod refine;
 pub mod shapes;
 pub mod tape;
 mod thin;
 pub mod vm;
 
+pub use adaptive::surface_distances;
 pub use capsules::CapsuleSet;
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};

@@ -14,6 +14,7 @@ use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use rayon::prelude::*;
 
+use crate::adaptive;
 use crate::brick::{mesh_brick, BrickOut, B};
 use crate::eval::{BatchEval, IntervalEval};
 use crate::field::{Binary, Field, Node};
@@ -32,6 +33,10 @@ pub struct MeshOptions {
     /// QEF truncation: singular values below this fraction of the largest
     /// are ignored (larger keeps fewer sharp features, smaller risks spikes).
     pub sharpness: f64,
+    /// Adaptive output: triangles merge while the field finds the merged
+    /// surface within this distance (model units) of the exact one; 0 keeps
+    /// the uniform mesh.
+    pub tolerance: f64,
 }
 
 impl MeshOptions {
@@ -41,6 +46,7 @@ impl MeshOptions {
             max,
             depth,
             sharpness: 0.05,
+            tolerance: 0.0,
         }
     }
 }
@@ -69,6 +75,12 @@ pub struct MeshStats {
     pub thin_cells: usize,
     /// The box of those cells (model units), when there are any.
     pub thin_region: Option<([f64; 3], [f64; 3])>,
+    /// Adaptive output: edges split where the uniform mesh strayed beyond
+    /// the tolerance, edges collapsed where the surface allowed, and the
+    /// largest deviation measured after splitting (model units).
+    pub splits: usize,
+    pub collapses: usize,
+    pub deviation: f64,
 }
 
 impl MeshStats {
@@ -307,7 +319,15 @@ pub fn polygonise(
         }
     };
     let mut bricks = Vec::new();
-    surviving_bricks(tape, &grid, (top, 0), [0, 0, 0], &mut bricks, cancel);
+    surviving_bricks(
+        Arc::clone(&tape),
+        &grid,
+        (top, 0),
+        [0, 0, 0],
+        &mut bricks,
+        cancel,
+    );
+    let root = tape;
     stop()?;
     bricks.sort_by_key(|s| (s.node[2], s.node[1], s.node[0]));
     let done = AtomicUsize::new(0);
@@ -319,7 +339,7 @@ pub fn polygonise(
                 return None;
             }
             let tapes = (s.tape.as_ref(), s.ring_tape.as_ref());
-            let o = mesh_brick(tapes, &grid, s.node, opts.sharpness);
+            let o = mesh_brick(tapes, &grid, s.node, (opts.sharpness, opts.tolerance));
             progress(done.fetch_add(1, Ordering::Relaxed) as f32 / total as f32);
             Some(o)
         })
@@ -340,6 +360,9 @@ pub fn polygonise(
         vertices_split: 0,
         thin_cells: 0,
         thin_region: None,
+        splits: 0,
+        collapses: 0,
+        deviation: 0.0,
     };
     for (brick, o) in outs.into_iter().enumerate() {
         let offset = positions.len() as u32;
@@ -364,10 +387,21 @@ pub fn polygonise(
         if !group[0].3 {
             q.reverse();
         }
-        // Split along the shorter diagonal.
-        let d02 = (positions[q[0] as usize] - positions[q[2] as usize]).length_squared();
-        let d13 = (positions[q[1] as usize] - positions[q[3] as usize]).length_squared();
-        if d02 <= d13 {
+        if q[0] == q[1] || q[1] == q[2] || q[2] == q[3] || q[3] == q[0] {
+            // Cells merged by adaptive output: repeated corners are
+            // neighbours around the edge; three distinct make a triangle.
+            let mut distinct: Vec<u32> = Vec::with_capacity(4);
+            for (i, &v) in q.iter().enumerate() {
+                if v != q[(i + 3) % 4] {
+                    distinct.push(v);
+                }
+            }
+            if distinct.len() == 3 {
+                triangles.push([distinct[0], distinct[1], distinct[2]]);
+            }
+            continue;
+        }
+        if split_along_02(&positions, &normals, q) {
             triangles.push([q[0], q[1], q[2]]);
             triangles.push([q[0], q[2], q[3]]);
         } else {
@@ -391,6 +425,21 @@ pub fn polygonise(
         },
     );
     stop()?;
+    if opts.tolerance > 0.0 {
+        let tapes = adaptive::RegionTapes {
+            root: &root,
+            bricks: bricks
+                .iter()
+                .map(|s| ([s.node[2], s.node[1], s.node[0]], s.tape.as_ref()))
+                .collect(),
+            origin: grid.origin,
+            brick_side: grid.h * B as f64,
+        };
+        let mesh = (&mut positions, &mut normals, &mut triangles);
+        let adapted =
+            adaptive::adapt(&tapes, mesh, opts.tolerance, cancel).ok_or(MeshError::Cancelled)?;
+        (stats.splits, stats.collapses, stats.deviation) = adapted;
+    }
     let mut g =
         Geometry::from_triangles(positions, &triangles).map_err(|_| MeshError::BadBounds)?;
     g.set_attrib(
@@ -401,6 +450,33 @@ pub fn polygonise(
     .map_err(|_| MeshError::BadBounds)?;
     progress(1.0);
     Ok((g, stats))
+}
+
+/// Whether a quad splits along its diagonal q0-q2 (else q1-q3): the split
+/// whose triangles face most nearly the way their corners' normals do (so a
+/// quad across a sharp crease splits along the crease, not across it),
+/// the shorter diagonal when both agree as well.
+fn split_along_02(positions: &[Vec3], normals: &[Vec3], q: [u32; 4]) -> bool {
+    let p = |i: usize| positions[q[i] as usize];
+    let n = |i: usize| normals[q[i] as usize];
+    let disagreement = |tris: [[usize; 3]; 2]| -> f32 {
+        tris.iter()
+            .map(|t| {
+                let face = (p(t[1]) - p(t[0]))
+                    .cross(p(t[2]) - p(t[0]))
+                    .normalize_or_zero();
+                t.iter().map(|&i| 1.0 - face.dot(n(i))).sum::<f32>()
+            })
+            .sum()
+    };
+    let along_02 = disagreement([[0, 1, 2], [0, 2, 3]]);
+    let along_13 = disagreement([[0, 1, 3], [1, 2, 3]]);
+    // Agreeing to within this, the shorter diagonal (as on smooth surfaces).
+    const ALIKE: f32 = 0.05;
+    if (along_02 - along_13).abs() > ALIKE {
+        return along_02 < along_13;
+    }
+    (p(0) - p(2)).length_squared() <= (p(1) - p(3)).length_squared()
 }
 
 /// Evaluates a field at points (the "sample" path: scatter inside, colouring).

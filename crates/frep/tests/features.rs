@@ -8,24 +8,8 @@ use common::Rng;
 use geode_frep::shapes::block;
 use geode_frep::{polygonise, Field, MeshOptions};
 
-fn apply(r: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
-    std::array::from_fn(|i| r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2])
-}
-
-fn transpose(r: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
-    std::array::from_fn(|i| std::array::from_fn(|j| r[j][i]))
-}
-
-/// Unsigned distance from `q` (in the box's frame) to the surface of the box
-/// with half-extents `h` centred at the origin.
-fn box_surface_distance(q: [f64; 3], h: [f64; 3]) -> f64 {
-    let d: [f64; 3] = std::array::from_fn(|k| q[k].abs() - h[k]);
-    let outside = d.iter().map(|x| x.max(0.0).powi(2)).sum::<f64>().sqrt();
-    let inside = d[0].max(d[1]).max(d[2]).min(0.0);
-    outside + inside.abs()
-}
-
 use common::mesh;
+use common::{apply, box_surface_distance, transpose};
 
 #[test]
 fn rotated_boxes_keep_every_vertex_on_the_surface_and_every_corner() {

@@ -775,18 +775,27 @@ const POLYGONISE_SHARPNESS: P = P::new(
     "Smaller keeps fainter sharp features.",
 )
 .range(1e-6, 1.0);
+const POLYGONISE_TOLERANCE: P = P::new(
+    "tolerance",
+    "Tolerance",
+    T::Float,
+    D::Float(0.0),
+    "Adaptive output, in model units: cells merge and triangles collapse wherever the surface stays within this distance of the field's (first-order distance |f|/|grad f|), and edges split where the uniform mesh strays further. 0 keeps the uniform mesh.",
+)
+.at_least(0.0);
 
 static POLYGONISE: NodeSpec = NodeSpec::new(
     "polygonise",
     "Polygonise",
     "frep",
-    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells. Surface thinner than a cell that the cells' corners miss (a wall, a gap, a sharp tip) is found and reported in a warning naming its region, never lost silently.",
+    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells. With a tolerance, flat and gently curved regions take few, large triangles (adaptive output). Surface thinner than a cell that the cells' corners miss (a wall, a gap, a sharp tip) is found and reported in a warning naming its region, never lost silently.",
     &[FIELD_IN],
     &[
         BOUNDS_MIN,
         BOUNDS_MAX,
         POLYGONISE_DEPTH,
         POLYGONISE_SHARPNESS,
+        POLYGONISE_TOLERANCE,
     ],
 );
 
@@ -802,12 +811,14 @@ fn cook_polygonise(
         p.int(&POLYGONISE_DEPTH)? as u32,
     );
     opts.sharpness = p.float(&POLYGONISE_SHARPNESS)?;
+    opts.tolerance = p.float(&POLYGONISE_TOLERANCE)?;
     reserve_meshing(ctx, f, &opts)?;
     let cancel = || ctx.cancel.is_cancelled();
     let progress = |x: f32| ctx.progress(x);
     match geode_frep::polygonise(f, &opts, &cancel, &progress) {
         Ok((g, stats)) => {
             warn_of_thin_features(ctx, &opts, &stats);
+            warn_of_deviation(ctx, &opts, &stats);
             Ok(Value::geometry(g))
         }
         Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
@@ -835,6 +846,18 @@ fn warn_of_thin_features(ctx: &CookContext, opts: &MeshOptions, stats: &geode_fr
         at(hi),
         opts.depth
     ));
+}
+
+/// Names how far adaptive output strays where splitting edges could not
+/// bring it within the tolerance (a feature thinner than a cell, or a field
+/// whose first-order distance reads high in a blend).
+fn warn_of_deviation(ctx: &CookContext, opts: &MeshOptions, stats: &geode_frep::MeshStats) {
+    if opts.tolerance > 0.0 && stats.deviation > opts.tolerance {
+        ctx.warn(format!(
+            "adaptive output strays up to {:.4} from the surface in places, beyond the tolerance {}: raise depth (now {}) to follow it closer",
+            stats.deviation, opts.tolerance, opts.depth
+        ));
+    }
 }
 
 /// Refuses meshing the memory budget cannot hold, from the kernel's

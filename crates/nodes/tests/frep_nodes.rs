@@ -323,3 +323,25 @@ fn mesh_primitives_feed_frep_networks_as_exact_solids() {
         "{e}"
     );
 }
+
+#[test]
+fn a_tolerance_gives_adaptive_output_of_the_same_solid() {
+    let nodes = r#""a": {"type": "frep_box", "params": {"size": [1.2, 0.8, 1.0]}},
+        "b": {"type": "frep_sphere", "params": {"radius": 0.5, "center": [0.6, 0.4, 0.5]}},
+        "s": {"type": "frep_csg", "inputs": ["a", "b"]},"#;
+    let uniform = mesh(&format!("{nodes} {}", poly("s", 7, 1.0)), "mesh");
+    let adaptive_node =
+        poly("s", 7, 1.0).replace(r#""depth": 7"#, r#""depth": 7, "tolerance": 0.002"#);
+    let adaptive = mesh(&format!("{nodes} {adaptive_node}"), "mesh");
+    let (u, a) = (volume(&uniform), volume(&adaptive));
+    assert!((u - a).abs() / u < 0.002, "uniform {u}, adaptive {a}");
+    assert!(
+        adaptive.num_prims() * 10 < uniform.num_prims(),
+        "{} of {}",
+        adaptive.num_prims(),
+        uniform.num_prims()
+    );
+    // Normals stay the gradient's: one per kept point.
+    let n = adaptive.attrib(AttribClass::Point, "N").expect("N");
+    assert_eq!(n.len(), adaptive.num_points());
+}

@@ -83,3 +83,21 @@ impl Rng {
         ]
     }
 }
+
+/// `r p` for a 3x3 matrix given by rows.
+pub fn apply(r: &[[f64; 3]; 3], p: [f64; 3]) -> [f64; 3] {
+    std::array::from_fn(|i| r[i][0] * p[0] + r[i][1] * p[1] + r[i][2] * p[2])
+}
+
+pub fn transpose(r: &[[f64; 3]; 3]) -> [[f64; 3]; 3] {
+    std::array::from_fn(|i| std::array::from_fn(|j| r[j][i]))
+}
+
+/// Unsigned distance from `q` (in the box's frame) to the surface of the box
+/// with half-extents `h` centred at the origin.
+pub fn box_surface_distance(q: [f64; 3], h: [f64; 3]) -> f64 {
+    let d: [f64; 3] = std::array::from_fn(|k| q[k].abs() - h[k]);
+    let outside = d.iter().map(|x| x.max(0.0).powi(2)).sum::<f64>().sqrt();
+    let inside = d[0].max(d[1]).max(d[2]).min(0.0);
+    outside + inside.abs()
+}

@@ -1,12 +1,15 @@
-//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts and wall thickness.
+//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts, wall thickness and reduction within a distance bound.
 
 mod bounds;
+mod collapse;
 mod edit;
 mod fuse;
 mod instance;
 mod merge;
 mod normals;
+mod quadric;
 mod raycast;
+mod reduce;
 mod thickness;
 mod transform;
 mod triangulate;
@@ -19,7 +22,9 @@ pub use fuse::{fuse_points, FuseStats};
 pub use instance::instance_transforms;
 pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
+pub use quadric::Quadric;
 pub use raycast::{RayHit, TriangleBvh};
+pub use reduce::{compact_vertices, reduce_triangles, Deviation, ReduceOptions, Reduced};
 pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};

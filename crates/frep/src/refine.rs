@@ -1,0 +1,418 @@
+//! Refinement toward a tolerance: where a triangle of the dual-contoured
+//! mesh strays further than the tolerance from the surface (its centroid or
+//! an edge's midpoint, measured with the field), the edge is split at its
+//! midpoint moved onto the surface by Newton steps along the gradient, and
+//! the triangles around it are cut to match. Every triangle cut by one, two
+//! or three of its edges is replaced by two, three or four, so neighbours
+//! always agree and the mesh stays closed and manifold.
+
+use geode_geo::glam::Vec3;
+use rayon::prelude::*;
+
+use crate::adaptive::{field_distances, walk_to_surface, Mesh, RegionTapes};
+use crate::flip::flip_edges;
+
+/// Rounds of flipping or splitting: each split halves the edges it cuts, so
+/// a deviation of a cell falls below 1/100 of a cell within six on a smooth
+/// surface; flips (a round each) come first.
+const ROUNDS: usize = 8;
+
+/// What refinement did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Refinement {
+    /// Vertices moved onto the surface (the QEF put them further than the
+    /// tolerance off it: a clamped corner, a rounded tip).
+    pub moved: usize,
+    pub flips: usize,
+    pub splits: usize,
+    /// The largest deviation measured after the last round.
+    pub deviation: f64,
+}
+
+/// How many times its triangles refinement may leave a mesh.
+const GROWTH: usize = 4;
+
+/// The mesh and the splits made before a round, to undo it.
+type Snapshot = (Vec<Vec3>, Vec<Vec3>, Vec<[u32; 3]>, usize);
+
+/// Splits edges until every centroid and edge midpoint is within
+/// `tolerance` of the surface, the rounds run out, or a round stops helping
+/// (the field's surface differs from any refinement of the mesh there: a
+/// feature thinner than a cell, or a field whose first-order distance reads
+/// high); a round that made the worst deviation larger is undone. `None`
+/// when cancelled.
+pub(crate) fn refine(
+    tapes: &RegionTapes,
+    (positions, normals, triangles): Mesh,
+    tolerance: f64,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Refinement> {
+    let mut done = Refinement {
+        moved: onto_surface(tapes, positions, normals, triangles, tolerance),
+        ..Refinement::default()
+    };
+    let mut before: Option<Snapshot> = None;
+    let start = triangles.len().max(1);
+    let mut last = (f64::INFINITY, usize::MAX);
+    for round in 0..=ROUNDS {
+        if cancel() {
+            return None;
+        }
+        let (split, worst) = edges_to_split(tapes, (positions, normals), triangles, tolerance);
+        let helped = worst < last.0 || split.len() < last.1;
+        if worst > last.0 {
+            if let Some((p, n, t, splits)) = before.take() {
+                (*positions, *normals, *triangles) = (p, n, t);
+                done.splits = splits;
+            }
+            break;
+        }
+        done.deviation = worst;
+        // Each split adds up to three triangles: refinement may at most
+        // grow the mesh fourfold (a tolerance finer than the depth can
+        // follow would otherwise split without end).
+        let grows_too_much = triangles.len() + 3 * split.len() > GROWTH * start;
+        if split.is_empty() || round == ROUNDS || !helped || grows_too_much {
+            break;
+        }
+        last = (worst, split.len());
+        before = Some((
+            positions.clone(),
+            normals.clone(),
+            triangles.clone(),
+            done.splits,
+        ));
+        let flipped = flip_edges(tapes, positions, triangles, &split);
+        done.flips += flipped;
+        if flipped > 0 {
+            // Measure again before splitting what flips left.
+            continue;
+        }
+        let first = positions.len() as u32;
+        let (points, point_normals) = on_surface(tapes, (positions, normals), &split, tolerance);
+        positions.extend(points);
+        normals.extend(point_normals);
+        *triangles = cut(triangles, &split, first);
+        done.splits += split.len();
+    }
+    Some(done)
+}
+
+/// The edges (lower index first, sorted) whose midpoint strays beyond the
+/// tolerance, and the longest edge of each triangle whose centroid does
+/// while none of its edges does; with the largest deviation seen. Only
+/// curved edges are measured: those whose ends' normals differ enough that
+/// an arc between them would stray an eighth of the tolerance from the
+/// chord (`|(b - a) . (n_b - n_a)| / 8`), and triangles with a curved edge.
+fn edges_to_split(
+    tapes: &RegionTapes,
+    (positions, normals): (&[Vec3], &[Vec3]),
+    triangles: &[[u32; 3]],
+    tolerance: f64,
+) -> (Vec<[u32; 2]>, f64) {
+    let p = |v: u32| positions[v as usize];
+    let curved = |a: u32, b: u32| {
+        let bend = (p(b) - p(a))
+            .dot(normals[b as usize] - normals[a as usize])
+            .abs();
+        bend as f64 >= tolerance
+    };
+    // Each edge once: from the triangle where it runs upwards.
+    let edges: Vec<[u32; 2]> = triangles
+        .par_iter()
+        .flat_map_iter(|t| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
+        .filter(|e| e[0] < e[1] && curved(e[0], e[1]))
+        .collect();
+    let bent: Vec<&[u32; 3]> = triangles
+        .par_iter()
+        .filter(|t| (0..3).any(|i| curved(t[i], t[(i + 1) % 3])))
+        .collect();
+    let mut samples: Vec<Vec3> = edges
+        .par_iter()
+        .map(|e| 0.5 * (p(e[0]) + p(e[1])))
+        .collect();
+    samples.par_extend(bent.par_iter().map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0));
+    let mut far = vec![0.0f32; samples.len()];
+    field_distances(tapes, &samples, &mut far);
+    let far: Vec<f64> = far.into_iter().map(f64::from).collect();
+    let worst = far.iter().copied().fold(0.0, f64::max);
+    let (at_edges, at_centroids) = far.split_at(edges.len());
+    let mut split: Vec<[u32; 2]> = edges
+        .iter()
+        .zip(at_edges)
+        .filter(|(_, d)| **d > tolerance)
+        .map(|(e, _)| *e)
+        .collect();
+    split.sort_unstable();
+    let mut longest: Vec<[u32; 2]> = bent
+        .iter()
+        .zip(at_centroids)
+        .filter(|(_, d)| **d > tolerance)
+        .filter_map(|(t, _)| {
+            let sides = [0, 1, 2].map(|i| {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                [a.min(b), a.max(b)]
+            });
+            if sides.iter().any(|e| split.binary_search(e).is_ok()) {
+                return None;
+            }
+            sides.into_iter().max_by(|x, y| {
+                let len = |e: &[u32; 2]| (p(e[0]) - p(e[1])).length_squared();
+                len(x).total_cmp(&len(y)).then(y.cmp(x))
+            })
+        })
+        .collect();
+    split.append(&mut longest);
+    split.sort_unstable();
+    split.dedup();
+    (split, worst)
+}
+
+/// Moves each vertex further than `tolerance` from the surface onto it
+/// (within half its shortest edge); returns how many moved.
+fn onto_surface(
+    tapes: &RegionTapes,
+    positions: &mut [Vec3],
+    normals: &mut [Vec3],
+    triangles: &[[u32; 3]],
+    tolerance: f64,
+) -> usize {
+    let mut distances = vec![0.0f32; positions.len()];
+    field_distances(tapes, positions, &mut distances);
+    let far: Vec<u32> = distances
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| **d as f64 > tolerance)
+        .map(|(v, _)| v as u32)
+        .collect();
+    if far.is_empty() {
+        return 0;
+    }
+    let mut reach = vec![f32::MAX; far.len()];
+    for t in triangles {
+        for i in 0..3 {
+            if let Ok(k) = far.binary_search(&t[i]) {
+                let (a, b) = (t[i] as usize, t[(i + 1) % 3] as usize);
+                let (c, d) = (t[(i + 2) % 3] as usize, t[i] as usize);
+                let shortest = (positions[a] - positions[b])
+                    .length()
+                    .min((positions[c] - positions[d]).length());
+                reach[k] = reach[k].min(0.5 * shortest);
+            }
+        }
+    }
+    let starts: Vec<Vec3> = far.iter().map(|&v| positions[v as usize]).collect();
+    let (points, point_normals) = project(tapes, &starts, &reach);
+    for (k, &v) in far.iter().enumerate() {
+        positions[v as usize] = points[k];
+        normals[v as usize] = point_normals[k];
+    }
+    far.len()
+}
+
+/// Where each split edge's new vertex goes: its midpoint moved onto the
+/// surface (within the edge's length: across a right-angled crease the
+/// surface lies half of it away), or, where the ends' tangent planes meet
+/// in a line (the edge crosses a crease), the point of that line nearest
+/// the midpoint when it lies on the surface. With normals.
+fn on_surface(
+    tapes: &RegionTapes,
+    (positions, normals): (&[Vec3], &[Vec3]),
+    split: &[[u32; 2]],
+    tolerance: f64,
+) -> (Vec<Vec3>, Vec<Vec3>) {
+    let p = |v: u32| positions[v as usize];
+    let mids: Vec<Vec3> = split.iter().map(|e| 0.5 * (p(e[0]) + p(e[1]))).collect();
+    let reach: Vec<f32> = split.iter().map(|e| (p(e[0]) - p(e[1])).length()).collect();
+    let (mut points, mut point_normals) = project(tapes, &mids, &reach);
+    let creases: Vec<Vec3> = split
+        .iter()
+        .zip(&mids)
+        .map(|(e, m)| {
+            crease_point(
+                *m,
+                [p(e[0]), p(e[1])],
+                [normals[e[0] as usize], normals[e[1] as usize]],
+            )
+        })
+        .collect();
+    let mut on_crease = vec![0.0f32; creases.len()];
+    let mut projected = vec![0.0f32; points.len()];
+    field_distances(tapes, &creases, &mut on_crease);
+    field_distances(tapes, &points, &mut projected);
+    let crease_normals = crate::adaptive::grads_at(tapes, &creases);
+    for i in 0..split.len() {
+        let near = creases[i].distance(mids[i]) <= reach[i];
+        // On the surface (to a thousandth of the tolerance), the crease
+        // point wins: it keeps the crease the edge cuts.
+        let on_surface = (on_crease[i] as f64) <= 1e-3 * tolerance;
+        if near && (on_surface || on_crease[i] < projected[i]) {
+            points[i] = creases[i];
+            let n = -geode_geo::glam::DVec3::from_array(crease_normals[i].d)
+                .normalize_or_zero()
+                .as_vec3();
+            point_normals[i] = if n == Vec3::ZERO { point_normals[i] } else { n };
+        }
+    }
+    (points, point_normals)
+}
+
+/// The point nearest `m` on both planes through `ends` with `normals`
+/// (`m` itself when the planes are near parallel).
+fn crease_point(m: Vec3, ends: [Vec3; 2], normals: [Vec3; 2]) -> Vec3 {
+    let [a, b] = ends.map(|x| x.as_dvec3());
+    let [na, nb] = normals.map(|x| x.as_dvec3());
+    let m64 = m.as_dvec3();
+    // x = m + s na + t nb with na.(x - a) = 0 and nb.(x - b) = 0.
+    let (aa, ab, bb) = (na.dot(na), na.dot(nb), nb.dot(nb));
+    let det = aa * bb - ab * ab;
+    if det < 1e-4 * aa * bb {
+        return m;
+    }
+    let (ra, rb) = (na.dot(a - m64), nb.dot(b - m64));
+    let s = (ra * bb - rb * ab) / det;
+    let t = (rb * aa - ra * ab) / det;
+    (m64 + na * s + nb * t).as_vec3()
+}
+
+/// Points moved to where their walk meets the surface, when that is within
+/// `reach` of them (else they stay), with outward normals there.
+fn project(tapes: &RegionTapes, starts: &[Vec3], reach: &[f32]) -> (Vec<Vec3>, Vec<Vec3>) {
+    let walk = walk_to_surface(tapes, starts);
+    let at_start = crate::adaptive::grads_at(tapes, starts);
+    starts
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let (x, g) = if p.distance(walk.feet[i]) <= reach[i] {
+                (walk.feet[i], walk.at_feet[i])
+            } else {
+                (p, at_start[i])
+            };
+            let n = -geode_geo::glam::DVec3::from_array(g.d)
+                .normalize_or_zero()
+                .as_vec3();
+            (x, if n == Vec3::ZERO { Vec3::Y } else { n })
+        })
+        .unzip()
+}
+
+/// The triangles with the split edges cut: new vertex `first + i` on
+/// `split[i]`. Orientation is kept.
+fn cut(triangles: &[[u32; 3]], split: &[[u32; 2]], first: u32) -> Vec<[u32; 3]> {
+    let mid = |a: u32, b: u32| {
+        split
+            .binary_search(&[a.min(b), a.max(b)])
+            .ok()
+            .map(|i| first + i as u32)
+    };
+    let mut out = Vec::with_capacity(triangles.len() + 3 * split.len());
+    for &t in triangles {
+        let m = [0, 1, 2].map(|i| mid(t[i], t[(i + 1) % 3]));
+        match m.iter().filter(|x| x.is_some()).count() {
+            0 => out.push(t),
+            1 => {
+                // Rotate so the cut edge runs from corner 0 to corner 1.
+                let i = m.iter().position(|x| x.is_some()).unwrap_or(0);
+                let (a, b, c) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                let ab = m[i].unwrap_or(a);
+                out.push([a, ab, c]);
+                out.push([ab, b, c]);
+            }
+            2 => {
+                // Rotate so the uncut edge runs from corner 2 to corner 0.
+                let i = m.iter().position(|x| x.is_none()).unwrap_or(0);
+                let (c, a, b) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                // Cut: a-b at ab, b-c at bc.
+                let ab = m[(i + 1) % 3].unwrap_or(a);
+                let bc = m[(i + 2) % 3].unwrap_or(b);
+                out.push([ab, b, bc]);
+                // The quad c, a, ab, bc, fanned from c.
+                out.push([c, a, ab]);
+                out.push([c, ab, bc]);
+            }
+            _ => {
+                let [ab, bc, ca] = m.map(|x| x.unwrap_or(0));
+                let [a, b, c] = t;
+                out.push([a, ab, ca]);
+                out.push([ab, b, bc]);
+                out.push([ca, bc, c]);
+                out.push([ab, bc, ca]);
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    /// An octahedron: closed, 6 vertices, 12 edges.
+    fn octahedron() -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let p = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
+        let t = vec![
+            [0, 2, 4],
+            [2, 1, 4],
+            [1, 3, 4],
+            [3, 0, 4],
+            [2, 0, 5],
+            [1, 2, 5],
+            [3, 1, 5],
+            [0, 3, 5],
+        ];
+        (p, t)
+    }
+
+    fn area(p: &[Vec3], t: &[[u32; 3]]) -> f32 {
+        t.iter()
+            .map(|t| {
+                0.5 * (p[t[1] as usize] - p[t[0] as usize])
+                    .cross(p[t[2] as usize] - p[t[0] as usize])
+                    .length()
+            })
+            .sum()
+    }
+
+    #[test]
+    fn cutting_any_set_of_edges_keeps_the_mesh_closed_and_its_area() {
+        let (p, t) = octahedron();
+        let mut all: Vec<[u32; 2]> = t
+            .iter()
+            .flat_map(|t| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
+            .filter(|e| e[0] < e[1])
+            .collect();
+        all.sort_unstable();
+        assert_eq!(all.len(), 12);
+        for mask in [1u32, 3, 5, 0b111, 0b1010_1010_1010, 0xfff, 0b1001_0110_0011] {
+            let split: Vec<[u32; 2]> = (0..12)
+                .filter(|i| mask >> i & 1 == 1)
+                .map(|i| all[i])
+                .collect();
+            let mut q = p.clone();
+            q.extend(
+                split
+                    .iter()
+                    .map(|e| 0.5 * (p[e[0] as usize] + p[e[1] as usize])),
+            );
+            let cut = cut(&t, &split, p.len() as u32);
+            let mut edges = HashSet::new();
+            for tri in &cut {
+                for i in 0..3 {
+                    assert!(
+                        edges.insert((tri[i], tri[(i + 1) % 3])),
+                        "mask {mask:b}: edge twice"
+                    );
+                }
+            }
+            for &(a, b) in &edges {
+                assert!(edges.contains(&(b, a)), "mask {mask:b}: ({a}, {b}) open");
+            }
+            assert!(
+                (area(&q, &cut) - area(&p, &t)).abs() < 1e-5,
+                "mask {mask:b}"
+            );
+        }
+    }
+}

@@ -1,0 +1,467 @@
+//! The passes of reduction by half-edge collapses: every edge's quadric
+//! cost in parallel, then in cost order a set of collapses each checked on
+//! what no earlier one changes, then their samples measured in one batch.
+//! The order is total (cost bucket, then the order edges were found), so
+//! the result does not depend on threads.
+
+use glam::Vec3;
+use rayon::prelude::*;
+
+use super::quadric::Quadric;
+use super::reduce::{Deviation, ReduceOptions, Reduced};
+use super::thickness::Cancelled;
+
+/// Vertex-to-triangle incidence, compressed.
+struct Incidence {
+    offsets: Vec<u32>,
+    faces: Vec<u32>,
+}
+
+impl Incidence {
+    fn build(vertices: usize, tris: &[[u32; 3]]) -> Incidence {
+        let mut offsets = vec![0u32; vertices + 1];
+        for t in tris {
+            for &v in t {
+                offsets[v as usize + 1] += 1;
+            }
+        }
+        for i in 0..vertices {
+            offsets[i + 1] += offsets[i];
+        }
+        let mut fill = offsets.clone();
+        let mut faces = vec![0u32; offsets[vertices] as usize];
+        for (f, t) in tris.iter().enumerate() {
+            for &v in t {
+                faces[fill[v as usize] as usize] = f as u32;
+                fill[v as usize] += 1;
+            }
+        }
+        Incidence { offsets, faces }
+    }
+
+    fn of(&self, v: u32) -> &[u32] {
+        &self.faces[self.offsets[v as usize] as usize..self.offsets[v as usize + 1] as usize]
+    }
+}
+
+/// The mesh being reduced and what each pass reads.
+struct State<'a> {
+    positions: &'a [Vec3],
+    tris: Vec<[u32; 3]>,
+    quadrics: Vec<Quadric>,
+    /// Vertices whose fan is not one closed disc (a boundary, a pinch): never moved.
+    pinned: Vec<bool>,
+    /// Directed collapses the measure refused, sorted.
+    refused: Vec<u64>,
+    /// Vertices whose neighbourhood the last pass's chosen collapses
+    /// changed, and the ends of collapses it put off: only edges of
+    /// triangles around them can have become collapsible (a collapse's
+    /// checks read only its ends' rings, the moved fan and the degree of the
+    /// vertices opposite its edge, which can only fall); `None` before the
+    /// first pass.
+    touched: Option<Vec<bool>>,
+}
+
+fn key(from: u32, to: u32) -> u64 {
+    (from as u64) << 32 | to as u64
+}
+
+/// A collapse of `from` onto `to` and its quadric cost.
+#[derive(Clone, Copy, Debug)]
+struct Collapse {
+    cost: f64,
+    from: u32,
+    to: u32,
+}
+
+/// Triangles a pass's parallel phases give one task (below it, waking
+/// threads costs more than the work).
+const SERIAL_TRIANGLES: usize = 8192;
+
+/// Triangles below which reduction runs until no collapse is left.
+const STALL_FROM: usize = 8192;
+
+/// Cost buckets of the ordering: candidates are ordered by their cost
+/// rounded to 1/1024 of the bound (as meshoptimizer does), in the order
+/// they were found within a bucket, in one counting pass.
+const COST_BUCKETS: usize = 1024;
+
+fn by_cost(candidates: Vec<Collapse>, bound: f64) -> Vec<Collapse> {
+    let bucket = |c: &Collapse| {
+        if bound > 0.0 {
+            ((c.cost / bound * COST_BUCKETS as f64) as usize).min(COST_BUCKETS - 1)
+        } else {
+            0
+        }
+    };
+    let mut starts = vec![0usize; COST_BUCKETS + 1];
+    for c in &candidates {
+        starts[bucket(c) + 1] += 1;
+    }
+    for i in 0..COST_BUCKETS {
+        starts[i + 1] += starts[i];
+    }
+    let mut sorted = vec![
+        Collapse {
+            cost: 0.0,
+            from: 0,
+            to: 0
+        };
+        candidates.len()
+    ];
+    for c in candidates {
+        let b = bucket(&c);
+        sorted[starts[b]] = c;
+        starts[b] += 1;
+    }
+    sorted
+}
+
+/// Each vertex's quadric: the planes of the triangles around it.
+fn initial_quadrics(positions: &[Vec3], tris: &[[u32; 3]], incidence: &Incidence) -> Vec<Quadric> {
+    let planes: Vec<Quadric> = tris
+        .par_iter()
+        .map(|t| Quadric::of_triangle(t.map(|v| positions[v as usize])))
+        .collect();
+    (0..positions.len() as u32)
+        .into_par_iter()
+        .map(|v| {
+            let mut q = Quadric::default();
+            for &f in incidence.of(v) {
+                q.add(&planes[f as usize]);
+            }
+            q
+        })
+        .collect()
+}
+
+/// Whether the triangles around `v` form one closed fan: each neighbour
+/// leads exactly one triangle's arm and ends exactly one, and stepping from
+/// triangle to triangle across shared edges visits them all in one cycle.
+fn is_closed_disc(v: u32, incidence: &Incidence, tris: &[[u32; 3]]) -> bool {
+    let faces = incidence.of(v);
+    if faces.len() < 3 {
+        return faces.is_empty();
+    }
+    // (the corner after v, the corner before v) in each triangle.
+    let arms: Vec<(u32, u32)> = faces
+        .iter()
+        .map(|&f| {
+            let t = tris[f as usize];
+            let i = t.iter().position(|&c| c == v).unwrap_or(0);
+            (t[(i + 1) % 3], t[(i + 2) % 3])
+        })
+        .collect();
+    let once =
+        |pick: fn(&(u32, u32)) -> u32, x: u32| arms.iter().filter(|a| pick(a) == x).count() == 1;
+    if !arms
+        .iter()
+        .all(|a| once(|b| b.0, a.0) && once(|b| b.1, a.1))
+    {
+        return false;
+    }
+    let mut at = 0;
+    for step in 1..=arms.len() {
+        match arms.iter().position(|b| b.0 == arms[at].1) {
+            Some(i) => at = i,
+            None => return false,
+        }
+        if at == 0 {
+            return step == arms.len();
+        }
+    }
+    false
+}
+
+/// The distinct vertices sharing a triangle with `v`, in first-seen order.
+fn ring(v: u32, incidence: &Incidence, tris: &[[u32; 3]], out: &mut Vec<u32>) {
+    out.clear();
+    for &f in incidence.of(v) {
+        for c in tris[f as usize] {
+            if c != v && !out.contains(&c) {
+                out.push(c);
+            }
+        }
+    }
+}
+
+/// The two vertices opposite the edge, if collapsing it keeps a closed
+/// manifold: the link condition (the ends share exactly those two
+/// neighbours) and no vertex left with fewer than three neighbours (which
+/// would fold a tetrahedron into a double triangle).
+fn keeps_manifold(ring_from: &[u32], ring_to: &[u32], incidence: &Incidence) -> Option<[u32; 2]> {
+    let mut common = ring_from.iter().copied().filter(|w| ring_to.contains(w));
+    let opposite = [common.next()?, common.next()?];
+    let ok = common.next().is_none()
+        && ring_from.len() + ring_to.len() >= 7
+        && opposite.iter().all(|&w| incidence.of(w).len() >= 4);
+    ok.then_some(opposite)
+}
+
+impl State<'_> {
+    /// Each edge worth trying with its cheaper allowed direction, when its
+    /// quadric cost is within `bound`. Worth trying: every edge on the first
+    /// pass, then those of triangles with a touched corner. Each edge is
+    /// taken once, from the triangle where it runs upwards (a closed mesh
+    /// holds it once in each direction).
+    fn candidates(&self, bound: f64) -> Vec<Collapse> {
+        let hot = |t: &[u32; 3]| match &self.touched {
+            None => true,
+            Some(touched) => t.iter().any(|&v| touched[v as usize]),
+        };
+        let cost = |from: u32, to: u32| -> Option<Collapse> {
+            if self.pinned[from as usize] || self.refused.binary_search(&key(from, to)).is_ok() {
+                return None;
+            }
+            let q = &self.quadrics;
+            let cost = q[from as usize].mean_with(&q[to as usize], self.positions[to as usize]);
+            (cost <= bound).then_some(Collapse { cost, from, to })
+        };
+        let of_triangle = |t: &[u32; 3], out: &mut Vec<Collapse>| {
+            if !hot(t) {
+                return;
+            }
+            for i in 0..3 {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                if a > b {
+                    continue;
+                }
+                let best = match (cost(a, b), cost(b, a)) {
+                    (Some(x), Some(y)) => Some(if y.cost < x.cost { y } else { x }),
+                    (x, y) => x.or(y),
+                };
+                out.extend(best);
+            }
+        };
+        self.tris
+            .par_chunks(SERIAL_TRIANGLES)
+            .map(|chunk| {
+                let mut out = Vec::new();
+                for t in chunk {
+                    of_triangle(t, &mut out);
+                }
+                out
+            })
+            .collect::<Vec<_>>()
+            .concat()
+    }
+
+    /// In cost order, the collapses that keep the mesh a closed manifold and
+    /// fold nothing, each checked on what no earlier one changes, so any
+    /// subset of them may be made at once. A collapse of `u` onto `v`
+    /// changes the neighbours of `u`, `v` and `u`'s ring (none of them may
+    /// end a later collapse) and drops the degree of the two vertices
+    /// opposite its edge (none of them may be opposite a later one's).
+    fn independent(
+        &mut self,
+        candidates: &[Collapse],
+        incidence: &Incidence,
+        min_normal_cos: f32,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Vec<Collapse>, Cancelled> {
+        let mut changed = vec![false; self.positions.len()];
+        let mut hot = vec![false; self.positions.len()];
+        let mut thinned = vec![false; self.positions.len()];
+        let mut chosen = Vec::new();
+        let (mut ring_from, mut ring_to) = (Vec::new(), Vec::new());
+        for (i, c) in candidates.iter().enumerate() {
+            if i % 65536 == 65535 && cancel() {
+                return Err(Cancelled);
+            }
+            if changed[c.from as usize] || changed[c.to as usize] {
+                continue;
+            }
+            ring(c.from, incidence, &self.tris, &mut ring_from);
+            ring(c.to, incidence, &self.tris, &mut ring_to);
+            let Some(opposite) = keeps_manifold(&ring_from, &ring_to, incidence) else {
+                continue;
+            };
+            if opposite.iter().any(|&w| thinned[w as usize]) {
+                // Put off: tried again next pass.
+                hot[c.from as usize] = true;
+                hot[c.to as usize] = true;
+                continue;
+            }
+            if self.folds(c, incidence, min_normal_cos) {
+                continue;
+            }
+            for &w in ring_from.iter().chain([&c.from, &c.to]) {
+                changed[w as usize] = true;
+                hot[w as usize] = true;
+            }
+            for w in opposite {
+                thinned[w as usize] = true;
+            }
+            chosen.push(*c);
+        }
+        self.touched = Some(hot);
+        Ok(chosen)
+    }
+
+    /// Whether moving `from` onto `to` turns any of `from`'s other triangles
+    /// past the allowed angle or makes it degenerate.
+    fn folds(&self, c: &Collapse, incidence: &Incidence, min_normal_cos: f32) -> bool {
+        let p = |v: u32| self.positions[v as usize];
+        incidence.of(c.from).iter().any(|&f| {
+            let t = self.tris[f as usize];
+            if t.contains(&c.to) {
+                return false;
+            }
+            let moved = t.map(|v| if v == c.from { c.to } else { v });
+            let before = (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0]));
+            let after = (p(moved[1]) - p(moved[0])).cross(p(moved[2]) - p(moved[0]));
+            let scale = before.length() * after.length();
+            !(scale > 0.0 && before.dot(after) >= min_normal_cos * scale)
+        })
+    }
+
+    /// For each chosen collapse, whether the measure finds all its samples
+    /// (the moved triangles' centroids and the new edges' midpoints) within
+    /// `tolerance`. A collapse inside a plane (every triangle around the
+    /// moved vertex in one plane, to a thousandth of the tolerance) covers
+    /// the same part of that plane as before, so it is not measured.
+    fn measure(
+        &self,
+        chosen: &[Collapse],
+        incidence: &Incidence,
+        tolerance: f64,
+        deviation: Deviation,
+    ) -> Vec<bool> {
+        let p = |v: u32| self.positions[v as usize];
+        let mut points = Vec::new();
+        let mut ends = Vec::with_capacity(chosen.len());
+        let flat = tolerance * 1e-3;
+        for c in chosen {
+            if self.is_flat_fan(c.from, incidence, flat) {
+                ends.push(points.len());
+                continue;
+            }
+            for &f in incidence.of(c.from) {
+                let t = self.tris[f as usize];
+                if t.contains(&c.to) {
+                    continue;
+                }
+                let moved = t.map(|v| if v == c.from { c.to } else { v });
+                points.push((p(moved[0]) + p(moved[1]) + p(moved[2])) / 3.0);
+                // The edge from `to` to the corner after it is new (the one
+                // before it belongs to the neighbouring moved triangle).
+                let i = moved.iter().position(|&v| v == c.to).unwrap_or(0);
+                points.push(0.5 * (p(c.to) + p(moved[(i + 1) % 3])));
+            }
+            ends.push(points.len());
+        }
+        let mut distances = vec![0.0f32; points.len()];
+        deviation(&points, &mut distances);
+        let mut start = 0;
+        ends.iter()
+            .map(|&end| {
+                let ok = distances[start..end]
+                    .iter()
+                    .all(|d| (d.abs() as f64) <= tolerance);
+                start = end;
+                ok
+            })
+            .collect()
+    }
+
+    /// Whether every corner of the triangles around `v` lies within `flat`
+    /// of the plane through `v` with the fan's area-weighted normal.
+    fn is_flat_fan(&self, v: u32, incidence: &Incidence, flat: f64) -> bool {
+        let p = |v: u32| self.positions[v as usize].as_dvec3();
+        let faces = incidence.of(v);
+        let normal = faces
+            .iter()
+            .map(|&f| {
+                let [a, b, c] = self.tris[f as usize].map(p);
+                (b - a).cross(c - a)
+            })
+            .sum::<glam::DVec3>()
+            .normalize_or_zero();
+        normal != glam::DVec3::ZERO
+            && faces.iter().all(|&f| {
+                self.tris[f as usize]
+                    .iter()
+                    .all(|&w| normal.dot(p(w) - p(v)).abs() <= flat)
+            })
+    }
+
+    /// Makes the accepted collapses (quadrics merge, triangles renumber and
+    /// the two around each edge drop out) and remembers the refused ones.
+    fn apply(&mut self, chosen: &[Collapse], accepted: &[bool]) -> usize {
+        let mut onto: Vec<u32> = (0..self.positions.len() as u32).collect();
+        let mut made = 0;
+        for (c, &ok) in chosen.iter().zip(accepted) {
+            if ok {
+                onto[c.from as usize] = c.to;
+                let moved = self.quadrics[c.from as usize];
+                self.quadrics[c.to as usize].add(&moved);
+                made += 1;
+            } else {
+                self.refused.push(key(c.from, c.to));
+            }
+        }
+        self.refused.sort_unstable();
+        if made > 0 {
+            let tris = std::mem::take(&mut self.tris);
+            self.tris = tris
+                .into_par_iter()
+                .with_min_len(SERIAL_TRIANGLES)
+                .map(|t| t.map(|v| onto[v as usize]))
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect();
+        }
+        made
+    }
+}
+
+/// Collapses edges of one mesh, pass after pass, while `deviation` reports
+/// every sample of the changed triangles within `opts.tolerance`. Vertices
+/// on boundaries or shared by several fans stay where they are.
+pub(super) fn reduce_closed(
+    positions: &[Vec3],
+    triangles: &[[u32; 3]],
+    opts: &ReduceOptions,
+    deviation: Deviation,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Reduced, Cancelled> {
+    let tris = triangles.to_vec();
+    let incidence = Incidence::build(positions.len(), &tris);
+    let mut state = State {
+        positions,
+        quadrics: initial_quadrics(positions, &tris, &incidence),
+        pinned: (0..positions.len() as u32)
+            .into_par_iter()
+            .map(|v| !is_closed_disc(v, &incidence, &tris))
+            .collect(),
+        tris,
+        refused: Vec::new(),
+        touched: None,
+    };
+    let mut out = Reduced::default();
+    let bound = opts.tolerance * opts.tolerance;
+    loop {
+        if cancel() {
+            return Err(Cancelled);
+        }
+        let incidence = Incidence::build(positions.len(), &state.tris);
+        let candidates = by_cost(state.candidates(bound), bound);
+        let chosen = state.independent(&candidates, &incidence, opts.min_normal_cos, cancel)?;
+        if chosen.is_empty() {
+            break;
+        }
+        let accepted = state.measure(&chosen, &incidence, opts.tolerance, deviation);
+        out.passes += 1;
+        let made = state.apply(&chosen, &accepted);
+        out.collapses += made;
+        // The last passes of a large mesh find a handful of collapses each
+        // among thousands of edges: stop once a pass removes under 1/64 of
+        // the vertices (a closed mesh has half as many vertices as
+        // triangles); a small mesh's passes cost little, so it goes on.
+        let stalled = made * 128 < state.tris.len().saturating_sub(STALL_FROM);
+        if stalled {
+            break;
+        }
+    }
+    out.triangles = state.tris;
+    Ok(out)
+}

@@ -1,0 +1,232 @@
+//! Reduction within a distance bound, against surfaces with exact distances:
+//! a finely cut cube (flat faces must collapse to few triangles, corners and
+//! edges kept), a cube-sphere (every sample within the bound), manifoldness,
+//! thread independence and cancellation.
+
+use std::collections::{HashMap, HashSet};
+
+use geode_geo::glam::Vec3;
+use geode_geo::ops::{compact_vertices, reduce_triangles, ReduceOptions};
+
+/// The surface of [-1, 1]^3 cut into n x n squares a face, two triangles
+/// each, outward, vertices shared.
+fn cut_cube(n: i32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut index: HashMap<[i32; 3], u32> = HashMap::new();
+    let mut positions = Vec::new();
+    let mut tris = Vec::new();
+    let mut vertex = |c: [i32; 3]| -> u32 {
+        *index.entry(c).or_insert_with(|| {
+            positions.push(Vec3::from_array(c.map(|x| 2.0 * x as f32 / n as f32 - 1.0)));
+            positions.len() as u32 - 1
+        })
+    };
+    for axis in 0..3 {
+        for side in [0, n] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            for i in 0..n {
+                for j in 0..n {
+                    let corner = |di: i32, dj: i32| {
+                        let mut c = [0; 3];
+                        c[axis] = side;
+                        c[u] = i + di;
+                        c[v] = j + dj;
+                        c
+                    };
+                    let q =
+                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
+                    if side == n {
+                        tris.push([q[0], q[1], q[2]]);
+                        tris.push([q[0], q[2], q[3]]);
+                    } else {
+                        tris.push([q[0], q[2], q[1]]);
+                        tris.push([q[0], q[3], q[2]]);
+                    }
+                }
+            }
+        }
+    }
+    (positions, tris)
+}
+
+fn box_distance(p: Vec3) -> f32 {
+    let q = p.abs() - Vec3::ONE;
+    q.max(Vec3::ZERO).length() + q.max_element().min(0.0)
+}
+
+/// Every directed edge's opposite appears exactly once: closed, manifold
+/// edges, consistently wound.
+fn assert_closed(tris: &[[u32; 3]]) {
+    let mut edges = HashSet::new();
+    for t in tris {
+        for i in 0..3 {
+            assert!(
+                edges.insert((t[i], t[(i + 1) % 3])),
+                "edge {:?} twice",
+                (t[i], t[(i + 1) % 3])
+            );
+        }
+    }
+    for &(a, b) in &edges {
+        assert!(edges.contains(&(b, a)), "edge ({a}, {b}) has no twin");
+    }
+}
+
+fn reduce(
+    positions: &[Vec3],
+    tris: &[[u32; 3]],
+    tolerance: f64,
+    distance: fn(Vec3) -> f32,
+) -> Vec<[u32; 3]> {
+    let measure = |points: &[Vec3], out: &mut [f32]| {
+        for (p, o) in points.iter().zip(out) {
+            *o = distance(*p);
+        }
+    };
+    let r = reduce_triangles(
+        positions,
+        tris,
+        &ReduceOptions::new(tolerance),
+        &measure,
+        &|| false,
+    )
+    .expect("not cancelled");
+    r.triangles
+}
+
+#[test]
+fn a_cut_cube_collapses_to_its_faces_keeping_every_corner() {
+    let (positions, tris) = cut_cube(24);
+    let reduced = reduce(&positions, &tris, 1e-4, box_distance);
+    assert_closed(&reduced);
+    assert!(
+        reduced.len() <= 16,
+        "{} of {} triangles left",
+        reduced.len(),
+        tris.len()
+    );
+    let used: HashSet<u32> = reduced.iter().flatten().copied().collect();
+    for corner in 0..8 {
+        let c = Vec3::new(
+            if corner & 1 == 0 { -1.0 } else { 1.0 },
+            if corner & 2 == 0 { -1.0 } else { 1.0 },
+            if corner & 4 == 0 { -1.0 } else { 1.0 },
+        );
+        assert!(
+            used.iter().any(|&v| positions[v as usize] == c),
+            "corner {c} collapsed away"
+        );
+    }
+    // Area and volume unchanged: nothing moved off the faces.
+    let volume: f32 = reduced
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    assert!((volume - 8.0).abs() < 1e-3, "volume {volume}");
+}
+
+fn sphere_distance(p: Vec3) -> f32 {
+    p.length() - 1.0
+}
+
+#[test]
+fn a_sphere_reduces_within_the_bound_at_every_sample() {
+    let (mut positions, tris) = cut_cube(40);
+    for p in &mut positions {
+        *p = p.normalize();
+    }
+    let before = tris.len();
+    for tolerance in [0.002, 0.01] {
+        let reduced = reduce(&positions, &tris, tolerance, sphere_distance);
+        assert_closed(&reduced);
+        assert!(
+            reduced.len() < before / 3,
+            "{tolerance}: {} of {before}",
+            reduced.len()
+        );
+        // Independent samples: 10 barycentric points a triangle.
+        let mut worst = 0.0f32;
+        for t in &reduced {
+            let [a, b, c] = t.map(|v| positions[v as usize]);
+            for (u, v) in [
+                (0.33, 0.33),
+                (0.5, 0.5),
+                (0.5, 0.0),
+                (0.0, 0.5),
+                (0.25, 0.25),
+                (0.6, 0.2),
+            ] {
+                worst = worst.max(sphere_distance(a + (b - a) * u + (c - a) * v).abs());
+            }
+        }
+        // Midpoints and centroids are measured; other points of a triangle
+        // of a convex surface lie no deeper than its centroid by more than
+        // a small fraction.
+        assert!(
+            worst as f64 <= tolerance * 1.2,
+            "{tolerance}: worst {worst}"
+        );
+        // Fewer triangles at the looser bound.
+        if tolerance == 0.01 {
+            assert!(reduced.len() < before / 12, "{}", reduced.len());
+        }
+    }
+}
+
+#[test]
+fn the_result_does_not_depend_on_threads() {
+    let (mut positions, tris) = cut_cube(30);
+    for p in &mut positions {
+        *p = p.normalize() * (1.0 + 0.1 * (3.0 * p.x).sin());
+    }
+    let runs: Vec<Vec<[u32; 3]>> = [1, 2, 4]
+        .iter()
+        .map(|&threads| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| reduce(&positions, &tris, 0.01, |p| p.length() - 1.0))
+        })
+        .collect();
+    assert_eq!(runs[0], runs[1]);
+    assert_eq!(runs[0], runs[2]);
+}
+
+#[test]
+fn a_tetrahedron_stays_a_tetrahedron() {
+    let positions = vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z];
+    let tris = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let reduced = reduce(&positions, &tris, 10.0, |_| 0.0);
+    assert_eq!(reduced.len(), 4);
+    assert_closed(&reduced);
+}
+
+#[test]
+fn a_zero_bound_changes_nothing_curved_and_compaction_renumbers() {
+    let (mut positions, tris) = cut_cube(8);
+    for p in &mut positions {
+        *p = p.normalize();
+    }
+    let mut reduced = reduce(&positions, &tris, 0.0, sphere_distance);
+    assert_eq!(reduced.len(), tris.len());
+    let kept = compact_vertices(positions.len(), &mut reduced);
+    assert_eq!(kept.len(), positions.len());
+    assert_eq!(reduced, tris);
+}
+
+#[test]
+fn cancelling_stops_the_reduction() {
+    let (positions, tris) = cut_cube(20);
+    let measure = |_: &[Vec3], out: &mut [f32]| out.fill(0.0);
+    let r = reduce_triangles(
+        &positions,
+        &tris,
+        &ReduceOptions::new(0.1),
+        &measure,
+        &|| true,
+    );
+    assert!(r.is_err());
+}
