@@ -139,40 +139,14 @@ fn topology_1m_quads(bencher: Bencher) {
 /// exactly: the collapses of adaptive meshing on their own.
 #[divan::bench(sample_count = 5, sample_size = 1)]
 fn reduce_sphere_480k(bencher: Bencher) {
-    let n = 200u32;
-    let mut positions = Vec::new();
-    let mut index = std::collections::HashMap::new();
-    let mut tris = Vec::new();
-    let mut vertex = |c: [u32; 3]| -> u32 {
-        *index.entry(c).or_insert_with(|| {
-            let p = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32) * (2.0 / n as f32) - 1.0;
-            positions.push(p.normalize());
-            positions.len() as u32 - 1
+    let cube = ops::triangulate(&primitives::box_mesh(Vec3::splat(2.0), [200; 3]), None);
+    let positions: Vec<Vec3> = cube.positions().iter().map(|p| p.normalize()).collect();
+    let tris: Vec<[u32; 3]> = (0..cube.num_prims())
+        .map(|p| {
+            let pts = cube.prim_points(p);
+            [pts[0], pts[1], pts[2]]
         })
-    };
-    for axis in 0..3 {
-        for side in [0, n] {
-            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-            for i in 0..n {
-                for j in 0..n {
-                    let corner = |di: u32, dj: u32| {
-                        let mut c = [0; 3];
-                        c[axis] = side;
-                        c[u] = i + di;
-                        c[w] = j + dj;
-                        c
-                    };
-                    let q =
-                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
-                    if side == n {
-                        tris.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
-                    } else {
-                        tris.extend([[q[0], q[2], q[1]], [q[0], q[3], q[2]]]);
-                    }
-                }
-            }
-        }
-    }
+        .collect();
     let measure = |points: &[Vec3], out: &mut [f32]| {
         for (p, o) in points.iter().zip(out) {
             *o = p.length() - 1.0;

@@ -3,49 +3,23 @@
 //! edges kept), a cube-sphere (every sample within the bound), manifoldness,
 //! thread independence and cancellation.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 
 use geode_geo::glam::Vec3;
-use geode_geo::ops::{compact_vertices, reduce_triangles, ReduceOptions};
+use geode_geo::ops::{self, compact_vertices, reduce_triangles, ReduceOptions};
+use geode_geo::primitives;
 
 /// The surface of [-1, 1]^3 cut into n x n squares a face, two triangles
 /// each, outward, vertices shared.
-fn cut_cube(n: i32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut index: HashMap<[i32; 3], u32> = HashMap::new();
-    let mut positions = Vec::new();
-    let mut tris = Vec::new();
-    let mut vertex = |c: [i32; 3]| -> u32 {
-        *index.entry(c).or_insert_with(|| {
-            positions.push(Vec3::from_array(c.map(|x| 2.0 * x as f32 / n as f32 - 1.0)));
-            positions.len() as u32 - 1
+fn cut_cube(n: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let g = ops::triangulate(&primitives::box_mesh(Vec3::splat(2.0), [n; 3]), None);
+    let tris = (0..g.num_prims())
+        .map(|p| {
+            let pts = g.prim_points(p);
+            [pts[0], pts[1], pts[2]]
         })
-    };
-    for axis in 0..3 {
-        for side in [0, n] {
-            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-            for i in 0..n {
-                for j in 0..n {
-                    let corner = |di: i32, dj: i32| {
-                        let mut c = [0; 3];
-                        c[axis] = side;
-                        c[u] = i + di;
-                        c[v] = j + dj;
-                        c
-                    };
-                    let q =
-                        [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)].map(&mut vertex);
-                    if side == n {
-                        tris.push([q[0], q[1], q[2]]);
-                        tris.push([q[0], q[2], q[3]]);
-                    } else {
-                        tris.push([q[0], q[2], q[1]]);
-                        tris.push([q[0], q[3], q[2]]);
-                    }
-                }
-            }
-        }
-    }
-    (positions, tris)
+        .collect();
+    (g.positions().to_vec(), tris)
 }
 
 fn box_distance(p: Vec3) -> f32 {

@@ -414,10 +414,12 @@ impl State<'_> {
     }
 }
 
-/// Collapses edges of one mesh, pass after pass, while `deviation` reports
-/// every sample of the changed triangles within `opts.tolerance`. Vertices
-/// on boundaries or shared by several fans stay where they are.
-pub(super) fn reduce_closed(
+/// Reduces a closed (or partly closed) triangle mesh: collapses edges while
+/// `deviation` reports every sample of the changed triangles (their
+/// centroids and new edges' midpoints) within `opts.tolerance`. Vertices on
+/// boundaries or shared by several fans stay where they are. `cancel` is
+/// polled between passes and while choosing collapses.
+pub fn reduce_triangles(
     positions: &[Vec3],
     triangles: &[[u32; 3]],
     opts: &ReduceOptions,

@@ -17,6 +17,7 @@ mod unpack;
 mod validate;
 
 pub use bounds::{bounds, signed_volume, surface_area, Aabb};
+pub use collapse::reduce_triangles;
 pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};
 pub use fuse::{fuse_points, FuseStats};
 pub use instance::instance_transforms;
@@ -24,7 +25,7 @@ pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use quadric::Quadric;
 pub use raycast::{RayHit, TriangleBvh};
-pub use reduce::{compact_vertices, reduce_triangles, Deviation, ReduceOptions, Reduced};
+pub use reduce::{compact_vertices, Deviation, ReduceOptions, Reduced};
 pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};

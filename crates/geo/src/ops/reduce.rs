@@ -11,9 +11,6 @@
 
 use glam::Vec3;
 
-use super::collapse::reduce_closed;
-use super::thickness::Cancelled;
-
 /// How far a reduction may go.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ReduceOptions {
@@ -45,21 +42,6 @@ pub struct Reduced {
 
 /// Distances to the true surface: fills `out[i]` for `points[i]` (sign ignored).
 pub type Deviation<'a> = &'a (dyn Fn(&[Vec3], &mut [f32]) + Sync);
-
-/// Reduces a closed (or partly closed) triangle mesh: collapses edges while
-/// `deviation` reports every sample of the changed triangles (their
-/// centroids and new edges' midpoints) within `opts.tolerance`. Vertices on
-/// boundaries or shared by several fans stay where they are. `cancel` is
-/// polled between passes and while choosing collapses.
-pub fn reduce_triangles(
-    positions: &[Vec3],
-    triangles: &[[u32; 3]],
-    opts: &ReduceOptions,
-    deviation: Deviation,
-    cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Reduced, Cancelled> {
-    reduce_closed(positions, triangles, opts, deviation, cancel)
-}
 
 /// Renumbers `triangles` over the vertices they still use, in their old
 /// order; returns, for each new vertex, its old index.
