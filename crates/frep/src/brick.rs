@@ -358,9 +358,37 @@ pub(crate) fn mesh_brick(
             r.2 = remap[r.2 as usize];
         }
     }
-    out.normals = outward_normals(&mut point, &mut grads, &vertex_points)
-        .into_iter()
-        .map(|n| Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32))
-        .collect();
+    out.normals = normals_of_used(&mut point, &mut grads, &vertex_points, &out.refs);
     out
+}
+
+/// Outward normals of the vertices some dual edge uses (after merging most
+/// are not: their normals are left zero and the vertices dropped later).
+fn normals_of_used(
+    point: &mut PointEval,
+    grads: &mut BatchGradEval,
+    vertex_points: &[[f64; 3]],
+    refs: &[(u64, u8, u32, bool)],
+) -> Vec<Vec3> {
+    let mut used = vec![false; vertex_points.len()];
+    for r in refs {
+        used[r.2 as usize] = true;
+    }
+    let at: Vec<[f64; 3]> = vertex_points
+        .iter()
+        .zip(&used)
+        .filter(|(_, u)| **u)
+        .map(|(p, _)| *p)
+        .collect();
+    let mut found = outward_normals(point, grads, &at).into_iter();
+    used.iter()
+        .map(|&u| {
+            let n = if u {
+                found.next().unwrap_or([0.0; 3])
+            } else {
+                [0.0; 3]
+            };
+            Vec3::new(n[0] as f32, n[1] as f32, n[2] as f32)
+        })
+        .collect()
 }

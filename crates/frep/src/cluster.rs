@@ -182,6 +182,10 @@ fn topology_is_safe(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
         |o: [usize; 3]| (c.value)([origin[0] + o[0], origin[1] + o[1], origin[2] + o[2]]) >= 0.0;
     let corner = |n: usize| [n & 1, n >> 1 & 1, n >> 2 & 1].map(|b| b * size);
     let signs: [bool; 8] = std::array::from_fn(|n| at(corner(n)));
+    if signs.iter().all(|&s| s == signs[0]) {
+        // No crossing on the coarse cell: nothing one vertex could stand for.
+        return false;
+    }
     // Edges: both ends alike and the middle different is a lost crossing pair.
     for axis in 0..3 {
         for n in 0..8 {
@@ -222,11 +226,6 @@ fn topology_is_safe(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
             }
         }
     }
-    let all_alike = signs.iter().all(|&s| s == signs[0]);
-    if all_alike {
-        // No crossing on the coarse cell: nothing one vertex could stand for.
-        return false;
-    }
     one_component(c, origin, size)
 }
 
@@ -240,13 +239,32 @@ fn one_component(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
             origin[2] + (n >> 2 & 1) * size,
         ])
     });
-    let (mut pairs, mut ambiguous) = (Vec::new(), Vec::new());
+    let (mut pairs, mut ambiguous) = SCRATCH.with_borrow_mut(std::mem::take);
+    pairs.clear();
+    ambiguous.clear();
     face_pairs(&v, &mut pairs, &mut ambiguous);
+    let one = joined(&v, &pairs, &ambiguous);
+    SCRATCH.with_borrow_mut(|s| *s = (pairs, ambiguous));
+    one
+}
+
+/// Edges joined across faces, and one edge of each ambiguous face's pairs.
+type FacePairs = (Vec<(usize, usize)>, Vec<(usize, usize)>);
+
+thread_local! {
+    /// Face-pair buffers reused across coarse cells.
+    static SCRATCH: std::cell::RefCell<FacePairs> =
+        const { std::cell::RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Whether the crossed edges of the cell with corner values `v`, joined by
+/// `pairs` across faces, form one component (and no face is ambiguous).
+fn joined(v: &[f32; 8], pairs: &[(usize, usize)], ambiguous: &[(usize, usize)]) -> bool {
     if !ambiguous.is_empty() {
         return false;
     }
     let mut parent: [usize; 12] = std::array::from_fn(|e| e);
-    for &(a, b) in &pairs {
+    for &(a, b) in pairs {
         let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
         parent[ra] = rb;
     }
