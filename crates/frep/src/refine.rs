@@ -20,10 +20,6 @@ const ROUNDS: usize = 8;
 /// What refinement did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Refinement {
-    /// Vertices moved onto the surface (the QEF put them further than the
-    /// tolerance off it: a clamped corner, a rounded tip).
-    pub moved: usize,
-    pub flips: usize,
     pub splits: usize,
     /// The largest deviation measured after the last round.
     pub deviation: f64,
@@ -47,10 +43,10 @@ pub(crate) fn refine(
     tolerance: f64,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Option<Refinement> {
-    let mut done = Refinement {
-        moved: onto_surface(tapes, positions, normals, triangles, tolerance),
-        ..Refinement::default()
-    };
+    // Vertices the QEF put further than the tolerance off the surface (a
+    // clamped corner, a rounded tip) move onto it first.
+    onto_surface(tapes, positions, normals, triangles, tolerance);
+    let mut done = Refinement::default();
     let mut before: Option<Snapshot> = None;
     let start = triangles.len().max(1);
     let mut last = (f64::INFINITY, usize::MAX);
@@ -82,9 +78,7 @@ pub(crate) fn refine(
             triangles.clone(),
             done.splits,
         ));
-        let flipped = flip_edges(tapes, positions, triangles, &split);
-        done.flips += flipped;
-        if flipped > 0 {
+        if flip_edges(tapes, positions, triangles, &split) > 0 {
             // Measure again before splitting what flips left.
             continue;
         }
@@ -169,14 +163,14 @@ fn edges_to_split(
 }
 
 /// Moves each vertex further than `tolerance` from the surface onto it
-/// (within half its shortest edge); returns how many moved.
+/// (within half its shortest edge).
 fn onto_surface(
     tapes: &RegionTapes,
     positions: &mut [Vec3],
     normals: &mut [Vec3],
     triangles: &[[u32; 3]],
     tolerance: f64,
-) -> usize {
+) {
     let mut distances = vec![0.0f32; positions.len()];
     field_distances(tapes, positions, &mut distances);
     let far: Vec<u32> = distances
@@ -186,7 +180,7 @@ fn onto_surface(
         .map(|(v, _)| v as u32)
         .collect();
     if far.is_empty() {
-        return 0;
+        return;
     }
     let mut reach = vec![f32::MAX; far.len()];
     for t in triangles {
@@ -207,7 +201,6 @@ fn onto_surface(
         positions[v as usize] = points[k];
         normals[v as usize] = point_normals[k];
     }
-    far.len()
 }
 
 /// Where each split edge's new vertex goes: its midpoint moved onto the
