@@ -96,28 +96,24 @@ pub(crate) fn grads_at(tapes: &RegionTapes, points: &[Vec3]) -> Vec<Grad> {
 /// Newton steps of a walk to the surface.
 const WALK_STEPS: usize = 3;
 
-/// Where each point's walk along the gradient reaches the surface: Newton
+/// Where each point's walk along the gradient reaches the surface (Newton
 /// steps `x - f ∇f / |∇f|²`, each evaluated with the tape of the brick it
-/// is in.
-pub(crate) struct Walk {
-    pub feet: Vec<Vec3>,
-    /// Value and gradient at each foot.
-    pub at_feet: Vec<Grad>,
-}
-
-pub(crate) fn walk_to_surface(tapes: &RegionTapes, points: &[Vec3]) -> Walk {
+/// is in), from the points and their values and gradients; returns the
+/// feet with theirs.
+pub(crate) fn walk_to_surface(
+    tapes: &RegionTapes,
+    points: &[Vec3],
+    at_points: &[Grad],
+) -> (Vec<Vec3>, Vec<Grad>) {
     let mut feet = points.to_vec();
-    let mut grads = grads_at(tapes, &feet);
+    let mut grads = at_points.to_vec();
     for _ in 0..WALK_STEPS {
         feet.par_iter_mut()
             .zip(&grads)
             .for_each(|(x, g)| *x = newton(*x, g));
         grads = grads_at(tapes, &feet);
     }
-    Walk {
-        feet,
-        at_feet: grads,
-    }
+    (feet, grads)
 }
 
 /// One Newton step toward `f = 0` along the gradient (none where it vanishes).

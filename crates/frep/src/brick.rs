@@ -318,24 +318,23 @@ pub(crate) fn mesh_brick(
     let checks = (unverified.as_slice(), unverified_planes.as_slice());
     let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
     verify_features(tape, grid, sharpness, checks, &mut candidates, vertices);
-    // Vertices before recovery: those it moves stand on a feature their
-    // cell's own planes do not hold (a corner seen through neighbours),
-    // which a merged cell must keep.
-    let own_placement = (tolerance > 0.0).then(|| vertex_points.clone());
+    // Vertices recovery moves stand on a feature their cell's own planes do
+    // not hold (a corner seen through neighbours), which a merged cell must keep.
+    let mut recovered = Vec::new();
     if cells.ranks.iter().any(|&r| r >= 2) {
         let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
         let state = (&mut lattice, &mut crossings, &mut cells);
-        recover_features(ring_tape, grid, sharpness, state, &candidates, vertices);
+        recovered = recover_features(ring_tape, grid, sharpness, state, &candidates, vertices);
     }
-    if let Some(own) = own_placement {
+    if tolerance > 0.0 {
+        recovered.sort_unstable();
         for node in &mut nodes {
             if let Node::Surface {
                 vertex, feature, ..
             } = node
             {
-                let now = vertex_points[*vertex as usize];
-                if own[*vertex as usize] != now {
-                    *feature = Some(now);
+                if recovered.binary_search(vertex).is_ok() {
+                    *feature = Some(vertex_points[*vertex as usize]);
                 }
             }
         }

@@ -146,7 +146,7 @@ fn merge(
         let solver = qef.solver();
         solver.solve(solver.rank(c.sharpness))
     });
-    let (lo, hi) = (c.point(origin), c.point(origin.map(|o| o + size)));
+    let (lo, hi) = ((c.point)(origin), (c.point)(origin.map(|o| o + size)));
     let inside = (0..3).all(|a| x[a] >= lo[a] && x[a] <= hi[a]);
     let tol2 = c.tolerance * c.tolerance;
     if !inside || qef.error(x) > tol2 || !on_surface(grad, x, c.tolerance) {
@@ -158,12 +158,6 @@ fn merge(
         vertex,
         qef,
         feature,
-    }
-}
-
-impl Clustering<'_> {
-    fn point(&self, c: [usize; 3]) -> [f64; 3] {
-        (self.point)(c)
     }
 }
 

@@ -143,7 +143,7 @@ pub(crate) fn recover_features(
     (lattice, crossings, cells): (&mut Lattice, &mut Crossings, &mut CellTable),
     candidates: &[Candidate],
     (positions, vertex_points): (&mut [Vec3], &mut [[f64; 3]]),
-) {
+) -> Vec<u32> {
     let base = lattice.base;
     // The parent's tape simplified once more, over this brick and its ring.
     let lo = grid.point_signed(base).map(|x| x - grid.h);
@@ -192,6 +192,7 @@ pub(crate) fn recover_features(
             cells.merge(cell_slot(c), &q, q.solver().rank(sharpness) as u8);
         }
     }
+    let mut moved = Vec::new();
     for cand in near {
         let local = cand.cell.map(|c| c as isize);
         let near = neighbourhood(local);
@@ -216,8 +217,10 @@ pub(crate) fn recover_features(
             let v = cand.vertex as usize;
             vertex_points[v] = x;
             positions[v] = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);
+            moved.push(cand.vertex);
         }
     }
+    moved
 }
 
 /// The box of the cell at grid `cell` grown by `grow` cells on every side,

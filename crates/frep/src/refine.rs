@@ -9,7 +9,10 @@
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
-use crate::adaptive::{field_distances, walk_to_surface, Mesh, RegionTapes};
+use crate::adaptive::{
+    distance_estimate, field_distances, grads_at, walk_to_surface, Mesh, RegionTapes,
+};
+use crate::eval::Grad;
 use crate::flip::flip_edges;
 
 /// Rounds of flipping or splitting: each split halves the edges it cuts, so
@@ -171,12 +174,11 @@ fn onto_surface(
     triangles: &[[u32; 3]],
     tolerance: f64,
 ) {
-    let mut distances = vec![0.0f32; positions.len()];
-    field_distances(tapes, positions, &mut distances);
-    let far: Vec<u32> = distances
+    let at_vertices = grads_at(tapes, positions);
+    let far: Vec<u32> = at_vertices
         .iter()
         .enumerate()
-        .filter(|(_, d)| **d as f64 > tolerance)
+        .filter(|(_, g)| distance_estimate(g).abs() as f64 > tolerance)
         .map(|(v, _)| v as u32)
         .collect();
     if far.is_empty() {
@@ -196,10 +198,11 @@ fn onto_surface(
         }
     }
     let starts: Vec<Vec3> = far.iter().map(|&v| positions[v as usize]).collect();
-    let (points, point_normals) = project(tapes, &starts, &reach);
+    let at_starts: Vec<Grad> = far.iter().map(|&v| at_vertices[v as usize]).collect();
+    let (points, at_points) = project(tapes, (&starts, &at_starts), &reach);
     for (k, &v) in far.iter().enumerate() {
         positions[v as usize] = points[k];
-        normals[v as usize] = point_normals[k];
+        normals[v as usize] = outward(&at_points[k]).unwrap_or(Vec3::Y);
     }
 }
 
@@ -217,7 +220,7 @@ fn on_surface(
     let p = |v: u32| positions[v as usize];
     let mids: Vec<Vec3> = split.iter().map(|e| 0.5 * (p(e[0]) + p(e[1]))).collect();
     let reach: Vec<f32> = split.iter().map(|e| (p(e[0]) - p(e[1])).length()).collect();
-    let (mut points, mut point_normals) = project(tapes, &mids, &reach);
+    let (mut points, mut at_points) = project(tapes, (&mids, &grads_at(tapes, &mids)), &reach);
     let creases: Vec<Vec3> = split
         .iter()
         .zip(&mids)
@@ -229,24 +232,22 @@ fn on_surface(
             )
         })
         .collect();
-    let mut on_crease = vec![0.0f32; creases.len()];
-    let mut projected = vec![0.0f32; points.len()];
-    field_distances(tapes, &creases, &mut on_crease);
-    field_distances(tapes, &points, &mut projected);
-    let crease_normals = crate::adaptive::grads_at(tapes, &creases);
+    let at_creases = grads_at(tapes, &creases);
     for i in 0..split.len() {
         let near = creases[i].distance(mids[i]) <= reach[i];
+        let on_crease = distance_estimate(&at_creases[i]).abs();
         // On the surface (to a thousandth of the tolerance), the crease
         // point wins: it keeps the crease the edge cuts.
-        let on_surface = (on_crease[i] as f64) <= 1e-3 * tolerance;
-        if near && (on_surface || on_crease[i] < projected[i]) {
+        let on_surface = (on_crease as f64) <= 1e-3 * tolerance;
+        if near && (on_surface || on_crease < distance_estimate(&at_points[i]).abs()) {
             points[i] = creases[i];
-            let n = -geode_geo::glam::DVec3::from_array(crease_normals[i].d)
-                .normalize_or_zero()
-                .as_vec3();
-            point_normals[i] = if n == Vec3::ZERO { point_normals[i] } else { n };
+            at_points[i] = at_creases[i];
         }
     }
+    let point_normals = at_points
+        .iter()
+        .map(|g| outward(g).unwrap_or(Vec3::Y))
+        .collect();
     (points, point_normals)
 }
 
@@ -269,25 +270,30 @@ fn crease_point(m: Vec3, ends: [Vec3; 2], normals: [Vec3; 2]) -> Vec3 {
 }
 
 /// Points moved to where their walk meets the surface, when that is within
-/// `reach` of them (else they stay), with outward normals there.
-fn project(tapes: &RegionTapes, starts: &[Vec3], reach: &[f32]) -> (Vec<Vec3>, Vec<Vec3>) {
-    let walk = walk_to_surface(tapes, starts);
-    let at_start = crate::adaptive::grads_at(tapes, starts);
-    starts
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| {
-            let (x, g) = if p.distance(walk.feet[i]) <= reach[i] {
-                (walk.feet[i], walk.at_feet[i])
+/// `reach` of them (else they stay), with the value and gradient there.
+fn project(
+    tapes: &RegionTapes,
+    (starts, at_starts): (&[Vec3], &[Grad]),
+    reach: &[f32],
+) -> (Vec<Vec3>, Vec<Grad>) {
+    let (feet, at_feet) = walk_to_surface(tapes, starts, at_starts);
+    (0..starts.len())
+        .map(|i| {
+            if starts[i].distance(feet[i]) <= reach[i] {
+                (feet[i], at_feet[i])
             } else {
-                (p, at_start[i])
-            };
-            let n = -geode_geo::glam::DVec3::from_array(g.d)
-                .normalize_or_zero()
-                .as_vec3();
-            (x, if n == Vec3::ZERO { Vec3::Y } else { n })
+                (starts[i], at_starts[i])
+            }
         })
         .unzip()
+}
+
+/// The outward unit normal a gradient gives (`f >= 0` inside), if any.
+fn outward(g: &Grad) -> Option<Vec3> {
+    let n = -geode_geo::glam::DVec3::from_array(g.d)
+        .normalize_or_zero()
+        .as_vec3();
+    (n != Vec3::ZERO).then_some(n)
 }
 
 /// The triangles with the split edges cut: new vertex `first + i` on

@@ -452,7 +452,6 @@ pub fn reduce_triangles(
             break;
         }
         let accepted = state.measure(&chosen, &incidence, opts.tolerance, deviation);
-        out.passes += 1;
         let made = state.apply(&chosen, &accepted);
         out.collapses += made;
         // The last passes of a large mesh find a handful of collapses each

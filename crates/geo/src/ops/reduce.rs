@@ -37,7 +37,6 @@ impl ReduceOptions {
 pub struct Reduced {
     pub triangles: Vec<[u32; 3]>,
     pub collapses: usize,
-    pub passes: usize,
 }
 
 /// Distances to the true surface: fills `out[i]` for `points[i]` (sign ignored).

@@ -77,47 +77,20 @@ static CLAMP: NodeSpec = NodeSpec::new(
         "",
     )],
 );
-static JOIN: NodeSpec = NodeSpec::new(
-    "join",
-    "Join",
-    "test",
-    "",
-    &[InputSpec {
-        name: "geometry",
-        ty: PortType::Geometry,
-        required: false,
-    }],
-    &[],
-)
-.variadic();
-static PACK: NodeSpec = NodeSpec::new(
-    "pack",
-    "Pack",
-    "test",
-    "",
-    &[InputSpec {
-        name: "geometry",
-        ty: PortType::Geometry,
-        required: false,
-    }],
-    &[],
-)
-.variadic()
-.output(PortType::Bundle);
+/// Any number of optional geometry inputs (with `variadic`).
+const OPTIONAL_GEOMETRY: [InputSpec; 1] = [InputSpec {
+    name: "geometry",
+    ty: PortType::Geometry,
+    required: false,
+}];
+static JOIN: NodeSpec =
+    NodeSpec::new("join", "Join", "test", "", &OPTIONAL_GEOMETRY, &[]).variadic();
+static PACK: NodeSpec = NodeSpec::new("pack", "Pack", "test", "", &OPTIONAL_GEOMETRY, &[])
+    .variadic()
+    .output(PortType::Bundle);
 static SLOW: NodeSpec = NodeSpec::new("slow", "Slow", "test", "", &[], &[]);
-static SPIN: NodeSpec = NodeSpec::new(
-    "spin",
-    "Spin",
-    "test",
-    "",
-    &[InputSpec {
-        name: "geometry",
-        ty: PortType::Geometry,
-        required: false,
-    }],
-    &[],
-)
-.variadic();
+static SPIN: NodeSpec =
+    NodeSpec::new("spin", "Spin", "test", "", &OPTIONAL_GEOMETRY, &[]).variadic();
 
 pub static COOKS: AtomicUsize = AtomicUsize::new(0);
 
