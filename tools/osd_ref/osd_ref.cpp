@@ -136,7 +136,8 @@ int main() {
     typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
 
     // Timing mode (OSD_REF_TIME=runs): build, refine and interpolate every
-    // level `runs` times and print the median milliseconds, nothing else.
+    // level (positions, and the face-varying channel when given) `runs`
+    // times and print the median milliseconds, nothing else.
     if (char const * runsText = std::getenv("OSD_REF_TIME")) {
         int runs = std::atoi(runsText);
         std::vector<double> times;
@@ -152,6 +153,16 @@ int main() {
                 Vertex * d = s + t->GetLevel(level - 1).GetNumVertices();
                 pr.Interpolate(level, s, d);
                 s = d;
+            }
+            if (fvarMode >= 0) {
+                std::vector<FVar> fbuf(t->GetNumFVarValuesTotal(0));
+                std::copy(fvarValues.begin(), fvarValues.end(), fbuf.begin());
+                FVar * fs = fbuf.data();
+                for (int level = 1; level <= levels; ++level) {
+                    FVar * fd = fs + t->GetLevel(level - 1).GetNumFVarValues(0);
+                    pr.InterpolateFaceVarying(level, fs, fd, 0);
+                    fs = fd;
+                }
             }
             times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
             delete t;

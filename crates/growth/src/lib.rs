@@ -4,6 +4,7 @@
 //! `geode-geo` only.
 
 pub mod colonize;
+pub mod eliminate;
 pub mod inside;
 pub mod scatter;
 

@@ -3,14 +3,14 @@
 //! points on a surface by area. Candidate `i` depends only on (seed, i), so
 //! results are exact in count and identical on any thread count. The blue
 //! noise option oversamples and removes the most crowded points one at a
-//! time (sample elimination, Yuksel 2015) down to the exact count.
-
-use std::cmp::Ordering;
-use std::collections::{BinaryHeap, HashMap};
+//! time (sample elimination, Yuksel 2015; see `eliminate`) down to the
+//! exact count.
 
 use geode_geo::glam::Vec3;
 use geode_geo::random::unit;
 use rayon::prelude::*;
+
+pub use crate::eliminate::{eliminate, BYTES_PER_CANDIDATE};
 
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]
 pub enum ScatterError {
@@ -134,121 +134,6 @@ pub fn area(triangles: &[[Vec3; 3]]) -> f64 {
         .iter()
         .map(|t| 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() as f64)
         .sum()
-}
-
-#[derive(PartialEq)]
-struct Crowding(f64, u32);
-impl Eq for Crowding {}
-impl PartialOrd for Crowding {
-    fn partial_cmp(&self, o: &Self) -> Option<Ordering> {
-        Some(self.cmp(o))
-    }
-}
-impl Ord for Crowding {
-    fn cmp(&self, o: &Self) -> Ordering {
-        // Most crowded first; ties to the later candidate, so earlier stay.
-        self.0.total_cmp(&o.0).then(self.1.cmp(&o.1))
-    }
-}
-
-/// Indices (ascending) of `keep` of `points` chosen by sample elimination:
-/// the point with the most weight from neighbours closer than `2 r` goes
-/// first, where `r` is the spacing of `keep` points packed in `measure`
-/// (a volume when `dims` is 3, an area when 2).
-pub fn eliminate(
-    points: &[Vec3],
-    keep: usize,
-    measure: f64,
-    dims: u32,
-    cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Vec<usize>, ScatterError> {
-    let n = points.len();
-    if keep >= n {
-        return Ok((0..n).collect());
-    }
-    let r_max = if dims == 3 {
-        (measure / (4.0 * std::f64::consts::SQRT_2 * keep as f64)).cbrt()
-    } else {
-        (measure / (2.0 * 3f64.sqrt() * keep as f64)).sqrt()
-    };
-    let reach = (2.0 * r_max) as f32;
-    if !(reach > 0.0 && reach.is_finite()) {
-        return Ok((0..keep).collect());
-    }
-    let key = |p: Vec3| (p / reach).floor().as_ivec3();
-    let mut grid: HashMap<geode_geo::glam::IVec3, Vec<u32>> = HashMap::new();
-    for (i, p) in points.iter().enumerate() {
-        if i.is_multiple_of(4096) && cancel() {
-            return Err(ScatterError::Cancelled);
-        }
-        grid.entry(key(*p)).or_default().push(i as u32);
-    }
-    let weight = |d: f32| (1.0 - d as f64 / reach as f64).powi(8);
-    let neighbours = |i: usize, f: &mut dyn FnMut(usize, f64)| {
-        let c = key(points[i]);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    if let Some(cell) = grid.get(&(c + geode_geo::glam::IVec3::new(dx, dy, dz))) {
-                        for &j in cell {
-                            let j = j as usize;
-                            let d = points[i].distance(points[j]);
-                            if j != i && d < reach {
-                                f(j, weight(d));
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    };
-    // Collecting into an Option stops every worker at the first None.
-    let w: Option<Vec<f64>> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            if cancel() {
-                return None;
-            }
-            let mut s = 0.0;
-            neighbours(i, &mut |_, x| s += x);
-            Some(s)
-        })
-        .collect();
-    let Some(mut w) = w else {
-        return Err(ScatterError::Cancelled);
-    };
-    let mut alive = vec![true; n];
-    if cancel() {
-        return Err(ScatterError::Cancelled);
-    }
-    let mut heap: BinaryHeap<Crowding> = (0..n).map(|i| Crowding(w[i], i as u32)).collect();
-    if cancel() {
-        return Err(ScatterError::Cancelled);
-    }
-    let mut left = n;
-    let mut polled = 0u32;
-    while left > keep {
-        polled = polled.wrapping_add(1);
-        if polled.is_multiple_of(16) && cancel() {
-            return Err(ScatterError::Cancelled);
-        }
-        let Some(Crowding(x, i)) = heap.pop() else {
-            break;
-        };
-        let i = i as usize;
-        if !alive[i] || x != w[i] {
-            continue; // stale entry
-        }
-        alive[i] = false;
-        left -= 1;
-        neighbours(i, &mut |j, x| {
-            if alive[j] {
-                w[j] -= x;
-                heap.push(Crowding(w[j], j as u32));
-            }
-        });
-    }
-    Ok((0..n).filter(|&i| alive[i]).collect())
 }
 
 #[cfg(test)]

@@ -64,13 +64,22 @@ fn target_count(
     measure: impl FnOnce() -> f64,
 ) -> Result<usize, CookError> {
     let density = p.float(&DENSITY)?;
-    if density <= 0.0 {
-        return Ok(p.int(&COUNT)? as usize);
+    let (n, param) = if density <= 0.0 {
+        (p.int(&COUNT)? as f64, "count")
+    } else {
+        let n = (density * measure()).round();
+        if !(0.0..=1e8).contains(&n) {
+            return Err(ctx.param_error("density", format!("gives {n} points; at most 100000000")));
+        }
+        (n, "density")
+    };
+    // Each point's position and normal, and with relax its candidates'
+    // positions and neighbour lists.
+    let mut bytes = n * 24.0;
+    if p.toggle(&RELAX)? {
+        bytes += n * OVERSAMPLE as f64 * (16.0 + scatter::BYTES_PER_CANDIDATE);
     }
-    let n = (density * measure()).round();
-    if !(0.0..=1e8).contains(&n) {
-        return Err(ctx.param_error("density", format!("gives {n} points; at most 100000000")));
-    }
+    ctx.reserve(param, bytes, &format!("scattering {n} points"))?;
     Ok(n as usize)
 }
 

@@ -75,7 +75,7 @@ fn surface_scatter_with_relax_stops_promptly() {
     check(
         "scatter surface relax",
         r#""s": {"type": "sphere", "params": {"rows": 32, "columns": 64}},
-           "n": {"type": "scatter", "params": {"mode": "surface", "count": 300000, "relax": true}, "inputs": ["s"]}"#,
+           "n": {"type": "scatter", "params": {"mode": "surface", "count": 3000000, "relax": true}, "inputs": ["s"]}"#,
         &["/s"],
     );
 }
@@ -142,7 +142,7 @@ fn writer(ext: &str) {
     check(
         &format!("write .{ext}"),
         &format!(
-            r#""g": {{"type": "grid", "params": {{"rows": 3000, "columns": 3000}}}},
+            r#""g": {{"type": "grid", "params": {{"rows": 4000, "columns": 4000}}}},
                "n": {{"type": "write", "params": {{"file": "$HIP/out.{ext}"}}, "inputs": ["g"]}}"#
         ),
         &["/g"],

@@ -100,6 +100,11 @@ fn oversized_requests_are_refused_promptly_with_exact_messages() {
             "/n (parameter `samples`): 100.0 million points and 100.0 million primitives would need about 16.8 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
         ),
         (
+            "scatter 100M blue-noise points".into(),
+            r#""s": {"type": "sphere"}, "n": {"type": "scatter", "params": {"mode": "surface", "count": 100000000, "relax": true}, "inputs": ["s"]}"#.into(),
+            "/n (parameter `count`): scattering 100000000 points would need about 114 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
+        ),
+        (
             "resample a helix every nanometre".into(),
             r#""c": {"type": "curve_helix"}, "n": {"type": "resample", "params": {"length": 1e-9}, "inputs": ["c"]}"#.into(),
             "/n (parameter `length`): 18.9 billion points and 1 primitive would need about 1.4 TB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
