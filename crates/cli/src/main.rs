@@ -11,6 +11,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+/// Huge pages for large geometry columns (see geode-alloc).
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
 const EXAMPLES: &str = "\
 Examples:
   geode cook examples/primitives.json -o /tmp/primitives.glb

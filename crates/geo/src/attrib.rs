@@ -542,6 +542,16 @@ impl Attribute {
         &self.data
     }
 
+    /// The same attribute (type-info, default) over other values of its type.
+    pub(crate) fn with_data(&self, data: AttribData) -> Attribute {
+        debug_assert_eq!(data.attrib_type(), self.data.attrib_type());
+        Attribute {
+            type_info: self.type_info,
+            default: self.default.clone(),
+            data,
+        }
+    }
+
     /// Mutable access to the values; the length cannot change through it.
     pub fn values_mut(&mut self) -> ValuesMut<'_> {
         ValuesMut(&mut self.data)
@@ -752,5 +762,24 @@ impl AttribTable {
 
     pub(crate) fn iter_mut(&mut self) -> impl Iterator<Item = (&str, &mut Attribute)> {
         self.attribs.iter_mut().map(|(k, v)| (k.as_str(), v))
+    }
+
+    /// A copy whose columns `f` returns new values for (same type and
+    /// length) take them; the others are copied.
+    pub(crate) fn map_columns(&self, f: impl Fn(&Attribute) -> Option<AttribData>) -> AttribTable {
+        AttribTable {
+            class: self.class,
+            len: self.len,
+            attribs: self
+                .attribs
+                .iter()
+                .map(|(k, a)| {
+                    (
+                        k.clone(),
+                        f(a).map_or_else(|| a.clone(), |d| a.with_data(d)),
+                    )
+                })
+                .collect(),
+        }
     }
 }

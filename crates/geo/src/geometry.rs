@@ -200,6 +200,27 @@ impl Geometry {
         self.content_hash = OnceLock::new();
     }
 
+    /// A copy whose attribute tables `f` makes from this one's (same
+    /// classes and lengths); topology, groups and instances are copied.
+    pub(crate) fn clone_with_tables(&self, f: impl Fn(&AttribTable) -> AttribTable) -> Geometry {
+        Geometry {
+            points: f(&self.points),
+            vertices: f(&self.vertices),
+            prims: f(&self.prims),
+            detail: f(&self.detail),
+            vertex_point: self.vertex_point.clone(),
+            prim_offsets: self.prim_offsets.clone(),
+            prim_kinds: self.prim_kinds.clone(),
+            packed: self.packed.clone(),
+            patches: self.patches.clone(),
+            point_groups: self.point_groups.clone(),
+            prim_groups: self.prim_groups.clone(),
+            payloads: self.payloads.clone(),
+            topology: self.topology.clone(),
+            content_hash: OnceLock::new(),
+        }
+    }
+
     // ----- counts and raw access -----
 
     pub fn num_points(&self) -> usize {

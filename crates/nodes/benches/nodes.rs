@@ -11,6 +11,10 @@ use std::time::Duration;
 
 use geode_graph::{load_str, Cache, CookOptions, Engine};
 
+/// The allocator the geode binary runs with.
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
 /// One workload: a network (JSON), the node pulled, the frame, and the
 /// nodes whose spans make the row's figure.
 struct Row {

@@ -7,7 +7,7 @@ use geode_op::{
     ParamType as T, Params, Registry, Value,
 };
 
-use crate::util::{geometry, input_owned};
+use crate::util::{geometry, input};
 
 pub(crate) const TRANSFORM_TRANSLATE: P = P::new(
     "translate",
@@ -96,9 +96,8 @@ fn cook_transform(
     inputs: &[Option<Value>],
     p: &Params,
 ) -> Result<Value, CookError> {
-    let mut g = input_owned(ctx, inputs, 0)?;
-    ops::transform(&mut g, matrix(p)?);
-    geometry(g)
+    let g = input(ctx, inputs, 0)?;
+    geometry(ops::transformed(g, matrix(p)?))
 }
 
 pub fn register(r: &mut Registry) {

@@ -3,52 +3,127 @@
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::attrib::{AttribTable, TypeInfo};
+use crate::attrib::{AttribData, AttribTable, Attribute, TypeInfo};
 use crate::geometry::Geometry;
 
-/// The linear part of `m` as a 4x4 matrix with no translation.
-fn linear_part(m: &Mat4) -> Mat4 {
-    Mat4::from_mat3(Mat3::from_mat4(*m))
+/// What an affine map does to each kind of attribute, written once for the
+/// in-place and the copying transform.
+struct Affine {
+    m: Mat4,
+    /// The linear part as a 4x4 matrix with no translation.
+    linear: Mat4,
+    /// Inverse transpose of the linear part (its own self when singular).
+    normal_m: Mat3,
+    /// When the linear part is a rotation times a uniform scale: `normal_m`
+    /// divided by that scale, which turns a normal keeping its length with
+    /// no square root (the common case, and the fast one).
+    similar: Option<Mat3>,
+    /// The rotation part.
+    rot: Quat,
 }
 
-fn transform_table(t: &mut AttribTable, m: &Mat4, normal_m: &Mat3, rot: &Quat) {
-    let linear = linear_part(m);
-    for (_, a) in t.iter_mut() {
-        let info = a.type_info;
-        match info {
+impl Affine {
+    fn new(m: Mat4) -> Affine {
+        let lin = Mat3::from_mat4(m);
+        let normal_m = if lin.determinant().abs() > f32::MIN_POSITIVE {
+            lin.inverse().transpose()
+        } else {
+            lin
+        };
+        let (_, rot, _) = Mat4::from_mat3(lin).to_scale_rotation_translation();
+        let rot = if rot.is_finite() {
+            rot.normalize()
+        } else {
+            Quat::IDENTITY
+        };
+        let scale = normal_m.x_axis.length();
+        let (x, y, z) = (normal_m.x_axis, normal_m.y_axis, normal_m.z_axis);
+        let tol = 1e-6 * scale * scale;
+        let similar = (scale > 0.0
+            && (y.length_squared() - scale * scale).abs() <= tol
+            && (z.length_squared() - scale * scale).abs() <= tol
+            && x.dot(y).abs() <= tol
+            && y.dot(z).abs() <= tol
+            && z.dot(x).abs() <= tol)
+            .then(|| normal_m * (1.0 / scale));
+        Affine {
+            m,
+            linear: Mat4::from_mat3(lin),
+            normal_m,
+            similar,
+            rot,
+        }
+    }
+
+    fn normal(&self, n: Vec3) -> Vec3 {
+        if let Some(r) = &self.similar {
+            return *r * n;
+        }
+        let len = n.length();
+        if len > 0.0 {
+            (self.normal_m * n).normalize_or_zero() * len
+        } else {
+            n
+        }
+    }
+
+    fn quat(&self, q: Quat) -> Quat {
+        (self.rot * q).normalize()
+    }
+
+    /// The column `info` says changes, changed (`None`: it stays as it is).
+    fn map(&self, info: TypeInfo, data: &AttribData) -> Option<AttribData> {
+        Some(match (info, data) {
+            (TypeInfo::Position, AttribData::Vec3(v)) => {
+                AttribData::Vec3(par_map(v, |p| self.m.transform_point3(p)))
+            }
+            (TypeInfo::Vector, AttribData::Vec3(v)) => {
+                AttribData::Vec3(par_map(v, |p| self.m.transform_vector3(p)))
+            }
+            (TypeInfo::Normal, AttribData::Vec3(v)) => {
+                AttribData::Vec3(par_map(v, |n| self.normal(n)))
+            }
+            (TypeInfo::Quaternion, AttribData::Quat(v)) => {
+                AttribData::Quat(par_map(v, |q| self.quat(q)))
+            }
+            (TypeInfo::Quaternion, AttribData::Vec4(v)) => {
+                AttribData::Vec4(par_map(v, |q| Vec4::from(self.quat(Quat::from_vec4(q)))))
+            }
+            (TypeInfo::Transform, AttribData::Mat4(v)) => {
+                AttribData::Mat4(par_map(v, |x| self.linear * x))
+            }
+            _ => return None,
+        })
+    }
+
+    /// The same as `map`, in place.
+    fn apply(&self, a: &mut Attribute) {
+        match a.type_info {
             TypeInfo::Position => {
                 if let Some(v) = a.as_vec3_mut() {
-                    v.par_iter_mut().for_each(|p| *p = m.transform_point3(*p));
+                    par_apply(v, |p| self.m.transform_point3(p));
                 }
             }
             TypeInfo::Vector => {
                 if let Some(v) = a.as_vec3_mut() {
-                    v.par_iter_mut().for_each(|p| *p = m.transform_vector3(*p));
+                    par_apply(v, |p| self.m.transform_vector3(p));
                 }
             }
             TypeInfo::Normal => {
                 if let Some(v) = a.as_vec3_mut() {
-                    v.par_iter_mut().for_each(|n| {
-                        let len = n.length();
-                        if len > 0.0 {
-                            *n = (*normal_m * *n).normalize_or_zero() * len;
-                        }
-                    });
+                    par_apply(v, |n| self.normal(n));
                 }
             }
             TypeInfo::Quaternion => {
                 if let Some(v) = a.as_quat_mut() {
-                    v.par_iter_mut().for_each(|q| *q = (*rot * *q).normalize());
+                    par_apply(v, |q| self.quat(q));
                 } else if let Some(v) = a.as_vec4_mut() {
-                    v.par_iter_mut().for_each(|q| {
-                        let r = (*rot * Quat::from_vec4(*q)).normalize();
-                        *q = Vec4::from(r);
-                    });
+                    par_apply(v, |q| Vec4::from(self.quat(Quat::from_vec4(q))));
                 }
             }
             TypeInfo::Transform => {
                 if let Some(v) = a.as_mat4_mut() {
-                    v.par_iter_mut().for_each(|x| *x = linear * *x);
+                    par_apply(v, |x| self.linear * x);
                 }
             }
             TypeInfo::None | TypeInfo::Color | TypeInfo::TexCoord => {}
@@ -56,32 +131,54 @@ fn transform_table(t: &mut AttribTable, m: &Mat4, normal_m: &Mat3, rot: &Quat) {
     }
 }
 
+/// Elements per parallel task (below it, waking threads costs more).
+const CHUNK: usize = 1 << 14;
+
+fn par_map<T: Copy + Send + Sync>(v: &[T], f: impl Fn(T) -> T + Sync) -> Vec<T> {
+    let mut out = Vec::with_capacity(v.len());
+    v.par_iter()
+        .with_min_len(CHUNK)
+        .map(|x| f(*x))
+        .collect_into_vec(&mut out);
+    out
+}
+
+fn par_apply<T: Copy + Send + Sync>(v: &mut [T], f: impl Fn(T) -> T + Sync) {
+    v.par_iter_mut()
+        .with_min_len(CHUNK)
+        .for_each(|x| *x = f(*x));
+}
+
+fn mapped_table(t: &AttribTable, xf: &Affine) -> AttribTable {
+    t.map_columns(|a| xf.map(a.type_info, a.data()))
+}
+
 /// Applies `m` to the geometry: positions fully, vectors by the linear part,
 /// normals by the inverse transpose (keeping their length), quaternions by the
 /// rotation part, local transforms and packed instances by the linear part
 /// (their translation comes from their point).
 pub fn transform(g: &mut Geometry, m: Mat4) {
-    let lin = Mat3::from_mat4(m);
-    let normal_m = if lin.determinant().abs() > f32::MIN_POSITIVE {
-        lin.inverse().transpose()
-    } else {
-        lin
-    };
-    let (_, rot, _) = Mat4::from_mat3(lin).to_scale_rotation_translation();
-    let rot = if rot.is_finite() {
-        rot.normalize()
-    } else {
-        Quat::IDENTITY
-    };
+    let xf = Affine::new(m);
     g.invalidate_content();
-    transform_table(&mut g.points, &m, &normal_m, &rot);
-    transform_table(&mut g.vertices, &m, &normal_m, &rot);
-    transform_table(&mut g.prims, &m, &normal_m, &rot);
-    transform_table(&mut g.detail, &m, &normal_m, &rot);
-    let linear = linear_part(&m);
-    for inst in g.packed.iter_mut() {
-        inst.transform = linear * inst.transform;
+    for t in [&mut g.points, &mut g.vertices, &mut g.prims, &mut g.detail] {
+        for (_, a) in t.iter_mut() {
+            xf.apply(a);
+        }
     }
+    for inst in g.packed.iter_mut() {
+        inst.transform = xf.linear * inst.transform;
+    }
+}
+
+/// `transform` of a copy: each changed column is read once and written once
+/// (no copy first), the rest copied.
+pub fn transformed(g: &Geometry, m: Mat4) -> Geometry {
+    let xf = Affine::new(m);
+    let mut out = g.clone_with_tables(|t| mapped_table(t, &xf));
+    for inst in out.packed.iter_mut() {
+        inst.transform = xf.linear * inst.transform;
+    }
+    out
 }
 
 /// Convenience: a transform from translate, rotate (Euler XYZ, radians) and scale.
@@ -158,6 +255,61 @@ mod tests {
             .as_quat()
             .unwrap()[0];
         assert!(q.angle_between(rot) < 1e-5);
+    }
+
+    #[test]
+    fn the_copying_transform_equals_the_in_place_one() {
+        let mut g = crate::primitives::uv_sphere(1.0, 12, 8);
+        let n: Vec<Vec3> = g.positions().to_vec();
+        g.set_attrib(
+            AttribClass::Point,
+            "N",
+            Attribute::from_data(AttribData::Vec3(n), TypeInfo::Normal),
+        )
+        .unwrap();
+        g.set_attrib(
+            AttribClass::Point,
+            "orient",
+            Attribute::new(
+                AttribValue::Quat(Quat::IDENTITY),
+                TypeInfo::Quaternion,
+                g.num_points(),
+            ),
+        )
+        .unwrap();
+        let turn = Mat4::from_rotation_y(0.4) * Mat4::from_rotation_x(1.1);
+        for m in [
+            // A similarity (rotation, uniform scale): normals without a square root.
+            Mat4::from_translation(Vec3::new(1.0, 2.0, 3.0))
+                * turn
+                * Mat4::from_scale(Vec3::splat(3.0)),
+            // A non-uniform scale: the general inverse transpose.
+            turn * Mat4::from_scale(Vec3::new(2.0, 0.5, 1.0)),
+        ] {
+            let copied = transformed(&g, m);
+            let mut moved = g.clone();
+            transform(&mut moved, m);
+            assert_eq!(copied.content_hash(), moved.content_hash());
+            // Unit normals stay unit and perpendicular to moved tangents.
+            let normals = copied
+                .attrib(AttribClass::Point, "N")
+                .unwrap()
+                .as_vec3()
+                .unwrap();
+            let before = g
+                .attrib(AttribClass::Point, "N")
+                .unwrap()
+                .as_vec3()
+                .unwrap();
+            for (a, b) in normals.iter().zip(before) {
+                assert!((a.length() - b.length()).abs() < 1e-5);
+                let tangent = b.any_orthonormal_vector();
+                assert!(
+                    a.dot(m.transform_vector3(tangent)).abs()
+                        < 1e-4 * m.transform_vector3(tangent).length()
+                );
+            }
+        }
     }
 
     #[test]
