@@ -7,7 +7,6 @@
 
 use std::sync::Arc;
 
-use geode_geo::glam::Mat4;
 use geode_geo::{ops, AttribClass, GeoError, Geometry, Group};
 use rayon::prelude::*;
 
@@ -107,7 +106,7 @@ pub fn copy_to_points(
                 .collect(),
         }
     };
-    let xforms = ops::instance_transforms(template);
+    let instances = ops::InstanceAttribs::new(template);
     let carried: Vec<&str> = template
         .attribs(AttribClass::Point)
         .names()
@@ -115,23 +114,14 @@ pub fn copy_to_points(
         .collect();
     if opts.packed {
         let mut out = Geometry::new();
-        // Packed world transform = T(point) * local: the point is the copy's
-        // origin, so the local part is the rest of the instance matrix.
         for (k, piece) in pieces.iter().enumerate() {
             let members: Vec<usize> = (0..n).filter(|&i| choice[i] == k).collect();
             if members.is_empty() {
                 continue;
             }
-            let positions: Vec<_> = members
-                .iter()
-                .map(|&i| xforms[i].w_axis.truncate())
-                .collect();
-            let locals: Vec<Mat4> = members
-                .iter()
-                .map(|&i| Mat4::from_translation(-xforms[i].w_axis.truncate()) * xforms[i])
-                .collect();
+            let world = |k: usize| instances.at(members[k]);
             let first = out.num_points();
-            out.add_packed_many(piece, &positions, &locals)?;
+            out.add_packed_with(piece, members.len(), world)?;
             let indices: Vec<u32> = members.iter().map(|&i| i as u32).collect();
             carry(template, &carried, &indices, &mut out, first)?;
         }
@@ -143,9 +133,7 @@ pub fn copy_to_points(
             if cancel() {
                 return None;
             }
-            let mut g = (*pieces[choice[i]]).clone();
-            ops::transform(&mut g, xforms[i]);
-            Some(g)
+            Some(ops::transformed(&pieces[choice[i]], instances.at(i)))
         })
         .collect();
     let copies = copies.ok_or(CopyError::Cancelled)?;
@@ -175,25 +163,20 @@ fn carry(
             continue;
         };
         let values = a.data().gather(indices);
-        let total = out.num_points();
         let column = out.attribs_mut(AttribClass::Point).get_or_create(
             name,
             a.default_value().clone(),
             a.type_info,
         )?;
-        let mut column = column.values_mut();
-        for (k, i) in (first..first + indices.len()).enumerate() {
-            if i < total {
-                column
-                    .set(i, &values.get(k))
-                    .map_err(|found| GeoError::AttribType {
-                        class: AttribClass::Point,
-                        name: (*name).into(),
-                        expected: a.attrib_type(),
-                        found,
-                    })?;
-            }
-        }
+        column
+            .values_mut()
+            .write(first, &values)
+            .map_err(|found| GeoError::AttribType {
+                class: AttribClass::Point,
+                name: (*name).into(),
+                expected: a.attrib_type(),
+                found,
+            })?;
     }
     Ok(())
 }

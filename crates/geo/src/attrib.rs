@@ -603,6 +603,39 @@ impl ValuesMut<'_> {
     pub fn set(&mut self, i: usize, value: &AttribValue) -> Result<(), AttribType> {
         self.0.set(i, value)
     }
+
+    /// Overwrites elements `at..at + from.len()` with `from` (a column of
+    /// the same type) in one copy; errors with `from`'s type otherwise.
+    pub fn write(&mut self, at: usize, from: &AttribData) -> Result<(), AttribType> {
+        fn put<T: Clone>(to: &mut [T], at: usize, from: &[T]) {
+            to[at..at + from.len()].clone_from_slice(from);
+        }
+        if at + from.len() > self.0.len() {
+            return Err(from.attrib_type());
+        }
+        match (&mut *self.0, from) {
+            (AttribData::Float(v), AttribData::Float(f)) => put(v, at, f),
+            (AttribData::Int(v), AttribData::Int(f)) => put(v, at, f),
+            (AttribData::Vec2(v), AttribData::Vec2(f)) => put(v, at, f),
+            (AttribData::Vec3(v), AttribData::Vec3(f)) => put(v, at, f),
+            (AttribData::Vec4(v), AttribData::Vec4(f)) => put(v, at, f),
+            (AttribData::Quat(v), AttribData::Quat(f)) => put(v, at, f),
+            (AttribData::Mat4(v), AttribData::Mat4(f)) => put(v, at, f),
+            (AttribData::Mat3(v), AttribData::Mat3(f)) => put(v, at, f),
+            (AttribData::IntArray(v), AttribData::IntArray(f)) => put(v, at, f),
+            (AttribData::FloatArray(v), AttribData::FloatArray(f)) => put(v, at, f),
+            (AttribData::Vec3Array(v), AttribData::Vec3Array(f)) => put(v, at, f),
+            (AttribData::StringArray(v), AttribData::StringArray(f)) => put(v, at, f),
+            (AttribData::String(v), AttribData::String(f)) => {
+                let ids: Vec<u32> = f.table.iter().map(|x| v.intern(x)).collect();
+                for (k, &i) in f.indices.iter().enumerate() {
+                    v.indices[at + k] = ids[i as usize];
+                }
+            }
+            (_, other) => return Err(other.attrib_type()),
+        }
+        Ok(())
+    }
 }
 
 /// All attributes of one class, by name, each with the same number of elements.

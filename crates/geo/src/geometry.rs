@@ -4,6 +4,7 @@ use std::collections::BTreeMap;
 use std::sync::{Arc, OnceLock};
 
 use glam::{Mat4, Vec3};
+use rayon::prelude::*;
 
 use crate::attrib::{AttribClass, AttribData, AttribTable, AttribValue, Attribute, TypeInfo};
 use crate::error::GeoError;
@@ -517,25 +518,72 @@ impl Geometry {
                 transforms.len()
             )));
         }
-        let first_point = self.add_points(positions);
+        self.add_packed_rows(source, positions.len(), |k| (positions[k], transforms[k]))
+    }
+
+    /// Packed instances of `source`, the `k`-th at the position and with
+    /// the linear part of `world(k)` (its translation is the point's).
+    pub fn add_packed_with(
+        &mut self,
+        source: &Arc<Geometry>,
+        n: usize,
+        world: impl Fn(usize) -> Mat4 + Sync,
+    ) -> Result<(), GeoError> {
+        self.add_packed_rows(source, n, |k| {
+            let m = world(k);
+            let local = Mat4::from_cols(m.x_axis, m.y_axis, m.z_axis, glam::Vec4::W);
+            (m.w_axis.truncate(), local)
+        })
+    }
+
+    /// `n` packed instances of `source`, the `k`-th on a new point at
+    /// `row(k).0` with local transform `row(k).1`; columns written whole,
+    /// rows computed in parallel.
+    fn add_packed_rows(
+        &mut self,
+        source: &Arc<Geometry>,
+        n: usize,
+        row: impl Fn(usize) -> (Vec3, Mat4) + Sync,
+    ) -> Result<(), GeoError> {
+        let first_point = self.num_points();
         let first_packed = self.packed.len();
         let first_prim = self.num_prims();
-        checked_u32(first_packed + positions.len(), "packed instance count")?;
-        checked_u32(self.vertex_point.len() + positions.len(), "vertex count")?;
-        for (i, t) in transforms.iter().enumerate() {
-            self.vertex_point.push(first_point + i as u32);
-            self.prim_offsets.push(self.vertex_point.len() as u32);
-            self.prim_kinds
-                .push(PrimKind::Packed((first_packed + i) as u32));
-            self.packed.push(PackedInstance {
-                source: Arc::clone(source),
-                transform: *t,
-            });
-        }
+        checked_u32(first_point + n, "point count")?;
+        checked_u32(first_packed + n, "packed instance count")?;
+        checked_u32(self.vertex_point.len() + n, "vertex count")?;
+        let first_vertex = self.vertex_point.len() as u32;
+        // One vertex and one primitive per instance.
+        self.vertex_point
+            .extend((0..n as u32).map(|i| first_point as u32 + i));
+        self.prim_offsets
+            .extend((1..=n as u32).map(|i| first_vertex + i));
+        self.prim_kinds
+            .extend((0..n as u32).map(|i| PrimKind::Packed(first_packed as u32 + i)));
+        // One thread: clones of one Arc from several contend for its count.
+        self.packed.reserve(n);
+        self.packed.extend((0..n).map(|_| PackedInstance {
+            source: Arc::clone(source),
+            transform: Mat4::IDENTITY,
+        }));
+        self.resize_points(first_point + n);
+        self.invalidate_content();
+        let positions = self
+            .points
+            .get_mut(P)
+            .and_then(|a| a.as_vec3_mut())
+            .expect("P is always a vector3 point attribute");
+        let positions = &mut positions[first_point..];
+        let packed = &mut self.packed[first_packed..];
+        positions
+            .par_iter_mut()
+            .zip(packed.par_iter_mut())
+            .enumerate()
+            .with_min_len(1 << 12)
+            .for_each(|(k, (p, inst))| (*p, inst.transform) = row(k));
         self.vertices.resize(self.vertex_point.len());
         self.prims.resize(self.prim_kinds.len());
         for g in self.prim_groups.values_mut() {
-            g.resize(first_prim + positions.len());
+            g.resize(first_prim + n);
         }
         self.invalidate_topology();
         Ok(())
@@ -565,10 +613,14 @@ impl Geometry {
         }
         let mut seen = std::collections::HashSet::new();
         let mut sources = 0;
+        let mut last = std::ptr::null();
         for inst in &self.packed {
-            if seen.insert(Arc::as_ptr(&inst.source)) {
+            // Runs of instances of one source are the rule: one lookup each.
+            let source = Arc::as_ptr(&inst.source);
+            if source != last && seen.insert(source) {
                 sources += inst.source.memory_bytes();
             }
+            last = source;
         }
         table_bytes(&self.points)
             + table_bytes(&self.vertices)

@@ -1,4 +1,6 @@
-//! glTF 2.0 / GLB reader (through the `gltf` crate): meshes of the default scene, shared meshes as packed instances.
+//! glTF 2.0 / GLB reader (through the `gltf` crate): meshes of the default
+//! scene, shared meshes (and `EXT_mesh_gpu_instancing` nodes) as packed
+//! instances.
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -10,6 +12,7 @@ use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, PrimKind, Typ
 use gltf::mesh::Mode;
 
 use crate::error::{ParseError, ParseResult};
+use crate::gltf_instancing as instancing;
 use crate::progress::Progress;
 
 fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8>>> {
@@ -123,7 +126,7 @@ fn check_position_json(json: &[u8]) -> ParseResult<()> {
 
 /// Checks that an accessor's data lies inside its buffer, so reading it cannot
 /// go out of bounds.
-fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
+pub(crate) fn check_accessor(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> ParseResult<()> {
     let elem = a.size();
     let check_view =
         |view: &gltf::buffer::View, offset: usize, count: usize, elem: usize| -> ParseResult<()> {
@@ -351,8 +354,7 @@ pub fn read_gltf(
     progress: &dyn Progress,
 ) -> ParseResult<Geometry> {
     check_position_accessors(bytes)?;
-    let doc = gltf::Gltf::from_slice(bytes)
-        .map_err(|e| ParseError::whole(format!("invalid glTF: {e}")))?;
+    let doc = instancing::parse(bytes)?;
     let buffers = load_buffers(&doc, base)?;
     progress.start("reading glTF", doc.meshes().len() as u64);
     let scene = doc.default_scene().or_else(|| doc.scenes().next());
@@ -370,7 +372,10 @@ pub fn read_gltf(
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(m) = node.mesh() {
-            placed.push((m.index(), world));
+            match instancing::read_instances(&node, &doc, &buffers)? {
+                Some(each) => placed.extend(each.into_iter().map(|t| (m.index(), world * t))),
+                None => placed.push((m.index(), world)),
+            }
         }
         for c in node.children() {
             stack.push((c, world, depth + 1));

@@ -1,4 +1,6 @@
-//! GLB writer: meshes with positions, normals, UVs and colours; packed instances as shared meshes on nodes.
+//! GLB writer: meshes with positions, normals, UVs and colours; packed
+//! instances as shared meshes, instanced on one node per source
+//! (`EXT_mesh_gpu_instancing`) or on a node each.
 
 use std::collections::HashMap;
 use std::io::Write;
@@ -11,6 +13,7 @@ use serde_json::{json, Value};
 
 use crate::atomic::os_err;
 use crate::error::IoError;
+use crate::gltf_instancing as instancing;
 use crate::progress::Progress;
 
 const ARRAY_BUFFER: u32 = 34962;
@@ -28,6 +31,8 @@ struct Builder<'c> {
     nodes: Vec<Value>,
     /// Mesh index (or none) per distinct source geometry, by pointer.
     mesh_of: HashMap<*const Geometry, Option<usize>>,
+    /// Whether a node uses `EXT_mesh_gpu_instancing`.
+    instanced: bool,
 }
 
 impl Builder<'_> {
@@ -270,6 +275,10 @@ impl Builder<'_> {
     }
 
     /// Nodes for `g`: returns the indices of nodes to place under a parent.
+    /// Instances of a source with no instances of its own whose transform
+    /// is a translation, rotation and scale share one node per source with
+    /// `EXT_mesh_gpu_instancing` (three columns for a million instances);
+    /// the rest (shears, nested instancing) get a node each.
     fn nodes_for(&mut self, g: &Geometry, own_mesh: bool, depth: usize) -> Vec<usize> {
         let mut out = Vec::new();
         if own_mesh {
@@ -281,23 +290,37 @@ impl Builder<'_> {
         if depth > 64 {
             return out;
         }
-        for prim in 0..g.num_prims() {
-            if !matches!(g.prim_kind(prim), PrimKind::Packed(_)) {
+        let packed: Vec<usize> = g.prims_where(Geometry::is_packed);
+        let Some(placed) = instancing::place(g, &packed, self.cancelled) else {
+            return out;
+        };
+        for group in &placed.groups {
+            let source = &g.packed_instance(group.first_prim).expect("packed").source;
+            let Some(mesh) = self.mesh(source) else {
                 continue;
-            }
-            if prim.is_multiple_of(4096) && (self.cancelled)() {
+            };
+            let attributes = json!({
+                "TRANSLATION": self.instance_accessor(&group.translations, "VEC3"),
+                "ROTATION": self.instance_accessor(&group.rotations, "VEC4"),
+                "SCALE": self.instance_accessor(&group.scales, "VEC3"),
+            });
+            self.instanced = true;
+            self.nodes.push(json!({
+                "mesh": mesh,
+                "extensions": {instancing::EXTENSION: {"attributes": attributes}},
+            }));
+            out.push(self.nodes.len() - 1);
+        }
+        for (k, &prim) in placed.one_by_one.iter().enumerate() {
+            if k % 4096 == 4095 && (self.cancelled)() {
                 return out;
             }
             let inst = g.packed_instance(prim).expect("packed");
             let world = g.packed_world_transform(prim).expect("packed has a point");
             let src: Arc<Geometry> = Arc::clone(&inst.source);
             let mesh = self.mesh(&src);
-            let has_nested = src
-                .prim_kinds()
-                .iter()
-                .any(|k| matches!(k, PrimKind::Packed(_)));
             // The source's own mesh sits on this node; its instances become children.
-            let children = if has_nested {
+            let children = if src.has_packed() {
                 self.nodes_for(&src, false, depth + 1)
             } else {
                 Vec::new()
@@ -313,6 +336,23 @@ impl Builder<'_> {
             out.push(self.nodes.len() - 1);
         }
         out
+    }
+
+    /// An accessor over per-instance values (no buffer target: they are
+    /// not vertex attributes).
+    fn instance_accessor<T: bytemuck::Pod>(&mut self, data: &[T], ty: &str) -> usize {
+        while !self.bin.len().is_multiple_of(4) {
+            self.bin.push(0);
+        }
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let offset = self.bin.len();
+        self.bin.extend_from_slice(bytes);
+        self.views
+            .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()}));
+        self.accessors.push(
+            json!({"bufferView": self.views.len() - 1, "componentType": FLOAT, "count": data.len(), "type": ty}),
+        );
+        self.accessors.len() - 1
     }
 }
 
@@ -338,6 +378,7 @@ pub fn write_glb(
         meshes: Vec::new(),
         nodes: Vec::new(),
         mesh_of: HashMap::new(),
+        instanced: false,
     };
     let roots = b.nodes_for(g, true, 0);
     if progress.cancelled() {
@@ -359,6 +400,11 @@ pub fn write_glb(
     }
     if !b.nodes.is_empty() {
         doc["nodes"] = json!(b.nodes);
+    }
+    if b.instanced {
+        // Required: a viewer without it would show one copy where there are many.
+        doc["extensionsUsed"] = json!([instancing::EXTENSION]);
+        doc["extensionsRequired"] = json!([instancing::EXTENSION]);
     }
     if !b.meshes.is_empty() {
         doc["meshes"] = json!(b.meshes);

@@ -4,6 +4,7 @@
 
 mod atomic;
 mod error;
+mod gltf_instancing;
 mod gltf_read;
 mod gltf_write;
 pub mod obj;

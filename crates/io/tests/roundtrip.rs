@@ -127,6 +127,58 @@ fn ply_keeps_attributes() {
 }
 
 #[test]
+fn glb_instances_share_nodes_and_keep_every_transform() {
+    let g = mixed_instances();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mixed.glb");
+    write(&g, &path, &NoProgress).unwrap();
+    // One instancing node per source, the shear on a node of its own.
+    let bytes = std::fs::read(&path).unwrap();
+    let glb = gltf::Glb::from_slice(&bytes).unwrap();
+    let doc: serde_json::Value = serde_json::from_slice(&glb.json).unwrap();
+    let nodes = doc["nodes"].as_array().unwrap();
+    let instancing: Vec<u64> = nodes
+        .iter()
+        .filter_map(|n| {
+            n["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"].as_u64()
+        })
+        .map(|a| doc["accessors"][a as usize]["count"].as_u64().unwrap())
+        .collect();
+    assert_eq!(
+        instancing,
+        vec![10, 20],
+        "cube first (instance 0), then the ball"
+    );
+    assert_eq!(nodes.len(), 3);
+    assert_eq!(
+        doc["extensionsRequired"],
+        serde_json::json!(["EXT_mesh_gpu_instancing"])
+    );
+    // Read back: the same world transforms, instance by instance.
+    let back = read(&path, &NoProgress).unwrap();
+    let worlds = |g: &Geometry| -> Vec<(usize, [f32; 16])> {
+        let mut w: Vec<(usize, [f32; 16])> = (0..g.num_prims())
+            .filter(|&p| matches!(g.prim_kind(p), PrimKind::Packed(_)))
+            .map(|p| {
+                let src = g.packed_instance(p).unwrap().source.num_points();
+                (src, g.packed_world_transform(p).unwrap().to_cols_array())
+            })
+            .collect();
+        w.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        w
+    };
+    let (a, b) = (worlds(&g), worlds(&back));
+    assert_eq!(a.len(), 31);
+    assert_eq!(a.len(), b.len());
+    for ((sa, ma), (sb, mb)) in a.iter().zip(&b) {
+        assert_eq!(sa, sb);
+        for (x, y) in ma.iter().zip(mb) {
+            assert!((x - y).abs() < 1e-5, "{ma:?} vs {mb:?}");
+        }
+    }
+}
+
+#[test]
 fn glb_keeps_attributes_and_instances() {
     let g = attributed_torus();
     let back = round_trip(&g, "glb");

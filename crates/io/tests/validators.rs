@@ -43,6 +43,7 @@ fn samples() -> Vec<(&'static str, Geometry)> {
             ops::triangulate(&primitives::tube(1.0, 1.0, 7, 2, true), None),
         ),
         ("instances", instanced_scene(100)),
+        ("mixed_instances", mixed_instances()),
         ("nested", nested),
         ("lines", lines),
         ("cloud", cloud),

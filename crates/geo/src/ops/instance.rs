@@ -2,11 +2,12 @@
 //! (shared by copy-to-points and the FRep instancer).
 
 use glam::{Mat3, Mat4, Quat, Vec3};
+use rayon::prelude::*;
 
 use crate::attrib::AttribClass;
 use crate::geometry::Geometry;
 
-/// The instance transform of every point, from Houdini's point attributes:
+/// Houdini's instance attributes of a geometry's points, read once:
 /// `P`, `trans` (added to P), `pivot`, `pscale` (uniform) and `scale`
 /// (per axis), and the rotation from `orient` (quaternion) if present, else
 /// from `N` (the instance's +Z) and `up` (default +Y); `rot` (quaternion)
@@ -14,39 +15,77 @@ use crate::geometry::Geometry;
 /// `M = T(P + trans) * R_orient * R_rot * S(pscale * scale) * T(-pivot)`.
 /// A `transform` matrix (its linear part) replaces rotation and scale
 /// alike, as in Houdini: `M = T(P + trans) * transform * T(-pivot)`.
-pub fn instance_transforms(g: &Geometry) -> Vec<Mat4> {
-    let n = g.num_points();
-    let p = g.positions();
-    let a = |name: &str| g.attrib(AttribClass::Point, name);
-    let vec3 = |name: &str| a(name).and_then(|x| x.as_vec3());
-    let quat = |name: &str| a(name).and_then(|x| x.as_quat());
-    let (orient, rot) = (quat("orient"), quat("rot"));
-    let (normal, up) = (vec3("N"), vec3("up"));
-    let (trans, pivot, scale) = (vec3("trans"), vec3("pivot"), vec3("scale"));
-    let pscale = a("pscale").and_then(|x| x.as_f32());
-    let xform = a("transform").and_then(|x| x.as_mat4());
-    (0..n)
-        .map(|i| {
-            let r_main = match (orient, normal) {
-                (Some(o), _) => o[i].normalize(),
-                (None, Some(nv)) => look_along(nv[i], up.map_or(Vec3::Y, |u| u[i])),
-                (None, None) => Quat::IDENTITY,
-            };
-            let r = r_main * rot.map_or(Quat::IDENTITY, |r| r[i].normalize());
-            let s = scale.map_or(Vec3::ONE, |s| s[i]) * pscale.map_or(1.0, |s| s[i]);
-            let t = p[i] + trans.map_or(Vec3::ZERO, |t| t[i]);
-            let pv = pivot.map_or(Vec3::ZERO, |v| v[i]);
-            if let Some(m) = xform {
-                let linear = Mat4::from_mat3(Mat3::from_mat4(m[i]));
-                return Mat4::from_translation(t) * linear * Mat4::from_translation(-pv);
+pub struct InstanceAttribs<'a> {
+    p: &'a [Vec3],
+    orient: Option<&'a [Quat]>,
+    rot: Option<&'a [Quat]>,
+    normal: Option<&'a [Vec3]>,
+    up: Option<&'a [Vec3]>,
+    trans: Option<&'a [Vec3]>,
+    pivot: Option<&'a [Vec3]>,
+    scale: Option<&'a [Vec3]>,
+    pscale: Option<&'a [f32]>,
+    xform: Option<&'a [Mat4]>,
+}
+
+impl<'a> InstanceAttribs<'a> {
+    pub fn new(g: &'a Geometry) -> InstanceAttribs<'a> {
+        let a = |name: &str| g.attrib(AttribClass::Point, name);
+        let vec3 = |name: &str| a(name).and_then(|x| x.as_vec3());
+        let quat = |name: &str| a(name).and_then(|x| x.as_quat());
+        InstanceAttribs {
+            p: g.positions(),
+            orient: quat("orient"),
+            rot: quat("rot"),
+            normal: vec3("N"),
+            up: vec3("up"),
+            trans: vec3("trans"),
+            pivot: vec3("pivot"),
+            scale: vec3("scale"),
+            pscale: a("pscale").and_then(|x| x.as_f32()),
+            xform: a("transform").and_then(|x| x.as_mat4()),
+        }
+    }
+
+    /// Point `i`'s instance transform.
+    pub fn at(&self, i: usize) -> Mat4 {
+        let t = self.p[i] + self.trans.map_or(Vec3::ZERO, |t| t[i]);
+        let pv = self.pivot.map_or(Vec3::ZERO, |v| v[i]);
+        let linear = match self.xform {
+            Some(m) => Mat3::from_mat4(m[i]),
+            None => {
+                let r_main = match (self.orient, self.normal) {
+                    (Some(o), _) => o[i].normalize(),
+                    (None, Some(nv)) => look_along(nv[i], self.up.map_or(Vec3::Y, |u| u[i])),
+                    (None, None) => Quat::IDENTITY,
+                };
+                let r = r_main * self.rot.map_or(Quat::IDENTITY, |r| r[i].normalize());
+                let s = self.scale.map_or(Vec3::ONE, |s| s[i]) * self.pscale.map_or(1.0, |s| s[i]);
+                Mat3::from_quat(r) * Mat3::from_diagonal(s)
             }
-            Mat4::from_translation(t)
-                * Mat4::from_quat(r)
-                * Mat4::from_scale(s)
-                * Mat4::from_translation(-pv)
-        })
+        };
+        // T(t) * linear * T(-pivot), composed directly.
+        Mat4::from_cols(
+            linear.x_axis.extend(0.0),
+            linear.y_axis.extend(0.0),
+            linear.z_axis.extend(0.0),
+            (t - linear * pv).extend(1.0),
+        )
+    }
+}
+
+/// The instance transform of every point (see [`InstanceAttribs`]).
+pub fn instance_transforms(g: &Geometry) -> Vec<Mat4> {
+    let attribs = InstanceAttribs::new(g);
+    (0..g.num_points())
+        .into_par_iter()
+        .with_min_len(PER_TASK)
+        .map(|i| attribs.at(i))
         .collect()
 }
+
+/// Points per parallel task.
+const PER_TASK: usize = 1 << 12;
 
 /// The rotation taking +Z to `dir` with +Y turned towards `up`.
 fn look_along(dir: Vec3, up: Vec3) -> Quat {

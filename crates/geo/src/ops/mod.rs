@@ -20,7 +20,7 @@ pub use bounds::{bounds, signed_volume, surface_area, Aabb};
 pub use collapse::reduce_triangles;
 pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};
 pub use fuse::{fuse_points, FuseStats};
-pub use instance::instance_transforms;
+pub use instance::{instance_transforms, InstanceAttribs};
 pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use quadric::Quadric;

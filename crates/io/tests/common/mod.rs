@@ -114,6 +114,39 @@ pub fn instanced_scene(n: usize) -> Geometry {
     g
 }
 
+/// Instances of two sources, rotated and scaled (one of them mirrored), and
+/// one sheared: what `EXT_mesh_gpu_instancing` holds and what it cannot.
+pub fn mixed_instances() -> Geometry {
+    let ball = Arc::new(primitives::uv_sphere(0.2, 12, 6));
+    let cube = Arc::new(primitives::cube(0.3));
+    let mut g = Geometry::new();
+    for i in 0..30 {
+        let source = if i % 3 == 0 { &cube } else { &ball };
+        let scale = if i == 7 {
+            Vec3::new(-1.0, 1.0, 2.0)
+        } else {
+            Vec3::splat(1.0 + i as f32 * 0.05)
+        };
+        let local = Mat4::from_scale_rotation_translation(
+            scale,
+            Quat::from_euler(
+                geode_geo::glam::EulerRot::XYZ,
+                0.1 * i as f32,
+                0.7,
+                -0.2 * i as f32,
+            ),
+            Vec3::ZERO,
+        );
+        let p = g.add_point(Vec3::new(i as f32, (i % 4) as f32, 0.5 * i as f32));
+        g.add_packed(p, Arc::clone(source), local).unwrap();
+    }
+    let mut shear = Mat4::IDENTITY;
+    shear.y_axis.x = 0.75;
+    let p = g.add_point(Vec3::new(-3.0, 0.0, 0.0));
+    g.add_packed(p, Arc::clone(&ball), shear).unwrap();
+    g
+}
+
 /// True when the test run must use the external validators (CI sets it).
 pub fn validators_required() -> bool {
     std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1")
