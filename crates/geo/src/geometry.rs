@@ -254,6 +254,8 @@ impl Geometry {
     /// Replaces all points' positions; the point count becomes `positions.len()`.
     pub fn set_positions(&mut self, positions: Vec<Vec3>) {
         let n = positions.len();
+        // Not filled first only to be replaced.
+        self.points.remove(P);
         self.resize_points(n);
         let attr = Attribute::from_data(AttribData::Vec3(positions), TypeInfo::Position);
         self.points.insert(P, attr).expect("same length");

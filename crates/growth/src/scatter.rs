@@ -90,42 +90,111 @@ pub fn inside(
     Ok((out, share.min(1.0)))
 }
 
-/// `count` points on triangles, uniform by area: returns each point and the
-/// triangle it lies on. `cancel` is polled per point (an atomic load).
+/// Points on triangles and the triangle each lies on.
+pub struct SurfacePoints {
+    pub positions: Vec<Vec3>,
+    pub triangles: Vec<u32>,
+}
+
+/// Points per parallel task (and per cancellation poll).
+const PER_TASK: usize = 1 << 14;
+
+/// The inverse of a piecewise-constant distribution's CDF in expected O(1):
+/// a guide table of as many buckets as triangles points each bucket's start
+/// at its first triangle, then a short scan finds the exact one — the same
+/// triangle a binary search over the CDF finds, without its dependent loads.
+struct Sampler {
+    cdf: Vec<f64>,
+    total: f64,
+    /// Each bucket's first triangle and where the bucket starts.
+    guide: Vec<(u32, f64)>,
+    /// Buckets per unit of the CDF.
+    per_unit: f64,
+}
+
+impl Sampler {
+    fn new(triangles: &[[Vec3; 3]]) -> Sampler {
+        let mut cdf = Vec::with_capacity(triangles.len());
+        let mut total = 0.0f64;
+        for t in triangles {
+            total += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() as f64;
+            cdf.push(total);
+        }
+        let buckets = cdf.len().max(1);
+        let mut guide = Vec::with_capacity(buckets);
+        let mut k = 0;
+        for j in 0..buckets {
+            let start = total * (j as f64 / buckets as f64);
+            while k < cdf.len() && cdf[k] <= start {
+                k += 1;
+            }
+            guide.push((k as u32, start));
+        }
+        Sampler {
+            cdf,
+            total,
+            guide,
+            per_unit: buckets as f64 / total,
+        }
+    }
+
+    /// The first triangle whose CDF exceeds `target` (clamped to the last).
+    fn find(&self, target: f64) -> usize {
+        // The bucket from a product may be one too far by rounding: step back.
+        let mut j = ((target * self.per_unit) as usize).min(self.guide.len() - 1);
+        while j > 0 && self.guide[j].1 > target {
+            j -= 1;
+        }
+        let mut k = self.guide[j].0 as usize;
+        while k < self.cdf.len() && self.cdf[k] <= target {
+            k += 1;
+        }
+        k.min(self.cdf.len() - 1)
+    }
+}
+
+/// `count` points on triangles, uniform by area, each with the triangle it
+/// lies on. Point `i` depends on (seed, i) alone. `cancel` is polled per
+/// few thousand points.
 pub fn on_surface(
     triangles: &[[Vec3; 3]],
     count: usize,
     seed: u64,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Vec<(Vec3, u32)>, ScatterError> {
-    let mut cdf = Vec::with_capacity(triangles.len());
-    let mut total = 0.0f64;
-    for t in triangles {
-        total += 0.5 * (t[1] - t[0]).cross(t[2] - t[0]).length() as f64;
-        cdf.push(total);
-    }
-    if total.is_nan() || total <= 0.0 {
+) -> Result<SurfacePoints, ScatterError> {
+    let sampler = Sampler::new(triangles);
+    if sampler.total.is_nan() || sampler.total <= 0.0 {
         return Err(ScatterError::NoArea);
     }
-    // Collecting into an Option stops every worker at the first None.
-    (0..count as u64)
-        .into_par_iter()
-        .map(|i| {
+    let mut out = SurfacePoints {
+        positions: vec![Vec3::ZERO; count],
+        triangles: vec![0; count],
+    };
+    let stopped = out
+        .positions
+        .par_chunks_mut(PER_TASK)
+        .zip(out.triangles.par_chunks_mut(PER_TASK))
+        .enumerate()
+        .any(|(c, (positions, tris))| {
             if cancel() {
-                return None;
+                return true;
             }
-            let target = geode_geo::random::unit_f64(seed, i, 0) * total;
-            let k = cdf
-                .partition_point(|&c| c <= target)
-                .min(triangles.len() - 1);
-            let t = &triangles[k];
-            // Uniform in the triangle: the square-root warp.
-            let (r1, r2) = (unit(seed, i, 1).sqrt(), unit(seed, i, 2));
-            let p = t[0] * (1.0 - r1) + t[1] * (r1 * (1.0 - r2)) + t[2] * (r1 * r2);
-            Some((p, k as u32))
-        })
-        .collect::<Option<Vec<_>>>()
-        .ok_or(ScatterError::Cancelled)
+            for (k, (p, tri)) in positions.iter_mut().zip(tris).enumerate() {
+                let i = (c * PER_TASK + k) as u64;
+                let target = geode_geo::random::unit_f64(seed, i, 0) * sampler.total;
+                let at = sampler.find(target);
+                let t = &triangles[at];
+                // Uniform in the triangle: the square-root warp.
+                let (r1, r2) = (unit(seed, i, 1).sqrt(), unit(seed, i, 2));
+                *p = t[0] * (1.0 - r1) + t[1] * (r1 * (1.0 - r2)) + t[2] * (r1 * r2);
+                *tri = at as u32;
+            }
+            false
+        });
+    if stopped {
+        return Err(ScatterError::Cancelled);
+    }
+    Ok(out)
 }
 
 /// Total area of triangles.
@@ -167,6 +236,37 @@ mod tests {
             none,
             Err(ScatterError::TooFewInside { found: 0, .. })
         ));
+    }
+
+    #[test]
+    fn the_guide_table_finds_what_a_binary_search_finds() {
+        // Areas from tiny to large, zero-area slivers among them.
+        let tris: Vec<[Vec3; 3]> = (0..997u64)
+            .map(|i| {
+                let a = if i % 13 == 0 {
+                    0.0
+                } else {
+                    unit(5, i, 0).powi(6) * 3.0
+                };
+                [
+                    Vec3::ZERO,
+                    Vec3::new(a, 0.0, 0.0),
+                    Vec3::new(0.0, 1.0, i as f32 * 1e-3),
+                ]
+            })
+            .collect();
+        let s = Sampler::new(&tris);
+        let by_search = |t: f64| s.cdf.partition_point(|&c| c <= t).min(s.cdf.len() - 1);
+        let mut targets: Vec<f64> = (0..200_000u64)
+            .map(|i| geode_geo::random::unit_f64(9, i, 0) * s.total)
+            .collect();
+        // Exactly on every CDF step and bucket start, and the ends.
+        targets.extend(s.cdf.iter().copied());
+        targets.extend(s.guide.iter().map(|g| g.1));
+        targets.extend([0.0, s.total, s.total * (1.0 - 1e-16)]);
+        for t in targets {
+            assert_eq!(s.find(t), by_search(t), "target {t}");
+        }
     }
 
     #[test]

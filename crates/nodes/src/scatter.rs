@@ -52,7 +52,7 @@ fn scatter_error(ctx: &CookContext, e: ScatterError) -> CookError {
 
 fn points(pts: Vec<Vec3>) -> Result<Value, CookError> {
     let mut g = Geometry::new();
-    g.add_points(&pts);
+    g.set_positions(pts);
     geometry(g)
 }
 
@@ -175,20 +175,26 @@ fn cook_scatter(
     let mut found =
         scatter::on_surface(&tris, wanted, seed, &cancel).map_err(|e| scatter_error(ctx, e))?;
     if relax {
-        let pts: Vec<Vec3> = found.iter().map(|x| x.0).collect();
-        let keep = scatter::eliminate(&pts, count, scatter::area(&tris), 2, &cancel)
+        let keep = scatter::eliminate(&found.positions, count, scatter::area(&tris), 2, &cancel)
             .map_err(|e| scatter_error(ctx, e))?;
-        found = keep.into_iter().map(|i| found[i]).collect();
+        found = scatter::SurfacePoints {
+            positions: keep.iter().map(|&i| found.positions[i]).collect(),
+            triangles: keep.iter().map(|&i| found.triangles[i]).collect(),
+        };
     }
-    let mut out = Geometry::new();
-    out.add_points(&found.iter().map(|x| x.0).collect::<Vec<_>>());
-    let normals = found
-        .iter()
-        .map(|&(_, t)| {
-            let t = &tris[t as usize];
-            (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero()
-        })
+    let faces: Vec<Vec3> = tris
+        .par_iter()
+        .map(|t| (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero())
         .collect();
+    let normals = found
+        .triangles
+        .par_iter()
+        .with_min_len(1 << 14)
+        .map(|&t| faces[t as usize])
+        .collect();
+    drop(found.triangles);
+    let mut out = Geometry::new();
+    out.set_positions(found.positions);
     out.set_attrib(
         AttribClass::Point,
         "N",
