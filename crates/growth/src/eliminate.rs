@@ -12,8 +12,17 @@ use rayon::prelude::*;
 
 use crate::scatter::ScatterError;
 
-/// Neighbourhood weight falloff exponent (Yuksel's alpha).
-const FALLOFF: i32 = 8;
+/// A neighbour's weight at distance `d` under `reach`: Yuksel's
+/// `(1 - d / reach)^alpha` with alpha 8 (three squarings).
+fn falloff(reach: f32) -> impl Fn(f32) -> f64 {
+    let per_reach = 1.0 / reach as f64;
+    move |d: f32| {
+        let x = 1.0 - d as f64 * per_reach;
+        let x2 = x * x;
+        let x4 = x2 * x2;
+        x4 * x4
+    }
+}
 
 /// Buckets of the removal queue.
 const BUCKETS: usize = 1 << 16;
@@ -165,7 +174,7 @@ fn neighbourhoods(
     reach: f32,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Option<(Vec<u32>, Vec<u32>, Vec<f64>)> {
-    let weight = |d: f32| (1.0 - d as f64 / reach as f64).powi(FALLOFF);
+    let weight = falloff(reach);
     let cell_count = grid.cells.len() - 1;
     let parts: Vec<(Vec<u32>, Vec<u32>, Vec<f64>)> = (0..cell_count.div_ceil(CELLS_PER_TASK))
         .into_par_iter()
@@ -246,13 +255,12 @@ pub fn eliminate(
     let (offsets, lists, mut w) =
         neighbourhoods(&grid, reach, cancel).ok_or(ScatterError::Cancelled)?;
     let largest = w.iter().copied().fold(0.0f64, f64::max);
-    let bucket = |x: f64| -> usize {
-        if largest > 0.0 {
-            ((x / largest * (BUCKETS - 1) as f64) as usize).min(BUCKETS - 1)
-        } else {
-            0
-        }
+    let per_weight = if largest > 0.0 {
+        (BUCKETS - 1) as f64 / largest
+    } else {
+        0.0
     };
+    let bucket = |x: f64| -> usize { ((x * per_weight) as usize).min(BUCKETS - 1) };
     let mut queue: Vec<Vec<u32>> = vec![Vec::new(); BUCKETS];
     for (s, &x) in w.iter().enumerate() {
         queue[bucket(x)].push(s as u32);
@@ -260,7 +268,7 @@ pub fn eliminate(
     let mut alive = vec![true; n];
     let mut left = n;
     let mut top = BUCKETS - 1;
-    let weight = |d: f32| (1.0 - d as f64 / reach as f64).powi(FALLOFF);
+    let weight = falloff(reach);
     let mut pops = 0u32;
     while left > keep {
         pops = pops.wrapping_add(1);

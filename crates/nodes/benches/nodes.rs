@@ -304,7 +304,9 @@ fn run_once(row: &Row) -> (Duration, u64) {
             .map(str::to_owned)
             .collect();
         for path in inputs {
-            engine.cook(&path, &opts).unwrap_or_else(|e| panic!("{}: {e:?}", row.name));
+            engine
+                .cook(&path, &opts)
+                .unwrap_or_else(|e| panic!("{}: {e:?}", row.name));
         }
     }
     reset_peak();
