@@ -185,23 +185,37 @@ fn neighbourhoods(
             let cells = task * CELLS_PER_TASK..((task + 1) * CELLS_PER_TASK).min(cell_count);
             let (mut counts, mut lists, mut weights) = (Vec::new(), Vec::new(), Vec::new());
             let (mut near, mut hits) = (Vec::new(), Vec::new());
+            let (mut near_at, mut d2) = (Vec::new(), Vec::new());
             for c in cells {
                 grid.around(c, &mut near);
+                // The 27 cells' points side by side, coordinates apart, so
+                // the distance tests run as plain vector arithmetic.
+                near_at.clear();
+                near_at.extend(near.iter().map(|&t| grid.sorted[t as usize]));
+                let xs: Vec<f32> = near_at.iter().map(|q| q.x).collect();
+                let ys: Vec<f32> = near_at.iter().map(|q| q.y).collect();
+                let zs: Vec<f32> = near_at.iter().map(|q| q.z).collect();
                 for s in grid.cells[c].1..grid.cells[c + 1].1 {
                     let p = grid.sorted[s as usize];
+                    d2.clear();
+                    d2.extend(xs.iter().zip(&ys).zip(&zs).map(|((x, y), z)| {
+                        (x - p.x).powi(2) + (y - p.y).powi(2) + (z - p.z).powi(2)
+                    }));
                     // Branch-free gathering: most of the 27 cells' points
                     // lie beyond reach, unpredictably.
                     hits.resize(near.len(), 0);
                     let mut found = 0;
-                    for &t in &near {
-                        let d2 = p.distance_squared(grid.sorted[t as usize]);
-                        hits[found] = t;
-                        found += usize::from(t != s && d2 < reach * reach);
+                    for (k, &t) in near.iter().enumerate() {
+                        hits[found] = k as u32;
+                        found += usize::from(t != s && d2[k] < reach * reach);
                     }
                     let w: f64 = hits[..found]
                         .iter()
-                        .map(|&t| weight(p.distance(grid.sorted[t as usize])))
+                        .map(|&k| weight(d2[k as usize].sqrt()))
                         .sum();
+                    for h in &mut hits[..found] {
+                        *h = near[*h as usize];
+                    }
                     lists.extend_from_slice(&hits[..found]);
                     counts.push(found as u32);
                     weights.push(w);
