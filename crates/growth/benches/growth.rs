@@ -1,6 +1,7 @@
 //! Growth kernels at scale: space colonization of 100k and 1M attractors
 //! uniform in a unit ball (influence 0.1, kill 0.02, step 0.01) to
-//! completion, and scattering inside a mesh. Totals are printed once.
+//! completion, scattering inside and on a mesh, and blue noise by sample
+//! elimination (5 candidates per kept point). Totals are printed once.
 //! Run: cargo bench -p geode-growth --bench growth
 
 use geode_geo::glam::Vec3;
@@ -71,4 +72,23 @@ fn scatter_inside_torus_mesh(bencher: divan::Bencher, n: usize) {
         )
         .unwrap()
     });
+}
+
+/// Triangles of a 32k-quad sphere.
+fn sphere_triangles() -> Vec<[Vec3; 3]> {
+    geode_growth::inside::triangles(&geode_geo::primitives::uv_sphere(1.0, 256, 128))
+}
+
+#[divan::bench(args = [1_000_000, 7_900_000], sample_count = 5)]
+fn scatter_on_sphere_surface(bencher: divan::Bencher, n: usize) {
+    let tris = sphere_triangles();
+    bencher.bench(|| scatter::on_surface(&tris, n, 7, &|| false).unwrap());
+}
+
+#[divan::bench(args = [100_000, 1_000_000], sample_count = 3)]
+fn blue_noise_on_sphere_surface(bencher: divan::Bencher, keep: usize) {
+    let tris = sphere_triangles();
+    let candidates = scatter::on_surface(&tris, 5 * keep, 7, &|| false).unwrap();
+    let area = scatter::area(&tris);
+    bencher.bench(|| scatter::eliminate(&candidates.positions, keep, area, 2, &|| false).unwrap());
 }

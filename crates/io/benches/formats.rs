@@ -76,3 +76,24 @@ fn write_file_atomic_stl(bencher: Bencher) {
     let path = dir.path().join("m.stl");
     bencher.bench(|| geode_io::write(mesh_10m(), &path, &NoProgress).unwrap());
 }
+
+/// A million packed copies of a 10k-quad sphere on a 1000 x 1000 grid,
+/// turned and scaled: GLB writes them with `EXT_mesh_gpu_instancing`.
+#[divan::bench(sample_count = 3, sample_size = 1)]
+fn write_glb_million_instances(bencher: Bencher) {
+    use geode_geo::glam::{Mat4, Quat, Vec3};
+    let ball = std::sync::Arc::new(primitives::uv_sphere(0.03, 100, 100));
+    let mut g = Geometry::new();
+    g.add_packed_with(&ball, 1_000_000, |i| {
+        let (x, z) = ((i % 1000) as f32 * 0.1, (i / 1000) as f32 * 0.1);
+        Mat4::from_scale_rotation_translation(
+            Vec3::splat(0.5 + (i % 7) as f32 * 0.25),
+            Quat::from_rotation_y(i as f32 * 0.01),
+            Vec3::new(x, 0.0, z),
+        )
+    })
+    .unwrap();
+    bencher
+        .counter(ItemsCount::new(1_000_000usize))
+        .bench(|| geode_io::write_bytes(&g, Format::Glb, Path::new("bench"), &NoProgress).unwrap());
+}
