@@ -79,7 +79,7 @@ impl CellGrid {
     /// Cells at least `reach` wide (wider where the points span more than
     /// 2^21 of them on an axis), so every neighbour lies in the 27 cells
     /// around a point's own.
-    fn build(points: &[Vec3], reach: f32) -> CellGrid {
+    fn build(points: &[Vec3], reach: f32, cancel: &(dyn Fn() -> bool + Sync)) -> Option<CellGrid> {
         let (lo, hi) = points.iter().fold(
             (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
             |(a, b), p| (a.min(*p), b.max(*p)),
@@ -93,23 +93,29 @@ impl CellGrid {
             [c.x as i64, c.y as i64, c.z as i64]
         };
         let key_of = |p: &Vec3| pack(coords_of(p)).unwrap_or(u64::MAX);
-        let mut keyed: Vec<(u64, u32)> = points
+        let keyed: Vec<(u64, u32)> = points
             .par_iter()
             .enumerate()
             .map(|(i, p)| (key_of(p), i as u32))
             .collect();
-        keyed.par_sort_unstable();
-        let order: Vec<u32> = keyed.iter().map(|k| k.1).collect();
+        let keyed = radix_sort(keyed, cancel)?;
+        let order: Vec<u32> = keyed.par_iter().map(|k| k.1).collect();
         let sorted: Vec<Vec3> = order.par_iter().map(|&i| points[i as usize]).collect();
         let mut cells: Vec<(u64, u32)> = Vec::new();
         let mut coords = Vec::new();
         for (s, k) in keyed.iter().enumerate() {
+            if s % PER_POLL == PER_POLL - 1 && cancel() {
+                return None;
+            }
             if cells.last().is_none_or(|c| c.0 != k.0) {
                 cells.push((k.0, s as u32));
                 coords.push(coords_of(&sorted[s]));
             }
         }
         drop(keyed);
+        if cancel() {
+            return None;
+        }
         let bits = (2 * cells.len())
             .next_power_of_two()
             .trailing_zeros()
@@ -123,13 +129,13 @@ impl CellGrid {
             table[at] = c as u32;
         }
         cells.push((u64::MAX, points.len() as u32));
-        CellGrid {
+        Some(CellGrid {
             order,
             sorted,
             cells,
             coords,
             table,
-        }
+        })
     }
 
     /// The range in cell order of the cell with `key`, if any point is there.
@@ -165,6 +171,55 @@ impl CellGrid {
             }
         }
     }
+}
+
+/// Elements a radix pass moves between polls of `cancel`.
+const PER_POLL: usize = 1 << 20;
+
+/// `(key, index)` pairs sorted: split by the top eight bits the largest key
+/// uses (a counting pass, polling `cancel` per million moves), then the
+/// 256 parts sorted in parallel (polling per part), so a cancel is seen
+/// within a part's sort; `None` when cancelled.
+fn radix_sort(
+    pairs: Vec<(u64, u32)>,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Vec<(u64, u32)>> {
+    let largest = pairs.iter().map(|p| p.0).max().unwrap_or(0);
+    let shift = (u64::BITS - largest.leading_zeros()).saturating_sub(8);
+    let digit = |p: &(u64, u32)| (p.0 >> shift) as usize & 255;
+    let mut counts = [0usize; 257];
+    pairs.iter().for_each(|p| counts[digit(p) + 1] += 1);
+    for d in 1..257 {
+        counts[d] += counts[d - 1];
+    }
+    let mut next = counts;
+    let mut split = vec![(0u64, 0u32); pairs.len()];
+    for chunk in pairs.chunks(PER_POLL) {
+        if cancel() {
+            return None;
+        }
+        for p in chunk {
+            let d = digit(p);
+            split[next[d]] = *p;
+            next[d] += 1;
+        }
+    }
+    drop(pairs);
+    let mut parts: Vec<&mut [(u64, u32)]> = Vec::with_capacity(256);
+    let mut rest = split.as_mut_slice();
+    for d in 0..256 {
+        let (part, tail) = rest.split_at_mut(counts[d + 1] - counts[d]);
+        parts.push(part);
+        rest = tail;
+    }
+    let sorted = parts.into_par_iter().all(|part| {
+        if cancel() {
+            return false;
+        }
+        part.sort_unstable();
+        true
+    });
+    sorted.then_some(split)
 }
 
 /// Every candidate's neighbours closer than `reach` (cell order, compressed
@@ -229,7 +284,10 @@ fn neighbourhoods(
     let mut lists = Vec::with_capacity(total);
     let mut weights = Vec::with_capacity(grid.order.len());
     offsets.push(0u32);
-    for (counts, part, w) in parts {
+    for (k, (counts, part, w)) in parts.into_iter().enumerate() {
+        if k % 64 == 63 && cancel() {
+            return None;
+        }
         for n in counts {
             offsets.push(offsets.last().copied().unwrap_or(0) + n);
         }
@@ -265,7 +323,7 @@ pub fn eliminate(
     if !(reach > 0.0 && reach.is_finite()) || points.iter().any(|p| !p.is_finite()) {
         return Ok((0..keep).collect());
     }
-    let grid = CellGrid::build(points, reach);
+    let grid = CellGrid::build(points, reach, cancel).ok_or(ScatterError::Cancelled)?;
     let (offsets, lists, mut w) =
         neighbourhoods(&grid, reach, cancel).ok_or(ScatterError::Cancelled)?;
     let largest = w.iter().copied().fold(0.0f64, f64::max);
@@ -352,7 +410,7 @@ mod tests {
         // Hexagonal packing of 10,000 points on the sphere is ~0.038 apart;
         // elimination keeps them at least 0.5 of that (random: ~0.0005).
         let pts: Vec<Vec3> = kept.iter().map(|&i| cands[i]).collect();
-        let grid = CellGrid::build(&pts, 0.02);
+        let grid = CellGrid::build(&pts, 0.02, &|| false).unwrap();
         let mut near = Vec::new();
         let mut closest = f32::MAX;
         for c in 0..grid.cells.len() - 1 {

@@ -75,7 +75,7 @@ fn surface_scatter_with_relax_stops_promptly() {
     check(
         "scatter surface relax",
         r#""s": {"type": "sphere", "params": {"rows": 32, "columns": 64}},
-           "n": {"type": "scatter", "params": {"mode": "surface", "count": 3000000, "relax": true}, "inputs": ["s"]}"#,
+           "n": {"type": "scatter", "params": {"mode": "surface", "count": 1000000, "relax": true}, "inputs": ["s"]}"#,
         &["/s"],
     );
 }
