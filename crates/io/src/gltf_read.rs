@@ -2,7 +2,6 @@
 //! scene, shared meshes (and `EXT_mesh_gpu_instancing` nodes) as packed
 //! instances.
 
-use std::collections::HashMap;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -386,38 +385,28 @@ pub fn read_gltf(
     }
     placed.sort_by_key(|(m, _)| *m);
     let meshes: Vec<gltf::Mesh> = doc.meshes().collect();
-    let mut uses: HashMap<usize, usize> = HashMap::new();
-    for (m, _) in &placed {
-        *uses.entry(*m).or_default() += 1;
-    }
-    let mut sources: HashMap<usize, Arc<Geometry>> = HashMap::new();
     let mut baked = Vec::new();
     let mut instanced = Geometry::new();
-    for (i, (m, world)) in placed.iter().enumerate() {
+    for (i, group) in placed.chunk_by(|a, b| a.0 == b.0).enumerate() {
         progress.set(i as u64);
-        let mesh = &meshes[*m];
-        if uses[m] == 1 {
+        let mesh = &meshes[group[0].0];
+        if let [(_, world)] = group {
             let mut g = mesh_geometry(mesh, &buffers)?;
             ops::transform(&mut g, *world);
             baked.push(g);
         } else {
-            let src = match sources.get(m) {
-                Some(s) => Arc::clone(s),
-                None => {
-                    let s = Arc::new(mesh_geometry(mesh, &buffers)?);
-                    sources.insert(*m, Arc::clone(&s));
-                    s
-                }
-            };
-            let t = world.w_axis.truncate();
-            let local = Mat4::from_translation(-t) * *world;
-            let p = instanced.add_point(t);
+            // A mesh placed more than once: instances of one shared source,
+            // each on a point at its translation.
+            let source = Arc::new(mesh_geometry(mesh, &buffers)?);
             instanced
-                .add_packed(p, src, local)
+                .add_packed_with(&source, group.len(), |k| group[k].1)
                 .map_err(|e| ParseError::whole(e.to_string()))?;
         }
     }
     progress.finish();
+    if baked.is_empty() {
+        return Ok(instanced);
+    }
     let mut all: Vec<&Geometry> = baked.iter().collect();
     all.push(&instanced);
     ops::merge(&all).map_err(|e| ParseError::whole(e.to_string()))
