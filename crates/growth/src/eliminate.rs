@@ -240,16 +240,15 @@ fn neighbourhoods(
             let cells = task * CELLS_PER_TASK..((task + 1) * CELLS_PER_TASK).min(cell_count);
             let (mut counts, mut lists, mut weights) = (Vec::new(), Vec::new(), Vec::new());
             let (mut near, mut hits) = (Vec::new(), Vec::new());
-            let (mut near_at, mut d2) = (Vec::new(), Vec::new());
+            let (mut xs, mut ys, mut zs, mut d2) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for c in cells {
                 grid.around(c, &mut near);
                 // The 27 cells' points side by side, coordinates apart, so
                 // the distance tests run as plain vector arithmetic.
-                near_at.clear();
-                near_at.extend(near.iter().map(|&t| grid.sorted[t as usize]));
-                let xs: Vec<f32> = near_at.iter().map(|q| q.x).collect();
-                let ys: Vec<f32> = near_at.iter().map(|q| q.y).collect();
-                let zs: Vec<f32> = near_at.iter().map(|q| q.z).collect();
+                for (axis, column) in [&mut xs, &mut ys, &mut zs].into_iter().enumerate() {
+                    column.clear();
+                    column.extend(near.iter().map(|&t| grid.sorted[t as usize][axis]));
+                }
                 for s in grid.cells[c].1..grid.cells[c + 1].1 {
                     let p = grid.sorted[s as usize];
                     d2.clear();

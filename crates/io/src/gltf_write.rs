@@ -36,15 +36,19 @@ struct Builder<'c> {
 }
 
 impl Builder<'_> {
-    fn view(&mut self, bytes: &[u8], target: u32) -> usize {
+    /// A buffer view over `bytes` appended to the binary chunk; `target`
+    /// names the GPU buffer it feeds (none for per-instance columns).
+    fn view(&mut self, bytes: &[u8], target: Option<u32>) -> usize {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
         let offset = self.bin.len();
         self.bin.extend_from_slice(bytes);
-        self.views.push(
-            json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}),
-        );
+        let mut view = json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()});
+        if let Some(target) = target {
+            view["target"] = json!(target);
+        }
+        self.views.push(view);
         self.views.len() - 1
     }
 
@@ -54,7 +58,22 @@ impl Builder<'_> {
         ty: &str,
         min_max: Option<(Vec3, Vec3)>,
     ) -> usize {
-        let view = self.view(bytemuck::cast_slice(data), ARRAY_BUFFER);
+        self.float_accessor(data, ty, Some(ARRAY_BUFFER), min_max)
+    }
+
+    /// An accessor over per-instance values (not vertex attributes).
+    fn instance_accessor<T: bytemuck::Pod>(&mut self, data: &[T], ty: &str) -> usize {
+        self.float_accessor(data, ty, None, None)
+    }
+
+    fn float_accessor<T: bytemuck::Pod>(
+        &mut self,
+        data: &[T],
+        ty: &str,
+        target: Option<u32>,
+        min_max: Option<(Vec3, Vec3)>,
+    ) -> usize {
+        let view = self.view(bytemuck::cast_slice(data), target);
         let mut a =
             json!({"bufferView": view, "componentType": FLOAT, "count": data.len(), "type": ty});
         if let Some((lo, hi)) = min_max {
@@ -66,7 +85,7 @@ impl Builder<'_> {
     }
 
     fn index_accessor(&mut self, idx: &[u32]) -> usize {
-        let view = self.view(bytemuck::cast_slice(idx), ELEMENT_ARRAY_BUFFER);
+        let view = self.view(bytemuck::cast_slice(idx), Some(ELEMENT_ARRAY_BUFFER));
         self.accessors.push(json!({"bufferView": view, "componentType": UNSIGNED_INT, "count": idx.len(), "type": "SCALAR"}));
         self.accessors.len() - 1
     }
@@ -336,23 +355,6 @@ impl Builder<'_> {
             out.push(self.nodes.len() - 1);
         }
         out
-    }
-
-    /// An accessor over per-instance values (no buffer target: they are
-    /// not vertex attributes).
-    fn instance_accessor<T: bytemuck::Pod>(&mut self, data: &[T], ty: &str) -> usize {
-        while !self.bin.len().is_multiple_of(4) {
-            self.bin.push(0);
-        }
-        let bytes: &[u8] = bytemuck::cast_slice(data);
-        let offset = self.bin.len();
-        self.bin.extend_from_slice(bytes);
-        self.views
-            .push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()}));
-        self.accessors.push(
-            json!({"bufferView": self.views.len() - 1, "componentType": FLOAT, "count": data.len(), "type": ty}),
-        );
-        self.accessors.len() - 1
     }
 }
 

@@ -3,7 +3,7 @@
 use glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 use rayon::prelude::*;
 
-use crate::attrib::{AttribData, AttribTable, Attribute, TypeInfo};
+use crate::attrib::{AttribData, AttribTable, TypeInfo};
 use crate::geometry::Geometry;
 
 /// What an affine map does to each kind of attribute, written once for the
@@ -71,7 +71,8 @@ impl Affine {
         (self.rot * q).normalize()
     }
 
-    /// The column `info` says changes, changed (`None`: it stays as it is).
+    /// The column `info` says changes, changed (`None`: it stays as it is):
+    /// the one rule of both the in-place and the copying transform.
     fn map(&self, info: TypeInfo, data: &AttribData) -> Option<AttribData> {
         Some(match (info, data) {
             (TypeInfo::Position, AttribData::Vec3(v)) => {
@@ -96,37 +97,11 @@ impl Affine {
         })
     }
 
-    /// The same as `map`, in place.
-    fn apply(&self, a: &mut Attribute) {
-        match a.type_info {
-            TypeInfo::Position => {
-                if let Some(v) = a.as_vec3_mut() {
-                    par_apply(v, |p| self.m.transform_point3(p));
-                }
-            }
-            TypeInfo::Vector => {
-                if let Some(v) = a.as_vec3_mut() {
-                    par_apply(v, |p| self.m.transform_vector3(p));
-                }
-            }
-            TypeInfo::Normal => {
-                if let Some(v) = a.as_vec3_mut() {
-                    par_apply(v, |n| self.normal(n));
-                }
-            }
-            TypeInfo::Quaternion => {
-                if let Some(v) = a.as_quat_mut() {
-                    par_apply(v, |q| self.quat(q));
-                } else if let Some(v) = a.as_vec4_mut() {
-                    par_apply(v, |q| Vec4::from(self.quat(Quat::from_vec4(q))));
-                }
-            }
-            TypeInfo::Transform => {
-                if let Some(v) = a.as_mat4_mut() {
-                    par_apply(v, |x| self.linear * x);
-                }
-            }
-            TypeInfo::None | TypeInfo::Color | TypeInfo::TexCoord => {}
+    /// Packed instances turn by the linear part (their translation comes
+    /// from their point).
+    fn turn_instances(&self, g: &mut Geometry) {
+        for inst in g.packed.iter_mut() {
+            inst.transform = self.linear * inst.transform;
         }
     }
 }
@@ -143,12 +118,6 @@ fn par_map<T: Copy + Send + Sync>(v: &[T], f: impl Fn(T) -> T + Sync) -> Vec<T> 
     out
 }
 
-fn par_apply<T: Copy + Send + Sync>(v: &mut [T], f: impl Fn(T) -> T + Sync) {
-    v.par_iter_mut()
-        .with_min_len(CHUNK)
-        .for_each(|x| *x = f(*x));
-}
-
 fn mapped_table(t: &AttribTable, xf: &Affine) -> AttribTable {
     t.map_columns(|a| xf.map(a.type_info, a.data()))
 }
@@ -162,12 +131,12 @@ pub fn transform(g: &mut Geometry, m: Mat4) {
     g.invalidate_content();
     for t in [&mut g.points, &mut g.vertices, &mut g.prims, &mut g.detail] {
         for (_, a) in t.iter_mut() {
-            xf.apply(a);
+            if let Some(data) = xf.map(a.type_info, a.data()) {
+                *a = a.with_data(data);
+            }
         }
     }
-    for inst in g.packed.iter_mut() {
-        inst.transform = xf.linear * inst.transform;
-    }
+    xf.turn_instances(g);
 }
 
 /// `transform` of a copy: each changed column is read once and written once
@@ -175,9 +144,7 @@ pub fn transform(g: &mut Geometry, m: Mat4) {
 pub fn transformed(g: &Geometry, m: Mat4) -> Geometry {
     let xf = Affine::new(m);
     let mut out = g.clone_with_tables(|t| mapped_table(t, &xf));
-    for inst in out.packed.iter_mut() {
-        inst.transform = xf.linear * inst.transform;
-    }
+    xf.turn_instances(&mut out);
     out
 }
 
