@@ -123,7 +123,7 @@ enum Command {
     Convert {
         /// Input file (.obj, .stl, .ply, .gltf, .glb).
         input: PathBuf,
-        /// Output file (.obj, .stl, .ply, .glb, .usda).
+        /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo).
         output: PathBuf,
     },
 }

@@ -100,6 +100,20 @@ fn put_table(h: &mut Xxh3, t: &AttribTable) {
                     .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
                 h.update(&r.digest128().to_le_bytes());
             }
+            AttribData::Vec3Array(rows) => {
+                let mut r = Xxh3::new();
+                rows.iter()
+                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
+                h.update(&r.digest128().to_le_bytes());
+            }
+            AttribData::StringArray(rows) => {
+                let mut r = Xxh3::new();
+                for row in rows {
+                    r.update(&(row.len() as u64).to_le_bytes());
+                    row.iter().for_each(|s| put_str(&mut r, s));
+                }
+                h.update(&r.digest128().to_le_bytes());
+            }
             d => {
                 let bytes = d.as_bytes().expect("numeric column");
                 h.update(&hash_bytes(bytes).to_le_bytes());
@@ -210,6 +224,40 @@ mod tests {
             &[4],
         )
         .unwrap()
+    }
+
+    #[test]
+    fn vector_and_string_array_columns_hash_by_value() {
+        let with = |rows: Vec<Vec<String>>, vecs: Vec<Vec<Vec3>>| {
+            let mut g = quad();
+            let data = crate::AttribData::StringArray(rows);
+            g.set_attrib(
+                AttribClass::Point,
+                "tags",
+                Attribute::from_data(data, TypeInfo::None),
+            )
+            .unwrap();
+            let data = crate::AttribData::Vec3Array(vecs);
+            g.set_attrib(
+                AttribClass::Point,
+                "dirs",
+                Attribute::from_data(data, TypeInfo::None),
+            )
+            .unwrap();
+            g.content_hash()
+        };
+        let rows = |last: &str| {
+            vec![
+                vec![],
+                vec!["a".into()],
+                vec!["b".into(), last.into()],
+                vec![],
+            ]
+        };
+        let vecs = |y: f32| vec![vec![Vec3::X], vec![], vec![Vec3::new(0.0, y, 0.0)], vec![]];
+        assert_eq!(with(rows("c"), vecs(1.0)), with(rows("c"), vecs(1.0)));
+        assert_ne!(with(rows("c"), vecs(1.0)), with(rows("d"), vecs(1.0)));
+        assert_ne!(with(rows("c"), vecs(1.0)), with(rows("c"), vecs(2.0)));
     }
 
     #[test]

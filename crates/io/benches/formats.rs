@@ -31,8 +31,7 @@ fn mesh_10m() -> &'static Geometry {
 fn encoded(f: Format) -> &'static [u8] {
     static E: OnceLock<Vec<(Format, Vec<u8>)>> = OnceLock::new();
     let all = E.get_or_init(|| {
-        [Format::Obj, Format::Stl, Format::Ply, Format::Glb]
-            .into_iter()
+        READ.into_iter()
             .map(|f| {
                 (
                     f,
@@ -44,14 +43,23 @@ fn encoded(f: Format) -> &'static [u8] {
     &all.iter().find(|(x, _)| *x == f).unwrap().1
 }
 
-const WRITE: [Format; 5] = [
+const WRITE: [Format; 7] = [
     Format::Obj,
     Format::Stl,
     Format::Ply,
     Format::Glb,
     Format::Usda,
+    Format::Geo,
+    Format::Bgeo,
 ];
-const READ: [Format; 4] = [Format::Obj, Format::Stl, Format::Ply, Format::Glb];
+const READ: [Format; 6] = [
+    Format::Obj,
+    Format::Stl,
+    Format::Ply,
+    Format::Glb,
+    Format::Geo,
+    Format::Bgeo,
+];
 
 #[divan::bench(args = WRITE, sample_count = 3, sample_size = 1)]
 fn write_10m_triangles(bencher: Bencher, f: Format) {

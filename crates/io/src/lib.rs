@@ -1,12 +1,13 @@
-//! geode's file formats. Reads OBJ (with OpenSubdiv tags), STL, PLY and
-//! glTF/GLB; writes OBJ, binary STL, binary PLY, GLB and USDA. Every write is
-//! atomic. The only crate besides the CLI that touches the file system.
+//! geode's file formats. Reads OBJ (with OpenSubdiv tags), STL, PLY,
+//! glTF/GLB and Houdini's .geo/.bgeo; writes OBJ, binary STL, binary PLY,
+//! GLB, USDA and .geo/.bgeo. Every write is atomic. The only crate besides the CLI that touches the file system.
 
 mod atomic;
 mod error;
 mod gltf_instancing;
 mod gltf_read;
 mod gltf_write;
+mod houdini;
 pub mod obj;
 mod ply;
 mod progress;
@@ -32,16 +33,22 @@ pub enum Format {
     Gltf,
     Glb,
     Usda,
+    /// Houdini's JSON geometry.
+    Geo,
+    /// Houdini's binary JSON geometry.
+    Bgeo,
 }
 
 impl Format {
-    pub const ALL: [Format; 6] = [
+    pub const ALL: [Format; 8] = [
         Format::Obj,
         Format::Stl,
         Format::Ply,
         Format::Gltf,
         Format::Glb,
         Format::Usda,
+        Format::Geo,
+        Format::Bgeo,
     ];
 
     /// The format named by a path's extension (case-insensitive).
@@ -54,6 +61,8 @@ impl Format {
             "gltf" => Format::Gltf,
             "glb" => Format::Glb,
             "usda" => Format::Usda,
+            "geo" => Format::Geo,
+            "bgeo" => Format::Bgeo,
             _ => return None,
         })
     }
@@ -66,6 +75,8 @@ impl Format {
             Format::Gltf => "gltf",
             Format::Glb => "glb",
             Format::Usda => "usda",
+            Format::Geo => "geo",
+            Format::Bgeo => "bgeo",
         }
     }
 
@@ -140,6 +151,7 @@ pub fn parse_unguarded(
         Format::Stl => stl::read_stl(bytes, progress),
         Format::Ply => ply::read_ply(bytes, progress),
         Format::Gltf | Format::Glb => gltf_read::read_gltf(bytes, base, progress),
+        Format::Geo | Format::Bgeo => houdini::read_houdini(bytes),
         Format::Usda => Err(ParseError::whole(
             "reading USDA is not supported (geode writes it)",
         )),
@@ -227,6 +239,10 @@ fn encode(
         Format::Ply => ply::write_ply(g, w, path, progress),
         Format::Glb => gltf_write::write_glb(g, w, path, progress),
         Format::Usda => usda::write_usda(g, w, path, progress),
+        Format::Geo | Format::Bgeo => {
+            let bytes = houdini::encode_houdini(g, format == Format::Bgeo);
+            w.write_all(&bytes).map_err(|e| IoError::os(path, e))
+        }
         Format::Gltf => Err(IoError::UnknownFormat {
             path: path.to_owned(),
             expected: list(Format::can_write),

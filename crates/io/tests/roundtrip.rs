@@ -237,7 +237,7 @@ fn unknown_extension_is_a_clear_error() {
     let e = write(&Geometry::new(), Path::new("out.xyz"), &NoProgress).unwrap_err();
     assert_eq!(
         e.to_string(),
-        "out.xyz: unknown file format (expected one of: .obj, .stl, .ply, .glb, .usda)"
+        "out.xyz: unknown file format (expected one of: .obj, .stl, .ply, .glb, .usda, .geo, .bgeo)"
     );
 }
 

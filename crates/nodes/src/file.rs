@@ -70,7 +70,7 @@ static FILE: NodeSpec = NodeSpec::new(
     "file",
     "File",
     "io",
-    "Reads a geometry file (.obj, .stl, .ply, .gltf, .glb). `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame. The file's content is part of the cache key: editing the file recooks the node.",
+    "Reads a geometry file (.obj, .stl, .ply, .gltf, .glb, Houdini's .geo and .bgeo). `$HIP` in the path is the network file's folder, `$F`/`$F4`/`$FF` the frame. The file's content is part of the cache key: editing the file recooks the node.",
     &[],
     &[
         FILE_FILE,
@@ -93,7 +93,7 @@ const WRITE_FILE: P = P::new(
     "File",
     T::File,
     D::Str(""),
-    "Path to write; the extension picks the format (.obj, .stl, .ply, .glb, .usda).",
+    "Path to write; the extension picks the format (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo).",
 );
 
 static WRITE: NodeSpec = NodeSpec::new(

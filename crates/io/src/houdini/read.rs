@@ -1,0 +1,473 @@
+//! Houdini's geometry schema (`.geo`, `.bgeo`) read into a `Geometry`: topology, polygons and polylines, attributes of every class, groups.
+
+use glam::Vec3;
+
+use geode_geo::attrib::{AttribClass, Attribute};
+use geode_geo::{Geometry, Group, PrimKind};
+
+use super::attribs::{attribute, decode_values};
+use super::houdini_order;
+use super::json::Json;
+use crate::error::{ParseError, ParseResult};
+
+fn bad(what: impl std::fmt::Display, message: impl std::fmt::Display) -> ParseError {
+    ParseError::whole(format!("{what}: {message}"))
+}
+
+/// Reads a parsed document. `file_bytes` bounds the element counts the
+/// header may claim before anything is allocated for them.
+pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
+    if doc.items().is_none() {
+        return Err(ParseError::whole(
+            "not a Houdini geometry file: expected a top-level list of keys and values (`[\"fileversion\", ...]`)",
+        ));
+    }
+    let counts = Counts::read(doc, file_bytes)?;
+    let pointref = pointref(doc, &counts)?;
+    let prims = primitives(doc, &counts)?;
+    let positions = positions(doc, counts.points)?;
+    let vertex_points: Vec<u32> = prims
+        .vertices
+        .iter()
+        .map(|&v| pointref[v as usize])
+        .collect();
+    let mut g = Geometry::from_prims(positions, vertex_points, &prims.counts, prims.kinds)
+        .map_err(|e| ParseError::whole(format!("primitives: {e}")))?;
+    let attribs = doc.get("attributes");
+    for (key, class, n) in [
+        ("pointattributes", AttribClass::Point, counts.points),
+        ("vertexattributes", AttribClass::Vertex, counts.vertices),
+        ("primitiveattributes", AttribClass::Primitive, counts.prims),
+        ("globalattributes", AttribClass::Detail, 1),
+    ] {
+        let Some(list) = attribs.and_then(|a| a.get(key)).and_then(Json::items) else {
+            continue;
+        };
+        for entry in list {
+            let Some((name, attrib)) = attribute(entry, key, n)? else {
+                continue;
+            };
+            if class == AttribClass::Point && name == geode_geo::P {
+                continue;
+            }
+            let attrib = match class {
+                AttribClass::Vertex => gather(attrib, &prims.vertices),
+                _ => attrib,
+            };
+            g.set_attrib(class, &name, attrib)
+                .map_err(|e| bad(format!("{key} `{name}`"), e))?;
+        }
+    }
+    for (key, n, point) in [
+        ("pointgroups", counts.points, true),
+        ("primitivegroups", counts.prims, false),
+    ] {
+        for (name, group) in groups(doc, key, n)? {
+            let r = if point {
+                g.set_point_group(&name, group)
+            } else {
+                g.set_prim_group(&name, group)
+            };
+            r.map_err(|e| bad(format!("{key} `{name}`"), e))?;
+        }
+    }
+    Ok(g)
+}
+
+struct Counts {
+    points: usize,
+    vertices: usize,
+    prims: usize,
+}
+
+impl Counts {
+    fn read(doc: &Json, file_bytes: usize) -> ParseResult<Counts> {
+        // A vertex costs at least a byte of `pointref`; a point or a primitive
+        // at least a byte per page of 1024 (constant pages).
+        let limit = |key: &str, per_byte: usize| -> ParseResult<usize> {
+            let n = doc.get(key).and_then(Json::as_i64).unwrap_or(0);
+            let bound = (file_bytes.saturating_mul(per_byte) + 1024).min(u32::MAX as usize);
+            match usize::try_from(n) {
+                Ok(n) if n <= bound => Ok(n),
+                _ => Err(bad(
+                    key,
+                    format!(
+                        "{n} is not a count this {file_bytes}-byte file can hold (at most {bound})"
+                    ),
+                )),
+            }
+        };
+        Ok(Counts {
+            points: limit("pointcount", 1024)?,
+            vertices: limit("vertexcount", 1)?,
+            prims: limit("primitivecount", 1024)?,
+        })
+    }
+}
+
+fn pointref(doc: &Json, counts: &Counts) -> ParseResult<Vec<u32>> {
+    let indices = doc
+        .get("topology")
+        .and_then(|t| t.get("pointref"))
+        .and_then(|p| p.get("indices"));
+    let Some(indices) = indices else {
+        return if counts.vertices == 0 {
+            Ok(Vec::new())
+        } else {
+            Err(bad("topology", "missing `pointref` `indices`"))
+        };
+    };
+    let check = |p: i64| -> ParseResult<u32> {
+        u32::try_from(p)
+            .ok()
+            .filter(|&p| (p as usize) < counts.points)
+            .ok_or_else(|| {
+                bad(
+                    "topology.pointref.indices",
+                    format!("point {p} out of range (pointcount {})", counts.points),
+                )
+            })
+    };
+    let points: Vec<u32> = match indices {
+        // Binary files hold the indices packed as int32: no widening copy.
+        Json::I32s(v) => v
+            .iter()
+            .map(|&p| check(p as i64))
+            .collect::<ParseResult<_>>()?,
+        other => other
+            .integers()
+            .ok_or_else(|| {
+                bad(
+                    "topology.pointref.indices",
+                    "expected a list of point numbers",
+                )
+            })?
+            .into_iter()
+            .map(check)
+            .collect::<ParseResult<_>>()?,
+    };
+    if points.len() != counts.vertices {
+        return Err(bad(
+            "topology.pointref.indices",
+            format!(
+                "{} entries for a vertexcount of {}",
+                points.len(),
+                counts.vertices
+            ),
+        ));
+    }
+    Ok(points)
+}
+
+/// Primitives in file order: kinds, vertex counts, and the Houdini vertex of
+/// each geode vertex (polygons turned from Houdini's clockwise order).
+struct Prims {
+    kinds: Vec<PrimKind>,
+    counts: Vec<u32>,
+    vertices: Vec<u32>,
+}
+
+impl Prims {
+    fn push(&mut self, closed: bool, verts: &[u32], counts: &Counts) -> ParseResult<()> {
+        if self.kinds.len() == counts.prims {
+            return Err(bad(
+                "primitives",
+                format!("more primitives than the primitivecount of {}", counts.prims),
+            ));
+        }
+        if let Some(&v) = verts.iter().find(|&&v| v as usize >= counts.vertices) {
+            return Err(bad(
+                "primitives",
+                format!("vertex {v} out of range (vertexcount {})", counts.vertices),
+            ));
+        }
+        self.kinds.push(if closed {
+            PrimKind::Polygon
+        } else {
+            PrimKind::Polyline
+        });
+        self.counts.push(verts.len() as u32);
+        let start = self.vertices.len();
+        self.vertices.extend_from_slice(verts);
+        if closed {
+            houdini_order(&mut self.vertices[start..]);
+        }
+        Ok(())
+    }
+}
+
+fn primitives(doc: &Json, counts: &Counts) -> ParseResult<Prims> {
+    let mut prims = Prims {
+        kinds: Vec::new(),
+        counts: Vec::new(),
+        vertices: Vec::with_capacity(counts.vertices),
+    };
+    let Some(list) = doc.get("primitives").and_then(Json::items) else {
+        return Ok(prims);
+    };
+    for (i, entry) in list.iter().enumerate() {
+        let (header, body) = match entry.items() {
+            Some([h, b]) => (h, b),
+            _ => return Err(bad(format!("primitives[{i}]"), "expected [header, body]")),
+        };
+        let ty = header.get("type").and_then(Json::as_str).unwrap_or("");
+        match ty {
+            "Polygon_run" | "p_r" | "PolygonCurve_run" | "c_r" => poly_run(
+                body,
+                ty.starts_with("Polygon_") || ty == "p_r",
+                &mut prims,
+                counts,
+            )
+            .map_err(|e| bad(format!("primitives[{i}] ({ty})"), e.message))?,
+            "Poly" => {
+                let verts = vertex_list(body.get("vertex"))
+                    .ok_or_else(|| bad(format!("primitives[{i}] (Poly)"), "expected `vertex`"))?;
+                let closed = body.get("closed").and_then(Json::as_bool).unwrap_or(true);
+                prims.push(closed, &verts, counts)?;
+            }
+            "run" if header.get("runtype").and_then(Json::as_str) == Some("Poly") => {
+                classic_run(header, body, &mut prims, counts)
+                    .map_err(|e| bad(format!("primitives[{i}] (run of Poly)"), e.message))?
+            }
+            other => {
+                let name = if other == "run" {
+                    header.get("runtype").and_then(Json::as_str).unwrap_or("?")
+                } else {
+                    other
+                };
+                return Err(bad(
+                    format!("primitives[{i}]"),
+                    format!("primitive type `{name}` is not supported: geode reads polygons and polylines (in Houdini, unpack or convert to polygons before saving)"),
+                ));
+            }
+        }
+    }
+    if prims.kinds.len() != counts.prims {
+        return Err(bad(
+            "primitives",
+            format!(
+                "{} primitives for a primitivecount of {}",
+                prims.kinds.len(),
+                counts.prims
+            ),
+        ));
+    }
+    Ok(prims)
+}
+
+fn vertex_list(v: Option<&Json>) -> Option<Vec<u32>> {
+    v?.integers()?
+        .into_iter()
+        .map(|x| u32::try_from(x).ok())
+        .collect()
+}
+
+/// `Polygon_run`: consecutive vertices from `startvertex`, sizes listed or run-length encoded.
+fn poly_run(body: &Json, closed: bool, prims: &mut Prims, counts: &Counts) -> ParseResult<()> {
+    let start = body
+        .get_any(&["startvertex", "s_v"])
+        .and_then(Json::as_i64)
+        .ok_or_else(|| ParseError::whole("missing `startvertex`"))?;
+    let n = body
+        .get_any(&["nprimitives", "n_p"])
+        .and_then(Json::as_i64)
+        .ok_or_else(|| ParseError::whole("missing `nprimitives`"))?;
+    // Checked before any list is built from it.
+    let room = counts.prims - prims.kinds.len();
+    if n < 0 || n as u64 > room as u64 {
+        return Err(ParseError::whole(format!(
+            "{n} primitives where the primitivecount of {} leaves room for {room}",
+            counts.prims
+        )));
+    }
+    let sizes: Vec<i64> = if let Some(rle) = body.get_any(&["nvertices_rle", "r_v"]) {
+        let pairs = rle
+            .integers()
+            .ok_or_else(|| ParseError::whole("`nvertices_rle` is not a list of integers"))?;
+        let mut sizes = Vec::new();
+        for pair in pairs.chunks(2) {
+            let [size, repeat] = pair else {
+                return Err(ParseError::whole("`nvertices_rle` has an odd length"));
+            };
+            if sizes.len() as i64 + repeat > n || *repeat < 0 {
+                return Err(ParseError::whole(
+                    "`nvertices_rle` lists more primitives than `nprimitives`",
+                ));
+            }
+            sizes.extend(std::iter::repeat_n(*size, *repeat as usize));
+        }
+        sizes
+    } else {
+        body.get_any(&["nvertices", "n_v"])
+            .and_then(Json::integers)
+            .ok_or_else(|| ParseError::whole("missing `nvertices` or `nvertices_rle`"))?
+    };
+    if sizes.len() as i64 != n {
+        return Err(ParseError::whole(format!(
+            "{} sizes for {n} primitives",
+            sizes.len()
+        )));
+    }
+    let mut at = start;
+    let mut verts = Vec::new();
+    for size in sizes {
+        if size < 0 || at + size > counts.vertices as i64 {
+            return Err(ParseError::whole(format!(
+                "a primitive of {size} vertices from vertex {at} runs past vertexcount {}",
+                counts.vertices
+            )));
+        }
+        verts.clear();
+        verts.extend((at..at + size).map(|v| v as u32));
+        prims.push(closed, &verts, counts)?;
+        at += size;
+    }
+    Ok(())
+}
+
+/// The run form of Houdini 12-15: uniform fields in the header, each
+/// primitive's varying fields (`vertex`, maybe `closed`) in the body.
+fn classic_run(header: &Json, body: &Json, prims: &mut Prims, counts: &Counts) -> ParseResult<()> {
+    let varying: Vec<&str> = header
+        .get("varyingfields")
+        .and_then(Json::items)
+        .map(|f| f.iter().filter_map(Json::as_str).collect())
+        .unwrap_or_default();
+    let uniform_closed = header
+        .get("uniformfields")
+        .and_then(|u| u.get("closed"))
+        .and_then(Json::as_bool)
+        .unwrap_or(true);
+    let vertex_at = varying
+        .iter()
+        .position(|&f| f == "vertex")
+        .ok_or_else(|| ParseError::whole("`varyingfields` lacks `vertex`"))?;
+    let closed_at = varying.iter().position(|&f| f == "closed");
+    for prim in body.items().unwrap_or_default() {
+        let fields = prim
+            .items()
+            .ok_or_else(|| ParseError::whole("expected a list of fields per primitive"))?;
+        let verts = vertex_list(fields.get(vertex_at))
+            .ok_or_else(|| ParseError::whole("expected a vertex list"))?;
+        let closed = closed_at
+            .and_then(|c| fields.get(c))
+            .and_then(Json::as_bool)
+            .unwrap_or(uniform_closed);
+        prims.push(closed, &verts, counts)?;
+    }
+    Ok(())
+}
+
+fn positions(doc: &Json, n: usize) -> ParseResult<Vec<Vec3>> {
+    let list = doc
+        .get("attributes")
+        .and_then(|a| a.get("pointattributes"))
+        .and_then(Json::items)
+        .unwrap_or_default();
+    for entry in list {
+        let Some([header, body]) = entry.items() else {
+            continue;
+        };
+        if header.get("name").and_then(Json::as_str) != Some(geode_geo::P) {
+            continue;
+        }
+        let values = body
+            .get("values")
+            .ok_or_else(|| bad("pointattributes `P`", "missing `values`"))?;
+        let size = values.get("size").and_then(Json::as_i64).unwrap_or(3) as usize;
+        if !(3..=4).contains(&size) {
+            return Err(bad(
+                "pointattributes `P`",
+                format!("tuple size {size}, expected 3 (or 4)"),
+            ));
+        }
+        let flat =
+            decode_values(values, n, size).map_err(|e| bad("pointattributes `P`", e.message))?;
+        return Ok(flat
+            .chunks_exact(size)
+            .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
+            .collect());
+    }
+    if n == 0 {
+        Ok(Vec::new())
+    } else {
+        Err(bad("pointattributes", "no `P` attribute"))
+    }
+}
+
+fn gather(attrib: Attribute, order: &[u32]) -> Attribute {
+    let data = attrib.data().gather(order);
+    let default = attrib.default_value().clone();
+    Attribute::from_data(data, attrib.type_info)
+        .with_default(default)
+        .expect("gathering keeps the type")
+}
+
+fn groups(doc: &Json, key: &str, n: usize) -> ParseResult<Vec<(String, Group)>> {
+    let Some(list) = doc.get(key).and_then(Json::items) else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for entry in list {
+        let Some([header, body]) = entry.items() else {
+            return Err(bad(key, "expected [header, body] per group"));
+        };
+        let name = header
+            .get("name")
+            .and_then(Json::as_str)
+            .ok_or_else(|| bad(key, "a group has no name"))?
+            .to_owned();
+        let what = format!("{key} `{name}`");
+        let sel = body
+            .get("selection")
+            .ok_or_else(|| bad(&what, "missing `selection`"))?;
+        let flags = if let Some(unordered) = sel.get("unordered") {
+            if let Some(rle) = unordered.get("boolRLE") {
+                let items = rle.items().map(<[Json]>::to_vec).unwrap_or_default();
+                let mut flags = Vec::with_capacity(n);
+                for pair in items.chunks(2) {
+                    let (Some(count), Some(on)) =
+                        (pair[0].as_i64(), pair.get(1).and_then(Json::as_bool))
+                    else {
+                        return Err(bad(&what, "`boolRLE` must alternate counts and flags"));
+                    };
+                    if count < 0 || flags.len() as i64 + count > n as i64 {
+                        return Err(bad(&what, "`boolRLE` covers more elements than exist"));
+                    }
+                    flags.extend(std::iter::repeat_n(on, count as usize));
+                }
+                flags
+            } else if let Some(i8s) = unordered.get("i8") {
+                i8s.flags()
+                    .ok_or_else(|| bad(&what, "`i8` is not a list of flags"))?
+            } else {
+                return Err(bad(
+                    &what,
+                    "unknown group encoding (expected `boolRLE` or `i8`)",
+                ));
+            }
+        } else if let Some(ordered) = sel.get("ordered") {
+            let members = ordered
+                .integers()
+                .ok_or_else(|| bad(&what, "`ordered` is not indices"))?;
+            let group = Group::from_members(
+                n,
+                members.into_iter().filter_map(|m| usize::try_from(m).ok()),
+            );
+            out.push((name, group));
+            continue;
+        } else {
+            return Err(bad(&what, "selection is neither `unordered` nor `ordered`"));
+        };
+        let mut flags = flags;
+        if flags.len() > n {
+            return Err(bad(
+                &what,
+                format!("{} flags for {n} elements", flags.len()),
+            ));
+        }
+        flags.resize(n, false);
+        out.push((name, Group::from_flags(flags)));
+    }
+    Ok(out)
+}
