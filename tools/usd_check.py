@@ -5,7 +5,9 @@ Each FILE may be followed by a JSON object of expectations:
 {"points": N, "faces": N, "curves": N, "instances": N, "patches": N}. Prints
 one JSON line per file (with each NurbsPatch's point at the centre of its
 range, evaluated here by Cox-de Boor with u varying fastest, as RenderMan's
-RiNuPatch and USD lay points out) and exits 1 on any composition error or
+RiNuPatch and USD lay points out, and every primvar's type, role,
+interpolation, count and first value as USD reads them) and exits 1 on any
+composition error, primvar count that disagrees with its interpolation, or
 unmet expectation.
 """
 import json
@@ -57,6 +59,39 @@ def patch_centre(patch):
     return [a / wsum for a in acc]
 
 
+def plain(v):
+    """A USD value as JSON: numbers, lists of numbers (quaternions real part first), strings."""
+    if isinstance(v, (int, float, str, bool)):
+        return v
+    if hasattr(v, "GetReal"):
+        return [v.GetReal()] + list(v.GetImaginary())
+    try:
+        return [plain(x) for x in v]
+    except TypeError:
+        return str(v)
+
+
+def check_primvars(prim, sizes, errors, out):
+    """Element counts of every primvar against its interpolation; each
+    primvar's type, interpolation, count and first value into `out`."""
+    for pv in UsdGeom.PrimvarsAPI(prim).GetPrimvarsWithAuthoredValues():
+        vals = pv.Get()
+        interp = pv.GetInterpolation()
+        is_array = pv.GetTypeName().isArray
+        n = (len(vals) if vals is not None else 0) if is_array else 1
+        want = sizes.get(interp)
+        if want is not None and n != want:
+            errors.append(f"{prim.GetPath()} {pv.GetName()}: {n} values for {interp} (want {want})")
+        first = (vals[0] if n else None) if is_array else vals
+        out[f"{prim.GetPath()}.{pv.GetPrimvarName()}"] = {
+            "type": str(pv.GetTypeName()),
+            "role": str(pv.GetTypeName().role),
+            "interpolation": interp,
+            "count": n,
+            "first": plain(first),
+        }
+
+
 def check(path, expect):
     errors = []
     stage = Usd.Stage.Open(path)
@@ -66,6 +101,7 @@ def check(path, expect):
         errors.append(str(err))
     counts = {"points": 0, "faces": 0, "curves": 0, "instances": 0, "patches": 0}
     centres = []
+    primvars = {}
     # Instance proxies are visited so nested instances count; geometry is
     # counted once, where it is authored (not once per instance).
     for prim in stage.Traverse(Usd.TraverseInstanceProxies()):
@@ -84,14 +120,8 @@ def check(path, expect):
                 errors.append(f"{prim.GetPath()}: counts sum {sum(fvc)} != {len(fvi)} indices")
             if fvi and max(fvi) >= len(pts):
                 errors.append(f"{prim.GetPath()}: index {max(fvi)} out of range")
-            for pv in UsdGeom.PrimvarsAPI(prim).GetPrimvarsWithAuthoredValues():
-                # ValueMightBeTimeVarying etc. are fine; check element counts.
-                vals = pv.Get()
-                interp = pv.GetInterpolation()
-                n = len(vals) if vals is not None else 0
-                want = {"vertex": len(pts), "faceVarying": len(fvi), "uniform": len(fvc), "constant": 1}.get(interp)
-                if want is not None and n != want:
-                    errors.append(f"{prim.GetPath()} {pv.GetName()}: {n} values for {interp} (want {want})")
+            sizes = {"vertex": len(pts), "faceVarying": len(fvi), "uniform": len(fvc), "constant": 1}
+            check_primvars(prim, sizes, errors, primvars)
         if prim.IsA(UsdGeom.NurbsPatch):
             patch = UsdGeom.NurbsPatch(prim)
             counts["patches"] += 1
@@ -111,11 +141,14 @@ def check(path, expect):
             if not errors:
                 centres.append(patch_centre(patch))
         if prim.IsA(UsdGeom.BasisCurves):
-            counts["curves"] += len(UsdGeom.BasisCurves(prim).GetCurveVertexCountsAttr().Get() or [])
+            cvc = UsdGeom.BasisCurves(prim).GetCurveVertexCountsAttr().Get() or []
+            counts["curves"] += len(cvc)
+            sizes = {"vertex": sum(cvc), "varying": sum(cvc), "uniform": len(cvc), "constant": 1}
+            check_primvars(prim, sizes, errors, primvars)
     for k, v in expect.items():
         if counts.get(k) != v:
             errors.append(f"expected {k}={v}, found {counts.get(k)}")
-    return {"file": path, "ok": not errors, "errors": errors, "counts": counts, "patch_centres": centres}
+    return {"file": path, "ok": not errors, "errors": errors, "counts": counts, "patch_centres": centres, "primvars": primvars}
 
 
 def main(argv):

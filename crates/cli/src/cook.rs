@@ -72,6 +72,10 @@ impl geode_io::Progress for CancelOnly<'_> {
     fn cancelled(&self) -> bool {
         self.0.is_cancelled()
     }
+
+    fn warn(&self, message: &str) {
+        eprintln!("warning: {message}");
+    }
 }
 
 pub struct CookArgs<'a> {

@@ -48,4 +48,8 @@ impl geode_io::Progress for Bar {
             }
         }
     }
+
+    fn warn(&self, message: &str) {
+        eprintln!("warning: {message}");
+    }
 }

@@ -14,6 +14,7 @@ mod progress;
 mod stl;
 mod text;
 mod usda;
+mod usda_primvars;
 mod weld;
 
 use std::path::Path;

@@ -10,6 +10,30 @@ pub trait Progress: Sync {
     fn cancelled(&self) -> bool {
         false
     }
+    /// Something the user should know of a result that stands (an
+    /// attribute a format had to leave out); the message names the file.
+    fn warn(&self, _message: &str) {}
+}
+
+/// Reports, in one warning, the attributes a format could not carry.
+pub(crate) fn report_dropped(
+    progress: &dyn Progress,
+    path: &std::path::Path,
+    format: &str,
+    dropped: &[(geode_geo::AttribClass, String, geode_geo::AttribType)],
+) {
+    if dropped.is_empty() {
+        return;
+    }
+    let list: Vec<String> = dropped
+        .iter()
+        .map(|(class, name, ty)| format!("{class} `{name}` ({ty})"))
+        .collect();
+    progress.warn(&format!(
+        "{}: {format} cannot hold {}; not written",
+        path.display(),
+        list.join(", ")
+    ));
 }
 
 /// Reports nothing.

@@ -5,12 +5,13 @@ use std::fmt::Write as _;
 use std::io::Write;
 use std::path::Path;
 
-use geode_geo::glam::{Mat4, Vec3};
+use geode_geo::glam::Vec3;
 use geode_geo::{ops, AttribClass, Geometry, PrimKind};
 
 use crate::atomic::os_err;
 use crate::error::IoError;
-use crate::progress::Progress;
+use crate::progress::{report_dropped, Progress};
+use crate::usda_primvars::{matrix4, primvar, write_value, Interpolation};
 
 struct Writer<'w> {
     out: &'w mut dyn Write,
@@ -20,6 +21,8 @@ struct Writer<'w> {
     protos: Vec<(*const Geometry, String, std::sync::Arc<Geometry>)>,
     proto_index: HashMap<*const Geometry, usize>,
     progress: &'w dyn Progress,
+    /// Attributes no primvar could carry, reported once at the end.
+    dropped: Vec<(AttribClass, String, geode_geo::AttribType)>,
 }
 
 impl Writer<'_> {
@@ -91,7 +94,6 @@ impl Writer<'_> {
             // formatted as it is walked, and a cancel is seen within 4096 items.
             let counts = polys.iter().map(|&i| g.prim_vertex_range(i).len() as u32);
             let indices = polys.iter().flat_map(|&i| g.prim_points(i).iter().copied());
-            let corner_vertices = || polys.iter().flat_map(|&i| g.prim_vertex_range(i));
             let _ = writeln!(self.buf, "{indent}def Mesh \"mesh\"\n{indent}{{");
             let inner = format!("{indent}    ");
             if let Some(b) = ops::bounds(g) {
@@ -122,49 +124,8 @@ impl Writer<'_> {
             let v3 = |s: &mut String, v: &Vec3| {
                 let _ = write!(s, "({}, {}, {})", v.x, v.y, v.z);
             };
-            // Vertex-class attributes are face-varying in USD, point-class ones per vertex.
-            for (name, decl, norm) in [
-                ("N", "normal3f[] normals", true),
-                ("Cd", "color3f[] primvars:displayColor", false),
-            ] {
-                if let Some(v) = g
-                    .attrib(AttribClass::Vertex, name)
-                    .and_then(|a| a.as_vec3())
-                {
-                    let vals =
-                        corner_vertices()
-                            .map(|c| if norm { v[c].normalize_or_zero() } else { v[c] });
-                    self.array(&inner, decl, vals, v3, "interpolation = \"faceVarying\"")?;
-                } else if let Some(v) = g.attrib(AttribClass::Point, name).and_then(|a| a.as_vec3())
-                {
-                    self.array(&inner, decl, v, v3, "interpolation = \"vertex\"")?;
-                }
-            }
             self.array(&inner, "point3f[] points", p, v3, "")?;
-            let v2 = |s: &mut String, v: &geode_geo::glam::Vec2| {
-                let _ = write!(s, "({}, {})", v.x, v.y);
-            };
-            if let Some(v) = g
-                .attrib(AttribClass::Vertex, "uv")
-                .and_then(|a| a.as_vec2())
-            {
-                let vals = corner_vertices().map(|c| v[c]);
-                self.array(
-                    &inner,
-                    "texCoord2f[] primvars:st",
-                    vals,
-                    v2,
-                    "interpolation = \"faceVarying\"",
-                )?;
-            } else if let Some(v) = g.attrib(AttribClass::Point, "uv").and_then(|a| a.as_vec2()) {
-                self.array(
-                    &inner,
-                    "texCoord2f[] primvars:st",
-                    v,
-                    v2,
-                    "interpolation = \"vertex\"",
-                )?;
-            }
+            self.primvars(g, &inner, &polys, false)?;
             let _ = writeln!(
                 self.buf,
                 "{inner}uniform token subdivisionScheme = \"none\"\n{indent}}}"
@@ -201,6 +162,7 @@ impl Writer<'_> {
                 },
                 "",
             )?;
+            self.primvars(g, &inner, &lines, true)?;
             let _ = writeln!(self.buf, "{inner}float[] widths = [0.01] (\n{inner}    interpolation = \"constant\"\n{inner})\n{indent}}}");
         }
         self.patches(g, indent)?;
@@ -215,10 +177,74 @@ impl Writer<'_> {
             let _ = writeln!(
                 self.buf,
                 "{indent}def Xform \"instance_{k}\" (\n{indent}    instanceable = true\n{indent}    references = </geode_prototypes/{proto}>\n{indent})\n{indent}{{\n{indent}    matrix4d xformOp:transform = {}\n{indent}    uniform token[] xformOpOrder = [\"xformOp:transform\"]\n{indent}}}",
-                usd_matrix(&world)
+                matrix4(&world)
             );
             k += 1;
             self.flush_if_big()?;
+        }
+        Ok(())
+    }
+}
+
+impl Writer<'_> {
+    /// Every attribute of `g` as a primvar of the prim holding `prims`
+    /// (polygons of a Mesh, or polylines of BasisCurves, whose points are
+    /// their vertices). A vertex attribute wins over a point attribute of
+    /// the same USD name.
+    fn primvars(
+        &mut self,
+        g: &Geometry,
+        indent: &str,
+        prims: &[usize],
+        curves: bool,
+    ) -> Result<(), IoError> {
+        let mut taken = std::collections::HashSet::new();
+        for class in [
+            AttribClass::Vertex,
+            AttribClass::Point,
+            AttribClass::Primitive,
+            AttribClass::Detail,
+        ] {
+            for (name, a) in g.attribs(class).iter() {
+                if class == AttribClass::Point && name == geode_geo::P {
+                    continue;
+                }
+                let pv = primvar(name, a).filter(|pv| taken.insert(pv.property.clone()));
+                let Some(pv) = pv else {
+                    let entry = (class, name.to_owned(), a.attrib_type());
+                    if !self.dropped.contains(&entry) {
+                        self.dropped.push(entry);
+                    }
+                    continue;
+                };
+                let interp = Interpolation::of(class, curves);
+                let meta = format!("interpolation = \"{}\"", interp.token());
+                let decl = format!("{}[] {}", pv.usd_type, pv.property);
+                let fmt = |s: &mut String, i: &usize| write_value(s, &pv, *i);
+                match class {
+                    AttribClass::Point if curves => {
+                        let pts = prims
+                            .iter()
+                            .flat_map(|&i| g.prim_points(i).iter().map(|&k| k as usize));
+                        self.array(indent, &decl, pts, fmt, &meta)?
+                    }
+                    AttribClass::Point => {
+                        self.array(indent, &decl, 0..g.num_points(), fmt, &meta)?
+                    }
+                    AttribClass::Vertex => {
+                        let corners = prims.iter().flat_map(|&i| g.prim_vertex_range(i));
+                        self.array(indent, &decl, corners, fmt, &meta)?
+                    }
+                    AttribClass::Primitive => {
+                        self.array(indent, &decl, prims.iter().copied(), fmt, &meta)?
+                    }
+                    AttribClass::Detail => {
+                        let _ = write!(self.buf, "{indent}{} {} = ", pv.usd_type, pv.property);
+                        write_value(&mut self.buf, &pv, 0);
+                        let _ = writeln!(self.buf, " (\n{indent}    {meta}\n{indent})");
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -293,24 +319,6 @@ impl Writer<'_> {
     }
 }
 
-/// USD matrices multiply row vectors: its rows are our columns.
-fn usd_matrix(m: &Mat4) -> String {
-    let c = m.to_cols_array_2d();
-    let row = |r: [f32; 4]| {
-        format!(
-            "({}, {}, {}, {})",
-            r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64
-        )
-    };
-    format!(
-        "({}, {}, {}, {})",
-        row(c[0]),
-        row(c[1]),
-        row(c[2]),
-        row(c[3])
-    )
-}
-
 /// Writes a `.usda` layer: an Xform `/geode` holding a Mesh (polygons, with
 /// normals, displayColor and st primvars), BasisCurves (polylines) and one
 /// instanceable Xform per packed instance referencing a prototype under the
@@ -329,6 +337,7 @@ pub fn write_usda(
         protos: Vec::new(),
         proto_index: HashMap::new(),
         progress,
+        dropped: Vec::new(),
     };
     let _ = writeln!(
         wr.buf,
@@ -351,6 +360,7 @@ pub fn write_usda(
         wr.buf.push_str("}\n");
     }
     wr.out.write_all(wr.buf.as_bytes()).map_err(os_err(path))?;
+    report_dropped(progress, path, "USD", &wr.dropped);
     progress.finish();
     Ok(())
 }

@@ -241,3 +241,72 @@ fn usda_keeps_spline_patches_and_mesh_formats_refuse_them_clearly() {
         );
     }
 }
+
+/// Every attribute reaches USD as a primvar with the interpolation of its
+/// class and the role of its type info, as usd-core reads it back.
+#[test]
+fn usda_primvars_keep_attributes_with_interpolation_and_role() {
+    let dir = tempfile::tempdir().unwrap();
+    let curves_path = dir.path().join("curves.usda");
+    let warnings = Warnings::default();
+    write(&framed_curves(), &curves_path, &warnings).unwrap();
+    let dropped = warnings.0.lock().unwrap().clone();
+    assert_eq!(
+        dropped,
+        vec![format!(
+            "{}: USD cannot hold point `tags` (int array); not written",
+            curves_path.display()
+        )]
+    );
+    let cube_path = dir.path().join("cube.usda");
+    write(&vertex_attributed_cube(), &cube_path, &NoProgress).unwrap();
+    let torus_path = dir.path().join("torus.usda");
+    write(&attributed_torus(), &torus_path, &NoProgress).unwrap();
+    let mut cmd = Command::new(std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into()));
+    cmd.arg(repo_root().join("tools/usd_check.py"));
+    cmd.args([&curves_path, &cube_path, &torus_path]);
+    let Some(report) = run_validator(cmd, "usd-core (pip)") else {
+        return;
+    };
+    let files: Vec<serde_json::Value> = report
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    let pv = |file: usize, key: &str| -> serde_json::Value { files[file]["primvars"][key].clone() };
+    let expect = |file: usize, key: &str, ty: &str, interp: &str, count: u64| {
+        let v = pv(file, key);
+        assert_eq!(v["type"], ty, "{key}: {v}");
+        assert_eq!(v["interpolation"], interp, "{key}: {v}");
+        assert_eq!(v["count"], count, "{key}: {v}");
+    };
+    // Curves: 8 curve vertices, 2 curves.
+    expect(0, "/geode/curves.orient", "quatf[]", "vertex", 8);
+    expect(0, "/geode/curves.T", "vector3f[]", "vertex", 8);
+    expect(0, "/geode/curves.B", "vector3f[]", "vertex", 8);
+    expect(0, "/geode/curves.pscale", "float[]", "vertex", 8);
+    expect(0, "/geode/curves.displayColor", "color3f[]", "vertex", 8);
+    expect(0, "/geode/curves.id", "int[]", "uniform", 2);
+    expect(0, "/geode/curves.name", "string", "constant", 1);
+    assert_eq!(pv(0, "/geode/curves.T")["role"], "Vector");
+    assert_eq!(pv(0, "/geode/curves.displayColor")["role"], "Color");
+    // The fourth curve vertex is point 3 again (start of the second curve is
+    // the fifth): orient of point 0 is the identity, real part first.
+    assert_eq!(
+        pv(0, "/geode/curves.orient")["first"],
+        serde_json::json!([1.0, 0.0, 0.0, 0.0])
+    );
+    assert_eq!(pv(0, "/geode/curves.id")["first"], 7);
+    assert_eq!(pv(0, "/geode/curves.name")["first"], "chain");
+    // A cube's corner uvs are face-varying, the torus' point attributes vertex, its primitive ones uniform.
+    expect(1, "/geode/mesh.st", "texCoord2f[]", "faceVarying", 24);
+    expect(2, "/geode/mesh.st", "texCoord2f[]", "vertex", 24 * 12);
+    expect(
+        2,
+        "/geode/mesh.displayColor",
+        "color3f[]",
+        "vertex",
+        24 * 12,
+    );
+    expect(2, "/geode/mesh.weight", "float[]", "uniform", 24 * 12);
+    assert!(files.iter().all(|f| f["ok"] == true), "{report}");
+}

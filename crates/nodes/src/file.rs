@@ -36,6 +36,9 @@ impl geode_io::Progress for CookProgress<'_, '_> {
     fn cancelled(&self) -> bool {
         self.ctx.cancel.is_cancelled()
     }
+    fn warn(&self, message: &str) {
+        self.ctx.warn(message);
+    }
 }
 
 /// A file error as a cook error of the right kind: cancelled, over the

@@ -172,7 +172,10 @@ impl Prims {
         if self.kinds.len() == counts.prims {
             return Err(bad(
                 "primitives",
-                format!("more primitives than the primitivecount of {}", counts.prims),
+                format!(
+                    "more primitives than the primitivecount of {}",
+                    counts.prims
+                ),
             ));
         }
         if let Some(&v) = verts.iter().find(|&&v| v as usize >= counts.vertices) {

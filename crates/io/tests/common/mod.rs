@@ -175,3 +175,110 @@ pub fn run_validator(mut cmd: Command, what: &str) -> Option<String> {
         }
     }
 }
+
+/// Two polylines with what `polyframe` and a user add: point `orient`, `T`,
+/// `B`, `N`, `pscale`, a vertex `Cd`, a primitive `id`, a detail `name` and a
+/// point int array `tags` (which no format but Houdini's carries).
+pub fn framed_curves() -> Geometry {
+    let mut g = Geometry::new();
+    let pts: Vec<Vec3> = (0..7)
+        .map(|i| Vec3::new(i as f32, (i as f32 * 0.7).sin(), 0.0))
+        .collect();
+    g.add_points(&pts);
+    g.add_polyline(&[0, 1, 2, 3]).unwrap();
+    g.add_polyline(&[3, 4, 5, 6]).unwrap();
+    let n = g.num_points();
+    let set = |g: &mut Geometry, class, name: &str, data, info| {
+        g.set_attrib(class, name, Attribute::from_data(data, info))
+            .unwrap();
+    };
+    let orient = (0..n)
+        .map(|i| Quat::from_rotation_z(i as f32 * 0.1))
+        .collect();
+    set(
+        &mut g,
+        AttribClass::Point,
+        "orient",
+        AttribData::Quat(orient),
+        TypeInfo::Quaternion,
+    );
+    let t = (0..n)
+        .map(|i| Vec3::new(1.0, i as f32 * 0.01, 0.0))
+        .collect();
+    set(
+        &mut g,
+        AttribClass::Point,
+        "T",
+        AttribData::Vec3(t),
+        TypeInfo::Vector,
+    );
+    set(
+        &mut g,
+        AttribClass::Point,
+        "B",
+        AttribData::Vec3(vec![Vec3::Z; n]),
+        TypeInfo::Vector,
+    );
+    set(
+        &mut g,
+        AttribClass::Point,
+        "N",
+        AttribData::Vec3(vec![Vec3::Y; n]),
+        TypeInfo::Normal,
+    );
+    let pscale = (0..n).map(|i| 0.5 + i as f32 * 0.25).collect();
+    set(
+        &mut g,
+        AttribClass::Point,
+        "pscale",
+        AttribData::Float(pscale),
+        TypeInfo::None,
+    );
+    let cd = (0..g.num_vertices())
+        .map(|v| Vec3::new(v as f32 / 8.0, 0.5, 1.0))
+        .collect();
+    set(
+        &mut g,
+        AttribClass::Vertex,
+        "Cd",
+        AttribData::Vec3(cd),
+        TypeInfo::Color,
+    );
+    set(
+        &mut g,
+        AttribClass::Primitive,
+        "id",
+        AttribData::Int(vec![7, 9]),
+        TypeInfo::None,
+    );
+    let name = geode_geo::StringColumn {
+        table: vec!["chain".into()],
+        indices: vec![0],
+    };
+    set(
+        &mut g,
+        AttribClass::Detail,
+        "name",
+        AttribData::String(name),
+        TypeInfo::None,
+    );
+    let tags = (0..n).map(|i| vec![i as i32; i % 3]).collect();
+    set(
+        &mut g,
+        AttribClass::Point,
+        "tags",
+        AttribData::IntArray(tags),
+        TypeInfo::None,
+    );
+    g
+}
+
+/// A progress sink that keeps the warnings a writer gives.
+#[derive(Default)]
+pub struct Warnings(pub std::sync::Mutex<Vec<String>>);
+
+impl geode_io::Progress for Warnings {
+    fn warn(&self, message: &str) {
+        self.0.lock().unwrap().push(message.to_owned());
+    }
+}
