@@ -211,6 +211,34 @@ fn check_semantics(prim: &gltf::Primitive) -> ParseResult<()> {
     Ok(())
 }
 
+/// The FLOAT values of an application-specific attribute, flat; `None`
+/// for other component types (left unread).
+fn custom_floats(a: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<f32>> {
+    if a.data_type() != gltf::accessor::DataType::F32 {
+        return None;
+    }
+    use gltf::accessor::{Dimensions as D, Iter};
+    let get = |b: gltf::Buffer| buffers.get(b.index()).map(|v| v.as_slice());
+    let k = a.dimensions().multiplicity();
+    // Each element is read whole (its stride is the view's), then flattened.
+    let flat: Vec<f32> = match a.dimensions() {
+        D::Scalar => Iter::<f32>::new(a.clone(), get)?.collect(),
+        D::Vec2 => Iter::<[f32; 2]>::new(a.clone(), get)?.flatten().collect(),
+        D::Vec3 => Iter::<[f32; 3]>::new(a.clone(), get)?.flatten().collect(),
+        D::Vec4 => Iter::<[f32; 4]>::new(a.clone(), get)?.flatten().collect(),
+        D::Mat3 => Iter::<[[f32; 3]; 3]>::new(a.clone(), get)?
+            .flatten()
+            .flatten()
+            .collect(),
+        D::Mat4 => Iter::<[[f32; 4]; 4]>::new(a.clone(), get)?
+            .flatten()
+            .flatten()
+            .collect(),
+        D::Mat2 => return None,
+    };
+    (flat.len() == a.count() * k).then_some(flat)
+}
+
 fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry> {
     let mut parts = Vec::new();
     for prim in mesh.primitives() {
@@ -337,6 +365,17 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
                 TypeInfo::Color,
             )?;
         }
+        for (semantic, accessor) in prim.attributes() {
+            let gltf::Semantic::Extras(name) = semantic else {
+                continue;
+            };
+            let values = custom_floats(&accessor, buffers);
+            if let Some((data, info)) =
+                values.and_then(|f| crate::gltf_attribs::read_custom(&accessor, f))
+            {
+                set(&name, data, info)?;
+            }
+        }
         parts.push(g);
     }
     let refs: Vec<&Geometry> = parts.iter().collect();
@@ -392,7 +431,10 @@ pub fn read_gltf(
         let mesh = &meshes[group[0].0];
         if let [(_, world)] = group {
             let mut g = mesh_geometry(mesh, &buffers)?;
-            ops::transform(&mut g, *world);
+            // The identity leaves values exact (a turned quaternion or matrix would round).
+            if *world != Mat4::IDENTITY {
+                ops::transform(&mut g, *world);
+            }
             baked.push(g);
         } else {
             // A mesh placed more than once: instances of one shared source,

@@ -1,4 +1,5 @@
-//! GLB writer: meshes with positions, normals, UVs and colours; packed
+//! GLB writer: meshes with positions, normals, UVs, colours and every other
+//! point or vertex attribute as `_NAME` (`gltf_attribs.rs`); packed
 //! instances as shared meshes, instanced on one node per source
 //! (`EXT_mesh_gpu_instancing`) or on a node each.
 
@@ -13,8 +14,9 @@ use serde_json::{json, Value};
 
 use crate::atomic::os_err;
 use crate::error::IoError;
+use crate::gltf_attribs;
 use crate::gltf_instancing as instancing;
-use crate::progress::Progress;
+use crate::progress::{report_dropped, Progress};
 
 const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
@@ -33,6 +35,8 @@ struct Builder<'c> {
     mesh_of: HashMap<*const Geometry, Option<usize>>,
     /// Whether a node uses `EXT_mesh_gpu_instancing`.
     instanced: bool,
+    /// What glTF could not carry, reported once.
+    dropped: Vec<String>,
 }
 
 impl Builder<'_> {
@@ -129,9 +133,16 @@ impl Builder<'_> {
             return None;
         }
         let pos = tri.positions();
+        let (customs, dropped) = gltf_attribs::custom_columns(&tri);
+        for d in dropped {
+            if !self.dropped.contains(&d) {
+                self.dropped.push(d);
+            }
+        }
         let per_corner = ["N", "uv", "Cd"]
             .iter()
-            .any(|n| tri.attrib(AttribClass::Vertex, n).is_some());
+            .any(|n| tri.attrib(AttribClass::Vertex, n).is_some())
+            || customs.iter().any(|c| c.class == AttribClass::Vertex);
         // glTF vertices: one per point, or one per polygon corner when any
         // attribute lives on vertices.
         let vertex_source: Vec<(u32, Option<u32>)> = if per_corner {
@@ -237,6 +248,16 @@ impl Builder<'_> {
                 *x = x.clamp(Vec3::ZERO, Vec3::ONE);
             }
             attrs.insert("COLOR_0".into(), json!(self.vec_accessor(&c, "VEC3", None)));
+        }
+        for c in &customs {
+            if let Some((flat, ty, extras)) = c.gather(&vertex_source) {
+                let k = flat.len() / vertex_source.len().max(1);
+                let view = self.view(bytemuck::cast_slice(&flat), Some(ARRAY_BUFFER));
+                self.accessors
+                    .push(json!({"bufferView": view, "componentType": FLOAT,
+                    "count": flat.len() / k.max(1), "type": ty, "extras": extras}));
+                attrs.insert(c.semantic(), json!(self.accessors.len() - 1));
+            }
         }
         if (self.cancelled)() {
             return None;
@@ -381,6 +402,7 @@ pub fn write_glb(
         nodes: Vec::new(),
         mesh_of: HashMap::new(),
         instanced: false,
+        dropped: Vec::new(),
     };
     let roots = b.nodes_for(g, true, 0);
     if progress.cancelled() {
@@ -441,6 +463,11 @@ pub fn write_glb(
         w.write_all(b"BIN\0").map_err(&e)?;
         w.write_all(&b.bin).map_err(&e)?;
     }
+    for (kind, groups) in [("point", g.point_groups()), ("primitive", g.prim_groups())] {
+        b.dropped
+            .extend(groups.keys().map(|n| format!("{kind} group `{n}`")));
+    }
+    report_dropped(progress, path, "GLB", &b.dropped);
     progress.finish();
     Ok(())
 }

@@ -3,13 +3,17 @@
 //! GLB, USDA and .geo/.bgeo. Every write is atomic. The only crate besides the CLI that touches the file system.
 
 mod atomic;
+mod attrib_codec;
 mod error;
+mod gltf_attribs;
 mod gltf_instancing;
 mod gltf_read;
 mod gltf_write;
 mod houdini;
 pub mod obj;
 mod ply;
+mod ply_build;
+mod ply_write;
 mod progress;
 mod stl;
 mod text;
@@ -237,7 +241,7 @@ fn encode(
     match format {
         Format::Obj => obj::write_obj(g, w, path, progress),
         Format::Stl => stl::write_stl(g, w, path, progress),
-        Format::Ply => ply::write_ply(g, w, path, progress),
+        Format::Ply => ply_write::write_ply(g, w, path, progress),
         Format::Glb => gltf_write::write_glb(g, w, path, progress),
         Format::Usda => usda::write_usda(g, w, path, progress),
         Format::Geo | Format::Bgeo => {

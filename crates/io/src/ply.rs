@@ -1,18 +1,13 @@
-//! PLY reader (ASCII, binary little and big endian) and binary little-endian writer.
+//! PLY reader (ASCII, binary little and big endian); the writer is `ply_write.rs`.
 
-use std::io::Write;
-use std::path::Path;
+use geode_geo::{AttribClass, AttribType, Geometry, TypeInfo};
 
-use geode_geo::glam::{Vec2, Vec3};
-use geode_geo::{AttribClass, AttribData, AttribType, Attribute, Geometry, PrimKind, TypeInfo};
-
-use crate::atomic::os_err;
-use crate::error::{IoError, ParseError, ParseResult};
+use crate::error::{ParseError, ParseResult};
 use crate::progress::{Progress, Throttle};
 use crate::text::Lines;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Scalar {
+pub(crate) enum Scalar {
     I8,
     U8,
     I16,
@@ -47,28 +42,28 @@ impl Scalar {
         }
     }
 
-    fn is_float(self) -> bool {
+    pub(crate) fn is_float(self) -> bool {
         matches!(self, Scalar::F32 | Scalar::F64)
     }
 }
 
 #[derive(Clone, Debug)]
-enum PropKind {
+pub(crate) enum PropKind {
     Scalar(Scalar),
     List { count: Scalar, item: Scalar },
 }
 
 #[derive(Clone, Debug)]
-struct Property {
-    name: String,
-    kind: PropKind,
+pub(crate) struct Property {
+    pub(crate) name: String,
+    pub(crate) kind: PropKind,
 }
 
 #[derive(Clone, Debug)]
-struct Element {
-    name: String,
-    count: usize,
-    props: Vec<Property>,
+pub(crate) struct Element {
+    pub(crate) name: String,
+    pub(crate) count: usize,
+    pub(crate) props: Vec<Property>,
 }
 
 #[derive(Clone, Copy, PartialEq, Debug)]
@@ -80,14 +75,23 @@ enum Encoding {
 
 /// Values of one property over all elements: scalars, or flattened lists.
 #[derive(Default)]
-struct Column {
-    values: Vec<f64>,
-    list_counts: Vec<u32>,
+pub(crate) struct Column {
+    pub(crate) values: Vec<f64>,
+    pub(crate) list_counts: Vec<u32>,
 }
 
-struct Header {
+/// `comment geode attribute CLASS NAME TYPE TYPEINFO`: an attribute geode wrote.
+pub(crate) struct Declared {
+    pub(crate) class: AttribClass,
+    pub(crate) name: String,
+    pub(crate) ty: AttribType,
+    pub(crate) info: TypeInfo,
+}
+
+pub(crate) struct Header {
     encoding: Encoding,
-    elements: Vec<Element>,
+    pub(crate) elements: Vec<Element>,
+    pub(crate) declared: Vec<Declared>,
     body_offset: usize,
     body_line: u64,
 }
@@ -96,6 +100,7 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
     let mut lines = Lines::new(bytes);
     let mut encoding = None;
     let mut elements: Vec<Element> = Vec::new();
+    let mut declared = Vec::new();
     let mut first = true;
     while let Some((n, _, line)) = lines.next() {
         let line = line.map_err(|m| ParseError::line(n, m))?;
@@ -118,6 +123,21 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
                     (Some("binary_big_endian"), Some("1.0")) => Encoding::Big,
                     _ => return Err(err(format!("unsupported format line `{line}` (expected ascii, binary_little_endian or binary_big_endian 1.0)"))),
                 })
+            }
+            Some("comment") if t.next() == Some("geode") && t.next() == Some("attribute") => {
+                let words: Vec<&str> = t.collect();
+                let class = match words.first() {
+                    Some(&"point") => AttribClass::Point,
+                    Some(&"vertex") => AttribClass::Vertex,
+                    Some(&"primitive") => AttribClass::Primitive,
+                    _ => continue,
+                };
+                if let [_, name, ty, info] = words[..] {
+                    if let Some(ty) = crate::attrib_codec::type_from_token(ty) {
+                        let info = crate::attrib_codec::info_from_token(info);
+                        declared.push(Declared { class, name: name.to_owned(), ty, info });
+                    }
+                }
             }
             Some("comment") | Some("obj_info") | None => {}
             Some("element") => {
@@ -146,7 +166,7 @@ fn parse_header(bytes: &[u8]) -> ParseResult<Header> {
             }
             Some("end_header") => {
                 let encoding = encoding.ok_or_else(|| err("`end_header` before any `format` line".into()))?;
-                return Ok(Header { encoding, elements, body_offset: lines.offset(), body_line: lines.line() });
+                return Ok(Header { encoding, elements, declared, body_offset: lines.offset(), body_line: lines.line() });
             }
             Some(other) => return Err(err(format!("unknown header keyword `{}`", other.chars().take(32).collect::<String>()))),
         }
@@ -373,370 +393,13 @@ pub fn read_ply(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
             data
         }
     };
-    build(&h, data)
-}
-
-fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry> {
-    let find = |el: &Element, names: &[&str]| {
-        names
-            .iter()
-            .find_map(|n| el.props.iter().position(|p| p.name == *n))
-    };
-    let mut positions = Vec::new();
-    let mut point_attribs: Vec<(String, Attribute)> = Vec::new();
-    let mut vertex_points: Vec<u32> = Vec::new();
-    let mut counts: Vec<u32> = Vec::new();
-    let mut kinds: Vec<PrimKind> = Vec::new();
-    let mut prim_attribs: Vec<(String, Vec<f64>, bool)> = Vec::new();
-    let mut vertex_uv: Option<Vec<Vec2>> = None;
-    let mut n_faces = 0usize;
-    for (el, cols) in h.elements.iter().zip(&data) {
-        let scalar = |i: usize| &cols[i].values;
-        match el.name.as_str() {
-            "vertex" => {
-                let (Some(x), Some(y), Some(z)) =
-                    (find(el, &["x"]), find(el, &["y"]), find(el, &["z"]))
-                else {
-                    return Err(ParseError::whole("element `vertex` lacks x, y or z"));
-                };
-                positions = (0..el.count)
-                    .map(|i| {
-                        Vec3::new(
-                            scalar(x)[i] as f32,
-                            scalar(y)[i] as f32,
-                            scalar(z)[i] as f32,
-                        )
-                    })
-                    .collect();
-                let mut used = vec![x, y, z];
-                let vec3 = |names: [&str; 3]| -> Option<[usize; 3]> {
-                    Some([
-                        find(el, &[names[0]])?,
-                        find(el, &[names[1]])?,
-                        find(el, &[names[2]])?,
-                    ])
-                };
-                if let Some(n) = vec3(["nx", "ny", "nz"]) {
-                    used.extend(n);
-                    let v = (0..el.count)
-                        .map(|i| {
-                            Vec3::new(
-                                scalar(n[0])[i] as f32,
-                                scalar(n[1])[i] as f32,
-                                scalar(n[2])[i] as f32,
-                            )
-                        })
-                        .collect();
-                    point_attribs.push((
-                        "N".into(),
-                        Attribute::from_data(AttribData::Vec3(v), TypeInfo::Normal),
-                    ));
-                }
-                if let Some(c) = vec3(["red", "green", "blue"]) {
-                    used.extend(c);
-                    let scale = |k: usize| match el.props[c[k]].kind {
-                        PropKind::Scalar(Scalar::U8) => 1.0 / 255.0,
-                        PropKind::Scalar(Scalar::U16) => 1.0 / 65535.0,
-                        _ => 1.0,
-                    };
-                    let s = [scale(0), scale(1), scale(2)];
-                    let v = (0..el.count)
-                        .map(|i| {
-                            Vec3::new(
-                                (scalar(c[0])[i] * s[0]) as f32,
-                                (scalar(c[1])[i] * s[1]) as f32,
-                                (scalar(c[2])[i] * s[2]) as f32,
-                            )
-                        })
-                        .collect();
-                    point_attribs.push((
-                        "Cd".into(),
-                        Attribute::from_data(AttribData::Vec3(v), TypeInfo::Color),
-                    ));
-                }
-                for (un, vn) in [("s", "t"), ("u", "v"), ("texture_u", "texture_v")] {
-                    if let (Some(u), Some(v)) = (find(el, &[un]), find(el, &[vn])) {
-                        used.extend([u, v]);
-                        let uv = (0..el.count)
-                            .map(|i| Vec2::new(scalar(u)[i] as f32, scalar(v)[i] as f32))
-                            .collect();
-                        point_attribs.push((
-                            "uv".into(),
-                            Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
-                        ));
-                        break;
-                    }
-                }
-                for (i, p) in el.props.iter().enumerate() {
-                    if used.contains(&i) {
-                        continue;
-                    }
-                    if let PropKind::Scalar(s) = p.kind {
-                        let data = if s.is_float() {
-                            AttribData::Float(cols[i].values.iter().map(|&v| v as f32).collect())
-                        } else {
-                            AttribData::Int(cols[i].values.iter().map(|&v| v as i32).collect())
-                        };
-                        point_attribs
-                            .push((p.name.clone(), Attribute::from_data(data, TypeInfo::None)));
-                    }
-                }
-            }
-            "face" => {
-                let Some(vi) = find(el, &["vertex_indices", "vertex_index"]) else {
-                    return Err(ParseError::whole(
-                        "element `face` lacks a vertex_indices list",
-                    ));
-                };
-                let c = &cols[vi];
-                if c.list_counts.is_empty() && el.count > 0 {
-                    return Err(ParseError::whole(
-                        "face property vertex_indices must be a list",
-                    ));
-                }
-                let mut k = 0;
-                for (f, &n) in c.list_counts.iter().enumerate() {
-                    if n < 3 {
-                        return Err(ParseError::whole(format!(
-                            "face {f} has {n} vertices, at least 3 needed"
-                        )));
-                    }
-                    for &v in &c.values[k..k + n as usize] {
-                        if v < 0.0 || v as usize >= positions.len() {
-                            return Err(ParseError::whole(format!(
-                                "face {f} refers to vertex {v} but there are {} vertices",
-                                positions.len()
-                            )));
-                        }
-                        vertex_points.push(v as u32);
-                    }
-                    k += n as usize;
-                    counts.push(n);
-                    kinds.push(PrimKind::Polygon);
-                }
-                n_faces = el.count;
-                if let Some(ti) = find(el, &["texcoord"]) {
-                    let t = &cols[ti];
-                    if t.list_counts
-                        .iter()
-                        .zip(&c.list_counts)
-                        .all(|(a, b)| *a == 2 * *b)
-                    {
-                        vertex_uv = Some(
-                            t.values
-                                .chunks(2)
-                                .map(|p| Vec2::new(p[0] as f32, p[1] as f32))
-                                .collect(),
-                        );
-                    }
-                }
-                for (i, p) in el.props.iter().enumerate() {
-                    if let PropKind::Scalar(s) = p.kind {
-                        prim_attribs.push((p.name.clone(), cols[i].values.clone(), s.is_float()));
-                    }
-                }
-            }
-            "edge" => {
-                if let (Some(a), Some(b)) = (find(el, &["vertex1"]), find(el, &["vertex2"])) {
-                    for i in 0..el.count {
-                        for v in [cols[a].values[i], cols[b].values[i]] {
-                            if v < 0.0 || v as usize >= positions.len() {
-                                return Err(ParseError::whole(format!(
-                                    "edge {i} refers to vertex {v} but there are {} vertices",
-                                    positions.len()
-                                )));
-                            }
-                            vertex_points.push(v as u32);
-                        }
-                        counts.push(2);
-                        kinds.push(PrimKind::Polyline);
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-    let n_vertices = vertex_points.len();
-    let mut g = Geometry::from_prims(positions, vertex_points, &counts, kinds)
-        .map_err(|e| ParseError::whole(e.to_string()))?;
-    for (name, a) in point_attribs {
-        g.set_attrib(AttribClass::Point, &name, a)
-            .map_err(|e| ParseError::whole(e.to_string()))?;
-    }
-    let n_prims = g.num_prims();
-    for (name, mut vals, float) in prim_attribs {
-        vals.resize(n_prims, 0.0);
-        let data = if float {
-            AttribData::Float(vals.iter().map(|&v| v as f32).collect())
-        } else {
-            AttribData::Int(vals.iter().map(|&v| v as i32).collect())
-        };
-        g.set_attrib(
-            AttribClass::Primitive,
-            &name,
-            Attribute::from_data(data, TypeInfo::None),
-        )
-        .map_err(|e| ParseError::whole(e.to_string()))?;
-    }
-    if let Some(mut uv) = vertex_uv {
-        uv.resize(n_vertices, Vec2::ZERO);
-        debug_assert!(n_faces <= n_prims);
-        g.set_attrib(
-            AttribClass::Vertex,
-            "uv",
-            Attribute::from_data(AttribData::Vec2(uv), TypeInfo::TexCoord),
-        )
-        .map_err(|e| ParseError::whole(e.to_string()))?;
-    }
-    Ok(g)
-}
-
-/// Writes binary little-endian PLY: positions, point `N`, `Cd` (as float
-/// red/green/blue), point `uv` (as s/t) and every other scalar float or int
-/// point attribute; faces with their scalar primitive attributes; polylines as
-/// `edge` elements (one per segment). Packed primitives must be unpacked first.
-pub fn write_ply(
-    g: &Geometry,
-    w: &mut dyn Write,
-    path: &Path,
-    progress: &dyn Progress,
-) -> Result<(), IoError> {
-    crate::error::refuse_packed(g, path, "PLY")?;
-    let e = os_err(path);
-    let pts = g.attribs(AttribClass::Point);
-    let vec3 = |n: &str| pts.get(n).and_then(|a| a.as_vec3());
-    let normals = vec3("N");
-    let colors = vec3("Cd");
-    let uvs = pts.get("uv").and_then(|a| a.as_vec2());
-    let scalars: Vec<(&str, &Attribute)> = pts
-        .iter()
-        .filter(|(n, a)| {
-            !["P", "N", "Cd", "uv"].contains(n)
-                && matches!(a.attrib_type(), AttribType::Float | AttribType::Int)
-        })
-        .filter(|(n, _)| n.chars().all(|c| c.is_ascii_graphic()))
-        .collect();
-    let prim_scalars: Vec<(&str, &Attribute)> = g
-        .attribs(AttribClass::Primitive)
-        .iter()
-        .filter(|(n, a)| {
-            matches!(a.attrib_type(), AttribType::Float | AttribType::Int)
-                && n.chars().all(|c| c.is_ascii_graphic())
-        })
-        .collect();
-    let polys: Vec<usize> = g.prims_where(|k| k == PrimKind::Polygon);
-    let segments: Vec<[u32; 2]> = (0..g.num_prims())
-        .filter(|&i| g.prim_kind(i) == PrimKind::Polyline)
-        .flat_map(|i| {
-            g.prim_points(i)
-                .windows(2)
-                .map(|w| [w[0], w[1]])
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    let big_faces = polys.iter().any(|&i| g.prim_vertex_range(i).len() > 255);
-    let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
-    head += &format!(
-        "comment written by geode {}\nelement vertex {}\n",
-        env!("CARGO_PKG_VERSION"),
-        g.num_points()
-    );
-    head += "property float x\nproperty float y\nproperty float z\n";
-    if normals.is_some() {
-        head += "property float nx\nproperty float ny\nproperty float nz\n";
-    }
-    if colors.is_some() {
-        head += "property float red\nproperty float green\nproperty float blue\n";
-    }
-    if uvs.is_some() {
-        head += "property float s\nproperty float t\n";
-    }
-    let ty = |a: &Attribute| {
-        if a.attrib_type() == AttribType::Float {
-            "float"
-        } else {
-            "int"
-        }
-    };
-    for (n, a) in &scalars {
-        head += &format!("property {} {n}\n", ty(a));
-    }
-    head += &format!(
-        "element face {}\nproperty list {} int vertex_indices\n",
-        polys.len(),
-        if big_faces { "uint" } else { "uchar" }
-    );
-    for (n, a) in &prim_scalars {
-        head += &format!("property {} {n}\n", ty(a));
-    }
-    if !segments.is_empty() {
-        head += &format!(
-            "element edge {}\nproperty int vertex1\nproperty int vertex2\n",
-            segments.len()
-        );
-    }
-    head += "end_header\n";
-    w.write_all(head.as_bytes()).map_err(&e)?;
-    let mut throttle = Throttle::new(
-        progress,
-        "writing PLY",
-        (g.num_points() + polys.len()) as u64,
-    );
-    let mut buf: Vec<u8> = Vec::with_capacity(1 << 20);
-    let put_scalar = |buf: &mut Vec<u8>, a: &Attribute, i: usize| match a.data() {
-        AttribData::Float(v) => buf.extend_from_slice(&v[i].to_le_bytes()),
-        AttribData::Int(v) => buf.extend_from_slice(&v[i].to_le_bytes()),
-        _ => unreachable!("filtered to scalars"),
-    };
-    let p = g.positions();
-    for i in 0..g.num_points() {
-        buf.extend_from_slice(bytemuck::bytes_of(&p[i]));
-        if let Some(n) = normals {
-            buf.extend_from_slice(bytemuck::bytes_of(&n[i]));
-        }
-        if let Some(c) = colors {
-            buf.extend_from_slice(bytemuck::bytes_of(&c[i]));
-        }
-        if let Some(t) = uvs {
-            buf.extend_from_slice(bytemuck::bytes_of(&t[i]));
-        }
-        for (_, a) in &scalars {
-            put_scalar(&mut buf, a, i);
-        }
-        if buf.len() > 1 << 20 {
-            w.write_all(&buf).map_err(&e)?;
-            buf.clear();
-            throttle.tick(i as u64);
-        }
-    }
-    for (k, &prim) in polys.iter().enumerate() {
-        let pts = g.prim_points(prim);
-        if big_faces {
-            buf.extend_from_slice(&(pts.len() as u32).to_le_bytes());
-        } else {
-            buf.push(pts.len() as u8);
-        }
-        buf.extend_from_slice(bytemuck::cast_slice(pts));
-        for (_, a) in &prim_scalars {
-            put_scalar(&mut buf, a, prim);
-        }
-        if buf.len() > 1 << 20 {
-            w.write_all(&buf).map_err(&e)?;
-            buf.clear();
-            throttle.tick((g.num_points() + k) as u64);
-        }
-    }
-    for s in &segments {
-        buf.extend_from_slice(bytemuck::cast_slice(s));
-    }
-    w.write_all(&buf).map_err(&e)?;
-    throttle.finish();
-    Ok(())
+    crate::ply_build::build(&h, data)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use geode_geo::glam::Vec3;
     use crate::progress::NoProgress;
 
     const ASCII: &str = "ply\nformat ascii 1.0\ncomment hi\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\

@@ -15,24 +15,30 @@ pub trait Progress: Sync {
     fn warn(&self, _message: &str) {}
 }
 
-/// Reports, in one warning, the attributes a format could not carry.
+/// How a warning names an attribute: `point `tags` (int array)`.
+pub(crate) fn describe_attrib(
+    class: geode_geo::AttribClass,
+    name: &str,
+    ty: geode_geo::AttribType,
+) -> String {
+    format!("{class} `{name}` ({ty})")
+}
+
+/// Reports, in one warning, what a format could not carry (attributes as
+/// [`describe_attrib`] names them, groups).
 pub(crate) fn report_dropped(
     progress: &dyn Progress,
     path: &std::path::Path,
     format: &str,
-    dropped: &[(geode_geo::AttribClass, String, geode_geo::AttribType)],
+    dropped: &[String],
 ) {
     if dropped.is_empty() {
         return;
     }
-    let list: Vec<String> = dropped
-        .iter()
-        .map(|(class, name, ty)| format!("{class} `{name}` ({ty})"))
-        .collect();
     progress.warn(&format!(
         "{}: {format} cannot hold {}; not written",
         path.display(),
-        list.join(", ")
+        dropped.join(", ")
     ));
 }
 

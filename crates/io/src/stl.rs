@@ -210,6 +210,16 @@ pub fn write_stl(
             });
         w.write_all(&buf[..batch.len() * RECORD]).map_err(&e)?;
     }
+    // STL is triangles by definition: attributes are not news, lost curves are.
+    let lines = g
+        .prim_kinds()
+        .iter()
+        .filter(|k| **k == PrimKind::Polyline)
+        .count();
+    if lines > 0 {
+        let what = format!("{lines} polylines (STL holds triangles only)");
+        crate::progress::report_dropped(progress, path, "STL", &[what]);
+    }
     throttle.finish();
     Ok(())
 }

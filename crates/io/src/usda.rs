@@ -10,7 +10,7 @@ use geode_geo::{ops, AttribClass, Geometry, PrimKind};
 
 use crate::atomic::os_err;
 use crate::error::IoError;
-use crate::progress::{report_dropped, Progress};
+use crate::progress::{describe_attrib, report_dropped, Progress};
 use crate::usda_primvars::{matrix4, primvar, write_value, Interpolation};
 
 struct Writer<'w> {
@@ -22,7 +22,7 @@ struct Writer<'w> {
     proto_index: HashMap<*const Geometry, usize>,
     progress: &'w dyn Progress,
     /// Attributes no primvar could carry, reported once at the end.
-    dropped: Vec<(AttribClass, String, geode_geo::AttribType)>,
+    dropped: Vec<String>,
 }
 
 impl Writer<'_> {
@@ -211,7 +211,7 @@ impl Writer<'_> {
                 }
                 let pv = primvar(name, a).filter(|pv| taken.insert(pv.property.clone()));
                 let Some(pv) = pv else {
-                    let entry = (class, name.to_owned(), a.attrib_type());
+                    let entry = describe_attrib(class, name, a.attrib_type());
                     if !self.dropped.contains(&entry) {
                         self.dropped.push(entry);
                     }

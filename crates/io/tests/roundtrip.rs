@@ -117,13 +117,62 @@ fn ply_keeps_attributes() {
             .as_f32(),
         g.attrib(AttribClass::Primitive, "weight").unwrap().as_f32()
     );
-    // Polylines travel as edges.
+    // Polylines stay polylines.
     let mut lines = Geometry::new();
     lines.add_points(&[Vec3::ZERO, Vec3::X, Vec3::Y]);
     lines.add_polyline(&[0, 1, 2]).unwrap();
     let back = round_trip(&lines, "ply");
-    assert_eq!(back.num_prims(), 2);
-    assert_eq!(back.prim_points(1), &[1, 2]);
+    assert_eq!(back.num_prims(), 1);
+    assert_eq!(back.prim_points(0), &[0, 1, 2]);
+    assert_eq!(back.prim_kind(0), PrimKind::Polyline);
+}
+
+/// Every attribute PLY can carry comes back with its type and type info
+/// (polylines, a vertex colour, quaternions, int arrays); what it cannot
+/// (strings, groups) is named in one warning.
+#[test]
+fn ply_keeps_every_numeric_attribute_and_names_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, g, expect_dropped) in [
+        ("curves", framed_curves(), "detail `name` (string)"),
+        ("cube", vertex_attributed_cube(), ""),
+        ("torus", attributed_torus(), "primitive group `half`"),
+    ] {
+        let path = dir.path().join(format!("{name}.ply"));
+        let warnings = Warnings::default();
+        write(&g, &path, &warnings).unwrap();
+        let back = read(&path, &NoProgress).unwrap();
+        assert_eq!(back.prim_kinds(), g.prim_kinds(), "{name}");
+        assert_eq!(back.vertex_points(), g.vertex_points(), "{name}");
+        for class in [
+            AttribClass::Point,
+            AttribClass::Vertex,
+            AttribClass::Primitive,
+        ] {
+            for (attr, a) in g.attribs(class).iter() {
+                if a.attrib_type() == geode_geo::AttribType::String {
+                    continue;
+                }
+                let b = back
+                    .attrib(class, attr)
+                    .unwrap_or_else(|| panic!("{name}: {class} `{attr}` lost"));
+                assert_eq!(b.data(), a.data(), "{name}: {class} `{attr}`");
+                assert_eq!(b.type_info, a.type_info, "{name}: {class} `{attr}`");
+            }
+        }
+        let warned = warnings.0.lock().unwrap().clone();
+        if expect_dropped.is_empty() {
+            assert!(warned.is_empty(), "{warned:?}");
+        } else {
+            assert_eq!(
+                warned,
+                vec![format!(
+                    "{}: PLY cannot hold {expect_dropped}; not written",
+                    path.display()
+                )]
+            );
+        }
+    }
 }
 
 #[test]
@@ -228,8 +277,7 @@ fn formats_without_instancing_unpack() {
     let scene = instanced_scene(5);
     let flat = ops::unpack(&scene).unwrap();
     assert_eq!(round_trip(&scene, "obj").num_prims(), flat.num_prims());
-    // PLY writes the 2-segment polyline as two edges.
-    assert_eq!(round_trip(&scene, "ply").num_prims(), flat.num_prims() + 1);
+    assert_eq!(round_trip(&scene, "ply").num_prims(), flat.num_prims());
 }
 
 #[test]
@@ -277,5 +325,63 @@ fn gltf_json_with_data_uri_and_external_buffers() {
     assert!(
         e.contains("external.gltf: buffer 0: cannot read") && e.contains("mesh.bin"),
         "{e}"
+    );
+}
+
+/// Point attributes beyond N, uv and Cd travel as glTF `_NAME` attributes
+/// and come back with their geode type and type info; what glTF cannot
+/// carry is named in one warning.
+#[test]
+fn glb_keeps_custom_point_attributes() {
+    let g = instancing_torus();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("t.glb");
+    let warnings = Warnings::default();
+    write(&g, &path, &warnings).unwrap();
+    let back = read(&path, &NoProgress).unwrap();
+    for name in ["orient", "pscale", "id", "xform", "T"] {
+        let (a, b) = (
+            g.attrib(AttribClass::Point, name).unwrap(),
+            back.attrib(AttribClass::Point, name)
+                .unwrap_or_else(|| panic!("`{name}` lost")),
+        );
+        assert_eq!(b.data(), a.data(), "{name}");
+        assert_eq!(b.type_info, a.type_info, "{name}");
+    }
+    assert_eq!(
+        warnings.0.lock().unwrap().clone(),
+        vec![format!(
+            "{}: GLB cannot hold primitive `weight` (float), primitive group `half`; not written",
+            path.display()
+        )]
+    );
+}
+
+/// OBJ keeps colours, uvs, normals, materials, primitive groups and the
+/// subdivision tags; the rest is named in one warning.
+#[test]
+fn obj_names_what_it_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.obj");
+    let warnings = Warnings::default();
+    write(&framed_curves(), &path, &warnings).unwrap();
+    assert_eq!(
+        warnings.0.lock().unwrap().clone(),
+        vec![format!(
+            "{}: OBJ cannot hold point `B` (vector3), point `T` (vector3), point `orient` (quaternion), point `pscale` (float), point `tags` (int array), vertex `Cd` (vector3), primitive `id` (int), detail `name` (string); not written",
+            path.display()
+        )]
+    );
+    let quiet = Warnings::default();
+    write(
+        &vertex_attributed_cube(),
+        &dir.path().join("cube.obj"),
+        &quiet,
+    )
+    .unwrap();
+    assert!(
+        quiet.0.lock().unwrap().is_empty(),
+        "{:?}",
+        quiet.0.lock().unwrap()
     );
 }

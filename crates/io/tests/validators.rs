@@ -49,6 +49,7 @@ fn samples() -> Vec<(&'static str, Geometry)> {
         ("cloud", cloud),
         ("empty", Geometry::new()),
         ("zero_normals", bad_normals),
+        ("custom_attributes", instancing_torus()),
     ]
 }
 

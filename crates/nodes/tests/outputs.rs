@@ -44,6 +44,26 @@ fn a_write_node_writes_one_file_per_frame_and_every_time_it_cooks() {
     assert!(dir.path().join("w.0002.obj").exists());
 }
 
+/// What a format cannot carry reaches the user as the write node's warning.
+#[test]
+fn a_write_names_the_attributes_its_format_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let text = r#"{"geode": "network", "version": 1, "output": "w", "nodes": {
+        "l": {"type": "curve_line", "params": {"points": 5}},
+        "f": {"type": "polyframe", "inputs": ["l"]},
+        "w": {"type": "write", "params": {"file": "$HIP/f.stl"}, "inputs": ["f"]}}}"#;
+    let cache = Cache::new(1 << 26);
+    let r = engine_for(text, &cache).cook("/w", &at(1.0, hip)).unwrap();
+    let w = r.events.iter().find(|e| e.path == "/w").unwrap();
+    assert_eq!(
+        w.warnings.to_vec(),
+        vec![format!(
+            "{hip}/f.stl: STL cannot hold 1 polylines (STL holds triangles only); not written"
+        )]
+    );
+}
+
 #[test]
 fn an_hspline_save_is_written_per_frame_and_its_surface_still_caches_without_one() {
     let dir = tempfile::tempdir().unwrap();

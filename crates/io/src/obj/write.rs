@@ -7,7 +7,7 @@ use geode_geo::{AttribClass, Geometry, Group, PrimKind};
 
 use crate::atomic::os_err;
 use crate::error::IoError;
-use crate::progress::{Progress, Throttle};
+use crate::progress::{describe_attrib, report_dropped, Progress, Throttle};
 
 pub fn write_obj(
     g: &Geometry,
@@ -120,6 +120,55 @@ pub fn write_obj(
     }
     super::tags::write_tags(g, &mut buf);
     w.write_all(buf.as_bytes()).map_err(&e)?;
+    report_dropped(progress, path, "OBJ", &dropped(g));
     throttle.finish();
     Ok(())
+}
+
+/// What OBJ cannot hold: every attribute but those written above (`Cd`,
+/// `uv`, `N`, `material`, the subdivision tags) and point groups.
+fn dropped(g: &Geometry) -> Vec<String> {
+    use super::tags::{
+        BOUNDARY, CORNER, CREASE, CREASE_METHOD, FVAR_BOUNDARY, HOLE, RAW_TAGS, TRIANGLE_RULE,
+    };
+    use geode_geo::AttribType as T;
+    let written = |class: AttribClass, name: &str, ty: T| match (class, name, ty) {
+        (AttribClass::Point, geode_geo::P, _) | (AttribClass::Point, "Cd", T::Vec3) => true,
+        // A vertex uv or N is written in preference to a point one.
+        (AttribClass::Vertex, "uv", T::Vec2) | (AttribClass::Vertex, "N", T::Vec3) => true,
+        (AttribClass::Point, "uv", T::Vec2) => g.attrib(AttribClass::Vertex, "uv").is_none(),
+        (AttribClass::Point, "N", T::Vec3) => g.attrib(AttribClass::Vertex, "N").is_none(),
+        (AttribClass::Primitive, "material", T::String) => true,
+        (AttribClass::Vertex, CREASE, _)
+        | (AttribClass::Point, CORNER, _)
+        | (AttribClass::Primitive, HOLE, _) => true,
+        (AttribClass::Detail, n, _) => [
+            BOUNDARY,
+            FVAR_BOUNDARY,
+            CREASE_METHOD,
+            TRIANGLE_RULE,
+            RAW_TAGS,
+        ]
+        .contains(&n),
+        _ => false,
+    };
+    let mut out = Vec::new();
+    for class in [
+        AttribClass::Point,
+        AttribClass::Vertex,
+        AttribClass::Primitive,
+        AttribClass::Detail,
+    ] {
+        for (name, a) in g.attribs(class).iter() {
+            if !written(class, name, a.attrib_type()) {
+                out.push(describe_attrib(class, name, a.attrib_type()));
+            }
+        }
+    }
+    out.extend(
+        g.point_groups()
+            .keys()
+            .map(|n| format!("point group `{n}`")),
+    );
+    out
 }

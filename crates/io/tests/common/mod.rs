@@ -282,3 +282,49 @@ impl geode_io::Progress for Warnings {
         self.0.lock().unwrap().push(message.to_owned());
     }
 }
+
+/// The attributed torus with more point attributes: a quaternion `orient`,
+/// a float `pscale`, an int `id`, a 3x3 `xform`, a vector `T`.
+pub fn instancing_torus() -> Geometry {
+    let mut g = attributed_torus();
+    let n = g.num_points();
+    let set = |g: &mut Geometry, name: &str, data, info| {
+        g.set_attrib(AttribClass::Point, name, Attribute::from_data(data, info))
+            .unwrap();
+    };
+    let orient = (0..n)
+        .map(|i| Quat::from_rotation_y(i as f32 * 0.05))
+        .collect();
+    set(
+        &mut g,
+        "orient",
+        AttribData::Quat(orient),
+        TypeInfo::Quaternion,
+    );
+    set(
+        &mut g,
+        "pscale",
+        AttribData::Float((0..n).map(|i| 1.0 + i as f32 * 0.01).collect()),
+        TypeInfo::None,
+    );
+    set(
+        &mut g,
+        "id",
+        AttribData::Int((0..n as i32).map(|i| i * 3 - 100).collect()),
+        TypeInfo::None,
+    );
+    let xform = (0..n)
+        .map(|i| geode_geo::glam::Mat3::from_rotation_x(i as f32 * 0.1))
+        .collect();
+    set(
+        &mut g,
+        "xform",
+        AttribData::Mat3(xform),
+        TypeInfo::Transform,
+    );
+    let t = (0..n)
+        .map(|i| Vec3::new(0.0, 1.0, i as f32 * 0.1))
+        .collect();
+    set(&mut g, "T", AttribData::Vec3(t), TypeInfo::Vector);
+    g
+}

@@ -1,0 +1,85 @@
+//! Geode attribute types named in files that have no type system of their own (PLY header comments, glTF accessor extras), and columns rebuilt from flat floats.
+
+use geode_geo::{AttribData, AttribType, AttribValue, TypeInfo};
+
+/// The token naming each attribute type a file can carry (strings aside).
+pub(crate) fn type_token(ty: AttribType) -> Option<&'static str> {
+    Some(match ty {
+        AttribType::Float => "float",
+        AttribType::Int => "int",
+        AttribType::Vec2 => "vector2",
+        AttribType::Vec3 => "vector3",
+        AttribType::Vec4 => "vector4",
+        AttribType::Quat => "quaternion",
+        AttribType::Mat3 => "matrix3",
+        AttribType::Mat4 => "matrix4",
+        AttribType::IntArray => "intarray",
+        AttribType::FloatArray => "floatarray",
+        AttribType::Vec3Array => "vector3array",
+        AttribType::String | AttribType::StringArray => return None,
+    })
+}
+
+pub(crate) fn type_from_token(token: &str) -> Option<AttribType> {
+    [
+        AttribType::Float,
+        AttribType::Int,
+        AttribType::Vec2,
+        AttribType::Vec3,
+        AttribType::Vec4,
+        AttribType::Quat,
+        AttribType::Mat3,
+        AttribType::Mat4,
+        AttribType::IntArray,
+        AttribType::FloatArray,
+        AttribType::Vec3Array,
+    ]
+    .into_iter()
+    .find(|&t| type_token(t) == Some(token))
+}
+
+pub(crate) fn info_from_token(token: &str) -> TypeInfo {
+    [
+        TypeInfo::Position,
+        TypeInfo::Vector,
+        TypeInfo::Normal,
+        TypeInfo::Color,
+        TypeInfo::Quaternion,
+        TypeInfo::TexCoord,
+        TypeInfo::Transform,
+    ]
+    .into_iter()
+    .find(|t| t.to_string() == token)
+    .unwrap_or(TypeInfo::None)
+}
+
+/// The property suffixes of a multi-component type (`NAME_x` ..), empty for scalars.
+pub(crate) fn component_suffixes(ty: AttribType) -> Vec<String> {
+    let n = match ty {
+        AttribType::Vec2 => 2,
+        AttribType::Vec3 => 3,
+        AttribType::Vec4 | AttribType::Quat => 4,
+        AttribType::Mat3 => return (0..9).map(|i| i.to_string()).collect(),
+        AttribType::Mat4 => return (0..16).map(|i| i.to_string()).collect(),
+        _ => return Vec::new(),
+    };
+    ["x", "y", "z", "w"][..n]
+        .iter()
+        .map(|s| s.to_string())
+        .collect()
+}
+
+/// A column of `ty` from its components flat in element order (`None` for
+/// types not made of floats, or a length that is not whole elements).
+pub(crate) fn column_from_floats(ty: AttribType, flat: &[f32]) -> Option<AttribData> {
+    if ty == AttribType::Int {
+        return Some(AttribData::Int(flat.iter().map(|&x| x as i32).collect()));
+    }
+    let k = AttribData::filled(&AttribValue::zero(ty), 1).as_floats()?.1;
+    if !flat.len().is_multiple_of(k) {
+        return None;
+    }
+    let mut data = AttribData::filled(&AttribValue::zero(ty), flat.len() / k);
+    data.as_floats_mut()?.0.copy_from_slice(flat);
+    Some(data)
+}
