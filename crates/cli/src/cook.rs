@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{anyhow, bail, Context, Result};
-use geode_graph::{Cache, CookOptions, Document, Engine, Network};
+use geode_graph::{CookOptions, Document, Engine, Network};
 use geode_op::{expand_frame, CancelToken, CookEnv, Value};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
@@ -106,7 +106,7 @@ pub fn cook(args: CookArgs) -> Result<()> {
             known.join(", ")
         );
     }
-    let engine = Engine::new(net, Cache::global());
+    let engine = Engine::new(net, crate::disk_cache::cook_cache()?);
     let cancel = CancelToken::new();
     {
         let c = cancel.clone();
@@ -172,7 +172,11 @@ pub fn cook(args: CookArgs) -> Result<()> {
                         "  {:<40} {:<20} {:>4} {:>10.3} ms {:>12} bytes",
                         e.path,
                         e.node_type,
-                        if e.hit { "hit" } else { "cook" },
+                        match (e.hit, e.from_store) {
+                            (true, true) => "disk",
+                            (true, false) => "hit",
+                            _ => "cook",
+                        },
                         e.seconds * 1e3,
                         e.bytes
                     );

@@ -2,6 +2,7 @@
 
 mod catalogue;
 mod cook;
+mod disk_cache;
 mod info;
 mod progress;
 mod telemetry;
@@ -50,7 +51,8 @@ enum Command {
     #[command(
         after_help = "Examples:\n  geode cook examples/primitives.json -o /tmp/out.glb\n  geode cook examples/primitives.json --frames 1-48 -o '/tmp/out.$F4.stl'\n\n\
         $F is the frame, $F4 the frame padded to 4 digits, $FF the fractional frame.\n\
-        GEODE_CACHE=off disables the cook cache; GEODE_CACHE_MB sizes it (default 2048)."
+        GEODE_CACHE=off disables the cook cache; GEODE_CACHE_MB sizes it (default 2048);\n\
+        GEODE_CACHE_DIR adds a disk cache other processes share (see `geode cache`)."
     )]
     Cook {
         /// Network file (.json).
@@ -121,10 +123,41 @@ enum Command {
         Formats without instancing (.obj, .stl, .ply) get packed instances unpacked."
     )]
     Convert {
-        /// Input file (.obj, .stl, .ply, .gltf, .glb).
+        /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo).
         input: PathBuf,
         /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo).
         output: PathBuf,
+    },
+    /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to its bound.
+    #[command(
+        after_help = "Examples:\n  GEODE_CACHE_DIR=/shared/geode-cache geode cook net.json -o out.bgeo\n  geode cache stats --dir /shared/geode-cache\n  geode cache gc --dir /shared/geode-cache --max-mb 2048\n\n\
+        GEODE_CACHE_DIR turns the disk cache on for `geode cook`; GEODE_CACHE_DISK_MB bounds it (default 10240)."
+    )]
+    Cache {
+        #[command(subcommand)]
+        action: CacheAction,
+    },
+}
+
+#[derive(Subcommand)]
+enum CacheAction {
+    /// Entries, shared packed sources and bytes held.
+    Stats {
+        /// The cache folder (default: GEODE_CACHE_DIR).
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+        /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
+        #[arg(long, value_name = "MB")]
+        max_mb: Option<u64>,
+    },
+    /// Remove the least recently used entries until the folder fits its bound.
+    Gc {
+        /// The cache folder (default: GEODE_CACHE_DIR).
+        #[arg(long, value_name = "DIR")]
+        dir: Option<PathBuf>,
+        /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
+        #[arg(long, value_name = "MB")]
+        max_mb: Option<u64>,
     },
 }
 
@@ -155,6 +188,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             bind,
         } => serve(network, port, open, bind)?,
         Command::Check { network } => cook::check(&network)?,
+        Command::Cache { action } => match action {
+            CacheAction::Stats { dir, max_mb } => disk_cache::stats(dir, max_mb)?,
+            CacheAction::Gc { dir, max_mb } => disk_cache::gc(dir, max_mb)?,
+        },
         Command::Fmt { network } => cook::fmt(&network)?,
         Command::Nodes {
             node_type,

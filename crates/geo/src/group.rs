@@ -33,6 +33,17 @@ impl Group {
         g
     }
 
+    /// From its bitset words (`len.div_ceil(64)` of them; bits past `len` cleared).
+    pub(crate) fn from_words(mut words: Vec<u64>, len: usize) -> Group {
+        words.resize(len.div_ceil(64), 0);
+        if !len.is_multiple_of(64) {
+            if let Some(last) = words.last_mut() {
+                *last &= (1u64 << (len % 64)) - 1;
+            }
+        }
+        Group { words, len }
+    }
+
     pub fn len(&self) -> usize {
         self.len
     }

@@ -4,6 +4,7 @@
 
 pub mod analytic;
 pub mod attrib;
+pub mod codec;
 mod error;
 mod geometry;
 mod group;

@@ -14,6 +14,16 @@ pub struct Cached {
     pub bytes: usize,
     /// The cook's warnings, replayed on every hit.
     pub warnings: Arc<[String]>,
+    /// Read from the second level (another process's cook, on disk).
+    pub from_store: bool,
+}
+
+/// A second level behind the memory cache (the disk cache a farm shares):
+/// asked on a memory miss, written through on every insert. A store that
+/// cannot serve or keep an entry says nothing: the cook simply runs.
+pub trait Store: Send + Sync {
+    fn load(&self, key: u128) -> Option<Cached>;
+    fn save(&self, key: u128, entry: &Cached);
 }
 
 /// Counters, for tests, traces and `geode cook --stats`.
@@ -25,6 +35,8 @@ pub struct CacheStats {
     pub entries: usize,
     pub bytes: usize,
     pub budget: usize,
+    /// Memory misses the second level served.
+    pub store_hits: u64,
 }
 
 struct Inner {
@@ -38,6 +50,7 @@ pub struct Cache {
     budget: usize,
     enabled: bool,
     inner: Mutex<Inner>,
+    store: Option<Arc<dyn Store>>,
 }
 
 impl Cache {
@@ -54,7 +67,14 @@ impl Cache {
                     ..Default::default()
                 },
             }),
+            store: None,
         }
+    }
+
+    /// This cache with a second level behind it.
+    pub fn with_store(mut self, store: Arc<dyn Store>) -> Cache {
+        self.store = Some(store);
+        self
     }
 
     /// A cache that stores nothing.
@@ -99,16 +119,44 @@ impl Cache {
         let hit = inner.map.get(&key).cloned();
         if hit.is_some() {
             inner.stats.hits += 1;
-        } else {
-            inner.stats.misses += 1;
+            return hit;
         }
-        hit
+        drop(inner);
+        // The store is read outside the lock: other cooks go on meanwhile.
+        let stored = self.store.as_ref().and_then(|s| s.load(key));
+        let mut inner = self.lock();
+        match stored {
+            Some(entry) => {
+                inner.stats.store_hits += 1;
+                drop(inner);
+                self.keep(key, entry.clone());
+                Some(Cached {
+                    from_store: true,
+                    ..entry
+                })
+            }
+            None => {
+                inner.stats.misses += 1;
+                None
+            }
+        }
     }
 
     /// Stores a result, evicting least recently used entries until the byte
     /// budget holds. A value larger than the whole budget is not stored.
     pub fn insert(&self, key: u128, entry: Cached) {
-        if !self.enabled || entry.bytes > self.budget {
+        if !self.enabled {
+            return;
+        }
+        if let Some(store) = &self.store {
+            store.save(key, &entry);
+        }
+        self.keep(key, entry);
+    }
+
+    /// Holds an entry in memory (no write to the store).
+    fn keep(&self, key: u128, entry: Cached) {
+        if entry.bytes > self.budget {
             return;
         }
         let mut inner = self.lock();
@@ -168,6 +216,7 @@ mod tests {
             bytes: v.bytes(),
             value: v,
             warnings: Arc::from([]),
+            from_store: false,
         }
     }
 
@@ -194,6 +243,38 @@ mod tests {
             "larger than the whole budget: not stored"
         );
         assert_eq!(cache.stats().entries, 3);
+    }
+
+    /// A second level in memory, as the disk cache is on disk.
+    #[derive(Default)]
+    struct Shelf(Mutex<std::collections::HashMap<u128, Cached>>);
+
+    impl Store for Shelf {
+        fn load(&self, key: u128) -> Option<Cached> {
+            self.0.lock().unwrap().get(&key).cloned()
+        }
+        fn save(&self, key: u128, entry: &Cached) {
+            self.0.lock().unwrap().insert(key, entry.clone());
+        }
+    }
+
+    #[test]
+    fn a_memory_miss_asks_the_store_and_inserts_write_through() {
+        let shelf = Arc::new(Shelf::default());
+        let first = Cache::new(1 << 20).with_store(shelf.clone());
+        first.insert(5, value(10));
+        assert!(shelf.load(5).is_some(), "written through");
+        let first_hit = first.get(5).unwrap();
+        assert!(!first_hit.from_store, "served from memory");
+        // Another process: an empty memory cache over the same store.
+        let second = Cache::new(1 << 20).with_store(shelf);
+        let hit = second.get(5).expect("the store serves the miss");
+        assert!(hit.from_store);
+        assert_eq!(hit.identity, first_hit.identity);
+        assert_eq!(second.stats().store_hits, 1);
+        assert!(!second.get(5).unwrap().from_store, "kept in memory after");
+        assert!(second.get(6).is_none());
+        assert_eq!(second.stats().misses, 1);
     }
 
     #[test]

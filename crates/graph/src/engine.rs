@@ -53,6 +53,8 @@ pub struct CookEvent {
     pub key: u128,
     /// Served from the cache (the node's cook did not run).
     pub hit: bool,
+    /// Served from the cache's second level (the disk cache).
+    pub from_store: bool,
     /// When the node's own cook began, in seconds since the cook was asked
     /// for (inputs are pulled before it begins).
     pub start: f64,
@@ -317,6 +319,7 @@ impl Run<'_, '_> {
             frame = self.opts.frame,
             key = %format!("{key:032x}"),
             hit = tracing::field::Empty,
+            store = tracing::field::Empty,
             bytes = tracing::field::Empty,
         );
         let _enter = span.enter();
@@ -324,12 +327,14 @@ impl Run<'_, '_> {
         let progress = self.opts.progress.unwrap_or(&no_progress);
         if let Some(c) = (!output).then(|| self.engine.cache.get(key)).flatten() {
             span.record("hit", true);
+            span.record("store", c.from_store);
             span.record("bytes", c.bytes);
             self.record(CookEvent {
                 path: n.path.clone(),
                 node_type: spec.name,
                 key,
                 hit: true,
+                from_store: c.from_store,
                 start: (start - self.began).as_secs_f64(),
                 seconds: start.elapsed().as_secs_f64(),
                 bytes: c.bytes,
@@ -382,6 +387,7 @@ impl Run<'_, '_> {
                     identity,
                     bytes,
                     warnings: Arc::clone(&warnings),
+                    from_store: false,
                 },
             );
         }
@@ -390,6 +396,7 @@ impl Run<'_, '_> {
             node_type: spec.name,
             key,
             hit: false,
+            from_store: false,
             start: (start - self.began).as_secs_f64(),
             seconds: start.elapsed().as_secs_f64(),
             bytes,

@@ -13,7 +13,7 @@ pub mod document;
 mod engine;
 
 pub use block::BlockKind;
-pub use cache::{Cache, CacheStats};
+pub use cache::{Cache, CacheStats, Cached, Store};
 pub use compile::{LoadError, Network, Promotion};
 pub use document::{Document, SyntaxError};
 pub use engine::{CookEvent, CookOptions, CookResult, Engine};

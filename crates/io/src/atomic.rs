@@ -15,11 +15,28 @@ pub fn write_atomic<F>(path: &Path, body: F) -> Result<(), IoError>
 where
     F: FnOnce(&mut dyn Write) -> Result<(), IoError>,
 {
+    write_atomic_in(path, body, true)
+}
+
+/// [`write_atomic`] for a folder other machines write too (a shared disk
+/// cache): a temporary file is judged stale by its age alone, since its
+/// process id may be another machine's.
+pub fn write_atomic_shared<F>(path: &Path, body: F) -> Result<(), IoError>
+where
+    F: FnOnce(&mut dyn Write) -> Result<(), IoError>,
+{
+    write_atomic_in(path, body, false)
+}
+
+fn write_atomic_in<F>(path: &Path, body: F, local: bool) -> Result<(), IoError>
+where
+    F: FnOnce(&mut dyn Write) -> Result<(), IoError>,
+{
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    remove_stale_temporaries(dir);
+    remove_stale_temporaries_by(dir, local);
     let prefix = format!("{TMP_PREFIX}{}-", std::process::id());
     let tmp = tempfile::Builder::new()
         .prefix(&prefix)
@@ -47,7 +64,9 @@ const STALE_AFTER: Duration = Duration::from_secs(24 * 3600);
 /// Removes temporary files in `dir` left by geode processes that no longer
 /// run on this machine (killed mid-write: `kill -9`, power loss), or older
 /// than a day. Best effort: a folder that cannot be listed is left alone.
-pub fn remove_stale_temporaries(dir: &Path) {
+/// `by_pid`: a temporary file of a process not running here is stale (only
+/// right when no other machine writes the folder).
+fn remove_stale_temporaries_by(dir: &Path, by_pid: bool) {
     let Ok(entries) = std::fs::read_dir(dir) else {
         return;
     };
@@ -57,7 +76,7 @@ pub fn remove_stale_temporaries(dir: &Path) {
             continue;
         };
         let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
-        let dead = pid.is_some_and(|p| !process_alive(p));
+        let dead = by_pid && pid.is_some_and(|p| !process_alive(p));
         let old = e
             .metadata()
             .and_then(|m| m.modified())

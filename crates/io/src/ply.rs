@@ -399,8 +399,8 @@ pub fn read_ply(bytes: &[u8], progress: &dyn Progress) -> ParseResult<Geometry> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use geode_geo::glam::Vec3;
     use crate::progress::NoProgress;
+    use geode_geo::glam::Vec3;
 
     const ASCII: &str = "ply\nformat ascii 1.0\ncomment hi\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
         property uchar red\nproperty uchar green\nproperty uchar blue\nproperty float quality\n\

@@ -207,6 +207,7 @@ mod tests {
             node_type: "box",
             key: 0,
             hit: false,
+            from_store: false,
             start,
             seconds,
             bytes: 0,

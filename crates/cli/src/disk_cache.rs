@@ -1,0 +1,80 @@
+//! The cook cache of `geode cook` (memory, with the disk cache behind it when `GEODE_CACHE_DIR` names one) and `geode cache stats|gc`.
+
+use std::path::PathBuf;
+use std::sync::{Arc, OnceLock};
+
+use anyhow::{anyhow, Context, Result};
+use geode_graph::Cache;
+use geode_store::DiskCache;
+
+/// The process's cook cache: `Cache::from_env()`, with the disk cache of
+/// `GEODE_CACHE_DIR` (bounded by `GEODE_CACHE_DISK_MB`) as its second level.
+pub fn cook_cache() -> Result<&'static Cache> {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    if let Some(c) = CACHE.get() {
+        return Ok(c);
+    }
+    let cache = match DiskCache::from_env() {
+        Some(disk) => {
+            let disk =
+                disk.context("GEODE_CACHE_DIR: the disk cache's folder cannot be created")?;
+            Cache::from_env().with_store(Arc::new(disk))
+        }
+        None => Cache::from_env(),
+    };
+    Ok(CACHE.get_or_init(|| cache))
+}
+
+/// The disk cache `--dir` or `GEODE_CACHE_DIR` names, bounded by
+/// `--max-mb` or `GEODE_CACHE_DISK_MB`.
+fn open(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<DiskCache> {
+    let dir = dir
+        .or_else(|| {
+            std::env::var_os("GEODE_CACHE_DIR")
+                .filter(|d| !d.is_empty())
+                .map(PathBuf::from)
+        })
+        .ok_or_else(|| anyhow!("no disk cache: pass --dir or set GEODE_CACHE_DIR"))?;
+    let mb = max_mb
+        .or_else(|| {
+            std::env::var("GEODE_CACHE_DISK_MB")
+                .ok()
+                .and_then(|v| v.trim().parse().ok())
+        })
+        .unwrap_or(geode_store::DEFAULT_DISK_MB);
+    DiskCache::open(&dir, mb.saturating_mul(1 << 20))
+        .with_context(|| format!("{}: cannot open the disk cache", dir.display()))
+}
+
+pub fn stats(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<()> {
+    let cache = open(dir, max_mb)?;
+    let s = cache
+        .stats()
+        .with_context(|| format!("{}: cannot list the disk cache", cache.dir().display()))?;
+    println!("disk cache:  {}", cache.dir().display());
+    println!("entries:     {}", s.entries);
+    println!(
+        "sources:     {} (packed sources, shared by entries)",
+        s.sources
+    );
+    println!(
+        "size:        {:.1} MB of {:.1} MB",
+        s.bytes as f64 / 1e6,
+        s.budget as f64 / 1e6
+    );
+    Ok(())
+}
+
+pub fn gc(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<()> {
+    let cache = open(dir, max_mb)?;
+    let r = cache
+        .gc()
+        .with_context(|| format!("{}: cannot collect the disk cache", cache.dir().display()))?;
+    println!(
+        "removed {} files ({:.1} MB), least recently used first; {:.1} MB left",
+        r.removed,
+        r.freed as f64 / 1e6,
+        r.bytes_after as f64 / 1e6
+    );
+    Ok(())
+}

@@ -1,0 +1,192 @@
+//! One disk cache entry's bytes: a header (kind, identity, size, warnings), the value in the geometry codec, and a checksum over all of it.
+//!
+//! Geometry and bundles are stored; a packed instance's source is its own
+//! entry, named by its content hash and shared by every entry placing it.
+//! Fields (symbolic and cheap to rebuild) and geometry carrying a payload
+//! have no byte form and are not stored.
+
+use std::collections::BTreeMap;
+use std::sync::Arc;
+
+use geode_geo::codec::{self, DecodeError};
+use geode_geo::Geometry;
+use geode_graph::Cached;
+use geode_op::{Bundle, Value};
+use xxhash_rust::xxh3::xxh3_128;
+
+const MAGIC: &[u8; 8] = b"GEODEVAL";
+/// The entry layout's version (the geometry codec carries its own).
+const ENTRY_VERSION: u32 = 1;
+const CHECKSUM: usize = 16;
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Kind {
+    Geometry = 0,
+    Bundle = 1,
+    /// A packed source: geometry found by content hash.
+    Source = 2,
+}
+
+/// Bytes of one entry for `cached`, and the packed sources it needs
+/// (`None` when the value has no byte form).
+pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
+    let mut sources = Vec::new();
+    let mut out = header(
+        match cached.value {
+            Value::Geometry(_) => Kind::Geometry,
+            Value::Bundle(_) => Kind::Bundle,
+            Value::Field(_) => return None,
+        },
+        cached.identity,
+        cached.bytes as u64,
+        &cached.warnings,
+    );
+    let mut geometry = |g: &Geometry, out: &mut Vec<u8>| -> Option<()> {
+        let mut body = Vec::new();
+        codec::encode(g, &mut body, &mut |s| sources.push(Arc::clone(s))).ok()?;
+        out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+        out.extend_from_slice(&body);
+        Some(())
+    };
+    match &cached.value {
+        Value::Geometry(g) => geometry(g, &mut out)?,
+        Value::Bundle(b) => {
+            out.extend_from_slice(&(b.entries.len() as u64).to_le_bytes());
+            for (name, g) in &b.entries {
+                put_str(&mut out, name);
+                geometry(g, &mut out)?;
+            }
+        }
+        Value::Field(_) => return None,
+    }
+    seal(&mut out);
+    Some((out, sources))
+}
+
+/// Bytes of a packed source's entry, and the sources it places in turn.
+pub(crate) fn encode_source(g: &Geometry) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
+    let mut sources = Vec::new();
+    let mut out = header(Kind::Source, g.content_hash(), 0, &[]);
+    let mut body = Vec::new();
+    codec::encode(g, &mut body, &mut |s| sources.push(Arc::clone(s))).ok()?;
+    out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+    out.extend_from_slice(&body);
+    seal(&mut out);
+    Some((out, sources))
+}
+
+fn header(kind: Kind, identity: u128, bytes: u64, warnings: &[String]) -> Vec<u8> {
+    let mut out = Vec::new();
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&ENTRY_VERSION.to_le_bytes());
+    out.push(kind as u8);
+    out.extend_from_slice(&identity.to_le_bytes());
+    out.extend_from_slice(&bytes.to_le_bytes());
+    out.extend_from_slice(&(warnings.len() as u64).to_le_bytes());
+    for w in warnings {
+        put_str(&mut out, w);
+    }
+    out
+}
+
+fn put_str(out: &mut Vec<u8>, s: &str) {
+    out.extend_from_slice(&(s.len() as u64).to_le_bytes());
+    out.extend_from_slice(s.as_bytes());
+}
+
+fn seal(out: &mut Vec<u8>) {
+    let sum = xxh3_128(out);
+    out.extend_from_slice(&sum.to_le_bytes());
+}
+
+/// The body of an entry whose checksum holds, `None` otherwise.
+pub(crate) fn verified(bytes: &[u8]) -> Option<&[u8]> {
+    let body_len = bytes.len().checked_sub(CHECKSUM)?;
+    let (body, sum) = bytes.split_at(body_len);
+    (xxh3_128(body).to_le_bytes() == sum).then_some(body)
+}
+
+/// Decodes a verified entry of `want` kind; `source` finds packed sources.
+pub(crate) fn decode(
+    body: &[u8],
+    want: Kind,
+    source: &dyn Fn(u128) -> Option<Arc<Geometry>>,
+) -> Result<Cached, DecodeError> {
+    let mut r = Reader { b: body, at: 0 };
+    if r.take(8)? != MAGIC {
+        return Err(DecodeError::Magic);
+    }
+    let version = u32::from_le_bytes(r.array()?);
+    if version != ENTRY_VERSION {
+        return Err(DecodeError::Version(version));
+    }
+    let kind = r.take(1)?[0];
+    if kind != want as u8 {
+        return Err(DecodeError::Invalid(format!("entry kind {kind}")));
+    }
+    let identity = u128::from_le_bytes(r.array()?);
+    let bytes = u64::from_le_bytes(r.array()?) as usize;
+    let n = r.len()?;
+    let warnings: Vec<String> = (0..n).map(|_| r.string()).collect::<Result<_, _>>()?;
+    let value = match want {
+        Kind::Geometry | Kind::Source => Value::Geometry(Arc::new(r.geometry(source)?)),
+        Kind::Bundle => {
+            let n = r.len()?;
+            let mut entries = BTreeMap::new();
+            for _ in 0..n {
+                let name = r.string()?;
+                entries.insert(name, Arc::new(r.geometry(source)?));
+            }
+            Value::Bundle(Arc::new(Bundle { entries }))
+        }
+    };
+    if r.at != body.len() {
+        return Err(DecodeError::Invalid("bytes after the value".into()));
+    }
+    Ok(Cached {
+        value,
+        identity,
+        bytes,
+        warnings: warnings.into(),
+        from_store: true,
+    })
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], DecodeError> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len());
+        let end = end.ok_or(DecodeError::Truncated(self.at))?;
+        let s = &self.b[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], DecodeError> {
+        let mut a = [0; N];
+        a.copy_from_slice(self.take(N)?);
+        Ok(a)
+    }
+    fn len(&mut self) -> Result<usize, DecodeError> {
+        let n = u64::from_le_bytes(self.array()?);
+        usize::try_from(n)
+            .ok()
+            .filter(|&n| n <= self.b.len())
+            .ok_or(DecodeError::Truncated(self.at))
+    }
+    fn string(&mut self) -> Result<String, DecodeError> {
+        let n = self.len()?;
+        String::from_utf8(self.take(n)?.to_vec())
+            .map_err(|_| DecodeError::Invalid("text is not UTF-8".into()))
+    }
+    fn geometry(
+        &mut self,
+        source: &dyn Fn(u128) -> Option<Arc<Geometry>>,
+    ) -> Result<Geometry, DecodeError> {
+        let n = self.len()?;
+        codec::decode(self.take(n)?, source)
+    }
+}
