@@ -2,8 +2,10 @@
 # Runs every test: the studio front end's (tools/studio.sh), the workspace's
 # with the external reference validators (Khronos glTF validator from npm,
 # Pixar's usd-core and trimesh from PyPI, OpenSubdiv from Debian for
-# tools/osd_ref) installed first, then the studio in real Chromium
-# (tools/browser.sh), so that nothing has to be installed by hand.
+# tools/osd_ref) installed first and a one-machine Slurm cluster (Debian's
+# slurm-wlm and munge, tools/slurm.sh) running for the farm tests, then the
+# studio in real Chromium (tools/browser.sh), so that nothing has to be
+# installed or started by hand. The cluster is stopped on exit.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -27,6 +29,14 @@ fi
 if [ ! -x tools/osd_ref/osd_ref ] || [ tools/osd_ref/osd_ref.cpp -nt tools/osd_ref/osd_ref ]; then
   echo "building tools/osd_ref against OpenSubdiv" >&2
   g++ -O2 -o tools/osd_ref/osd_ref tools/osd_ref/osd_ref.cpp -losdCPU >&2
+fi
+
+# Slurm's daemons for `geode farm --scheduler slurm` (root installs and
+# starts them; elsewhere the Slurm tests say they skip).
+if [ "$(id -u)" = 0 ]; then
+  SLURM_CONF="$(bash tools/slurm.sh start)"
+  export SLURM_CONF GEODE_REQUIRE_SLURM=1
+  trap 'bash tools/slurm.sh stop' EXIT
 fi
 
 export GEODE_OSD_REF="$PWD/tools/osd_ref/osd_ref"

@@ -9,9 +9,19 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 /// Reads and checks a network file; every problem is listed, each prefixed by the file.
 pub fn load(path: &Path) -> Result<(Document, Network)> {
+    load_with(path, &[])
+}
+
+/// [`load`] with parameters set first (`NODE/PARAM=VALUE`, the node a path
+/// into subnets: `/sub/inner/param=2`); the value is JSON (`0.5`,
+/// `[1, 2, 3]`, `"text"`) or else taken as text.
+pub fn load_with(path: &Path, sets: &[String]) -> Result<(Document, Network)> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the network", path.display()))?;
-    let doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let mut doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    for set in sets {
+        apply_set(&mut doc, set).map_err(|e| anyhow!("{}: --set {set}: {e}", path.display()))?;
+    }
     match Network::load(&doc, &geode_nodes::registry()) {
         Ok(net) => {
             for note in net.notes() {
@@ -78,8 +88,41 @@ impl geode_io::Progress for CancelOnly<'_> {
     }
 }
 
+/// Sets one parameter of the document: `NODE/PARAM=VALUE`.
+fn apply_set(doc: &mut Document, set: &str) -> Result<()> {
+    let (target, value) = set
+        .split_once('=')
+        .ok_or_else(|| anyhow!("expected NODE/PARAM=VALUE"))?;
+    let (node_path, param) = target
+        .trim_start_matches('/')
+        .rsplit_once('/')
+        .ok_or_else(|| anyhow!("expected NODE/PARAM=VALUE (no node named)"))?;
+    let value: serde_json::Value =
+        serde_json::from_str(value).unwrap_or_else(|_| serde_json::Value::String(value.to_owned()));
+    let mut net = &mut doc.network;
+    let names: Vec<&str> = node_path.split('/').collect();
+    for (i, name) in names.iter().enumerate() {
+        if !net.nodes.contains_key(*name) {
+            let known: Vec<&str> = net.nodes.keys().map(String::as_str).collect();
+            bail!("no node `{name}` (nodes: {})", known.join(", "));
+        }
+        let node = net.nodes.get_mut(*name).expect("checked above");
+        if i + 1 == names.len() {
+            node.params.insert(param.to_owned(), value);
+            return Ok(());
+        }
+        net = node
+            .network
+            .as_deref_mut()
+            .ok_or_else(|| anyhow!("`{name}` is not a subnet"))?;
+    }
+    unreachable!("the loop returns at the last name")
+}
+
 pub struct CookArgs<'a> {
     pub network: &'a Path,
+    /// Parameters set before cooking (`NODE/PARAM=VALUE`).
+    pub sets: &'a [String],
     pub node: Option<&'a str>,
     pub frames: Vec<f64>,
     pub output: Option<&'a str>,
@@ -87,7 +130,7 @@ pub struct CookArgs<'a> {
 }
 
 pub fn cook(args: CookArgs) -> Result<()> {
-    let (_, net) = load(args.network)?;
+    let (_, net) = load_with(args.network, args.sets)?;
     let env = CookEnv::for_network(args.network);
     let target = match args.node {
         Some(n) => n.to_owned(),

@@ -3,6 +3,7 @@
 mod catalogue;
 mod cook;
 mod disk_cache;
+mod farm;
 mod info;
 mod progress;
 mod telemetry;
@@ -72,6 +73,10 @@ enum Command {
         /// Print what cooked and what came from the cache, per frame.
         #[arg(long)]
         stats: bool,
+        /// Set a parameter before cooking: NODE/PARAM=VALUE (the value as JSON,
+        /// else text); repeatable. `geode farm --wedge` cooks with these.
+        #[arg(long = "set", value_name = "NODE/PARAM=VALUE")]
+        sets: Vec<String>,
     },
     /// Open a network in the studio: a browser node editor and viewport that recook live.
     #[command(
@@ -128,6 +133,48 @@ enum Command {
         /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo).
         output: PathBuf,
     },
+    /// Cook frames (and a wedge of one parameter's values) as independent tasks on a scheduler, sharing a disk cache.
+    #[command(
+        after_help = "Examples:\n  geode farm examples/coral.json --frames 1-24 -o 'out/$F4.bgeo'\n  geode farm examples/chain.json --wedge /spacing/count=48,96,192 -o 'out/$WEDGE/$F4.bgeo'\n  geode farm examples/coral.json --frames 1-240 --scheduler slurm --retry 2 -o '/shared/coral/$F4.bgeo'\n\n\
+        Each task is `geode cook NETWORK --frame F [--set NODE/PARAM=V] -o OUT` with GEODE_CACHE_DIR set\n\
+        (--cache-dir, else GEODE_CACHE_DIR, else .geode-cache beside the network): a farm writes the\n\
+        bytes a local cook writes. $WEDGE is PARAM_VALUE. Logs and exit statuses go to the farm folder\n\
+        (.geode-farm/ beside the network); a failed task is reported with the end of its log."
+    )]
+    Farm {
+        /// Network file (.json).
+        network: PathBuf,
+        /// The frames, e.g. 1-24 (default 1).
+        #[arg(long, value_name = "A-B")]
+        frames: Option<String>,
+        /// One parameter's values, one task per value and frame: NODE/PARAM=v1,v2,...
+        #[arg(long, value_name = "NODE/PARAM=V1,V2,...")]
+        wedge: Option<String>,
+        /// Output path per task: $F, $F4, $FF the frame; $WEDGE the wedge value.
+        #[arg(short, long, value_name = "OUT")]
+        output: String,
+        /// Cook this node instead of the network's output.
+        #[arg(long, value_name = "PATH")]
+        node: Option<String>,
+        /// Where tasks run.
+        #[arg(long, value_enum, default_value = "local")]
+        scheduler: farm::Scheduler,
+        /// Tasks at once (default: this machine's cores).
+        #[arg(long, value_name = "N")]
+        jobs: Option<usize>,
+        /// Times a failed task runs again.
+        #[arg(long, value_name = "N", default_value_t = 0)]
+        retry: u32,
+        /// The disk cache the tasks share.
+        #[arg(long, value_name = "DIR")]
+        cache_dir: Option<PathBuf>,
+        /// The folder for the task list, logs and statuses.
+        #[arg(long, value_name = "DIR")]
+        farm_dir: Option<PathBuf>,
+        /// The container image of the Kubernetes job (--scheduler k8s).
+        #[arg(long, value_name = "IMAGE", default_value = "geode:latest")]
+        image: String,
+    },
     /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to its bound.
     #[command(
         after_help = "Examples:\n  GEODE_CACHE_DIR=/shared/geode-cache geode cook net.json -o out.bgeo\n  geode cache stats --dir /shared/geode-cache\n  geode cache gc --dir /shared/geode-cache --max-mb 2048\n\n\
@@ -172,9 +219,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             frames,
             output,
             stats,
+            sets,
         } => {
             cook::cook(cook::CookArgs {
                 network: &network,
+                sets: &sets,
                 node: node.as_deref(),
                 frames: cook::frames(frame, frames.as_deref())?,
                 output: output.as_deref(),
@@ -188,6 +237,31 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             bind,
         } => serve(network, port, open, bind)?,
         Command::Check { network } => cook::check(&network)?,
+        Command::Farm {
+            network,
+            frames,
+            wedge,
+            output,
+            node,
+            scheduler,
+            jobs,
+            retry,
+            cache_dir,
+            farm_dir,
+            image,
+        } => farm::farm(farm::FarmArgs {
+            frames: cook::frames(None, frames.as_deref())?,
+            network,
+            wedge,
+            output,
+            node,
+            scheduler,
+            jobs,
+            retry,
+            cache_dir,
+            farm_dir,
+            image,
+        })?,
         Command::Cache { action } => match action {
             CacheAction::Stats { dir, max_mb } => disk_cache::stats(dir, max_mb)?,
             CacheAction::Gc { dir, max_mb } => disk_cache::gc(dir, max_mb)?,

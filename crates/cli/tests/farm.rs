@@ -1,0 +1,315 @@
+//! `geode farm` end to end on the local scheduler and on a real one-machine Slurm cluster (`tools/slurm.sh`, started by `.ci/run`): outputs equal local cooks byte for byte, a failing task is retried and reported with its log, the Kubernetes manifest indexes the tasks.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn geode(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_geode"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap()
+}
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .canonicalize()
+        .unwrap()
+}
+
+fn example(name: &str) -> String {
+    root().join("examples").join(name).display().to_string()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Whether Slurm can take jobs here; CI (GEODE_REQUIRE_SLURM=1) insists.
+fn slurm_ready() -> bool {
+    let ok = Command::new("sinfo")
+        .args(["-h", "-o", "%t"])
+        .output()
+        .is_ok_and(|o| {
+            o.status.success()
+                && String::from_utf8_lossy(&o.stdout)
+                    .lines()
+                    .any(|l| ["idle", "mix", "alloc"].contains(&l.trim()))
+        });
+    if !ok {
+        assert!(
+            std::env::var("GEODE_REQUIRE_SLURM").is_err(),
+            "GEODE_REQUIRE_SLURM is set but no Slurm node takes jobs (start one: tools/slurm.sh start; export SLURM_CONF)"
+        );
+        eprintln!("skipping: no Slurm cluster (tools/slurm.sh start)");
+    }
+    ok
+}
+
+/// 24 frames of the coral and a 3-value wedge of the chain, farmed, then
+/// the same cooked by `geode cook`: every file equal byte for byte.
+fn farms_equal_local_cooks(scheduler: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let farm = |args: &[&str]| {
+        let mut all = vec![
+            "farm",
+            "--scheduler",
+            scheduler,
+            "--jobs",
+            "2",
+            "--cache-dir",
+            "cache",
+        ];
+        all.extend(args);
+        let o = geode(&all, d);
+        assert!(o.status.success(), "{}", stderr(&o));
+        o
+    };
+    let coral = example("coral.json");
+    let o = farm(&[
+        &coral,
+        "--frames",
+        "1-24",
+        "--farm-dir",
+        "f1",
+        "-o",
+        "farm/coral/$F4.bgeo",
+    ]);
+    assert!(stderr(&o).contains("farm: 24 tasks done"), "{}", stderr(&o));
+    let chain = example("chain.json");
+    farm(&[
+        &chain,
+        "--wedge",
+        "/spacing/count=48,96,192",
+        "--farm-dir",
+        "f2",
+        "-o",
+        "farm/$WEDGE/$F4.bgeo",
+    ]);
+
+    std::fs::create_dir_all(d.join("local/coral")).unwrap();
+    let o = geode(
+        &[
+            "cook",
+            &coral,
+            "--frames",
+            "1-24",
+            "-o",
+            "local/coral/$F4.bgeo",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in 1..=24 {
+        let name = format!("coral/{f:04}.bgeo");
+        let (a, b) = (
+            std::fs::read(d.join("farm").join(&name)).unwrap(),
+            std::fs::read(d.join("local").join(&name)).unwrap(),
+        );
+        assert!(a == b, "{scheduler}: {name} differs from the local cook");
+    }
+    for count in [48, 96, 192] {
+        let out = d.join(format!("local/count_{count}.bgeo"));
+        let o = geode(
+            &[
+                "cook",
+                &chain,
+                "--set",
+                &format!("/spacing/count={count}"),
+                "-o",
+                out.to_str().unwrap(),
+            ],
+            d,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let farmed = std::fs::read(d.join(format!("farm/count_{count}/0001.bgeo"))).unwrap();
+        assert!(
+            farmed == std::fs::read(&out).unwrap(),
+            "{scheduler}: wedge count={count} differs"
+        );
+    }
+    // The variants really differ: the wedge set the parameter.
+    assert!(
+        std::fs::read(d.join("farm/count_48/0001.bgeo")).unwrap()
+            != std::fs::read(d.join("farm/count_96/0001.bgeo")).unwrap()
+    );
+}
+
+/// Frame 3's input file is missing: its task fails on every attempt, is
+/// retried, and is reported with the end of its log; the others are written.
+fn a_failing_task_is_retried_and_reported(scheduler: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let obj = root().join("examples/assets/creased_box.obj");
+    for f in [1, 2] {
+        std::fs::copy(&obj, d.join(format!("in.{f:04}.obj"))).unwrap();
+    }
+    let net = r#"{"geode": "network", "version": 1, "output": "t", "nodes": {
+        "f": {"type": "file", "params": {"file": "$HIP/in.$F4.obj"}},
+        "t": {"type": "transform", "inputs": ["f"], "params": {"translate": [0, 1, 0]}}}}"#;
+    std::fs::write(d.join("net.json"), net).unwrap();
+    let o = geode(
+        &[
+            "farm",
+            "net.json",
+            "--scheduler",
+            scheduler,
+            "--frames",
+            "1-3",
+            "--retry",
+            "1",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.ply",
+        ],
+        d,
+    );
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    let log = d.join("f/task-2.attempt-1.log");
+    assert!(
+        err.contains(&format!(
+            "farm: task 2 (frame 3, to {}) failed after 2 attempts; log {}:",
+            d.join("out/0003.ply").display(),
+            log.display()
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains("in.0003.obj: No such file or directory"),
+        "{err}"
+    );
+    assert!(err.contains("error: 1 of 3 farm tasks failed"), "{err}");
+    assert!(
+        d.join("f/task-2.attempt-0.log").exists() && log.exists(),
+        "both attempts ran"
+    );
+    assert!(d.join("out/0001.ply").exists() && d.join("out/0002.ply").exists());
+    assert!(!d.join("out/0003.ply").exists());
+}
+
+#[test]
+fn local_farm_equals_local_cooks() {
+    farms_equal_local_cooks("local");
+}
+
+#[test]
+fn local_farm_retries_and_reports_a_failing_task() {
+    a_failing_task_is_retried_and_reported("local");
+}
+
+#[test]
+fn slurm_farm_equals_local_cooks() {
+    if slurm_ready() {
+        farms_equal_local_cooks("slurm");
+    }
+}
+
+#[test]
+fn slurm_farm_retries_and_reports_a_failing_task() {
+    if slurm_ready() {
+        a_failing_task_is_retried_and_reported("slurm");
+    }
+}
+
+#[test]
+fn a_wedge_must_name_its_outputs_and_its_node() {
+    let dir = tempfile::tempdir().unwrap();
+    let chain = example("chain.json");
+    let o = geode(
+        &[
+            "farm",
+            &chain,
+            "--wedge",
+            "/spacing/count=48,96",
+            "-o",
+            "out/$F4.bgeo",
+            "--farm-dir",
+            "f",
+        ],
+        dir.path(),
+    );
+    assert!(
+        stderr(&o).contains("a wedge needs $WEDGE in the output path"),
+        "{}",
+        stderr(&o)
+    );
+    let o = geode(
+        &[
+            "farm",
+            &chain,
+            "--wedge",
+            "/nope/count=48,96",
+            "-o",
+            "out/$WEDGE.bgeo",
+            "--farm-dir",
+            "f",
+        ],
+        dir.path(),
+    );
+    assert!(
+        stderr(&o).contains("--set /nope/count=48: no node `nope`"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn the_kubernetes_manifest_indexes_every_task() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = geode(
+        &[
+            "farm",
+            &example("coral.json"),
+            "--scheduler",
+            "k8s",
+            "--frames",
+            "1-5",
+            "--jobs",
+            "3",
+            "--retry",
+            "2",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "--image",
+            "registry/geode:1",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let job: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("f/job.json")).unwrap()).unwrap();
+    assert_eq!(job["kind"], "Job");
+    assert_eq!(job["spec"]["completionMode"], "Indexed");
+    assert_eq!(job["spec"]["completions"], 5);
+    assert_eq!(job["spec"]["parallelism"], 3);
+    assert_eq!(job["spec"]["backoffLimitPerIndex"], 2);
+    let container = &job["spec"]["template"]["spec"]["containers"][0];
+    assert_eq!(container["image"], "registry/geode:1");
+    assert!(container["command"][2]
+        .as_str()
+        .unwrap()
+        .contains("JOB_COMPLETION_INDEX"));
+    assert_eq!(
+        container["env"][0]["value"],
+        d.join("cache").display().to_string()
+    );
+    let tasks = std::fs::read_to_string(d.join("f/tasks.k8s.txt")).unwrap();
+    let lines: Vec<&str> = tasks.lines().collect();
+    assert_eq!(lines.len(), 5);
+    assert!(
+        lines[4].starts_with("geode cook ") && lines[4].contains("--frame 5"),
+        "{}",
+        lines[4]
+    );
+}
