@@ -95,7 +95,10 @@ impl Format {
 
     /// Whether the format keeps packed instances as instances.
     pub fn keeps_instances(self) -> bool {
-        matches!(self, Format::Glb | Format::Usda)
+        matches!(
+            self,
+            Format::Glb | Format::Usda | Format::Geo | Format::Bgeo
+        )
     }
 }
 
@@ -245,7 +248,12 @@ fn encode(
         Format::Glb => gltf_write::write_glb(g, w, path, progress),
         Format::Usda => usda::write_usda(g, w, path, progress),
         Format::Geo | Format::Bgeo => {
-            let bytes = houdini::encode_houdini(g, format == Format::Bgeo);
+            let bytes = houdini::encode_houdini(g, format == Format::Bgeo).map_err(|message| {
+                IoError::Unsupported {
+                    path: path.to_owned(),
+                    message,
+                }
+            })?;
             w.write_all(&bytes).map_err(|e| IoError::os(path, e))
         }
         Format::Gltf => Err(IoError::UnknownFormat {

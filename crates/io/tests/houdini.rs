@@ -51,6 +51,7 @@ fn houdini_text_and_binary_files_read_as_the_same_geometry() {
         "grid_tetra_16_5",
         "points_noprim_16_5",
         "simple_partanim_16_5",
+        "packed_points_simple_16_5",
     ] {
         let text = read_sample(&format!("{stem}.geo"));
         let binary = read_sample(&format!("{stem}.bgeo"));
@@ -76,6 +77,35 @@ fn houdini_cubes_keep_groups_and_face_outward() {
         signed_volume(&g)
     );
     assert!(g.topology().manifold_report(&g).is_closed_manifold());
+}
+
+/// Houdini's packed geometry: each packed primitive's embedded detail is
+/// placed by its point, transform and pivot (the pivot lands on the point).
+#[test]
+fn houdini_packed_geometry_reads_as_instances() {
+    let g = read_sample("packed_points_simple_16_5.bgeo");
+    assert_eq!(g.packed_instances().len(), 2);
+    // Houdini packed each piece about its bounding box's centre: the pivot.
+    for i in 0..2 {
+        let inst = g.packed_instance(i).unwrap();
+        let b = geode_geo::ops::bounds(&inst.source).unwrap();
+        let centre = g
+            .packed_world_transform(i)
+            .unwrap()
+            .transform_point3((b.min + b.max) * 0.5);
+        let p = g.positions()[g.prim_points(i)[0] as usize];
+        assert!(
+            (centre - p).length() < 1e-5,
+            "instance {i}: centre {centre} away from its point {p}"
+        );
+    }
+    let e = read(&sample("pack1_16_5.bgeo"), &NoProgress)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("primitive type `Sphere` is not supported"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -113,7 +143,8 @@ fn houdini_unsupported_primitives_and_malformed_files_are_named() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.ends_with("pack1_16_5.bgeo: primitives[0]: primitive type `PackedGeometry` is not supported: geode reads polygons and polylines (in Houdini, unpack or convert to polygons before saving)"),
+        e.contains("pack1_16_5.bgeo: embedded detail `embed:0x")
+            && e.ends_with("`: primitives[0]: primitive type `Sphere` is not supported: geode reads polygons, polylines and embedded packed geometry (in Houdini, unpack or convert to polygons before saving)"),
         "{e}"
     );
     let e = read(&sample("badgrid.geo"), &NoProgress)
@@ -349,6 +380,28 @@ fn random_geometry(seed: u64) -> Geometry {
         });
     }
     let mut g = Geometry::from_prims(positions, verts, &counts, kinds).unwrap();
+    // Packed copies of a cube and of a geometry that packs the cube in turn.
+    let cube = std::sync::Arc::new(geode_geo::primitives::cube(0.5));
+    let mut nest = Geometry::new();
+    let p = nest.add_point(Vec3::Y);
+    nest.add_packed(p, cube.clone(), Mat4::from_scale(Vec3::splat(2.0)))
+        .unwrap();
+    let nest = std::sync::Arc::new(nest);
+    for k in 0..r.below(4) {
+        let axis = Vec3::new(r.f(), r.f(), r.f() + 0.1).normalize_or(Vec3::Z);
+        let m = Mat4::from_scale_rotation_translation(
+            Vec3::new(0.5 + r.below(4) as f32, 1.0, 2.0),
+            Quat::from_axis_angle(axis, r.f()),
+            if k == 0 {
+                Vec3::ZERO
+            } else {
+                Vec3::new(r.f(), r.f(), r.f())
+            },
+        );
+        let src = if r.below(2) == 0 { &cube } else { &nest };
+        let point = r.below(n as u64) as u32;
+        g.add_packed(point, src.clone(), m).unwrap();
+    }
     for (class, len) in [
         (AttribClass::Point, g.num_points()),
         (AttribClass::Vertex, g.num_vertices()),

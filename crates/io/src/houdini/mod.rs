@@ -7,16 +7,18 @@
 //! primitives; `tuples`, `arrays` and paged `rawpagedata` with constant
 //! pages). Houdini winds polygons clockwise seen from the front and geode
 //! counter-clockwise: each polygon's vertices after the first are reversed
-//! on the way in and out, so faces keep their side. Packed primitives are
-//! unpacked by the caller before writing; other primitive types (volumes,
-//! NURBS, packed primitives, polygon soups) are refused on reading with
-//! their name. Per-element arrays are written as `arraydata` (numbers) and
+//! on the way in and out, so faces keep their side. Packed instances are
+//! `PackedGeometry` primitives with their sources embedded once each
+//! (`packed.rs`); other primitive types (volumes, NURBS, packed disk
+//! files and fragments, polygon soups) are refused on reading with their
+//! name. Per-element arrays are written as `arraydata` (numbers) and
 //! `sharedstringarray` (strings) — the tags Houdini uses — in this
 //! module's own layout, which no Houdini sample has confirmed.
 
 mod attribs;
 mod bjson;
 mod json;
+mod packed;
 mod read;
 mod write;
 
@@ -37,9 +39,11 @@ pub fn read_houdini(bytes: &[u8]) -> ParseResult<Geometry> {
     read::geometry(&doc, bytes.len())
 }
 
-/// Encodes a geometry of polygons and polylines as `.geo` text or `.bgeo` binary.
-pub fn encode_houdini(g: &Geometry, binary: bool) -> Vec<u8> {
-    let doc = write::document(g);
+/// Encodes a geometry of polygons, polylines and packed instances as `.geo`
+/// text or `.bgeo` binary; an instance whose transform has no Houdini form
+/// is refused with the reason.
+pub fn encode_houdini(g: &Geometry, binary: bool) -> Result<Vec<u8>, String> {
+    let doc = write::document(g)?;
     let mut out = Vec::new();
     if binary {
         bjson::write_binary(&doc, &mut out);
@@ -47,7 +51,7 @@ pub fn encode_houdini(g: &Geometry, binary: bool) -> Vec<u8> {
         json::write_text(&doc, &mut out);
         out.push(b'\n');
     }
-    out
+    Ok(out)
 }
 
 /// Turns a polygon's vertices between geode's and Houdini's winding: the

@@ -1,13 +1,16 @@
-//! Houdini's geometry schema (`.geo`, `.bgeo`) read into a `Geometry`: topology, polygons and polylines, attributes of every class, groups.
+//! Houdini's geometry schema (`.geo`, `.bgeo`) read into a `Geometry`: topology, polygons, polylines and packed geometry, attributes of every class, groups.
 
 use glam::Vec3;
 
 use geode_geo::attrib::{AttribClass, Attribute};
 use geode_geo::{Geometry, Group, PrimKind};
 
+use std::sync::Arc;
+
 use super::attribs::{attribute, decode_values};
 use super::houdini_order;
 use super::json::Json;
+use super::packed::{self, PackedPrim};
 use crate::error::{ParseError, ParseResult};
 
 fn bad(what: impl std::fmt::Display, message: impl std::fmt::Display) -> ParseError {
@@ -26,13 +29,38 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
     let pointref = pointref(doc, &counts)?;
     let prims = primitives(doc, &counts)?;
     let positions = positions(doc, counts.points)?;
-    let vertex_points: Vec<u32> = prims
-        .vertices
+    let (prim_order, vertex_order) = prims.layout();
+    let flat: Vec<usize> = (0..prims.kinds.len())
+        .filter(|&p| !matches!(prims.kinds[p], PrimKind::Packed(_)))
+        .collect();
+    let n_flat_vertices: usize = flat.iter().map(|&p| prims.counts[p] as usize).sum();
+    let vertex_points: Vec<u32> = vertex_order[..n_flat_vertices]
         .iter()
         .map(|&v| pointref[v as usize])
         .collect();
-    let mut g = Geometry::from_prims(positions, vertex_points, &prims.counts, prims.kinds)
-        .map_err(|e| ParseError::whole(format!("primitives: {e}")))?;
+    let mut g = Geometry::from_prims(
+        positions,
+        vertex_points,
+        &flat.iter().map(|&p| prims.counts[p]).collect::<Vec<_>>(),
+        flat.iter().map(|&p| prims.kinds[p]).collect(),
+    )
+    .map_err(|e| ParseError::whole(format!("primitives: {e}")))?;
+    if !prims.packed.is_empty() {
+        let shared = packed::read_shared(doc, &|d| geometry(d, file_bytes))?;
+        for (_, p) in &prims.packed {
+            let source = shared.get(&p.key).ok_or_else(|| {
+                bad(
+                    "primitives",
+                    format!(
+                        "the embedded detail `{}` is not in sharedprimitivedata",
+                        p.key
+                    ),
+                )
+            })?;
+            g.add_packed(pointref[p.vertex as usize], Arc::clone(source), p.transform)
+                .map_err(|e| bad("primitives", e))?;
+        }
+    }
     let attribs = doc.get("attributes");
     for (key, class, n) in [
         ("pointattributes", AttribClass::Point, counts.points),
@@ -51,7 +79,8 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
                 continue;
             }
             let attrib = match class {
-                AttribClass::Vertex => gather(attrib, &prims.vertices),
+                AttribClass::Vertex => gather(attrib, &vertex_order),
+                AttribClass::Primitive => gather(attrib, &prim_order),
                 _ => attrib,
             };
             g.set_attrib(class, &name, attrib)
@@ -66,7 +95,7 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
             let r = if point {
                 g.set_point_group(&name, group)
             } else {
-                g.set_prim_group(&name, group)
+                g.set_prim_group(&name, group.gather(&prim_order))
             };
             r.map_err(|e| bad(format!("{key} `{name}`"), e))?;
         }
@@ -165,9 +194,66 @@ struct Prims {
     kinds: Vec<PrimKind>,
     counts: Vec<u32>,
     vertices: Vec<u32>,
+    /// Packed primitives (their kinds above are placeholders), in file order.
+    packed: Vec<(usize, PackedPrim)>,
 }
 
 impl Prims {
+    fn push_packed(&mut self, p: PackedPrim, counts: &Counts) -> ParseResult<()> {
+        if p.vertex as usize >= counts.vertices {
+            return Err(bad(
+                "primitives",
+                format!(
+                    "vertex {} out of range (vertexcount {})",
+                    p.vertex, counts.vertices
+                ),
+            ));
+        }
+        if self.kinds.len() == counts.prims {
+            return Err(bad(
+                "primitives",
+                format!(
+                    "more primitives than the primitivecount of {}",
+                    counts.prims
+                ),
+            ));
+        }
+        self.packed.push((self.kinds.len(), p));
+        self.kinds.push(PrimKind::Packed(0));
+        self.counts.push(1);
+        let v = self.packed.last().map(|(_, p)| p.vertex).unwrap_or(0);
+        self.vertices.push(v);
+        Ok(())
+    }
+
+    /// Polygons and polylines first, packed primitives after (geode adds
+    /// those one by one): the primitive order and each geode vertex's
+    /// Houdini vertex in that order.
+    fn layout(&self) -> (Vec<u32>, Vec<u32>) {
+        let mut starts = Vec::with_capacity(self.counts.len());
+        let mut at = 0usize;
+        for &c in &self.counts {
+            starts.push(at);
+            at += c as usize;
+        }
+        let packed = |p: usize| matches!(self.kinds[p], PrimKind::Packed(_));
+        let order: Vec<u32> = (0..self.kinds.len())
+            .filter(|&p| !packed(p))
+            .chain((0..self.kinds.len()).filter(|&p| packed(p)))
+            .map(|p| p as u32)
+            .collect();
+        let vertices = order
+            .iter()
+            .flat_map(|&p| {
+                let p = p as usize;
+                self.vertices[starts[p]..starts[p] + self.counts[p] as usize]
+                    .iter()
+                    .copied()
+            })
+            .collect();
+        (order, vertices)
+    }
+
     fn push(&mut self, closed: bool, verts: &[u32], counts: &Counts) -> ParseResult<()> {
         if self.kinds.len() == counts.prims {
             return Err(bad(
@@ -204,6 +290,7 @@ fn primitives(doc: &Json, counts: &Counts) -> ParseResult<Prims> {
         kinds: Vec::new(),
         counts: Vec::new(),
         vertices: Vec::with_capacity(counts.vertices),
+        packed: Vec::new(),
     };
     let Some(list) = doc.get("primitives").and_then(Json::items) else {
         return Ok(prims);
@@ -232,6 +319,22 @@ fn primitives(doc: &Json, counts: &Counts) -> ParseResult<Prims> {
                 classic_run(header, body, &mut prims, counts)
                     .map_err(|e| bad(format!("primitives[{i}] (run of Poly)"), e.message))?
             }
+            "PackedGeometry" => {
+                let p = packed::read_prim(&|name| body.get(name).cloned())
+                    .map_err(|e| bad(format!("primitives[{i}] (PackedGeometry)"), e.message))?;
+                prims.push_packed(p, counts)?;
+            }
+            "run" if header.get("runtype").and_then(Json::as_str) == Some("PackedGeometry") => {
+                let run = packed::read_run(header, body).map_err(|e| {
+                    bad(
+                        format!("primitives[{i}] (run of PackedGeometry)"),
+                        e.message,
+                    )
+                })?;
+                for p in run {
+                    prims.push_packed(p, counts)?;
+                }
+            }
             other => {
                 let name = if other == "run" {
                     header.get("runtype").and_then(Json::as_str).unwrap_or("?")
@@ -240,7 +343,7 @@ fn primitives(doc: &Json, counts: &Counts) -> ParseResult<Prims> {
                 };
                 return Err(bad(
                     format!("primitives[{i}]"),
-                    format!("primitive type `{name}` is not supported: geode reads polygons and polylines (in Houdini, unpack or convert to polygons before saving)"),
+                    format!("primitive type `{name}` is not supported: geode reads polygons, polylines and embedded packed geometry (in Houdini, unpack or convert to polygons before saving)"),
                 ));
             }
         }

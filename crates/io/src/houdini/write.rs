@@ -1,10 +1,10 @@
-//! A `Geometry` written in Houdini's geometry schema: polygon runs, polyline runs, every attribute with its type info, groups.
+//! A `Geometry` written in Houdini's geometry schema: polygon runs, polyline runs, packed geometry, every attribute with its type info, groups.
 
 use geode_geo::attrib::{AttribClass, AttribData, AttribTable, AttribValue, Attribute, TypeInfo};
 use geode_geo::{Geometry, Group, PrimKind};
 
 use super::json::Json;
-use super::{houdini_order, type_info_name, ARRAY_TYPE, STRING_ARRAY_TYPE};
+use super::{houdini_order, packed, type_info_name, ARRAY_TYPE, STRING_ARRAY_TYPE};
 
 /// Houdini reads files of its own and older versions; this is the schema
 /// version whose layout (`Polygon_run`, `rawpagedata`) the writer follows.
@@ -12,9 +12,9 @@ const FILE_VERSION: &str = "18.5.0";
 /// Elements per page of `rawpagedata` (Houdini's own page size).
 const PAGE_SIZE: i64 = 1024;
 
-/// The document for `g` (polygons and polylines only: the caller unpacks
-/// instances and refuses patches).
-pub fn document(g: &Geometry) -> Json {
+/// The document for `g`: polygons, polylines and packed instances (their
+/// sources embedded once each); the caller refuses patches.
+pub fn document(g: &Geometry) -> Result<Json, String> {
     // Houdini's vertex order: each polygon's vertices turned to clockwise.
     let order = vertex_order(g);
     let pointref: Vec<i32> = order
@@ -42,8 +42,11 @@ pub fn document(g: &Geometry) -> Json {
             )]),
         ),
         ("attributes", attributes(g, &order)),
-        ("primitives", primitives(g)),
+        ("primitives", primitives(g)?),
     ];
+    if let Some(shared) = packed::write_shared(g, &document)? {
+        entries.push(("sharedprimitivedata", shared));
+    }
     for (key, groups) in [
         ("pointgroups", g.point_groups()),
         ("primitivegroups", g.prim_groups()),
@@ -55,7 +58,7 @@ pub fn document(g: &Geometry) -> Json {
             ));
         }
     }
-    Json::pairs(entries)
+    Ok(Json::pairs(entries))
 }
 
 fn vertex_order(g: &Geometry) -> Vec<u32> {
@@ -270,14 +273,16 @@ fn string_arrays(lists: &[Vec<String>]) -> Json {
 }
 
 /// Consecutive polygons as one `Polygon_run` (sizes run-length encoded);
-/// consecutive polylines as one run of open `Poly` primitives.
-fn primitives(g: &Geometry) -> Json {
+/// consecutive polylines as one run of open `Poly` primitives; consecutive
+/// packed primitives as one run of `PackedGeometry`.
+fn primitives(g: &Geometry) -> Result<Json, String> {
     let mut runs = Vec::new();
     let mut prim = 0;
+    let same = |a: PrimKind, b: PrimKind| std::mem::discriminant(&a) == std::mem::discriminant(&b);
     while prim < g.num_prims() {
         let kind = g.prim_kind(prim);
         let end = (prim..g.num_prims())
-            .find(|&p| g.prim_kind(p) != kind)
+            .find(|&p| !same(g.prim_kind(p), kind))
             .unwrap_or(g.num_prims());
         let sizes: Vec<i64> = (prim..end)
             .map(|p| g.prim_vertex_range(p).len() as i64)
@@ -292,6 +297,36 @@ fn primitives(g: &Geometry) -> Json {
                     ("nvertices_rle", Json::Array(run_lengths(&sizes))),
                 ]),
             ]),
+            PrimKind::Packed(_) => {
+                let per_prim = (prim..end)
+                    .map(|p| {
+                        let inst = g
+                            .packed_instance(p)
+                            .expect("a packed primitive has an instance");
+                        packed::write_prim(
+                            &inst.source,
+                            g.prim_vertex_range(p).start,
+                            &inst.transform,
+                        )
+                    })
+                    .collect::<Result<Vec<_>, _>>()?;
+                Json::Array(vec![
+                    Json::pairs(vec![
+                        ("type", Json::str("run")),
+                        ("runtype", Json::str("PackedGeometry")),
+                        (
+                            "varyingfields",
+                            Json::Array(
+                                ["parameters", "vertex", "transform", "pivot"]
+                                    .map(Json::str)
+                                    .to_vec(),
+                            ),
+                        ),
+                        ("uniformfields", Json::Map(Vec::new())),
+                    ]),
+                    Json::Array(per_prim),
+                ])
+            }
             _ => {
                 let mut at = start;
                 let per_prim = sizes
@@ -318,7 +353,7 @@ fn primitives(g: &Geometry) -> Json {
         });
         prim = end;
     }
-    Json::Array(runs)
+    Ok(Json::Array(runs))
 }
 
 fn run_lengths(sizes: &[i64]) -> Vec<Json> {
