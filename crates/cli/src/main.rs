@@ -116,7 +116,7 @@ enum Command {
     /// Print counts, bounds, attributes, groups, topology and content hash of a file.
     #[command(after_help = "Example:\n  geode info examples/assets/creased_box.obj")]
     Info {
-        /// Geometry file (.obj, .stl, .ply, .gltf, .glb).
+        /// Geometry file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo).
         file: PathBuf,
         /// Print JSON instead of text.
         #[arg(long)]
@@ -125,7 +125,8 @@ enum Command {
     /// Convert between formats (chosen by extension). The output is written atomically.
     #[command(
         after_help = "Example:\n  geode convert examples/assets/creased_box.obj /tmp/box.glb\n\n\
-        Formats without instancing (.obj, .stl, .ply) get packed instances unpacked."
+        Formats without instancing (.obj, .stl, .ply) get packed instances unpacked;\n\
+        what a format cannot hold is named in a warning."
     )]
     Convert {
         /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo).

@@ -106,3 +106,60 @@ fn a_second_process_reads_every_node_from_disk_and_writes_the_same_bytes() {
         stderr(&none)
     );
 }
+
+/// Two processes cooking the same network into one cache at once leave
+/// whole entries: a third reads every geometry from disk, the trace marks
+/// the hits as the store's, and the output equals the first two.
+#[test]
+fn two_processes_writing_at_once_leave_whole_entries() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let spawn = |out: &str| {
+        Command::new(env!("CARGO_BIN_EXE_geode"))
+            .args([
+                "cook",
+                "examples/chain.json",
+                "-o",
+                dir.path().join(out).to_str().unwrap(),
+            ])
+            .current_dir(root())
+            .env("GEODE_CACHE_DIR", &cache)
+            .spawn()
+            .unwrap()
+    };
+    let (mut a, mut b) = (spawn("a.bgeo"), spawn("b.bgeo"));
+    assert!(a.wait().unwrap().success() && b.wait().unwrap().success());
+    let trace = dir.path().join("trace.json");
+    let c = geode(
+        &[
+            "--trace",
+            trace.to_str().unwrap(),
+            "cook",
+            "examples/chain.json",
+            "--stats",
+            "-o",
+            dir.path().join("c.bgeo").to_str().unwrap(),
+        ],
+        &[("GEODE_CACHE_DIR", cache.to_str().unwrap())],
+    );
+    assert!(c.status.success(), "{}", stderr(&c));
+    assert!(
+        sources(&c).iter().all(|(_, k)| k == "disk"),
+        "{:?}",
+        sources(&c)
+    );
+    let text = std::fs::read_to_string(&trace).unwrap();
+    assert!(
+        text.contains(r#""store":"true""#) && !text.contains(r#""hit":"false""#),
+        "{text}"
+    );
+    let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
+    assert!(read("a.bgeo") == read("c.bgeo") && read("b.bgeo") == read("c.bgeo"));
+    let stray: Vec<_> = std::fs::read_dir(&cache)
+        .unwrap()
+        .flatten()
+        .flat_map(|d| std::fs::read_dir(d.path()).unwrap().flatten())
+        .filter(|f| f.file_name().to_string_lossy().starts_with(".geode-tmp"))
+        .collect();
+    assert!(stray.is_empty(), "temporary files left");
+}
