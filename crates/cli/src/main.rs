@@ -190,23 +190,20 @@ enum Command {
 #[derive(Subcommand)]
 enum CacheAction {
     /// Entries, shared packed sources and bytes held.
-    Stats {
-        /// The cache folder (default: GEODE_CACHE_DIR).
-        #[arg(long, value_name = "DIR")]
-        dir: Option<PathBuf>,
-        /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
-        #[arg(long, value_name = "MB")]
-        max_mb: Option<u64>,
-    },
+    Stats(CacheDir),
     /// Remove the least recently used entries until the folder fits its bound.
-    Gc {
-        /// The cache folder (default: GEODE_CACHE_DIR).
-        #[arg(long, value_name = "DIR")]
-        dir: Option<PathBuf>,
-        /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
-        #[arg(long, value_name = "MB")]
-        max_mb: Option<u64>,
-    },
+    Gc(CacheDir),
+}
+
+/// Which disk cache, and its bound.
+#[derive(clap::Args)]
+struct CacheDir {
+    /// The cache folder (default: GEODE_CACHE_DIR).
+    #[arg(long, value_name = "DIR")]
+    dir: Option<PathBuf>,
+    /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
+    #[arg(long, value_name = "MB")]
+    max_mb: Option<u64>,
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
@@ -264,8 +261,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             image,
         })?,
         Command::Cache { action } => match action {
-            CacheAction::Stats { dir, max_mb } => disk_cache::stats(dir, max_mb)?,
-            CacheAction::Gc { dir, max_mb } => disk_cache::gc(dir, max_mb)?,
+            CacheAction::Stats(c) => disk_cache::stats(c.dir, c.max_mb)?,
+            CacheAction::Gc(c) => disk_cache::gc(c.dir, c.max_mb)?,
         },
         Command::Fmt { network } => cook::fmt(&network)?,
         Command::Nodes {

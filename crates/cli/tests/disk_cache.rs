@@ -1,27 +1,10 @@
 //! `GEODE_CACHE_DIR` end to end: a second process reads every node from the disk cache and writes the same bytes; `geode cache stats` and `gc`.
 
-use std::path::{Path, PathBuf};
+mod common;
+
 use std::process::{Command, Output};
 
-fn geode(args: &[&str], env: &[(&str, &str)]) -> Output {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_geode"));
-    c.args(args).current_dir(root());
-    for (k, v) in env {
-        c.env(k, v);
-    }
-    c.output().unwrap()
-}
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use common::{geode, root, stderr};
 
 /// The `--stats` lines: (node type, hit kind).
 fn sources(o: &Output) -> Vec<(String, String)> {

@@ -1,29 +1,19 @@
 //! `geode farm` end to end on the local scheduler and on a real one-machine Slurm cluster (`tools/slurm.sh`, started by `.ci/run`): outputs equal local cooks byte for byte, a failing task is retried and reported with its log, the Kubernetes manifest indexes the tasks.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+mod common;
 
-fn geode(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_geode"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .unwrap()
-}
+use std::path::Path;
+use std::process::Command;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .canonicalize()
-        .unwrap()
+use common::{geode_in, root, stderr};
+
+/// `geode ARGS` in `dir`.
+fn run(args: &[&str], dir: &Path) -> std::process::Output {
+    geode_in(dir, args, &[])
 }
 
 fn example(name: &str) -> String {
     root().join("examples").join(name).display().to_string()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Whether Slurm can take jobs here; CI (GEODE_REQUIRE_SLURM=1) insists.
@@ -63,7 +53,7 @@ fn farms_equal_local_cooks(scheduler: &str) {
             "cache",
         ];
         all.extend(args);
-        let o = geode(&all, d);
+        let o = geode_in(d, &all, &[]);
         assert!(o.status.success(), "{}", stderr(&o));
         o
     };
@@ -90,7 +80,7 @@ fn farms_equal_local_cooks(scheduler: &str) {
     ]);
 
     std::fs::create_dir_all(d.join("local/coral")).unwrap();
-    let o = geode(
+    let o = run(
         &[
             "cook",
             &coral,
@@ -112,7 +102,7 @@ fn farms_equal_local_cooks(scheduler: &str) {
     }
     for count in [48, 96, 192] {
         let out = d.join(format!("local/count_{count}.bgeo"));
-        let o = geode(
+        let o = run(
             &[
                 "cook",
                 &chain,
@@ -150,7 +140,7 @@ fn a_failing_task_is_retried_and_reported(scheduler: &str) {
         "f": {"type": "file", "params": {"file": "$HIP/in.$F4.obj"}},
         "t": {"type": "transform", "inputs": ["f"], "params": {"translate": [0, 1, 0]}}}}"#;
     std::fs::write(d.join("net.json"), net).unwrap();
-    let o = geode(
+    let o = run(
         &[
             "farm",
             "net.json",
@@ -221,7 +211,7 @@ fn slurm_farm_retries_and_reports_a_failing_task() {
 fn a_wedge_must_name_its_outputs_and_its_node() {
     let dir = tempfile::tempdir().unwrap();
     let chain = example("chain.json");
-    let o = geode(
+    let o = run(
         &[
             "farm",
             &chain,
@@ -239,7 +229,7 @@ fn a_wedge_must_name_its_outputs_and_its_node() {
         "{}",
         stderr(&o)
     );
-    let o = geode(
+    let o = run(
         &[
             "farm",
             &chain,
@@ -263,7 +253,7 @@ fn a_wedge_must_name_its_outputs_and_its_node() {
 fn the_kubernetes_manifest_indexes_every_task() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = geode(
+    let o = run(
         &[
             "farm",
             &example("coral.json"),

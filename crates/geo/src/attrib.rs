@@ -16,6 +16,15 @@ pub enum AttribClass {
     Detail,
 }
 
+impl AttribClass {
+    pub const ALL: [AttribClass; 4] = [
+        AttribClass::Point,
+        AttribClass::Vertex,
+        AttribClass::Primitive,
+        AttribClass::Detail,
+    ];
+}
+
 impl fmt::Display for AttribClass {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {
@@ -44,6 +53,26 @@ pub enum AttribType {
     FloatArray,
     Vec3Array,
     StringArray,
+}
+
+impl AttribType {
+    /// Every type. The binary codec numbers types by their place here:
+    /// append, never reorder.
+    pub const ALL: [AttribType; 13] = [
+        AttribType::Float,
+        AttribType::Int,
+        AttribType::Vec2,
+        AttribType::Vec3,
+        AttribType::Vec4,
+        AttribType::Quat,
+        AttribType::Mat4,
+        AttribType::Mat3,
+        AttribType::String,
+        AttribType::IntArray,
+        AttribType::FloatArray,
+        AttribType::Vec3Array,
+        AttribType::StringArray,
+    ];
 }
 
 impl fmt::Display for AttribType {
@@ -86,6 +115,21 @@ pub enum TypeInfo {
     TexCoord,
     /// A local 4x4 transform (instancing): the linear part is pre-multiplied.
     Transform,
+}
+
+impl TypeInfo {
+    /// Every tag. The binary codec numbers tags by their place here:
+    /// append, never reorder.
+    pub const ALL: [TypeInfo; 8] = [
+        TypeInfo::None,
+        TypeInfo::Position,
+        TypeInfo::Vector,
+        TypeInfo::Normal,
+        TypeInfo::Color,
+        TypeInfo::Quaternion,
+        TypeInfo::TexCoord,
+        TypeInfo::Transform,
+    ];
 }
 
 impl fmt::Display for TypeInfo {

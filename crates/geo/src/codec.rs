@@ -169,32 +169,8 @@ impl Writer<'_> {
     }
 }
 
-const TYPES: [AttribType; 13] = [
-    AttribType::Float,
-    AttribType::Int,
-    AttribType::Vec2,
-    AttribType::Vec3,
-    AttribType::Vec4,
-    AttribType::Quat,
-    AttribType::Mat4,
-    AttribType::Mat3,
-    AttribType::String,
-    AttribType::IntArray,
-    AttribType::FloatArray,
-    AttribType::Vec3Array,
-    AttribType::StringArray,
-];
-
-const INFOS: [TypeInfo; 8] = [
-    TypeInfo::None,
-    TypeInfo::Position,
-    TypeInfo::Vector,
-    TypeInfo::Normal,
-    TypeInfo::Color,
-    TypeInfo::Quaternion,
-    TypeInfo::TexCoord,
-    TypeInfo::Transform,
-];
+const TYPES: [AttribType; 13] = AttribType::ALL;
+const INFOS: [TypeInfo; 8] = TypeInfo::ALL;
 
 fn type_tag(t: AttribType) -> u8 {
     TYPES

@@ -156,7 +156,7 @@ proptest! {
         let g = rich(seed);
         let back = round_trip(&g).unwrap();
         prop_assert_eq!(back.content_hash(), g.content_hash());
-        for class in [AttribClass::Point, AttribClass::Vertex, AttribClass::Primitive, AttribClass::Detail] {
+        for class in AttribClass::ALL {
             prop_assert_eq!(back.attribs(class), g.attribs(class));
         }
         prop_assert_eq!(back.point_groups(), g.point_groups());

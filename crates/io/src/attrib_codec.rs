@@ -21,36 +21,16 @@ pub(crate) fn type_token(ty: AttribType) -> Option<&'static str> {
 }
 
 pub(crate) fn type_from_token(token: &str) -> Option<AttribType> {
-    [
-        AttribType::Float,
-        AttribType::Int,
-        AttribType::Vec2,
-        AttribType::Vec3,
-        AttribType::Vec4,
-        AttribType::Quat,
-        AttribType::Mat3,
-        AttribType::Mat4,
-        AttribType::IntArray,
-        AttribType::FloatArray,
-        AttribType::Vec3Array,
-    ]
-    .into_iter()
-    .find(|&t| type_token(t) == Some(token))
+    AttribType::ALL
+        .into_iter()
+        .find(|&t| type_token(t) == Some(token))
 }
 
 pub(crate) fn info_from_token(token: &str) -> TypeInfo {
-    [
-        TypeInfo::Position,
-        TypeInfo::Vector,
-        TypeInfo::Normal,
-        TypeInfo::Color,
-        TypeInfo::Quaternion,
-        TypeInfo::TexCoord,
-        TypeInfo::Transform,
-    ]
-    .into_iter()
-    .find(|t| t.to_string() == token)
-    .unwrap_or(TypeInfo::None)
+    TypeInfo::ALL
+        .into_iter()
+        .find(|t| t.to_string() == token)
+        .unwrap_or(TypeInfo::None)
 }
 
 /// The property suffixes of a multi-component type (`NAME_x` ..), empty for scalars.

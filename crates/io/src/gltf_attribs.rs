@@ -31,12 +31,7 @@ const EXACT_INT: i32 = 1 << 24;
 /// The attributes of `g` written as `_NAME`, and descriptions of those glTF cannot hold.
 pub(crate) fn custom_columns(g: &Geometry) -> (Vec<Custom<'_>>, Vec<String>) {
     let (mut out, mut dropped) = (Vec::new(), Vec::new());
-    for class in [
-        AttribClass::Point,
-        AttribClass::Vertex,
-        AttribClass::Primitive,
-        AttribClass::Detail,
-    ] {
+    for class in AttribClass::ALL {
         for (name, a) in g.attribs(class).iter() {
             let standard = name == geode_geo::P
                 || (STANDARD.contains(&name)

@@ -150,9 +150,7 @@ pub(crate) fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry>
         .sum();
     let mut positions = Vec::new();
     let mut points = Gathered::default();
-    let mut vertex_points: Vec<u32> = Vec::new();
-    let mut counts: Vec<u32> = Vec::new();
-    let mut kinds: Vec<PrimKind> = Vec::new();
+    let mut prims = PrimLists::default();
     let mut prim_cols = Gathered::default();
     let mut vertex_cols = Gathered::default();
     for (el, cols) in h.elements.iter().zip(&data) {
@@ -161,16 +159,9 @@ pub(crate) fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry>
                 positions = read_points(h, el, cols, &mut points)?;
             }
             "face" | "polyline" => {
-                let first_prim = counts.len();
-                let first_vertex = vertex_points.len();
-                read_prims(
-                    el,
-                    cols,
-                    positions.len(),
-                    &mut vertex_points,
-                    &mut counts,
-                    &mut kinds,
-                )?;
+                let first_prim = prims.counts.len();
+                let first_vertex = prims.vertex_points.len();
+                read_prims(el, cols, positions.len(), &mut prims)?;
                 let mut used =
                     vec![find(el, &["vertex_indices", "vertex_index"]).unwrap_or(usize::MAX)];
                 for d in h.declared.iter().filter(|d| d.class != AttribClass::Point) {
@@ -208,18 +199,11 @@ pub(crate) fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry>
                     }
                 }
             }
-            "edge" => read_edges(
-                el,
-                cols,
-                positions.len(),
-                &mut vertex_points,
-                &mut counts,
-                &mut kinds,
-            )?,
+            "edge" => read_edges(el, cols, positions.len(), &mut prims)?,
             _ => {}
         }
     }
-    let mut g = Geometry::from_prims(positions, vertex_points, &counts, kinds)
+    let mut g = Geometry::from_prims(positions, prims.vertex_points, &prims.counts, prims.kinds)
         .map_err(|e| ParseError::whole(e.to_string()))?;
     let set = |g: &mut Geometry, class, name: &str, a| {
         g.set_attrib(class, name, a)
@@ -343,14 +327,44 @@ fn read_points(
     Ok(positions)
 }
 
+/// The primitives read so far, each checked as it is added.
+#[derive(Default)]
+struct PrimLists {
+    vertex_points: Vec<u32>,
+    counts: Vec<u32>,
+    kinds: Vec<PrimKind>,
+}
+
+impl PrimLists {
+    /// Adds primitive `index` of element `what`, its points checked against `n_points`.
+    fn push(
+        &mut self,
+        what: &str,
+        index: usize,
+        points: &[f64],
+        n_points: usize,
+        kind: PrimKind,
+    ) -> ParseResult<()> {
+        for &v in points {
+            if v < 0.0 || v as usize >= n_points {
+                return Err(ParseError::whole(format!(
+                    "{what} {index} refers to vertex {v} but there are {n_points} vertices"
+                )));
+            }
+            self.vertex_points.push(v as u32);
+        }
+        self.counts.push(points.len() as u32);
+        self.kinds.push(kind);
+        Ok(())
+    }
+}
+
 /// Polygons (`face`) or polylines (`polyline`) from their vertex lists.
 fn read_prims(
     el: &Element,
     cols: &[Column],
     n_points: usize,
-    vertex_points: &mut Vec<u32>,
-    counts: &mut Vec<u32>,
-    kinds: &mut Vec<PrimKind>,
+    prims: &mut PrimLists,
 ) -> ParseResult<()> {
     let what = el.name.as_str();
     let Some(vi) = find(el, &["vertex_indices", "vertex_index"]) else {
@@ -376,17 +390,8 @@ fn read_prims(
                 "{what} {f} has {n} vertices, at least {least} needed"
             )));
         }
-        for &v in &c.values[k..k + n as usize] {
-            if v < 0.0 || v as usize >= n_points {
-                return Err(ParseError::whole(format!(
-                    "{what} {f} refers to vertex {v} but there are {n_points} vertices"
-                )));
-            }
-            vertex_points.push(v as u32);
-        }
+        prims.push(what, f, &c.values[k..k + n as usize], n_points, kind)?;
         k += n as usize;
-        counts.push(n);
-        kinds.push(kind);
     }
     Ok(())
 }
@@ -396,22 +401,17 @@ fn read_edges(
     el: &Element,
     cols: &[Column],
     n_points: usize,
-    vertex_points: &mut Vec<u32>,
-    counts: &mut Vec<u32>,
-    kinds: &mut Vec<PrimKind>,
+    prims: &mut PrimLists,
 ) -> ParseResult<()> {
     if let (Some(a), Some(b)) = (find(el, &["vertex1"]), find(el, &["vertex2"])) {
         for i in 0..el.count {
-            for v in [cols[a].values[i], cols[b].values[i]] {
-                if v < 0.0 || v as usize >= n_points {
-                    return Err(ParseError::whole(format!(
-                        "edge {i} refers to vertex {v} but there are {n_points} vertices"
-                    )));
-                }
-                vertex_points.push(v as u32);
-            }
-            counts.push(2);
-            kinds.push(PrimKind::Polyline);
+            prims.push(
+                "edge",
+                i,
+                &[cols[a].values[i], cols[b].values[i]],
+                n_points,
+                PrimKind::Polyline,
+            )?;
         }
     }
     Ok(())

@@ -195,12 +195,7 @@ fn assert_same(a: &Geometry, b: &Geometry, what: &str) {
     assert_eq!(a.vertex_points(), b.vertex_points(), "{what}: vertices");
     assert_eq!(a.prim_offsets(), b.prim_offsets(), "{what}: primitives");
     assert_eq!(a.prim_kinds(), b.prim_kinds(), "{what}: kinds");
-    for class in [
-        AttribClass::Point,
-        AttribClass::Vertex,
-        AttribClass::Primitive,
-        AttribClass::Detail,
-    ] {
+    for class in AttribClass::ALL {
         let names_a: Vec<&str> = a.attribs(class).names().collect();
         let names_b: Vec<&str> = b.attribs(class).names().collect();
         assert_eq!(names_a, names_b, "{what}: {class} attributes");

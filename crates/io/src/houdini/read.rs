@@ -199,16 +199,8 @@ struct Prims {
 }
 
 impl Prims {
-    fn push_packed(&mut self, p: PackedPrim, counts: &Counts) -> ParseResult<()> {
-        if p.vertex as usize >= counts.vertices {
-            return Err(bad(
-                "primitives",
-                format!(
-                    "vertex {} out of range (vertexcount {})",
-                    p.vertex, counts.vertices
-                ),
-            ));
-        }
+    /// Whether another primitive with these vertices fits the header's counts.
+    fn check(&self, verts: &[u32], counts: &Counts) -> ParseResult<()> {
         if self.kinds.len() == counts.prims {
             return Err(bad(
                 "primitives",
@@ -218,11 +210,21 @@ impl Prims {
                 ),
             ));
         }
-        self.packed.push((self.kinds.len(), p));
+        if let Some(&v) = verts.iter().find(|&&v| v as usize >= counts.vertices) {
+            return Err(bad(
+                "primitives",
+                format!("vertex {v} out of range (vertexcount {})", counts.vertices),
+            ));
+        }
+        Ok(())
+    }
+
+    fn push_packed(&mut self, p: PackedPrim, counts: &Counts) -> ParseResult<()> {
+        self.check(&[p.vertex], counts)?;
         self.kinds.push(PrimKind::Packed(0));
         self.counts.push(1);
-        let v = self.packed.last().map(|(_, p)| p.vertex).unwrap_or(0);
-        self.vertices.push(v);
+        self.vertices.push(p.vertex);
+        self.packed.push((self.kinds.len() - 1, p));
         Ok(())
     }
 
@@ -255,21 +257,7 @@ impl Prims {
     }
 
     fn push(&mut self, closed: bool, verts: &[u32], counts: &Counts) -> ParseResult<()> {
-        if self.kinds.len() == counts.prims {
-            return Err(bad(
-                "primitives",
-                format!(
-                    "more primitives than the primitivecount of {}",
-                    counts.prims
-                ),
-            ));
-        }
-        if let Some(&v) = verts.iter().find(|&&v| v as usize >= counts.vertices) {
-            return Err(bad(
-                "primitives",
-                format!("vertex {v} out of range (vertexcount {})", counts.vertices),
-            ));
-        }
+        self.check(verts, counts)?;
         self.kinds.push(if closed {
             PrimKind::Polygon
         } else {

@@ -153,12 +153,7 @@ fn dropped(g: &Geometry) -> Vec<String> {
         _ => false,
     };
     let mut out = Vec::new();
-    for class in [
-        AttribClass::Point,
-        AttribClass::Vertex,
-        AttribClass::Primitive,
-        AttribClass::Detail,
-    ] {
+    for class in AttribClass::ALL {
         for (name, a) in g.attribs(class).iter() {
             if !written(class, name, a.attrib_type()) {
                 out.push(describe_attrib(class, name, a.attrib_type()));
