@@ -142,40 +142,7 @@ enum Command {
         bytes a local cook writes. $WEDGE is PARAM_VALUE. Logs and exit statuses go to the farm folder\n\
         (.geode-farm/ beside the network); a failed task is reported with the end of its log."
     )]
-    Farm {
-        /// Network file (.json).
-        network: PathBuf,
-        /// The frames, e.g. 1-24 (default 1).
-        #[arg(long, value_name = "A-B")]
-        frames: Option<String>,
-        /// One parameter's values, one task per value and frame: NODE/PARAM=v1,v2,...
-        #[arg(long, value_name = "NODE/PARAM=V1,V2,...")]
-        wedge: Option<String>,
-        /// Output path per task: $F, $F4, $FF the frame; $WEDGE the wedge value.
-        #[arg(short, long, value_name = "OUT")]
-        output: String,
-        /// Cook this node instead of the network's output.
-        #[arg(long, value_name = "PATH")]
-        node: Option<String>,
-        /// Where tasks run.
-        #[arg(long, value_enum, default_value = "local")]
-        scheduler: farm::Scheduler,
-        /// Tasks at once (default: this machine's cores).
-        #[arg(long, value_name = "N")]
-        jobs: Option<usize>,
-        /// Times a failed task runs again.
-        #[arg(long, value_name = "N", default_value_t = 0)]
-        retry: u32,
-        /// The disk cache the tasks share.
-        #[arg(long, value_name = "DIR")]
-        cache_dir: Option<PathBuf>,
-        /// The folder for the task list, logs and statuses.
-        #[arg(long, value_name = "DIR")]
-        farm_dir: Option<PathBuf>,
-        /// The container image of the Kubernetes job (--scheduler k8s).
-        #[arg(long, value_name = "IMAGE", default_value = "geode:latest")]
-        image: String,
-    },
+    Farm(farm::FarmArgs),
     /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to its bound.
     #[command(
         after_help = "Examples:\n  GEODE_CACHE_DIR=/shared/geode-cache geode cook net.json -o out.bgeo\n  geode cache stats --dir /shared/geode-cache\n  geode cache gc --dir /shared/geode-cache --max-mb 2048\n\n\
@@ -235,31 +202,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             bind,
         } => serve(network, port, open, bind)?,
         Command::Check { network } => cook::check(&network)?,
-        Command::Farm {
-            network,
-            frames,
-            wedge,
-            output,
-            node,
-            scheduler,
-            jobs,
-            retry,
-            cache_dir,
-            farm_dir,
-            image,
-        } => farm::farm(farm::FarmArgs {
-            frames: cook::frames(None, frames.as_deref())?,
-            network,
-            wedge,
-            output,
-            node,
-            scheduler,
-            jobs,
-            retry,
-            cache_dir,
-            farm_dir,
-            image,
-        })?,
+        Command::Farm(args) => farm::farm(args)?,
         Command::Cache { action } => match action {
             CacheAction::Stats(c) => disk_cache::stats(c.dir, c.max_mb)?,
             CacheAction::Gc(c) => disk_cache::gc(c.dir, c.max_mb)?,

@@ -27,21 +27,39 @@ pub enum Scheduler {
     K8s,
 }
 
+#[derive(clap::Args)]
 pub struct FarmArgs {
+    /// Network file (.json).
     pub network: PathBuf,
-    pub frames: Vec<f64>,
-    /// `NODE/PARAM=v1,v2,...`
+    /// The frames, e.g. 1-24 (default 1).
+    #[arg(long, value_name = "A-B")]
+    pub frames: Option<String>,
+    /// One parameter's values, one task per value and frame: NODE/PARAM=v1,v2,...
+    #[arg(long, value_name = "NODE/PARAM=V1,V2,...")]
     pub wedge: Option<String>,
+    /// Output path per task: $F, $F4, $FF the frame; $WEDGE the wedge value.
+    #[arg(short, long, value_name = "OUT")]
     pub output: String,
+    /// Cook this node instead of the network's output.
+    #[arg(long, value_name = "PATH")]
     pub node: Option<String>,
+    /// Where tasks run.
+    #[arg(long, value_enum, default_value = "local")]
     pub scheduler: Scheduler,
-    /// Tasks running at once (default: this machine's cores).
+    /// Tasks at once (default: this machine's cores).
+    #[arg(long, value_name = "N")]
     pub jobs: Option<usize>,
-    /// Times a failed task is run again.
+    /// Times a failed task runs again.
+    #[arg(long, value_name = "N", default_value_t = 0)]
     pub retry: u32,
+    /// The disk cache the tasks share.
+    #[arg(long, value_name = "DIR")]
     pub cache_dir: Option<PathBuf>,
+    /// The folder for the task list, logs and statuses.
+    #[arg(long, value_name = "DIR")]
     pub farm_dir: Option<PathBuf>,
-    /// The container image of the Kubernetes job.
+    /// The container image of the Kubernetes job (--scheduler k8s).
+    #[arg(long, value_name = "IMAGE", default_value = "geode:latest")]
     pub image: String,
 }
 
@@ -183,7 +201,7 @@ fn absolute(p: &Path) -> Result<PathBuf> {
 
 /// Lays the farm out: checks the network under every wedge variant, lists
 /// the tasks and writes them to `tasks.txt`.
-fn plan(args: &FarmArgs) -> Result<Farm> {
+fn plan(args: &FarmArgs, frames: &[f64]) -> Result<Farm> {
     let network = absolute(&args.network)?;
     let variants: Vec<Option<(String, String)>> = match &args.wedge {
         Some(w) => wedge_variants(w)?.into_iter().map(Some).collect(),
@@ -224,7 +242,7 @@ fn plan(args: &FarmArgs) -> Result<Farm> {
     let exe = std::env::current_exe().context("cannot find the geode executable")?;
     let mut tasks = Vec::new();
     for v in &variants {
-        for &frame in &args.frames {
+        for &frame in frames {
             let pattern = match v {
                 Some((_, label)) => args.output.replace("$WEDGE", label),
                 None => args.output.replace("$WEDGE", "base"),
@@ -294,11 +312,12 @@ fn unix_seconds() -> u64 {
 }
 
 pub fn farm(args: FarmArgs) -> Result<()> {
-    let farm = plan(&args)?;
+    let frames = crate::cook::frames(None, args.frames.as_deref())?;
+    let farm = plan(&args, &frames)?;
     eprintln!(
         "farm: {} tasks ({} frames{}), folder {}, disk cache {}",
         farm.tasks.len(),
-        args.frames.len(),
+        frames.len(),
         args.wedge
             .as_deref()
             .map(|w| format!(" x wedge {w}"))
