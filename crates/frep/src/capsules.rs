@@ -275,6 +275,90 @@ impl CapsuleSet {
         }
     }
 
+    /// Appends the set as built (see `codec.rs`).
+    pub(crate) fn encode(&self, out: &mut Vec<u8>) {
+        let f = |out: &mut Vec<u8>, v: &[f64]| {
+            v.iter()
+                .for_each(|x| out.extend_from_slice(&x.to_le_bytes()))
+        };
+        out.extend_from_slice(&self.identity.to_le_bytes());
+        f(out, &[self.floor]);
+        out.extend_from_slice(&(self.caps.len() as u64).to_le_bytes());
+        for c in &self.caps {
+            f(out, &c.a);
+            f(out, &c.ab);
+            f(out, &[c.inv_len2, c.ra, c.dr]);
+        }
+        out.extend_from_slice(&(self.nodes.len() as u64).to_le_bytes());
+        for n in &self.nodes {
+            f(out, &n.lo);
+            f(out, &n.hi);
+            f(out, &[n.r_max]);
+            for i in [n.start, n.end, n.second] {
+                out.extend_from_slice(&i.to_le_bytes());
+            }
+        }
+    }
+
+    /// Reads a set [`CapsuleSet::encode`] wrote; every index is checked, so
+    /// evaluation of a decoded set never reads out of bounds.
+    pub(crate) fn decode(
+        r: &mut crate::codec::Reader,
+    ) -> Result<CapsuleSet, crate::codec::FieldDecodeError> {
+        use crate::codec::FieldDecodeError as E;
+        let identity = u128::from_le_bytes(r.take(16)?.try_into().expect("sixteen bytes"));
+        let floor = r.f64()?;
+        let n_caps = r.count(88)?;
+        let mut caps = Vec::with_capacity(n_caps);
+        let v3 = |r: &mut crate::codec::Reader| -> Result<[f64; 3], E> {
+            Ok([r.f64()?, r.f64()?, r.f64()?])
+        };
+        for _ in 0..n_caps {
+            let (a, ab) = (v3(r)?, v3(r)?);
+            caps.push(Capsule {
+                a,
+                ab,
+                inv_len2: r.f64()?,
+                ra: r.f64()?,
+                dr: r.f64()?,
+            });
+        }
+        let n_nodes = r.count(68)?;
+        let mut nodes = Vec::with_capacity(n_nodes);
+        for _ in 0..n_nodes {
+            let (lo, hi) = (v3(r)?, v3(r)?);
+            let r_max = r.f64()?;
+            let (start, end, second) = (r.u32()?, r.u32()?, r.u32()?);
+            nodes.push(BvhNode {
+                lo,
+                hi,
+                r_max,
+                start,
+                end,
+                second,
+            });
+        }
+        // A leaf has `second` 0; an inner node's children come after it (so
+        // no traversal can loop) and exist.
+        let len = nodes.len();
+        let bad = nodes.is_empty()
+            || caps.is_empty()
+            || nodes.iter().enumerate().any(|(i, n)| {
+                let inner_bad = n.second != 0
+                    && (i + 1 >= len || n.second as usize <= i || n.second as usize >= len);
+                n.start > n.end || n.end as usize > caps.len() || inner_bad
+            });
+        if bad {
+            return Err(E::Invalid("capsule hierarchy".into()));
+        }
+        Ok(CapsuleSet {
+            caps,
+            nodes,
+            identity,
+            floor,
+        })
+    }
+
     /// Structural identity: equal for equal segment lists.
     pub fn identity(&self) -> u128 {
         self.identity

@@ -10,6 +10,7 @@ pub mod adaptive;
 mod brick;
 pub mod capsules;
 mod cluster;
+pub mod codec;
 pub mod distance;
 pub mod eval;
 mod features;

@@ -1,9 +1,10 @@
 //! One disk cache entry's bytes: a header (kind, identity, size, warnings), the value in the geometry codec, and a checksum over all of it.
 //!
-//! Geometry and bundles are stored; a packed instance's source is its own
-//! entry, named by its content hash and shared by every entry placing it.
-//! Fields (symbolic and cheap to rebuild) and geometry carrying a payload
-//! have no byte form and are not stored.
+//! Geometry, bundles and fields are stored (fields in geode-frep's codec,
+//! capsule sets with their built hierarchies); a packed instance's source
+//! is its own entry, named by its content hash and shared by every entry
+//! placing it. Geometry carrying a payload (a typed Rust value) has no byte
+//! form and is not stored.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -25,6 +26,7 @@ pub(crate) enum Kind {
     Bundle = 1,
     /// A packed source: geometry found by content hash.
     Source = 2,
+    Field = 3,
 }
 
 /// Bytes of one entry for `cached`, and the packed sources it needs
@@ -35,7 +37,7 @@ pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
         match cached.value {
             Value::Geometry(_) => Kind::Geometry,
             Value::Bundle(_) => Kind::Bundle,
-            Value::Field(_) => return None,
+            Value::Field(_) => Kind::Field,
         },
         cached.identity,
         cached.bytes as u64,
@@ -57,7 +59,12 @@ pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
                 geometry(g, &mut out)?;
             }
         }
-        Value::Field(_) => return None,
+        Value::Field(f) => {
+            let mut body = Vec::new();
+            geode_frep::codec::encode(f, &mut body);
+            out.extend_from_slice(&(body.len() as u64).to_le_bytes());
+            out.extend_from_slice(&body);
+        }
     }
     seal(&mut out);
     Some((out, sources))
@@ -138,6 +145,12 @@ pub(crate) fn decode(
                 entries.insert(name, Arc::new(r.geometry(source)?));
             }
             Value::Bundle(Arc::new(Bundle { entries }))
+        }
+        Kind::Field => {
+            let n = r.len()?;
+            let f = geode_frep::codec::decode(r.take(n)?)
+                .map_err(|e| DecodeError::Invalid(e.to_string()))?;
+            Value::Field(f)
         }
     };
     if r.at != body.len() {

@@ -236,6 +236,7 @@ impl Store for DiskCache {
         let kind = match body.get(12) {
             Some(0) => Kind::Geometry,
             Some(1) => Kind::Bundle,
+            Some(3) => Kind::Field,
             _ => return None,
         };
         match entry::decode(&body, kind, &|h| self.source(h)) {

@@ -132,16 +132,29 @@ fn a_damaged_entry_is_a_miss_and_is_removed() {
 }
 
 #[test]
-fn fields_and_payloads_are_not_stored() {
+fn fields_are_stored_and_payloads_are_not() {
     let dir = tempfile::tempdir().unwrap();
     let cache = DiskCache::open(dir.path(), u64::MAX).unwrap();
-    let field = Value::Field(geode_frep::shapes::sphere([0.0; 3], 1.0));
-    cache.save(1, &cached(field, &[]));
+    let points: Vec<[f64; 3]> = (0..30)
+        .map(|i| [i as f64 * 0.1, 0.0, (i as f64).sin()])
+        .collect();
+    let sweep = geode_frep::shapes::sphere_sweep(&points, &[0.1; 30]).unwrap();
+    let field = Value::Field(geode_frep::shapes::blend_union(
+        &sweep,
+        &geode_frep::shapes::sphere([0.0; 3], 1.0),
+        [0.3, 1.0, 1.0],
+    ));
+    cache.save(1, &cached(field.clone(), &[]));
     let mut g = primitives::cube(1.0);
     g.set_payload("h", geode_geo::Payload::new(1u8, 9, 1));
     cache.save(2, &cached(Value::geometry(g), &[]));
-    assert_eq!(cache.stats().unwrap().entries, 0);
-    assert!(cache.load(1).is_none() && cache.load(2).is_none());
+    assert_eq!(cache.stats().unwrap().entries, 1);
+    let back = DiskCache::open(dir.path(), u64::MAX)
+        .unwrap()
+        .load(1)
+        .expect("the field is stored");
+    assert_eq!(back.value.identity(), field.identity());
+    assert!(cache.load(2).is_none(), "a payload has no byte form");
 }
 
 /// Four caches (as four processes would) write the same entries at once

@@ -1,0 +1,75 @@
+//! The binary field codec: every field comes back with its identity and its values; damaged bytes are errors, never panics.
+
+use geode_frep::codec::{decode, encode, FieldDecodeError};
+use geode_frep::eval::PointEval;
+use geode_frep::shapes;
+use geode_frep::tape::Tape;
+use geode_frep::Field;
+
+fn fields() -> Vec<Field> {
+    let s = shapes::sphere([0.1, 0.2, 0.3], 1.0);
+    let b = shapes::block([0.0; 3], [0.5, 0.7, 0.9]);
+    let t = shapes::torus([0.0, 0.5, 0.0], 1.0, 0.25);
+    let points: Vec<[f64; 3]> = (0..40)
+        .map(|i| [i as f64 * 0.05, (i as f64 * 0.3).sin(), 0.0])
+        .collect();
+    let radii: Vec<f64> = (0..40).map(|i| 0.05 + i as f64 * 0.002).collect();
+    let sweep = shapes::sphere_sweep(&points, &radii).unwrap();
+    // A chain as deep as a long sweep of unions: no recursion may follow it.
+    let mut deep = Field::x();
+    for i in 0..100_000 {
+        deep = deep.binary(geode_frep::Binary::Add, Field::constant(i as f64 * 1e-6));
+    }
+    vec![
+        s.clone(),
+        shapes::blend_union(&s, &b, [0.2, 1.0, 1.0]),
+        shapes::subtraction(&t, &b, 0.0),
+        shapes::morph(&s, &t, 0.3).sin().abs(),
+        shapes::union(&sweep, &shapes::offset(&s, 0.1), 1.0),
+        deep,
+    ]
+}
+
+#[test]
+fn every_field_comes_back_with_its_identity_and_values() {
+    for (k, f) in fields().into_iter().enumerate() {
+        let mut bytes = Vec::new();
+        encode(&f, &mut bytes);
+        let back = decode(&bytes).unwrap();
+        assert_eq!(back.identity(), f.identity(), "field {k}");
+        if k == 5 {
+            continue; // the deep chain: identity is enough, a tape of it is large
+        }
+        let (ta, tb) = (Tape::compile(&f), Tape::compile(&back));
+        let (mut ea, mut eb) = (PointEval::new(&ta), PointEval::new(&tb));
+        for i in 0..200 {
+            let p = [
+                (i as f64 * 0.37).sin() * 1.5,
+                (i as f64 * 0.11).cos(),
+                i as f64 * 0.01 - 1.0,
+            ];
+            assert_eq!(
+                ea.eval(p).to_bits(),
+                eb.eval(p).to_bits(),
+                "field {k} at {p:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn damaged_fields_are_errors_never_panics() {
+    for f in fields().into_iter().take(5) {
+        let mut bytes = Vec::new();
+        encode(&f, &mut bytes);
+        for at in (0..bytes.len()).step_by(bytes.len() / 300 + 1) {
+            assert!(decode(&bytes[..at]).is_err());
+            for damage in [0xffu8, 0x01, 0x80] {
+                let mut b = bytes.clone();
+                b[at] ^= damage;
+                let _ = decode(&b);
+            }
+        }
+    }
+    assert_eq!(decode(b"GEOX").unwrap_err(), FieldDecodeError::Magic);
+}
