@@ -13,6 +13,10 @@ use geode_graph::{Cached, Store};
 use geode_op::Value;
 use geode_store::DiskCache;
 
+/// The allocator the geode binary runs with.
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
 fn main() {
     divan::main();
 }
