@@ -195,3 +195,52 @@ fn cook_errors_keep_their_kind_and_source() {
         (ErrorKind::Kernel, Some("edit_move"), true)
     );
 }
+
+/// The issue that started it: polyframe's `orient`, `T`, `B` (and `N`) and
+/// its polyline survive PLY, GLB and Houdini's files, and reach USD as
+/// primvars.
+#[test]
+fn polyframe_attributes_survive_every_writer_that_can_carry_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let hip = dir.path().to_str().unwrap();
+    let cache = Cache::new(1 << 26);
+    for ext in ["ply", "glb", "bgeo", "usda"] {
+        let text = format!(
+            r#"{{"geode": "network", "version": 1, "output": "w", "nodes": {{
+            "l": {{"type": "curve_line", "params": {{"points": 9}}}},
+            "f": {{"type": "polyframe", "inputs": ["l"]}},
+            "w": {{"type": "write", "params": {{"file": "$HIP/f.{ext}"}}, "inputs": ["f"]}}}}}}"#
+        );
+        let r = engine_for(&text, &cache).cook("/w", &at(1.0, hip)).unwrap();
+        let written = r.value.as_geometry().unwrap().clone();
+        let path = dir.path().join(format!("f.{ext}"));
+        if ext == "usda" {
+            let usda = std::fs::read_to_string(&path).unwrap();
+            for decl in [
+                "quatf[] primvars:orient",
+                "vector3f[] primvars:T",
+                "vector3f[] primvars:B",
+                "normal3f[] normals",
+            ] {
+                assert!(usda.contains(decl), "{decl} missing from the USD");
+            }
+            continue;
+        }
+        let back = geode_io::read(&path, &geode_io::NoProgress).unwrap();
+        // glTF draws lines as segments: the curve comes back as its 8 spans.
+        let spans = if ext == "glb" { 8 } else { 1 };
+        assert_eq!(
+            back.prim_kinds(),
+            vec![geode_geo::PrimKind::Polyline; spans],
+            "{ext}: the polyline"
+        );
+        for name in ["orient", "T", "B", "N"] {
+            let (a, b) = (
+                written.attrib(geode_geo::AttribClass::Point, name).unwrap(),
+                back.attrib(geode_geo::AttribClass::Point, name)
+                    .unwrap_or_else(|| panic!("{ext}: `{name}` lost")),
+            );
+            assert_eq!(b.data(), a.data(), "{ext}: `{name}`");
+        }
+    }
+}
