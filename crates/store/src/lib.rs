@@ -253,6 +253,10 @@ impl Store for DiskCache {
     }
 
     fn save(&self, key: u128, cached: &Cached) {
+        // A value bigger than the whole cache would only evict everything else.
+        if cached.bytes as u64 > self.budget {
+            return;
+        }
         let path = self.path(key, "gve");
         if path.exists() {
             touch(&path);

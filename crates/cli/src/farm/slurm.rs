@@ -34,10 +34,9 @@ fn submit(farm: &Farm, tasks: &[usize], attempt: u32) -> Result<String> {
     for &t in tasks {
         let _ = std::fs::remove_file(farm.status(t));
     }
-    let list: Vec<String> = tasks.iter().map(|t| t.to_string()).collect();
     let out = Command::new("sbatch")
         .arg("--parsable")
-        .arg(format!("--array={}%{}", list.join(","), farm.jobs))
+        .arg(format!("--array={}%{}", array_spec(tasks), farm.jobs))
         .arg(&path)
         .current_dir(&farm.dir)
         .output()
@@ -58,6 +57,25 @@ fn submit(farm: &Farm, tasks: &[usize], attempt: u32) -> Result<String> {
         bail!("sbatch gave no job id");
     }
     Ok(id)
+}
+
+/// Task indices as Slurm's array syntax, runs collapsed: `0-23`, `3,7-9`.
+fn array_spec(tasks: &[usize]) -> String {
+    let mut parts = Vec::new();
+    let mut i = 0;
+    while i < tasks.len() {
+        let mut j = i;
+        while j + 1 < tasks.len() && tasks[j + 1] == tasks[j] + 1 {
+            j += 1;
+        }
+        parts.push(if i == j {
+            tasks[i].to_string()
+        } else {
+            format!("{}-{}", tasks[i], tasks[j])
+        });
+        i = j + 1;
+    }
+    parts.join(",")
 }
 
 /// Whether the job still has tasks queued or running.
@@ -126,5 +144,15 @@ pub fn run(farm: &Farm) -> Result<()> {
         );
         pending = failed;
         attempt += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn array_specs_collapse_runs() {
+        assert_eq!(super::array_spec(&(0..24).collect::<Vec<_>>()), "0-23");
+        assert_eq!(super::array_spec(&[3, 7, 8, 9, 12]), "3,7-9,12");
+        assert_eq!(super::array_spec(&[5]), "5");
     }
 }
