@@ -1,4 +1,4 @@
-//! The cook cache of `geode cook` (memory, with the disk cache behind it when `GEODE_CACHE_DIR` names one) and `geode cache stats|gc`.
+//! The cook cache of `geode cook` and `geode serve` (memory, with the disk cache behind it when `GEODE_CACHE_DIR` names one) and `geode cache stats|gc`.
 
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
@@ -7,21 +7,26 @@ use anyhow::{anyhow, Context, Result};
 use geode_graph::Cache;
 use geode_store::DiskCache;
 
-/// The process's cook cache: `Cache::from_env()`, with the disk cache of
+/// A cook cache: `Cache::from_env()`, with the disk cache of
 /// `GEODE_CACHE_DIR` (bounded by `GEODE_CACHE_DISK_MB`) as its second level.
-pub fn cook_cache() -> Result<&'static Cache> {
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    if let Some(c) = CACHE.get() {
-        return Ok(c);
-    }
-    let cache = match DiskCache::from_env() {
+pub fn new_cache() -> Result<Cache> {
+    Ok(match DiskCache::from_env() {
         Some(disk) => {
             let disk =
                 disk.context("GEODE_CACHE_DIR: the disk cache's folder cannot be created")?;
             Cache::from_env().with_store(Arc::new(disk))
         }
         None => Cache::from_env(),
-    };
+    })
+}
+
+/// The process's cook cache for `geode cook` (see [`new_cache`]).
+pub fn cook_cache() -> Result<&'static Cache> {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    if let Some(c) = CACHE.get() {
+        return Ok(c);
+    }
+    let cache = new_cache()?;
     Ok(CACHE.get_or_init(|| cache))
 }
 

@@ -255,6 +255,7 @@ fn serve(
         network,
         port,
         bind,
+        cache: Some(std::sync::Arc::new(disk_cache::new_cache()?)),
     })?;
     println!("geode studio: {}", running.url);
     if bind.is_some_and(|ip| ip.is_unspecified()) {

@@ -48,6 +48,9 @@ pub struct Options {
     pub port: u16,
     /// Loopback unless set explicitly.
     pub bind: Option<IpAddr>,
+    /// The cook cache (the CLI's carries the disk cache); the environment's
+    /// memory cache when none is given.
+    pub cache: Option<Arc<Cache>>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -120,7 +123,10 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
     let token = security::new_token();
     let guard = Arc::new(security::Guard::new(token.clone(), addr));
     let app = App {
-        studio: Studio::new(session, Arc::new(Cache::from_env())),
+        studio: Studio::new(
+            session,
+            opts.cache.unwrap_or_else(|| Arc::new(Cache::from_env())),
+        ),
         catalogue,
     };
     let router = Router::new()

@@ -26,6 +26,7 @@ fn server_on(bind: Option<std::net::IpAddr>) -> (Running, tempfile::TempDir) {
         network: Some(net),
         port: 0,
         bind,
+        cache: None,
     })
     .unwrap();
     (running, dir)
@@ -308,6 +309,7 @@ fn a_file_that_is_not_json_is_refused_with_its_line() {
         network: Some(net.clone()),
         port: 0,
         bind: None,
+        cache: None,
     })
     .err()
     .unwrap();
