@@ -4,13 +4,10 @@ use glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
 
 use geode_geo::attrib::{AttribData, AttribValue, Attribute, StringColumn, TypeInfo};
 
+use super::bad;
 use super::json::Json;
 use super::{type_info_from_name, ARRAY_TYPE, STRING_ARRAY_TYPE};
 use crate::error::{ParseError, ParseResult};
-
-fn bad(what: impl std::fmt::Display, message: impl std::fmt::Display) -> ParseError {
-    ParseError::whole(format!("{what}: {message}"))
-}
 
 /// Decodes a values block into `n` tuples of `size`, flat: `tuples`,
 /// `arrays` (one list per component) or paged `rawpagedata`.

@@ -17,6 +17,7 @@
 
 mod attribs;
 mod bjson;
+mod groups;
 mod json;
 mod packed;
 mod read;
@@ -52,6 +53,14 @@ pub fn encode_houdini(g: &Geometry, binary: bool) -> Result<Vec<u8>, String> {
         out.push(b'\n');
     }
     Ok(out)
+}
+
+/// A parse error naming where in the document it was found.
+pub(crate) fn bad(
+    what: impl std::fmt::Display,
+    message: impl std::fmt::Display,
+) -> crate::error::ParseError {
+    crate::error::ParseError::whole(format!("{what}: {message}"))
 }
 
 /// Turns a polygon's vertices between geode's and Houdini's winding: the

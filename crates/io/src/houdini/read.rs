@@ -3,19 +3,17 @@
 use glam::Vec3;
 
 use geode_geo::attrib::{AttribClass, Attribute};
-use geode_geo::{Geometry, Group, PrimKind};
+use geode_geo::{Geometry, PrimKind};
 
 use std::sync::Arc;
 
 use super::attribs::{attribute, decode_values};
+use super::bad;
+use super::groups::groups;
 use super::houdini_order;
 use super::json::Json;
 use super::packed::{self, PackedPrim};
 use crate::error::{ParseError, ParseResult};
-
-fn bad(what: impl std::fmt::Display, message: impl std::fmt::Display) -> ParseError {
-    ParseError::whole(format!("{what}: {message}"))
-}
 
 /// Reads a parsed document. `file_bytes` bounds the element counts the
 /// header may claim before anything is allocated for them.
@@ -495,73 +493,4 @@ fn gather(attrib: Attribute, order: &[u32]) -> Attribute {
     Attribute::from_data(data, attrib.type_info)
         .with_default(default)
         .expect("gathering keeps the type")
-}
-
-fn groups(doc: &Json, key: &str, n: usize) -> ParseResult<Vec<(String, Group)>> {
-    let Some(list) = doc.get(key).and_then(Json::items) else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vec::new();
-    for entry in list {
-        let Some([header, body]) = entry.items() else {
-            return Err(bad(key, "expected [header, body] per group"));
-        };
-        let name = header
-            .get("name")
-            .and_then(Json::as_str)
-            .ok_or_else(|| bad(key, "a group has no name"))?
-            .to_owned();
-        let what = format!("{key} `{name}`");
-        let sel = body
-            .get("selection")
-            .ok_or_else(|| bad(&what, "missing `selection`"))?;
-        let flags = if let Some(unordered) = sel.get("unordered") {
-            if let Some(rle) = unordered.get("boolRLE") {
-                let items = rle.items().map(<[Json]>::to_vec).unwrap_or_default();
-                let mut flags = Vec::with_capacity(n);
-                for pair in items.chunks(2) {
-                    let (Some(count), Some(on)) =
-                        (pair[0].as_i64(), pair.get(1).and_then(Json::as_bool))
-                    else {
-                        return Err(bad(&what, "`boolRLE` must alternate counts and flags"));
-                    };
-                    if count < 0 || flags.len() as i64 + count > n as i64 {
-                        return Err(bad(&what, "`boolRLE` covers more elements than exist"));
-                    }
-                    flags.extend(std::iter::repeat_n(on, count as usize));
-                }
-                flags
-            } else if let Some(i8s) = unordered.get("i8") {
-                i8s.flags()
-                    .ok_or_else(|| bad(&what, "`i8` is not a list of flags"))?
-            } else {
-                return Err(bad(
-                    &what,
-                    "unknown group encoding (expected `boolRLE` or `i8`)",
-                ));
-            }
-        } else if let Some(ordered) = sel.get("ordered") {
-            let members = ordered
-                .integers()
-                .ok_or_else(|| bad(&what, "`ordered` is not indices"))?;
-            let group = Group::from_members(
-                n,
-                members.into_iter().filter_map(|m| usize::try_from(m).ok()),
-            );
-            out.push((name, group));
-            continue;
-        } else {
-            return Err(bad(&what, "selection is neither `unordered` nor `ordered`"));
-        };
-        let mut flags = flags;
-        if flags.len() > n {
-            return Err(bad(
-                &what,
-                format!("{} flags for {n} elements", flags.len()),
-            ));
-        }
-        flags.resize(n, false);
-        out.push((name, Group::from_flags(flags)));
-    }
-    Ok(out)
 }

@@ -1,8 +1,9 @@
 //! A `Geometry` written in Houdini's geometry schema: polygon runs, polyline runs, packed geometry, every attribute with its type info, groups.
 
 use geode_geo::attrib::{AttribClass, AttribData, AttribTable, AttribValue, Attribute, TypeInfo};
-use geode_geo::{Geometry, Group, PrimKind};
+use geode_geo::{Geometry, PrimKind};
 
+use super::groups::group;
 use super::json::Json;
 use super::{houdini_order, packed, type_info_name, ARRAY_TYPE, STRING_ARRAY_TYPE};
 
@@ -369,29 +370,4 @@ fn run_lengths(sizes: &[i64]) -> Vec<Json> {
         i = j;
     }
     out
-}
-
-/// A group as Houdini writes it in text files: run-length encoded flags.
-fn group(name: &str, grp: &Group) -> Json {
-    let mut rle = Vec::new();
-    let mut i = 0;
-    while i < grp.len() {
-        let on = grp.contains(i);
-        let j = (i..grp.len())
-            .find(|&k| grp.contains(k) != on)
-            .unwrap_or(grp.len());
-        rle.push(Json::Int((j - i) as i64));
-        rle.push(Json::Bool(on));
-        i = j;
-    }
-    Json::Array(vec![
-        Json::pairs(vec![("name", Json::str(name))]),
-        Json::pairs(vec![(
-            "selection",
-            Json::pairs(vec![(
-                "unordered",
-                Json::pairs(vec![("boolRLE", Json::Array(rle))]),
-            )]),
-        )]),
-    ])
 }
