@@ -29,38 +29,8 @@ pub enum FieldDecodeError {
     Invalid(String),
 }
 
-const UNARY: [Unary; 16] = [
-    Unary::Neg,
-    Unary::Abs,
-    Unary::Sqrt,
-    Unary::Square,
-    Unary::Sin,
-    Unary::Cos,
-    Unary::Tan,
-    Unary::Asin,
-    Unary::Acos,
-    Unary::Atan,
-    Unary::Exp,
-    Unary::Ln,
-    Unary::Floor,
-    Unary::Ceil,
-    Unary::Round,
-    Unary::Not,
-];
-
-const BINARY: [Binary; 11] = [
-    Binary::Add,
-    Binary::Sub,
-    Binary::Mul,
-    Binary::Div,
-    Binary::Min,
-    Binary::Max,
-    Binary::Atan2,
-    Binary::Mod,
-    Binary::Compare,
-    Binary::And,
-    Binary::Or,
-];
+const UNARY: [Unary; 16] = Unary::ALL;
+const BINARY: [Binary; 11] = Binary::ALL;
 
 /// The distinct nodes of `root`, every node after its operands.
 fn post_order(root: &Field) -> Vec<Field> {

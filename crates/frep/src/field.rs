@@ -48,6 +48,47 @@ pub enum Binary {
 }
 
 /// A node of the DAG.
+impl Unary {
+    /// Every operation. The field codec numbers them by their place here:
+    /// append, never reorder.
+    pub const ALL: [Unary; 16] = [
+        Unary::Neg,
+        Unary::Abs,
+        Unary::Sqrt,
+        Unary::Square,
+        Unary::Sin,
+        Unary::Cos,
+        Unary::Tan,
+        Unary::Asin,
+        Unary::Acos,
+        Unary::Atan,
+        Unary::Exp,
+        Unary::Ln,
+        Unary::Floor,
+        Unary::Ceil,
+        Unary::Round,
+        Unary::Not,
+    ];
+}
+
+impl Binary {
+    /// Every operation. The field codec numbers them by their place here:
+    /// append, never reorder.
+    pub const ALL: [Binary; 11] = [
+        Binary::Add,
+        Binary::Sub,
+        Binary::Mul,
+        Binary::Div,
+        Binary::Min,
+        Binary::Max,
+        Binary::Atan2,
+        Binary::Mod,
+        Binary::Compare,
+        Binary::And,
+        Binary::Or,
+    ];
+}
+
 #[derive(Debug, PartialEq)]
 pub enum Node {
     X,

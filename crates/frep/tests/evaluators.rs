@@ -15,24 +15,7 @@ fn cases() -> Vec<(String, Field)> {
     let r = (&x * &x + &y * &y + &z * &z).sqrt();
     let smooth = &x * 0.7 + &y * 0.3 - &z * 0.2;
     let mut v: Vec<(String, Field)> = Vec::new();
-    for op in [
-        Unary::Neg,
-        Unary::Abs,
-        Unary::Sqrt,
-        Unary::Square,
-        Unary::Sin,
-        Unary::Cos,
-        Unary::Tan,
-        Unary::Asin,
-        Unary::Acos,
-        Unary::Atan,
-        Unary::Exp,
-        Unary::Ln,
-        Unary::Floor,
-        Unary::Ceil,
-        Unary::Round,
-        Unary::Not,
-    ] {
+    for op in Unary::ALL {
         let arg = match op {
             Unary::Sqrt | Unary::Ln => &r + 0.1,
             Unary::Asin | Unary::Acos => (&smooth * 0.3).sin(),
@@ -42,19 +25,7 @@ fn cases() -> Vec<(String, Field)> {
         };
         v.push((format!("{op:?}"), arg.unary(op)));
     }
-    for op in [
-        Binary::Add,
-        Binary::Sub,
-        Binary::Mul,
-        Binary::Div,
-        Binary::Min,
-        Binary::Max,
-        Binary::Atan2,
-        Binary::Mod,
-        Binary::Compare,
-        Binary::And,
-        Binary::Or,
-    ] {
+    for op in Binary::ALL {
         let (a, b) = match op {
             Binary::Div => (smooth.clone(), &r + 0.5),
             Binary::Mod => (smooth.clone(), Field::constant(0.75)),
