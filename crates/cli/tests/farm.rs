@@ -53,7 +53,8 @@ fn farms_equal_local_cooks(scheduler: &str) {
             "cache",
         ];
         all.extend(args);
-        let o = geode_in(d, &all, &[]);
+        // Slurm arrays of 10: the 24 frames go as three arrays, offset.
+        let o = geode_in(d, &all, &[("GEODE_SLURM_MAX_ARRAY", "10")]);
         assert!(o.status.success(), "{}", stderr(&o));
         o
     };
@@ -67,6 +68,22 @@ fn farms_equal_local_cooks(scheduler: &str) {
         "-o",
         "farm/coral/$F4.bgeo",
     ]);
+    if scheduler == "slurm" {
+        let err = stderr(&o);
+        let line = err
+            .lines()
+            .find(|l| l.starts_with("farm: submitted job array"))
+            .unwrap();
+        let ids = line["farm: submitted job array ".len()..]
+            .split(" (")
+            .next()
+            .unwrap();
+        assert_eq!(
+            ids.split(", ").count(),
+            3,
+            "three arrays of at most 10: {line}"
+        );
+    }
     assert!(stderr(&o).contains("farm: 24 tasks done"), "{}", stderr(&o));
     let chain = example("chain.json");
     farm(&[
