@@ -29,9 +29,6 @@ pub enum FieldDecodeError {
     Invalid(String),
 }
 
-const UNARY: [Unary; 16] = Unary::ALL;
-const BINARY: [Binary; 11] = Binary::ALL;
-
 /// The distinct nodes of `root`, every node after its operands.
 fn post_order(root: &Field) -> Vec<Field> {
     let mut index: HashMap<*const (), usize> = HashMap::new();
@@ -105,13 +102,18 @@ pub fn encode(field: &Field, out: &mut Vec<u8>) {
             }
             Node::Unary(op, a) => {
                 out.push(4);
-                out.push(UNARY.iter().position(|u| u == op).expect("every op listed") as u8);
+                out.push(
+                    Unary::ALL
+                        .iter()
+                        .position(|u| u == op)
+                        .expect("every op listed") as u8,
+                );
                 u32s(out, &[idx(a)]);
             }
             Node::Binary(op, a, b) => {
                 out.push(5);
                 out.push(
-                    BINARY
+                    Binary::ALL
                         .iter()
                         .position(|u| u == op)
                         .expect("every op listed") as u8,
@@ -200,13 +202,13 @@ pub fn decode(bytes: &[u8]) -> Result<Field, FieldDecodeError> {
             2 => Field::z(),
             3 => Field::constant(r.f64()?),
             4 => {
-                let op = *UNARY
+                let op = *Unary::ALL
                     .get(r.take(1)?[0] as usize)
                     .ok_or_else(|| invalid("unary op"))?;
                 get(&mut r, &nodes)?.unary(op)
             }
             5 => {
-                let op = *BINARY
+                let op = *Binary::ALL
                     .get(r.take(1)?[0] as usize)
                     .ok_or_else(|| invalid("binary op"))?;
                 let a = get(&mut r, &nodes)?;

@@ -631,7 +631,8 @@ impl Attribute {
         }
     }
 
-    pub(crate) fn gather(&self, indices: &[u32]) -> Attribute {
+    /// The same attribute (type info, default) over the elements at `indices`.
+    pub fn gather(&self, indices: &[u32]) -> Attribute {
         Attribute {
             type_info: self.type_info,
             default: self.default.clone(),

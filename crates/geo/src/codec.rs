@@ -169,18 +169,15 @@ impl Writer<'_> {
     }
 }
 
-const TYPES: [AttribType; 13] = AttribType::ALL;
-const INFOS: [TypeInfo; 8] = TypeInfo::ALL;
-
 fn type_tag(t: AttribType) -> u8 {
-    TYPES
+    AttribType::ALL
         .iter()
         .position(|x| *x == t)
         .expect("every type listed") as u8
 }
 
 fn info_tag(t: TypeInfo) -> u8 {
-    INFOS
+    TypeInfo::ALL
         .iter()
         .position(|x| *x == t)
         .expect("every type info listed") as u8
@@ -443,10 +440,10 @@ impl<'a> Reader<'a> {
         for _ in 0..n {
             let name = self.str()?;
             let tag = self.take(2)?;
-            let ty = *TYPES
+            let ty = *AttribType::ALL
                 .get(tag[0] as usize)
                 .ok_or_else(|| invalid(format!("attribute type {}", tag[0])))?;
-            let info = *INFOS
+            let info = *TypeInfo::ALL
                 .get(tag[1] as usize)
                 .ok_or_else(|| invalid(format!("type info {}", tag[1])))?;
             let default: AttribValue = self.data(ty, 1)?.get(0);

@@ -55,6 +55,13 @@ fn put_array(h: &mut Xxh3, bytes: &[u8]) {
     h.update(bytes);
 }
 
+/// Per-element arrays: each row's length and bytes, folded into one digest.
+fn put_rows<'a>(h: &mut Xxh3, rows: impl Iterator<Item = &'a [u8]>) {
+    let mut r = Xxh3::new();
+    rows.for_each(|a| put_array(&mut r, a));
+    h.update(&r.digest128().to_le_bytes());
+}
+
 /// Strings hash by value: indices are renumbered in order of first use so two
 /// columns with different tables but the same strings hash equally.
 fn put_strings(h: &mut Xxh3, table: &[String], indices: &[u32]) {
@@ -88,23 +95,12 @@ fn put_table(h: &mut Xxh3, t: &AttribTable) {
         put_value(h, a.default_value());
         match a.data() {
             AttribData::String(s) => put_strings(h, &s.table, &s.indices),
-            AttribData::IntArray(rows) => {
-                let mut r = Xxh3::new();
-                rows.iter()
-                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
-                h.update(&r.digest128().to_le_bytes());
-            }
+            AttribData::IntArray(rows) => put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a))),
             AttribData::FloatArray(rows) => {
-                let mut r = Xxh3::new();
-                rows.iter()
-                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
-                h.update(&r.digest128().to_le_bytes());
+                put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a)))
             }
             AttribData::Vec3Array(rows) => {
-                let mut r = Xxh3::new();
-                rows.iter()
-                    .for_each(|a| put_array(&mut r, bytemuck::cast_slice(a)));
-                h.update(&r.digest128().to_le_bytes());
+                put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a)))
             }
             AttribData::StringArray(rows) => {
                 let mut r = Xxh3::new();

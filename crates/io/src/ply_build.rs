@@ -212,14 +212,8 @@ pub(crate) fn build(h: &Header, data: Vec<Vec<Column>>) -> ParseResult<Geometry>
     for (name, a) in points.columns {
         set(&mut g, AttribClass::Point, &name, a)?;
     }
-    for (name, mut a) in prim_cols.columns {
-        if a.len() != g.num_prims() {
-            a = Attribute::from_data(
-                a.data()
-                    .gather(&(0..g.num_prims() as u32).collect::<Vec<_>>()),
-                a.type_info,
-            );
-        }
+    // Columns were gathered at the full primitive count: they fit as they are.
+    for (name, a) in prim_cols.columns {
         set(&mut g, AttribClass::Primitive, &name, a)?;
     }
     for (name, a) in vertex_cols.columns {

@@ -113,10 +113,11 @@ pub(crate) fn verified(bytes: &[u8]) -> Option<&[u8]> {
     (xxh3_128(body).to_le_bytes() == sum).then_some(body)
 }
 
-/// Decodes a verified entry of `want` kind; `source` finds packed sources.
+/// Decodes a verified entry: a packed source's (`source_entry`) or a cook
+/// result's, whichever kind it says it is; `source` finds packed sources.
 pub(crate) fn decode(
     body: &[u8],
-    want: Kind,
+    source_entry: bool,
     source: &dyn Fn(u128) -> Option<Arc<Geometry>>,
 ) -> Result<Cached, DecodeError> {
     let mut r = Reader { b: body, at: 0 };
@@ -127,15 +128,28 @@ pub(crate) fn decode(
     if version != ENTRY_VERSION {
         return Err(DecodeError::Version(version));
     }
-    let kind = r.take(1)?[0];
-    if kind != want as u8 {
-        return Err(DecodeError::Invalid(format!("entry kind {kind}")));
+    let kind = match r.take(1)?[0] {
+        0 => Kind::Geometry,
+        1 => Kind::Bundle,
+        2 => Kind::Source,
+        3 => Kind::Field,
+        k => return Err(DecodeError::Invalid(format!("entry kind {k}"))),
+    };
+    if (kind == Kind::Source) != source_entry {
+        return Err(DecodeError::Invalid(format!(
+            "a {kind:?} entry where a {} was expected",
+            if source_entry {
+                "source"
+            } else {
+                "cook result"
+            }
+        )));
     }
     let identity = u128::from_le_bytes(r.array()?);
     let bytes = u64::from_le_bytes(r.array()?) as usize;
     let n = r.len()?;
     let warnings: Vec<String> = (0..n).map(|_| r.string()).collect::<Result<_, _>>()?;
-    let value = match want {
+    let value = match kind {
         Kind::Geometry | Kind::Source => Value::Geometry(Arc::new(r.geometry(source)?)),
         Kind::Bundle => {
             let n = r.len()?;

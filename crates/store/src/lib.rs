@@ -21,8 +21,6 @@ use std::time::SystemTime;
 use geode_geo::Geometry;
 use geode_graph::{Cached, Store};
 
-use entry::Kind;
-
 /// The default bound of a disk cache (`GEODE_CACHE_DISK_MB`).
 pub const DEFAULT_DISK_MB: u64 = 10 * 1024;
 
@@ -113,7 +111,7 @@ impl DiskCache {
         }
         let path = self.path(hash, "gvs");
         let body = self.read(&path)?;
-        let cached = entry::decode(&body, Kind::Source, &|h| self.source(h)).ok()?;
+        let cached = entry::decode(&body, true, &|h| self.source(h)).ok()?;
         let geode_op::Value::Geometry(g) = cached.value else {
             return None;
         };
@@ -129,12 +127,8 @@ impl DiskCache {
         self.sources.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Writes `bytes` under `path` unless an entry is there already.
+    /// Writes `bytes` under `path` (callers skip entries already there).
     fn write(&self, path: &Path, bytes: &[u8]) {
-        if path.exists() {
-            touch(path);
-            return;
-        }
         if let Some(parent) = path.parent() {
             let _ = std::fs::create_dir_all(parent);
         }
@@ -233,13 +227,7 @@ impl Store for DiskCache {
     fn load(&self, key: u128) -> Option<Cached> {
         let path = self.path(key, "gve");
         let body = self.read(&path)?;
-        let kind = match body.get(12) {
-            Some(0) => Kind::Geometry,
-            Some(1) => Kind::Bundle,
-            Some(3) => Kind::Field,
-            _ => return None,
-        };
-        match entry::decode(&body, kind, &|h| self.source(h)) {
+        match entry::decode(&body, false, &|h| self.source(h)) {
             Ok(c) => Some(c),
             Err(e) => {
                 // A missing source is not damage: the entry may serve again once it is back.

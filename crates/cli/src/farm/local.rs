@@ -44,11 +44,13 @@ pub fn run(farm: &Farm) -> Result<()> {
                     return;
                 }
                 let mut n = 0;
-                while !attempt(farm, t, n) && n < farm.retry {
+                let mut ok = attempt(farm, t, n);
+                while !ok && n < farm.retry {
                     eprintln!("farm: task {t} failed; retry {} of {}", n + 1, farm.retry);
                     n += 1;
+                    ok = attempt(farm, t, n);
                 }
-                if std::fs::read_to_string(farm.status(t)).map_or(true, |c| c.trim() != "0") {
+                if !ok {
                     failed
                         .lock()
                         .unwrap_or_else(|e| e.into_inner())

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use geode_geo::attrib::{AttribClass, Attribute};
+use geode_geo::attrib::AttribClass;
 use geode_geo::{Geometry, PrimKind};
 
 use std::sync::Arc;
@@ -77,8 +77,8 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
                 continue;
             }
             let attrib = match class {
-                AttribClass::Vertex => gather(attrib, &vertex_order),
-                AttribClass::Primitive => gather(attrib, &prim_order),
+                AttribClass::Vertex => attrib.gather(&vertex_order),
+                AttribClass::Primitive => attrib.gather(&prim_order),
                 _ => attrib,
             };
             g.set_attrib(class, &name, attrib)
@@ -485,12 +485,4 @@ fn positions(doc: &Json, n: usize) -> ParseResult<Vec<Vec3>> {
     } else {
         Err(bad("pointattributes", "no `P` attribute"))
     }
-}
-
-fn gather(attrib: Attribute, order: &[u32]) -> Attribute {
-    let data = attrib.data().gather(order);
-    let default = attrib.default_value().clone();
-    Attribute::from_data(data, attrib.type_info)
-        .with_default(default)
-        .expect("gathering keeps the type")
 }

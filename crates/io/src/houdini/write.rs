@@ -90,14 +90,11 @@ fn attributes(g: &Geometry, order: &[u32]) -> Json {
         let list = named
             .into_iter()
             .map(|(name, a)| {
-                let reordered;
-                let a = if class == AttribClass::Vertex {
-                    reordered = Attribute::from_data(a.data().gather(order), a.type_info);
-                    (&reordered, a.default_value())
+                if class == AttribClass::Vertex {
+                    attribute(name, &a.gather(order))
                 } else {
-                    (a, a.default_value())
-                };
-                attribute(name, a.0, a.1)
+                    attribute(name, a)
+                }
             })
             .collect();
         classes.push((key, Json::Array(list)));
@@ -156,8 +153,9 @@ fn default_numbers(v: &AttribValue) -> Vec<f64> {
     }
 }
 
-fn attribute(name: &str, a: &Attribute, default: &AttribValue) -> Json {
+fn attribute(name: &str, a: &Attribute) -> Json {
     let data = a.data();
+    let default = a.default_value();
     let (ty, body) = match data {
         AttribData::Int(v) => (
             "numeric",
