@@ -9,6 +9,7 @@ mod error;
 mod geometry;
 mod group;
 mod hash;
+pub mod hint;
 pub mod ops;
 mod patch;
 mod payload;

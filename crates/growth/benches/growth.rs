@@ -1,11 +1,16 @@
 //! Growth kernels at scale: space colonization of 100k and 1M attractors
 //! uniform in a unit ball (influence 0.1, kill 0.02, step 0.01) to
 //! completion, scattering inside and on a mesh, and blue noise by sample
-//! elimination (5 candidates per kept point). Totals are printed once.
+//! elimination (5 candidates per kept point: 1M and 100k on a sphere, and
+//! the coral's 3,000 in a ball). Totals are printed once.
 //! Run: cargo bench -p geode-growth --bench growth
 
 use geode_geo::glam::Vec3;
 use geode_growth::{colonize, scatter, ColonizeOptions, InsideTest};
+
+/// The allocator the geode binary runs with.
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
 
 fn ball(n: usize) -> Vec<Vec3> {
     scatter::inside(
@@ -91,4 +96,12 @@ fn blue_noise_on_sphere_surface(bencher: divan::Bencher, keep: usize) {
     let candidates = scatter::on_surface(&tris, 5 * keep, 7, &|| false).unwrap();
     let area = scatter::area(&tris);
     bencher.bench(|| scatter::eliminate(&candidates.positions, keep, area, 2, &|| false).unwrap());
+}
+
+/// The coral's size: 3,000 kept of 15,000 candidates in a volume.
+#[divan::bench(args = [3_000], sample_count = 40)]
+fn blue_noise_in_ball(bencher: divan::Bencher, keep: usize) {
+    let candidates = ball(5 * keep);
+    let volume = 4.0 / 3.0 * std::f64::consts::PI;
+    bencher.bench(|| scatter::eliminate(&candidates, keep, volume, 3, &|| false).unwrap());
 }

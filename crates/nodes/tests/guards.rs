@@ -102,7 +102,7 @@ fn oversized_requests_are_refused_promptly_with_exact_messages() {
         (
             "scatter 100M blue-noise points".into(),
             r#""s": {"type": "sphere"}, "n": {"type": "scatter", "params": {"mode": "surface", "count": 100000000, "relax": true}, "inputs": ["s"]}"#.into(),
-            "/n (parameter `count`): scattering 100000000 points would need about 114 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
+            "/n (parameter `count`): scattering 100000000 points would need about 122 GB, more than the memory budget of 8.6 GB (GEODE_MEMORY_MB)",
         ),
         (
             "resample a helix every nanometre".into(),
