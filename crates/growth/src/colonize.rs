@@ -8,7 +8,10 @@
 //! and each caches its nearest node, so a step only queries the nodes made
 //! in the previous step against the attractors around them and walks the
 //! attractors that have a node: about O(A) per step, not O(A x N). Dead
-//! attractors are compacted out of their cells as they die.
+//! attractors are compacted out of their cells as they die. Each cell's
+//! live attractors keep their coordinates and nearest distances in columns
+//! side by side, so a query tests a cell with vector arithmetic and looks
+//! closer only where one changes (1M attractors: 2.58 s → 2.1-2.3 s).
 //!
 //! Termination: a node never grows a second child in the direction of its
 //! last one (the attractor it overshot, or two pulling it evenly apart,
@@ -19,6 +22,7 @@
 use geode_geo::glam::{IVec3, Vec3};
 use geode_geo::random::unit;
 use rayon::prelude::*;
+use std::ops::Range;
 
 /// No parent: a birth point.
 pub const ROOT: u32 = u32::MAX;
@@ -72,6 +76,15 @@ struct Grid {
     bound: Vec<f32>,
     /// The cell of each attractor.
     cell_of: Vec<u32>,
+    /// Per place in `items`: its attractor's coordinates and squared
+    /// distance to its nearest node, side by side so a cell's live
+    /// attractors are tested as plain vector arithmetic.
+    xs: Vec<f32>,
+    ys: Vec<f32>,
+    zs: Vec<f32>,
+    nearest_d2: Vec<f32>,
+    /// Each attractor's place in `items`.
+    place_of: Vec<u32>,
 }
 
 impl Grid {
@@ -112,6 +125,11 @@ impl Grid {
             items: vec![0; points.len()],
             bound: vec![f32::INFINITY; count],
             cell_of: Vec::new(),
+            xs: Vec::new(),
+            ys: Vec::new(),
+            zs: Vec::new(),
+            nearest_d2: vec![f32::INFINITY; points.len()],
+            place_of: Vec::new(),
         };
         let index: Vec<u32> = points
             .par_iter()
@@ -138,12 +156,18 @@ impl Grid {
         for (k, item) in g.items.iter_mut().enumerate() {
             *item = k as u32;
         }
+        g.place_of = g.items.clone();
+        g.xs = sorted.iter().map(|p| p.x).collect();
+        g.ys = sorted.iter().map(|p| p.y).collect();
+        g.zs = sorted.iter().map(|p| p.z).collect();
         (g, sorted)
     }
 
-    /// Live attractors of the cells that may hold points within `r` of `p`
-    /// that `p` could kill (closer than `kill`) or claim.
-    fn around(&self, p: Vec3, r: f32, kill: f32, mut f: impl FnMut(u32)) {
+    /// The live attractors within `r` of `p` that `p` kills (closer than
+    /// `kill`) or is nearer to than their nearest node, with their squared
+    /// distances, cell by cell (cells that cannot hold one skipped).
+    fn hits(&self, p: Vec3, r: f32, kill: f32, out: &mut Vec<(u32, f32)>) {
+        let (r2, k2) = (r * r, kill * kill);
         let reach = (r / self.cell).ceil() as i32;
         let c = self.coords(p);
         for dz in -reach..=reach {
@@ -158,36 +182,89 @@ impl Grid {
                     let box_lo = self.lo + k.as_vec3() * self.cell;
                     let nearest = p.clamp(box_lo, box_lo + Vec3::splat(self.cell));
                     let d2 = nearest.distance_squared(p);
-                    if d2 > r * r || (d2 >= kill * kill && d2 >= self.bound[i]) {
+                    if d2 > r2 || (d2 >= k2 && d2 >= self.bound[i]) {
                         continue;
                     }
-                    for &a in &self.items[start as usize..(start + len) as usize] {
-                        f(a);
-                    }
+                    self.cell_hits(start as usize..(start + len) as usize, p, r2, k2, out);
                 }
             }
         }
     }
 
+    /// `hits` within one cell's live places. Most cells hold none: a
+    /// branch-free pass (vector arithmetic) finds whether any, and only
+    /// then a second pass collects them.
+    fn cell_hits(
+        &self,
+        places: Range<usize>,
+        p: Vec3,
+        r2: f32,
+        k2: f32,
+        out: &mut Vec<(u32, f32)>,
+    ) {
+        let xs = &self.xs[places.clone()];
+        let ys = &self.ys[places.clone()];
+        let zs = &self.zs[places.clone()];
+        let nearest_d2 = &self.nearest_d2[places.clone()];
+        let test = |x: f32, y: f32, z: f32, near: f32| {
+            let (ex, ey, ez) = (x - p.x, y - p.y, z - p.z);
+            let d2 = ex * ex + ey * ey + ez * ez;
+            // Only what this node changes: a kill or a nearer node (never a
+            // tie: earlier nodes have lower indices).
+            (d2, (d2 < r2) & ((d2 < k2) | (d2 < near)))
+        };
+        let columns = || xs.iter().zip(ys).zip(zs).zip(nearest_d2);
+        if !columns().fold(false, |any, (((&x, &y), &z), &near)| {
+            any | test(x, y, z, near).1
+        }) {
+            return;
+        }
+        for (k, (((&x, &y), &z), &near)) in columns().enumerate() {
+            let (d2, hit) = test(x, y, z, near);
+            if hit {
+                out.push((self.items[places.start + k], d2));
+            }
+        }
+    }
+
+    /// Records attractor `a`'s distance to its nearest node.
+    fn set_nearest(&mut self, a: usize, d2: f32) {
+        self.nearest_d2[self.place_of[a] as usize] = d2;
+    }
+
     /// Moves dead attractors out of the live prefix of each cell of `cells`
     /// and refreshes those cells' bounds.
-    fn compact(&mut self, cells: &[usize], alive: &[bool], nearest_d2: &[f32]) {
+    fn compact(&mut self, cells: &[usize], alive: &[bool]) {
         for &k in cells {
-            let (start, len) = &mut self.cells[k];
-            let slice = &mut self.items[*start as usize..(*start + *len) as usize];
-            let mut live = 0;
+            let (start, len) = self.cells[k];
+            let (start, end) = (start as usize, (start + len) as usize);
+            let mut live = start;
             let mut bound = 0.0f32;
-            for i in 0..slice.len() {
-                let a = slice[i] as usize;
+            for i in start..end {
+                let a = self.items[i] as usize;
                 if alive[a] {
-                    slice.swap(live, i);
+                    self.swap_places(live, i);
+                    bound = bound.max(self.nearest_d2[live]);
                     live += 1;
-                    bound = bound.max(nearest_d2[a]);
                 }
             }
-            *len = live as u32;
+            self.cells[k].1 = (live - start) as u32;
             self.bound[k] = bound;
         }
+    }
+
+    /// Exchanges two places in `items` with everything kept per place.
+    fn swap_places(&mut self, i: usize, j: usize) {
+        if i == j {
+            return;
+        }
+        self.items.swap(i, j);
+        self.xs.swap(i, j);
+        self.ys.swap(i, j);
+        self.zs.swap(i, j);
+        self.nearest_d2.swap(i, j);
+        self.place_of[self.items[i] as usize] = i as u32;
+        self.place_of[self.items[j] as usize] = j as u32;
     }
 }
 
@@ -203,7 +280,7 @@ pub fn colonize(
     if !(ok(opts.influence) && ok(opts.kill) && ok(opts.step)) {
         return Err(ColonizeError::BadDistances);
     }
-    let (r2, k2) = (opts.influence * opts.influence, opts.kill * opts.kill);
+    let k2 = opts.kill * opts.kill;
     let (mut grid, attractors) = Grid::new(attractors, opts.influence);
     let mut alive = vec![true; attractors.len()];
     let mut live_count = attractors.len();
@@ -234,17 +311,13 @@ pub fn colonize(
             let found: Vec<Vec<(u32, f32)>> = chunk
                 .par_iter()
                 .map(|&n| {
-                    let p = tree.positions[n as usize];
                     let mut v = Vec::new();
-                    grid.around(p, opts.influence, opts.kill, |a| {
-                        let ai = a as usize;
-                        let d2 = attractors[ai].distance_squared(p);
-                        // Only what this node changes: a kill or a nearer
-                        // node (never a tie: earlier nodes have lower indices).
-                        if d2 < r2 && (d2 < k2 || d2 < nearest_d2[ai]) {
-                            v.push((a, d2));
-                        }
-                    });
+                    grid.hits(
+                        tree.positions[n as usize],
+                        opts.influence,
+                        opts.kill,
+                        &mut v,
+                    );
                     v
                 })
                 .collect();
@@ -266,6 +339,7 @@ pub fn colonize(
                     if d2 < nearest_d2[ai] {
                         nearest[ai] = n;
                         nearest_d2[ai] = d2;
+                        grid.set_nearest(ai, d2);
                         dirty.push(grid.cell_of[ai] as usize);
                     }
                 }
@@ -273,7 +347,7 @@ pub fn colonize(
         }
         dirty.sort_unstable();
         dirty.dedup();
-        grid.compact(&dirty, &alive, &nearest_d2);
+        grid.compact(&dirty, &alive);
         dirty.clear();
         active.retain(|&a| alive[a as usize]);
         // 2. Each node with attractors sums the directions to them.
