@@ -102,22 +102,12 @@ pub fn encode(field: &Field, out: &mut Vec<u8>) {
             }
             Node::Unary(op, a) => {
                 out.push(4);
-                out.push(
-                    Unary::ALL
-                        .iter()
-                        .position(|u| u == op)
-                        .expect("every op listed") as u8,
-                );
+                out.push(number_of(&Unary::ALL, op));
                 u32s(out, &[idx(a)]);
             }
             Node::Binary(op, a, b) => {
                 out.push(5);
-                out.push(
-                    Binary::ALL
-                        .iter()
-                        .position(|u| u == op)
-                        .expect("every op listed") as u8,
-                );
+                out.push(number_of(&Binary::ALL, op));
                 u32s(out, &[idx(a), idx(b)]);
             }
             Node::Capsules(s, args) => {
@@ -170,6 +160,18 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// An operation's number: its place in its `ALL` list (append only).
+fn number_of<T: PartialEq>(all: &[T], op: &T) -> u8 {
+    all.iter().position(|o| o == op).expect("every op listed") as u8
+}
+
+/// The operation numbered `number` in `all`.
+fn op_numbered<T: Copy>(all: &[T], number: u8, what: &str) -> Result<T, FieldDecodeError> {
+    all.get(number as usize)
+        .copied()
+        .ok_or_else(|| FieldDecodeError::Invalid(what.to_owned()))
+}
+
 /// Reads a field encoded by [`encode`]; the whole of `bytes` must be the field.
 pub fn decode(bytes: &[u8]) -> Result<Field, FieldDecodeError> {
     let mut r = Reader { bytes, at: 0 };
@@ -202,15 +204,11 @@ pub fn decode(bytes: &[u8]) -> Result<Field, FieldDecodeError> {
             2 => Field::z(),
             3 => Field::constant(r.f64()?),
             4 => {
-                let op = *Unary::ALL
-                    .get(r.take(1)?[0] as usize)
-                    .ok_or_else(|| invalid("unary op"))?;
+                let op = op_numbered(&Unary::ALL, r.take(1)?[0], "unary op")?;
                 get(&mut r, &nodes)?.unary(op)
             }
             5 => {
-                let op = *Binary::ALL
-                    .get(r.take(1)?[0] as usize)
-                    .ok_or_else(|| invalid("binary op"))?;
+                let op = op_numbered(&Binary::ALL, r.take(1)?[0], "binary op")?;
                 let a = get(&mut r, &nodes)?;
                 let b = get(&mut r, &nodes)?;
                 a.binary(op, b)

@@ -18,6 +18,20 @@ pub struct Cached {
     pub from_store: bool,
 }
 
+impl Cached {
+    /// A value just cooked, with its identity and size and the cook's
+    /// warnings.
+    pub fn new(value: Value, warnings: Arc<[String]>) -> Cached {
+        Cached {
+            identity: value.identity(),
+            bytes: value.bytes(),
+            value,
+            warnings,
+            from_store: false,
+        }
+    }
+}
+
 /// A second level behind the memory cache (the disk cache a farm shares):
 /// asked on a memory miss, written through on every insert. A store that
 /// cannot serve or keep an entry says nothing: the cook simply runs.
@@ -210,14 +224,7 @@ mod tests {
     fn value(n: usize) -> Cached {
         let mut g = Geometry::new();
         g.add_points(&vec![Vec3::ZERO; n]);
-        let v = Value::geometry(g);
-        Cached {
-            identity: v.identity(),
-            bytes: v.bytes(),
-            value: v,
-            warnings: Arc::from([]),
-            from_store: false,
-        }
+        Cached::new(Value::geometry(g), Arc::from([]))
     }
 
     #[test]

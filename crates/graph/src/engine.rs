@@ -372,24 +372,13 @@ impl Run<'_, '_> {
                 ),
             )]);
         }
-        let identity = value.identity();
-        let bytes = value.bytes();
-        span.record("bytes", bytes);
-        let warnings: Arc<[String]> = warnings.take().into();
-        for w in warnings.iter() {
+        let cooked = Cached::new(value, warnings.take().into());
+        span.record("bytes", cooked.bytes);
+        for w in cooked.warnings.iter() {
             tracing::warn!(node = %n.path, "{w}");
         }
         if !output {
-            self.engine.cache.insert(
-                key,
-                Cached {
-                    value: value.clone(),
-                    identity,
-                    bytes,
-                    warnings: Arc::clone(&warnings),
-                    from_store: false,
-                },
-            );
+            self.engine.cache.insert(key, cooked.clone());
         }
         self.record(CookEvent {
             path: n.path.clone(),
@@ -399,11 +388,14 @@ impl Run<'_, '_> {
             from_store: false,
             start: (start - self.began).as_secs_f64(),
             seconds: start.elapsed().as_secs_f64(),
-            bytes,
-            warnings,
+            bytes: cooked.bytes,
+            warnings: Arc::clone(&cooked.warnings),
         });
         progress(&n.path, 1.0);
-        Ok(Cooked { value, identity })
+        Ok(Cooked {
+            value: cooked.value,
+            identity: cooked.identity,
+        })
     }
 
     /// Runs `f` on a fresh run of the network at `frame` whose feed nodes

@@ -227,6 +227,11 @@ impl Grid {
         }
     }
 
+    /// Attractor `a`'s squared distance to its nearest node.
+    fn nearest_d2(&self, a: usize) -> f32 {
+        self.nearest_d2[self.place_of[a] as usize]
+    }
+
     /// Records attractor `a`'s distance to its nearest node.
     fn set_nearest(&mut self, a: usize, d2: f32) {
         self.nearest_d2[self.place_of[a] as usize] = d2;
@@ -285,7 +290,6 @@ pub fn colonize(
     let mut alive = vec![true; attractors.len()];
     let mut live_count = attractors.len();
     let mut nearest = vec![ROOT; attractors.len()];
-    let mut nearest_d2 = vec![f32::INFINITY; attractors.len()];
     let mut active: Vec<u32> = Vec::new();
     let mut tree = Tree::default();
     let mut last_child_dir: Vec<Vec3> = Vec::new();
@@ -336,9 +340,8 @@ pub fn colonize(
                     if nearest[ai] == ROOT {
                         active.push(a);
                     }
-                    if d2 < nearest_d2[ai] {
+                    if d2 < grid.nearest_d2(ai) {
                         nearest[ai] = n;
-                        nearest_d2[ai] = d2;
                         grid.set_nearest(ai, d2);
                         dirty.push(grid.cell_of[ai] as usize);
                     }

@@ -2,28 +2,19 @@
 
 use geode_geo::{AttribData, AttribType, AttribValue, TypeInfo};
 
-/// The token naming each attribute type a file can carry (strings aside).
-pub(crate) fn type_token(ty: AttribType) -> Option<&'static str> {
-    Some(match ty {
-        AttribType::Float => "float",
-        AttribType::Int => "int",
-        AttribType::Vec2 => "vector2",
-        AttribType::Vec3 => "vector3",
-        AttribType::Vec4 => "vector4",
-        AttribType::Quat => "quaternion",
-        AttribType::Mat3 => "matrix3",
-        AttribType::Mat4 => "matrix4",
-        AttribType::IntArray => "intarray",
-        AttribType::FloatArray => "floatarray",
-        AttribType::Vec3Array => "vector3array",
-        AttribType::String | AttribType::StringArray => return None,
-    })
+/// The token naming each attribute type a file can carry (strings aside):
+/// its name (`Display`) without spaces, so one word in a header.
+pub(crate) fn type_token(ty: AttribType) -> Option<String> {
+    match ty {
+        AttribType::String | AttribType::StringArray => None,
+        _ => Some(ty.to_string().replace(' ', "")),
+    }
 }
 
 pub(crate) fn type_from_token(token: &str) -> Option<AttribType> {
     AttribType::ALL
         .into_iter()
-        .find(|&t| type_token(t) == Some(token))
+        .find(|&t| type_token(t).as_deref() == Some(token))
 }
 
 pub(crate) fn info_from_token(token: &str) -> TypeInfo {

@@ -48,14 +48,7 @@ fn points() -> &'static Cached {
             Attribute::from_data(AttribData::Float(s), TypeInfo::None),
         )
         .unwrap();
-        let v = Value::Geometry(Arc::new(g));
-        Cached {
-            identity: v.identity(),
-            bytes: v.bytes(),
-            value: v,
-            warnings: Arc::from([]),
-            from_store: false,
-        }
+        Cached::new(Value::Geometry(Arc::new(g)), Arc::from([]))
     })
 }
 

@@ -12,17 +12,14 @@ use geode_op::{Bundle, Value};
 use geode_store::DiskCache;
 
 fn cached(value: Value, warnings: &[&str]) -> Cached {
-    Cached {
-        identity: value.identity(),
-        bytes: value.bytes(),
+    Cached::new(
         value,
-        warnings: warnings
+        warnings
             .iter()
             .map(|w| w.to_string())
             .collect::<Vec<_>>()
             .into(),
-        from_store: false,
-    }
+    )
 }
 
 /// Packed copies of two sources, one of which places the other in turn.

@@ -99,18 +99,22 @@ pub(super) fn remove_most_crowded(
             .map_init(Buckets::new, |buckets, (tile, here)| {
                 let base = (tile * size) as u32;
                 let span = base..base + here.len() as u32;
-                let interior = |s: &u32| {
-                    here[*s as usize]
+                // The interior's size, and its candidates still alive.
+                let mut interior = 0;
+                let mut alive = Vec::new();
+                for s in 0..here.len() as u32 {
+                    let slot = &here[s as usize];
+                    if slot
                         .neighbours(lists)
                         .is_some_and(|list| within(list, &span))
-                };
-                let interior: Vec<u32> = (0..here.len() as u32).filter(interior).collect();
-                let alive: Vec<u32> = interior
-                    .iter()
-                    .copied()
-                    .filter(|&s| here[s as usize].weight != REMOVED)
-                    .collect();
-                let keep = (interior.len() as f64 * alive_share).ceil() as usize;
+                    {
+                        interior += 1;
+                        if slot.weight != REMOVED {
+                            alive.push(s);
+                        }
+                    }
+                }
+                let keep = (interior as f64 * alive_share).ceil() as usize;
                 let share = alive.len().saturating_sub(keep);
                 rule.remove(buckets, here, base, &alive, lists, share, cancel)
             })
