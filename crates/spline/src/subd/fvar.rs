@@ -89,6 +89,7 @@ impl FVarChannel {
     }
 
     /// Each corner's data, `dim` numbers per corner.
+    #[cfg(test)]
     pub fn corner_data(&self) -> Vec<f64> {
         let d = self.dim;
         self.corner_value
@@ -296,24 +297,25 @@ impl<'a> Refinement<'a> {
             };
         }
         let mut values = vec![0.0f64; n as usize * d];
-        let face_values: Vec<f64> = (0..nf)
-            .into_par_iter()
-            .flat_map_iter(|f| {
+        let (front, face_and_edge) = values.split_at_mut(face_base as usize * d);
+        let (face_values, edge_part) = face_and_edge.split_at_mut(nf * d);
+        face_values
+            .par_chunks_mut(d)
+            .enumerate()
+            .with_min_len(1024)
+            .for_each(|(f, out)| {
                 let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
                 let w = 1.0 / r.len() as f64;
-                (0..d).map(move |k| {
-                    r.clone()
-                        .map(|c| self.ch.value(self.ch.corner_value[c])[k] * w)
-                        .sum::<f64>()
-                })
-            })
-            .collect();
-        values[face_base as usize * d..(face_base as usize + nf) * d].copy_from_slice(&face_values);
+                out.iter_mut().for_each(|x| *x = 0.0);
+                for c in r {
+                    let x = self.ch.value(self.ch.corner_value[c]);
+                    (0..d).for_each(|k| out[k] += x[k] * w);
+                }
+            });
+        let face_values = &*face_values;
         let face_value = |f: u32| &face_values[f as usize * d..(f as usize + 1) * d];
         // Edges (one value, or one per side), then vertices (one per value
         // at the vertex), each computed apart in parallel.
-        let edge_start = face_base as usize + nf;
-        let (front, edge_part) = values.split_at_mut(edge_start * d);
         let mut edge_runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.edge_verts.len());
         let mut rest = edge_part;
         for (e, (&base, &next)) in edge_base
@@ -332,9 +334,8 @@ impl<'a> Refinement<'a> {
 
         // Vertex values sit in vertex order at the front: fill them in
         // place, a vertex's run at a time.
-        let (vertex_part, _) = front.split_at_mut(face_base as usize * d);
         let mut runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.num_vertices);
-        let mut rest = vertex_part;
+        let mut rest = front;
         for v in 0..p.num_vertices {
             let (run, tail) = rest.split_at_mut(self.spans_of(v).len() * d);
             runs.push((v, run));
@@ -349,35 +350,43 @@ impl<'a> Refinement<'a> {
             });
         // Child corners: a quad per parent corner (vertex, next edge, face,
         // previous edge), as the child topology.
-        let mut corner_value = Vec::with_capacity(4 * p.faces.items.len());
+        let mut corner_value = vec![0u32; 4 * p.faces.items.len()];
+        let mut face_runs: Vec<(usize, &mut [u32])> = Vec::with_capacity(nf);
+        let mut rest = &mut corner_value[..];
         for f in 0..nf {
-            let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
-            for corner in start..end {
-                let prev = if corner == start { end - 1 } else { corner - 1 };
-                let v = p.faces.items[corner] as usize;
-                let s = self.corner_span[corner];
-                let side = |e: u32| {
-                    let base = edge_base[e as usize];
-                    if self.continuous[e as usize] {
-                        base
-                    } else {
-                        let faces = p.edge_faces.row(e as usize);
-                        base + faces.iter().position(|&x| x == f as u32).unwrap_or(0) as u32
-                    }
-                };
-                let items = [
-                    vertex_base[v] + s,
-                    side(p.face_edges[corner]),
-                    face_base + f as u32,
-                    side(p.face_edges[prev]),
-                ];
-                let mut quad = [0u32; 4];
-                for (i, item) in items.into_iter().enumerate() {
-                    quad[child_slot(end - start, corner - start, i)] = item;
-                }
-                corner_value.extend(quad);
-            }
+            let (run, tail) = rest.split_at_mut(4 * p.faces.row(f).len());
+            face_runs.push((f, run));
+            rest = tail;
         }
+        face_runs
+            .into_par_iter()
+            .with_min_len(4096)
+            .for_each(|(f, run)| {
+                let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
+                for (corner, quad) in (start..end).zip(run.chunks_mut(4)) {
+                    let prev = if corner == start { end - 1 } else { corner - 1 };
+                    let v = p.faces.items[corner] as usize;
+                    let s = self.corner_span[corner];
+                    let side = |e: u32| {
+                        let base = edge_base[e as usize];
+                        if self.continuous[e as usize] {
+                            base
+                        } else {
+                            let faces = p.edge_faces.row(e as usize);
+                            base + faces.iter().position(|&x| x == f as u32).unwrap_or(0) as u32
+                        }
+                    };
+                    let items = [
+                        vertex_base[v] + s,
+                        side(p.face_edges[corner]),
+                        face_base + f as u32,
+                        side(p.face_edges[prev]),
+                    ];
+                    for (i, item) in items.into_iter().enumerate() {
+                        quad[child_slot(end - start, corner - start, i)] = item;
+                    }
+                }
+            });
         debug_assert_eq!(corner_value.len(), self.c.faces.items.len());
         FVarChannel {
             dim: d,
@@ -459,12 +468,13 @@ impl<'a> Refinement<'a> {
         };
         // The value at the far end of edge e, seen from a face of the region.
         let far = |e: u32| -> Option<&[f64]> {
-            let f = p
-                .edge_faces
-                .row(e as usize)
-                .iter()
-                .copied()
-                .find(|&f| region.contains(&f))?;
+            let faces = p.edge_faces.row(e as usize);
+            // Every face at the vertex is in a whole span's region.
+            let f = if span.whole {
+                faces.first().copied()
+            } else {
+                faces.iter().copied().find(|&f| region.contains(&f))
+            }?;
             let (a, b) = edge_corners(p, f, e);
             let other = if p.faces.items[a] == v { b } else { a };
             Some(self.ch.value(self.ch.corner_value[other]))

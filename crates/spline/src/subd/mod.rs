@@ -12,9 +12,11 @@ mod limit;
 mod opensubdiv_tests;
 mod refine;
 mod scheme;
+mod value_mesh;
 
-use geode_geo::glam::{DVec3, Vec3};
+use geode_geo::glam::{DVec3, Vec2, Vec3, Vec4};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
+use rayon::prelude::*;
 
 pub(crate) use fvar::FVarChannel;
 pub use fvar::FVarLinear;
@@ -24,6 +26,7 @@ pub(crate) use limit::{limit_frame, limit_normals, limit_positions, mean_face_no
 pub(crate) use refine::{
     plan, refine_topology, refine_topology_with, refine_values, refine_values_cancellable,
 };
+use value_mesh::FaceVarying;
 
 /// OpenSubdiv's vertex boundary interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -177,6 +180,45 @@ fn column(dim: usize, v: &[f64]) -> AttribData {
     }
 }
 
+/// The values of the listed corners of a face-varying channel as a column
+/// (written in place in parallel: the last level's corners are the largest
+/// array a subdivision outputs).
+fn corner_column(channel: &FVarChannel, corners: &[u32]) -> AttribData {
+    let d = channel.dim;
+    let value = |c: &u32| {
+        let at = channel.corner_value[*c as usize] as usize * d;
+        &channel.values[at..at + d]
+    };
+    let f = |v: &[f64], k: usize| v[k] as f32;
+    match d {
+        1 => AttribData::Float(corners.par_iter().map(|c| f(value(c), 0)).collect()),
+        2 => AttribData::Vec2(
+            corners
+                .par_iter()
+                .map(|c| Vec2::new(f(value(c), 0), f(value(c), 1)))
+                .collect(),
+        ),
+        3 => AttribData::Vec3(
+            corners
+                .par_iter()
+                .map(|c| {
+                    let v = value(c);
+                    Vec3::new(f(v, 0), f(v, 1), f(v, 2))
+                })
+                .collect(),
+        ),
+        _ => AttribData::Vec4(
+            corners
+                .par_iter()
+                .map(|c| {
+                    let v = value(c);
+                    Vec4::new(f(v, 0), f(v, 1), f(v, 2), f(v, 3))
+                })
+                .collect(),
+        ),
+    }
+}
+
 /// Positions of every refined level (level 0 first) as flat `x y z` runs,
 /// and the last level's topology (its adjacency only with `full_last`, which
 /// limit masks need).
@@ -241,12 +283,12 @@ pub fn subdivide(
             .and_then(|a| a.as_i32())
             .map_or(FVarLinear::Boundaries, |v| FVarLinear::from_tag(v[0]))
     });
-    let mut corners: Vec<(String, TypeInfo, FVarChannel)> = columns(g, AttribClass::Vertex)
+    let mut corners: Vec<(String, TypeInfo, FaceVarying)> = columns(g, AttribClass::Vertex)
         .into_iter()
         .filter(|c| c.0 != "creaseweight")
         .map(|(name, info, dim, vals)| {
             let channel = FVarChannel::from_corners(&level, &vals, dim);
-            (name, info, channel)
+            (name, info, FaceVarying::new(&level, channel, mode))
         })
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
@@ -273,7 +315,9 @@ pub fn subdivide(
         }
         for c in corners.iter_mut() {
             stop()?;
-            c.2 = c.2.refine(&level, &child, &pl, mode);
+            c.2 =
+                c.2.refine(&level, &child, &pl, mode, chaikin, k + 1 < levels, cancel)
+                    .ok_or(SubdError::Cancelled)?;
         }
         stop()?;
         prim_of = (0..level.faces.len())
@@ -284,6 +328,10 @@ pub fn subdivide(
     let mut pos: Vec<DVec3> = positions
         .chunks(3)
         .map(|c| DVec3::new(c[0], c[1], c[2]))
+        .collect();
+    let mut corners: Vec<(String, TypeInfo, FVarChannel)> = corners
+        .into_iter()
+        .map(|(name, info, channel)| (name, info, channel.into_channel()))
         .collect();
     let normals = if opts.limit {
         // Tangent masks weigh the control points, not the limit points.
@@ -335,11 +383,10 @@ pub fn subdivide(
     }
     for (name, info, channel) in corners {
         stop()?;
-        let all = column(channel.dim, &channel.corner_data());
         out.set_attrib(
             AttribClass::Vertex,
             &name,
-            Attribute::from_data(all.gather(&corner_ids), info),
+            Attribute::from_data(corner_column(&channel, &corner_ids), info),
         )?;
     }
     let kept_prims: Vec<u32> = keep.iter().map(|&f| prim_of[f]).collect();

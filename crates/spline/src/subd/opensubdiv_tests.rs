@@ -7,6 +7,7 @@
 use std::io::Write;
 use std::process::{Command, Stdio};
 
+use crate::subd::value_mesh::{FaceVarying, ValueMesh};
 use crate::subd::{
     base_level, limit_normals, limit_positions, plan, points, refine_levels, refine_topology,
     BoundaryMode, CreaseMethod, FVarChannel, FVarLinear, SubdOptions,
@@ -427,7 +428,7 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
         return;
     };
     let files = corpus_files();
-    let (mut failures, mut compared) = (Vec::new(), 0);
+    let (mut failures, mut compared, mut by_value_mesh) = (Vec::new(), 0, 0);
     for path in &files {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         if SKIPPED.iter().any(|(s, _)| *s == name) {
@@ -474,30 +475,56 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
             {
                 continue;
             }
-            compared += 1;
-            let (mut level, mut ch) = (base.clone(), channel.clone());
-            let mut matched = true;
-            for (k, theirs) in reference.fvar.iter().enumerate() {
-                let chaikin = method == CreaseMethod::Chaikin;
-                let child = refine_topology(&level, chaikin);
-                let pl = plan(&level, &child, chaikin);
-                ch = ch.refine(&level, &child, &pl, mode);
-                level = child;
-                if let Err(e) = corners_match(&ch.corner_data(), theirs) {
-                    failures.push(format!("{name} {mode:?} level {}: {e}", k + 1));
-                    matched = false;
-                    break;
+            // Both ways to refine: the span rules always, and the value
+            // mesh where it applies (linear boundaries, manifold).
+            let value_mesh =
+                ValueMesh::new(&base, &channel, mode).map(|m| FaceVarying::Mesh(Box::new(m)));
+            let spans = Some(FaceVarying::Spans(channel.clone()));
+            for (way, start) in ["spans", "value mesh"]
+                .into_iter()
+                .zip([spans, value_mesh])
+                .filter_map(|(way, start)| Some((way, start?)))
+            {
+                compared += 1;
+                by_value_mesh += usize::from(way == "value mesh");
+                let (mut level, mut ch) = (base.clone(), start);
+                let mut matched = true;
+                for (k, theirs) in reference.fvar.iter().enumerate() {
+                    let chaikin = method == CreaseMethod::Chaikin;
+                    let child = refine_topology(&level, chaikin);
+                    let pl = plan(&level, &child, chaikin);
+                    let never = || false;
+                    ch = ch
+                        .refine(&level, &child, &pl, mode, chaikin, true, &never)
+                        .expect("not cancelled");
+                    level = child;
+                    let now = match &ch {
+                        FaceVarying::Mesh(m) => m.corner_data(),
+                        FaceVarying::Spans(c) => c.corner_data(),
+                    };
+                    if let Err(e) = corners_match(&now, theirs) {
+                        failures.push(format!("{name} {mode:?} {way} level {}: {e}", k + 1));
+                        matched = false;
+                        break;
+                    }
                 }
-            }
-            if matched {
-                let limit = ch.limit(&level, mode).corner_data();
-                if let Err(e) = corners_match(&limit, &reference.fvar_limit) {
-                    failures.push(format!("{name} {mode:?} limit: {e}"));
+                if matched {
+                    let limit = ch.into_channel().limit(&level, mode).corner_data();
+                    if let Err(e) = corners_match(&limit, &reference.fvar_limit) {
+                        failures.push(format!("{name} {mode:?} {way} limit: {e}"));
+                    }
                 }
             }
         }
     }
-    assert!(compared > 400, "{compared} shape-option pairs compared");
+    assert!(
+        compared > 400,
+        "{compared} shape-option-way triples compared"
+    );
+    assert!(
+        by_value_mesh > 60,
+        "{by_value_mesh} shapes by the value mesh"
+    );
     assert!(
         failures.is_empty(),
         "{} of {compared} differ:\n{}",
