@@ -180,27 +180,78 @@ fn column(dim: usize, v: &[f64]) -> AttribData {
     }
 }
 
-/// The values of the listed corners of a face-varying channel as a column
-/// (written in place in parallel: the last level's corners are the largest
-/// array a subdivision outputs).
-fn corner_column(channel: &FVarChannel, corners: &[u32]) -> AttribData {
+/// The faces a subdivision outputs: all but the holes.
+struct Kept {
+    /// Their points and sizes.
+    points: Vec<u32>,
+    counts: Vec<u32>,
+    /// The level's faces and corners they are, where holes were left out
+    /// (None: all of them).
+    faces: Option<Vec<u32>>,
+    corners: Option<Vec<u32>>,
+}
+
+impl Kept {
+    /// The kept faces of the last level (its corner points are moved out
+    /// when every face is kept: they are the output's largest column).
+    fn faces(
+        level: &mut Level,
+        stop: &dyn Fn() -> Result<(), SubdError>,
+    ) -> Result<Kept, SubdError> {
+        let size = |f: usize| level.faces.offsets[f + 1] - level.faces.offsets[f];
+        if !level.hole.par_iter().any(|&h| h) {
+            let counts = (0..level.faces.len()).into_par_iter().map(size).collect();
+            return Ok(Kept {
+                points: std::mem::take(&mut level.faces.items),
+                counts,
+                faces: None,
+                corners: None,
+            });
+        }
+        let faces: Vec<u32> = (0..level.faces.len() as u32)
+            .filter(|&f| !level.hole[f as usize])
+            .collect();
+        let (mut points, mut corners) = (Vec::new(), Vec::new());
+        let mut counts = Vec::with_capacity(faces.len());
+        for (k, &f) in faces.iter().enumerate() {
+            if k % (1 << 16) == 0 {
+                stop()?;
+            }
+            points.extend_from_slice(level.faces.row(f as usize));
+            counts.push(size(f as usize));
+            corners.extend(level.faces.offsets[f as usize]..level.faces.offsets[f as usize + 1]);
+        }
+        Ok(Kept {
+            points,
+            counts,
+            faces: Some(faces),
+            corners: Some(corners),
+        })
+    }
+}
+
+/// The values of the listed corners (None: every corner) of a face-varying
+/// channel as a column, written in place in parallel: the last level's
+/// corners are the largest array a subdivision outputs.
+fn corner_column(channel: &FVarChannel, corners: Option<&[u32]>) -> AttribData {
     let d = channel.dim;
-    let value = |c: &u32| {
-        let at = channel.corner_value[*c as usize] as usize * d;
+    let n = corners.map_or(channel.corner_value.len(), <[u32]>::len);
+    let value = |i: usize| {
+        let c = corners.map_or(i, |list| list[i] as usize);
+        let at = channel.corner_value[c] as usize * d;
         &channel.values[at..at + d]
     };
     let f = |v: &[f64], k: usize| v[k] as f32;
+    let all = || (0..n).into_par_iter();
     match d {
-        1 => AttribData::Float(corners.par_iter().map(|c| f(value(c), 0)).collect()),
+        1 => AttribData::Float(all().map(|c| f(value(c), 0)).collect()),
         2 => AttribData::Vec2(
-            corners
-                .par_iter()
+            all()
                 .map(|c| Vec2::new(f(value(c), 0), f(value(c), 1)))
                 .collect(),
         ),
         3 => AttribData::Vec3(
-            corners
-                .par_iter()
+            all()
                 .map(|c| {
                     let v = value(c);
                     Vec3::new(f(v, 0), f(v, 1), f(v, 2))
@@ -208,8 +259,7 @@ fn corner_column(channel: &FVarChannel, corners: &[u32]) -> AttribData {
                 .collect(),
         ),
         _ => AttribData::Vec4(
-            corners
-                .par_iter()
+            all()
                 .map(|c| {
                     let v = value(c);
                     Vec4::new(f(v, 0), f(v, 1), f(v, 2), f(v, 3))
@@ -325,43 +375,33 @@ pub fn subdivide(
             .collect();
         level = child;
     }
-    let mut pos: Vec<DVec3> = positions
-        .chunks(3)
-        .map(|c| DVec3::new(c[0], c[1], c[2]))
-        .collect();
     let mut corners: Vec<(String, TypeInfo, FVarChannel)> = corners
         .into_iter()
         .map(|(name, info, channel)| (name, info, channel.into_channel()))
         .collect();
-    let normals = if opts.limit {
+    let (pos, normals) = if opts.limit {
+        let control: Vec<DVec3> = positions
+            .chunks(3)
+            .map(|c| DVec3::new(c[0], c[1], c[2]))
+            .collect();
         // Tangent masks weigh the control points, not the limit points.
-        let normals = limit_normals(&level, &pos);
-        pos = limit_positions(&level, &pos);
+        let normals = limit_normals(&level, &control);
         for c in corners.iter_mut() {
             c.2 = c.2.limit(&level, mode);
         }
-        Some(normals)
+        let pos = limit_positions(&level, &control);
+        (pos.par_iter().map(|p| p.as_vec3()).collect(), Some(normals))
     } else {
-        None
+        let pos = positions
+            .par_chunks_exact(3)
+            .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
+            .collect();
+        (pos, None)
     };
     stop()?;
-    // Output the non-hole faces.
-    let keep: Vec<usize> = (0..level.faces.len()).filter(|&f| !level.hole[f]).collect();
-    let mut flat = Vec::with_capacity(keep.len() * 4);
-    let mut counts = Vec::with_capacity(keep.len());
-    let mut corner_ids = Vec::with_capacity(keep.len() * 4);
-    for (k, &f) in keep.iter().enumerate() {
-        if k % (1 << 16) == 0 {
-            stop()?;
-        }
-        let r = level.faces.row(f);
-        flat.extend_from_slice(r);
-        counts.push(r.len() as u32);
-        corner_ids.extend(level.faces.offsets[f]..level.faces.offsets[f + 1]);
-    }
+    let kept = Kept::faces(&mut level, &stop)?;
     stop()?;
-    let mut out =
-        Geometry::from_polygons(pos.iter().map(|p| p.as_vec3()).collect(), flat, &counts)?;
+    let mut out = Geometry::from_polygons(pos, kept.points, &kept.counts)?;
     stop()?;
     for (name, info, dim, vals) in points {
         stop()?;
@@ -386,10 +426,13 @@ pub fn subdivide(
         out.set_attrib(
             AttribClass::Vertex,
             &name,
-            Attribute::from_data(corner_column(&channel, &corner_ids), info),
+            Attribute::from_data(corner_column(&channel, kept.corners.as_deref()), info),
         )?;
     }
-    let kept_prims: Vec<u32> = keep.iter().map(|&f| prim_of[f]).collect();
+    let kept_prims: Vec<u32> = match &kept.faces {
+        Some(faces) => faces.iter().map(|&f| prim_of[f as usize]).collect(),
+        None => prim_of,
+    };
     for (name, a) in g.attribs(AttribClass::Primitive).iter() {
         if name == "subd_hole" {
             continue;

@@ -100,11 +100,13 @@ fn stopped_at(i: usize, stop: &(dyn Fn() -> bool + Sync)) -> bool {
     i.is_multiple_of(ROWS_PER_POLL) && stop()
 }
 
-/// The child level, with its adjacency rows (edges' faces, vertices' faces
-/// and edges) only when `adjacency`: a last level that is only output (not
-/// refined further, no limit masks) does without them, as OpenSubdiv's
-/// uniform refinement does by default. `None` when `stop` said so, polled
-/// between phases and within the adjacency walks.
+/// The child level. With `adjacency`, whole: its edges and the adjacency
+/// rows (edges' faces, vertices' faces and edges). Without, a last level
+/// that is only output (not refined further, no limit masks), as
+/// OpenSubdiv's uniform refinement does by default: its faces, holes and
+/// vertex sharpness, and the sharpness of its halves of parent edges
+/// (`plan` reads them), but no edges of its own. `None` when `stop` said
+/// so, polled between phases and within the adjacency walks.
 pub fn refine_topology_with(
     p: &Level,
     chaikin_rule: bool,
@@ -118,72 +120,82 @@ pub fn refine_topology_with(
     let corners = p.faces.items.len();
     let half = |e: u32, v: u32| -> u32 { 2 * e + u32::from(p.edge_verts[e as usize][0] != v) };
     let interior = |corner: usize| (2 * ne + corner) as u32;
+    let face_of = CornerFaces::of(p);
     // Every array is filled in parallel: each parent edge makes two child
     // edges, each parent face corner an interior edge and a quad.
-    let mut edge_verts = vec![[0u32; 2]; 2 * ne + corners];
-    let mut edge_sharpness = vec![0.0f32; 2 * ne + corners];
-    let (halves, inner) = edge_verts.split_at_mut(2 * ne);
-    halves
+    let edges = if adjacency { 2 * ne + corners } else { 0 };
+    let mut edge_verts = vec![[0u32; 2]; edges];
+    let mut edge_sharpness = vec![0.0f32; edges.max(2 * ne)];
+    edge_sharpness[..2 * ne]
         .par_chunks_mut(2)
-        .zip(edge_sharpness[..2 * ne].par_chunks_mut(2))
         .enumerate()
-        .try_for_each(|(e, (ev, es))| {
+        .try_for_each(|(e, es)| {
             if stopped_at(e, stop) {
                 return None;
             }
             let [a, b] = p.edge_verts[e];
-            let e = e as u32;
-            ev[0] = [vc(a), ec(e)];
-            ev[1] = [vc(b), ec(e)];
-            es[0] = child_edge_sharpness(p, e, a, chaikin_rule);
-            es[1] = child_edge_sharpness(p, e, b, chaikin_rule);
+            es[0] = child_edge_sharpness(p, e as u32, a, chaikin_rule);
+            es[1] = child_edge_sharpness(p, e as u32, b, chaikin_rule);
             Some(())
         })?;
-    let face_of: Vec<u32> = (0..nf)
-        .into_par_iter()
-        .flat_map_iter(|f| std::iter::repeat_n(f as u32, p.faces.row(f).len()))
-        .collect();
-    if stop() {
-        return None;
-    }
-    inner.par_iter_mut().enumerate().try_for_each(|(c, ev)| {
-        if stopped_at(c, stop) {
-            return None;
-        }
-        *ev = [ec(p.face_edges[c]), fc(face_of[c] as usize)];
-        Some(())
-    })?;
-    let mut face_verts = vec![0u32; 4 * corners];
-    let mut face_edges = vec![0u32; 4 * corners];
-    face_verts
-        .par_chunks_mut(4)
-        .zip(face_edges.par_chunks_mut(4))
-        .enumerate()
-        .try_for_each(|(c, (fv, fe))| {
+    let mut face_edges = vec![0u32; if adjacency { 4 * corners } else { 0 }];
+    if adjacency {
+        let (halves, inner) = edge_verts.split_at_mut(2 * ne);
+        halves.par_chunks_mut(2).enumerate().for_each(|(e, ev)| {
+            let [a, b] = p.edge_verts[e];
+            ev[0] = [vc(a), ec(e as u32)];
+            ev[1] = [vc(b), ec(e as u32)];
+        });
+        inner.par_iter_mut().enumerate().try_for_each(|(c, ev)| {
             if stopped_at(c, stop) {
                 return None;
             }
-            let f = face_of[c] as usize;
-            let base = p.faces.offsets[f] as usize;
-            let n = p.faces.offsets[f + 1] as usize - base;
-            let k = c - base;
-            let prev = base + (k + n - 1) % n;
-            let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
+            *ev = [ec(p.face_edges[c]), fc(face_of.face(c))];
+            Some(())
+        })?;
+        face_edges
+            .par_chunks_mut(4)
+            .enumerate()
+            .try_for_each(|(c, fe)| {
+                if stopped_at(c, stop) {
+                    return None;
+                }
+                let (n, k, prev) = face_of.place(p, c);
+                let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
+                let v = p.faces.items[c];
+                let edges = [
+                    half(e_next, v),
+                    interior(c),
+                    interior(prev),
+                    half(e_prev, v),
+                ];
+                for i in 0..4 {
+                    fe[child_slot(n, k, i)] = edges[i];
+                }
+                Some(())
+            })?;
+    }
+    let mut face_verts = vec![0u32; 4 * corners];
+    face_verts
+        .par_chunks_mut(4)
+        .enumerate()
+        .try_for_each(|(c, fv)| {
+            if stopped_at(c, stop) {
+                return None;
+            }
+            let f = face_of.face(c);
+            let (n, k, prev) = face_of.place(p, c);
             let v = p.faces.items[c];
-            let verts = [vc(v), ec(e_next), fc(f), ec(e_prev)];
-            let edges = [
-                half(e_next, v),
-                interior(c),
-                interior(prev),
-                half(e_prev, v),
-            ];
+            let verts = [vc(v), ec(p.face_edges[c]), fc(f), ec(p.face_edges[prev])];
             for i in 0..4 {
                 fv[child_slot(n, k, i)] = verts[i];
-                fe[child_slot(n, k, i)] = edges[i];
             }
             Some(())
         })?;
-    let hole: Vec<bool> = face_of.par_iter().map(|&f| p.hole[f as usize]).collect();
+    let hole: Vec<bool> = (0..corners)
+        .into_par_iter()
+        .map(|c| p.hole[face_of.face(c)])
+        .collect();
     if stop() {
         return None;
     }
@@ -231,6 +243,50 @@ pub fn refine_topology_with(
     child.vertex_faces = vertex_faces?;
     child.vertex_edges = vertex_edges?;
     Some(child)
+}
+
+/// The face of each parent corner: a division where every face is a quad
+/// (every level after the first), else a table.
+enum CornerFaces {
+    Quads,
+    Table(Vec<u32>),
+}
+
+impl CornerFaces {
+    fn of(p: &Level) -> CornerFaces {
+        let quads = p.faces.items.len() == 4 * p.faces.len()
+            && p.faces
+                .offsets
+                .par_iter()
+                .enumerate()
+                .all(|(f, &o)| o as usize == 4 * f);
+        if quads {
+            return CornerFaces::Quads;
+        }
+        CornerFaces::Table(
+            (0..p.faces.len())
+                .into_par_iter()
+                .flat_map_iter(|f| std::iter::repeat_n(f as u32, p.faces.row(f).len()))
+                .collect(),
+        )
+    }
+
+    fn face(&self, c: usize) -> usize {
+        match self {
+            CornerFaces::Quads => c / 4,
+            CornerFaces::Table(t) => t[c] as usize,
+        }
+    }
+
+    /// Corner `c`'s face size, its place in the face and the previous
+    /// corner.
+    fn place(&self, p: &Level, c: usize) -> (usize, usize, usize) {
+        let f = self.face(c);
+        let base = p.faces.offsets[f] as usize;
+        let n = p.faces.offsets[f + 1] as usize - base;
+        let k = c - base;
+        (n, k, base + (k + n - 1) % n)
+    }
 }
 
 /// Where item `i` of the child quad of corner `k` (vertex child, next edge
