@@ -5,7 +5,8 @@
 //! each mesh to the exact surface (`deviation`); geode's adaptive output is
 //! run with that distance of fidget's mesh as its tolerance, so the two
 //! compare at the same maximum deviation.
-//! Run: cargo run --release --manifest-path bench/fidget-compare/Cargo.toml
+//! Run: cargo run --release --manifest-path bench/fidget-compare/Cargo.toml [-- 6,7,8]
+//! (`MODELS=colonnade.vm` runs one model: handy under a profiler).
 
 mod deviation;
 
@@ -59,7 +60,8 @@ fn main() {
         .unwrap_or(vec![6, 7, 8]);
     println!("| model | depth | fidget ms | fidget triangles | fidget max dev | geode uniform ms | triangles | max dev | geode adaptive ms | triangles | max dev | adaptive time / fidget |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for name in ["colonnade.vm", "bear.vm"] {
+    let models = std::env::var("MODELS").unwrap_or_else(|_| "colonnade.vm,bear.vm".into());
+    for name in models.split(',') {
         let text = corpus(name);
         let (ctx, node) = Context::from_text(text.as_bytes()).expect("fidget parses its model");
         let shape = JitShape::new(&ctx, node).expect("a 3D shape");
