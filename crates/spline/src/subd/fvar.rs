@@ -10,6 +10,7 @@
 
 use rayon::prelude::*;
 
+use super::fvar_linear::refine_linear;
 use super::level::{Level, INFINITE};
 use super::refine::{child_slot, corner_of_edge, next_corner, Plan, Rule};
 use super::scheme::{self, Term};
@@ -154,14 +155,57 @@ impl FVarChannel {
         }
     }
 
-    /// The channel on the child level `c` of `p`.
+    /// The channel on the child level `c` of `p`: linear boundaries (the
+    /// default) and bilinear need no spans and take their own few passes.
     pub fn refine(&self, p: &Level, c: &Level, plan: &Plan, mode: FVarLinear) -> FVarChannel {
+        match mode {
+            FVarLinear::Boundaries => refine_linear(self, p, c, plan, false),
+            FVarLinear::All => refine_linear(self, p, c, plan, true),
+            _ => self.refine_by_spans(p, c, plan, mode),
+        }
+    }
+
+    /// [`FVarChannel::refine`] by the span rules under any option (the
+    /// tests hold the linear options' passes to them).
+    pub fn refine_by_spans(
+        &self,
+        p: &Level,
+        c: &Level,
+        plan: &Plan,
+        mode: FVarLinear,
+    ) -> FVarChannel {
         Refinement::new(self, p, c, plan, mode).run()
     }
 }
 
+/// Whether each edge has one value at each end on every side (an interior
+/// edge of one region): two faces that agree on both ends' values.
+pub(super) fn continuous_edges(ch: &FVarChannel, p: &Level) -> Vec<bool> {
+    (0..p.edge_verts.len())
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|e| {
+            let faces = p.edge_faces.row(e);
+            if faces.len() != 2 {
+                return false;
+            }
+            let ends = |f: u32| {
+                let (a, b) = edge_corners(p, f, e as u32);
+                let (va, vb) = (p.faces.items[a], p.faces.items[b]);
+                let (xa, xb) = (ch.corner_value[a], ch.corner_value[b]);
+                if va <= vb {
+                    (xa, xb)
+                } else {
+                    (xb, xa)
+                }
+            };
+            ends(faces[0]) == ends(faces[1])
+        })
+        .collect()
+}
+
 /// The corner of face `f` that starts edge `e`, and the next corner.
-fn edge_corners(p: &Level, f: u32, e: u32) -> (usize, usize) {
+pub(super) fn edge_corners(p: &Level, f: u32, e: u32) -> (usize, usize) {
     let c = corner_of_edge(p, f, e);
     (c, next_corner(p, f, c))
 }
@@ -220,26 +264,7 @@ impl<'a> Refinement<'a> {
         plan: &'a Plan,
         mode: FVarLinear,
     ) -> Self {
-        let continuous: Vec<bool> = (0..p.edge_verts.len())
-            .into_par_iter()
-            .map(|e| {
-                let faces = p.edge_faces.row(e);
-                if faces.len() != 2 {
-                    return false;
-                }
-                let ends = |f: u32| {
-                    let (a, b) = edge_corners(p, f, e as u32);
-                    let (va, vb) = (p.faces.items[a], p.faces.items[b]);
-                    let (xa, xb) = (ch.corner_value[a], ch.corner_value[b]);
-                    if va <= vb {
-                        (xa, xb)
-                    } else {
-                        (xb, xa)
-                    }
-                };
-                ends(faces[0]) == ends(faces[1])
-            })
-            .collect();
+        let continuous = continuous_edges(ch, p);
         let per_vertex: Vec<_> = (0..p.num_vertices)
             .into_par_iter()
             .map(|v| spans_at(ch, p, &continuous, v as u32))

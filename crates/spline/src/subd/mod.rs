@@ -6,13 +6,13 @@
 //! limit normals.
 
 mod fvar;
+mod fvar_linear;
 mod level;
 mod limit;
 #[cfg(test)]
 mod opensubdiv_tests;
 mod refine;
 mod scheme;
-mod value_mesh;
 
 use geode_geo::glam::{DVec3, Vec2, Vec3, Vec4};
 use geode_geo::{AttribClass, AttribData, Attribute, GeoError, Geometry, PrimKind, TypeInfo};
@@ -26,7 +26,6 @@ pub(crate) use limit::{limit_frame, limit_normals, limit_positions, mean_face_no
 pub(crate) use refine::{
     plan, refine_topology, refine_topology_with, refine_values, refine_values_cancellable,
 };
-use value_mesh::FaceVarying;
 
 /// OpenSubdiv's vertex boundary interpolation.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -333,12 +332,12 @@ pub fn subdivide(
             .and_then(|a| a.as_i32())
             .map_or(FVarLinear::Boundaries, |v| FVarLinear::from_tag(v[0]))
     });
-    let mut corners: Vec<(String, TypeInfo, FaceVarying)> = columns(g, AttribClass::Vertex)
+    let mut corners: Vec<(String, TypeInfo, FVarChannel)> = columns(g, AttribClass::Vertex)
         .into_iter()
         .filter(|c| c.0 != "creaseweight")
         .map(|(name, info, dim, vals)| {
             let channel = FVarChannel::from_corners(&level, &vals, dim);
-            (name, info, FaceVarying::new(&level, channel, mode))
+            (name, info, channel)
         })
         .collect();
     let mut prim_of: Vec<u32> = (0..g.num_prims() as u32).collect();
@@ -365,9 +364,7 @@ pub fn subdivide(
         }
         for c in corners.iter_mut() {
             stop()?;
-            c.2 =
-                c.2.refine(&level, &child, &pl, mode, chaikin, k + 1 < levels, cancel)
-                    .ok_or(SubdError::Cancelled)?;
+            c.2 = c.2.refine(&level, &child, &pl, mode);
         }
         stop()?;
         prim_of = (0..level.faces.len())
@@ -375,10 +372,6 @@ pub fn subdivide(
             .collect();
         level = child;
     }
-    let mut corners: Vec<(String, TypeInfo, FVarChannel)> = corners
-        .into_iter()
-        .map(|(name, info, channel)| (name, info, channel.into_channel()))
-        .collect();
     let (pos, normals) = if opts.limit {
         let control: Vec<DVec3> = positions
             .chunks(3)

@@ -7,7 +7,6 @@
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use crate::subd::value_mesh::{FaceVarying, ValueMesh};
 use crate::subd::{
     base_level, limit_normals, limit_positions, plan, points, refine_levels, refine_topology,
     BoundaryMode, CreaseMethod, FVarChannel, FVarLinear, SubdOptions,
@@ -428,7 +427,7 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
         return;
     };
     let files = corpus_files();
-    let (mut failures, mut compared, mut by_value_mesh) = (Vec::new(), 0, 0);
+    let (mut failures, mut compared, mut by_linear_passes) = (Vec::new(), 0, 0);
     for path in &files {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         if SKIPPED.iter().any(|(s, _)| *s == name) {
@@ -475,41 +474,35 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
             {
                 continue;
             }
-            // Both ways to refine: the span rules always, and the value
-            // mesh where it applies (linear boundaries, manifold).
-            let value_mesh =
-                ValueMesh::new(&base, &channel, mode).map(|m| FaceVarying::Mesh(Box::new(m)));
-            let spans = Some(FaceVarying::Spans(channel.clone()));
-            for (way, start) in ["spans", "value mesh"]
-                .into_iter()
-                .zip([spans, value_mesh])
-                .filter_map(|(way, start)| Some((way, start?)))
-            {
+            // Both ways to refine: the span rules always, and the linear
+            // passes where they apply (linear boundaries, bilinear).
+            let linear = matches!(mode, FVarLinear::Boundaries | FVarLinear::All);
+            for way in ["spans", "linear passes"] {
+                if way == "linear passes" && !linear {
+                    continue;
+                }
                 compared += 1;
-                by_value_mesh += usize::from(way == "value mesh");
-                let (mut level, mut ch) = (base.clone(), start);
+                by_linear_passes += usize::from(way == "linear passes");
+                let (mut level, mut ch) = (base.clone(), channel.clone());
                 let mut matched = true;
                 for (k, theirs) in reference.fvar.iter().enumerate() {
                     let chaikin = method == CreaseMethod::Chaikin;
                     let child = refine_topology(&level, chaikin);
                     let pl = plan(&level, &child, chaikin);
-                    let never = || false;
-                    ch = ch
-                        .refine(&level, &child, &pl, mode, chaikin, true, &never)
-                        .expect("not cancelled");
-                    level = child;
-                    let now = match &ch {
-                        FaceVarying::Mesh(m) => m.corner_data(),
-                        FaceVarying::Spans(c) => c.corner_data(),
+                    ch = if way == "spans" {
+                        ch.refine_by_spans(&level, &child, &pl, mode)
+                    } else {
+                        ch.refine(&level, &child, &pl, mode)
                     };
-                    if let Err(e) = corners_match(&now, theirs) {
+                    level = child;
+                    if let Err(e) = corners_match(&ch.corner_data(), theirs) {
                         failures.push(format!("{name} {mode:?} {way} level {}: {e}", k + 1));
                         matched = false;
                         break;
                     }
                 }
                 if matched {
-                    let limit = ch.into_channel().limit(&level, mode).corner_data();
+                    let limit = ch.limit(&level, mode).corner_data();
                     if let Err(e) = corners_match(&limit, &reference.fvar_limit) {
                         failures.push(format!("{name} {mode:?} {way} limit: {e}"));
                     }
@@ -522,8 +515,8 @@ fn face_varying_uvs_match_opensubdiv_under_every_interpolation_option() {
         "{compared} shape-option-way triples compared"
     );
     assert!(
-        by_value_mesh > 60,
-        "{by_value_mesh} shapes by the value mesh"
+        by_linear_passes > 100,
+        "{by_linear_passes} shape-option pairs by the linear passes"
     );
     assert!(
         failures.is_empty(),
