@@ -341,52 +341,37 @@ impl<'a> Refinement<'a> {
         let face_value = |f: u32| &face_values[f as usize * d..(f as usize + 1) * d];
         // Edges (one value, or one per side), then vertices (one per value
         // at the vertex), each computed apart in parallel.
-        let mut edge_runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.edge_verts.len());
-        let mut rest = edge_part;
-        for (e, (&base, &next)) in edge_base
-            .iter()
-            .zip(edge_base.iter().skip(1).chain([&n]))
-            .enumerate()
-        {
-            let (run, tail) = rest.split_at_mut((next - base) as usize * d);
-            edge_runs.push((e, run));
-            rest = tail;
-        }
-        edge_runs
-            .into_par_iter()
-            .with_min_len(1024)
-            .for_each(|(e, run)| self.edge_values(e, &face_value, run));
+        let ne = edge_base.len();
+        let start = edge_base.first().copied().unwrap_or(n);
+        let edge_at = |e: usize| (edge_base.get(e).copied().unwrap_or(n) - start) as usize * d;
+        blocks(edge_part, ne, edge_at).for_each(|(edges, block)| {
+            let base = edge_at(edges.start);
+            for e in edges {
+                let run = &mut block[edge_at(e) - base..edge_at(e + 1) - base];
+                self.edge_values(e, &face_value, run);
+            }
+        });
 
         // Vertex values sit in vertex order at the front: fill them in
         // place, a vertex's run at a time.
-        let mut runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(p.num_vertices);
-        let mut rest = front;
-        for v in 0..p.num_vertices {
-            let (run, tail) = rest.split_at_mut(self.spans_of(v).len() * d);
-            runs.push((v, run));
-            rest = tail;
-        }
-        runs.into_par_iter()
-            .with_min_len(1024)
-            .for_each(|(v, run)| {
+        let vertex_at = |v: usize| self.span_offsets[v] as usize * d;
+        blocks(front, p.num_vertices, vertex_at).for_each(|(vertices, block)| {
+            let base = vertex_at(vertices.start);
+            for v in vertices {
+                let run = &mut block[vertex_at(v) - base..vertex_at(v + 1) - base];
                 for (s, o) in run.chunks_mut(d).enumerate() {
                     self.vertex_value(v as u32, s, &face_value, o);
                 }
-            });
+            }
+        });
         // Child corners: a quad per parent corner (vertex, next edge, face,
         // previous edge), as the child topology.
         let mut corner_value = vec![0u32; 4 * p.faces.items.len()];
-        let mut face_runs: Vec<(usize, &mut [u32])> = Vec::with_capacity(nf);
-        let mut rest = &mut corner_value[..];
-        for f in 0..nf {
-            let (run, tail) = rest.split_at_mut(4 * p.faces.row(f).len());
-            face_runs.push((f, run));
-            rest = tail;
-        }
-        face_runs
-            .into_par_iter()
-            .with_min_len(4096)
-            .for_each(|(f, run)| {
+        let corner_at = |f: usize| 4 * p.faces.offsets[f] as usize;
+        blocks(&mut corner_value, nf, corner_at).for_each(|(faces, block)| {
+            let base = corner_at(faces.start);
+            for f in faces {
+                let run = &mut block[corner_at(f) - base..corner_at(f + 1) - base];
                 let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
                 for (corner, quad) in (start..end).zip(run.chunks_mut(4)) {
                     let prev = if corner == start { end - 1 } else { corner - 1 };
@@ -411,7 +396,8 @@ impl<'a> Refinement<'a> {
                         quad[child_slot(end - start, corner - start, i)] = item;
                     }
                 }
-            });
+            }
+        });
         debug_assert_eq!(corner_value.len(), self.c.faces.items.len());
         FVarChannel {
             dim: d,
@@ -723,4 +709,27 @@ fn spans_at(ch: &FVarChannel, p: &Level, continuous: &[bool], v: u32) -> Spans {
     }
     let assigned = corners.iter().map(|&(c, _)| c).zip(span_of).collect();
     Spans::Many(spans, assigned)
+}
+
+/// Items per parallel block of [`blocks`].
+const BLOCK: usize = 1024;
+
+/// `out` cut into one piece per block of `BLOCK` items, item `i`'s output
+/// starting at `at(i)` (ascending, `at(n)` the end), for the blocks to
+/// fill in parallel: items with outputs of different sizes, placed without
+/// a serial pass over every item.
+pub(super) fn blocks<T: Send>(
+    out: &mut [T],
+    n: usize,
+    at: impl Fn(usize) -> usize,
+) -> impl ParallelIterator<Item = (std::ops::Range<usize>, &mut [T])> {
+    let mut pieces = Vec::with_capacity(n.div_ceil(BLOCK));
+    let mut rest = out;
+    for first in (0..n).step_by(BLOCK) {
+        let last = (first + BLOCK).min(n);
+        let (piece, tail) = rest.split_at_mut(at(last) - at(first));
+        pieces.push((first..last, piece));
+        rest = tail;
+    }
+    pieces.into_par_iter()
 }

@@ -12,7 +12,7 @@
 
 use rayon::prelude::*;
 
-use super::fvar::{continuous_edges, edge_corners, FVarChannel};
+use super::fvar::{blocks, continuous_edges, edge_corners, FVarChannel};
 use super::level::Level;
 use super::refine::{child_slot, Plan};
 use super::scheme::{self, Term};
@@ -198,21 +198,16 @@ fn edge_values<'a>(
     edge_part: &mut [f64],
 ) {
     let d = ch.dim;
-    let mut runs: Vec<(usize, &mut [f64])> = Vec::with_capacity(continuous.len());
-    let mut rest = edge_part;
-    for e in 0..continuous.len() {
-        let len = (edge_base[e + 1] - edge_base[e]) as usize * d;
-        let (run, tail) = rest.split_at_mut(len);
-        runs.push((e, run));
-        rest = tail;
-    }
+    let start = edge_base[0] as usize;
+    let at = |e: usize| (edge_base[e] as usize - start) * d;
     let value = |corner: usize| {
         let x = ch.corner_value[corner] as usize * d;
         &ch.values[x..x + d]
     };
-    runs.into_par_iter()
-        .with_min_len(GRAIN)
-        .for_each(|(e, out)| {
+    blocks(edge_part, continuous.len(), at).for_each(|(edges, block)| {
+        let base = at(edges.start);
+        for e in edges {
+            let out = &mut block[at(e) - base..at(e + 1) - base];
             let faces = p.edge_faces.row(e);
             let ends = |f: u32| {
                 let (a, b) = edge_corners(p, f, e as u32);
@@ -236,7 +231,8 @@ fn edge_values<'a>(
                     }
                 }
             }
-        });
+        }
+    });
 }
 
 /// The child corners' values: a quad per parent corner (the corner's
@@ -249,19 +245,12 @@ fn child_corners(
     ch: &FVarChannel,
     face_base: u32,
 ) -> Vec<u32> {
-    let nf = p.faces.len();
     let mut corner_value = vec![0u32; 4 * p.faces.items.len()];
-    let mut face_runs: Vec<(usize, &mut [u32])> = Vec::with_capacity(nf);
-    let mut rest = &mut corner_value[..];
-    for f in 0..nf {
-        let (run, tail) = rest.split_at_mut(4 * p.faces.row(f).len());
-        face_runs.push((f, run));
-        rest = tail;
-    }
-    face_runs
-        .into_par_iter()
-        .with_min_len(4 * GRAIN)
-        .for_each(|(f, run)| {
+    let at = |f: usize| 4 * p.faces.offsets[f] as usize;
+    blocks(&mut corner_value, p.faces.len(), at).for_each(|(faces, block)| {
+        let base = at(faces.start);
+        for f in faces {
+            let run = &mut block[at(f) - base..at(f + 1) - base];
             let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
             let side = |e: u32| {
                 let base = edge_base[e as usize];
@@ -284,6 +273,7 @@ fn child_corners(
                     quad[child_slot(end - start, corner - start, i)] = item;
                 }
             }
-        });
+        }
+    });
     corner_value
 }
