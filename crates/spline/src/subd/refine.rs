@@ -153,45 +153,22 @@ pub fn refine_topology_with(
             *ev = [ec(p.face_edges[c]), fc(face_of.face(c))];
             Some(())
         })?;
-        face_edges
-            .par_chunks_mut(4)
-            .enumerate()
-            .try_for_each(|(c, fe)| {
-                if stopped_at(c, stop) {
-                    return None;
-                }
-                let (n, k, prev) = face_of.place(p, c);
-                let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
-                let v = p.faces.items[c];
-                let edges = [
-                    half(e_next, v),
-                    interior(c),
-                    interior(prev),
-                    half(e_prev, v),
-                ];
-                for i in 0..4 {
-                    fe[child_slot(n, k, i)] = edges[i];
-                }
-                Some(())
-            })?;
+        fill_quads(&mut face_edges, p, &face_of, stop, |c, prev| {
+            let v = p.faces.items[c];
+            let (e_next, e_prev) = (p.face_edges[c], p.face_edges[prev]);
+            [
+                half(e_next, v),
+                interior(c),
+                interior(prev),
+                half(e_prev, v),
+            ]
+        })?;
     }
     let mut face_verts = vec![0u32; 4 * corners];
-    face_verts
-        .par_chunks_mut(4)
-        .enumerate()
-        .try_for_each(|(c, fv)| {
-            if stopped_at(c, stop) {
-                return None;
-            }
-            let f = face_of.face(c);
-            let (n, k, prev) = face_of.place(p, c);
-            let v = p.faces.items[c];
-            let verts = [vc(v), ec(p.face_edges[c]), fc(f), ec(p.face_edges[prev])];
-            for i in 0..4 {
-                fv[child_slot(n, k, i)] = verts[i];
-            }
-            Some(())
-        })?;
+    fill_quads(&mut face_verts, p, &face_of, stop, |c, prev| {
+        let (v, f) = (p.faces.items[c], face_of.face(c));
+        [vc(v), ec(p.face_edges[c]), fc(f), ec(p.face_edges[prev])]
+    })?;
     let hole: Vec<bool> = (0..corners)
         .into_par_iter()
         .map(|c| p.hole[face_of.face(c)])
@@ -243,6 +220,28 @@ pub fn refine_topology_with(
     child.vertex_faces = vertex_faces?;
     child.vertex_edges = vertex_edges?;
     Some(child)
+}
+
+/// Fills each parent corner's child quad from `items(corner, previous
+/// corner)` (vertex child, next edge's, face's, previous edge's), placed
+/// as [`child_slot`] says; `None` when `stop` said so.
+fn fill_quads(
+    out: &mut [u32],
+    p: &Level,
+    face_of: &CornerFaces,
+    stop: &(dyn Fn() -> bool + Sync),
+    items: impl Fn(usize, usize) -> [u32; 4] + Sync,
+) -> Option<()> {
+    out.par_chunks_mut(4).enumerate().try_for_each(|(c, quad)| {
+        if stopped_at(c, stop) {
+            return None;
+        }
+        let (n, k, prev) = face_of.place(p, c);
+        for (i, item) in items(c, prev).into_iter().enumerate() {
+            quad[child_slot(n, k, i)] = item;
+        }
+        Some(())
+    })
 }
 
 /// The face of each parent corner: a division where every face is a quad
