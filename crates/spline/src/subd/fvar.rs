@@ -11,9 +11,10 @@
 use rayon::prelude::*;
 
 use super::fvar_linear::refine_linear;
+use super::fvar_step::{blocks, edge_corners, Step};
 use super::level::{Level, INFINITE};
-use super::refine::{child_slot, corner_of_edge, next_corner, Plan, Rule};
-use super::scheme::{self, Term};
+use super::refine::{Plan, Rule};
+use super::scheme;
 
 /// OpenSubdiv's `FVarLinearInterpolation`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,14 +134,14 @@ impl FVarChannel {
         r.limit = true;
         let mut values = self.values.clone();
         let d = self.dim;
-        let no_faces = |_: u32| -> &[f64] { &[] };
+
         let limits: Vec<(u32, Vec<f64>)> = (0..l.num_vertices)
             .into_par_iter()
             .flat_map_iter(|v| {
                 let r = &r;
                 (0..r.spans_of(v).len()).map(move |s| {
                     let mut out = vec![0.0; d];
-                    r.vertex_value(v as u32, s, &no_faces, &mut out);
+                    r.vertex_value(v as u32, s, &[], &mut out);
                     (r.spans_of(v)[s].value, out)
                 })
             })
@@ -176,38 +177,6 @@ impl FVarChannel {
     ) -> FVarChannel {
         Refinement::new(self, p, c, plan, mode).run()
     }
-}
-
-/// Whether each edge has one value at each end on every side (an interior
-/// edge of one region): two faces that agree on both ends' values.
-pub(super) fn continuous_edges(ch: &FVarChannel, p: &Level) -> Vec<bool> {
-    (0..p.edge_verts.len())
-        .into_par_iter()
-        .with_min_len(1024)
-        .map(|e| {
-            let faces = p.edge_faces.row(e);
-            if faces.len() != 2 {
-                return false;
-            }
-            let ends = |f: u32| {
-                let (a, b) = edge_corners(p, f, e as u32);
-                let (va, vb) = (p.faces.items[a], p.faces.items[b]);
-                let (xa, xb) = (ch.corner_value[a], ch.corner_value[b]);
-                if va <= vb {
-                    (xa, xb)
-                } else {
-                    (xb, xa)
-                }
-            };
-            ends(faces[0]) == ends(faces[1])
-        })
-        .collect()
-}
-
-/// The corner of face `f` that starts edge `e`, and the next corner.
-pub(super) fn edge_corners(p: &Level, f: u32, e: u32) -> (usize, usize) {
-    let c = corner_of_edge(p, f, e);
-    (c, next_corner(p, f, c))
 }
 
 /// The corners of face `f` at vertex `v`.
@@ -264,7 +233,7 @@ impl<'a> Refinement<'a> {
         plan: &'a Plan,
         mode: FVarLinear,
     ) -> Self {
-        let continuous = continuous_edges(ch, p);
+        let continuous = Step { ch, p, c, plan }.continuous_edges();
         let per_vertex: Vec<_> = (0..p.num_vertices)
             .into_par_iter()
             .map(|v| spans_at(ch, p, &continuous, v as u32))
@@ -299,106 +268,39 @@ impl<'a> Refinement<'a> {
         }
     }
 
-    fn run(&self) -> FVarChannel {
-        let (p, d) = (self.p, self.ch.dim);
-        let nf = p.faces.len();
-        // Child values: each vertex's siblings, each face, each edge (one,
-        // or one per side where the edge is a region boundary).
-        let mut vertex_base = Vec::with_capacity(p.num_vertices + 1);
-        let mut n = 0u32;
-        for v in 0..p.num_vertices {
-            vertex_base.push(n);
-            n += self.spans_of(v).len() as u32;
+    fn step(&self) -> Step<'a> {
+        Step {
+            ch: self.ch,
+            p: self.p,
+            c: self.c,
+            plan: self.plan,
         }
-        let face_base = n;
-        n += nf as u32;
-        let mut edge_base = Vec::with_capacity(p.edge_verts.len());
-        for e in 0..p.edge_verts.len() {
-            edge_base.push(n);
-            n += if self.continuous[e] {
-                1
-            } else {
-                p.edge_faces.row(e).len().max(1) as u32
-            };
-        }
-        let mut values = vec![0.0f64; n as usize * d];
-        let (front, face_and_edge) = values.split_at_mut(face_base as usize * d);
-        let (face_values, edge_part) = face_and_edge.split_at_mut(nf * d);
-        face_values
-            .par_chunks_mut(d)
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(f, out)| {
-                let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
-                let w = 1.0 / r.len() as f64;
-                out.iter_mut().for_each(|x| *x = 0.0);
-                for c in r {
-                    let x = self.ch.value(self.ch.corner_value[c]);
-                    (0..d).for_each(|k| out[k] += x[k] * w);
-                }
-            });
-        let face_values = &*face_values;
-        let face_value = |f: u32| &face_values[f as usize * d..(f as usize + 1) * d];
-        // Edges (one value, or one per side), then vertices (one per value
-        // at the vertex), each computed apart in parallel.
-        let ne = edge_base.len();
-        let start = edge_base.first().copied().unwrap_or(n);
-        let edge_at = |e: usize| (edge_base.get(e).copied().unwrap_or(n) - start) as usize * d;
-        blocks(edge_part, ne, edge_at).for_each(|(edges, block)| {
-            let base = edge_at(edges.start);
-            for e in edges {
-                let run = &mut block[edge_at(e) - base..edge_at(e + 1) - base];
-                self.edge_values(e, &face_value, run);
-            }
-        });
+    }
 
-        // Vertex values sit in vertex order at the front: fill them in
-        // place, a vertex's run at a time.
+    /// Child values: each vertex's siblings (its spans' values, in vertex
+    /// order), then each face's, then each edge's (one, or one per side
+    /// where the edge is a region boundary).
+    fn run(&self) -> FVarChannel {
+        let (p, d, step) = (self.p, self.ch.dim, self.step());
+        let layout = step.layout(&self.continuous, self.spans.len());
+        let mut values = vec![0.0f64; layout.len() * d];
+        let all_linear = self.mode == FVarLinear::All;
+        let (front, face_values) =
+            step.faces_and_edges(&self.continuous, &layout, all_linear, &mut values);
         let vertex_at = |v: usize| self.span_offsets[v] as usize * d;
         blocks(front, p.num_vertices, vertex_at).for_each(|(vertices, block)| {
             let base = vertex_at(vertices.start);
             for v in vertices {
                 let run = &mut block[vertex_at(v) - base..vertex_at(v + 1) - base];
                 for (s, o) in run.chunks_mut(d).enumerate() {
-                    self.vertex_value(v as u32, s, &face_value, o);
+                    self.vertex_value(v as u32, s, face_values, o);
                 }
             }
         });
-        // Child corners: a quad per parent corner (vertex, next edge, face,
-        // previous edge), as the child topology.
-        let mut corner_value = vec![0u32; 4 * p.faces.items.len()];
-        let corner_at = |f: usize| 4 * p.faces.offsets[f] as usize;
-        blocks(&mut corner_value, nf, corner_at).for_each(|(faces, block)| {
-            let base = corner_at(faces.start);
-            for f in faces {
-                let run = &mut block[corner_at(f) - base..corner_at(f + 1) - base];
-                let (start, end) = (p.faces.offsets[f] as usize, p.faces.offsets[f + 1] as usize);
-                for (corner, quad) in (start..end).zip(run.chunks_mut(4)) {
-                    let prev = if corner == start { end - 1 } else { corner - 1 };
-                    let v = p.faces.items[corner] as usize;
-                    let s = self.corner_span[corner];
-                    let side = |e: u32| {
-                        let base = edge_base[e as usize];
-                        if self.continuous[e as usize] {
-                            base
-                        } else {
-                            let faces = p.edge_faces.row(e as usize);
-                            base + faces.iter().position(|&x| x == f as u32).unwrap_or(0) as u32
-                        }
-                    };
-                    let items = [
-                        vertex_base[v] + s,
-                        side(p.face_edges[corner]),
-                        face_base + f as u32,
-                        side(p.face_edges[prev]),
-                    ];
-                    for (i, item) in items.into_iter().enumerate() {
-                        quad[child_slot(end - start, corner - start, i)] = item;
-                    }
-                }
-            }
+        let corner_value = step.corners(&self.continuous, &layout, |corner| {
+            let v = p.faces.items[corner] as usize;
+            self.span_offsets[v] + self.corner_span[corner]
         });
-        debug_assert_eq!(corner_value.len(), self.c.faces.items.len());
         FVarChannel {
             dim: d,
             values,
@@ -410,60 +312,8 @@ impl<'a> Refinement<'a> {
         &self.spans[self.span_offsets[v] as usize..self.span_offsets[v + 1] as usize]
     }
 
-    /// The child values of edge `e`: one where it is continuous, else one
-    /// per side (the midpoint of that face's ends).
-    fn edge_values(
-        &self,
-        e: usize,
-        face_value: &(dyn Fn(u32) -> &'a [f64] + Sync),
-        out: &mut [f64],
-    ) {
-        let (p, d) = (self.p, self.ch.dim);
-        let faces = p.edge_faces.row(e);
-        let ends = |f: u32| {
-            let (a, b) = edge_corners(p, f, e as u32);
-            (
-                self.ch.value(self.ch.corner_value[a]),
-                self.ch.value(self.ch.corner_value[b]),
-            )
-        };
-        if self.continuous[e] && self.mode != FVarLinear::All {
-            let (xa, xb) = ends(faces[0]);
-            let (end_w, face_w) = scheme::edge_point(self.plan.edge_weight[e] as f64, faces.len());
-            for (k, o) in out.iter_mut().enumerate() {
-                *o = end_w * (xa[k] + xb[k])
-                    + faces
-                        .iter()
-                        .map(|&f| face_w * face_value(f)[k])
-                        .sum::<f64>();
-            }
-        } else {
-            // Midpoints, one per side (a continuous edge under `All` gives
-            // the same midpoint from either side).
-            let sides = if self.continuous[e] {
-                &faces[..1]
-            } else {
-                faces
-            };
-            for (&f, o) in sides.iter().zip(out.chunks_mut(d)) {
-                let (xa, xb) = ends(f);
-                for k in 0..d {
-                    o[k] = 0.5 * (xa[k] + xb[k]);
-                }
-            }
-        }
-    }
-
     /// The child value of span `s` at vertex `v`.
-    fn vertex_value(
-        &self,
-        v: u32,
-        s: usize,
-        face_value: &(dyn Fn(u32) -> &'a [f64] + Sync),
-        out: &mut [f64],
-    ) where
-        Self: 'a,
-    {
+    fn vertex_value(&self, v: u32, s: usize, face_values: &[f64], out: &mut [f64]) {
         let (p, d) = (self.p, self.ch.dim);
         let span = &self.spans_of(v as usize)[s];
         let me = self.ch.value(span.value);
@@ -476,19 +326,6 @@ impl<'a> Refinement<'a> {
             p.vertex_faces.row(v as usize)
         } else {
             &span.faces
-        };
-        // The value at the far end of edge e, seen from a face of the region.
-        let far = |e: u32| -> Option<&[f64]> {
-            let faces = p.edge_faces.row(e as usize);
-            // Every face at the vertex is in a whole span's region.
-            let f = if span.whole {
-                faces.first().copied()
-            } else {
-                faces.iter().copied().find(|&f| region.contains(&f))
-            }?;
-            let (a, b) = edge_corners(p, f, e);
-            let other = if p.faces.items[a] == v { b } else { a };
-            Some(self.ch.value(self.ch.corner_value[other]))
         };
         // The region's boundary, side by side: a seam edge whose two faces
         // both hold this value bounds the region twice (it wraps round and
@@ -509,11 +346,6 @@ impl<'a> Refinement<'a> {
             let other = if p.faces.items[a] == v { b } else { a };
             self.ch.value(self.ch.corner_value[other])
         };
-        let (pr, cr, w) = (
-            self.plan.parent_rule[v as usize],
-            self.plan.child_rule[v as usize],
-            self.plan.vertex_weight[v as usize] as f64,
-        );
         // Mismatched (OpenSubdiv's term): a seam at the vertex, or a mesh
         // boundary the option makes linear, or a mesh corner it pins.
         let spans = self.spans_of(v as usize);
@@ -531,46 +363,9 @@ impl<'a> Refinement<'a> {
                 && p.vertex_faces.row(v as usize).len() == 1
                 && self.mode != FVarLinear::None);
         if !mismatch {
-            // Inside one region: the vertex's own rule on the values.
-            let faces = p.vertex_faces.row(v as usize);
-            out.iter_mut().for_each(|x| *x = 0.0);
-            let mut emit = |t: Term, wt: f64| {
-                let x: Option<&[f64]> = match t {
-                    Term::Vertex => Some(me),
-                    Term::EdgeEnd(k) => far(edges[k]),
-                    Term::FacePoint(k) => Some(face_value(faces[k])),
-                    Term::Opposite(k) => {
-                        let f = faces[k] as usize;
-                        let r = p.faces.offsets[f] as usize..p.faces.offsets[f + 1] as usize;
-                        let len = r.len();
-                        r.clone().find(|&c| p.faces.items[c] == v).map(|c| {
-                            let opposite = r.start + (c - r.start + len / 2) % len;
-                            self.ch.value(self.ch.corner_value[opposite])
-                        })
-                    }
-                };
-                if let Some(x) = x {
-                    (0..d).for_each(|k| out[k] += wt * x[k]);
-                }
-            };
-            let parent_sharp =
-                |k: usize| super::level::is_sharp(p.edge_sharpness[edges[k] as usize]);
-            let child_sharp = |k: usize| {
-                let e = edges[k];
-                let half = 2 * e + u32::from(p.edge_verts[e as usize][0] != v);
-                super::level::is_sharp(self.c.edge_sharpness[half as usize])
-            };
-            let (n_e, n_f) = (edges.len(), faces.len());
-            let rules = (pr, cr, w);
-            scheme::blended_vertex_point(
-                self.limit,
-                rules,
-                n_e,
-                n_f,
-                parent_sharp,
-                child_sharp,
-                &mut emit,
-            );
+            // Inside one region (the vertex's one value): the vertex's own
+            // rule on the values.
+            self.step().vertex_rule(v, me, face_values, self.limit, out);
             return;
         }
         // On a region's boundary: pinned, or a smooth curve, by
@@ -709,27 +504,4 @@ fn spans_at(ch: &FVarChannel, p: &Level, continuous: &[bool], v: u32) -> Spans {
     }
     let assigned = corners.iter().map(|&(c, _)| c).zip(span_of).collect();
     Spans::Many(spans, assigned)
-}
-
-/// Items per parallel block of [`blocks`].
-const BLOCK: usize = 1024;
-
-/// `out` cut into one piece per block of `BLOCK` items, item `i`'s output
-/// starting at `at(i)` (ascending, `at(n)` the end), for the blocks to
-/// fill in parallel: items with outputs of different sizes, placed without
-/// a serial pass over every item.
-pub(super) fn blocks<T: Send>(
-    out: &mut [T],
-    n: usize,
-    at: impl Fn(usize) -> usize,
-) -> impl ParallelIterator<Item = (std::ops::Range<usize>, &mut [T])> {
-    let mut pieces = Vec::with_capacity(n.div_ceil(BLOCK));
-    let mut rest = out;
-    for first in (0..n).step_by(BLOCK) {
-        let last = (first + BLOCK).min(n);
-        let (piece, tail) = rest.split_at_mut(at(last) - at(first));
-        pieces.push((first..last, piece));
-        rest = tail;
-    }
-    pieces.into_par_iter()
 }

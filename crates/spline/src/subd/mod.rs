@@ -7,6 +7,7 @@
 
 mod fvar;
 mod fvar_linear;
+mod fvar_step;
 mod level;
 mod limit;
 #[cfg(test)]
@@ -154,26 +155,23 @@ fn columns(g: &Geometry, class: AttribClass) -> Vec<(String, TypeInfo, usize, Ve
         .collect()
 }
 
-fn column(dim: usize, v: &[f64]) -> AttribData {
-    let f = |i: usize| v[i] as f32;
-    let n = v.len() / dim.max(1);
+/// A column of `n` values of `dim` numbers each (`value(i)`), written in
+/// place in parallel: the last level's corners are the largest array a
+/// subdivision outputs.
+fn column<'a>(dim: usize, n: usize, value: impl Fn(usize) -> &'a [f64] + Sync) -> AttribData {
+    let all = || (0..n).into_par_iter().map(&value);
+    let f = |v: &[f64], k: usize| v[k] as f32;
     match dim {
-        1 => AttribData::Float((0..n).map(f).collect()),
-        2 => AttribData::Vec2(
-            (0..n)
-                .map(|i| geode_geo::glam::Vec2::new(f(2 * i), f(2 * i + 1)))
-                .collect(),
-        ),
+        1 => AttribData::Float(all().map(|v| f(v, 0)).collect()),
+        2 => AttribData::Vec2(all().map(|v| Vec2::new(f(v, 0), f(v, 1))).collect()),
         3 => AttribData::Vec3(
-            (0..n)
-                .map(|i| Vec3::new(f(3 * i), f(3 * i + 1), f(3 * i + 2)))
+            all()
+                .map(|v| Vec3::new(f(v, 0), f(v, 1), f(v, 2)))
                 .collect(),
         ),
         _ => AttribData::Vec4(
-            (0..n)
-                .map(|i| {
-                    geode_geo::glam::Vec4::new(f(4 * i), f(4 * i + 1), f(4 * i + 2), f(4 * i + 3))
-                })
+            all()
+                .map(|v| Vec4::new(f(v, 0), f(v, 1), f(v, 2), f(v, 3)))
                 .collect(),
         ),
     }
@@ -230,42 +228,15 @@ impl Kept {
 }
 
 /// The values of the listed corners (None: every corner) of a face-varying
-/// channel as a column, written in place in parallel: the last level's
-/// corners are the largest array a subdivision outputs.
+/// channel as a column.
 fn corner_column(channel: &FVarChannel, corners: Option<&[u32]>) -> AttribData {
     let d = channel.dim;
     let n = corners.map_or(channel.corner_value.len(), <[u32]>::len);
-    let value = |i: usize| {
+    column(d, n, |i| {
         let c = corners.map_or(i, |list| list[i] as usize);
         let at = channel.corner_value[c] as usize * d;
         &channel.values[at..at + d]
-    };
-    let f = |v: &[f64], k: usize| v[k] as f32;
-    let all = || (0..n).into_par_iter();
-    match d {
-        1 => AttribData::Float(all().map(|c| f(value(c), 0)).collect()),
-        2 => AttribData::Vec2(
-            all()
-                .map(|c| Vec2::new(f(value(c), 0), f(value(c), 1)))
-                .collect(),
-        ),
-        3 => AttribData::Vec3(
-            all()
-                .map(|c| {
-                    let v = value(c);
-                    Vec3::new(f(v, 0), f(v, 1), f(v, 2))
-                })
-                .collect(),
-        ),
-        _ => AttribData::Vec4(
-            all()
-                .map(|c| {
-                    let v = value(c);
-                    Vec4::new(f(v, 0), f(v, 1), f(v, 2), f(v, 3))
-                })
-                .collect(),
-        ),
-    }
+    })
 }
 
 /// Positions of every refined level (level 0 first) as flat `x y z` runs,
@@ -401,7 +372,10 @@ pub fn subdivide(
         out.set_attrib(
             AttribClass::Point,
             &name,
-            Attribute::from_data(column(dim, &vals), info),
+            Attribute::from_data(
+                column(dim, vals.len() / dim, |i| &vals[i * dim..(i + 1) * dim]),
+                info,
+            ),
         )?;
     }
     if let Some(n) = normals {
