@@ -213,3 +213,35 @@ fn a_bicubic_torus_equals_the_catmull_clark_limit_of_its_control_mesh() {
     }
     assert!(worst < 2e-6, "to float precision: worst {worst}");
 }
+
+/// The same bytes on one thread and on several, for every option's
+/// face-varying path (linear passes and span rules) and the limit: the car
+/// at level 3 (105k faces, creases, uv seams) splits every parallel step
+/// into many blocks.
+#[test]
+fn the_same_output_on_one_thread_and_many() {
+    let car = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/corpus/opensubdiv/catmark_car.obj");
+    let g = geode_io::read(&car, &geode_io::NoProgress).unwrap();
+    let on = |threads: usize, o: &SubdOptions| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| subdivide(&g, o, &|| false).unwrap().content_hash())
+    };
+    for fvar in [
+        geode_spline::subd::FVarLinear::Boundaries,
+        geode_spline::subd::FVarLinear::CornersPlus1,
+    ] {
+        for limit in [false, true] {
+            let o = SubdOptions {
+                fvar: Some(fvar),
+                ..opts(3, limit)
+            };
+            let one = on(1, &o);
+            assert_eq!(one, on(3, &o), "{fvar:?}, limit {limit}");
+            assert_eq!(one, on(4, &o), "{fvar:?}, limit {limit}");
+        }
+    }
+}
