@@ -31,7 +31,7 @@ pub(crate) struct RegionTapes<'a> {
     pub brick_side: f64,
 }
 
-impl RegionTapes<'_> {
+impl<'a> RegionTapes<'a> {
     /// The index of the brick holding `p`, or `u32::MAX` for the root tape.
     pub(crate) fn brick_of(&self, p: Vec3) -> u32 {
         let c: [f64; 3] =
@@ -45,53 +45,72 @@ impl RegionTapes<'_> {
             .map_or(u32::MAX, |i| i as u32)
     }
 
-    fn tape(&self, brick: u32) -> &Tape {
+    fn tape(&self, brick: u32) -> &'a Tape {
         self.bricks.get(brick as usize).map_or(self.root, |b| b.1)
     }
 }
 
 /// Values and gradients at `points`, each evaluated with its brick's
 /// simplified tape (points grouped by brick, groups in parallel).
-pub(crate) fn grads_at(tapes: &RegionTapes, points: &[Vec3]) -> Vec<Grad> {
+pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad> {
     let mut order: Vec<(u32, u32)> = points
-        .par_iter()
+        .iter()
         .enumerate()
         .map(|(i, p)| (tapes.brick_of(*p), i as u32))
         .collect();
-    order.par_sort_unstable();
-    let sorted: Vec<Vec<Grad>> = order
-        .par_chunk_by(|a, b| a.0 == b.0)
-        .map_init(
-            // Made for the first group's tape (the root tape's registers
-            // would be far more than a brick's needs).
-            || (None::<BatchGradEval>, Vec::new()),
-            |(eval, at), group| {
-                let tape = tapes.tape(group[0].0);
-                let eval = match eval {
-                    Some(e) => {
-                        e.set_tape(tape);
-                        e
-                    }
-                    None => eval.insert(BatchGradEval::new(tape)),
-                };
-                at.clear();
-                at.extend(
-                    group
-                        .iter()
-                        .map(|&(_, i)| points[i as usize].as_dvec3().to_array()),
-                );
-                let mut grads = vec![Grad::default(); group.len()];
-                eval.eval(at, &mut grads);
-                grads
-            },
-        )
-        .collect();
+    let mut sorted = vec![Grad::default(); points.len()];
+    let by_brick =
+        |eval: &mut Option<BatchGradEval<'a>>, group: &[(u32, u32)], out: &mut [Grad]| {
+            let tape = tapes.tape(group[0].0);
+            let eval = match eval {
+                Some(e) => {
+                    e.set_tape(tape);
+                    e
+                }
+                // Made for the first group's tape (the root tape's registers
+                // would be far more than a brick's needs).
+                None => eval.insert(BatchGradEval::new(tape)),
+            };
+            let at: Vec<[f64; 3]> = group
+                .iter()
+                .map(|&(_, i)| points[i as usize].as_dvec3().to_array())
+                .collect();
+            eval.eval(&at, out);
+        };
+    if points.len() < SERIAL_POINTS {
+        // A handful of points (late passes of reduction) costs less than
+        // waking the pool.
+        order.sort_unstable();
+        let mut eval = None;
+        let mut start = 0;
+        for group in order.chunk_by(|a, b| a.0 == b.0) {
+            by_brick(&mut eval, group, &mut sorted[start..start + group.len()]);
+            start += group.len();
+        }
+    } else {
+        order.par_sort_unstable();
+        let groups: Vec<&[(u32, u32)]> = order.chunk_by(|a, b| a.0 == b.0).collect();
+        let mut slices = Vec::with_capacity(groups.len());
+        let mut rest = sorted.as_mut_slice();
+        for g in &groups {
+            let (head, tail) = rest.split_at_mut(g.len());
+            slices.push(head);
+            rest = tail;
+        }
+        groups
+            .into_par_iter()
+            .zip(slices)
+            .for_each_init(|| None, |eval, (group, out)| by_brick(eval, group, out));
+    }
     let mut out = vec![Grad::default(); points.len()];
-    for ((_, i), g) in order.iter().zip(sorted.into_iter().flatten()) {
+    for ((_, i), g) in order.iter().zip(sorted) {
         out[*i as usize] = g;
     }
     out
 }
+
+/// Points below which values are computed on the calling thread.
+const SERIAL_POINTS: usize = 2048;
 
 /// Newton steps of a walk to the surface.
 const WALK_STEPS: usize = 3;
@@ -114,6 +133,83 @@ pub(crate) fn walk_to_surface(
         grads = grads_at(tapes, &feet);
     }
     (feet, grads)
+}
+
+/// Probes each way along a line before bisecting its first sign change.
+const RAY_STEPS: usize = 8;
+
+/// Halvings of a bracketed sign change: 2^-12 of a probe step.
+const RAY_HALVINGS: usize = 12;
+
+/// Where the line through each start along its direction first meets the
+/// surface within `reach` either way (the sign change of the field nearest
+/// the start, bisected), with the value and gradient there; `None` where
+/// the line meets none. Unlike a walk along the gradient, this finds the
+/// nearest surface across the line even where the gradient leads to a
+/// farther one (a field whose parts are scaled differently, joined by
+/// min or max: the part deciding the value need not own the nearest
+/// surface).
+pub(crate) fn ray_feet(
+    tapes: &RegionTapes,
+    (starts, at_starts): (&[Vec3], &[Grad]),
+    dirs: &[Vec3],
+    reach: &[f32],
+) -> Vec<Option<(Vec3, Grad)>> {
+    let inside = |g: &Grad| g.v >= 0.0;
+    let at = |i: usize, t: f32| starts[i] + dirs[i] * t;
+    // Probes at growing distance, alternating sides: the first whose side
+    // differs from the start's brackets the nearest crossing.
+    let offsets: Vec<f32> = (1..=RAY_STEPS)
+        .flat_map(|k| [k as f32, -(k as f32)])
+        .map(|k| k / RAY_STEPS as f32)
+        .collect();
+    let probes: Vec<Vec3> = (0..starts.len())
+        .flat_map(|i| offsets.iter().map(move |k| at(i, k * reach[i])))
+        .collect();
+    let at_probes = grads_at(tapes, &probes);
+    // (start's side, last t on it, first t past it) per bracketed start.
+    let mut brackets: Vec<Option<(f32, f32)>> = (0..starts.len())
+        .map(|i| {
+            let side = inside(&at_starts[i]);
+            let row = &at_probes[i * offsets.len()..(i + 1) * offsets.len()];
+            let k = row
+                .iter()
+                .position(|g| g.v.is_finite() && inside(g) != side)?;
+            let far = offsets[k] * reach[i];
+            Some((far - offsets[k].signum() * reach[i] / RAY_STEPS as f32, far))
+        })
+        .collect();
+    for _ in 0..RAY_HALVINGS {
+        let mids: Vec<Vec3> = brackets
+            .iter()
+            .enumerate()
+            .filter_map(|(i, b)| b.map(|(near, far)| at(i, 0.5 * (near + far))))
+            .collect();
+        let at_mids = grads_at(tapes, &mids);
+        let mut next = at_mids.iter();
+        for (i, b) in brackets.iter_mut().enumerate() {
+            let Some((near, far)) = b.as_mut() else {
+                continue;
+            };
+            let Some(g) = next.next() else { break };
+            let mid = 0.5 * (*near + *far);
+            if inside(g) == inside(&at_starts[i]) {
+                *near = mid;
+            } else {
+                *far = mid;
+            }
+        }
+    }
+    let feet: Vec<Vec3> = brackets
+        .iter()
+        .enumerate()
+        .filter_map(|(i, b)| b.map(|(near, far)| at(i, 0.5 * (near + far))))
+        .collect();
+    let mut at_feet = grads_at(tapes, &feet).into_iter().zip(feet);
+    brackets
+        .iter()
+        .map(|b| b.and_then(|_| at_feet.next().map(|(g, p)| (p, g))))
+        .collect()
 }
 
 /// One Newton step toward `f = 0` along the gradient (none where it vanishes).
@@ -191,4 +287,48 @@ fn compact(positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>, triangles: &mut [
     let kept = compact_vertices(positions.len(), triangles);
     *positions = kept.iter().map(|&v| positions[v as usize]).collect();
     *normals = kept.iter().map(|&v| normals[v as usize]).collect();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::sphere;
+
+    /// A ball of radius 0.5 joined to one of radius 0.3 whose field is
+    /// scaled by 4: at `m`, 0.05 outside the first and 0.03 outside the
+    /// second, the first decides the value (-0.05 against -0.12), so the
+    /// walk along the gradient ends on the farther ball.
+    #[test]
+    fn a_ray_finds_the_nearer_surface_the_gradient_walk_misses() {
+        let f = sphere([0.0; 3], 0.5).max(sphere([0.6, 0.0, 0.0], 0.3) * 4.0);
+        let tape = Tape::compile(&f);
+        let tapes = RegionTapes {
+            root: &tape,
+            bricks: Vec::new(),
+            origin: [0.0; 3],
+            brick_side: 1.0,
+        };
+        let x = (0.55f64 * 0.55 - 0.33 * 0.33 + 0.36) / 1.2;
+        let m = Vec3::new(x as f32, (0.55f64 * 0.55 - x * x).sqrt() as f32, 0.0);
+        let at_m = grads_at(&tapes, &[m]);
+        assert!((at_m[0].v + 0.05).abs() < 1e-5, "{}", at_m[0].v);
+        let (walked, _) = walk_to_surface(&tapes, &[m], &at_m);
+        assert!((walked[0].distance(m) - 0.05).abs() < 1e-4);
+        let toward = (Vec3::new(0.6, 0.0, 0.0) - m).normalize();
+        let away = Vec3::new(0.0, 0.0, 1.0);
+        let feet = ray_feet(
+            &tapes,
+            (&[m, m], &[at_m[0]; 2]),
+            &[toward, away],
+            &[0.1, 0.01],
+        );
+        let (foot, at_foot) = feet[0].expect("the second ball is 0.03 away along the ray");
+        assert!(
+            (foot.distance(m) - 0.03).abs() < 1e-4,
+            "{}",
+            foot.distance(m)
+        );
+        assert!(at_foot.v.abs() < 1e-4, "{}", at_foot.v);
+        assert!(feet[1].is_none(), "nothing within 0.01 across the gap");
+    }
 }

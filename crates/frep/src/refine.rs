@@ -10,7 +10,7 @@ use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
 use crate::adaptive::{
-    distance_estimate, field_distances, grads_at, walk_to_surface, Mesh, RegionTapes,
+    distance_estimate, field_distances, grads_at, ray_feet, walk_to_surface, Mesh, RegionTapes,
 };
 use crate::eval::Grad;
 use crate::flip::flip_edges;
@@ -208,9 +208,11 @@ fn onto_surface(
 
 /// Where each split edge's new vertex goes: its midpoint moved onto the
 /// surface (within the edge's length: across a right-angled crease the
-/// surface lies half of it away), or, where the ends' tangent planes meet
-/// in a line (the edge crosses a crease), the point of that line nearest
-/// the midpoint when it lies on the surface. With normals.
+/// surface lies half of it away) by the walk along the gradient or along
+/// the ends' mean normal, whichever lands nearer, or, where the ends'
+/// tangent planes meet in a line (the edge crosses a crease), the point of
+/// that line nearest the midpoint when it lies on the surface. With
+/// normals.
 fn on_surface(
     tapes: &RegionTapes,
     (positions, normals): (&[Vec3], &[Vec3]),
@@ -220,7 +222,23 @@ fn on_surface(
     let p = |v: u32| positions[v as usize];
     let mids: Vec<Vec3> = split.iter().map(|e| 0.5 * (p(e[0]) + p(e[1]))).collect();
     let reach: Vec<f32> = split.iter().map(|e| (p(e[0]) - p(e[1])).length()).collect();
-    let (mut points, mut at_points) = project(tapes, (&mids, &grads_at(tapes, &mids)), &reach);
+    let at_mids = grads_at(tapes, &mids);
+    let (mut points, mut at_points) = project(tapes, (&mids, &at_mids), &reach);
+    // The walk follows the gradient, which can lead to a farther surface
+    // than the one across the edge: the nearest crossing along the ends'
+    // mean normal wins when it is nearer.
+    let across: Vec<Vec3> = split
+        .iter()
+        .map(|e| (normals[e[0] as usize] + normals[e[1] as usize]).normalize_or(Vec3::Z))
+        .collect();
+    let rays = ray_feet(tapes, (&mids, &at_mids), &across, &reach);
+    for (i, ray) in rays.into_iter().enumerate() {
+        let Some((foot, at_foot)) = ray else { continue };
+        let walked = (distance_estimate(&at_points[i]).abs() as f64) <= 1e-3 * tolerance;
+        if !walked || foot.distance(mids[i]) < points[i].distance(mids[i]) {
+            (points[i], at_points[i]) = (foot, at_foot);
+        }
+    }
     let creases: Vec<Vec3> = split
         .iter()
         .zip(&mids)
