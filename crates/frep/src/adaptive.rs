@@ -53,11 +53,12 @@ impl<'a> RegionTapes<'a> {
 /// Values and gradients at `points`, each evaluated with its brick's
 /// simplified tape (points grouped by brick, groups in parallel).
 pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad> {
-    let mut order: Vec<(u32, u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, p)| (tapes.brick_of(*p), i as u32))
-        .collect();
+    let keyed = |(i, p): (usize, &Vec3)| (tapes.brick_of(*p), i as u32);
+    let mut order: Vec<(u32, u32)> = if points.len() < SERIAL_POINTS {
+        points.iter().enumerate().map(keyed).collect()
+    } else {
+        points.par_iter().enumerate().map(keyed).collect()
+    };
     let mut sorted = vec![Grad::default(); points.len()];
     let by_brick =
         |eval: &mut Option<BatchGradEval<'a>>, group: &[(u32, u32)], out: &mut [Grad]| {
