@@ -22,14 +22,42 @@ pub(crate) const B: usize = 8;
 pub(crate) struct BrickOut {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
-    /// (edge key, slot around the edge, local vertex, outward is +axis).
-    pub refs: Vec<(u64, u8, u32, bool)>,
+    /// The dual quads of the edges all four of whose cells are in the
+    /// brick, over local vertices, oriented outward.
+    pub quads: Vec<[u32; 4]>,
+    /// The cells' references to the other crossed edges (their quads are
+    /// made once every brick is meshed).
+    pub refs: Vec<EdgeRef>,
     /// Local vertices whose component holds both crossings of an ambiguous
     /// face: the only ones that can be pinched (see `pinch`).
     pub pinched: Vec<u32>,
     pub cells: usize,
     /// Cells holding surface that none of their corners shows (see `thin`).
     pub missed: Vec<[usize; 3]>,
+}
+
+/// A cell's reference to a crossed grid edge: (edge key, slot around the
+/// edge, local vertex, outward is +axis).
+pub(crate) type EdgeRef = (u64, u8, u32, bool);
+
+/// The dual quads, oriented outward, of the edges all four of whose cells
+/// `refs` (sorted by key and slot) holds; `refs` keeps the others.
+pub(crate) fn take_quads(refs: &mut Vec<EdgeRef>) -> Vec<[u32; 4]> {
+    let mut quads = Vec::with_capacity(refs.len() / 4);
+    let mut rest = Vec::new();
+    for group in refs.chunk_by(|a, b| a.0 == b.0) {
+        if group.len() == 4 && group.iter().enumerate().all(|(i, r)| r.1 as usize == i) {
+            let mut q = [group[0].2, group[1].2, group[2].2, group[3].2];
+            if !group[0].3 {
+                q.reverse();
+            }
+            quads.push(q);
+        } else {
+            rest.extend_from_slice(group);
+        }
+    }
+    *refs = rest;
+    quads
 }
 
 pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
@@ -130,6 +158,7 @@ pub(crate) fn mesh_brick(
     let mut out = BrickOut {
         positions: Vec::new(),
         normals: Vec::new(),
+        quads: Vec::new(),
         refs: Vec::new(),
         pinched: Vec::new(),
         cells: 0,
@@ -358,6 +387,10 @@ pub(crate) fn mesh_brick(
         }
     }
     out.normals = normals_of_used(&mut point, &mut grads, &vertex_points, &out.refs);
+    // Most edges lie inside the brick: their quads are made here, in
+    // parallel, and only edges on the brick's faces meet in the global sort.
+    out.refs.sort_unstable_by_key(|r| (r.0, r.1));
+    out.quads = take_quads(&mut out.refs);
     out
 }
 
@@ -367,7 +400,7 @@ fn normals_of_used(
     point: &mut PointEval,
     grads: &mut BatchGradEval,
     vertex_points: &[[f64; 3]],
-    refs: &[(u64, u8, u32, bool)],
+    refs: &[EdgeRef],
 ) -> Vec<Vec3> {
     let mut used = vec![false; vertex_points.len()];
     for r in refs {

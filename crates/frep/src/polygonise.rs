@@ -15,7 +15,7 @@ use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use rayon::prelude::*;
 
 use crate::adaptive;
-use crate::brick::{mesh_brick, BrickOut, B};
+use crate::brick::{mesh_brick, take_quads, BrickOut, EdgeRef, B};
 use crate::eval::{BatchEval, IntervalEval};
 use crate::field::{Binary, Field, Node};
 use crate::interval::Interval;
@@ -350,7 +350,8 @@ pub fn polygonise(
     let outs: Vec<BrickOut> = outs.into_iter().flatten().collect();
     let mut positions = Vec::new();
     let mut normals = Vec::new();
-    let mut refs: Vec<(u64, u8, u32, bool)> = Vec::new();
+    let mut quads: Vec<[u32; 4]> = Vec::new();
+    let mut refs: Vec<EdgeRef> = Vec::new();
     // Pinch candidates with the brick whose (simplified) tape is valid there.
     let mut pinched: Vec<(u32, u32)> = Vec::new();
     let mut stats = MeshStats {
@@ -368,6 +369,7 @@ pub fn polygonise(
         let offset = positions.len() as u32;
         positions.extend(o.positions);
         normals.extend(o.normals);
+        quads.extend(o.quads.into_iter().map(|q| q.map(|v| v + offset)));
         refs.extend(o.refs.into_iter().map(|(k, s, v, p)| (k, s, v + offset, p)));
         pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
         stats.cells_with_surface += o.cells;
@@ -376,39 +378,15 @@ pub fn polygonise(
     stop()?;
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
     stop()?;
-    let mut triangles: Vec<[u32; 3]> = Vec::with_capacity(refs.len() / 2);
-    for group in refs.chunk_by(|a, b| a.0 == b.0) {
-        if group.len() != 4 || group.iter().enumerate().any(|(i, r)| r.1 as usize != i) {
-            // Cannot happen when every cell around a crossed edge survived
-            // pruning (intervals are conservative); skip rather than panic.
-            continue;
-        }
-        let mut q = [group[0].2, group[1].2, group[2].2, group[3].2];
-        if !group[0].3 {
-            q.reverse();
-        }
-        if q[0] == q[1] || q[1] == q[2] || q[2] == q[3] || q[3] == q[0] {
-            // Cells merged by adaptive output: repeated corners are
-            // neighbours around the edge; three distinct make a triangle.
-            let mut distinct: Vec<u32> = Vec::with_capacity(4);
-            for (i, &v) in q.iter().enumerate() {
-                if v != q[(i + 3) % 4] {
-                    distinct.push(v);
-                }
-            }
-            if distinct.len() == 3 {
-                triangles.push([distinct[0], distinct[1], distinct[2]]);
-            }
-            continue;
-        }
-        if split_along_02(&positions, &normals, q) {
-            triangles.push([q[0], q[1], q[2]]);
-            triangles.push([q[0], q[2], q[3]]);
-        } else {
-            triangles.push([q[0], q[1], q[3]]);
-            triangles.push([q[1], q[2], q[3]]);
-        }
-    }
+    // Edges on bricks' faces: any group left incomplete cannot happen when
+    // every cell around a crossed edge survived pruning (intervals are
+    // conservative), and is skipped rather than panicked on.
+    quads.extend(take_quads(&mut refs));
+    let mut triangles: Vec<[u32; 3]> = quads
+        .par_iter()
+        .with_min_len(4096)
+        .flat_map_iter(|&q| quad_triangles(&positions, &normals, q))
+        .collect();
     stop()?;
     pinched.sort_unstable();
     pinched.dedup_by_key(|c| c.0);
@@ -450,6 +428,34 @@ pub fn polygonise(
     .map_err(|_| MeshError::BadBounds)?;
     progress(1.0);
     Ok((g, stats))
+}
+
+/// The triangles of a dual quad: two, split along the diagonal
+/// `split_along_02` picks; where adaptive output merged cells, repeated
+/// corners are neighbours around the edge and three distinct make one
+/// triangle (fewer make none).
+fn quad_triangles(
+    positions: &[Vec3],
+    normals: &[Vec3],
+    q: [u32; 4],
+) -> impl Iterator<Item = [u32; 3]> {
+    let (pair, count) = if q[0] == q[1] || q[1] == q[2] || q[2] == q[3] || q[3] == q[0] {
+        let mut distinct = [0; 4];
+        let mut n = 0;
+        for i in 0..4 {
+            if q[i] != q[(i + 3) % 4] {
+                distinct[n] = q[i];
+                n += 1;
+            }
+        }
+        let [a, b, c, _] = distinct;
+        ([[a, b, c]; 2], usize::from(n == 3))
+    } else if split_along_02(positions, normals, q) {
+        ([[q[0], q[1], q[2]], [q[0], q[2], q[3]]], 2)
+    } else {
+        ([[q[0], q[1], q[3]], [q[1], q[2], q[3]]], 2)
+    };
+    pair.into_iter().take(count)
 }
 
 /// Whether a quad splits along its diagonal q0-q2 (else q1-q3): the split
