@@ -1,8 +1,9 @@
 //! Refinement toward a tolerance: where a triangle of the dual-contoured
 //! mesh strays further than the tolerance from the surface (its centroid or
 //! an edge's midpoint, measured with the field), the edge is split at its
-//! midpoint moved onto the surface by Newton steps along the gradient, and
-//! the triangles around it are cut to match. Every triangle cut by one, two
+//! midpoint moved onto the surface (by Newton steps along the gradient, or
+//! to the nearest crossing along the ends' mean normal where that is
+//! nearer), and the triangles around it are cut to match. Every triangle cut by one, two
 //! or three of its edges is replaced by two, three or four, so neighbours
 //! always agree and the mesh stays closed and manifold.
 
@@ -53,11 +54,13 @@ pub(crate) fn refine(
     let mut before: Option<Snapshot> = None;
     let start = triangles.len().max(1);
     let mut last = (f64::INFINITY, usize::MAX);
+    let mut measured = Measured::default();
     for round in 0..=ROUNDS {
         if cancel() {
             return None;
         }
-        let (split, worst) = edges_to_split(tapes, (positions, normals), triangles, tolerance);
+        let mesh = (positions.as_slice(), normals.as_slice());
+        let (split, worst) = edges_to_split(tapes, mesh, triangles, tolerance, &mut measured);
         let helped = worst < last.0 || split.len() < last.1;
         if worst > last.0 {
             if let Some((p, n, t, splits)) = before.take() {
@@ -95,6 +98,44 @@ pub(crate) fn refine(
     Some(done)
 }
 
+/// Distances measured in earlier rounds, by edge and by triangle (sorted
+/// keys): refinement never moves a vertex, only adds them, so an edge or a
+/// triangle that is still there needs no second measure.
+#[derive(Default)]
+struct Measured {
+    edges: Vec<([u32; 2], f32)>,
+    triangles: Vec<([u32; 3], f32)>,
+}
+
+/// The field distance of each key's sample (`keys` sorted): from `known`
+/// (sorted) where it was measured, else measured now.
+fn distances<K: Ord + Copy + Sync>(
+    tapes: &RegionTapes,
+    keys: &[K],
+    known: &[(K, f32)],
+    sample: impl Fn(&K) -> Vec3 + Sync,
+) -> Vec<f32> {
+    let mut out = vec![0.0f32; keys.len()];
+    let mut missing = Vec::new();
+    let mut j = 0;
+    for (i, k) in keys.iter().enumerate() {
+        while j < known.len() && known[j].0 < *k {
+            j += 1;
+        }
+        match known.get(j) {
+            Some((key, d)) if key == k => out[i] = *d,
+            _ => missing.push(i),
+        }
+    }
+    let points: Vec<Vec3> = missing.par_iter().map(|&i| sample(&keys[i])).collect();
+    let mut found = vec![0.0f32; points.len()];
+    field_distances(tapes, &points, &mut found);
+    for (i, d) in missing.into_iter().zip(found) {
+        out[i] = d;
+    }
+    out
+}
+
 /// The edges (lower index first, sorted) whose midpoint strays beyond the
 /// tolerance, and the longest edge of each triangle whose centroid does
 /// while none of its edges does; with the largest deviation seen. Only
@@ -106,6 +147,7 @@ fn edges_to_split(
     (positions, normals): (&[Vec3], &[Vec3]),
     triangles: &[[u32; 3]],
     tolerance: f64,
+    measured: &mut Measured,
 ) -> (Vec<[u32; 2]>, f64) {
     let p = |v: u32| positions[v as usize];
     let curved = |a: u32, b: u32| {
@@ -115,36 +157,55 @@ fn edges_to_split(
         bend as f64 >= tolerance
     };
     // Each edge once: from the triangle where it runs upwards.
-    let edges: Vec<[u32; 2]> = triangles
+    let mut edges: Vec<[u32; 2]> = triangles
         .par_iter()
         .flat_map_iter(|t| (0..3).map(move |i| [t[i], t[(i + 1) % 3]]))
         .filter(|e| e[0] < e[1] && curved(e[0], e[1]))
         .collect();
-    let bent: Vec<&[u32; 3]> = triangles
+    edges.par_sort_unstable();
+    // Triangles by their corners in ascending order (a centroid does not
+    // depend on their order).
+    let mut bent: Vec<[u32; 3]> = triangles
         .par_iter()
         .filter(|t| (0..3).any(|i| curved(t[i], t[(i + 1) % 3])))
+        .map(|t| {
+            let mut t = *t;
+            t.sort_unstable();
+            t
+        })
         .collect();
-    let mut samples: Vec<Vec3> = edges
-        .par_iter()
-        .map(|e| 0.5 * (p(e[0]) + p(e[1])))
+    bent.par_sort_unstable();
+    let at_edges = distances(tapes, &edges, &measured.edges, |e| {
+        0.5 * (p(e[0]) + p(e[1]))
+    });
+    let at_centroids = distances(tapes, &bent, &measured.triangles, |t| {
+        (p(t[0]) + p(t[1]) + p(t[2])) / 3.0
+    });
+    measured.edges = edges
+        .iter()
+        .copied()
+        .zip(at_edges.iter().copied())
         .collect();
-    samples.par_extend(bent.par_iter().map(|t| (p(t[0]) + p(t[1]) + p(t[2])) / 3.0));
-    let mut far = vec![0.0f32; samples.len()];
-    field_distances(tapes, &samples, &mut far);
-    let far: Vec<f64> = far.into_iter().map(f64::from).collect();
-    let worst = far.iter().copied().fold(0.0, f64::max);
-    let (at_edges, at_centroids) = far.split_at(edges.len());
+    measured.triangles = bent
+        .iter()
+        .copied()
+        .zip(at_centroids.iter().copied())
+        .collect();
+    let worst = at_edges
+        .iter()
+        .chain(&at_centroids)
+        .fold(0.0, |w, &d| f64::max(w, d.into()));
     let mut split: Vec<[u32; 2]> = edges
         .iter()
-        .zip(at_edges)
-        .filter(|(_, d)| **d > tolerance)
+        .zip(&at_edges)
+        .filter(|(_, d)| f64::from(**d) > tolerance)
         .map(|(e, _)| *e)
         .collect();
     split.sort_unstable();
     let mut longest: Vec<[u32; 2]> = bent
         .iter()
-        .zip(at_centroids)
-        .filter(|(_, d)| **d > tolerance)
+        .zip(&at_centroids)
+        .filter(|(_, d)| f64::from(**d) > tolerance)
         .filter_map(|(t, _)| {
             let sides = [0, 1, 2].map(|i| {
                 let (a, b) = (t[i], t[(i + 1) % 3]);
