@@ -5,7 +5,9 @@
 //! closed; vertices shared by two sheets are split afterwards, see `pinch`),
 //! placed by a QEF
 //! over the crossings' tangent planes so sharp edges and corners survive,
-//! with analytic normals from the gradient.
+//! with analytic normals from the gradient. Each brick makes the dual quads
+//! of the crossed edges all four of whose cells it holds; the cells'
+//! references to edges on brick faces meet in one sort afterwards.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
