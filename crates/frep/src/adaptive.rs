@@ -53,11 +53,18 @@ impl<'a> RegionTapes<'a> {
 /// Values and gradients at `points`, each evaluated with its brick's
 /// simplified tape (points grouped by brick, groups in parallel).
 pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad> {
+    // A handful of points (late passes of reduction) costs less on the
+    // calling thread than waking the pool.
+    let serial = points.len() < SERIAL_POINTS;
     let keyed = |(i, p): (usize, &Vec3)| (tapes.brick_of(*p), i as u32);
-    let mut order: Vec<(u32, u32)> = if points.len() < SERIAL_POINTS {
-        points.iter().enumerate().map(keyed).collect()
+    let order: Vec<(u32, u32)> = if serial {
+        let mut order: Vec<_> = points.iter().enumerate().map(keyed).collect();
+        order.sort_unstable();
+        order
     } else {
-        points.par_iter().enumerate().map(keyed).collect()
+        let mut order: Vec<_> = points.par_iter().enumerate().map(keyed).collect();
+        order.par_sort_unstable();
+        order
     };
     let mut sorted = vec![Grad::default(); points.len()];
     let by_brick =
@@ -78,10 +85,7 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
                 .collect();
             eval.eval(&at, out);
         };
-    if points.len() < SERIAL_POINTS {
-        // A handful of points (late passes of reduction) costs less than
-        // waking the pool.
-        order.sort_unstable();
+    if serial {
         let mut eval = None;
         let mut start = 0;
         for group in order.chunk_by(|a, b| a.0 == b.0) {
@@ -89,7 +93,6 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
             start += group.len();
         }
     } else {
-        order.par_sort_unstable();
         let groups: Vec<&[(u32, u32)]> = order.chunk_by(|a, b| a.0 == b.0).collect();
         let mut slices = Vec::with_capacity(groups.len());
         let mut rest = sorted.as_mut_slice();
@@ -168,7 +171,7 @@ pub(crate) fn ray_feet(
         .flat_map(|i| offsets.iter().map(move |k| at(i, k * reach[i])))
         .collect();
     let at_probes = grads_at(tapes, &probes);
-    // (start's side, last t on it, first t past it) per bracketed start.
+    // (last t on the start's side, first t past it) per bracketed start.
     let mut brackets: Vec<Option<(f32, f32)>> = (0..starts.len())
         .map(|i| {
             let side = inside(&at_starts[i]);

@@ -3,9 +3,9 @@
 //! an edge's midpoint, measured with the field), the edge is split at its
 //! midpoint moved onto the surface (by Newton steps along the gradient, or
 //! to the nearest crossing along the ends' mean normal where that is
-//! nearer), and the triangles around it are cut to match. Every triangle cut by one, two
-//! or three of its edges is replaced by two, three or four, so neighbours
-//! always agree and the mesh stays closed and manifold.
+//! nearer), and the triangles around it are cut to match. Every triangle
+//! cut by one, two or three of its edges is replaced by two, three or four,
+//! so neighbours always agree and the mesh stays closed and manifold.
 
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
@@ -201,7 +201,6 @@ fn edges_to_split(
         .filter(|(_, d)| f64::from(**d) > tolerance)
         .map(|(e, _)| *e)
         .collect();
-    split.sort_unstable();
     let mut longest: Vec<[u32; 2]> = bent
         .iter()
         .zip(&at_centroids)
