@@ -11,7 +11,7 @@
 
 use crate::brick::B;
 use crate::eval::{BatchEval, BatchGradEval, Grad};
-use crate::lattice::Lattice;
+use crate::lattice::{lattice_index, Lattice, L};
 use crate::polygonise::Grid;
 
 /// How far past the predicted crossing the probes land, in cells: a feature
@@ -21,29 +21,51 @@ const OVERSHOOT: [f64; 2] = [0.1, 0.25];
 /// Crossings predicted further than this, in cells, are other cells' to find.
 const REACH: f64 = 1.5;
 
-/// Whether the lattice predicts a crossing next to corner `c` that it does
-/// not show: along some axis the field rises towards zero from the corner
-/// behind enough to cross before the corner ahead, yet the corner ahead has
-/// the same sign. A surface the corners show never does this where the
-/// field is locally linear; a feature between the corners does.
-fn crossing_missed(lattice: &Lattice, c: [isize; 3]) -> bool {
-    let v = lattice.at(c);
+/// Whether the lattice predicts a crossing next to a corner of value `v`
+/// that it does not show, from its neighbours `prev` and `next` along an
+/// axis: the field rises towards zero from the one behind enough to cross
+/// before the one ahead, yet the one ahead has the corner's sign (either
+/// way along the axis). A surface the corners show never does this where
+/// the field is locally linear; a feature between the corners does.
+fn crossing_missed(v: f32, prev: f32, next: f32) -> bool {
     // Towards zero is up from outside, down from inside.
     let up = if v < 0.0 { 1.0 } else { -1.0 };
     let inside = v >= 0.0;
-    (0..3).any(|axis| {
-        [-1, 1].into_iter().any(|step| {
-            let (mut behind, mut ahead) = (c, c);
-            behind[axis] -= step;
-            ahead[axis] += step;
-            let lattice_range = 0..=B as isize;
-            if !lattice_range.contains(&behind[axis]) || !lattice_range.contains(&ahead[axis]) {
-                return false;
-            }
-            let rise = up * (v - lattice.at(behind));
-            rise > 0.0 && up * v + rise >= 0.0 && (lattice.at(ahead) >= 0.0) == inside
+    [(prev, next), (next, prev)]
+        .into_iter()
+        .any(|(behind, ahead)| {
+            let rise = up * (v - behind);
+            rise > 0.0 && up * v + rise >= 0.0 && (ahead >= 0.0) == inside
         })
-    })
+}
+
+/// The brick's corners (local, in increasing order) next to which the
+/// lattice predicts a crossing it does not show along some axis (only
+/// corners with a neighbour either way along that axis can tell).
+fn corners_missing_crossings(lattice: &Lattice) -> Vec<[isize; 3]> {
+    let strides = [1, L, L * L];
+    let mut corners = Vec::new();
+    for k in 0..=B as isize {
+        for j in 0..=B as isize {
+            for i in 0..=B as isize {
+                let c = [i, j, k];
+                let at = lattice_index(c);
+                let v = lattice.values[at];
+                let missed = (0..3).any(|axis| {
+                    (1..B as isize).contains(&c[axis])
+                        && crossing_missed(
+                            v,
+                            lattice.values[at - strides[axis]],
+                            lattice.values[at + strides[axis]],
+                        )
+                });
+                if missed {
+                    corners.push(c);
+                }
+            }
+        }
+    }
+    corners
 }
 
 /// The brick's cells (global coordinates) that hold surface none of their
@@ -54,16 +76,7 @@ pub(crate) fn missed_cells(
     grid: &Grid,
     base: [usize; 3],
 ) -> Vec<[usize; 3]> {
-    let mut corners: Vec<[isize; 3]> = Vec::new();
-    for k in 0..=B as isize {
-        for j in 0..=B as isize {
-            for i in 0..=B as isize {
-                if crossing_missed(lattice, [i, j, k]) {
-                    corners.push([i, j, k]);
-                }
-            }
-        }
-    }
+    let corners = corners_missing_crossings(lattice);
     let points: Vec<[f64; 3]> = corners
         .iter()
         .map(|c| grid.point_signed(std::array::from_fn(|a| base[a] as isize + c[a])))
