@@ -3,7 +3,9 @@
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
-use geode_frep::{BatchEval, Field, GradEval, Interval, IntervalEval, PointEval, Tape};
+use geode_frep::{
+    BatchEval, BatchGradEval, Field, Grad, GradEval, Interval, IntervalEval, PointEval, Tape,
+};
 
 fn main() {
     divan::main();
@@ -97,6 +99,27 @@ fn point_and_gradient_64k(bencher: Bencher, which: &str) {
         });
 }
 
+/// Values and exact gradients of 64k points in batches, as the mesher asks
+/// for them at edge crossings and split points.
+#[divan::bench(args = ["gyroid", "spheres200", "colonnade"], sample_count = 5)]
+fn batch_gradient_64k(bencher: Bencher, which: &str) {
+    let f = match which {
+        "gyroid" => gyroid(),
+        "spheres200" => spheres(),
+        _ => colonnade(),
+    };
+    let tape = Tape::compile(&f);
+    let (xs, ys, zs) = grid();
+    let points: Vec<[f64; 3]> = (0..1 << 16)
+        .map(|i| [xs[i] as f64, ys[i] as f64, zs[i] as f64])
+        .collect();
+    let mut out = vec![Grad::default(); points.len()];
+    let mut g = BatchGradEval::new(&tape);
+    bencher
+        .counter(ItemsCount::new(points.len()))
+        .bench_local(|| g.eval(&points, &mut out));
+}
+
 #[divan::bench(sample_count = 5)]
 fn interval_and_simplify_spheres200(bencher: Bencher) {
     let tape = Tape::compile(&spheres());
@@ -118,4 +141,39 @@ fn interval_and_simplify_spheres200(bencher: Bencher) {
         }
         kept
     });
+}
+
+/// As the mesher asks within a brick: 64k points of a brick-sized box of
+/// the colonnade in batches of 48 (a brick's crossings), with the tape
+/// simplified over the box (27 of 796 instructions).
+#[divan::bench(sample_count = 5)]
+fn batch_gradient_brick_batches(bencher: Bencher) {
+    let tape = Tape::compile(&colonnade());
+    let (lo, hi) = ([0.25, 0.0, 0.0], [0.375, 0.125, 0.125]);
+    let mut iv = IntervalEval::new(&tape);
+    iv.eval(
+        Interval::new(lo[0], hi[0]),
+        Interval::new(lo[1], hi[1]),
+        Interval::new(lo[2], hi[2]),
+    );
+    let brick = tape.simplify(iv.choices());
+    let points: Vec<[f64; 3]> = (0..1 << 16)
+        .map(|i| {
+            let t = [i % 41, i / 41 % 43, i / 1763 % 37].map(|k| k as f64);
+            [
+                0.25 + t[0] / 41.0 * 0.125,
+                t[1] / 43.0 * 0.125,
+                t[2] / 37.0 * 0.125,
+            ]
+        })
+        .collect();
+    let mut out = vec![Grad::default(); points.len()];
+    let mut g = BatchGradEval::new(&brick);
+    bencher
+        .counter(ItemsCount::new(points.len()))
+        .bench_local(|| {
+            for (p, o) in points.chunks(48).zip(out.chunks_mut(48)) {
+                g.eval(p, o);
+            }
+        });
 }

@@ -1,6 +1,6 @@
 //! Tape evaluators: single point (f64), batches laid out for SIMD (f32 lanes),
 //! intervals over a box (with min/max choices), and exact gradients (forward
-//! automatic differentiation).
+//! automatic differentiation; many points at once in `batch_grad`).
 
 use crate::field::{binary, unary, Binary, Unary};
 use crate::interval::{self, Interval};
@@ -8,6 +8,8 @@ use std::sync::Arc;
 
 use crate::capsules::CapsuleSet;
 use crate::tape::{Choice, Choices, Instr, Tape};
+
+pub use crate::batch_grad::BatchGradEval;
 
 /// Evaluates one point at a time, reusing its registers.
 pub struct PointEval<'t> {
@@ -270,7 +272,7 @@ impl Grad {
     }
 }
 
-fn grad_unary(op: Unary, a: Grad) -> Grad {
+pub(crate) fn grad_unary(op: Unary, a: Grad) -> Grad {
     let x = a.v;
     let v = unary(op, x);
     let k = match op {
@@ -306,7 +308,7 @@ fn grad_unary(op: Unary, a: Grad) -> Grad {
     a.scale(k, v)
 }
 
-fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
+pub(crate) fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
     let v = binary(op, a.v, b.v);
     let lin = |ka: f64, kb: f64| Grad {
         v,
@@ -355,7 +357,7 @@ fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
 }
 
 /// A capsule union at space-mapped arguments: its gradient by the chain rule.
-fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
+pub(crate) fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
     let (v, g) = set.value_gradient(args.map(|a| a.v));
     Grad {
         v,
@@ -406,83 +408,5 @@ impl<'t> GradEval<'t> {
             }
         }
         r[self.tape.output()]
-    }
-}
-
-/// Values and exact gradients of many points: [`GradEval`]'s arithmetic run
-/// one instruction at a time over blocks of [`LANES`] points, so the
-/// interpreter's dispatch is paid once per block, not per point.
-pub struct BatchGradEval<'t> {
-    tape: &'t Tape,
-    regs: Vec<Grad>,
-}
-
-impl<'t> BatchGradEval<'t> {
-    pub fn new(tape: &'t Tape) -> BatchGradEval<'t> {
-        BatchGradEval {
-            tape,
-            regs: vec![Grad::default(); tape.slots() * LANES],
-        }
-    }
-
-    /// Evaluates `tape` from now on, keeping the register buffer.
-    pub fn set_tape(&mut self, tape: &'t Tape) {
-        self.tape = tape;
-        self.regs.resize(tape.slots() * LANES, Grad::default());
-    }
-
-    /// `out[i]` = value and gradient at `points[i]`.
-    pub fn eval(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
-        assert_eq!(points.len(), out.len(), "a result per point");
-        for (pts, res) in points.chunks(LANES).zip(out.chunks_mut(LANES)) {
-            let len = pts.len();
-            let regs = &mut self.regs;
-            for ins in self.tape.instrs() {
-                match *ins {
-                    Instr::Var { out, axis } => {
-                        let o = out as usize * LANES;
-                        let mut d = [0.0; 3];
-                        d[axis as usize] = 1.0;
-                        for (r, p) in regs[o..o + len].iter_mut().zip(pts) {
-                            *r = Grad {
-                                v: p[axis as usize],
-                                d,
-                            };
-                        }
-                    }
-                    Instr::Const { out, value } => {
-                        let o = out as usize * LANES;
-                        regs[o..o + len].fill(Grad {
-                            v: value,
-                            d: [0.0; 3],
-                        });
-                    }
-                    Instr::Unary { op, out, a } => {
-                        let (o, a) = (out as usize * LANES, a as usize * LANES);
-                        for i in 0..len {
-                            regs[o + i] = grad_unary(op, regs[a + i]);
-                        }
-                    }
-                    Instr::Binary { op, out, a, b } => {
-                        let (o, a, b) =
-                            (out as usize * LANES, a as usize * LANES, b as usize * LANES);
-                        for i in 0..len {
-                            regs[o + i] = grad_binary(op, regs[a + i], regs[b + i]);
-                        }
-                    }
-                    Instr::Capsules { set, out, x, y, z } => {
-                        let set = self.tape.capsule_set(set);
-                        let o = out as usize * LANES;
-                        let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
-                        for i in 0..len {
-                            let args = [regs[x + i], regs[y + i], regs[z + i]];
-                            regs[o + i] = grad_capsules(set, args);
-                        }
-                    }
-                }
-            }
-            let o = self.tape.output() * LANES;
-            res.copy_from_slice(&regs[o..o + len]);
-        }
     }
 }

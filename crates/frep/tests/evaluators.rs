@@ -137,20 +137,39 @@ fn gradients_are_exact() {
     }
 }
 
+/// Also with one evaluator moved from tape to tape, in blocks of every
+/// length the mesher asks (one point, a brick's crossings, several full
+/// blocks): a block's registers must not leak into the next.
 #[test]
 fn batch_gradients_equal_point_gradients() {
     let pts = points(700);
-    for (name, f) in cases() {
-        let tape = Tape::compile(&f);
-        let mut one = GradEval::new(&tape);
-        let mut many = BatchGradEval::new(&tape);
-        let mut out = vec![Grad::default(); pts.len()];
-        many.eval(&pts, &mut out);
-        for (pt, got) in pts.iter().zip(&out) {
-            let want = one.eval(*pt);
-            assert!(same(got.v, want.v), "{name}: value at {pt:?}");
-            for k in 0..3 {
-                assert!(same(got.d[k], want.d[k]), "{name}: d{k} at {pt:?}");
+    let cases = cases();
+    let tapes: Vec<Tape> = cases.iter().map(|(_, f)| Tape::compile(f)).collect();
+    let mut shared = BatchGradEval::new(&tapes[0]);
+    for ((name, _), tape) in cases.iter().zip(&tapes) {
+        let mut one = GradEval::new(tape);
+        shared.set_tape(tape);
+        for chunk in [700, 1, 37, 300] {
+            let mut out = vec![Grad::default(); pts.len()];
+            for (p, o) in pts.chunks(chunk).zip(out.chunks_mut(chunk)) {
+                shared.eval(p, o);
+            }
+            let mut fresh = vec![Grad::default(); pts.len()];
+            BatchGradEval::new(tape).eval(&pts, &mut fresh);
+            for ((pt, got), again) in pts.iter().zip(&out).zip(&fresh) {
+                let want = one.eval(*pt);
+                for (got, label) in [(got, "shared"), (again, "fresh")] {
+                    assert!(
+                        same(got.v, want.v),
+                        "{name} {label} {chunk}: value at {pt:?}"
+                    );
+                    for k in 0..3 {
+                        assert!(
+                            same(got.d[k], want.d[k]),
+                            "{name} {label} {chunk}: d{k} at {pt:?}"
+                        );
+                    }
+                }
             }
         }
     }
