@@ -4,7 +4,9 @@
 //! side), same machine, all threads. Accuracy is the largest distance from
 //! each mesh to the exact surface (`deviation`); geode's adaptive output is
 //! run with that distance of fidget's mesh as its tolerance, so the two
-//! compare at the same maximum deviation.
+//! compare at the same maximum deviation. Timed runs of the three are
+//! interleaved and the ratio is the median of each round's own, so the
+//! machine's drift in speed (often 30% here) does not fall on one of them.
 //! Run: cargo run --release --manifest-path bench/fidget-compare/Cargo.toml [-- 6,7,8]
 //! (`MODELS=colonnade.vm` runs one model: handy under a profiler).
 
@@ -27,18 +29,16 @@ fn corpus(name: &str) -> String {
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
-/// Median of `runs` timings after one warm-up (JIT compilation and page
-/// faults are not what is compared).
-fn median<T>(runs: usize, mut f: impl FnMut() -> T) -> (Duration, T) {
-    let mut out = f();
-    let mut times = Vec::with_capacity(runs);
-    for _ in 0..runs {
-        let t = Instant::now();
-        out = f();
-        times.push(t.elapsed());
-    }
-    times.sort();
-    (times[runs / 2], out)
+/// Times one run of `f`.
+fn timed<T>(f: impl FnOnce() -> T) -> (Duration, T) {
+    let t = Instant::now();
+    let out = f();
+    (t.elapsed(), out)
+}
+
+fn median(mut xs: Vec<f64>) -> f64 {
+    xs.sort_by(f64::total_cmp);
+    xs[xs.len() / 2]
 }
 
 fn geode_mesh(g: &geode_frep::MeshOptions, field: &geode_frep::Field) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
@@ -69,7 +69,7 @@ fn main() {
         let field = geode_frep::parse_vm(&text).expect("geode parses the model");
         for &depth in &depths {
             let runs = if depth >= 8 { 3 } else { 5 };
-            let (tf, fm) = median(runs, || {
+            let fidget_mesh = || {
                 let settings = Settings {
                     depth,
                     ..Default::default()
@@ -77,7 +77,11 @@ fn main() {
                 Octree::build(&bound, &settings)
                     .expect("not cancelled")
                     .walk_dual()
-            });
+            };
+            // A warm-up of each (JIT compilation and page faults are not
+            // what is compared), which also gives fidget's deviation, the
+            // tolerance of geode's adaptive output.
+            let fm = fidget_mesh();
             let fp: Vec<[f32; 3]> = fm.vertices.iter().map(|v| [v.x, v.y, v.z]).collect();
             let ft: Vec<[u32; 3]> = fm
                 .triangles
@@ -85,24 +89,42 @@ fn main() {
                 .map(|t| [t.x as u32, t.y as u32, t.z as u32])
                 .collect();
             let (fdev, _) = deviation(&field, &fp, &ft);
-            let mut opts = geode_frep::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
-            let (tu, (up, ut)) = median(runs, || geode_mesh(&opts, &field));
+            let uniform = geode_frep::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
+            let mut adaptive = uniform.clone();
+            adaptive.tolerance = fdev;
+            let (mut up, mut ut) = geode_mesh(&uniform, &field);
+            let (mut ap, mut at) = geode_mesh(&adaptive, &field);
+            // Rounds of one run each, interleaved, so a drift in the
+            // machine's speed moves all three alike; the ratio is the
+            // median of each round's own.
+            let (mut tf, mut tu, mut ta, mut ratios) = (vec![], vec![], vec![], vec![]);
+            for _ in 0..runs {
+                let (f, _) = timed(fidget_mesh);
+                let (u, mesh) = timed(|| geode_mesh(&uniform, &field));
+                (up, ut) = mesh;
+                let (a, mesh) = timed(|| geode_mesh(&adaptive, &field));
+                (ap, at) = mesh;
+                let [f, u, a] = [f, u, a].map(|t| t.as_secs_f64() * 1e3);
+                tf.push(f);
+                tu.push(u);
+                ta.push(a);
+                ratios.push(a / f);
+            }
             let (udev, _) = deviation(&field, &up, &ut);
-            opts.tolerance = fdev;
-            let (ta, (ap, at)) = median(runs, || geode_mesh(&opts, &field));
             let (adev, _) = deviation(&field, &ap, &at);
+            let [tf, tu, ta, ratio] = [tf, tu, ta, ratios].map(median);
             println!(
                 "| {name} | {depth} | {:.1} | {} | {:.5} | {:.1} | {} | {:.5} | {:.1} | {} | {:.5} | {:.2} |",
-                tf.as_secs_f64() * 1e3,
+                tf,
                 ft.len(),
                 fdev,
-                tu.as_secs_f64() * 1e3,
+                tu,
                 ut.len(),
                 udev,
-                ta.as_secs_f64() * 1e3,
+                ta,
                 at.len(),
                 adev,
-                ta.as_secs_f64() / tf.as_secs_f64()
+                ratio
             );
         }
     }
