@@ -5,7 +5,7 @@
 //!
 //! [`GradEval`]: crate::eval::GradEval
 
-use crate::eval::{grad_binary, grad_capsules, grad_unary, Grad, LANES};
+use crate::eval::{grad_at, grad_binary, grad_capsules, grad_unary, Grad, LANES};
 use crate::field::{binary, Binary};
 use crate::tape::{Instr, Tape};
 
@@ -26,7 +26,14 @@ pub struct BatchGradEval<'t> {
     /// Plane `p` of register `r` at `[(4 r + p) len, (4 r + p + 1) len)`.
     regs: Vec<f64>,
     lanes: Lanes,
+    /// Registers of one point, for blocks too short to pay for planes.
+    one: Vec<Grad>,
 }
+
+/// Blocks shorter than this are evaluated a point at a time: the planes'
+/// bookkeeping per instruction outweighs their arithmetic (adaptive
+/// output's measures ask a few points per brick).
+const PLANES_FROM: usize = 8;
 
 /// Scratch of a block's lanes: slopes, and which side a min or max took.
 #[derive(Default)]
@@ -54,6 +61,7 @@ impl Planes<'_> {
 
     /// Output plane `p` of `out` with the same plane of `a` and `b` (the
     /// tape never gives an output the register of one of its arguments).
+    #[inline]
     fn split(&mut self, p: usize, (out, a, b): (u32, u32, u32)) -> (&mut [f64], &[f64], &[f64]) {
         let (o, x, y, len) = (self.at(out, p), self.at(a, p), self.at(b, p), self.len);
         let (before, rest) = self.regs.split_at_mut(o);
@@ -145,6 +153,7 @@ impl<'t> BatchGradEval<'t> {
             tape,
             regs: Vec::new(),
             lanes: Lanes::default(),
+            one: Vec::new(),
         }
     }
 
@@ -158,6 +167,13 @@ impl<'t> BatchGradEval<'t> {
         assert_eq!(points.len(), out.len(), "a result per point");
         for (pts, res) in points.chunks(LANES).zip(out.chunks_mut(LANES)) {
             let len = pts.len();
+            if len < PLANES_FROM {
+                self.one.resize(self.tape.slots(), Grad::default());
+                for (p, r) in pts.iter().zip(res) {
+                    *r = grad_at(self.tape, &mut self.one, *p);
+                }
+                continue;
+            }
             // Grown only: a smaller block or tape uses a prefix.
             let need = self.tape.slots() * 4 * len;
             if self.regs.len() < need {

@@ -380,33 +380,38 @@ impl<'t> GradEval<'t> {
     }
 
     pub fn eval(&mut self, p: [f64; 3]) -> Grad {
-        let r = &mut self.regs;
-        for ins in self.tape.instrs() {
-            match *ins {
-                Instr::Var { out, axis } => {
-                    let mut d = [0.0; 3];
-                    d[axis as usize] = 1.0;
-                    r[out as usize] = Grad {
-                        v: p[axis as usize],
-                        d,
-                    };
-                }
-                Instr::Const { out, value } => {
-                    r[out as usize] = Grad {
-                        v: value,
-                        d: [0.0; 3],
-                    }
-                }
-                Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
-                Instr::Binary { op, out, a, b } => {
-                    r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
-                }
-                Instr::Capsules { set, out, x, y, z } => {
-                    let args = [r[x as usize], r[y as usize], r[z as usize]];
-                    r[out as usize] = grad_capsules(self.tape.capsule_set(set), args)
+        grad_at(self.tape, &mut self.regs, p)
+    }
+}
+
+/// Value and gradient of `tape` at `p`, with registers `r` (at least the
+/// tape's slots): the one rule every gradient evaluator follows.
+pub(crate) fn grad_at(tape: &Tape, r: &mut [Grad], p: [f64; 3]) -> Grad {
+    for ins in tape.instrs() {
+        match *ins {
+            Instr::Var { out, axis } => {
+                let mut d = [0.0; 3];
+                d[axis as usize] = 1.0;
+                r[out as usize] = Grad {
+                    v: p[axis as usize],
+                    d,
+                };
+            }
+            Instr::Const { out, value } => {
+                r[out as usize] = Grad {
+                    v: value,
+                    d: [0.0; 3],
                 }
             }
+            Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
+            Instr::Binary { op, out, a, b } => {
+                r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
+            }
+            Instr::Capsules { set, out, x, y, z } => {
+                let args = [r[x as usize], r[y as usize], r[z as usize]];
+                r[out as usize] = grad_capsules(tape.capsule_set(set), args)
+            }
         }
-        r[self.tape.output()]
     }
+    r[tape.output()]
 }
