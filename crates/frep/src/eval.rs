@@ -1,15 +1,14 @@
 //! Tape evaluators: single point (f64), batches laid out for SIMD (f32 lanes),
 //! intervals over a box (with min/max choices), and exact gradients (forward
-//! automatic differentiation; many points at once in `batch_grad`).
+//! automatic differentiation).
 
 use crate::field::{binary, unary, Binary, Unary};
 use crate::interval::{self, Interval};
+use std::cell::RefCell;
 use std::sync::Arc;
 
 use crate::capsules::CapsuleSet;
 use crate::tape::{Choice, Choices, Instr, Tape};
-
-pub use crate::batch_grad::BatchGradEval;
 
 /// Evaluates one point at a time, reusing its registers.
 pub struct PointEval<'t> {
@@ -272,7 +271,7 @@ impl Grad {
     }
 }
 
-pub(crate) fn grad_unary(op: Unary, a: Grad) -> Grad {
+fn grad_unary(op: Unary, a: Grad) -> Grad {
     let x = a.v;
     let v = unary(op, x);
     let k = match op {
@@ -308,7 +307,7 @@ pub(crate) fn grad_unary(op: Unary, a: Grad) -> Grad {
     a.scale(k, v)
 }
 
-pub(crate) fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
+fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
     let v = binary(op, a.v, b.v);
     let lin = |ka: f64, kb: f64| Grad {
         v,
@@ -357,7 +356,7 @@ pub(crate) fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
 }
 
 /// A capsule union at space-mapped arguments: its gradient by the chain rule.
-pub(crate) fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
+fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
     let (v, g) = set.value_gradient(args.map(|a| a.v));
     Grad {
         v,
@@ -380,38 +379,146 @@ impl<'t> GradEval<'t> {
     }
 
     pub fn eval(&mut self, p: [f64; 3]) -> Grad {
-        grad_at(self.tape, &mut self.regs, p)
+        let r = &mut self.regs;
+        for ins in self.tape.instrs() {
+            match *ins {
+                Instr::Var { out, axis } => {
+                    let mut d = [0.0; 3];
+                    d[axis as usize] = 1.0;
+                    r[out as usize] = Grad {
+                        v: p[axis as usize],
+                        d,
+                    };
+                }
+                Instr::Const { out, value } => {
+                    r[out as usize] = Grad {
+                        v: value,
+                        d: [0.0; 3],
+                    }
+                }
+                Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
+                Instr::Binary { op, out, a, b } => {
+                    r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
+                }
+                Instr::Capsules { set, out, x, y, z } => {
+                    let args = [r[x as usize], r[y as usize], r[z as usize]];
+                    r[out as usize] = grad_capsules(self.tape.capsule_set(set), args)
+                }
+            }
+        }
+        r[self.tape.output()]
     }
 }
 
-/// Value and gradient of `tape` at `p`, with registers `r` (at least the
-/// tape's slots): the one rule every gradient evaluator follows.
-pub(crate) fn grad_at(tape: &Tape, r: &mut [Grad], p: [f64; 3]) -> Grad {
-    for ins in tape.instrs() {
-        match *ins {
-            Instr::Var { out, axis } => {
-                let mut d = [0.0; 3];
-                d[axis as usize] = 1.0;
-                r[out as usize] = Grad {
-                    v: p[axis as usize],
-                    d,
-                };
-            }
-            Instr::Const { out, value } => {
-                r[out as usize] = Grad {
-                    v: value,
-                    d: [0.0; 3],
-                }
-            }
-            Instr::Unary { op, out, a } => r[out as usize] = grad_unary(op, r[a as usize]),
-            Instr::Binary { op, out, a, b } => {
-                r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
-            }
-            Instr::Capsules { set, out, x, y, z } => {
-                let args = [r[x as usize], r[y as usize], r[z as usize]];
-                r[out as usize] = grad_capsules(tape.capsule_set(set), args)
-            }
+/// Values and exact gradients of many points: [`GradEval`]'s arithmetic run
+/// one instruction at a time over blocks of [`LANES`] points, so the
+/// interpreter's dispatch is paid once per block, not per point.
+pub struct BatchGradEval<'t> {
+    tape: &'t Tape,
+    regs: Vec<Grad>,
+}
+
+thread_local! {
+    /// Register files of dropped [`BatchGradEval`]s, for the next ones made
+    /// on this thread: the mesher makes one per brick, and zeroing a fresh
+    /// file of `LANES` lanes per register for a few dozen crossings was 11%
+    /// of all its instructions (colonnade at depth 6, callgrind). A file's
+    /// old contents are never read: a tape writes each register before it
+    /// reads it.
+    static SPARE_GRAD_REGS: RefCell<Vec<Vec<Grad>>> = const { RefCell::new(Vec::new()) };
+}
+
+/// Spare register files kept per thread (evaluators alive at once: a brick's
+/// and its feature recovery's), each of at most `SPARE_GRADS` registers
+/// (1 MiB: a brick's tape needs far less; a whole large tape's file is
+/// not worth holding on to).
+const SPARE_FILES: usize = 4;
+const SPARE_GRADS: usize = 1 << 15;
+
+impl<'t> BatchGradEval<'t> {
+    pub fn new(tape: &'t Tape) -> BatchGradEval<'t> {
+        let regs = SPARE_GRAD_REGS
+            .with(|spare| spare.borrow_mut().pop())
+            .unwrap_or_default();
+        let mut eval = BatchGradEval { tape, regs };
+        eval.set_tape(tape);
+        eval
+    }
+
+    /// Evaluates `tape` from now on, keeping the register buffer (grown
+    /// only: a smaller tape uses a prefix).
+    pub fn set_tape(&mut self, tape: &'t Tape) {
+        self.tape = tape;
+        let need = tape.slots() * LANES;
+        if self.regs.len() < need {
+            self.regs.resize(need, Grad::default());
         }
     }
-    r[tape.output()]
+
+    /// `out[i]` = value and gradient at `points[i]`.
+    pub fn eval(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
+        assert_eq!(points.len(), out.len(), "a result per point");
+        for (pts, res) in points.chunks(LANES).zip(out.chunks_mut(LANES)) {
+            let len = pts.len();
+            let regs = &mut self.regs;
+            for ins in self.tape.instrs() {
+                match *ins {
+                    Instr::Var { out, axis } => {
+                        let o = out as usize * LANES;
+                        let mut d = [0.0; 3];
+                        d[axis as usize] = 1.0;
+                        for (r, p) in regs[o..o + len].iter_mut().zip(pts) {
+                            *r = Grad {
+                                v: p[axis as usize],
+                                d,
+                            };
+                        }
+                    }
+                    Instr::Const { out, value } => {
+                        let o = out as usize * LANES;
+                        regs[o..o + len].fill(Grad {
+                            v: value,
+                            d: [0.0; 3],
+                        });
+                    }
+                    Instr::Unary { op, out, a } => {
+                        let (o, a) = (out as usize * LANES, a as usize * LANES);
+                        for i in 0..len {
+                            regs[o + i] = grad_unary(op, regs[a + i]);
+                        }
+                    }
+                    Instr::Binary { op, out, a, b } => {
+                        let (o, a, b) =
+                            (out as usize * LANES, a as usize * LANES, b as usize * LANES);
+                        for i in 0..len {
+                            regs[o + i] = grad_binary(op, regs[a + i], regs[b + i]);
+                        }
+                    }
+                    Instr::Capsules { set, out, x, y, z } => {
+                        let set = self.tape.capsule_set(set);
+                        let o = out as usize * LANES;
+                        let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
+                        for i in 0..len {
+                            let args = [regs[x + i], regs[y + i], regs[z + i]];
+                            regs[o + i] = grad_capsules(set, args);
+                        }
+                    }
+                }
+            }
+            let o = self.tape.output() * LANES;
+            res.copy_from_slice(&regs[o..o + len]);
+        }
+    }
+}
+
+impl Drop for BatchGradEval<'_> {
+    fn drop(&mut self) {
+        let regs = std::mem::take(&mut self.regs);
+        SPARE_GRAD_REGS.with(|spare| {
+            let mut spare = spare.borrow_mut();
+            if spare.len() < SPARE_FILES && regs.len() <= SPARE_GRADS {
+                spare.push(regs);
+            }
+        });
+    }
 }

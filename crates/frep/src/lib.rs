@@ -7,7 +7,6 @@
 //! geometry. Knows nothing of nodes, graphs or files.
 
 pub mod adaptive;
-mod batch_grad;
 mod brick;
 pub mod capsules;
 mod cluster;
