@@ -271,6 +271,7 @@ impl Grad {
     }
 }
 
+#[inline(always)]
 fn grad_unary(op: Unary, a: Grad) -> Grad {
     let x = a.v;
     let v = unary(op, x);
@@ -307,6 +308,7 @@ fn grad_unary(op: Unary, a: Grad) -> Grad {
     a.scale(k, v)
 }
 
+#[inline(always)]
 fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
     let v = binary(op, a.v, b.v);
     let lin = |ka: f64, kb: f64| Grad {
@@ -483,15 +485,41 @@ impl<'t> BatchGradEval<'t> {
                     }
                     Instr::Unary { op, out, a } => {
                         let (o, a) = (out as usize * LANES, a as usize * LANES);
-                        for i in 0..len {
-                            regs[o + i] = grad_unary(op, regs[a + i]);
+                        // One loop per common operation, each with the
+                        // operation constant, so the rule's `match` folds
+                        // away instead of running per lane.
+                        macro_rules! each {
+                            ($op:expr) => {
+                                for i in 0..len {
+                                    regs[o + i] = grad_unary($op, regs[a + i]);
+                                }
+                            };
+                        }
+                        match op {
+                            Unary::Neg => each!(Unary::Neg),
+                            Unary::Abs => each!(Unary::Abs),
+                            Unary::Sqrt => each!(Unary::Sqrt),
+                            Unary::Square => each!(Unary::Square),
+                            _ => each!(op),
                         }
                     }
                     Instr::Binary { op, out, a, b } => {
                         let (o, a, b) =
                             (out as usize * LANES, a as usize * LANES, b as usize * LANES);
-                        for i in 0..len {
-                            regs[o + i] = grad_binary(op, regs[a + i], regs[b + i]);
+                        macro_rules! each {
+                            ($op:expr) => {
+                                for i in 0..len {
+                                    regs[o + i] = grad_binary($op, regs[a + i], regs[b + i]);
+                                }
+                            };
+                        }
+                        match op {
+                            Binary::Add => each!(Binary::Add),
+                            Binary::Sub => each!(Binary::Sub),
+                            Binary::Mul => each!(Binary::Mul),
+                            Binary::Min => each!(Binary::Min),
+                            Binary::Max => each!(Binary::Max),
+                            _ => each!(op),
                         }
                     }
                     Instr::Capsules { set, out, x, y, z } => {

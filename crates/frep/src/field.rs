@@ -369,6 +369,7 @@ impl Drop for Field {
 }
 
 /// The scalar semantics every evaluator reproduces.
+#[inline]
 pub fn unary(op: Unary, a: f64) -> f64 {
     match op {
         Unary::Neg => -a,
@@ -391,6 +392,7 @@ pub fn unary(op: Unary, a: f64) -> f64 {
 }
 
 /// The scalar semantics every evaluator reproduces.
+#[inline]
 pub fn binary(op: Binary, a: f64, b: f64) -> f64 {
     match op {
         Binary::Add => a + b,
