@@ -67,29 +67,32 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
         order
     };
     let mut sorted = vec![Grad::default(); points.len()];
-    let by_brick =
-        |eval: &mut Option<BatchGradEval<'a>>, group: &[(u32, u32)], out: &mut [Grad]| {
-            let tape = tapes.tape(group[0].0);
-            let eval = match eval {
-                Some(e) => {
-                    e.set_tape(tape);
-                    e
-                }
-                // Made for the first group's tape (the root tape's registers
-                // would be far more than a brick's needs).
-                None => eval.insert(BatchGradEval::new(tape)),
-            };
-            let at: Vec<[f64; 3]> = group
-                .iter()
-                .map(|&(_, i)| points[i as usize].as_dvec3().to_array())
-                .collect();
-            eval.eval(&at, out);
+    // An evaluator and a buffer of points, reused from group to group.
+    type Scratch<'a> = (Option<BatchGradEval<'a>>, Vec<[f64; 3]>);
+    let by_brick = |(eval, at): &mut Scratch<'a>, group: &[(u32, u32)], out: &mut [Grad]| {
+        let tape = tapes.tape(group[0].0);
+        let eval = match eval {
+            Some(e) => {
+                e.set_tape(tape);
+                e
+            }
+            // Made for the first group's tape (the root tape's registers
+            // would be far more than a brick's needs).
+            None => eval.insert(BatchGradEval::new(tape)),
         };
+        at.clear();
+        at.extend(
+            group
+                .iter()
+                .map(|&(_, i)| points[i as usize].as_dvec3().to_array()),
+        );
+        eval.eval(at, out);
+    };
     if serial {
-        let mut eval = None;
+        let mut scratch = (None, Vec::new());
         let mut start = 0;
         for group in order.chunk_by(|a, b| a.0 == b.0) {
-            by_brick(&mut eval, group, &mut sorted[start..start + group.len()]);
+            by_brick(&mut scratch, group, &mut sorted[start..start + group.len()]);
             start += group.len();
         }
     } else {
@@ -101,10 +104,10 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
             slices.push(head);
             rest = tail;
         }
-        groups
-            .into_par_iter()
-            .zip(slices)
-            .for_each_init(|| None, |eval, (group, out)| by_brick(eval, group, out));
+        groups.into_par_iter().zip(slices).for_each_init(
+            || (None, Vec::new()),
+            |scratch, (group, out)| by_brick(scratch, group, out),
+        );
     }
     let mut out = vec![Grad::default(); points.len()];
     for ((_, i), g) in order.iter().zip(sorted) {

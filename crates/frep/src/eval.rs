@@ -423,7 +423,7 @@ pub struct BatchGradEval<'t> {
 thread_local! {
     /// Register files of dropped [`BatchGradEval`]s, for the next ones made
     /// on this thread: the mesher makes one per brick, and zeroing a fresh
-    /// file of `LANES` lanes per register for a few dozen crossings was 11%
+    /// file of `LANES` lanes per register for a few dozen crossings was 13%
     /// of all its instructions (colonnade at depth 6, callgrind). A file's
     /// old contents are never read: a tape writes each register before it
     /// reads it.

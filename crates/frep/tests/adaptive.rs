@@ -166,9 +166,8 @@ fn corpus_model(name: &str) -> Field {
 /// At the largest deviation fidget 0.5.1's own mesh of the model shows
 /// (`bench/fidget-compare`, depth 7: colonnade 0.0208 with 36,262
 /// triangles, bear 0.00644 with 72,836; depth 8: bear 0.00589 with
-/// 117,118), geode's adaptive
-/// output is closed, within that deviation wherever it is measured, and a
-/// small fraction of fidget's triangles.
+/// 117,118), geode's adaptive output is closed, within that deviation
+/// wherever it is measured, and a small fraction of fidget's triangles.
 #[test]
 fn fidgets_models_take_far_fewer_triangles_than_fidget_at_its_deviation() {
     for (name, depth, deviation, fidget_triangles) in [
