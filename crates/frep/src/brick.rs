@@ -66,12 +66,48 @@ pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
 
 /// Local edge id (0..12) of the cube edge along `axis` whose lower corner
 /// has offsets `p` (0 or 1 on the other axes).
-pub(crate) fn local_edge(axis: usize, p: [usize; 3]) -> usize {
+pub(crate) const fn local_edge(axis: usize, p: [usize; 3]) -> usize {
     axis * 4 + p[(axis + 1) % 3] + 2 * p[(axis + 2) % 3]
 }
 
-fn corner_index(p: [usize; 3]) -> usize {
+const fn corner_index(p: [usize; 3]) -> usize {
     p[0] + 2 * p[1] + 4 * p[2]
+}
+
+/// The six faces of a cube, each as its corners in cyclic order (corner
+/// indices) and the local edges joining them (edge `i` joins corners `i`
+/// and `i + 1`): computed once, since every surface cell asks.
+const FACES: [([usize; 4], [usize; 4]); 6] = face_table();
+
+const fn face_table() -> [([usize; 4], [usize; 4]); 6] {
+    // Corners in cyclic order (0,0), (1,0), (1,1), (0,1) over (u, w).
+    const CYC: [(usize, usize); 4] = [(0, 0), (1, 0), (1, 1), (0, 1)];
+    let mut table = [([0; 4], [0; 4]); 6];
+    let mut face = 0;
+    while face < 6 {
+        let (axis, side) = (face / 2, face % 2);
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        let mut pos = [[0usize; 3]; 4];
+        let mut i = 0;
+        while i < 4 {
+            pos[i][axis] = side;
+            pos[i][u] = CYC[i].0;
+            pos[i][w] = CYC[i].1;
+            table[face].0[i] = corner_index(pos[i]);
+            i += 1;
+        }
+        let mut i = 0;
+        while i < 4 {
+            let (p, q) = (pos[i], pos[(i + 1) % 4]);
+            // Adjacent corners differ on exactly one axis.
+            let ax = if p[u] != q[u] { u } else { w };
+            let lo = if p[ax] < q[ax] { p } else { q };
+            table[face].1[i] = local_edge(ax, lo);
+            i += 1;
+        }
+        face += 1;
+    }
+    table
 }
 
 /// Pairs of local edges joined across each face, from the asymptotic
@@ -81,50 +117,37 @@ pub(crate) fn face_pairs(
     pairs: &mut Vec<(usize, usize)>,
     ambiguous: &mut Vec<(usize, usize)>,
 ) {
-    for axis in 0..3 {
-        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-        for side in 0..2 {
-            // Corners in cyclic order (0,0), (1,0), (1,1), (0,1) over (u, w).
-            let cyc = [(0, 0), (1, 0), (1, 1), (0, 1)];
-            let mut pos = [[0usize; 3]; 4];
-            for (i, (a, b)) in cyc.iter().enumerate() {
-                pos[i][axis] = side;
-                pos[i][u] = *a;
-                pos[i][w] = *b;
+    for (corners, edge) in &FACES {
+        let f: [f32; 4] = corners.map(|c| v[c]);
+        let inside = f.map(|x| x >= 0.0);
+        let mut crossed = [0usize; 4];
+        let mut count = 0;
+        for i in 0..4 {
+            if inside[i] != inside[(i + 1) % 4] {
+                crossed[count] = i;
+                count += 1;
             }
-            let f: [f32; 4] = pos.map(|p| v[corner_index(p)]);
-            let inside = f.map(|x| x >= 0.0);
-            // Edge i joins cyclic corners i and i+1.
-            let edge = |i: usize| {
-                let (p, q) = (pos[i], pos[(i + 1) % 4]);
-                let ax = (0..3).find(|&k| p[k] != q[k]).expect("adjacent corners");
-                let lo = if p[ax] < q[ax] { p } else { q };
-                local_edge(ax, lo)
-            };
-            let crossed: Vec<usize> = (0..4)
-                .filter(|&i| inside[i] != inside[(i + 1) % 4])
-                .collect();
-            match crossed.len() {
-                2 => pairs.push((edge(crossed[0]), edge(crossed[1]))),
-                4 => {
-                    ambiguous.push((edge(0), edge(2)));
-                    let denom = f[0] + f[2] - f[1] - f[3];
-                    let saddle = if denom != 0.0 {
-                        (f[0] * f[2] - f[1] * f[3]) / denom
-                    } else {
-                        (f[0] + f[1] + f[2] + f[3]) * 0.25
-                    };
-                    if (saddle >= 0.0) == inside[0] {
-                        // Corners 0 and 2 connect through the face: 1 and 3 are cut off.
-                        pairs.push((edge(0), edge(1)));
-                        pairs.push((edge(2), edge(3)));
-                    } else {
-                        pairs.push((edge(3), edge(0)));
-                        pairs.push((edge(1), edge(2)));
-                    }
+        }
+        match count {
+            2 => pairs.push((edge[crossed[0]], edge[crossed[1]])),
+            4 => {
+                ambiguous.push((edge[0], edge[2]));
+                let denom = f[0] + f[2] - f[1] - f[3];
+                let saddle = if denom != 0.0 {
+                    (f[0] * f[2] - f[1] * f[3]) / denom
+                } else {
+                    (f[0] + f[1] + f[2] + f[3]) * 0.25
+                };
+                if (saddle >= 0.0) == inside[0] {
+                    // Corners 0 and 2 connect through the face: 1 and 3 are cut off.
+                    pairs.push((edge[0], edge[1]));
+                    pairs.push((edge[2], edge[3]));
+                } else {
+                    pairs.push((edge[3], edge[0]));
+                    pairs.push((edge[1], edge[2]));
                 }
-                _ => {}
             }
+            _ => {}
         }
     }
 }
