@@ -14,6 +14,7 @@ use geode_geo::ops::{compact_vertices, reduce_triangles, ReduceOptions};
 use rayon::prelude::*;
 
 use crate::eval::{BatchGradEval, Grad};
+use crate::parts::par_fill_into;
 use crate::refine::refine;
 use crate::tape::Tape;
 
@@ -97,16 +98,12 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
         }
     } else {
         let groups: Vec<&[(u32, u32)]> = order.chunk_by(|a, b| a.0 == b.0).collect();
-        let mut slices = Vec::with_capacity(groups.len());
-        let mut rest = sorted.as_mut_slice();
-        for g in &groups {
-            let (head, tail) = rest.split_at_mut(g.len());
-            slices.push(head);
-            rest = tail;
-        }
-        groups.into_par_iter().zip(slices).for_each_init(
+        let lens: Vec<usize> = groups.iter().map(|g| g.len()).collect();
+        par_fill_into(
+            &mut sorted,
+            &lens,
             || (None, Vec::new()),
-            |scratch, (group, out)| by_brick(scratch, group, out),
+            |scratch, i, out| by_brick(scratch, groups[i], out),
         );
     }
     let mut out = vec![Grad::default(); points.len()];

@@ -9,6 +9,7 @@ use crate::cluster::{merge_cells, Clustering, Node};
 use crate::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
+use crate::parts::par_fill;
 use crate::polygonise::Grid;
 use crate::recovery::{
     cell_box, cell_slot, recover_features, verify_features, Candidate, CellTable, Check,
@@ -58,6 +59,50 @@ pub(crate) fn take_quads(refs: &mut Vec<EdgeRef>) -> Vec<[u32; 4]> {
     }
     *refs = rest;
     quads
+}
+
+/// Every brick's output in one mesh (bricks in order).
+pub(crate) struct Joined {
+    pub positions: Vec<Vec3>,
+    pub normals: Vec<Vec3>,
+    pub quads: Vec<[u32; 4]>,
+    pub refs: Vec<EdgeRef>,
+    /// Pinch candidates with the brick whose (simplified) tape is valid there.
+    pub pinched: Vec<(u32, u32)>,
+}
+
+/// Joins the bricks' outputs in their order, each brick's vertex indices
+/// moved past the vertices of the bricks before it; bricks in parallel.
+pub(crate) fn join_bricks(outs: &[BrickOut]) -> Joined {
+    let lens = |part: fn(&BrickOut) -> usize| outs.iter().map(part).collect::<Vec<_>>();
+    let offsets: Vec<u32> = outs
+        .iter()
+        .scan(0u32, |next, o| {
+            let at = *next;
+            *next += o.positions.len() as u32;
+            Some(at)
+        })
+        .collect();
+    let vertex_lens = lens(|o| o.positions.len());
+    Joined {
+        positions: par_fill(&vertex_lens, |b, s| s.copy_from_slice(&outs[b].positions)),
+        normals: par_fill(&vertex_lens, |b, s| s.copy_from_slice(&outs[b].normals)),
+        quads: par_fill(&lens(|o| o.quads.len()), |b, s| {
+            for (to, q) in s.iter_mut().zip(&outs[b].quads) {
+                *to = q.map(|v| v + offsets[b]);
+            }
+        }),
+        refs: par_fill(&lens(|o| o.refs.len()), |b, s| {
+            for (to, &(k, slot, v, outward)) in s.iter_mut().zip(&outs[b].refs) {
+                *to = (k, slot, v + offsets[b], outward);
+            }
+        }),
+        pinched: par_fill(&lens(|o| o.pinched.len()), |b, s| {
+            for (to, &v) in s.iter_mut().zip(&outs[b].pinched) {
+                *to = (v + offsets[b], b as u32);
+            }
+        }),
+    }
 }
 
 pub(crate) fn edge_key(axis: usize, c: [usize; 3]) -> u64 {
@@ -414,7 +459,42 @@ pub(crate) fn mesh_brick(
     // parallel, and only edges on the brick's faces meet in the global sort.
     out.refs.sort_unstable_by_key(|r| (r.0, r.1));
     out.quads = take_quads(&mut out.refs);
+    if tolerance > 0.0 {
+        drop_unused_vertices(&mut out);
+    }
     out
+}
+
+/// Drops the vertices no quad or edge reference uses (those merged into
+/// coarser ones), keeping the others' order: most of an adaptive brick's
+/// vertices, which would otherwise be carried through the join.
+fn drop_unused_vertices(out: &mut BrickOut) {
+    let mut new_index = vec![u32::MAX; out.positions.len()];
+    let quad_corners = out.quads.iter().flatten();
+    for &v in quad_corners.chain(out.refs.iter().map(|r| &r.2)) {
+        new_index[v as usize] = 0;
+    }
+    let mut kept = 0;
+    for (old, slot) in new_index.iter_mut().enumerate() {
+        if *slot == 0 {
+            *slot = kept;
+            out.positions[kept as usize] = out.positions[old];
+            out.normals[kept as usize] = out.normals[old];
+            kept += 1;
+        }
+    }
+    out.positions.truncate(kept as usize);
+    out.normals.truncate(kept as usize);
+    for q in &mut out.quads {
+        *q = q.map(|v| new_index[v as usize]);
+    }
+    for r in &mut out.refs {
+        r.2 = new_index[r.2 as usize];
+    }
+    out.pinched.retain_mut(|v| {
+        *v = new_index[*v as usize];
+        *v != u32::MAX
+    });
 }
 
 /// Outward normals of the vertices some dual edge uses (after merging most

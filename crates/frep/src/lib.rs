@@ -19,6 +19,7 @@ mod flip;
 pub mod hyperfun;
 pub mod interval;
 mod lattice;
+mod parts;
 mod pinch;
 pub mod polygonise;
 mod qef;

@@ -17,7 +17,7 @@ use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use rayon::prelude::*;
 
 use crate::adaptive;
-use crate::brick::{mesh_brick, take_quads, BrickOut, EdgeRef, B};
+use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined, B};
 use crate::eval::{BatchEval, IntervalEval};
 use crate::field::{Binary, Field, Node};
 use crate::interval::Interval;
@@ -350,12 +350,13 @@ pub fn polygonise(
         return Err(MeshError::Cancelled);
     }
     let outs: Vec<BrickOut> = outs.into_iter().flatten().collect();
-    let mut positions = Vec::new();
-    let mut normals = Vec::new();
-    let mut quads: Vec<[u32; 4]> = Vec::new();
-    let mut refs: Vec<EdgeRef> = Vec::new();
-    // Pinch candidates with the brick whose (simplified) tape is valid there.
-    let mut pinched: Vec<(u32, u32)> = Vec::new();
+    let Joined {
+        mut positions,
+        mut normals,
+        mut quads,
+        mut refs,
+        mut pinched,
+    } = join_bricks(&outs);
     let mut stats = MeshStats {
         bricks_total: grid.bricks.iter().product(),
         bricks_meshed: outs.len(),
@@ -367,16 +368,12 @@ pub fn polygonise(
         collapses: 0,
         deviation: 0.0,
     };
-    for (brick, o) in outs.into_iter().enumerate() {
-        let offset = positions.len() as u32;
-        positions.extend(o.positions);
-        normals.extend(o.normals);
-        quads.extend(o.quads.into_iter().map(|q| q.map(|v| v + offset)));
-        refs.extend(o.refs.into_iter().map(|(k, s, v, p)| (k, s, v + offset, p)));
-        pinched.extend(o.pinched.into_iter().map(|v| (v + offset, brick as u32)));
+    for o in &outs {
         stats.cells_with_surface += o.cells;
         stats.add_missed(&grid, &o.missed);
     }
+    // Freed before the adaptive passes, which allocate their own.
+    drop(outs);
     stop()?;
     refs.par_sort_unstable_by_key(|r| (r.0, r.1));
     stop()?;
