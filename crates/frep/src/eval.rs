@@ -111,7 +111,7 @@ impl<'t> BatchEval<'t> {
     pub fn new(tape: &'t Tape) -> BatchEval<'t> {
         BatchEval {
             tape,
-            regs: vec![0.0; tape.slots() * LANES],
+            regs: spare_file(&SPARE_REGS, tape.slots() * LANES),
         }
     }
 
@@ -187,14 +187,14 @@ impl<'t> BatchEval<'t> {
 
 /// The output block and the registers before and after it (the tape never
 /// gives an output the register of one of its arguments).
-fn carve(regs: &mut [f32], o: usize) -> (&mut [f32], &[f32], &[f32]) {
+fn carve<T>(regs: &mut [T], o: usize) -> (&mut [T], &[T], &[T]) {
     let (before, rest) = regs.split_at_mut(o);
     let (dst, after) = rest.split_at_mut(LANES);
     (dst, before, after)
 }
 
 /// An argument block, found on its side of the output block.
-fn arg<'a>(before: &'a [f32], after: &'a [f32], o: usize, x: usize, len: usize) -> &'a [f32] {
+fn arg<'a, T>(before: &'a [T], after: &'a [T], o: usize, x: usize, len: usize) -> &'a [T] {
     if x < o {
         &before[x..x + len]
     } else {
@@ -421,30 +421,56 @@ pub struct BatchGradEval<'t> {
 }
 
 thread_local! {
-    /// Register files of dropped [`BatchGradEval`]s, for the next ones made
-    /// on this thread: the mesher makes one per brick, and zeroing a fresh
-    /// file of `LANES` lanes per register for a few dozen crossings was 13%
-    /// of all its instructions (colonnade at depth 6, callgrind). A file's
-    /// old contents are never read: a tape writes each register before it
-    /// reads it.
+    /// Register files of dropped batch evaluators, for the next ones made
+    /// on this thread: the mesher makes several per brick, and zeroing a
+    /// fresh file of `LANES` lanes per register for a few dozen crossings
+    /// was 13% of all its instructions (colonnade at depth 6, callgrind). A
+    /// file's old contents are never read: a tape writes each register
+    /// before it reads it.
+    static SPARE_REGS: RefCell<Vec<Vec<f32>>> = const { RefCell::new(Vec::new()) };
     static SPARE_GRAD_REGS: RefCell<Vec<Vec<Grad>>> = const { RefCell::new(Vec::new()) };
 }
 
-/// Spare register files kept per thread (evaluators alive at once: a brick's
-/// and its feature recovery's), each of at most `SPARE_GRADS` registers
-/// (1 MiB: a brick's tape needs far less; a whole large tape's file is
-/// not worth holding on to).
+/// Spare register files kept per thread and kind (evaluators alive at
+/// once: a brick's and its feature recovery's), each of at most
+/// `SPARE_BYTES` (a brick's tape needs far less; a whole large tape's file
+/// is not worth holding on to).
 const SPARE_FILES: usize = 4;
-const SPARE_GRADS: usize = 1 << 15;
+const SPARE_BYTES: usize = 1 << 20;
+
+type Spares<T> = std::thread::LocalKey<RefCell<Vec<Vec<T>>>>;
+
+/// A spare register file of this thread (or a new one), of at least `need`.
+fn spare_file<T: Clone + Default>(spares: &'static Spares<T>, need: usize) -> Vec<T> {
+    let mut regs = spares.with(|s| s.borrow_mut().pop()).unwrap_or_default();
+    if regs.len() < need {
+        regs.resize(need, T::default());
+    }
+    regs
+}
+
+/// Keeps a dropped evaluator's register file for the next one.
+fn keep_file<T>(spares: &'static Spares<T>, regs: Vec<T>) {
+    spares.with(|s| {
+        let mut s = s.borrow_mut();
+        if s.len() < SPARE_FILES && std::mem::size_of_val(regs.as_slice()) <= SPARE_BYTES {
+            s.push(regs);
+        }
+    });
+}
+
+impl Drop for BatchEval<'_> {
+    fn drop(&mut self) {
+        keep_file(&SPARE_REGS, std::mem::take(&mut self.regs));
+    }
+}
 
 impl<'t> BatchGradEval<'t> {
     pub fn new(tape: &'t Tape) -> BatchGradEval<'t> {
-        let regs = SPARE_GRAD_REGS
-            .with(|spare| spare.borrow_mut().pop())
-            .unwrap_or_default();
-        let mut eval = BatchGradEval { tape, regs };
-        eval.set_tape(tape);
-        eval
+        BatchGradEval {
+            tape,
+            regs: spare_file(&SPARE_GRAD_REGS, tape.slots() * LANES),
+        }
     }
 
     /// Evaluates `tape` from now on, keeping the register buffer (grown
@@ -484,14 +510,16 @@ impl<'t> BatchGradEval<'t> {
                         });
                     }
                     Instr::Unary { op, out, a } => {
-                        let (o, a) = (out as usize * LANES, a as usize * LANES);
+                        let o = out as usize * LANES;
+                        let (dst, before, after) = carve(regs, o);
+                        let a = arg(before, after, o, a as usize * LANES, len);
                         // One loop per common operation, each with the
                         // operation constant, so the rule's `match` folds
                         // away instead of running per lane.
                         macro_rules! each {
                             ($op:expr) => {
-                                for i in 0..len {
-                                    regs[o + i] = grad_unary($op, regs[a + i]);
+                                for (r, a) in dst[..len].iter_mut().zip(a) {
+                                    *r = grad_unary($op, *a);
                                 }
                             };
                         }
@@ -504,12 +532,16 @@ impl<'t> BatchGradEval<'t> {
                         }
                     }
                     Instr::Binary { op, out, a, b } => {
-                        let (o, a, b) =
-                            (out as usize * LANES, a as usize * LANES, b as usize * LANES);
+                        let o = out as usize * LANES;
+                        let (dst, before, after) = carve(regs, o);
+                        let (a, b) = (
+                            arg(before, after, o, a as usize * LANES, len),
+                            arg(before, after, o, b as usize * LANES, len),
+                        );
                         macro_rules! each {
                             ($op:expr) => {
-                                for i in 0..len {
-                                    regs[o + i] = grad_binary($op, regs[a + i], regs[b + i]);
+                                for ((r, a), b) in dst[..len].iter_mut().zip(a).zip(b) {
+                                    *r = grad_binary($op, *a, *b);
                                 }
                             };
                         }
@@ -541,12 +573,6 @@ impl<'t> BatchGradEval<'t> {
 
 impl Drop for BatchGradEval<'_> {
     fn drop(&mut self) {
-        let regs = std::mem::take(&mut self.regs);
-        SPARE_GRAD_REGS.with(|spare| {
-            let mut spare = spare.borrow_mut();
-            if spare.len() < SPARE_FILES && regs.len() <= SPARE_GRADS {
-                spare.push(regs);
-            }
-        });
+        keep_file(&SPARE_GRAD_REGS, std::mem::take(&mut self.regs));
     }
 }

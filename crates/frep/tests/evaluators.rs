@@ -72,6 +72,8 @@ fn point_evaluation_matches_the_dag() {
     }
 }
 
+/// Each case's evaluator takes over the register file the previous case's
+/// dropped (another tape's stale values): no result may depend on them.
 #[test]
 fn batch_evaluation_matches_point_evaluation() {
     let pts = points(1000);
