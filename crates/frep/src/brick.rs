@@ -223,16 +223,19 @@ pub(crate) fn mesh_brick(
     let mut crossings = Crossings::new();
     let roots = lattice.crossed_edges(grid, (0, B as isize));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
+    // Sized from the crossed edges: each is referenced by the (up to) four
+    // cells around it, and a brick has about as many vertices as edges.
+    let edges = crossings.planes.len();
     let mut out = BrickOut {
-        positions: Vec::new(),
+        positions: Vec::with_capacity(edges),
         normals: Vec::new(),
         quads: Vec::new(),
-        refs: Vec::new(),
+        refs: Vec::with_capacity(4 * edges),
         pinched: Vec::new(),
         cells: 0,
         missed,
     };
-    let mut vertex_points: Vec<[f64; 3]> = Vec::new();
+    let mut vertex_points: Vec<[f64; 3]> = Vec::with_capacity(edges);
     let mut cells = CellTable::new();
     let mut cell_planes: Vec<(usize, Plane)> = Vec::with_capacity(12);
     let mut roots_seen: Vec<usize> = Vec::with_capacity(4);

@@ -214,6 +214,7 @@ impl Crossings {
         solve_roots(batch, &mut roots);
         let points: Vec<[f64; 3]> = roots.iter().map(Root::point).collect();
         let normals = outward_normals(point, grads, &points);
+        self.planes.reserve(roots.len());
         for ((r, p), n) in roots.iter().zip(points).zip(normals) {
             self.slots[r.slot] = self.planes.len() as u32;
             self.planes.push((p, n));
@@ -299,8 +300,13 @@ impl Root {
 /// same f32 evaluator that classified the corners (so brackets agree).
 pub(crate) fn solve_roots(batch: &mut BatchEval, roots: &mut [Root]) {
     let mut active: Vec<usize> = (0..roots.len()).collect();
-    let (mut xs, mut ys, mut zs) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut ts, mut values) = (Vec::new(), Vec::new());
+    let n = roots.len();
+    let (mut xs, mut ys, mut zs) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
+    let (mut ts, mut values) = (Vec::with_capacity(n), Vec::with_capacity(n));
     for _ in 0..24 {
         if active.is_empty() {
             break;

@@ -220,7 +220,7 @@ impl Tape {
             }
         }
         let mut new_id = vec![u32::MAX; ssa.len()];
-        let mut compact = Vec::new();
+        let mut compact = Vec::with_capacity(ssa.len());
         for (i, ins) in ssa.iter().enumerate() {
             if live[i] {
                 let args = ins.args().map(|x| x.map_or(0, |x| new_id[x as usize]));

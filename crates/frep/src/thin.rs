@@ -84,7 +84,14 @@ pub(crate) fn missed_cells(
     let mut at = vec![Grad::default(); points.len()];
     grads.eval(&points, &mut at);
     // Probes past each predicted crossing, with the corner they start from.
-    let (mut xs, mut ys, mut zs, mut from) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    // Up to one probe per overshoot per corner.
+    let most = OVERSHOOT.len() * at.len();
+    let (mut xs, mut ys, mut zs, mut from) = (
+        Vec::with_capacity(most),
+        Vec::with_capacity(most),
+        Vec::with_capacity(most),
+        Vec::with_capacity(most),
+    );
     for (i, g) in at.iter().enumerate() {
         let length = (g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]).sqrt();
         if !(length > 0.0 && length.is_finite()) {
@@ -119,7 +126,12 @@ pub(crate) fn missed_cells(
         .collect();
     let mut there = vec![Grad::default(); inside.len()];
     grads.eval(&inside, &mut there);
-    let (mut bx, mut by, mut bz) = (Vec::new(), Vec::new(), Vec::new());
+    let n = hits.len();
+    let (mut bx, mut by, mut bz) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+        Vec::with_capacity(n),
+    );
     for (p, g) in inside.iter().zip(&there) {
         // Deeper: up the gradient inside the solid, down it inside a gap.
         let length = (g.d[0] * g.d[0] + g.d[1] * g.d[1] + g.d[2] * g.d[2]).sqrt();
