@@ -155,6 +155,64 @@ const fn face_table() -> [([usize; 4], [usize; 4]); 6] {
     table
 }
 
+/// A cell's edge: its axis, lower corner (offsets), local id, the corner
+/// indices of its ends, and the cell's slot around it (counter-clockwise
+/// about +axis, as the edge's four cells are ordered).
+#[derive(Clone, Copy)]
+struct CellEdge {
+    axis: usize,
+    offset: [usize; 3],
+    id: usize,
+    lo: usize,
+    hi: usize,
+    slot: u8,
+}
+
+/// The twelve edges of a cell in the order its crossings enter the QEF
+/// (axis by axis, lower corners in corner order), computed once.
+const CELL_EDGES: [CellEdge; 12] = cell_edges();
+
+const fn cell_edges() -> [CellEdge; 12] {
+    let blank = CellEdge {
+        axis: 0,
+        offset: [0; 3],
+        id: 0,
+        lo: 0,
+        hi: 0,
+        slot: 0,
+    };
+    let mut edges = [blank; 12];
+    let (mut n, mut axis) = (0, 0);
+    while axis < 3 {
+        let mut c = 0;
+        while c < 8 {
+            let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
+            if p[axis] == 0 {
+                let mut q = p;
+                q[axis] = 1;
+                let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                edges[n] = CellEdge {
+                    axis,
+                    offset: p,
+                    id: local_edge(axis, p),
+                    lo: corner_index(p),
+                    hi: corner_index(q),
+                    slot: match (p[u] == 0, p[w] == 0) {
+                        (false, false) => 0,
+                        (true, false) => 1,
+                        (true, true) => 2,
+                        (false, true) => 3,
+                    },
+                };
+                n += 1;
+            }
+            c += 1;
+        }
+        axis += 1;
+    }
+    edges
+}
+
 /// Pairs of local edges joined across each face, from the asymptotic
 /// decider; for each ambiguous face, one edge of each of its two segments.
 pub(crate) fn face_pairs(
@@ -267,24 +325,15 @@ pub(crate) fn mesh_brick(
                         local[2] + (c >> 2 & 1) as isize,
                     ])
                 });
-                let inside = v.map(|x| x >= 0.0);
-                if inside.iter().all(|&s| s) || inside.iter().all(|&s| !s) {
+                let signs = v
+                    .iter()
+                    .enumerate()
+                    .fold(0u8, |m, (c, x)| m | ((*x >= 0.0) as u8) << c);
+                if signs == 0 || signs == u8::MAX {
                     continue;
                 }
                 out.cells += 1;
                 // Crossed edges and their connected components.
-                let mut crossed = [false; 12];
-                for axis in 0..3 {
-                    for c in 0..8 {
-                        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
-                        if p[axis] == 0 {
-                            let mut q = p;
-                            q[axis] = 1;
-                            crossed[local_edge(axis, p)] =
-                                inside[corner_index(p)] != inside[corner_index(q)];
-                        }
-                    }
-                }
                 pairs.clear();
                 ambiguous.clear();
                 face_pairs(&v, &mut pairs, &mut ambiguous);
@@ -297,36 +346,25 @@ pub(crate) fn mesh_brick(
                 cell_planes.clear();
                 roots_seen.clear();
                 edge_info.clear();
-                for axis in 0..3 {
-                    for c in 0..8 {
-                        let p = [c & 1, c >> 1 & 1, c >> 2 & 1];
-                        if p[axis] != 0 || !crossed[local_edge(axis, p)] {
-                            continue;
-                        }
-                        let e = local_edge(axis, p);
-                        let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
-                        let key = edge_key(axis, lo);
-                        // Every crossed edge of the brick was solved above.
-                        let corner = [i + p[0], j + p[1], k + p[2]].map(|x| x as isize);
-                        let Some(&plane) = crossings.get(axis, corner) else {
-                            continue;
-                        };
-                        let root = find(&mut parent, e);
-                        if !roots_seen.contains(&root) {
-                            roots_seen.push(root);
-                        }
-                        cell_planes.push((root, plane));
-                        // Slot of this cell around the edge, counter-clockwise about +axis.
-                        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-                        let slot = match (p[u] == 0, p[w] == 0) {
-                            (false, false) => 0,
-                            (true, false) => 1,
-                            (true, true) => 2,
-                            (false, true) => 3,
-                        };
-                        let outward_plus = inside[corner_index(p)];
-                        edge_info.push((e, key, slot, outward_plus));
+                for edge in &CELL_EDGES {
+                    let (lo_inside, hi_inside) = (signs >> edge.lo & 1, signs >> edge.hi & 1);
+                    if lo_inside == hi_inside {
+                        continue;
                     }
+                    let (axis, p, e) = (edge.axis, edge.offset, edge.id);
+                    let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
+                    let key = edge_key(axis, lo);
+                    // Every crossed edge of the brick was solved above.
+                    let corner = [i + p[0], j + p[1], k + p[2]].map(|x| x as isize);
+                    let Some(&plane) = crossings.get(axis, corner) else {
+                        continue;
+                    };
+                    let root = find(&mut parent, e);
+                    if !roots_seen.contains(&root) {
+                        roots_seen.push(root);
+                    }
+                    cell_planes.push((root, plane));
+                    edge_info.push((e, key, edge.slot, lo_inside == 1));
                 }
                 let bounds = cell_box(grid, cell, 0);
                 let slot = cell_slot(local);
