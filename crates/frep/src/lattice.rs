@@ -159,13 +159,18 @@ impl Lattice {
     /// Every crossed edge with both ends in the local range `lo..=hi`,
     /// ready to be solved.
     pub(crate) fn crossed_edges(&self, grid: &Grid, (lo, hi): (isize, isize)) -> Vec<Root> {
+        // Signs compared along each axis by stride, in one pass over the
+        // values; only the few crossed edges build their root.
+        let strides = [1, L, L * L];
         let mut roots = Vec::new();
         for k in lo..=hi {
             for j in lo..=hi {
-                for i in lo..=hi {
-                    let c = [i, j, k];
+                let row = lattice_index([lo, j, k]);
+                for (n, i) in (lo..=hi).enumerate() {
+                    let (c, at) = ([i, j, k], row + n);
+                    let inside = self.values[at] >= 0.0;
                     for axis in 0..3 {
-                        if c[axis] < hi {
+                        if c[axis] < hi && (self.values[at + strides[axis]] >= 0.0) != inside {
                             roots.extend(self.root(grid, axis, c, edge_slot(axis, c)));
                         }
                     }
