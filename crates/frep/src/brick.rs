@@ -476,11 +476,10 @@ pub(crate) fn mesh_brick(
                 }
             }
         }
-        let value = |c: [usize; 3]| lattice.at(c.map(|x| x as isize));
-        let at = |c: [usize; 3]| grid.point([base[0] + c[0], base[1] + c[1], base[2] + c[2]]);
         let clustering = Clustering {
-            value: &value,
-            point: &at,
+            lattice: &lattice,
+            grid,
+            base,
             tolerance,
             sharpness,
         };

@@ -13,6 +13,8 @@
 
 use crate::brick::{face_pairs, find, local_edge, B};
 use crate::eval::GradEval;
+use crate::lattice::Lattice;
+use crate::polygonise::Grid;
 use crate::qef::Qef;
 
 /// What a (merged) cell holds.
@@ -35,12 +37,25 @@ pub(crate) enum Node {
 
 /// The brick's cells and where merged vertices go.
 pub(crate) struct Clustering<'a> {
-    /// Corner value at a local corner (0..=B on each axis).
-    pub value: &'a dyn Fn([usize; 3]) -> f32,
-    /// Model-space position of a local corner.
-    pub point: &'a dyn Fn([usize; 3]) -> [f64; 3],
+    pub lattice: &'a Lattice,
+    pub grid: &'a Grid,
+    /// The brick's first corner in grid coordinates.
+    pub base: [usize; 3],
     pub tolerance: f64,
     pub sharpness: f64,
+}
+
+impl Clustering<'_> {
+    /// Corner value at a local corner (0..=B on each axis).
+    fn value(&self, c: [usize; 3]) -> f32 {
+        self.lattice.at(c.map(|x| x as isize))
+    }
+
+    /// Model-space position of a local corner.
+    fn point(&self, c: [usize; 3]) -> [f64; 3] {
+        self.grid
+            .point(std::array::from_fn(|a| self.base[a] + c[a]))
+    }
 }
 
 /// Merges the brick's `cells` (indexed `i + B (j + B k)`) level by level;
@@ -146,7 +161,7 @@ fn merge(
         let solver = qef.solver();
         solver.solve(solver.rank(c.sharpness))
     });
-    let (lo, hi) = ((c.point)(origin), (c.point)(origin.map(|o| o + size)));
+    let (lo, hi) = (c.point(origin), c.point(origin.map(|o| o + size)));
     let inside = (0..3).all(|a| x[a] >= lo[a] && x[a] <= hi[a]);
     let tol2 = c.tolerance * c.tolerance;
     if !inside || qef.error(x) > tol2 || !on_surface(grad, x, c.tolerance) {
@@ -172,8 +187,7 @@ fn on_surface(grad: &mut GradEval, x: [f64; 3], tolerance: f64) -> bool {
 /// of its edges, faces and body agrees with one of that element's corners.
 fn topology_is_safe(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
     let h = size / 2;
-    let at =
-        |o: [usize; 3]| (c.value)([origin[0] + o[0], origin[1] + o[1], origin[2] + o[2]]) >= 0.0;
+    let at = |o: [usize; 3]| c.value([origin[0] + o[0], origin[1] + o[1], origin[2] + o[2]]) >= 0.0;
     let corner = |n: usize| [n & 1, n >> 1 & 1, n >> 2 & 1].map(|b| b * size);
     let signs: [bool; 8] = std::array::from_fn(|n| at(corner(n)));
     if signs.iter().all(|&s| s == signs[0]) {
@@ -227,7 +241,7 @@ fn topology_is_safe(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
 /// across faces by the asymptotic decider, as the fine cells are).
 fn one_component(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
     let v: [f32; 8] = std::array::from_fn(|n| {
-        (c.value)([
+        c.value([
             origin[0] + (n & 1) * size,
             origin[1] + (n >> 1 & 1) * size,
             origin[2] + (n >> 2 & 1) * size,
