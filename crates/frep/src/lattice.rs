@@ -24,11 +24,35 @@ impl Lattice {
     /// The brick's own corners (the ring is sampled by [`Lattice::sample_ring`]
     /// only where a feature needs it).
     pub(crate) fn sample(batch: &mut BatchEval, grid: &Grid, base: [usize; 3]) -> Lattice {
+        const N: usize = B + 1;
         let mut lattice = Lattice {
             base: base.map(|b| b as isize),
             values: vec![0.0f32; L * L * L],
         };
-        lattice.fill(batch, grid, (0, B as isize), |_| true);
+        // Each axis's coordinates once (as `Grid::point` gives them), the
+        // corners in x-fastest order, written back row by row.
+        let along: [[f32; N]; 3] = std::array::from_fn(|a| {
+            std::array::from_fn(|i| (grid.origin[a] + (base[a] + i) as f64 * grid.h) as f32)
+        });
+        let (mut xs, mut ys, mut zs) = (
+            Vec::with_capacity(N * N * N),
+            Vec::with_capacity(N * N * N),
+            Vec::with_capacity(N * N * N),
+        );
+        for z in along[2] {
+            for y in along[1] {
+                xs.extend_from_slice(&along[0]);
+                ys.extend_from_slice(&[y; N]);
+                zs.extend_from_slice(&[z; N]);
+            }
+        }
+        let mut values = vec![0.0f32; N * N * N];
+        batch.eval(&xs, &ys, &zs, &mut values);
+        for (row, from) in values.chunks_exact(N).enumerate() {
+            let (j, k) = (row % N, row / N);
+            let at = lattice_index([0, j as isize, k as isize]);
+            lattice.values[at..at + N].copy_from_slice(from);
+        }
         lattice
     }
 
