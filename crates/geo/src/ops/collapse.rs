@@ -173,9 +173,20 @@ fn is_closed_disc(v: u32, incidence: &Incidence, tris: &[[u32; 3]]) -> bool {
     false
 }
 
-/// The distinct vertices sharing a triangle with `v`, in first-seen order.
-fn ring(v: u32, incidence: &Incidence, tris: &[[u32; 3]], out: &mut Vec<u32>) {
+/// The distinct vertices sharing a triangle with `v`. Around a closed disc
+/// (every unpinned vertex: collapses keep fans closed discs) each
+/// neighbour follows `v` in exactly one triangle, so the corners after `v`
+/// are the ring; elsewhere, every corner once.
+fn ring(v: u32, closed: bool, incidence: &Incidence, tris: &[[u32; 3]], out: &mut Vec<u32>) {
     out.clear();
+    if closed {
+        out.extend(incidence.of(v).iter().map(|&f| {
+            let t = tris[f as usize];
+            let i = t.iter().position(|&c| c == v).unwrap_or(0);
+            t[(i + 1) % 3]
+        }));
+        return;
+    }
     for &f in incidence.of(v) {
         for c in tris[f as usize] {
             if c != v && !out.contains(&c) {
@@ -271,8 +282,9 @@ impl State<'_> {
             if changed[c.from as usize] || changed[c.to as usize] {
                 continue;
             }
-            ring(c.from, incidence, &self.tris, &mut ring_from);
-            ring(c.to, incidence, &self.tris, &mut ring_to);
+            let closed = |v: u32| !self.pinned[v as usize];
+            ring(c.from, closed(c.from), incidence, &self.tris, &mut ring_from);
+            ring(c.to, closed(c.to), incidence, &self.tris, &mut ring_to);
             let Some(opposite) = keeps_manifold(&ring_from, &ring_to, incidence) else {
                 continue;
             };
