@@ -283,7 +283,13 @@ impl State<'_> {
                 continue;
             }
             let closed = |v: u32| !self.pinned[v as usize];
-            ring(c.from, closed(c.from), incidence, &self.tris, &mut ring_from);
+            ring(
+                c.from,
+                closed(c.from),
+                incidence,
+                &self.tris,
+                &mut ring_from,
+            );
             ring(c.to, closed(c.to), incidence, &self.tris, &mut ring_to);
             let Some(opposite) = keeps_manifold(&ring_from, &ring_to, incidence) else {
                 continue;
