@@ -29,10 +29,10 @@ impl Lattice {
             base: base.map(|b| b as isize),
             values: vec![0.0f32; L * L * L],
         };
-        // Each axis's coordinates once (as `Grid::point` gives them), the
-        // corners in x-fastest order, written back row by row.
+        // Each axis's coordinates once, the corners in x-fastest order,
+        // the values written back row by row.
         let along: [[f32; N]; 3] = std::array::from_fn(|a| {
-            std::array::from_fn(|i| (grid.origin[a] + (base[a] + i) as f64 * grid.h) as f32)
+            std::array::from_fn(|i| grid.coordinate(a, (base[a] + i) as isize) as f32)
         });
         let (mut xs, mut ys, mut zs) = (
             Vec::with_capacity(N * N * N),

@@ -110,12 +110,18 @@ pub(crate) struct Grid {
 
 impl Grid {
     pub fn point(&self, c: [usize; 3]) -> [f64; 3] {
-        std::array::from_fn(|k| self.origin[k] + c[k] as f64 * self.h)
+        std::array::from_fn(|k| self.coordinate(k, c[k] as isize))
+    }
+
+    /// The coordinate along `axis` of the corners with index `c` there
+    /// (also just outside the grid).
+    pub fn coordinate(&self, axis: usize, c: isize) -> f64 {
+        self.origin[axis] + c as f64 * self.h
     }
 
     /// A corner's position, also for corners just outside the grid.
     pub fn point_signed(&self, c: [isize; 3]) -> [f64; 3] {
-        std::array::from_fn(|k| self.origin[k] + c[k] as f64 * self.h)
+        std::array::from_fn(|k| self.coordinate(k, c[k]))
     }
 }
 
