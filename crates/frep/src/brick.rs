@@ -4,6 +4,7 @@
 //! references from which the mesher builds quads.
 
 use geode_geo::glam::Vec3;
+use geode_geo::ops::renumber_used;
 
 use crate::cluster::{merge_cells, Clustering, Node};
 use crate::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
@@ -493,41 +494,23 @@ pub(crate) fn mesh_brick(
         for r in &mut out.refs {
             r.2 = remap[r.2 as usize];
         }
+        drop_unused_vertices(&mut out, &mut vertex_points);
     }
     out.normals = normals_of_used(&mut point, &mut grads, &vertex_points, &out.refs);
     // Most edges lie inside the brick: their quads are made here, in
     // parallel, and only edges on the brick's faces meet in the global sort.
     out.refs.sort_unstable_by_key(|r| (r.0, r.1));
     out.quads = take_quads(&mut out.refs);
-    if tolerance > 0.0 {
-        drop_unused_vertices(&mut out);
-    }
     out
 }
 
-/// Drops the vertices no quad or edge reference uses (those merged into
-/// coarser ones), keeping the others' order: most of an adaptive brick's
-/// vertices, which would otherwise be carried through the join.
-fn drop_unused_vertices(out: &mut BrickOut) {
-    let mut new_index = vec![u32::MAX; out.positions.len()];
-    let quad_corners = out.quads.iter().flatten();
-    for &v in quad_corners.chain(out.refs.iter().map(|r| &r.2)) {
-        new_index[v as usize] = 0;
-    }
-    let mut kept = 0;
-    for (old, slot) in new_index.iter_mut().enumerate() {
-        if *slot == 0 {
-            *slot = kept;
-            out.positions[kept as usize] = out.positions[old];
-            out.normals[kept as usize] = out.normals[old];
-            kept += 1;
-        }
-    }
-    out.positions.truncate(kept as usize);
-    out.normals.truncate(kept as usize);
-    for q in &mut out.quads {
-        *q = q.map(|v| new_index[v as usize]);
-    }
+/// Drops the vertices no edge reference uses (those merged into coarser
+/// ones), keeping the others' order: most of an adaptive brick's vertices,
+/// which would otherwise be carried through the join.
+fn drop_unused_vertices(out: &mut BrickOut, vertex_points: &mut Vec<[f64; 3]>) {
+    let (new_index, kept) = renumber_used(out.positions.len(), out.refs.iter().map(|r| r.2));
+    out.positions = kept.iter().map(|&v| out.positions[v as usize]).collect();
+    *vertex_points = kept.iter().map(|&v| vertex_points[v as usize]).collect();
     for r in &mut out.refs {
         r.2 = new_index[r.2 as usize];
     }
@@ -537,8 +520,8 @@ fn drop_unused_vertices(out: &mut BrickOut) {
     });
 }
 
-/// Outward normals of the vertices some dual edge uses (after merging most
-/// are not: their normals are left zero and the vertices dropped later).
+/// Outward normals of the vertices some dual edge uses (any other's is left
+/// zero).
 fn normals_of_used(
     point: &mut PointEval,
     grads: &mut BatchGradEval,

@@ -462,10 +462,16 @@ type Spares<T> = std::thread::LocalKey<RefCell<Vec<Vec<T>>>>;
 /// A spare register file of this thread (or a new one), of at least `need`.
 fn spare_file<T: Clone + Default>(spares: &'static Spares<T>, need: usize) -> Vec<T> {
     let mut regs = spares.with(|s| s.borrow_mut().pop()).unwrap_or_default();
+    grow_file(&mut regs, need);
+    regs
+}
+
+/// Grows a register file to at least `need` (never shrinks: a smaller tape
+/// uses a prefix).
+fn grow_file<T: Clone + Default>(regs: &mut Vec<T>, need: usize) {
     if regs.len() < need {
         regs.resize(need, T::default());
     }
-    regs
 }
 
 /// Keeps a dropped evaluator's register file for the next one.
@@ -496,10 +502,7 @@ impl<'t> BatchGradEval<'t> {
     /// only: a smaller tape uses a prefix).
     pub fn set_tape(&mut self, tape: &'t Tape) {
         self.tape = tape;
-        let need = tape.slots() * LANES;
-        if self.regs.len() < need {
-            self.regs.resize(need, Grad::default());
-        }
+        grow_file(&mut self.regs, tape.slots() * LANES);
     }
 
     /// `out[i]` = value and gradient at `points[i]`.

@@ -143,15 +143,7 @@ fn is_closed_disc(v: u32, incidence: &Incidence, tris: &[[u32; 3]]) -> bool {
     if faces.len() < 3 {
         return faces.is_empty();
     }
-    // (the corner after v, the corner before v) in each triangle.
-    let arms: Vec<(u32, u32)> = faces
-        .iter()
-        .map(|&f| {
-            let t = tris[f as usize];
-            let i = t.iter().position(|&c| c == v).unwrap_or(0);
-            (t[(i + 1) % 3], t[(i + 2) % 3])
-        })
-        .collect();
+    let arms: Vec<(u32, u32)> = faces.iter().map(|&f| arm(tris[f as usize], v)).collect();
     let once =
         |pick: fn(&(u32, u32)) -> u32, x: u32| arms.iter().filter(|a| pick(a) == x).count() == 1;
     if !arms
@@ -173,6 +165,12 @@ fn is_closed_disc(v: u32, incidence: &Incidence, tris: &[[u32; 3]]) -> bool {
     false
 }
 
+/// (The corner after `v`, the corner before it) in triangle `t`.
+fn arm(t: [u32; 3], v: u32) -> (u32, u32) {
+    let i = t.iter().position(|&c| c == v).unwrap_or(0);
+    (t[(i + 1) % 3], t[(i + 2) % 3])
+}
+
 /// The distinct vertices sharing a triangle with `v`. Around a closed disc
 /// (every unpinned vertex: collapses keep fans closed discs) each
 /// neighbour follows `v` in exactly one triangle, so the corners after `v`
@@ -180,11 +178,7 @@ fn is_closed_disc(v: u32, incidence: &Incidence, tris: &[[u32; 3]]) -> bool {
 fn ring(v: u32, closed: bool, incidence: &Incidence, tris: &[[u32; 3]], out: &mut Vec<u32>) {
     out.clear();
     if closed {
-        out.extend(incidence.of(v).iter().map(|&f| {
-            let t = tris[f as usize];
-            let i = t.iter().position(|&c| c == v).unwrap_or(0);
-            t[(i + 1) % 3]
-        }));
+        out.extend(incidence.of(v).iter().map(|&f| arm(tris[f as usize], v).0));
         return;
     }
     for &f in incidence.of(v) {
@@ -210,6 +204,11 @@ fn keeps_manifold(ring_from: &[u32], ring_to: &[u32], incidence: &Incidence) -> 
 }
 
 impl State<'_> {
+    /// `v`'s ring (see [`ring`]), read as a closed disc unless `v` is pinned.
+    fn ring(&self, v: u32, incidence: &Incidence, out: &mut Vec<u32>) {
+        ring(v, !self.pinned[v as usize], incidence, &self.tris, out);
+    }
+
     /// Each edge worth trying with its cheaper allowed direction, when its
     /// quadric cost is within `bound`. Worth trying: every edge on the first
     /// pass, then those of triangles with a touched corner. Each edge is
@@ -282,15 +281,8 @@ impl State<'_> {
             if changed[c.from as usize] || changed[c.to as usize] {
                 continue;
             }
-            let closed = |v: u32| !self.pinned[v as usize];
-            ring(
-                c.from,
-                closed(c.from),
-                incidence,
-                &self.tris,
-                &mut ring_from,
-            );
-            ring(c.to, closed(c.to), incidence, &self.tris, &mut ring_to);
+            self.ring(c.from, incidence, &mut ring_from);
+            self.ring(c.to, incidence, &mut ring_to);
             let Some(opposite) = keeps_manifold(&ring_from, &ring_to, incidence) else {
                 continue;
             };

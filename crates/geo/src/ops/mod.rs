@@ -25,7 +25,7 @@ pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use quadric::Quadric;
 pub use raycast::{RayHit, TriangleBvh};
-pub use reduce::{compact_vertices, Deviation, ReduceOptions, Reduced};
+pub use reduce::{compact_vertices, renumber_used, Deviation, ReduceOptions, Reduced};
 pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, transformed, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};

@@ -45,11 +45,20 @@ pub type Deviation<'a> = &'a (dyn Fn(&[Vec3], &mut [f32]) + Sync);
 /// Renumbers `triangles` over the vertices they still use, in their old
 /// order; returns, for each new vertex, its old index.
 pub fn compact_vertices(vertices: usize, triangles: &mut [[u32; 3]]) -> Vec<u32> {
+    let (new_index, kept) = renumber_used(vertices, triangles.iter().flatten().copied());
+    for t in triangles.iter_mut() {
+        *t = t.map(|v| new_index[v as usize]);
+    }
+    kept
+}
+
+/// New indices for the vertices `used` names (each once, in their old
+/// order; `u32::MAX` for the others) and, for each new vertex, its old
+/// index.
+pub fn renumber_used(vertices: usize, used: impl IntoIterator<Item = u32>) -> (Vec<u32>, Vec<u32>) {
     let mut new_index = vec![u32::MAX; vertices];
-    for t in triangles.iter() {
-        for &v in t {
-            new_index[v as usize] = 0;
-        }
+    for v in used {
+        new_index[v as usize] = 0;
     }
     let mut kept = Vec::new();
     for (old, slot) in new_index.iter_mut().enumerate() {
@@ -58,8 +67,5 @@ pub fn compact_vertices(vertices: usize, triangles: &mut [[u32; 3]]) -> Vec<u32>
             kept.push(old as u32);
         }
     }
-    for t in triangles.iter_mut() {
-        *t = t.map(|v| new_index[v as usize]);
-    }
-    kept
+    (new_index, kept)
 }
