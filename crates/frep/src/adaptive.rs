@@ -24,15 +24,64 @@ pub(crate) type Mesh<'a> = (&'a mut Vec<Vec3>, &'a mut Vec<Vec3>, &'a mut Vec<[u
 /// The tapes the mesher simplified for each brick (each valid inside its
 /// brick's box) and the field's whole tape for points outside every brick.
 pub(crate) struct RegionTapes<'a> {
-    pub root: &'a Tape,
-    /// Brick coordinates as (z, y, x), ascending, with their tapes.
-    pub bricks: Vec<([usize; 3], &'a Tape)>,
-    pub origin: [f64; 3],
+    root: &'a Tape,
+    /// The bricks' tapes, in the order `brick_of` numbers them.
+    tapes: Vec<&'a Tape>,
+    /// Brick coordinates as (z, y, x), ascending (the tapes' order).
+    keys: Vec<[usize; 3]>,
+    /// Each grid brick's index in `tapes` (`u32::MAX`: none), z-major;
+    /// empty when the grid is too large for one (then `keys` is searched).
+    dense: Vec<u32>,
+    /// Bricks per axis (x, y, z).
+    dims: [usize; 3],
+    origin: [f64; 3],
     /// A brick's side in model units.
-    pub brick_side: f64,
+    brick_side: f64,
 }
 
+/// Grid bricks up to which `brick_of` reads a dense table (4 MiB of
+/// indices) rather than searching the meshed bricks.
+const DENSE_BRICKS: usize = 1 << 20;
+
 impl<'a> RegionTapes<'a> {
+    /// The meshed bricks' tapes, keyed by brick coordinates (z, y, x) in
+    /// ascending order, on a grid of `dims` bricks (x, y, z) of side
+    /// `brick_side` from `origin`.
+    pub(crate) fn new(
+        root: &'a Tape,
+        bricks: Vec<([usize; 3], &'a Tape)>,
+        (origin, brick_side, dims): ([f64; 3], f64, [usize; 3]),
+    ) -> RegionTapes<'a> {
+        let (keys, tapes): (Vec<[usize; 3]>, Vec<&Tape>) = bricks.into_iter().unzip();
+        let cells = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
+        let dense = match cells {
+            Some(n) if n <= DENSE_BRICKS => {
+                let mut dense = vec![u32::MAX; n];
+                for (i, k) in keys.iter().enumerate() {
+                    if k[0] < dims[2] && k[1] < dims[1] && k[2] < dims[0] {
+                        dense[(k[0] * dims[1] + k[1]) * dims[0] + k[2]] = i as u32;
+                    }
+                }
+                dense
+            }
+            _ => Vec::new(),
+        };
+        RegionTapes {
+            root,
+            tapes,
+            keys,
+            dense,
+            dims,
+            origin,
+            brick_side,
+        }
+    }
+
+    /// One tape for every point.
+    pub(crate) fn whole(root: &'a Tape) -> RegionTapes<'a> {
+        RegionTapes::new(root, Vec::new(), ([0.0; 3], 1.0, [0; 3]))
+    }
+
     /// The index of the brick holding `p`, or `u32::MAX` for the root tape.
     pub(crate) fn brick_of(&self, p: Vec3) -> u32 {
         let c: [f64; 3] =
@@ -40,14 +89,22 @@ impl<'a> RegionTapes<'a> {
         if c.iter().any(|x| !(*x >= 0.0 && *x < u32::MAX as f64)) {
             return u32::MAX;
         }
-        let key = [c[2] as usize, c[1] as usize, c[0] as usize];
-        self.bricks
-            .binary_search_by(|b| b.0.cmp(&key))
+        let [x, y, z] = c.map(|x| x as usize);
+        if !self.dense.is_empty() {
+            let inside = x < self.dims[0] && y < self.dims[1] && z < self.dims[2];
+            return if inside {
+                self.dense[(z * self.dims[1] + y) * self.dims[0] + x]
+            } else {
+                u32::MAX
+            };
+        }
+        self.keys
+            .binary_search(&[z, y, x])
             .map_or(u32::MAX, |i| i as u32)
     }
 
     fn tape(&self, brick: u32) -> &'a Tape {
-        self.bricks.get(brick as usize).map_or(self.root, |b| b.1)
+        self.tapes.get(brick as usize).copied().unwrap_or(self.root)
     }
 }
 
@@ -57,21 +114,17 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
     // A handful of points (late passes of reduction) costs less on the
     // calling thread than waking the pool.
     let serial = points.len() < SERIAL_POINTS;
-    let keyed = |(i, p): (usize, &Vec3)| (tapes.brick_of(*p), i as u32);
-    let order: Vec<(u32, u32)> = if serial {
-        let mut order: Vec<_> = points.iter().enumerate().map(keyed).collect();
-        order.sort_unstable();
-        order
+    let brick: Vec<u32> = if serial {
+        points.iter().map(|p| tapes.brick_of(*p)).collect()
     } else {
-        let mut order: Vec<_> = points.par_iter().enumerate().map(keyed).collect();
-        order.par_sort_unstable();
-        order
+        points.par_iter().map(|p| tapes.brick_of(*p)).collect()
     };
+    let (order, lens) = group_by_brick(&brick, tapes.tapes.len());
     let mut sorted = vec![Grad::default(); points.len()];
     // An evaluator and a buffer of points, reused from group to group.
     type Scratch<'a> = (Option<BatchGradEval<'a>>, Vec<[f64; 3]>);
-    let by_brick = |(eval, at): &mut Scratch<'a>, group: &[(u32, u32)], out: &mut [Grad]| {
-        let tape = tapes.tape(group[0].0);
+    let by_brick = |(eval, at): &mut Scratch<'a>, group: &[u32], out: &mut [Grad]| {
+        let tape = tapes.tape(brick[group[0] as usize]);
         let eval = match eval {
             Some(e) => {
                 e.set_tape(tape);
@@ -85,32 +138,57 @@ pub(crate) fn grads_at<'a>(tapes: &RegionTapes<'a>, points: &[Vec3]) -> Vec<Grad
         at.extend(
             group
                 .iter()
-                .map(|&(_, i)| points[i as usize].as_dvec3().to_array()),
+                .map(|&i| points[i as usize].as_dvec3().to_array()),
         );
         eval.eval(at, out);
     };
+    let mut starts = Vec::with_capacity(lens.len());
+    let mut start = 0;
+    for &len in &lens {
+        starts.push(start);
+        start += len;
+    }
+    let group = |i: usize| &order[starts[i]..starts[i] + lens[i]];
     if serial {
         let mut scratch = (None, Vec::new());
-        let mut start = 0;
-        for group in order.chunk_by(|a, b| a.0 == b.0) {
-            by_brick(&mut scratch, group, &mut sorted[start..start + group.len()]);
-            start += group.len();
+        for (i, &start) in starts.iter().enumerate() {
+            by_brick(&mut scratch, group(i), &mut sorted[start..start + lens[i]]);
         }
     } else {
-        let groups: Vec<&[(u32, u32)]> = order.chunk_by(|a, b| a.0 == b.0).collect();
-        let lens: Vec<usize> = groups.iter().map(|g| g.len()).collect();
         par_fill_into(
             &mut sorted,
             &lens,
             || (None, Vec::new()),
-            |scratch, i, out| by_brick(scratch, groups[i], out),
+            |scratch, i, out| by_brick(scratch, group(i), out),
         );
     }
     let mut out = vec![Grad::default(); points.len()];
-    for ((_, i), g) in order.iter().zip(sorted) {
-        out[*i as usize] = g;
+    for (&i, g) in order.iter().zip(sorted) {
+        out[i as usize] = g;
     }
     out
+}
+
+/// The points' indices grouped by brick (bricks ascending, the root
+/// tape's group last, indices ascending within each: a counting sort),
+/// and each non-empty group's length.
+fn group_by_brick(brick: &[u32], bricks: usize) -> (Vec<u32>, Vec<usize>) {
+    let slot = |b: u32| (b as usize).min(bricks);
+    let mut counts = vec![0usize; bricks + 2];
+    for &b in brick {
+        counts[slot(b) + 1] += 1;
+    }
+    let lens: Vec<usize> = counts[1..].iter().copied().filter(|&n| n > 0).collect();
+    for i in 0..=bricks {
+        counts[i + 1] += counts[i];
+    }
+    let mut order = vec![0u32; brick.len()];
+    for (i, &b) in brick.iter().enumerate() {
+        let at = &mut counts[slot(b)];
+        order[*at] = i as u32;
+        *at += 1;
+    }
+    (order, lens)
 }
 
 /// Points below which values are computed on the calling thread.
@@ -233,12 +311,7 @@ fn newton(x: Vec3, g: &Grad) -> Vec3 {
 /// smooth blends). The measure adaptive output keeps within its tolerance,
 /// public so a mesh from any mesher can be held to the same yardstick.
 pub fn surface_distances(tape: &Tape, points: &[Vec3]) -> Vec<f32> {
-    let whole = RegionTapes {
-        root: tape,
-        bricks: Vec::new(),
-        origin: [0.0; 3],
-        brick_side: 1.0,
-    };
+    let whole = RegionTapes::whole(tape);
     let mut out = vec![0.0; points.len()];
     field_distances(&whole, points, &mut out);
     out
@@ -306,12 +379,7 @@ mod tests {
     fn a_ray_finds_the_nearer_surface_the_gradient_walk_misses() {
         let f = sphere([0.0; 3], 0.5).max(sphere([0.6, 0.0, 0.0], 0.3) * 4.0);
         let tape = Tape::compile(&f);
-        let tapes = RegionTapes {
-            root: &tape,
-            bricks: Vec::new(),
-            origin: [0.0; 3],
-            brick_side: 1.0,
-        };
+        let tapes = RegionTapes::whole(&tape);
         let x = (0.55f64 * 0.55 - 0.33 * 0.33 + 0.36) / 1.2;
         let m = Vec3::new(x as f32, (0.55f64 * 0.55 - x * x).sqrt() as f32, 0.0);
         let at_m = grads_at(&tapes, &[m]);

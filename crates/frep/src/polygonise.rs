@@ -409,15 +409,14 @@ pub fn polygonise(
     );
     stop()?;
     if opts.tolerance > 0.0 {
-        let tapes = adaptive::RegionTapes {
-            root: &root,
-            bricks: bricks
+        let tapes = adaptive::RegionTapes::new(
+            &root,
+            bricks
                 .iter()
                 .map(|s| ([s.node[2], s.node[1], s.node[0]], s.tape.as_ref()))
                 .collect(),
-            origin: grid.origin,
-            brick_side: grid.h * B as f64,
-        };
+            (grid.origin, grid.h * B as f64, grid.bricks),
+        );
         let mesh = (&mut positions, &mut normals, &mut triangles);
         let adapted =
             adaptive::adapt(&tapes, mesh, opts.tolerance, cancel).ok_or(MeshError::Cancelled)?;
