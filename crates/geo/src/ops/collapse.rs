@@ -49,10 +49,15 @@ struct State<'a> {
     positions: &'a [Vec3],
     tris: Vec<[u32; 3]>,
     quadrics: Vec<Quadric>,
+    /// Each vertex's quadric at its own position: the part of a collapse's
+    /// cost the vertex it ends on brings, the same for all its collapses.
+    own_error: Vec<f64>,
     /// Vertices whose fan is not one closed disc (a boundary, a pinch): never moved.
     pinned: Vec<bool>,
     /// Directed collapses the measure refused, sorted.
     refused: Vec<u64>,
+    /// Vertices that start a refused collapse (the others skip the search).
+    refused_from: Vec<bool>,
     /// Vertices whose neighbourhood the last pass's chosen collapses
     /// changed, and the ends of collapses it put off: only edges of
     /// triangles around them can have become collapsible (a collapse's
@@ -220,11 +225,16 @@ impl State<'_> {
             Some(touched) => t.iter().any(|&v| touched[v as usize]),
         };
         let cost = |from: u32, to: u32| -> Option<Collapse> {
-            if self.pinned[from as usize] || self.refused.binary_search(&key(from, to)).is_ok() {
+            let from_index = from as usize;
+            if self.pinned[from_index]
+                || (self.refused_from[from_index]
+                    && self.refused.binary_search(&key(from, to)).is_ok())
+            {
                 return None;
             }
-            let q = &self.quadrics;
-            let cost = q[from as usize].mean_with(&q[to as usize], self.positions[to as usize]);
+            let (q, to_index) = (&self.quadrics, to as usize);
+            let (at, own) = (self.positions[to_index], self.own_error[to_index]);
+            let cost = q[from_index].mean_with_sum(&q[to_index], at, own);
             (cost <= bound).then_some(Collapse { cost, from, to })
         };
         let of_triangle = |t: &[u32; 3], out: &mut Vec<Collapse>| {
@@ -404,10 +414,13 @@ impl State<'_> {
             if ok {
                 onto[c.from as usize] = c.to;
                 let moved = self.quadrics[c.from as usize];
-                self.quadrics[c.to as usize].add(&moved);
+                let to = c.to as usize;
+                self.quadrics[to].add(&moved);
+                self.own_error[to] = self.quadrics[to].sum_at(self.positions[to]);
                 made += 1;
             } else {
                 self.refused.push(key(c.from, c.to));
+                self.refused_from[c.from as usize] = true;
             }
         }
         self.refused.sort_unstable();
@@ -438,15 +451,20 @@ pub fn reduce_triangles(
 ) -> Result<Reduced, Cancelled> {
     let tris = triangles.to_vec();
     let incidence = Incidence::build(positions.len(), &tris);
+    let quadrics = initial_quadrics(positions, &tris, &incidence);
     let mut state = State {
         positions,
-        quadrics: initial_quadrics(positions, &tris, &incidence),
+        own_error: (quadrics.par_iter().zip(positions))
+            .map(|(q, &p)| q.sum_at(p))
+            .collect(),
+        quadrics,
         pinned: (0..positions.len() as u32)
             .into_par_iter()
             .map(|v| !is_closed_disc(v, &incidence, &tris))
             .collect(),
         tris,
         refused: Vec::new(),
+        refused_from: vec![false; positions.len()],
         touched: None,
     };
     let mut out = Reduced::default();

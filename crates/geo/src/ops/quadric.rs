@@ -58,7 +58,8 @@ impl Quadric {
     }
 
     /// The weighted sum of squared distances from `p` to the planes.
-    fn sum_at(&self, p: DVec3) -> f64 {
+    pub fn sum_at(&self, p: Vec3) -> f64 {
+        let p = p.as_dvec3();
         let [xx, xy, xz, yy, yz, zz] = self.a;
         let ap = DVec3::new(
             xx * p.x + xy * p.y + xz * p.z,
@@ -72,12 +73,17 @@ impl Quadric {
     /// Mean squared distance from `p` to the planes of `self` and `other`
     /// together (zero when neither holds any area).
     pub fn mean_with(&self, other: &Quadric, p: Vec3) -> f64 {
+        self.mean_with_sum(other, p, other.sum_at(p))
+    }
+
+    /// [`Quadric::mean_with`] given `other.sum_at(p)`, which a caller
+    /// trying many collapses onto one vertex keeps rather than recomputes.
+    pub fn mean_with_sum(&self, other: &Quadric, p: Vec3, other_sum: f64) -> f64 {
         let weight = self.weight + other.weight;
         if weight <= 0.0 {
             return 0.0;
         }
-        let p = p.as_dvec3();
-        (self.sum_at(p) + other.sum_at(p)) / weight
+        (self.sum_at(p) + other_sum) / weight
     }
 }
 
