@@ -407,4 +407,40 @@ mod tests {
         assert!(at_foot.v.abs() < 1e-4, "{}", at_foot.v);
         assert!(feet[1].is_none(), "nothing within 0.01 across the gap");
     }
+
+    /// Bricks at (x, y, z) = (1, 0, 0), (0, 2, 0) and (3, 1, 2) of side 0.5
+    /// from the origin, found by the dense table on a small grid and by
+    /// searching on one too large for a table; outside them, the root.
+    #[test]
+    fn bricks_are_found_alike_by_table_and_by_search() {
+        let tape = Tape::compile(&sphere([0.0; 3], 0.5));
+        let keys = [[0, 0, 1], [0, 2, 0], [2, 1, 3]];
+        let bricks = || keys.iter().map(|&k| (k, &tape)).collect::<Vec<_>>();
+        let small = RegionTapes::new(&tape, bricks(), ([0.0; 3], 0.5, [4, 3, 3]));
+        let huge = RegionTapes::new(&tape, bricks(), ([0.0; 3], 0.5, [1 << 11, 1 << 10, 4]));
+        assert!(!small.dense.is_empty() && huge.dense.is_empty());
+        let at = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let cases = [
+            (at(0.6, 0.1, 0.2), 0),
+            (at(0.2, 1.4, 0.49), 1),
+            (at(1.7, 0.5, 1.0), 2),
+            (at(0.2, 0.2, 0.2), u32::MAX),
+            (at(-0.1, 1.2, 0.1), u32::MAX),
+            (at(9.0, 0.2, 0.2), u32::MAX),
+        ];
+        for (p, want) in cases {
+            assert_eq!(small.brick_of(p), want, "table at {p}");
+            assert_eq!(huge.brick_of(p), want, "search at {p}");
+        }
+    }
+
+    /// Points grouped by brick: bricks ascending, the root tape's last,
+    /// indices ascending within each group, empty groups left out.
+    #[test]
+    fn points_group_by_brick_in_order() {
+        let brick = [2, u32::MAX, 0, 2, 0, u32::MAX, 2];
+        let (order, lens) = group_by_brick(&brick, 4);
+        assert_eq!(order, [2, 4, 0, 3, 6, 1, 5]);
+        assert_eq!(lens, [2, 3, 2]);
+    }
 }
