@@ -12,7 +12,12 @@ pub fn deviation(field: &Field, positions: &[[f32; 3]], triangles: &[[u32; 3]]) 
     let mut samples: Vec<Vec3> = positions.iter().map(|p| Vec3::from_array(*p)).collect();
     for t in triangles {
         let [a, b, c] = t.map(|i| samples[i as usize]);
-        samples.extend([(a + b + c) / 3.0, 0.5 * (a + b), 0.5 * (b + c), 0.5 * (c + a)]);
+        samples.extend([
+            (a + b + c) / 3.0,
+            0.5 * (a + b),
+            0.5 * (b + c),
+            0.5 * (c + a),
+        ]);
     }
     let tape = Tape::compile(field);
     let mut d: Vec<f64> = surface_distances(&tape, &samples)

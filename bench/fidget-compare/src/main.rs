@@ -41,7 +41,10 @@ fn median(mut xs: Vec<f64>) -> f64 {
     xs[xs.len() / 2]
 }
 
-fn geode_mesh(g: &geode_frep::MeshOptions, field: &geode_frep::Field) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+fn geode_mesh(
+    g: &geode_frep::MeshOptions,
+    field: &geode_frep::Field,
+) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     let (m, _) = geode_frep::polygonise(field, g, &|| false, &|_| {}).expect("meshes");
     let positions = m.positions().iter().map(|p| p.to_array()).collect();
     let tris = (0..m.num_prims())
@@ -56,7 +59,11 @@ fn geode_mesh(g: &geode_frep::MeshOptions, field: &geode_frep::Field) -> (Vec<[f
 fn main() {
     let depths: Vec<u8> = std::env::args()
         .nth(1)
-        .map(|a| a.split(',').map(|d| d.parse().expect("depths like 6,7,8")).collect())
+        .map(|a| {
+            a.split(',')
+                .map(|d| d.parse().expect("depths like 6,7,8"))
+                .collect()
+        })
         .unwrap_or(vec![6, 7, 8]);
     println!("| model | depth | fidget ms | fidget triangles | fidget max dev | geode uniform ms | triangles | max dev | geode adaptive ms | triangles | max dev | adaptive time / fidget |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
