@@ -209,53 +209,56 @@ impl Tape {
 
     /// Keeps only what the output needs, then allocates registers.
     fn from_ssa(ssa: Vec<Instr>, output: u32, capsule_sets: Vec<Arc<CapsuleSet>>) -> Tape {
-        // Dead-code elimination and renumbering.
-        let mut live = vec![false; ssa.len()];
-        live[output as usize] = true;
-        for i in (0..ssa.len()).rev() {
-            if live[i] {
-                for a in ssa[i].args().into_iter().flatten() {
-                    live[a as usize] = true;
+        // Backwards, which instructions the output needs and where each of
+        // them is read last (the first reader met from the end): every
+        // reader of an instruction comes after it, so its liveness is known
+        // when it is reached.
+        const DEAD: u32 = u32::MAX;
+        const KEPT: u32 = u32::MAX - 1;
+        let mut last_use = vec![DEAD; ssa.len()];
+        last_use[output as usize] = KEPT;
+        for (i, ins) in ssa.iter().enumerate().rev() {
+            if last_use[i] == DEAD {
+                continue;
+            }
+            for a in ins.args().into_iter().flatten() {
+                if last_use[a as usize] == DEAD {
+                    last_use[a as usize] = i as u32;
                 }
             }
         }
-        let mut new_id = vec![u32::MAX; ssa.len()];
-        let mut compact = Vec::with_capacity(ssa.len());
-        for (i, ins) in ssa.iter().enumerate() {
-            if live[i] {
-                let args = ins.args().map(|x| x.map_or(0, |x| new_id[x as usize]));
-                new_id[i] = compact.len() as u32;
-                compact.push(ins.with(compact.len() as u32, args));
-            }
-        }
-        let output = new_id[output as usize];
-        // Linear-scan register allocation: a register is reused after the
-        // last read of its value. An output never shares its arguments'
-        // registers, so batch evaluation can borrow them apart.
-        let mut last_use = vec![0usize; compact.len()];
-        for (i, ins) in compact.iter().enumerate() {
-            for a in ins.args().into_iter().flatten() {
-                last_use[a as usize] = i;
-            }
-        }
-        last_use[output as usize] = usize::MAX;
-        let mut reg_of = vec![0u32; compact.len()];
+        // Forwards, the live instructions renumbered and, by linear scan,
+        // their registers: a register is reused after the last read of its
+        // value. An output never shares its arguments' registers, so batch
+        // evaluation can borrow them apart.
+        let mut new_id = vec![0u32; ssa.len()];
+        let mut reg_of = vec![0u32; ssa.len()];
         let mut free: Vec<u32> = Vec::new();
         let mut slots = 0u32;
-        let mut instrs = Vec::with_capacity(compact.len());
-        for (i, ins) in compact.iter().enumerate() {
+        let mut compact = Vec::with_capacity(ssa.len());
+        let mut instrs = Vec::with_capacity(ssa.len());
+        for (i, ins) in ssa.iter().enumerate() {
+            if last_use[i] == DEAD {
+                continue;
+            }
             let args = ins.args();
+            let ids = args.map(|a| a.map_or(0, |a| new_id[a as usize]));
             let regs = args.map(|a| a.map_or(0, |a| reg_of[a as usize]));
             let out = free.pop().unwrap_or_else(|| {
                 slots += 1;
                 slots - 1
             });
-            for x in args.into_iter().flatten() {
-                if last_use[x as usize] == i && !free.contains(&reg_of[x as usize]) {
+            for (k, x) in args.iter().enumerate() {
+                let Some(x) = *x else { continue };
+                // A value read twice here (x * x) frees its register once; no
+                // other live value's register can be free already.
+                if last_use[x as usize] == i as u32 && !args[..k].contains(&Some(x)) {
                     free.push(reg_of[x as usize]);
                 }
             }
             reg_of[i] = out;
+            new_id[i] = compact.len() as u32;
+            compact.push(ins.with(compact.len() as u32, ids));
             instrs.push(ins.with(out, regs));
         }
         Tape {
