@@ -160,18 +160,18 @@ const fn face_table() -> [([usize; 4], [usize; 4]); 6] {
 /// indices of its ends, and the cell's slot around it (counter-clockwise
 /// about +axis, as the edge's four cells are ordered).
 #[derive(Clone, Copy)]
-struct CellEdge {
-    axis: usize,
-    offset: [usize; 3],
-    id: usize,
-    lo: usize,
-    hi: usize,
-    slot: u8,
+pub(crate) struct CellEdge {
+    pub axis: usize,
+    pub offset: [usize; 3],
+    pub id: usize,
+    pub lo: usize,
+    pub hi: usize,
+    pub slot: u8,
 }
 
 /// The twelve edges of a cell in the order its crossings enter the QEF
 /// (axis by axis, lower corners in corner order), computed once.
-const CELL_EDGES: [CellEdge; 12] = cell_edges();
+pub(crate) const CELL_EDGES: [CellEdge; 12] = cell_edges();
 
 const fn cell_edges() -> [CellEdge; 12] {
     let blank = CellEdge {

@@ -11,7 +11,7 @@
 //! whose cells merged lose their repeated corners or vanish, and what is
 //! left is the dual of the simplified octree, closed and manifold.
 
-use crate::brick::{face_pairs, find, local_edge, B};
+use crate::brick::{face_pairs, find, B, CELL_EDGES};
 use crate::eval::GradEval;
 use crate::lattice::Lattice;
 use crate::polygonise::Grid;
@@ -195,20 +195,12 @@ fn topology_is_safe(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
         return false;
     }
     // Edges: both ends alike and the middle different is a lost crossing pair.
-    for axis in 0..3 {
-        for n in 0..8 {
-            let p = corner(n);
-            if p[axis] != 0 {
-                continue;
-            }
-            let mut q = p;
-            q[axis] = size;
-            let mut m = p;
-            m[axis] = h;
-            let (a, b) = (at(p), at(q));
-            if a == b && at(m) != a {
-                return false;
-            }
+    for edge in &CELL_EDGES {
+        let (a, b) = (signs[edge.lo], signs[edge.hi]);
+        let mut m = edge.offset.map(|o| o * size);
+        m[edge.axis] = h;
+        if a == b && at(m) != a {
+            return false;
         }
     }
     // Faces and body: all corners alike and the middle different.
@@ -277,20 +269,11 @@ fn joined(v: &[f32; 8], pairs: &[(usize, usize)], ambiguous: &[(usize, usize)]) 
         parent[ra] = rb;
     }
     let mut root = None;
-    for axis in 0..3 {
-        for n in 0..8 {
-            let p = [n & 1, n >> 1 & 1, n >> 2 & 1];
-            if p[axis] != 0 {
-                continue;
-            }
-            let mut q = p;
-            q[axis] = 1;
-            let (a, b) = (v[p[0] + 2 * p[1] + 4 * p[2]], v[q[0] + 2 * q[1] + 4 * q[2]]);
-            if (a >= 0.0) != (b >= 0.0) {
-                let r = find(&mut parent, local_edge(axis, p));
-                if *root.get_or_insert(r) != r {
-                    return false;
-                }
+    for edge in &CELL_EDGES {
+        if (v[edge.lo] >= 0.0) != (v[edge.hi] >= 0.0) {
+            let r = find(&mut parent, edge.id);
+            if *root.get_or_insert(r) != r {
+                return false;
             }
         }
     }

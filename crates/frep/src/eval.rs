@@ -664,12 +664,8 @@ mod tests {
         for tape in tapes() {
             for n in [1, 37, pts.len()] {
                 let (mut any, mut avx) = (BatchEval::new(&tape), BatchEval::new(&tape));
-                let axes = [
-                    &xs[..n.min(LANES)],
-                    &ys[..n.min(LANES)],
-                    &zs[..n.min(LANES)],
-                ];
                 let len = n.min(LANES);
+                let axes = [&xs[..len], &ys[..len], &zs[..len]];
                 any.block_any(axes, len);
                 // SAFETY: the CPU has AVX2, checked above.
                 unsafe { avx.block_avx2(axes, len) };
