@@ -1,4 +1,4 @@
-// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors, warnings, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
+// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors kept local, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
 
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -112,6 +112,27 @@ describe('the coral', () => {
     await page.keyboard.press('Control+z');
     await page.keyboard.press('Control+z');
     await page.waitForFunction((n) => Object.keys(window.__geode.store.state.document.nodes).length === n, n0);
+  });
+
+  test('a node added unwired is an error of its own, and the display still draws', async () => {
+    const g = await generation(page);
+    const names = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes));
+    await page.locator('#editor svg').hover({ position: { x: 60, y: 120 } });
+    await page.keyboard.press('Tab');
+    await page.locator('.tab-menu input').fill('transform');
+    await page.locator('.tab-item[data-type="transform"]').waitFor();
+    await page.keyboard.press('Enter');
+    const added = await page.waitForFunction((old) => Object.keys(window.__geode.store.state.document.nodes).find((n) => !old.includes(n)), names);
+    const loose = await added.jsonValue();
+    await page.waitForSelector(`g.node.error[data-node="${loose}"]`);
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    assert.ok(cooked.hasGeometry);
+    assert.ok((await drawn(page)).generation >= cooked.generation, 'the coral is drawn');
+    assert.equal(await page.locator('g.node.error').count(), 1, 'only the loose node is marked');
+    await page.locator('#editor svg').focus();
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction((n) => !(n in window.__geode.store.state.document.nodes), loose);
   });
 
   test('scrubbing the timeline recooks at the new frame', async () => {

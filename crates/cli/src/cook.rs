@@ -7,41 +7,63 @@ use geode_graph::{CookOptions, Document, Engine, Network};
 use geode_op::{expand_frame, CancelToken, CookEnv, Value};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// Reads and checks a network file; every problem is listed, each prefixed by the file.
+/// Reads and checks a network file, failing on any problem (`geode check`,
+/// `geode fmt`); every problem is listed, each prefixed by the file.
 pub fn load(path: &Path) -> Result<(Document, Network)> {
-    load_with(path, &[])
+    let doc = read_document(path, &[])?;
+    match Network::load(&doc, &geode_nodes::registry()) {
+        Ok(net) => {
+            print_notes(path, &net);
+            Ok((doc, net))
+        }
+        Err(errors) => Err(problems(path, &errors)),
+    }
 }
 
-/// [`load`] with parameters set first (`NODE/PARAM=VALUE`, the node a path
-/// into subnets: `/sub/inner/param=2`); the value is JSON (`0.5`,
-/// `[1, 2, 3]`, `"text"`) or else taken as text.
+/// Reads a network to cook, with parameters set first (`NODE/PARAM=VALUE`,
+/// the node a path into subnets: `/sub/inner/param=2`; the value is JSON
+/// (`0.5`, `[1, 2, 3]`, `"text"`) or else taken as text). Problems stay
+/// local: each is printed as a warning and fails only the cooks that read
+/// the node it belongs to.
 pub fn load_with(path: &Path, sets: &[String]) -> Result<(Document, Network)> {
+    let doc = read_document(path, sets)?;
+    let net = Network::load_partial(&doc, &geode_nodes::registry())
+        .map_err(|errors| problems(path, &errors))?;
+    print_notes(path, &net);
+    for e in net.problems() {
+        eprintln!("{}: warning: {e}", path.display());
+    }
+    Ok((doc, net))
+}
+
+fn read_document(path: &Path, sets: &[String]) -> Result<Document> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("{}: cannot read the network", path.display()))?;
     let mut doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     for set in sets {
         apply_set(&mut doc, set).map_err(|e| anyhow!("{}: --set {set}: {e}", path.display()))?;
     }
-    match Network::load(&doc, &geode_nodes::registry()) {
-        Ok(net) => {
-            for note in net.notes() {
-                eprintln!("{}: note: {note}", path.display());
-            }
-            Ok((doc, net))
-        }
-        Err(errors) => {
-            let lines: Vec<String> = errors
-                .iter()
-                .map(|e| format!("{}: {e}", path.display()))
-                .collect();
-            bail!(
-                "{} problem{} in the network:\n{}",
-                errors.len(),
-                if errors.len() == 1 { "" } else { "s" },
-                lines.join("\n")
-            )
-        }
+    Ok(doc)
+}
+
+fn print_notes(path: &Path, net: &Network) {
+    for note in net.notes() {
+        eprintln!("{}: note: {note}", path.display());
     }
+}
+
+/// Every load problem, one a line, each prefixed by the file.
+fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error {
+    let lines: Vec<String> = errors
+        .iter()
+        .map(|e| format!("{}: {e}", path.display()))
+        .collect();
+    anyhow!(
+        "{} problem{} in the network:\n{}",
+        errors.len(),
+        if errors.len() == 1 { "" } else { "s" },
+        lines.join("\n")
+    )
 }
 
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).

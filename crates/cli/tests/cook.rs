@@ -160,6 +160,42 @@ fn check_reports_every_problem_with_the_file_name() {
 }
 
 #[test]
+fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("net.json");
+    std::fs::write(
+        &net,
+        r#"{"geode": "network", "version": 1, "output": "a", "nodes": {
+        "a": {"type": "box"},
+        "loose": {"type": "transform"},
+        "b": {"type": "transform", "inputs": ["a"], "params": {"rotate": [1, 2]}}}}"#,
+    )
+    .unwrap();
+    let n = net.display();
+    let out = dir.path().join("out.obj");
+    let o = geode(&["cook", net.to_str().unwrap(), "-o", out.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    for warning in [
+        format!("{n}: warning: /b: parameter `rotate`: expected vector3 (an array of 3 numbers or channels), found an array of 2"),
+        format!("{n}: warning: /loose: input 1 (geometry) is required but not connected"),
+    ] {
+        assert!(stderr.contains(&warning), "{stderr}");
+    }
+    assert!(std::fs::metadata(&out).unwrap().len() > 0);
+    // The broken branch itself fails, naming its node and parameter.
+    let o = geode(
+        &["cook", net.to_str().unwrap(), "--node", "/b", "-o", out.to_str().unwrap()],
+        &[],
+    );
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("/b (parameter `rotate`)"), "{}", text(&o));
+    // `geode check` is strict.
+    let o = geode(&["check", net.to_str().unwrap()], &[]);
+    assert_eq!(o.status.code(), Some(1));
+}
+
+#[test]
 fn fmt_rewrites_atomically_and_keeps_unknown_fields() {
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("n.json");

@@ -128,6 +128,9 @@ pub(crate) struct Node {
     pub bypass: bool,
     /// For nodes inside a subnetwork: the subnet's index.
     pub parent: Option<usize>,
+    /// What the loader found wrong with this node: cooking it (or anything
+    /// that reads it) fails with these, and nothing else is held back.
+    pub problems: Vec<LoadError>,
 }
 
 /// A promoted parameter: the subnet parameter and the inner node it drives
@@ -149,6 +152,8 @@ pub struct Network {
     output: Option<usize>,
     promotions: Vec<Promotion>,
     notes: Vec<LoadError>,
+    /// Every problem found, sorted by path (each node's also on the node).
+    problems: Vec<LoadError>,
 }
 
 impl Network {
@@ -282,8 +287,35 @@ impl Network {
         })
     }
 
-    /// Loads and checks a document against the registry's node types.
+    /// Every problem the loader found, sorted by node path (document-level
+    /// first). A node with problems fails when cooked, and so does anything
+    /// downstream of it; the rest of the network cooks.
+    pub fn problems(&self) -> &[LoadError] {
+        &self.problems
+    }
+
+    /// The problems of node `path` itself (not of what it reads).
+    pub fn node_problems(&self, path: &str) -> &[LoadError] {
+        self.index(path).map_or(&[], |i| &self.nodes[i].problems)
+    }
+
+    /// Loads and checks a document against the registry's node types,
+    /// failing on any problem (`geode check`).
     pub fn load(doc: &Document, registry: &Registry) -> Result<Network, Vec<LoadError>> {
+        let net = Network::load_partial(doc, registry)?;
+        if net.problems.is_empty() {
+            Ok(net)
+        } else {
+            Err(net.problems)
+        }
+    }
+
+    /// Loads a document keeping its problems local: each node's problems are
+    /// attached to it ([`Network::node_problems`]) and listed in
+    /// [`Network::problems`], and only what reads a broken node fails to
+    /// cook (as Houdini and Blender fail only the broken branch). Fails only
+    /// when the document is not a network this geode can read.
+    pub fn load_partial(doc: &Document, registry: &Registry) -> Result<Network, Vec<LoadError>> {
         let mut b = Builder {
             registry,
             nodes: Vec::new(),
@@ -293,8 +325,9 @@ impl Network {
             notes: Vec::new(),
             promotions: Vec::new(),
         };
+        let mut fatal = Vec::new();
         if doc.geode != "network" {
-            b.errors.push(LoadError::node(
+            fatal.push(LoadError::node(
                 "/",
                 format!(
                     "not a geode network (\"geode\" is \"{}\", expected \"network\")",
@@ -303,7 +336,7 @@ impl Network {
             ));
         }
         if doc.version > VERSION {
-            b.errors.push(LoadError::node(
+            fatal.push(LoadError::node(
                 "/",
                 format!(
                     "network version {} is newer than this geode understands ({VERSION})",
@@ -311,27 +344,39 @@ impl Network {
                 ),
             ));
         }
+        if !fatal.is_empty() {
+            return Err(fatal);
+        }
         b.collect(&doc.network, "", None);
         b.resolve_inputs();
         b.compile_params();
         b.check_wires();
         let output = b.network_output(&doc.network, "", None);
-        let net = Network {
+        let mut net = Network {
             nodes: b.nodes,
             by_path: b.by_path,
             output,
             promotions: b.promotions,
             notes: b.notes,
+            problems: Vec::new(),
         };
         let mut errors = b.errors;
-        errors.extend(find_cycles(&net));
+        let (cycle_errors, on_cycles) = find_cycles(&net);
+        for (i, e) in on_cycles {
+            net.nodes[i].problems.push(e);
+        }
+        errors.extend(cycle_errors);
         // Grouped by node (document-level first), each node's in check order.
         errors.sort_by(|a, b| a.path.cmp(&b.path));
-        if errors.is_empty() {
-            Ok(net)
-        } else {
-            Err(errors)
+        for e in &errors {
+            if let Some(i) = net.index(&e.path) {
+                if !net.nodes[i].problems.contains(e) {
+                    net.nodes[i].problems.push(e.clone());
+                }
+            }
         }
+        net.problems = errors;
+        Ok(net)
     }
 }
 
@@ -420,6 +465,7 @@ impl Builder<'_> {
                 inputs: Vec::new(),
                 bypass: doc.bypass,
                 parent,
+                problems: Vec::new(),
             });
             self.docs.push(doc.clone());
             if let Some(inner) = &doc.network {
@@ -514,6 +560,7 @@ impl Builder<'_> {
             inputs: Vec::new(),
             bypass: false,
             parent: Some(block),
+            problems: Vec::new(),
         });
         let mut doc = self.docs[block].clone();
         doc.ty = "feed".into();
@@ -1160,8 +1207,10 @@ fn constant_source(v: ParamValue) -> ParamSource {
     }
 }
 
-/// Every cycle through inputs and subnet outputs, each named by its nodes.
-fn find_cycles(net: &Network) -> Vec<LoadError> {
+/// Every cycle through inputs and subnet outputs, each named by its nodes;
+/// and each node on a cycle with the problem it gets (a node on a cycle can
+/// never cook, and the engine must not walk round it).
+fn find_cycles(net: &Network) -> (Vec<LoadError>, Vec<(usize, LoadError)>) {
     let deps = |i: usize| -> Vec<usize> {
         let n = &net.nodes[i];
         let mut d: Vec<usize> = n.inputs.iter().flatten().copied().collect();
@@ -1176,6 +1225,7 @@ fn find_cycles(net: &Network) -> Vec<LoadError> {
     // 0 unvisited, 1 on the stack, 2 done.
     let mut state = vec![0u8; net.nodes.len()];
     let mut errors = Vec::new();
+    let mut members = Vec::new();
     for start in 0..net.nodes.len() {
         if state[start] != 0 {
             continue;
@@ -1205,10 +1255,9 @@ fn find_cycles(net: &Network) -> Vec<LoadError> {
                     let first = (0..flow.len()).min_by_key(|&k| flow[k]).unwrap_or(0);
                     flow.rotate_left(first);
                     flow.push(flow[0]);
-                    errors.push(LoadError::node(
-                        flow[0],
-                        format!("cycle: {}", flow.join(" -> ")),
-                    ));
+                    let e = LoadError::node(flow[0], format!("cycle: {}", flow.join(" -> ")));
+                    members.extend(stack[pos..].iter().map(|(n, _)| (*n, e.clone())));
+                    errors.push(e);
                 }
                 Some(_) => {}
                 None => {
@@ -1218,5 +1267,5 @@ fn find_cycles(net: &Network) -> Vec<LoadError> {
             }
         }
     }
-    errors
+    (errors, members)
 }

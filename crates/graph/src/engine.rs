@@ -45,6 +45,14 @@ fn writes_files(spec: &NodeSpec, params: &Params) -> bool {
         .any(|w| matches!(params.get(*w), Ok(ParamValue::String(s)) if !s.is_empty()))
 }
 
+/// A node's load problem as the error of cooking it.
+fn load_problem(e: &crate::LoadError) -> CookError {
+    match &e.param {
+        Some(p) => CookError::param(&e.path, p, e.message.clone()),
+        None => CookError::new(&e.path, ErrorKind::Network, e.message.clone()),
+    }
+}
+
 /// What happened to one node during a cook.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CookEvent {
@@ -175,6 +183,10 @@ impl Run<'_, '_> {
     fn reads(&self, i: usize) -> Vec<usize> {
         let net = &self.engine.net;
         let n = &net.nodes[i];
+        if !n.problems.is_empty() {
+            // Fails without reading anything (a node on a cycle included).
+            return Vec::new();
+        }
         let mut reads: Vec<usize> = n.inputs.iter().flatten().copied().collect();
         if n.bypass {
             return reads;
@@ -237,6 +249,9 @@ impl Run<'_, '_> {
         let n = &net.nodes[i];
         if self.opts.cancel.is_cancelled() {
             return Err(vec![CookError::cancelled(&n.path)]);
+        }
+        if !n.problems.is_empty() {
+            return Err(n.problems.iter().map(load_problem).collect());
         }
         // Cooked already (`prepare`); every error is reported.
         let results: Vec<Result<Option<Cooked>, Vec<CookError>>> = n

@@ -2,7 +2,7 @@
 
 mod common;
 
-use geode_graph::{load_str, Cache, CookOptions, Engine};
+use geode_graph::{load_str, Cache, CookOptions, Document, Engine, Network};
 use proptest::prelude::*;
 use serde_json::{json, Value as Json};
 
@@ -69,6 +69,21 @@ proptest! {
             let engine = Engine::new(net, &cache);
             // Errors are fine; panics are not.
             let _ = engine.cook_output(&CookOptions::at_frame(2.5));
+        }
+    }
+
+    /// Loaded as the studio loads (problems kept on their nodes), every
+    /// node cooks or fails, cycles included, and never panics or hangs.
+    #[test]
+    fn random_networks_cook_every_node_when_loaded_partially(text in network()) {
+        let reg = common::registry();
+        let doc = Document::from_json(&text).unwrap();
+        let net = Network::load_partial(&doc, &reg).unwrap();
+        let paths: Vec<String> = net.paths().map(str::to_string).collect();
+        let cache = Cache::disabled();
+        let engine = Engine::new(net, &cache);
+        for path in paths {
+            let _ = engine.cook(&path, &CookOptions::at_frame(2.5));
         }
     }
 

@@ -293,6 +293,21 @@ async fn socket(State(app): State<App>, ws: WebSocketUpgrade) -> Response {
         .on_upgrade(move |s| talk(app.studio, s))
 }
 
+/// The `id` of a request, read from its text even when the rest of it is
+/// not a request this server knows.
+fn request_id(text: &str) -> Option<u64> {
+    #[derive(serde::Deserialize)]
+    struct Id {
+        id: Option<u64>,
+    }
+    serde_json::from_str::<Id>(text).ok().and_then(|i| i.id)
+}
+
+/// A failed reply: the request's id, a kind and the message.
+fn failed_reply(id: Option<u64>, kind: &str, message: String) -> serde_json::Value {
+    serde_json::json!({"type": "reply", "id": id, "ok": false, "error": message, "kind": kind})
+}
+
 fn to_message(o: hub::Out) -> Message {
     match o {
         hub::Out::Text(t) => Message::Text(t.as_ref().into()),
@@ -321,12 +336,15 @@ async fn talk(studio: Arc<Studio>, mut ws: WebSocket) {
                     Message::Text(t) => {
                         let s = studio.clone();
                         let text = t.to_string();
+                        // Every reply carries the request's id, so the page's
+                        // promise settles even for a request it got wrong.
+                        let id = request_id(&text);
                         tokio::task::spawn_blocking(move || match serde_json::from_str::<studio::Envelope>(&text) {
                             Ok(env) => s.handle(env),
-                            Err(e) => serde_json::json!({"type": "reply", "ok": false, "error": format!("bad request: {e}")}),
+                            Err(e) => failed_reply(id, "protocol", format!("bad request: {e}")),
                         })
                         .await
-                        .unwrap_or_else(|_| serde_json::json!({"type": "reply", "ok": false, "error": "the request failed"}))
+                        .unwrap_or_else(|_| failed_reply(id, "internal", "the request failed".into()))
                     }
                     Message::Close(_) => return,
                     _ => continue,

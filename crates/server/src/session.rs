@@ -66,7 +66,7 @@ impl Session {
             }
             _ => Document::new(),
         };
-        let network = Network::load(&doc, &registry);
+        let network = Network::load_partial(&doc, &registry);
         Ok(Session {
             registry,
             path: path.map(Path::to_owned),
@@ -96,7 +96,8 @@ impl Session {
         self.version
     }
 
-    /// The loaded network, or every problem the loader found.
+    /// The loaded network (each node's problems kept on it, failing only
+    /// what reads that node), or why the document is no network at all.
     pub fn network(&self) -> &Result<Network, Vec<LoadError>> {
         &self.network
     }
@@ -151,7 +152,7 @@ impl Session {
     }
 
     fn replace(&mut self, doc: Document) {
-        self.network = Network::load(&doc, &self.registry);
+        self.network = Network::load_partial(&doc, &self.registry);
         self.doc = doc;
         self.version += 1;
     }
@@ -180,7 +181,7 @@ impl Session {
     /// Load problems keyed for the studio: node path, parameter, message.
     pub fn problems(&self) -> Vec<Json> {
         let (errors, notes) = match &self.network {
-            Ok(n) => (&[][..], n.notes()),
+            Ok(n) => (n.problems(), n.notes()),
             Err(e) => (&e[..], &[][..]),
         };
         let item = |e: &LoadError, level: &str| json!({"path": e.path, "param": e.param, "message": e.message, "level": level});

@@ -158,7 +158,7 @@ impl Studio {
             None => {
                 self.cooker.cancel(generation);
                 let why = if load_failed {
-                    "the network has errors (see the nodes marked red)"
+                    "the file is not a network this geode can read"
                 } else {
                     "nothing to show: set a display flag or view a node"
                 };

@@ -226,6 +226,38 @@ fn an_oversized_message_closes_the_socket_unanswered() {
     assert!(!body.contains("xxxxxxxx"));
 }
 
+/// Reads messages until the reply to request `id`.
+fn reply_to(
+    ws: &mut tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<std::net::TcpStream>>,
+    id: u64,
+) -> serde_json::Value {
+    loop {
+        if let Message::Text(t) = ws.read().unwrap() {
+            let v: serde_json::Value = serde_json::from_str(&t).unwrap();
+            if v["type"] == "reply" && v["id"] == id {
+                return v;
+            }
+        }
+    }
+}
+
+#[test]
+fn a_request_the_server_cannot_read_is_answered_under_its_id() {
+    let (r, _d) = server();
+    let (mut ws, _) = tungstenite::connect(ws_request(&r, Some(&r.token), None)).unwrap();
+    ws.send(Message::text(r#"{"op":"no_such_op","id":41}"#))
+        .unwrap();
+    let reply = reply_to(&mut ws, 41);
+    assert_eq!(reply["ok"], false);
+    assert_eq!(reply["kind"], "protocol");
+    assert!(reply["error"].as_str().unwrap().starts_with("bad request: "), "{reply}");
+    ws.send(Message::text(
+        r#"{"op":"edit","id":42,"edit":{"kind":"set_param","path":"/box","param":7}}"#,
+    ))
+    .unwrap();
+    assert_eq!(reply_to(&mut ws, 42)["kind"], "protocol");
+}
+
 /// Waits until the session's first cook is done (its trace has spans).
 fn cooked(r: &Running) -> serde_json::Value {
     let auth = [host(r), ("X-Geode-Token", r.token.clone())];

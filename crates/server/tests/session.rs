@@ -171,6 +171,31 @@ fn removing_a_node_drops_its_wires_and_the_output() {
 }
 
 #[test]
+fn an_unwired_node_is_a_problem_of_its_own_and_the_display_still_cooks() {
+    let r = registry();
+    let mut s = Session::open(Some(&example("primitives.json")), r).unwrap();
+    s.edit(
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "transform", "name": "loose"})),
+        false,
+    )
+    .unwrap();
+    let problems = s.problems();
+    assert_eq!(problems.len(), 1, "{problems:?}");
+    assert_eq!(problems[0]["path"], "/loose");
+    assert_eq!(problems[0]["level"], "error");
+    let net = s.network().as_ref().unwrap().clone();
+    let cache = geode_graph::Cache::disabled();
+    let engine = geode_graph::Engine::new(net, &cache);
+    let opts = geode_graph::CookOptions::at_frame(1.0);
+    assert!(engine.cook_output(&opts).is_ok());
+    let err = engine.cook("/loose", &opts).err().unwrap();
+    assert_eq!(
+        err[0].to_string(),
+        "/loose: input 1 (geometry) is required but not connected"
+    );
+}
+
+#[test]
 fn parameters_are_checked_by_the_loader_not_refused() {
     let r = registry();
     let mut s = Session::open(Some(&example("coral.json")), r).unwrap();
