@@ -28,12 +28,6 @@ export function parseNumber(text: string): number | string {
   return text;
 }
 
-/** The column an error message points at (`column 7: ...`), if any. */
-export function errorColumn(message: string): number | null {
-  const m = /column (\d+)/.exec(message);
-  return m ? Number(m[1]) : null;
-}
-
 const COMPONENTS: Record<string, number> = { float: 1, int: 1, toggle: 1, vec2: 2, vec3: 3, vec4: 4 };
 
 function components(decl: ParamDecl, value: unknown): unknown[] {
@@ -188,7 +182,7 @@ export class ParamPanel {
       const e = document.createElement('div');
       e.className = 'param-error';
       e.textContent = p.param && p.param !== row.name ? `${p.param}: ${p.message}` : p.message;
-      const col = errorColumn(p.message);
+      const col = p.column ?? null;
       const text = widgets.querySelector('input[type=text]') as HTMLInputElement | null;
       if (col !== null && text) {
         const caret = document.createElement('pre');

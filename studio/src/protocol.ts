@@ -57,7 +57,11 @@ export interface Problem {
   param: string | null;
   message: string;
   level?: string;
+  /** `parameter`, `input`, `resource`, `kernel`, `io`, `network`, `cancelled` (cook errors). */
   kind?: string;
+  /** Where in the parameter's text (a snippet, an expression), from 1. */
+  line?: number | null;
+  column?: number | null;
 }
 
 export interface StateMsg {

@@ -1,7 +1,7 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
 import { expect, test } from 'vitest';
 import { decodeGeometry } from '../src/protocol';
-import { errorColumn, parseNumber } from '../src/params';
+import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
 import { chunksFor } from '../src/sheet';
 import { checksum, repairNormals } from '../src/viewport';
@@ -50,11 +50,6 @@ test('typed numbers become numbers, anything else stays text for the loader to j
   expect(parseNumber('-1e3')).toBe(-1000);
   expect(parseNumber('abc')).toBe('abc');
   expect(parseNumber('')).toBe('');
-});
-
-test('expression errors point at their column', () => {
-  expect(errorColumn('column 7: expected an operand')).toBe(7);
-  expect(errorColumn('value -1 is below the minimum 0')).toBeNull();
 });
 
 test('the Tab menu ranks exact and prefix matches first', () => {

@@ -119,8 +119,10 @@ impl Operator for Wrangle {
             frame: ctx.frame,
             time: (ctx.frame - 1.0) / FPS,
         };
-        let program = geode_vex::compile(p.string(&SNIPPET)?, &spec)
-            .map_err(|e| ctx.kernel_at("snippet", e))?;
+        let program = geode_vex::compile(p.string(&SNIPPET)?, &spec).map_err(|e| {
+            let pos = e.pos;
+            ctx.kernel_at("snippet", e).at_position(pos.line, pos.col)
+        })?;
         let group = group_members(ctx, p, g0, class)?;
         let mut out = geode_geo::Geometry::clone(g0);
         let cancel = ctx.cancel_fn();
@@ -131,6 +133,9 @@ impl Operator for Wrangle {
         match geode_vex::run(&program, &mut out, &all, &opts) {
             Ok(_) => geometry(out),
             Err(RunError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+            Err(e @ RunError::At { pos, .. }) if pos.line > 0 => {
+                Err(ctx.kernel_at("snippet", e).at_position(pos.line, pos.col))
+            }
             Err(e) => Err(ctx.kernel_at("snippet", e)),
         }
     }

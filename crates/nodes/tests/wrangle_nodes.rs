@@ -41,6 +41,23 @@ fn ch_reads_animated_spare_parameters() {
 }
 
 #[test]
+fn compile_and_run_errors_carry_their_position_as_fields() {
+    let position = |snippet: &str| {
+        let nodes = format!(
+            r#""g": {{"type": "grid"}}, "w": {{"type": "wrangle", "inputs": ["g"], "params": {{"snippet": {}}}}}"#,
+            serde_json::to_string(snippet).unwrap()
+        );
+        let e = cook_errors(&nodes, "w");
+        assert_eq!(e[0].param.as_deref(), Some("snippet"));
+        assert_eq!(e[0].kind, geode_op::ErrorKind::Kernel);
+        e[0].position.map(|p| (p.line, p.column))
+    };
+    assert_eq!(position("float speed = 1;\n@P.y += sped;"), Some((2, 9)));
+    // Geometry edits applied after the run know no position.
+    assert_eq!(position("addpoint(0, 99999);"), None);
+}
+
+#[test]
 fn compile_errors_name_node_parameter_line_and_column() {
     let e = err(
         r#""g": {"type": "grid"},

@@ -47,6 +47,29 @@ pub enum ErrorKind {
     Network,
 }
 
+impl ErrorKind {
+    /// The kind's name as the studio and logs show it (`parameter`, `io`).
+    pub fn name(self) -> &'static str {
+        match self {
+            ErrorKind::Cancelled => "cancelled",
+            ErrorKind::Parameter => "parameter",
+            ErrorKind::Input => "input",
+            ErrorKind::Resource => "resource",
+            ErrorKind::Kernel => "kernel",
+            ErrorKind::Io => "io",
+            ErrorKind::Network => "network",
+        }
+    }
+}
+
+/// Where in a parameter's text (a snippet, an expression) an error is:
+/// line and column, both from 1, the column counted in characters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TextPosition {
+    pub line: u32,
+    pub column: u32,
+}
+
 type Source = Arc<dyn std::error::Error + Send + Sync + 'static>;
 
 /// A failed cook: the node, the parameter if one is to blame, the kind, why,
@@ -58,6 +81,8 @@ pub struct CookError {
     pub param: Option<String>,
     pub kind: ErrorKind,
     pub message: String,
+    /// Where in the blamed parameter's text the problem is, when it is text.
+    pub position: Option<TextPosition>,
     #[source]
     source: Option<Source>,
 }
@@ -70,6 +95,7 @@ impl PartialEq for CookError {
             && self.param == o.param
             && self.kind == o.kind
             && self.message == o.message
+            && self.position == o.position
     }
 }
 
@@ -80,6 +106,7 @@ impl CookError {
             param: None,
             kind,
             message: message.into(),
+            position: None,
             source: None,
         }
     }
@@ -95,6 +122,12 @@ impl CookError {
     /// Blames a parameter.
     pub fn at_param(mut self, param: &str) -> CookError {
         self.param = Some(param.to_owned());
+        self
+    }
+
+    /// Points at a line and column (from 1) of the blamed parameter's text.
+    pub fn at_position(mut self, line: u32, column: u32) -> CookError {
+        self.position = Some(TextPosition { line, column });
         self
     }
 

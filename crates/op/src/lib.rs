@@ -9,7 +9,9 @@ mod param;
 mod registry;
 mod value;
 
-pub use context::{CancelToken, CookContext, CookError, ErrorKind, ProgressFn, Warnings};
+pub use context::{
+    CancelToken, CookContext, CookError, ErrorKind, ProgressFn, TextPosition, Warnings,
+};
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
 pub use param::{
     LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,

@@ -37,7 +37,8 @@ pub struct Hub {
 }
 
 pub fn error_json(e: &CookError) -> Json {
-    json!({"path": e.path, "param": e.param, "kind": format!("{:?}", e.kind).to_lowercase(), "message": e.message})
+    json!({"path": e.path, "param": e.param, "kind": e.kind.name(), "message": e.message,
+        "line": e.position.map(|p| p.line), "column": e.position.map(|p| p.column)})
 }
 
 fn event_json(e: &CookEvent) -> Json {
@@ -198,6 +199,19 @@ mod tests {
         assert_eq!(hub.last().unwrap().generation, 5);
         assert!(matches!(rx.try_recv(), Ok(Out::Text(t)) if &*t == "5"));
         assert!(rx.try_recv().is_err(), "the stale result was not sent");
+    }
+
+    #[test]
+    fn errors_travel_as_fields_not_debug_text() {
+        let e = CookError::param("/w", "snippet", "undeclared variable").at_position(2, 9);
+        assert_eq!(
+            error_json(&e),
+            json!({"path": "/w", "param": "snippet", "kind": "parameter",
+                "message": "undeclared variable", "line": 2, "column": 9})
+        );
+        let e = CookError::new("/f", geode_op::ErrorKind::Io, "cannot read");
+        assert_eq!(error_json(&e)["kind"], "io");
+        assert_eq!(error_json(&e)["line"], Json::Null);
     }
 
     #[test]

@@ -43,3 +43,14 @@ pub fn geo(nodes: &str, output: &str) -> Arc<Geometry> {
 pub fn err(nodes: &str, output: &str) -> String {
     cook_at(nodes, output, 1.0).expect_err("an error")
 }
+
+/// The typed errors `output` fails with at frame 1 (the network must load).
+pub fn cook_errors(nodes: &str, output: &str) -> Vec<geode_op::CookError> {
+    let net = load_str(&net(nodes, output), &geode_nodes::registry())
+        .unwrap_or_else(|e| panic!("{}", joined(e)));
+    let cache = Cache::disabled();
+    match Engine::new(net, &cache).cook_output(&CookOptions::at_frame(1.0)) {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e,
+    }
+}
