@@ -228,14 +228,14 @@ export class NetworkEditor {
     const node = this.net()?.nodes[t.node];
     if ((e.target as Element).closest('.node-name')) {
       this.rename(t.node);
-    } else if (hasNetwork(node)) {
+    } else if (hasNetwork(node, this.store.catalogue)) {
       this.dive(join(this.store.at, t.node));
     }
   }
 
   /** Shows the network inside a subnet. */
   dive(path: string) {
-    if (!hasNetwork(nodeAt(this.store.state!.document, path))) return;
+    if (!hasNetwork(nodeAt(this.store.state!.document, path), this.store.catalogue)) return;
     this.store.at = path;
     this.actions.select([], null);
   }
@@ -333,7 +333,7 @@ export class NetworkEditor {
     const errors = [...problems, ...cookErr];
     const viewed = (s.state?.view.solo ?? s.state?.output) === path;
     const warnings = errors.length ? [] : (s.badges.get(path)?.warnings ?? []);
-    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node) ? 'subnet' : ''];
+    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node, this.store.catalogue) ? 'subnet' : ''];
     const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
     el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);

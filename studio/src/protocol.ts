@@ -109,6 +109,8 @@ export interface CookedMsg {
   stats?: GeometryStats | { bundle: Record<string, GeometryStats> } | { field: true } | null;
   ms?: number;
   hasGeometry?: boolean;
+  /** Milliseconds the server spent encoding the geometry for the viewport. */
+  encodeMs?: number;
 }
 
 export interface ProgressMsg {
@@ -123,6 +125,10 @@ export interface ReplyMsg {
   id: number | null;
   ok: boolean;
   error?: string;
+  /** Why it was refused: `edit`, `io`, `request`, `protocol`, `internal`. */
+  kind?: string;
+  /** The node a refused edit concerns. */
+  path?: string | null;
   [extra: string]: unknown;
 }
 
@@ -234,9 +240,9 @@ export class Connection {
   }
 }
 
-/** Whether a node holds a network the editor can dive into (subnet, loop, solver). */
-export function hasNetwork(node: DocNode | null | undefined): boolean {
-  return !!node && (node.network !== undefined || ['subnet', 'loop', 'solver'].includes(node.type));
+/** Whether a node holds a network the editor can dive into: the catalogue says which types do. */
+export function hasNetwork(node: DocNode | null | undefined, types: ReadonlyMap<string, NodeType>): boolean {
+  return !!node && (node.network !== undefined || types.get(node.type)?.network === true);
 }
 
 const SPARE_TYPES: Record<string, { type: ParamDecl['type']; default: unknown }> = {

@@ -1,6 +1,7 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
 import { expect, test } from 'vitest';
-import { decodeGeometry } from '../src/protocol';
+import { decodeGeometry, hasNetwork } from '../src/protocol';
+import { nodeTypes } from './protocol.fixture';
 import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
 import { chunksFor } from '../src/sheet';
@@ -81,4 +82,13 @@ test('zero normals are replaced by computed ones, the others kept', () => {
   const n = geo.getAttribute('normal');
   expect([n.getX(0), n.getY(0), n.getZ(0)]).toEqual([0, 0, 1]);
   expect([n.getX(1), n.getY(1), n.getZ(1)]).toEqual([1, 0, 0]);
+});
+
+test('the catalogue, not a list in the page, says which node types hold a network', () => {
+  const types = new Map(nodeTypes.map((t) => [t.name, t]));
+  const container = nodeTypes.find((t) => t.network)!;
+  expect(hasNetwork({ type: container.name }, types)).toBe(true);
+  const plain = nodeTypes.find((t) => !t.network)!;
+  expect(hasNetwork({ type: plain.name }, types)).toBe(false);
+  expect(hasNetwork({ type: 'anything', network: { nodes: {} } }, types)).toBe(true);
 });

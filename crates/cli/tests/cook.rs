@@ -173,7 +173,10 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
     .unwrap();
     let n = net.display();
     let out = dir.path().join("out.obj");
-    let o = geode(&["cook", net.to_str().unwrap(), "-o", out.to_str().unwrap()], &[]);
+    let o = geode(
+        &["cook", net.to_str().unwrap(), "-o", out.to_str().unwrap()],
+        &[],
+    );
     assert!(o.status.success(), "{}", text(&o));
     let stderr = String::from_utf8_lossy(&o.stderr);
     for warning in [
@@ -185,11 +188,22 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
     assert!(std::fs::metadata(&out).unwrap().len() > 0);
     // The broken branch itself fails, naming its node and parameter.
     let o = geode(
-        &["cook", net.to_str().unwrap(), "--node", "/b", "-o", out.to_str().unwrap()],
+        &[
+            "cook",
+            net.to_str().unwrap(),
+            "--node",
+            "/b",
+            "-o",
+            out.to_str().unwrap(),
+        ],
         &[],
     );
     assert_eq!(o.status.code(), Some(1), "{}", text(&o));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("/b (parameter `rotate`)"), "{}", text(&o));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains("/b (parameter `rotate`)"),
+        "{}",
+        text(&o)
+    );
     // `geode check` is strict.
     let o = geode(&["check", net.to_str().unwrap()], &[]);
     assert_eq!(o.status.code(), Some(1));

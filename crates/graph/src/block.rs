@@ -38,47 +38,30 @@ const STOP: P = P::new(
 );
 const START_FRAME: P = P::new("start_frame", "Start frame", T::Float, D::Float(1.0), "The frame the solver starts from: its network runs on the input there, and on the previous frame's result after.");
 
-static LOOP_PARAMS: [P; 2] = [ITERATIONS, STOP];
-static SOLVER_PARAMS: [P; 1] = [START_FRAME];
+pub(crate) static LOOP_PARAMS: [P; 2] = [ITERATIONS, STOP];
+pub(crate) static SOLVER_PARAMS: [P; 1] = [START_FRAME];
 
 impl BlockKind {
     pub fn from_type(ty: &str) -> Option<BlockKind> {
-        match ty {
-            "loop" => Some(BlockKind::Loop),
-            "solver" => Some(BlockKind::Solver),
-            _ => None,
-        }
+        BlockKind::ALL.into_iter().find(|k| k.name() == ty)
     }
 
     pub const ALL: [BlockKind; 2] = [BlockKind::Loop, BlockKind::Solver];
 
-    pub fn label(self) -> &'static str {
+    /// The block's declaration ([`crate::container`]).
+    pub fn spec(self) -> &'static geode_op::NodeSpec {
         match self {
-            BlockKind::Loop => "For-Loop with Feedback",
-            BlockKind::Solver => "Solver",
-        }
-    }
-
-    /// What the block does, for the catalogue.
-    pub fn help(self) -> &'static str {
-        match self {
-            BlockKind::Loop => "Cooks its network a number of times, each pass on the previous pass's result (@0), until a detail attribute says stop; @meta gives detail attributes iteration and numiterations, @1.. the loop's other inputs.",
-            BlockKind::Solver => "Cooks its network once per frame on the previous frame's result (@0), the start frame on the input; @meta gives detail attributes frame and start_frame, @1.. the solver's other inputs at the frame. Scrubbing forward reuses every cached frame.",
+            BlockKind::Loop => &crate::container::LOOP,
+            BlockKind::Solver => &crate::container::SOLVER,
         }
     }
 
     pub fn name(self) -> &'static str {
-        match self {
-            BlockKind::Loop => "loop",
-            BlockKind::Solver => "solver",
-        }
+        self.spec().name
     }
 
     pub fn params(self) -> &'static [P] {
-        match self {
-            BlockKind::Loop => &LOOP_PARAMS,
-            BlockKind::Solver => &SOLVER_PARAMS,
-        }
+        self.spec().params
     }
 }
 

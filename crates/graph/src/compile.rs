@@ -186,7 +186,7 @@ impl Network {
         self.index(path).map(|i| match &self.nodes[i].kind {
             NodeKind::Op { op, .. } => op.spec().name,
             NodeKind::Subnet { block: Some(b), .. } => b.kind.name(),
-            NodeKind::Subnet { .. } => "subnet",
+            NodeKind::Subnet { .. } => crate::container::SUBNET.name,
             NodeKind::Feed { .. } => "feed",
             NodeKind::Invalid => "invalid",
         })
@@ -413,7 +413,7 @@ impl Builder<'_> {
                 continue;
             }
             let block = crate::block::BlockKind::from_type(&doc.ty);
-            let kind = if doc.ty == "subnet" || block.is_some() {
+            let kind = if crate::container_spec(&doc.ty).is_some() {
                 if doc.network.is_none() {
                     self.errors.push(LoadError::node(
                         &path,
@@ -433,7 +433,7 @@ impl Builder<'_> {
                         spare: Vec::new(),
                     },
                     None => {
-                        let near = self.registry.closest(&doc.ty);
+                        let near = crate::container::closest_types(self.registry, &doc.ty);
                         let hint = if near.is_empty() {
                             String::new()
                         } else {
@@ -448,8 +448,7 @@ impl Builder<'_> {
                     }
                 }
             };
-            if doc.ty != "subnet"
-                && block.is_none()
+            if crate::container_spec(&doc.ty).is_none()
                 && (doc.network.is_some() || !doc.promote.is_empty())
             {
                 self.errors.push(LoadError::node(

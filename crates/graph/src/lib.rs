@@ -9,12 +9,14 @@ mod block;
 pub mod cache;
 pub mod channel;
 mod compile;
+pub mod container;
 pub mod document;
 mod engine;
 
 pub use block::BlockKind;
 pub use cache::{Cache, CacheStats, Cached, Store};
 pub use compile::{LoadError, Network, Promotion};
+pub use container::{container_spec, node_spec, node_specs};
 pub use document::{Document, SyntaxError};
 pub use engine::{CookEvent, CookOptions, CookResult, Engine};
 

@@ -55,7 +55,9 @@ fn downstream_of_a_broken_node_fails_with_its_error() {
     let err = engine.cook("/after", &opts).err().unwrap();
     assert_eq!(
         messages(&err),
-        vec!["/bad (parameter `count`): expected int (a number or a channel), found string \"many\""]
+        vec![
+            "/bad (parameter `count`): expected int (a number or a channel), found string \"many\""
+        ]
     );
     assert_eq!(err[0].param.as_deref(), Some("count"));
     let err = engine.cook("/typo", &opts).err().unwrap();
@@ -77,7 +79,11 @@ fn nodes_on_a_cycle_fail_without_hanging_and_the_rest_cooks() {
     assert!(engine.cook_output(&opts).is_ok());
     for node in ["/a", "/b", "/c", "/d"] {
         let err = engine.cook(node, &opts).err().unwrap();
-        assert_eq!(messages(&err), vec!["/a: cycle: /a -> /b -> /c -> /a"], "{node}");
+        assert_eq!(
+            messages(&err),
+            vec!["/a: cycle: /a -> /b -> /c -> /a"],
+            "{node}"
+        );
     }
 }
 

@@ -733,7 +733,10 @@ fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result
         p.string(&EXPRESSION_EXPRESSION)?,
         &["x", "y", "z", "a", "b", "c"],
     )
-    .map_err(|e| ctx.param_error("expression", e.to_string()).at_position(1, e.column as u32))?;
+    .map_err(|e| {
+        ctx.param_error("expression", e.to_string())
+            .at_position(1, e.column as u32)
+    })?;
     let vars = [
         Field::x(),
         Field::y(),

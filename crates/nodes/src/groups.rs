@@ -124,7 +124,10 @@ fn cook_expression(
         p.string(&EXPRESSION_EXPRESSION)?,
         &["x", "y", "z", "id", "frame"],
     )
-    .map_err(|e| ctx.param_error("expression", e.to_string()).at_position(1, e.column as u32))?;
+    .map_err(|e| {
+        ctx.param_error("expression", e.to_string())
+            .at_position(1, e.column as u32)
+    })?;
     let frame = ctx.frame;
     let flags = element_positions(&g, c)
         .par_iter()

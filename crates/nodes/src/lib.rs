@@ -32,6 +32,9 @@ mod wrangle;
 
 pub use expr::{Expr, ExprError};
 pub use patches::for_file;
+/// The wrangle language's function table, for the studio's snippet
+/// completion (the node library is the one crate that uses geode-vex).
+pub use geode_vex::{signatures as vex_signatures, Signature as VexSignature};
 
 use geode_op::Registry;
 

@@ -1,6 +1,6 @@
 //! The node catalogue as the studio reads it: every node type's ports and parameter declarations (the same declarations that drive the cook, the docs and the CLI).
 
-use geode_op::{ParamDefault, ParamSpec, ParamType, Registry};
+use geode_op::{NodeSpec, ParamDefault, ParamSpec, ParamType, Registry};
 use serde_json::{json, Value as Json};
 
 fn default_json(d: ParamDefault) -> Json {
@@ -56,72 +56,30 @@ pub fn param_json(p: &ParamSpec) -> Json {
     j
 }
 
-/// Every node type, sorted by category then name.
+/// One node type as the page reads it; `network` marks the types that hold
+/// a network (subnet, loop, solver: the page dives into those).
+pub fn spec_json(s: &NodeSpec) -> Json {
+    json!({
+        "name": s.name,
+        "label": s.label,
+        "category": s.category,
+        "summary": s.summary(),
+        "help": s.help,
+        "inputs": s.inputs.iter().map(|i| json!({
+            "name": i.name, "type": i.ty.to_string(), "required": i.required,
+        })).collect::<Vec<_>>(),
+        "variadic": s.variadic,
+        "output": s.output.to_string(),
+        "params": s.params.iter().map(param_json).collect::<Vec<_>>(),
+        "timeDependent": s.time_dependent,
+        "network": geode_graph::container_spec(s.name).is_some(),
+        "spare": s.spare,
+    })
+}
+
+/// Every node type (the engine's own included), sorted by category then name.
 pub fn catalogue(registry: &Registry) -> Json {
-    let mut nodes: Vec<Json> = registry
-        .iter()
-        .map(|op| {
-            let s = op.spec();
-            json!({
-                "name": s.name,
-                "label": s.label,
-                "category": s.category,
-                "summary": s.summary(),
-                "help": s.help,
-                "inputs": s.inputs.iter().map(|i| json!({
-                    "name": i.name, "type": i.ty.to_string(), "required": i.required,
-                })).collect::<Vec<_>>(),
-                "variadic": s.variadic,
-                "output": s.output.to_string(),
-                "params": s.params.iter().map(param_json).collect::<Vec<_>>(),
-                "timeDependent": s.time_dependent,
-                "spare": s.spare,
-            })
-        })
-        .collect();
-    for kind in geode_graph::BlockKind::ALL {
-        nodes.push(json!({
-            "name": kind.name(),
-            "label": kind.label(),
-            "category": "Flow",
-            "summary": kind.help().split(", ").next().unwrap_or(""),
-            "help": kind.help(),
-            "inputs": [
-                {"name": "input 1", "type": "geometry", "required": true},
-                {"name": "input 2", "type": "geometry", "required": false},
-                {"name": "input 3", "type": "geometry", "required": false},
-                {"name": "input 4", "type": "geometry", "required": false},
-            ],
-            "variadic": false,
-            "output": "geometry",
-            "params": kind.params().iter().map(param_json).collect::<Vec<_>>(),
-            "timeDependent": kind == geode_graph::BlockKind::Solver,
-            "network": true,
-            "spare": true,
-        }));
-    }
-    nodes.push(json!({
-        "name": "subnet",
-        "label": "Subnetwork",
-        "category": "Flow",
-        "summary": "A network inside a node: its inputs are @0, @1... inside; promoted parameters drive inner nodes.",
-        "help": "A network inside a node: inner nodes read the subnet's inputs as @0, @1...; its output is the inner network's output or display node.",
-        "inputs": [
-            {"name": "input 1", "type": "geometry", "required": false},
-            {"name": "input 2", "type": "geometry", "required": false},
-            {"name": "input 3", "type": "geometry", "required": false},
-            {"name": "input 4", "type": "geometry", "required": false},
-        ],
-        "variadic": false,
-        "output": "geometry",
-        "params": [],
-        "timeDependent": false,
-        "network": true,
-        "spare": true,
-    }));
-    nodes.sort_by(|a, b| {
-        (a["category"].as_str(), a["name"].as_str())
-            .cmp(&(b["category"].as_str(), b["name"].as_str()))
-    });
-    json!({"nodes": nodes})
+    let mut specs = geode_graph::node_specs(registry);
+    specs.sort_by_key(|s| (s.category, s.name));
+    json!({"nodes": specs.into_iter().map(spec_json).collect::<Vec<_>>()})
 }

@@ -252,13 +252,10 @@ fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
 }
 
 fn check_type(path: &str, ty: &str, registry: &Registry) -> Result<(), EditError> {
-    if ty == "subnet"
-        || geode_graph::BlockKind::from_type(ty).is_some()
-        || registry.get(ty).is_some()
-    {
+    if geode_graph::node_spec(registry, ty).is_some() {
         return Ok(());
     }
-    let hint = registry.closest(ty);
+    let hint = geode_graph::container::closest_types(registry, ty);
     Err(refuse(
         path,
         match hint.first() {
@@ -294,8 +291,7 @@ fn add_node(
         inputs: Vec::new(),
         bypass: false,
         display: false,
-        network: (ty == "subnet" || geode_graph::BlockKind::from_type(ty).is_some())
-            .then(|| Box::new(NetworkDoc::default())),
+        network: geode_graph::container_spec(ty).map(|_| Box::new(NetworkDoc::default())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),
@@ -374,13 +370,9 @@ fn rename(d: &mut Document, path: &str, new: &str) -> Result<(), EditError> {
 
 /// The port type a node produces, and the type of its input `k` (None when it has no such input).
 fn port_types(node: &NodeDoc, registry: &Registry, k: usize) -> (PortType, Option<PortType>) {
-    if node.ty == "subnet" {
-        return (PortType::Geometry, Some(PortType::Geometry));
-    }
-    let Some(op) = registry.get(&node.ty) else {
+    let Some(spec) = geode_graph::node_spec(registry, &node.ty) else {
         return (PortType::Geometry, None);
     };
-    let spec = op.spec();
     let input = spec
         .inputs
         .get(k)

@@ -11,6 +11,7 @@ pub mod security;
 pub mod session;
 mod sheet;
 mod studio;
+mod vex_table;
 pub mod viewport;
 
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
@@ -140,6 +141,7 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
             get(|| asset(assets::CSS, "text/css; charset=utf-8")),
         )
         .route("/api/catalogue", get(catalogue_json))
+        .route("/api/vex", get(vex_table::vex_json))
         .route("/api/state", get(state_json))
         .route("/api/trace.json", get(trace_json))
         .route("/api/export", get(export))

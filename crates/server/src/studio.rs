@@ -83,6 +83,24 @@ fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     m.lock().unwrap_or_else(|p| p.into_inner())
 }
 
+/// Why a request was refused, as the page reads it: a kind (`edit`, `io`,
+/// `request`), the node it concerns and the message.
+struct Refusal {
+    kind: &'static str,
+    path: Option<String>,
+    message: String,
+}
+
+impl Refusal {
+    fn request(message: impl Into<String>) -> Refusal {
+        Refusal {
+            kind: "request",
+            path: None,
+            message: message.into(),
+        }
+    }
+}
+
 impl Studio {
     pub fn new(session: Session, cache: Arc<Cache>) -> Arc<Studio> {
         let hub = Hub::new();
@@ -169,7 +187,7 @@ impl Studio {
 
     /// Handles one request; the reply goes to the sender only.
     pub fn handle(&self, env: Envelope) -> Json {
-        let reply = |r: Result<Json, String>| match r {
+        match self.dispatch(env.request) {
             Ok(extra) => {
                 let mut j = json!({"type": "reply", "id": env.id, "ok": true});
                 if let Json::Object(m) = extra {
@@ -177,17 +195,21 @@ impl Studio {
                 }
                 j
             }
-            Err(e) => json!({"type": "reply", "id": env.id, "ok": false, "error": e}),
-        };
-        reply(self.dispatch(env.request))
+            Err(r) => json!({"type": "reply", "id": env.id, "ok": false, "error": r.message,
+                "kind": r.kind, "path": r.path}),
+        }
     }
 
-    fn dispatch(&self, request: Request) -> Result<Json, String> {
+    fn dispatch(&self, request: Request) -> Result<Json, Refusal> {
         match request {
             Request::Edit { edit, merge } => {
                 lock(&self.session)
                     .edit(&edit, merge)
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| Refusal {
+                        kind: "edit",
+                        path: Some(e.path.clone()),
+                        message: e.to_string(),
+                    })?;
                 let tagged = match &edit {
                     Edit::SetParam { path, param, .. } | Edit::SetKey { path, param, .. } => {
                         Some((path.as_str(), param.as_str()))
@@ -205,7 +227,7 @@ impl Studio {
                 };
                 drop(s);
                 if !done {
-                    return Err("nothing to undo or redo".into());
+                    return Err(Refusal::request("nothing to undo or redo"));
                 }
                 self.changed(None);
             }
@@ -219,7 +241,7 @@ impl Studio {
             }
             Request::Frame { frame } => {
                 if !frame.is_finite() {
-                    return Err("the frame must be a finite number".into());
+                    return Err(Refusal::request("the frame must be a finite number"));
                 }
                 lock(&self.view).frame = frame;
                 self.changed(None);
@@ -227,7 +249,11 @@ impl Studio {
             Request::Save { path } => {
                 let saved = lock(&self.session)
                     .save(path.as_deref())
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| Refusal {
+                        kind: "io",
+                        path: None,
+                        message: e.to_string(),
+                    })?;
                 self.hub.send_json(&self.state());
                 return Ok(json!({"saved": saved.display().to_string()}));
             }
@@ -236,7 +262,11 @@ impl Studio {
                 start,
                 count,
                 entry,
-            } => return self.sheet(class, start, count, entry.as_deref()),
+            } => {
+                return self
+                    .sheet(class, start, count, entry.as_deref())
+                    .map_err(Refusal::request)
+            }
             Request::Cancel => {
                 let _order = lock(&self.order);
                 let g = self.generation.fetch_add(1, Ordering::SeqCst) + 1;

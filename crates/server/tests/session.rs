@@ -111,6 +111,48 @@ fn renaming_rewires_inputs_output_and_promotions() {
 }
 
 #[test]
+fn loops_and_solvers_take_wires_into_every_declared_input() {
+    let r = registry();
+    let mut d = doc("coral.json");
+    for ty in ["loop", "solver", "subnet"] {
+        d = apply(
+            &d,
+            &edit(json!({"kind": "add_node", "parent": "/", "type": ty, "name": ty})),
+            &r,
+        )
+        .unwrap();
+        for input in 0..4 {
+            d = apply(
+                &d,
+                &edit(json!({"kind": "connect", "from": "/food", "to": format!("/{ty}"), "input": input})),
+                &r,
+            )
+            .unwrap_or_else(|e| panic!("{ty} input {input}: {e}"));
+        }
+        assert_eq!(d.network.nodes[ty].inputs.len(), 4);
+        assert!(
+            d.network.nodes[ty].network.is_some(),
+            "{ty} holds a network"
+        );
+        let e = apply(
+            &d,
+            &edit(json!({"kind": "connect", "from": "/food", "to": format!("/{ty}"), "input": 4})),
+            &r,
+        )
+        .unwrap_err();
+        assert_eq!(e.to_string(), format!("/{ty}: has no input 5"));
+    }
+    // A typo is refused with the engine's own types among the suggestions.
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "lop"})),
+        &r,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("did you mean `loop`?"), "{e}");
+}
+
+#[test]
 fn wires_refuse_cycles_and_mismatched_ports() {
     let r = registry();
     let d = doc("coral.json");
