@@ -31,10 +31,10 @@ mod util;
 mod wrangle;
 
 pub use expr::{Expr, ExprError};
-pub use patches::for_file;
 /// The wrangle language's function table, for the studio's snippet
 /// completion (the node library is the one crate that uses geode-vex).
 pub use geode_vex::{signatures as vex_signatures, Signature as VexSignature};
+pub use patches::for_file;
 
 use geode_op::Registry;
 

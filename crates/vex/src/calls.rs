@@ -13,7 +13,8 @@ use crate::lower::{convertible, LResult, Lower};
 use crate::ty::{Elem, Ty};
 use crate::{suggest, CompileError};
 
-/// Every library name, for "did you mean" suggestions.
+/// Every library name: the resolver accepts these and no others (user
+/// functions aside), suggests among them, and `signatures` lists each.
 pub const LIBRARY: &[&str] = &[
     "abs",
     "floor",
@@ -284,6 +285,12 @@ impl<'a> Lower<'a> {
         }
         if let Some(v) = self.user_call(name, args, pos)? {
             return Ok(v);
+        }
+        // The library is exactly `LIBRARY`: a name missing from it is
+        // unknown even if an arm below would lower it, so the list (and the
+        // signature table checked against it) cannot fall behind the arms.
+        if !LIBRARY.contains(&name) {
+            return Err(self.unknown_function(name, pos));
         }
         if let Some(op) = unary_op(name) {
             self.arity(name, args, 1, 1, pos)?;
@@ -1224,19 +1231,22 @@ impl<'a> Lower<'a> {
                 self.arity(name, args, 2, 3, pos)?;
                 call(self, B::LookAt, &[Ty::Vec3, Ty::Vec3, Ty::Vec3], Ty::Mat3)
             }
-            _ => {
-                let mut known: Vec<&str> = LIBRARY.to_vec();
-                let user = self.function_names();
-                known.extend(user.iter().map(String::as_str));
-                err(
-                    pos,
-                    format!(
-                        "unknown function '{name}'{}",
-                        suggest(name, known.into_iter())
-                    ),
-                )
-            }
+            _ => Err(self.unknown_function(name, pos)),
         }
+    }
+
+    /// "unknown function", with the closest library or snippet function.
+    fn unknown_function(&self, name: &str, pos: Pos) -> CompileError {
+        let mut known: Vec<&str> = LIBRARY.to_vec();
+        let user = self.function_names();
+        known.extend(user.iter().map(String::as_str));
+        CompileError::at(
+            pos,
+            format!(
+                "unknown function '{name}'{}",
+                suggest(name, known.into_iter())
+            ),
+        )
     }
 
     fn convert_arg(&mut self, v: Loc, to: Ty, name: &str, pos: Pos) -> LResult<Loc> {

@@ -25,6 +25,7 @@ mod lower;
 pub mod noise;
 mod parse;
 mod run;
+mod signatures;
 pub mod ty;
 mod world;
 
@@ -32,6 +33,7 @@ pub use bind::{BindSpec, Channel};
 pub use ir::LANES;
 pub use lex::Pos;
 pub use run::{run, RunOptions, RunReport};
+pub use signatures::{signatures, Signature};
 
 use geode_geo::AttribClass;
 
