@@ -334,9 +334,25 @@ $('#save-as').addEventListener('click', () => {
   const p = window.prompt('Save the network as (a .json path on the machine running geode serve):', store.state?.path ?? 'network.json');
   if (p) void save(p);
 });
+/** Downloads the viewed node in `format`; says what the writer warned of (attributes a format left out). */
+async function exportAs(format: string) {
+  const r = await fetch(`/api/export?format=${encodeURIComponent(format)}`);
+  if (!r.ok) {
+    say(`export: ${await r.text()}`, true);
+    return;
+  }
+  const name = /filename="([^"]+)"/.exec(r.headers.get('content-disposition') ?? '')?.[1] ?? `export.${format}`;
+  const warnings = JSON.parse(r.headers.get('x-geode-warnings') ?? '[]') as string[];
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(await r.blob());
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 60_000);
+  say(warnings.length ? `exported ${name}; ${warnings.join('; ')}` : `exported ${name}`, warnings.length > 0);
+}
 $('#export').addEventListener('change', () => {
   const sel = $('#export') as HTMLSelectElement;
-  if (sel.value) window.open(`/api/export?format=${sel.value}`, '_blank');
+  if (sel.value) void exportAs(sel.value);
   sel.value = '';
 });
 $('#solo-state').addEventListener('click', () => view(null));

@@ -82,7 +82,9 @@ enum Command {
     #[command(
         after_help = "Examples:\n  geode serve examples/coral.json\n  geode serve examples/coral.json --port 9000 --open\n\n\
         The studio listens on 127.0.0.1 only; the printed URL carries the session's token.\n\
-        It reads and writes the opened network (and a path you save it as), nothing else."
+        Its cooks and saves read and write regular files only under the network's folder\n\
+        (the current folder without a network) and the folders given with --allow, symlinks\n\
+        resolved first; a file larger than the memory budget (GEODE_MEMORY_MB) is refused unread."
     )]
     Serve {
         /// Network file (.json); a missing file starts an empty network saved there.
@@ -97,6 +99,9 @@ enum Command {
         /// the studio: anyone with the token can edit the network and its file).
         #[arg(long, value_name = "ADDR")]
         bind: Option<std::net::IpAddr>,
+        /// Also let the studio read and write files under this folder (repeatable).
+        #[arg(long, value_name = "DIR")]
+        allow: Vec<PathBuf>,
     },
     /// Load and check a network without cooking it: every problem is reported.
     Check { network: PathBuf },
@@ -200,7 +205,8 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             port,
             open,
             bind,
-        } => serve(network, port, open, bind)?,
+            allow,
+        } => serve(network, port, open, bind, allow)?,
         Command::Check { network } => cook::check(&network)?,
         Command::Farm(args) => farm::farm(args)?,
         Command::Cache { action } => match action {
@@ -244,6 +250,7 @@ fn serve(
     port: u16,
     open: bool,
     bind: Option<std::net::IpAddr>,
+    allow: Vec<PathBuf>,
 ) -> anyhow::Result<()> {
     if let Some(ip) = bind.filter(|ip| !ip.is_loopback()) {
         eprintln!(
@@ -256,6 +263,7 @@ fn serve(
         port,
         bind,
         cache: Some(std::sync::Arc::new(disk_cache::new_cache()?)),
+        allow,
     })?;
     println!("geode studio: {}", running.url);
     if bind.is_some_and(|ip| ip.is_unspecified()) {

@@ -318,7 +318,11 @@ impl Run<'_, '_> {
         let spec = op.spec();
         let params = net.params_at(i, self.opts.frame, &self.opts.env);
         let output = writes_files(spec, &params);
-        let extra = op.key_extra(&params).map_err(|e| vec![e])?;
+        let key_ctx = geode_op::KeyContext {
+            env: &self.opts.env,
+            cancel: &self.opts.cancel,
+        };
+        let extra = op.key_extra(&key_ctx, &params).map_err(|e| vec![e])?;
         let key = cook_key(
             spec,
             op.reads_frame(&params),

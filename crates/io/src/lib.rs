@@ -168,14 +168,19 @@ pub fn parse_unguarded(
 
 /// Reads a geometry file, the format chosen by its extension.
 pub fn read(path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
-    let format = Format::from_path(path)
+    let format = read_format(path)?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::os(path, e))?;
+    read_bytes(&bytes, format, path, progress)
+}
+
+/// The format a file is read as, from its extension.
+pub fn read_format(path: &Path) -> Result<Format, IoError> {
+    Format::from_path(path)
         .filter(|f| f.can_read())
         .ok_or_else(|| IoError::UnknownFormat {
             path: path.to_owned(),
             expected: list(Format::can_read),
-        })?;
-    let bytes = std::fs::read(path).map_err(|e| IoError::os(path, e))?;
-    read_bytes(&bytes, format, path, progress)
+        })
 }
 
 /// Encodes a geometry into bytes of a format. Formats without instancing get

@@ -3,8 +3,8 @@
 use std::path::Path;
 
 use geode_op::{
-    geometry_input, CookContext, CookError, ErrorKind, FnOperator, NodeSpec, ParamDefault as D,
-    ParamSpec as P, ParamType as T, Params, Registry, Value,
+    geometry_input, CookContext, CookError, ErrorKind, FnOperator, KeyContext, NodeSpec,
+    ParamDefault as D, ParamSpec as P, ParamType as T, Params, Registry, Value,
 };
 
 use crate::util::{geometry, input};
@@ -55,12 +55,6 @@ pub(crate) fn io_error(ctx: &CookContext, param: &str, e: geode_io::IoError) -> 
     }
 }
 
-/// The content hash of a file a node reads, for its cache key; an unreadable
-/// file gets none (the cook reports the error).
-pub(crate) fn content_key(path: &str) -> Option<u128> {
-    std::fs::read(path).ok().map(|b| geode_geo::hash_bytes(&b))
-}
-
 const FILE_FILE: P = P::new(
     "file",
     "File",
@@ -82,13 +76,15 @@ static FILE: NodeSpec = NodeSpec::new(
 
 fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let path = p.string(&FILE_FILE)?;
-    let g = geode_io::read(Path::new(path), &CookProgress::new(ctx))
+    let format = geode_io::read_format(Path::new(path)).map_err(|e| io_error(ctx, "file", e))?;
+    let bytes = ctx.read_file("file", path)?;
+    let g = geode_io::read_bytes(&bytes, format, Path::new(path), &CookProgress::new(ctx))
         .map_err(|e| io_error(ctx, "file", e))?;
     geometry(g)
 }
 
-fn key_file(p: &Params) -> Result<Option<u128>, CookError> {
-    Ok(content_key(p.string(&FILE_FILE)?))
+fn key_file(ctx: &KeyContext, p: &Params) -> Result<Option<u128>, CookError> {
+    Ok(ctx.file_hash(p.string(&FILE_FILE)?))
 }
 
 const WRITE_FILE: P = P::new(
@@ -117,9 +113,10 @@ fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     if path.is_empty() {
         return Err(ctx.param_error("file", "names no file to write"));
     }
+    let real = ctx.writable_file("file", path)?;
     ctx.check()?;
     let progress = CookProgress::new(ctx);
-    geode_io::write_limited(g, Path::new(path), &progress, ctx.env.memory_budget)
+    geode_io::write_limited(g, &real, &progress, ctx.env.memory_budget)
         .map_err(|e| io_error(ctx, "file", e))?;
     Ok(Value::Geometry(g.clone()))
 }

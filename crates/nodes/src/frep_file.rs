@@ -50,8 +50,7 @@ fn cook_frep_file(
             format!("{path}: expected a fidget .vm or a HyperFun .hf program"),
         ));
     }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| ctx.io("file", geode_io::IoError::os(path, e)))?;
+    let text = crate::util::text_file(ctx, "file", path)?;
     ctx.check()?;
     let field = if hyperfun {
         let object = p.string(&FREP_FILE_OBJECT)?;
@@ -69,9 +68,9 @@ fn cook_frep_file(
     Ok(Value::Field(field))
 }
 
-fn key_frep_file(p: &Params) -> Result<Option<u128>, CookError> {
+fn key_frep_file(ctx: &geode_op::KeyContext, p: &Params) -> Result<Option<u128>, CookError> {
     // The program's text is part of the key: editing the file recooks.
-    Ok(crate::file::content_key(p.string(&FREP_FILE_FILE)?))
+    Ok(ctx.file_hash(p.string(&FREP_FILE_FILE)?))
 }
 
 pub fn register(r: &mut Registry) {

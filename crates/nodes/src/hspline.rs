@@ -219,8 +219,7 @@ fn cook_hspline_node(
         )
         .map_err(err)?
     } else {
-        let text = std::fs::read_to_string(load)
-            .map_err(|e| ctx.io("load", geode_io::IoError::os(load, e)))?;
+        let text = crate::util::text_file(ctx, "load", load)?;
         file::load(&text).map_err(|e| {
             ctx.param_error("load", format!("{load}: {e}"))
                 .with_source(e)
@@ -332,9 +331,9 @@ fn cook_hspline_node(
     geometry(g)
 }
 
-fn key_hspline_node(p: &Params) -> Result<Option<u128>, CookError> {
+fn key_hspline_node(ctx: &geode_op::KeyContext, p: &Params) -> Result<Option<u128>, CookError> {
     // The loaded file's content is part of the key: editing it recooks.
-    Ok(crate::file::content_key(p.string(&HSPLINE_LOAD)?))
+    Ok(ctx.file_hash(p.string(&HSPLINE_LOAD)?))
 }
 
 pub fn register(r: &mut Registry) {

@@ -131,3 +131,18 @@ pub fn finite(s: &str) -> Option<f64> {
 pub fn geometry(g: Geometry) -> Result<Value, CookError> {
     Ok(Value::geometry(g))
 }
+
+/// The text of the file `param` names, read as the environment allows
+/// (`CookContext::read_file`); not UTF-8 is a parameter error.
+pub fn text_file(ctx: &CookContext, param: &str, path: &str) -> Result<String, CookError> {
+    let bytes = ctx.read_file(param, path)?;
+    String::from_utf8(bytes).map_err(|e| {
+        ctx.param_error(
+            param,
+            format!(
+                "{path}: not UTF-8 text (invalid byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}

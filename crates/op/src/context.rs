@@ -168,6 +168,23 @@ impl Warnings {
     }
 }
 
+/// What a node's extra cache-key content may read: the environment (where
+/// files may be read) and the cook's cancellation.
+pub struct KeyContext<'a> {
+    pub env: &'a CookEnv,
+    pub cancel: &'a CancelToken,
+}
+
+impl KeyContext<'_> {
+    /// The content hash of a file the node reads, or `None` when it may
+    /// not or cannot be read (the cook reports why).
+    pub fn file_hash(&self, path: &str) -> Option<u128> {
+        self.env
+            .files
+            .content_hash(std::path::Path::new(path), &self.cancel.as_fn())
+    }
+}
+
 /// Receives (node path, fraction done) as cooks progress.
 pub type ProgressFn<'a> = dyn Fn(&str, f32) + Sync + 'a;
 
@@ -243,6 +260,41 @@ impl CookContext<'_> {
         CookError::new(self.path, ErrorKind::Io, e.to_string())
             .at_param(param)
             .with_source(e)
+    }
+
+    /// Reads the file `param` names, as the environment allows (confined
+    /// folders, regular files, size within the memory budget), stopping
+    /// when the cook is cancelled.
+    pub fn read_file(&self, param: &str, path: &str) -> Result<Vec<u8>, CookError> {
+        self.env
+            .files
+            .read(
+                std::path::Path::new(path),
+                self.env.memory_budget,
+                &self.cancel_fn(),
+            )
+            .map_err(|e| self.file_refusal(param, e))
+    }
+
+    /// The real path to write the file `param` names, if the environment
+    /// allows writing there.
+    pub fn writable_file(&self, param: &str, path: &str) -> Result<std::path::PathBuf, CookError> {
+        self.env
+            .files
+            .writable(std::path::Path::new(path))
+            .map_err(|e| self.file_refusal(param, e))
+    }
+
+    fn file_refusal(&self, param: &str, e: crate::FileRefusal) -> CookError {
+        match e {
+            crate::FileRefusal::Cancelled => CookError::cancelled(self.path),
+            crate::FileRefusal::TooLarge { .. } => {
+                CookError::new(self.path, ErrorKind::Resource, e.to_string())
+                    .at_param(param)
+                    .with_source(e)
+            }
+            e => self.io(param, e),
+        }
     }
 
     /// Refuses, before anything is allocated, a result estimated at `bytes`

@@ -2,6 +2,8 @@
 //! the memory budget, taken from the process once and then passed down, so
 //! that no cook reads process state behind its cache key.
 
+use crate::files::FileAccess;
+
 /// Hidden inputs and limits of a cook.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CookEnv {
@@ -9,6 +11,9 @@ pub struct CookEnv {
     pub hip: String,
     /// Bytes a single node's result may take before it is refused.
     pub memory_budget: u64,
+    /// Where cooks may read and write files (not in any key: a refused
+    /// file is an error, and errors are not cached).
+    pub files: FileAccess,
 }
 
 impl Default for CookEnv {
@@ -16,6 +21,7 @@ impl Default for CookEnv {
         CookEnv {
             hip: ".".into(),
             memory_budget: default_budget(),
+            files: FileAccess::anywhere(),
         }
     }
 }
@@ -31,6 +37,7 @@ impl CookEnv {
         CookEnv {
             hip,
             memory_budget: budget_from_env(),
+            files: FileAccess::anywhere(),
         }
     }
 
@@ -46,6 +53,12 @@ impl CookEnv {
             .filter(|d| !d.as_os_str().is_empty())
             .unwrap_or(std::path::Path::new("."));
         env.with_hip(dir.to_string_lossy().into_owned())
+    }
+
+    /// With files confined as `files` says.
+    pub fn with_files(mut self, files: FileAccess) -> CookEnv {
+        self.files = files;
+        self
     }
 
     /// With `$HIP` set to `hip`.

@@ -5,14 +5,16 @@
 
 mod context;
 mod env;
+mod files;
 mod param;
 mod registry;
 mod value;
 
 pub use context::{
-    CancelToken, CookContext, CookError, ErrorKind, ProgressFn, TextPosition, Warnings,
+    CancelToken, CookContext, CookError, ErrorKind, KeyContext, ProgressFn, TextPosition, Warnings,
 };
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
+pub use files::{FileAccess, FileRefusal};
 pub use param::{
     LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,
     SPARE_TYPES,
@@ -152,7 +154,7 @@ pub trait Operator: Send + Sync {
     /// Extra content for the cache key that parameters do not capture: a node
     /// reading a file returns the file's content hash, so editing the file
     /// recooks the node (DESIGN.md invariant 4).
-    fn key_extra(&self, _params: &Params) -> Result<Option<u128>, CookError> {
+    fn key_extra(&self, _ctx: &KeyContext, _params: &Params) -> Result<Option<u128>, CookError> {
         Ok(None)
     }
 
@@ -168,7 +170,7 @@ pub trait Operator: Send + Sync {
 pub type CookFn = fn(&CookContext, &[Option<Value>], &Params) -> Result<Value, CookError>;
 
 /// Extra cache-key content of a node that reads files (see [`Operator::key_extra`]).
-pub type KeyExtraFn = fn(&Params) -> Result<Option<u128>, CookError>;
+pub type KeyExtraFn = fn(&KeyContext, &Params) -> Result<Option<u128>, CookError>;
 
 /// A node type made of its declaration and its cook function (no per-node skeleton).
 pub struct FnOperator {
@@ -190,7 +192,7 @@ impl Operator for FnOperator {
     ) -> Result<Value, CookError> {
         (self.cook)(ctx, inputs, params)
     }
-    fn key_extra(&self, params: &Params) -> Result<Option<u128>, CookError> {
-        self.key_extra.map_or(Ok(None), |f| f(params))
+    fn key_extra(&self, ctx: &KeyContext, params: &Params) -> Result<Option<u128>, CookError> {
+        self.key_extra.map_or(Ok(None), |f| f(ctx, params))
     }
 }

@@ -14,8 +14,9 @@ mod studio;
 mod vex_table;
 pub mod viewport;
 
+use geode_op::FileAccess;
 use std::net::{IpAddr, Ipv4Addr, SocketAddr};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use axum::body::Bytes;
@@ -52,12 +53,20 @@ pub struct Options {
     /// The cook cache (the CLI's carries the disk cache); the environment's
     /// memory cache when none is given.
     pub cache: Option<Arc<Cache>>,
+    /// Folders the studio may read and write files under besides the
+    /// network's own (`--allow DIR`).
+    pub allow: Vec<PathBuf>,
 }
 
 #[derive(Debug, thiserror::Error)]
 pub enum ServeError {
     #[error(transparent)]
     Session(#[from] session::SessionError),
+    #[error("--allow {}: {source}", path.display())]
+    Allow {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("cannot listen on {addr}: {source}")]
     Bind {
         addr: SocketAddr,
@@ -107,6 +116,7 @@ struct App {
 pub fn start(opts: Options) -> Result<Running, ServeError> {
     let registry = Arc::new(geode_nodes::registry());
     let session = Session::open(opts.network.as_deref(), registry.clone())?;
+    let files = confinement(opts.network.as_deref(), &opts.allow)?;
     let catalogue: Arc<str> = catalogue::catalogue(&registry).to_string().into();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
@@ -127,6 +137,7 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
         studio: Studio::new(
             session,
             opts.cache.unwrap_or_else(|| Arc::new(Cache::from_env())),
+            files,
         ),
         catalogue,
     };
@@ -251,12 +262,16 @@ async fn export(
     let last = app.studio.hub.last();
     let result = tokio::task::spawn_blocking(move || export_bytes(last, &format)).await;
     match result {
-        Ok(Ok((name, bytes))) => (
+        Ok(Ok((name, bytes, warnings))) => (
             [
                 (header::CONTENT_TYPE, "application/octet-stream".to_owned()),
                 (
                     header::CONTENT_DISPOSITION,
                     format!("attachment; filename=\"{name}\""),
+                ),
+                (
+                    header::HeaderName::from_static("x-geode-warnings"),
+                    ascii_json(&warnings),
                 ),
             ],
             Bytes::from(bytes),
@@ -267,32 +282,90 @@ async fn export(
     }
 }
 
-fn export_bytes(last: Option<hub::Last>, format: &str) -> Result<(String, Vec<u8>), String> {
+/// What a writer warned of while exporting (an attribute a format left out).
+#[derive(Default)]
+struct ExportWarnings(std::sync::Mutex<Vec<String>>);
+
+impl geode_io::Progress for ExportWarnings {
+    fn warn(&self, message: &str) {
+        self.0
+            .lock()
+            .unwrap_or_else(|p| p.into_inner())
+            .push(message.to_owned());
+    }
+}
+
+/// The viewed geometry encoded in memory: the file name, its bytes and the
+/// writer's warnings. Nothing is written to disk.
+fn export_bytes(
+    last: Option<hub::Last>,
+    format: &str,
+) -> Result<(String, Vec<u8>, Vec<String>), String> {
     let last = last.ok_or("nothing has cooked yet")?;
     let Some(geode_op::Value::Geometry(g)) = &last.value else {
         return Err("the viewed node has no geometry to export (bundles: extract an entry)".into());
     };
-    let fmt = geode_io::Format::from_path(std::path::Path::new(&format!("x.{format}")))
-        .filter(|f| f.can_write())
-        .ok_or_else(|| format!("cannot export to `{format}` (obj, stl, ply, glb, usda)"))?;
     let name = format!(
-        "{}.{}",
-        last.node.trim_start_matches('/').replace('/', "_"),
-        fmt.extension()
+        "{}.{format}",
+        last.node.trim_start_matches('/').replace('/', "_")
     );
-    let dir = std::env::temp_dir().join(format!("geode-export-{}", security::new_token()));
-    std::fs::create_dir_all(&dir).map_err(|e| e.to_string())?;
-    let path = dir.join(&name);
-    let written = geode_io::write(g, &path, &geode_io::NoProgress).map_err(|e| e.to_string());
-    let bytes = written.and_then(|()| std::fs::read(&path).map_err(|e| e.to_string()));
-    let _ = std::fs::remove_dir_all(&dir);
-    Ok((name, bytes?))
+    let path = std::path::Path::new(&name);
+    let fmt = geode_io::Format::from_path(path)
+        .filter(|f| f.can_write())
+        .ok_or_else(|| {
+            let all: Vec<&str> = geode_io::Format::ALL
+                .iter()
+                .filter(|f| f.can_write())
+                .map(|f| f.extension())
+                .collect();
+            format!("cannot export to `{format}` ({})", all.join(", "))
+        })?;
+    let warnings = ExportWarnings::default();
+    let bytes = geode_io::write_bytes(g, fmt, path, &warnings).map_err(|e| e.to_string())?;
+    let warnings = warnings.0.into_inner().unwrap_or_else(|p| p.into_inner());
+    Ok((name, bytes, warnings))
+}
+
+/// JSON text with every non-ASCII character escaped, so it fits a header.
+fn ascii_json(v: &impl serde::Serialize) -> String {
+    let text = serde_json::to_string(v).unwrap_or_else(|_| "[]".into());
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if c.is_ascii() {
+            out.push(c);
+        } else {
+            let mut units = [0u16; 2];
+            for u in c.encode_utf16(&mut units) {
+                out.push_str(&format!("\\u{u:04x}"));
+            }
+        }
+    }
+    out
 }
 
 async fn socket(State(app): State<App>, ws: WebSocketUpgrade) -> Response {
     ws.max_message_size(MAX_MESSAGE)
         .max_frame_size(MAX_MESSAGE)
         .on_upgrade(move |s| talk(app.studio, s))
+}
+
+/// Where the studio's cooks and saves may touch files: the network's folder
+/// (the current one without a network) and the `--allow` folders.
+fn confinement(network: Option<&Path>, allow: &[PathBuf]) -> Result<FileAccess, ServeError> {
+    let own = match network.and_then(Path::parent) {
+        Some(p) if !p.as_os_str().is_empty() => p.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    for dir in allow {
+        if let Err(source) = dir.canonicalize() {
+            return Err(ServeError::Allow {
+                path: dir.clone(),
+                source,
+            });
+        }
+    }
+    FileAccess::confined(std::iter::once(own.clone()).chain(allow.iter().cloned()))
+        .map_err(|source| ServeError::Allow { path: own, source })
 }
 
 /// The `id` of a request, read from its text even when the rest of it is

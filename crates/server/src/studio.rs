@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use geode_graph::Cache;
-use geode_op::CookEnv;
+use geode_op::{CookEnv, FileAccess};
 use serde::Deserialize;
 use serde_json::{json, Value as Json};
 
@@ -102,12 +102,14 @@ impl Refusal {
 }
 
 impl Studio {
-    pub fn new(session: Session, cache: Arc<Cache>) -> Arc<Studio> {
+    /// A studio on `session` whose cooks and saves touch files as `files` allows.
+    pub fn new(session: Session, cache: Arc<Cache>, files: FileAccess) -> Arc<Studio> {
         let hub = Hub::new();
         let env = match session.path() {
             Some(p) => CookEnv::for_network(p),
             None => CookEnv::from_process(),
-        };
+        }
+        .with_files(files);
         let studio = Arc::new(Studio {
             session: Mutex::new(session),
             view: Mutex::new(View {
@@ -247,6 +249,13 @@ impl Studio {
                 self.changed(None);
             }
             Request::Save { path } => {
+                if let Some(p) = &path {
+                    self.env.files.writable(p).map_err(|e| Refusal {
+                        kind: "io",
+                        path: None,
+                        message: e.to_string(),
+                    })?;
+                }
                 let saved = lock(&self.session)
                     .save(path.as_deref())
                     .map_err(|e| Refusal {

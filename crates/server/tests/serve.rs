@@ -27,6 +27,7 @@ fn server_on(bind: Option<std::net::IpAddr>) -> (Running, tempfile::TempDir) {
         port: 0,
         bind,
         cache: None,
+        allow: Vec::new(),
     })
     .unwrap();
     (running, dir)
@@ -34,6 +35,12 @@ fn server_on(bind: Option<std::net::IpAddr>) -> (Running, tempfile::TempDir) {
 
 /// A raw HTTP/1.1 GET with the given headers; the status code and body.
 fn get(r: &Running, path: &str, headers: &[(&str, String)]) -> (u16, String) {
+    let (status, _, body) = get_with_head(r, path, headers);
+    (status, body)
+}
+
+/// [`get`], with the response's head (status line and headers) too.
+fn get_with_head(r: &Running, path: &str, headers: &[(&str, String)]) -> (u16, String, String) {
     let mut s = TcpStream::connect(r.addr).unwrap();
     let mut req = format!("GET {path} HTTP/1.1\r\nConnection: close\r\n");
     for (k, v) in headers {
@@ -45,11 +52,8 @@ fn get(r: &Running, path: &str, headers: &[(&str, String)]) -> (u16, String) {
     s.read_to_end(&mut out).unwrap();
     let text = String::from_utf8_lossy(&out).into_owned();
     let status = text[9..12].parse().unwrap();
-    let body = text
-        .split_once("\r\n\r\n")
-        .map(|x| x.1.to_owned())
-        .unwrap_or_default();
-    (status, body)
+    let (head, body) = text.split_once("\r\n\r\n").unwrap_or((&text, ""));
+    (status, head.to_owned(), body.to_owned())
 }
 
 fn host(r: &Running) -> (&'static str, String) {
@@ -313,7 +317,29 @@ fn export_downloads_the_viewed_node_in_the_asked_format() {
     assert!(vertices > 100, "{vertices} vertices");
     let (status, body) = get(&r, "/api/export?format=xyz", &auth);
     assert_eq!(status, 400);
-    assert_eq!(body, "cannot export to `xyz` (obj, stl, ply, glb, usda)");
+    assert_eq!(
+        body,
+        "cannot export to `xyz` (obj, stl, ply, glb, usda, geo, bgeo)"
+    );
+    // Houdini's formats too; a writer's warnings come in a header.
+    let (status, _, body) = get_with_head(&r, "/api/export?format=geo", &auth);
+    assert_eq!(status, 200);
+    assert!(
+        body.contains("\"pointcount\""),
+        "{}",
+        &body[..200.min(body.len())]
+    );
+    let (status, head, _) = get_with_head(&r, "/api/export?format=ply", &auth);
+    assert_eq!(status, 200);
+    let warnings = head
+        .lines()
+        .find_map(|l| l.strip_prefix("x-geode-warnings: "))
+        .expect("a warnings header");
+    let warnings: Vec<String> = serde_json::from_str(warnings).unwrap();
+    assert_eq!(
+        warnings,
+        vec!["out.ply: PLY cannot hold primitive group `cap`; not written"]
+    );
     // Nothing was written beside the network.
     let files: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
@@ -348,6 +374,7 @@ fn a_file_that_is_not_json_is_refused_with_its_line() {
         port: 0,
         bind: None,
         cache: None,
+        allow: Vec::new(),
     })
     .err()
     .unwrap();
@@ -481,4 +508,109 @@ fn the_page_declares_exactly_the_fields_the_server_sends() {
         committed == text,
         "studio/tests/protocol.fixture.ts is not what the server sends: rerun with GEODE_BLESS=1, then `cd studio && npm run lint`\n{text}"
     );
+}
+
+/// A studio on `network` (text) in a fresh folder, with `allow` folders.
+fn server_with(network: &str, allow: Vec<PathBuf>) -> (Running, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("net.json");
+    std::fs::write(&net, network).unwrap();
+    let running = start(Options {
+        network: Some(net),
+        port: 0,
+        bind: None,
+        cache: None,
+        allow,
+    })
+    .unwrap();
+    (running, dir)
+}
+
+type Socket = tungstenite::WebSocket<tungstenite::stream::MaybeTlsStream<std::net::TcpStream>>;
+
+/// Views `node` and returns its cook's errors (empty when it cooked).
+fn view_errors(ws: &mut Socket, id: u64, node: &str) -> Vec<serde_json::Value> {
+    ws.send(Message::text(format!(
+        r#"{{"op":"view","id":{id},"node":"{node}"}}"#
+    )))
+    .unwrap();
+    let cooked = next_of(ws, "cooked", |v| v["node"] == node);
+    cooked["errors"].as_array().unwrap().clone()
+}
+
+#[test]
+fn the_studio_touches_files_only_under_its_folders() {
+    let outside = tempfile::tempdir().unwrap();
+    let secret = outside.path().join("secret.obj");
+    std::fs::write(&secret, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let allowed = tempfile::tempdir().unwrap();
+    let shared = allowed.path().join("shared.obj");
+    std::fs::copy(&secret, &shared).unwrap();
+    let network = format!(
+        r#"{{"geode": "network", "version": 1, "nodes": {{
+        "own": {{"type": "file", "params": {{"file": "$HIP/own.obj"}}}},
+        "secret": {{"type": "file", "params": {{"file": {secret:?}}}}},
+        "shared": {{"type": "file", "params": {{"file": {shared:?}}}}},
+        "zero": {{"type": "file", "params": {{"file": "$HIP/zero.obj"}}}},
+        "out": {{"type": "write", "inputs": ["own"], "params": {{"file": {:?}}}}}}}}}"#,
+        outside.path().join("written.obj")
+    );
+    let (r, dir) = server_with(&network, vec![allowed.path().to_owned()]);
+    std::fs::copy(&secret, dir.path().join("own.obj")).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", dir.path().join("zero.obj")).unwrap();
+    let (mut ws, _) = tungstenite::connect(ws_request(&r, Some(&r.token), None)).unwrap();
+    assert_eq!(
+        view_errors(&mut ws, 1, "/own"),
+        Vec::<serde_json::Value>::new()
+    );
+    assert_eq!(
+        view_errors(&mut ws, 2, "/shared"),
+        Vec::<serde_json::Value>::new()
+    );
+    let e = &view_errors(&mut ws, 3, "/secret")[0];
+    assert_eq!((&e["kind"], &e["param"]), (&"io".into(), &"file".into()));
+    assert!(
+        e["message"]
+            .as_str()
+            .unwrap()
+            .contains("outside the folders this studio may read"),
+        "{e}"
+    );
+    let started = std::time::Instant::now();
+    let e = &view_errors(&mut ws, 4, "/zero")[0];
+    let message = e["message"].as_str().unwrap();
+    assert!(
+        message.contains("zero.obj (which leads to /dev/zero): outside the folders"),
+        "{e}"
+    );
+    assert!(started.elapsed().as_secs() < 10);
+    let e = &view_errors(&mut ws, 5, "/out")[0];
+    assert!(
+        e["message"]
+            .as_str()
+            .unwrap()
+            .contains("outside the folders this studio may write"),
+        "{e}"
+    );
+    assert!(!outside.path().join("written.obj").exists());
+    // Save As is confined too; inside, it writes.
+    let away = outside.path().join("copy.json");
+    ws.send(Message::text(format!(
+        r#"{{"op":"save","id":6,"path":{away:?}}}"#
+    )))
+    .unwrap();
+    let reply = reply_to(&mut ws, 6);
+    assert_eq!(
+        (reply["ok"].clone(), reply["kind"].clone()),
+        (false.into(), "io".into()),
+        "{reply}"
+    );
+    assert!(!away.exists());
+    let near = allowed.path().join("copy.json");
+    ws.send(Message::text(format!(
+        r#"{{"op":"save","id":7,"path":{near:?}}}"#
+    )))
+    .unwrap();
+    assert_eq!(reply_to(&mut ws, 7)["ok"], true);
+    assert!(near.exists());
 }

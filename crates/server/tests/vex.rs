@@ -35,6 +35,7 @@ fn the_function_table_is_served_with_the_token_only() {
         port: 0,
         bind: None,
         cache: None,
+        allow: Vec::new(),
     })
     .unwrap();
     assert_eq!(get(&r, "/api/vex", None).0, 401);
