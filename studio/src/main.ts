@@ -4,6 +4,7 @@ import './style.css';
 import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
+import { CookBar } from './cookbar';
 import { Connection, decodeGeometry, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
 import { createStore } from './store';
@@ -121,6 +122,11 @@ function onMessage(msg: ServerMsg) {
       renderTrace($('#trace'), msg);
       break;
     }
+    case 'cancelled':
+      store.cancelled = Math.max(store.cancelled, msg.generation);
+      store.progress.clear();
+      say('cook cancelled');
+      break;
     case 'reply':
       break;
   }
@@ -195,6 +201,8 @@ function renderTop() {
   solo.textContent = s?.view.solo ? `viewing ${s.view.solo}${s.view.auto ? ' (auto)' : ''} ✕` : '';
 }
 
+const cookBar = new CookBar($('#viewport-wrap'), () => void conn.request({ op: 'cancel' }));
+store.subscribe(() => cookBar.update(store));
 store.subscribe(() => {
   const t0 = performance.now();
   editor.render();

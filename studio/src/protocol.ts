@@ -132,7 +132,13 @@ export interface ReplyMsg {
   [extra: string]: unknown;
 }
 
-export type ServerMsg = StateMsg | CookedMsg | ProgressMsg | ReplyMsg;
+/** The server stopped the cook of `generation` (Esc, the cancel button): no result will come for it. */
+export interface CancelledMsg {
+  type: 'cancelled';
+  generation: number;
+}
+
+export type ServerMsg = StateMsg | CookedMsg | ProgressMsg | ReplyMsg | CancelledMsg;
 
 /** One drawable part of a decoded geometry: typed-array views into the message. */
 export interface GeometryPart {

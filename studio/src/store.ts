@@ -8,6 +8,8 @@ export interface Store {
   cooked: CookedMsg | null;
   /** Cook progress per node path during the current generation. */
   progress: Map<string, number>;
+  /** The newest generation whose cook the server stopped. */
+  cancelled: number;
   /** Events of the last cook that ran each node (badges persist across cooks). */
   badges: Map<string, { ms: number; hit: boolean; warnings: string[] }>;
   /** The network shown in the editor (`/` or a subnet path). */
@@ -29,6 +31,7 @@ export function createStore(): Store & { subscribe(fn: Fn): void; notify(): void
     state: null,
     cooked: null,
     progress: new Map(),
+    cancelled: 0,
     badges: new Map(),
     at: '/',
     selected: new Set(),

@@ -366,6 +366,9 @@ impl Run<'_, '_> {
             });
         }
         span.record("hit", false);
+        // Reported before the first kernel call, so a watcher knows from the
+        // first millisecond which node is cooking.
+        progress(&n.path, 0.0);
         let warnings = Warnings::new();
         let ctx = CookContext {
             path: &n.path,

@@ -1,7 +1,7 @@
 //! Latest-wins cooking: a new request cancels the cook in flight and starts its own on a worker thread; a result is delivered only if no newer request came.
 
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -38,10 +38,18 @@ pub trait Reporter: Send + Sync + 'static {
 /// Progress reports are thinned to one per node per interval (and every finish).
 const PROGRESS_INTERVAL: Duration = Duration::from_millis(40);
 
+/// The cook running now: its generation, how to stop it, and whether it
+/// has finished.
+struct InFlight {
+    generation: u64,
+    token: CancelToken,
+    done: Arc<AtomicBool>,
+}
+
 pub struct Cooker {
     cache: Arc<Cache>,
     latest: Arc<AtomicU64>,
-    in_flight: Mutex<Option<CancelToken>>,
+    in_flight: Mutex<Option<InFlight>>,
     reporter: Arc<dyn Reporter>,
 }
 
@@ -55,26 +63,32 @@ impl Cooker {
         }
     }
 
-    /// Cancels the cook in flight (its result will not be delivered).
-    pub fn cancel(&self, generation: u64) {
+    /// Cancels the cook in flight (its result will not be delivered); the
+    /// generation of the cook stopped, if one was still running.
+    pub fn cancel(&self, generation: u64) -> Option<u64> {
         self.latest.fetch_max(generation, Ordering::SeqCst);
-        if let Some(t) = self
+        let running = self
             .in_flight
             .lock()
             .unwrap_or_else(|p| p.into_inner())
-            .take()
-        {
-            t.cancel();
-        }
+            .take()?;
+        running.token.cancel();
+        (!running.done.load(Ordering::SeqCst)).then_some(running.generation)
     }
 
     /// Cancels the cook in flight and starts this one.
     pub fn start(&self, req: CookRequest) {
         let token = CancelToken::new();
+        let done = Arc::new(AtomicBool::new(false));
         {
             let mut slot = self.in_flight.lock().unwrap_or_else(|p| p.into_inner());
-            if let Some(old) = slot.replace(token.clone()) {
-                old.cancel();
+            let now = InFlight {
+                generation: req.generation,
+                token: token.clone(),
+                done: done.clone(),
+            };
+            if let Some(old) = slot.replace(now) {
+                old.token.cancel();
             }
             self.latest.fetch_max(req.generation, Ordering::SeqCst);
         }
@@ -83,7 +97,10 @@ impl Cooker {
         let reporter = self.reporter.clone();
         std::thread::Builder::new()
             .name(format!("cook-{}", req.generation))
-            .spawn(move || run(req, token, &cache, &latest, &*reporter))
+            .spawn(move || {
+                run(req, token, &cache, &latest, &*reporter);
+                done.store(true, Ordering::SeqCst);
+            })
             .expect("a thread can be started");
     }
 }
@@ -203,7 +220,8 @@ mod tests {
         );
         cooker.start(request(1, 11));
         std::thread::sleep(Duration::from_millis(50));
-        cooker.cancel(2);
+        assert_eq!(cooker.cancel(2), Some(1), "the running cook was stopped");
         assert!(rx.recv_timeout(Duration::from_secs(5)).is_err());
+        assert_eq!(cooker.cancel(3), None, "nothing left to stop");
     }
 }

@@ -176,7 +176,7 @@ impl Studio {
         match request {
             Some(r) => self.cooker.start(r),
             None => {
-                self.cooker.cancel(generation);
+                let _ = self.cooker.cancel(generation);
                 let why = if load_failed {
                     "the file is not a network this geode can read"
                 } else {
@@ -279,7 +279,11 @@ impl Studio {
             Request::Cancel => {
                 let _order = lock(&self.order);
                 let g = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
-                self.cooker.cancel(g);
+                if let Some(stopped) = self.cooker.cancel(g) {
+                    // The page marks its viewport: it shows an older result.
+                    self.hub
+                        .send_json(&json!({"type": "cancelled", "generation": stopped}));
+                }
             }
         }
         Ok(Json::Null)

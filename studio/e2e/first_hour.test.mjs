@@ -1,0 +1,178 @@
+// Browser tests of the studio's first hour in Debian's Chromium against a real `geode serve`: a long cook's progress and cancel button, the stale viewport, files confined to the network's folder (a link to /dev/zero, a write outside), export with the writer's warnings, and wires into a loop's and a solver's inputs.
+
+import assert from 'node:assert/strict';
+import { mkdtempSync, symlinkSync, existsSync, rmSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import { join } from 'node:path';
+import { after, before, describe, test } from 'node:test';
+import { browser, generation, nextCook, open, serve } from './harness.mjs';
+
+let chrome;
+before(async () => {
+  chrome = await browser();
+});
+after(async () => {
+  await chrome?.close();
+});
+
+/** Clicks a node of the editor by name. */
+async function clickNode(page, name) {
+  const body = page.locator(`g.node[data-node="${name}"] rect.body`);
+  await body.waitFor();
+  const box = await body.boundingBox();
+  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
+}
+
+async function setParam(page, param, text) {
+  const field = page.locator(`.param[data-param="${param}"] input[type=text]`).first();
+  await field.fill(text);
+  await field.press('Enter');
+}
+
+const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
+
+describe('a long cook', () => {
+  let server;
+  let page;
+  before(async () => {
+    const slow = network(
+      {
+        ball: { type: 'frep_sphere' },
+        mesh: { type: 'polygonise', inputs: ['ball'], params: { min: [-1.2, -1.2, -1.2], max: [1.2, 1.2, 1.2], depth: 5 } },
+      },
+      'mesh',
+    );
+    server = await serve('slow.json', [], { 'slow.json': slow });
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('names the cooking node with a progress bar, cancels from its button, and marks the viewport', async () => {
+    await clickNode(page, 'mesh');
+    await page.waitForSelector('.param[data-param="depth"]');
+    await setParam(page, 'depth', '11');
+    await page.waitForSelector('#cook-state.cooking:not([hidden])', { timeout: 10_000 });
+    assert.equal(await page.locator('#cook-state .what').textContent(), 'cooking /mesh');
+    assert.ok(await page.locator('#viewport-wrap.stale').count(), 'the viewport is marked stale while it cooks');
+    // The polygoniser reports its fraction as it goes.
+    await page.waitForFunction(() => Number(document.querySelector('#cook-state progress')?.getAttribute('value') ?? 0) > 0, null, { timeout: 20_000 });
+    await page.locator('#cancel-cook').click();
+    await page.waitForSelector('#cook-state.cancelled:not([hidden])');
+    assert.match(await page.locator('#cook-state .what').textContent(), /cancelled/);
+    assert.ok(await page.locator('#viewport-wrap.stale').count(), 'the older result is marked');
+    // A cheap value cooks again and clears the marks.
+    const g = await generation(page);
+    await setParam(page, 'depth', '4');
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    await page.waitForSelector('#viewport-wrap:not(.stale)');
+    assert.ok(await page.locator('#cook-state[hidden]').count());
+  });
+});
+
+describe('files', () => {
+  let server;
+  let page;
+  const outside = mkdtempSync(join(tmpdir(), 'geode-outside-'));
+  before(async () => {
+    const files = network(
+      {
+        ring: { type: 'torus' },
+        zero: { type: 'file', params: { file: '$HIP/zero.obj' } },
+        out: { type: 'write', inputs: ['ring'], params: { file: '$HIP/ring.obj' } },
+      },
+      'ring',
+    );
+    server = await serve('files.json', [], { 'files.json': files });
+    symlinkSync('/dev/zero', join(server.dir, 'zero.obj'));
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+    rmSync(outside, { recursive: true, force: true });
+  });
+
+  test('a file node on a link to /dev/zero is refused with a message, and the studio stays responsive', async () => {
+    await clickNode(page, 'zero');
+    const g = await generation(page);
+    await page.keyboard.press('w');
+    const cooked = await nextCook(page, g, 20_000);
+    assert.equal(cooked.ok, false);
+    assert.match(cooked.errors[0].message, /zero\.obj \(which leads to \/dev\/zero\): outside the folders this studio may read/);
+    await page.waitForSelector('g.node.error[data-node="zero"]');
+    assert.match(await page.locator('.param[data-param="file"] .param-error').textContent(), /\/dev\/zero/);
+  });
+
+  test('a write inside the folder writes; one outside is refused and writes nothing', async () => {
+    await clickNode(page, 'out');
+    let g = await generation(page);
+    await page.keyboard.press('w');
+    let cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    assert.ok(existsSync(join(server.dir, 'ring.obj')));
+    g = await generation(page);
+    const away = join(outside, 'ring.obj');
+    await setParam(page, 'file', away);
+    cooked = await nextCook(page, g);
+    assert.equal(cooked.ok, false);
+    assert.match(cooked.errors[0].message, /outside the folders this studio may write/);
+    assert.equal(existsSync(away), false);
+  });
+
+  test('export offers Houdini formats and reports what a format could not hold', async () => {
+    const options = await page.locator('#export option').evaluateAll((os) => os.map((o) => o.value));
+    for (const f of ['glb', 'obj', 'stl', 'ply', 'usda', 'bgeo', 'geo']) assert.ok(options.includes(f), `${f} offered`);
+    const g = await generation(page);
+    await page.keyboard.press('Escape');
+    await page.locator('#solo-state').click();
+    await nextCook(page, g);
+    const download = page.waitForEvent('download');
+    await page.locator('#export').selectOption('bgeo');
+    const file = await download;
+    assert.equal(file.suggestedFilename(), 'ring.bgeo');
+    await page.waitForFunction(() => /exported ring\.bgeo/.test(document.querySelector('#status').textContent));
+  });
+});
+
+describe('loops and solvers', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('primitives.json');
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  for (const type of ['loop', 'solver']) {
+    test(`a wire into a ${type}'s second input is accepted`, async () => {
+      const names = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes));
+      await page.locator('#editor svg').hover({ position: { x: 80, y: 80 } });
+      await page.keyboard.press('Tab');
+      await page.locator('.tab-menu input').fill(type);
+      await page.locator(`.tab-item[data-type="${type}"]`).waitFor();
+      await page.keyboard.press('Enter');
+      const added = await (await page.waitForFunction((old) => Object.keys(window.__geode.store.state.document.nodes).find((n) => !old.includes(n)), names)).jsonValue();
+      const ports = page.locator(`g.node[data-node="${added}"] circle.port.in`);
+      assert.equal(await ports.count(), 4, 'four inputs, from the declaration');
+      const out = await page.locator('g.node[data-node="ring"] circle.port.out').boundingBox();
+      const second = await ports.nth(1).boundingBox();
+      await page.mouse.move(out.x + out.width / 2, out.y + out.height / 2);
+      await page.mouse.down();
+      await page.mouse.move((out.x + second.x) / 2, (out.y + second.y) / 2, { steps: 4 });
+      await page.mouse.move(second.x + second.width / 2, second.y + second.height / 2, { steps: 4 });
+      await page.mouse.up();
+      await page.waitForFunction((n) => window.__geode.store.state.document.nodes[n].inputs?.[1] === 'ring', added);
+      assert.doesNotMatch(await page.locator('#status').textContent(), /refused|takes/);
+    });
+  }
+});
