@@ -176,3 +176,32 @@ describe('loops and solvers', () => {
     });
   }
 });
+
+describe('a result beyond the viewport budget', () => {
+  let server;
+  let page;
+  before(async () => {
+    // 1250 x 2000 quads: 5 million triangles.
+    const big = network({ ball: { type: 'sphere', params: { rows: 1250, columns: 2000 } } }, 'ball');
+    server = await serve('big.json', [], { 'big.json': big });
+    ({ page } = await open(chrome.b, server.url));
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('is drawn reduced with a notice, never not at all', async () => {
+    const cooked = await nextCook(page, 0, 240_000);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    assert.ok(cooked.hasGeometry);
+    assert.equal(cooked.stats.primitives, 2_500_000);
+    await page.waitForFunction(() => /reduced for the viewport/.test(document.querySelector('#hud').textContent), null, { timeout: 60_000 });
+    const hud = await page.locator('#hud').textContent();
+    const [, drawn, of] = /reduced for the viewport: ([\d,]+) of ([\d,]+) triangles drawn/.exec(hud).map((s) => Number(String(s).replaceAll(',', '')));
+    assert.ok(of >= 4_990_000, hud);
+    assert.ok(drawn <= 3_000_000 && drawn > 1_000_000, hud);
+    const d = await page.evaluate(() => window.__geode.drawn);
+    assert.equal(d.triangles, drawn);
+  });
+});

@@ -5,7 +5,7 @@ import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
 import { CookBar } from './cookbar';
-import { Connection, decodeGeometry, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
+import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
 import { createStore } from './store';
 import { TabMenu } from './tabmenu';
@@ -142,6 +142,7 @@ function onBinary(buf: ArrayBuffer) {
   const framed = g.node !== viewport.drawn?.node;
   void viewport.show(g, received, framed).then((d) => {
     probe.drawn = d;
+    notice = reducedNotice(g.parts);
     renderHud();
   });
 }
@@ -163,6 +164,9 @@ function human(b: number): string {
   return `${b.toFixed(i ? 1 : 0)} ${u[i]}`;
 }
 
+/** What the viewport says of a result it draws reduced. */
+let notice = '';
+
 function renderHud() {
   const s = store.state;
   const c = store.cooked;
@@ -174,6 +178,7 @@ function renderHud() {
     st?.points !== undefined ? `${st.points} points · ${st.primitives} prims · ${st.vertices} vertices · ${human(st.memory ?? 0)}` : '',
     st?.bounds ? `bounds ${st.bounds.map((v) => `(${v.map((x) => x.toFixed(2)).join(', ')})`).join(' – ')}` : '',
     d ? `${d.triangles} triangles drawn${d.instances ? ` · ${d.instances} instances${d.instancesAsPoints ? ' as points' : ''}` : ''}` : '',
+    notice,
   ];
   $('#hud').textContent = lines.filter(Boolean).join('\n');
 }

@@ -158,6 +158,20 @@ export interface GeometryPart {
   points?: Uint32Array;
   instances?: Float32Array;
   protoBounds?: [number[], number[]];
+  /** Drawn reduced (too large for the viewport): `[drawn, of]` triangles or points. */
+  reduced?: { triangles?: [number, number]; points?: [number, number] };
+}
+
+/** The viewport's notice for a reduced geometry, or '' when drawn whole. */
+export function reducedNotice(parts: GeometryPart[]): string {
+  const sum = (k: 'triangles' | 'points') =>
+    parts.reduce<[number, number] | null>((acc, p) => {
+      const r = p.reduced?.[k];
+      return r ? [(acc?.[0] ?? 0) + r[0], (acc?.[1] ?? 0) + r[1]] : acc;
+    }, null);
+  const say = (k: 'triangles' | 'points', r: [number, number] | null) => (r ? `${r[0].toLocaleString('en')} of ${r[1].toLocaleString('en')} ${k}` : '');
+  const what = [say('triangles', sum('triangles')), say('points', sum('points'))].filter(Boolean).join(', ');
+  return what ? `reduced for the viewport: ${what} drawn` : '';
 }
 
 export interface DecodedGeometry {
@@ -194,7 +208,7 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
       const r = p[k] as [number, number] | undefined;
       if (r) out[k] = new Uint32Array(buf, base + r[0], r[1]);
     }
-    for (const k of ['normalsUniform', 'colorsUniform', 'protoBounds'] as const) {
+    for (const k of ['normalsUniform', 'colorsUniform', 'protoBounds', 'reduced'] as const) {
       if (p[k]) out[k] = p[k];
     }
     return part;

@@ -1,6 +1,6 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
 import { expect, test } from 'vitest';
-import { decodeGeometry, hasNetwork } from '../src/protocol';
+import { decodeGeometry, hasNetwork, reducedNotice, type GeometryPart } from '../src/protocol';
 import { nodeTypes } from './protocol.fixture';
 import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
@@ -91,4 +91,13 @@ test('the catalogue, not a list in the page, says which node types hold a networ
   const plain = nodeTypes.find((t) => !t.network)!;
   expect(hasNetwork({ type: plain.name }, types)).toBe(false);
   expect(hasNetwork({ type: 'anything', network: { nodes: {} } }, types)).toBe(true);
+});
+
+test('a reduced geometry is announced with what was drawn of how much', () => {
+  const part = (reduced?: GeometryPart['reduced']) => ({ name: '', positions: new Float32Array(0), reduced }) as GeometryPart;
+  expect(reducedNotice([part()])).toBe('');
+  expect(reducedNotice([part({ triangles: [2_999_000, 9_800_000] })])).toBe('reduced for the viewport: 2,999,000 of 9,800,000 triangles drawn');
+  expect(reducedNotice([part({ triangles: [10, 20] }), part({ triangles: [5, 30] }), part({ points: [1, 9] })])).toBe(
+    'reduced for the viewport: 15 of 50 triangles, 1 of 9 points drawn',
+  );
 });

@@ -157,3 +157,13 @@ fn reduce_sphere_480k(bencher: Bencher) {
         .counter(ItemsCount::new(tris.len()))
         .bench(|| ops::reduce_triangles(&positions, &tris, &opts, &measure, &|| false).unwrap());
 }
+
+/// The viewport's reduction: the wavy 20-million-triangle grid clustered to
+/// 3 million triangles.
+#[divan::bench(sample_count = 3, sample_size = 1)]
+fn cluster_20m_triangles_to_3m(bencher: Bencher) {
+    let g = grid_10m();
+    bencher
+        .counter(ItemsCount::new(ops::fan_triangle_count(g)))
+        .bench(|| ops::cluster_triangles(g, 3_000_000));
+}

@@ -8,7 +8,7 @@
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use geode_geo::ops::Aabb;
+use geode_geo::ops::{self, Aabb};
 use geode_geo::{AttribClass, AttribData, Geometry, PrimKind};
 use geode_op::Value;
 use glam::{Mat4, Vec3};
@@ -19,6 +19,25 @@ pub const MAGIC: &[u8; 4] = b"GEO1";
 /// The bytes a geometry's viewport encoding may take before it is refused
 /// (the browser must hold it too).
 pub const MAX_BYTES: usize = 1 << 30;
+
+/// How much the viewport draws at full detail.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Polygon triangles; a larger mesh is drawn reduced by vertex
+    /// clustering to this many (a notice says so), never not at all.
+    pub triangles: usize,
+    /// Points of a point cloud; a larger one is sent as an even sample.
+    pub points: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            triangles: 3_000_000,
+            points: 20_000_000,
+        }
+    }
+}
 
 /// Pads to a multiple of 4 bytes (typed arrays need aligned offsets).
 fn pad4(bytes: &mut Vec<u8>, fill: u8) {
@@ -328,8 +347,46 @@ pub struct Encoded {
     pub bounds: Json,
 }
 
+/// A geometry as the viewport draws it: polygons beyond the limit reduced
+/// by vertex clustering, a point cloud beyond it sampled evenly; with what
+/// was reduced (`[drawn, of]` per kind).
+fn drawable(g: Arc<Geometry>, limits: &Limits) -> (Arc<Geometry>, Json) {
+    let triangles = ops::fan_triangle_count(&g);
+    if triangles > limits.triangles {
+        let reduced = ops::cluster_triangles(&g, limits.triangles);
+        let drawn = ops::fan_triangle_count(&reduced);
+        return (Arc::new(reduced), json!({"triangles": [drawn, triangles]}));
+    }
+    if g.num_prims() == 0 && g.num_points() > limits.points {
+        let step = g.num_points().div_ceil(limits.points);
+        let keep: Vec<u32> = (0..g.num_points() as u32).step_by(step).collect();
+        let mut sample = Geometry::new();
+        sample.add_points(
+            &keep
+                .iter()
+                .map(|&i| g.positions()[i as usize])
+                .collect::<Vec<_>>(),
+        );
+        if let Some(cd) = g.attrib(AttribClass::Point, "Cd") {
+            let _ = sample.set_attrib(AttribClass::Point, "Cd", cd.gather(&keep));
+        }
+        let of = g.num_points();
+        return (Arc::new(sample), json!({"points": [keep.len(), of]}));
+    }
+    (g, Json::Null)
+}
+
 /// Encodes a value for the viewport (`header_extra` goes into the header).
 pub fn encode(value: &Value, header_extra: Json) -> Result<Encoded, ShowError> {
+    encode_limited(value, header_extra, &Limits::default())
+}
+
+/// [`encode`] with other limits than the default.
+pub fn encode_limited(
+    value: &Value,
+    header_extra: Json,
+    limits: &Limits,
+) -> Result<Encoded, ShowError> {
     let geos: Vec<(String, Arc<Geometry>)> = match value {
         Value::Geometry(g) => vec![(String::new(), g.clone())],
         Value::Bundle(b) => b
@@ -339,7 +396,14 @@ pub fn encode(value: &Value, header_extra: Json) -> Result<Encoded, ShowError> {
             .collect(),
         _ => return Err(ShowError::Field),
     };
-    let size: usize = geos.iter().map(|(_, g)| estimate(g)).sum();
+    let geos: Vec<(String, Arc<Geometry>, Json)> = geos
+        .into_iter()
+        .map(|(n, g)| {
+            let (g, reduced) = drawable(g, limits);
+            (n, g, reduced)
+        })
+        .collect();
+    let size: usize = geos.iter().map(|(_, g, _)| estimate(g)).sum();
     if size > MAX_BYTES {
         let h = |b: usize| geode_op::human_bytes(b as f64);
         return Err(ShowError::TooLarge(h(size), h(MAX_BYTES)));
@@ -349,9 +413,13 @@ pub fn encode(value: &Value, header_extra: Json) -> Result<Encoded, ShowError> {
     };
     let mut parts = Vec::new();
     let mut bbox = Aabb::empty();
-    for (name, g) in &geos {
+    for (name, g, reduced) in &geos {
         bbox = bbox.union(&point_bounds(g));
-        parts.push(encode_part(g, name, &mut arrays));
+        let mut part = encode_part(g, name, &mut arrays);
+        if !reduced.is_null() {
+            part["reduced"] = reduced.clone();
+        }
+        parts.push(part);
         let mut protos = Vec::new();
         collect_instances(g, Mat4::IDENTITY, &mut protos, &mut HashMap::new());
         for (k, (proto, mats)) in protos.iter().enumerate() {
@@ -538,6 +606,61 @@ mod tests {
         assert_eq!(m[16 + 12], 2.0, "the second instance's translation x");
         assert_eq!(uints(body, &parts[1]["triangles"]).len(), 6);
         assert_eq!(h["bounds"][1][0], 5.0);
+    }
+
+    #[test]
+    fn beyond_the_limits_a_mesh_is_drawn_reduced_and_a_cloud_sampled() {
+        let mut g = Geometry::new();
+        let n = 60u32;
+        let pts: Vec<Vec3> = (0..n * n)
+            .map(|i| Vec3::new((i % n) as f32, (i / n) as f32, 0.0))
+            .collect();
+        g.add_points(&pts);
+        for y in 0..n - 1 {
+            for x in 0..n - 1 {
+                let i = y * n + x;
+                g.add_polygon(&[i, i + 1, i + n + 1, i + n]).unwrap();
+            }
+        }
+        let limits = Limits {
+            triangles: 1000,
+            points: 100,
+        };
+        let (h, body) = decode_owned(
+            &encode_limited(&Value::Geometry(Arc::new(g)), json!({}), &limits)
+                .unwrap()
+                .bytes,
+        );
+        let part = &h["parts"][0];
+        let [drawn, of] = [
+            &part["reduced"]["triangles"][0],
+            &part["reduced"]["triangles"][1],
+        ];
+        assert_eq!(of, 59 * 59 * 2);
+        assert!(
+            drawn.as_u64().unwrap() <= 1000 && drawn.as_u64().unwrap() > 300,
+            "{part}"
+        );
+        assert_eq!(
+            uints(&body, &part["triangles"]).len() as u64,
+            drawn.as_u64().unwrap() * 3
+        );
+        // A cloud of 1000 points over a limit of 100: every tenth.
+        let mut cloud = Geometry::new();
+        cloud.add_points(&(0..1000).map(|i| Vec3::splat(i as f32)).collect::<Vec<_>>());
+        let (h, body) = decode_owned(
+            &encode_limited(&Value::Geometry(Arc::new(cloud)), json!({}), &limits)
+                .unwrap()
+                .bytes,
+        );
+        let part = &h["parts"][0];
+        assert_eq!(part["reduced"]["points"], json!([100, 1000]));
+        assert_eq!(floats(&body, &part["positions"])[3..6], [10.0, 10.0, 10.0]);
+    }
+
+    fn decode_owned(bytes: &[u8]) -> (Json, Vec<u8>) {
+        let (h, body) = decode(bytes);
+        (h, body.to_vec())
     }
 
     #[test]

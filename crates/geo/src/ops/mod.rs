@@ -1,6 +1,7 @@
-//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts, wall thickness and reduction within a distance bound.
+//! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts, wall thickness, reduction within a distance bound and by vertex clustering.
 
 mod bounds;
+mod cluster;
 mod collapse;
 mod edit;
 mod fuse;
@@ -17,6 +18,7 @@ mod unpack;
 mod validate;
 
 pub use bounds::{bounds, signed_volume, surface_area, Aabb};
+pub use cluster::{cluster_triangles, fan_triangle_count};
 pub use collapse::reduce_triangles;
 pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};
 pub use fuse::{fuse_points, FuseStats};
