@@ -1,11 +1,11 @@
-// Browser tests of the studio's first hour in Debian's Chromium against a real `geode serve`: a long cook's progress and cancel button, the stale viewport, files confined to the network's folder (a link to /dev/zero, a write outside), export with the writer's warnings, and wires into a loop's and a solver's inputs.
+// Browser tests of the studio's first hour in Debian's Chromium against a real `geode serve`: a long cook's progress and cancel button, the stale viewport, files confined to the network's folder (a link to /dev/zero, a write outside), export with the writer's warnings, wires into a loop's and a solver's inputs, a 5M-triangle result drawn reduced, the network's frame range and rate, the Tab menu at the mouse wiring after the selection, no 404s.
 
 import assert from 'node:assert/strict';
-import { mkdtempSync, symlinkSync, existsSync, rmSync } from 'node:fs';
+import { mkdtempSync, readFileSync, symlinkSync, existsSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { browser, generation, nextCook, open, serve } from './harness.mjs';
+import { browser, generation, nextCook, open, repo, serve } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -203,5 +203,61 @@ describe('a result beyond the viewport budget', () => {
     assert.ok(drawn <= 3_000_000 && drawn > 1_000_000, hud);
     const d = await page.evaluate(() => window.__geode.drawn);
     assert.equal(d.triangles, drawn);
+  });
+});
+
+describe('daily work in the editor', () => {
+  let server;
+  let page;
+  let errors;
+  before(async () => {
+    const doc = JSON.parse(readFileSync(join(repo, 'examples', 'primitives.json'), 'utf8'));
+    doc.frames = [1, 90];
+    doc.fps = 30;
+    server = await serve('timed.json', [], { 'timed.json': JSON.stringify(doc) });
+    ({ page, errors } = await open(chrome.b, server.url));
+    await nextCook(page, 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('the timeline takes its range and rate from the network, and keeps edits there', async () => {
+    assert.equal(await page.locator('#timeline .end').inputValue(), '90');
+    assert.equal(await page.locator('#timeline .fps').inputValue(), '30');
+    await page.locator('#timeline .end').fill('120');
+    await page.locator('#timeline .end').press('Enter');
+    await page.waitForFunction(() => window.__geode.store.state.document.frames?.[1] === 120);
+    assert.equal(await page.evaluate(() => window.__geode.store.state.document.fps), 30);
+  });
+
+  test('the Tab menu opens at the mouse and wires the new node after the selected one', async () => {
+    await clickNode(page, 'ball');
+    const svg = await page.locator('#editor svg').boundingBox();
+    const at = { x: svg.x + svg.width * 0.2, y: svg.y + svg.height * 0.4 };
+    await page.mouse.move(at.x, at.y);
+    await page.keyboard.press('Tab');
+    const menu = await page.locator('.tab-menu').boundingBox();
+    assert.ok(Math.abs(menu.x - at.x) < 2 && Math.abs(menu.y - at.y) < 2, `menu at ${JSON.stringify(menu)}, mouse at ${JSON.stringify(at)}`);
+    await page.locator('.tab-menu input').fill('transform');
+    await page.locator('.tab-item[data-type="transform"]').waitFor();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction(() => Object.entries(window.__geode.store.state.document.nodes).some(([n, d]) => d.type === 'transform' && d.inputs?.[0] === 'ball' && n !== 'spin'));
+    // One undo step takes node and wire back.
+    const count = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes).length);
+    await page.locator('#editor svg').focus();
+    await page.keyboard.press('Control+z');
+    await page.waitForFunction((n) => Object.keys(window.__geode.store.state.document.nodes).length === n - 1, count);
+  });
+
+  test('the page asks for nothing that is not there (a favicon included)', async () => {
+    const missing = [];
+    page.on('response', (r) => r.status() === 404 && missing.push(r.url()));
+    await page.reload();
+    await page.waitForFunction(() => window.__geode?.store.state);
+    assert.deepEqual(missing, []);
+    assert.ok(await page.locator('link[rel="icon"]').count());
+    assert.deepEqual(errors, []);
   });
 });

@@ -1,9 +1,12 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
-import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, wires } from './network';
+import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, parentOf, wires } from './network';
 import { hasNetwork } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
 import type { AppStore } from './store';
+
+/** The smallest zoom "frame all" goes to: node names stay readable (about 8 px). */
+const MIN_FIT_ZOOM = 0.6;
 
 const SVG = 'http://www.w3.org/2000/svg';
 
@@ -39,6 +42,7 @@ export class NetworkEditor {
   private pending = new Map<string, [number, number]>();
   private framedAt: string | null = null;
   private mouse: [number, number] = [0, 0];
+  private mouseAt: [number, number] | null = null;
 
   constructor(
     private host: HTMLElement,
@@ -54,13 +58,20 @@ export class NetworkEditor {
     window.addEventListener('pointerup', (e) => this.onUp(e));
     this.svg.addEventListener('pointermove', (e) => {
       this.mouse = this.toWorld(e.clientX, e.clientY);
+      this.mouseAt = [e.clientX, e.clientY];
     });
+    this.svg.addEventListener('pointerleave', () => (this.mouseAt = null));
     this.svg.addEventListener('dblclick', (e) => this.onDoubleClick(e));
   }
 
   /** The world position under the mouse (where the Tab menu puts a node). */
   mouseWorld(): [number, number] {
     return this.mouse;
+  }
+
+  /** The mouse in page coordinates while it is over the editor (where the Tab menu opens). */
+  mouseClient(): [number, number] | null {
+    return this.mouseAt;
   }
 
   private net(): DocNetwork | null {
@@ -86,9 +97,19 @@ export class NetworkEditor {
     const ys = names.map((n) => this.positions.get(n)![1]);
     const [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
     const [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
-    this.zoom = Math.min(1.5, Math.min(r.width / (x1 - x0), r.height / (y1 - y0)));
+    const fit = Math.min(1.5, Math.min(r.width / (x1 - x0), r.height / (y1 - y0)));
+    this.zoom = Math.max(MIN_FIT_ZOOM, fit);
     this.tx = (r.width - (x1 - x0) * this.zoom) / 2 - x0 * this.zoom;
     this.ty = (r.height - (y1 - y0) * this.zoom) / 2 - y0 * this.zoom;
+    if (fit < MIN_FIT_ZOOM) {
+      // Too many to read at once: readable, centred on the node that matters.
+      const s = this.store;
+      const viewed = s.state?.view.solo ?? s.state?.output ?? null;
+      const focus = [s.current, viewed].find((p) => p && parentOf(p) === s.at && this.positions.has(p.slice(p.lastIndexOf('/') + 1)));
+      const [fx, fy] = focus ? this.positions.get(focus.slice(focus.lastIndexOf('/') + 1))! : [(x0 + x1) / 2 - NODE_W / 2, y0 + 40];
+      this.tx = r.width / 2 - (fx + NODE_W / 2) * this.zoom;
+      this.ty = r.height / 2 - (fy + NODE_H / 2) * this.zoom;
+    }
     this.apply();
   }
 

@@ -54,7 +54,7 @@ const editor = new NetworkEditor($('#editor'), store, {
   openTabMenu: () => undefined,
 });
 const params = new ParamPanel($('#params'), store, { edit });
-const timeline = new Timeline($('#timeline'), store, setFrame);
+const timeline = new Timeline($('#timeline'), store, setFrame, (frames, fps) => void edit({ kind: 'set_timeline', frames, fps }));
 const tabMenu = new TabMenu(() => [...store.catalogue.values()]);
 const sheet = new Spreadsheet(
   $('#sheet'),
@@ -91,7 +91,10 @@ function onMessage(msg: ServerMsg) {
   switch (msg.type) {
     case 'state': {
       store.state = msg;
-      if (!store.rangeSet) store.range = [1, Math.max(24, lastKeyFrame(msg.document))];
+      // The network's own timeline wins; else one that covers its keys.
+      if (msg.document.frames) store.range = [...msg.document.frames];
+      else if (!store.rangeSet) store.range = [1, Math.max(24, lastKeyFrame(msg.document))];
+      store.fps = msg.document.fps ?? 24;
       if (store.at !== '/' && !nodeAt(msg.document, store.at)) store.at = '/';
       store.selected = new Set([...store.selected].filter((p) => nodeAt(msg.document, p)));
       if (store.current && !nodeAt(msg.document, store.current)) store.current = null;
@@ -245,13 +248,18 @@ async function paste() {
   await edit({ kind: 'paste', parent: store.at, nodes: JSON.parse(text) as unknown, offset: [30, 30] });
 }
 
+/** The Tab menu, at the mouse when it is over the editor: the new node lands there, wired after the selected node when their ports agree (as Houdini does). */
 function openTab() {
   const r = editor.svg.getBoundingClientRect();
   const at = editor.mouseWorld();
-  tabMenu.open(r.left + r.width / 3, r.top + 40, (t: NodeType) => {
+  const [x, y] = editor.mouseClient() ?? [r.left + r.width / 3, r.top + 40];
+  const after = store.current && parentOf(store.current) === store.at && store.selected.size === 1 ? store.current : null;
+  tabMenu.open(x, y, (t: NodeType) => {
     void (async () => {
       const before = new Set(Object.keys(store.state ? (nodeAt(store.state.document, store.at)?.network?.nodes ?? (store.at === '/' ? store.state.document.nodes : {})) : {}));
-      if (await edit({ kind: 'add_node', parent: store.at, type: t.name, pos: at })) {
+      const from = after ? store.catalogue.get(nodeAt(store.state!.document, after)?.type ?? '') : undefined;
+      const wire = after && from && t.inputs[0]?.type === from.output ? after : undefined;
+      if (await edit({ kind: 'add_node', parent: store.at, type: t.name, pos: at, after: wire })) {
         const net = store.at === '/' ? store.state!.document.nodes : (nodeAt(store.state!.document, store.at)?.network?.nodes ?? {});
         const fresh = Object.keys(net).find((n) => !before.has(n));
         if (fresh) select([join(store.at, fresh)], join(store.at, fresh));

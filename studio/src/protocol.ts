@@ -69,7 +69,8 @@ export interface StateMsg {
   version: number;
   generation: number;
   path: string | null;
-  document: DocNetwork & { geode: string; version: number };
+  /** The document; `frames` and `fps` are the network's timeline, where set. */
+  document: DocNetwork & { geode: string; version: number; frames?: [number, number]; fps?: number };
   problems: Problem[];
   dirty: boolean;
   canUndo: boolean;

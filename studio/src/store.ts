@@ -19,6 +19,8 @@ export interface Store {
   current: string | null;
   range: [number, number];
   rangeSet: boolean;
+  /** Playback rate: the network's `fps`, else 24. */
+  fps: number;
 }
 
 type Fn = () => void;
@@ -38,6 +40,7 @@ export function createStore(): Store & { subscribe(fn: Fn): void; notify(): void
     current: null,
     range: [1, 100],
     rangeSet: false,
+    fps: 24,
     subscribe(fn: Fn) {
       listeners.push(fn);
     },

@@ -20,6 +20,10 @@ pub enum Edit {
         name: Option<String>,
         #[serde(default)]
         pos: Option<[f64; 2]>,
+        /// A node of the same network to wire into the new node's first
+        /// input, in the same step (Houdini's Tab menu after a selection).
+        #[serde(default)]
+        after: Option<String>,
     },
     RemoveNodes {
         paths: Vec<String>,
@@ -75,6 +79,12 @@ pub enum Edit {
     /// Node positions in the editor (UI data kept in the file).
     Move {
         positions: BTreeMap<String, [f64; 2]>,
+    },
+    /// The network's frame range and frames per second (Houdini keeps them
+    /// in the .hip file): the studio's timeline and playback follow them.
+    SetTimeline {
+        frames: [f64; 2],
+        fps: f64,
     },
     /// Nodes copied from a network (as the document writes them): names that
     /// collide are renamed, wires to nodes outside the copy are dropped.
@@ -188,7 +198,13 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             ty,
             name,
             pos,
-        } => add_node(&mut d, parent, ty, name.as_deref(), *pos, registry)?,
+            after,
+        } => {
+            let path = add_node(&mut d, parent, ty, name.as_deref(), *pos, registry)?;
+            if let Some(from) = after {
+                connect(&mut d, from, &path, 0, registry)?;
+            }
+        }
         Edit::RemoveNodes { paths } => {
             for p in paths {
                 remove_node(&mut d, p)?;
@@ -241,8 +257,28 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             nodes,
             offset,
         } => paste(&mut d, parent, nodes, *offset, registry)?,
+        Edit::SetTimeline { frames, fps } => set_timeline(&mut d, *frames, *fps)?,
     }
     Ok(d)
+}
+
+/// Stores the frame range and rate as the document's `frames` and `fps`.
+fn set_timeline(d: &mut Document, [start, end]: [f64; 2], fps: f64) -> Result<(), EditError> {
+    if !(start.is_finite() && end.is_finite() && start <= end) {
+        return Err(refuse(
+            "/",
+            "the frame range must run from a first frame to a later one",
+        ));
+    }
+    if !(fps.is_finite() && fps > 0.0 && fps <= 1000.0) {
+        return Err(refuse(
+            "/",
+            "frames per second must be above 0 and at most 1000",
+        ));
+    }
+    d.extra.insert("frames".into(), json!([start, end]));
+    d.extra.insert("fps".into(), json!(fps));
+    Ok(())
 }
 
 fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
@@ -272,7 +308,7 @@ fn add_node(
     name: Option<&str>,
     pos: Option<[f64; 2]>,
     registry: &Registry,
-) -> Result<(), EditError> {
+) -> Result<String, EditError> {
     check_type(parent, ty, registry)?;
     let net = network_mut(d, parent)?;
     let name = match name {
@@ -299,8 +335,9 @@ fn add_node(
     if let Some(p) = pos {
         set_position(&mut node, p);
     }
+    let path = join(parent, &name);
     net.nodes.insert(name, node);
-    Ok(())
+    Ok(path)
 }
 
 fn remove_node(d: &mut Document, path: &str) -> Result<(), EditError> {

@@ -427,3 +427,50 @@ fn spare_parameters_are_declared_where_taken_and_keyed_like_any_other() {
         .params
         .contains_key("gain"));
 }
+
+#[test]
+fn the_frame_range_and_rate_are_kept_in_the_document() {
+    let r = registry();
+    let d = apply(
+        &doc("coral.json"),
+        &edit(json!({"kind": "set_timeline", "frames": [1, 90], "fps": 30})),
+        &r,
+    )
+    .unwrap();
+    let text = serde_json::to_value(&d).unwrap();
+    assert_eq!(text["frames"], json!([1.0, 90.0]));
+    assert_eq!(text["fps"], json!(30.0));
+    for bad in [
+        json!({"frames": [9, 1], "fps": 24}),
+        json!({"frames": [1, 9], "fps": 0}),
+    ] {
+        let mut e = bad.clone();
+        e["kind"] = json!("set_timeline");
+        assert!(apply(&d, &edit(e), &r).is_err(), "{bad}");
+    }
+}
+
+#[test]
+fn a_node_added_after_another_is_wired_to_it_in_one_step() {
+    let r = registry();
+    let d = apply(
+        &doc("coral.json"),
+        &edit(json!({"kind": "add_node", "parent": "/", "type": "transform", "name": "next", "after": "/beside"})),
+        &r,
+    )
+    .unwrap();
+    assert_eq!(
+        d.network.nodes["next"].inputs,
+        vec![Some("beside".to_owned())]
+    );
+    // A port that does not agree refuses the whole edit.
+    let e = apply(
+        &doc("coral.json"),
+        &edit(
+            json!({"kind": "add_node", "parent": "/", "type": "transform", "after": "/skeleton"}),
+        ),
+        &r,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("produces field"), "{e}");
+}
