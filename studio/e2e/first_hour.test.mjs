@@ -251,6 +251,26 @@ describe('daily work in the editor', () => {
     await page.waitForFunction((n) => Object.keys(window.__geode.store.state.document.nodes).length === n - 1, count);
   });
 
+  test('two tabs keep their own undo: neither undoes an edit of the other', async () => {
+    const { page: other } = await open(chrome.b, server.url);
+    const step = (p) => p.evaluate(() => window.__geode.store.state.document.nodes.ball.params?.radius);
+    await page.evaluate(() => window.__geode.request({ op: 'edit', edit: { kind: 'set_param', path: '/ball', param: 'radius', value: 0.7 } }));
+    await other.evaluate(() => window.__geode.request({ op: 'edit', edit: { kind: 'set_param', path: '/ball', param: 'radius', value: 0.8 } }));
+    await page.waitForFunction(() => window.__geode.store.state.document.nodes.ball.params.radius === 0.8);
+    assert.ok(await page.locator('#undo:disabled').count(), "this tab's undo waits for the other tab's change");
+    const refused = await page.evaluate(() => window.__geode.request({ op: 'undo' }));
+    assert.equal(refused.ok, false);
+    assert.match(refused.error, /another tab made the latest change/);
+    assert.equal(await step(page), 0.8);
+    await other.locator('#editor svg').focus();
+    await other.keyboard.press('Control+z');
+    await page.waitForFunction(() => window.__geode.store.state.document.nodes.ball.params.radius === 0.7);
+    await page.waitForSelector('#undo:not(:disabled)');
+    await page.locator('#undo').click();
+    await page.waitForFunction(() => window.__geode.store.state.document.nodes.ball.params.radius === 0.6);
+    await other.close();
+  });
+
   test('the page asks for nothing that is not there (a favicon included)', async () => {
     const missing = [];
     page.on('response', (r) => r.status() === 404 && missing.push(r.url()));

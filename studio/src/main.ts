@@ -26,6 +26,12 @@ function say(text: string, bad = false) {
   log.push(text);
 }
 
+/** Undo or redo this tab's latest step; says why when refused (another tab's change is the latest). */
+async function history(op: 'undo' | 'redo') {
+  const r = await conn.request({ op });
+  if (!r.ok) say(r.error ?? `nothing to ${op}`, r.kind === 'history' && !/^nothing/.test(r.error ?? ''));
+}
+
 async function edit(e: Record<string, unknown>, merge = false): Promise<boolean> {
   const r = await conn.request({ op: 'edit', edit: e, merge });
   if (!r.ok) say(r.error ?? 'refused', true);
@@ -125,6 +131,9 @@ function onMessage(msg: ServerMsg) {
       renderTrace($('#trace'), msg);
       break;
     }
+    case 'hello':
+      store.client = msg.client;
+      break;
     case 'cancelled':
       store.cancelled = Math.max(store.cancelled, msg.generation);
       store.progress.clear();
@@ -190,8 +199,11 @@ function renderTop() {
   const s = store.state;
   $('#file').textContent = (s?.path ?? 'untitled') + (s?.dirty ? ' ●' : '');
   $('#file').classList.toggle('dirty', !!s?.dirty);
-  ($('#undo') as HTMLButtonElement).disabled = !s?.canUndo;
-  ($('#redo') as HTMLButtonElement).disabled = !s?.canRedo;
+  for (const [id, by, verb] of [['#undo', s?.undoBy, 'Undo (Ctrl-Z)'], ['#redo', s?.redoBy, 'Redo (Ctrl-Shift-Z)']] as const) {
+    const b = $(id) as HTMLButtonElement;
+    b.disabled = by !== store.client;
+    b.title = by === null || by === undefined || by === store.client ? verb : `${verb}: another tab made the latest change; undo it there`;
+  }
   const crumbs = $('#crumbs');
   crumbs.replaceChildren();
   const parts = store.at.split('/').filter(Boolean);
@@ -279,12 +291,12 @@ document.addEventListener('keydown', (e) => {
   if (typing) return;
   if (mod && e.key.toLowerCase() === 'z') {
     e.preventDefault();
-    void conn.request({ op: e.shiftKey ? 'redo' : 'undo' });
+    void history(e.shiftKey ? 'redo' : 'undo');
     return;
   }
   if (mod && e.key.toLowerCase() === 'y') {
     e.preventDefault();
-    void conn.request({ op: 'redo' });
+    void history('redo');
     return;
   }
   if (mod && e.key.toLowerCase() === 'c') return copy();
@@ -348,8 +360,8 @@ document.addEventListener('keydown', (e) => {
   }
 });
 
-$('#undo').addEventListener('click', () => void conn.request({ op: 'undo' }));
-$('#redo').addEventListener('click', () => void conn.request({ op: 'redo' }));
+$('#undo').addEventListener('click', () => void history('undo'));
+$('#redo').addEventListener('click', () => void history('redo'));
 $('#save').addEventListener('click', () => void save());
 $('#save-as').addEventListener('click', () => {
   const p = window.prompt('Save the network as (a .json path on the machine running geode serve):', store.state?.path ?? 'network.json');

@@ -75,6 +75,9 @@ export interface StateMsg {
   dirty: boolean;
   canUndo: boolean;
   canRedo: boolean;
+  /** The tab (see HelloMsg) whose step is next to undo or redo: only it may. */
+  undoBy: number | null;
+  redoBy: number | null;
   output: string | null;
   view: { solo: string | null; auto: boolean; frame: number };
 }
@@ -133,13 +136,19 @@ export interface ReplyMsg {
   [extra: string]: unknown;
 }
 
+/** The first message on a socket: this tab's number (each tab undoes its own edits). */
+export interface HelloMsg {
+  type: 'hello';
+  client: number;
+}
+
 /** The server stopped the cook of `generation` (Esc, the cancel button): no result will come for it. */
 export interface CancelledMsg {
   type: 'cancelled';
   generation: number;
 }
 
-export type ServerMsg = StateMsg | CookedMsg | ProgressMsg | ReplyMsg | CancelledMsg;
+export type ServerMsg = HelloMsg | StateMsg | CookedMsg | ProgressMsg | ReplyMsg | CancelledMsg;
 
 /** One drawable part of a decoded geometry: typed-array views into the message. */
 export interface GeometryPart {

@@ -21,6 +21,8 @@ export interface Store {
   rangeSet: boolean;
   /** Playback rate: the network's `fps`, else 24. */
   fps: number;
+  /** This tab's number on the server (its undo history is its own). */
+  client: number;
 }
 
 type Fn = () => void;
@@ -41,6 +43,7 @@ export function createStore(): Store & { subscribe(fn: Fn): void; notify(): void
     range: [1, 100],
     rangeSet: false,
     fps: 24,
+    client: 0,
     subscribe(fn: Fn) {
       listeners.push(fn);
     },

@@ -392,9 +392,20 @@ fn to_message(o: hub::Out) -> Message {
 
 /// One studio's socket: the current state and last result first, then
 /// requests in and broadcasts out until either side closes.
+/// Numbers the sockets: each tab undoes its own edits.
+static CLIENTS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+
 async fn talk(studio: Arc<Studio>, mut ws: WebSocket) {
+    let client = CLIENTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let mut rx = studio.hub.subscribe();
-    let mut hello = vec![Message::Text(studio.state().to_string().into())];
+    let mut hello = vec![
+        Message::Text(
+            serde_json::json!({"type": "hello", "client": client})
+                .to_string()
+                .into(),
+        ),
+        Message::Text(studio.state().to_string().into()),
+    ];
     if let Some(last) = studio.hub.last() {
         hello.extend(last.messages.into_iter().map(to_message));
     }
@@ -415,7 +426,7 @@ async fn talk(studio: Arc<Studio>, mut ws: WebSocket) {
                         // promise settles even for a request it got wrong.
                         let id = request_id(&text);
                         tokio::task::spawn_blocking(move || match serde_json::from_str::<studio::Envelope>(&text) {
-                            Ok(env) => s.handle(env),
+                            Ok(env) => s.handle(env, client),
                             Err(e) => failed_reply(id, "protocol", format!("bad request: {e}")),
                         })
                         .await

@@ -33,6 +33,22 @@ pub enum SessionError {
     NotJson(PathBuf),
 }
 
+/// One step of the history: the document on the other side of it, and the
+/// tab (socket) whose edit it was. Each tab undoes only its own steps.
+struct Step {
+    doc: Document,
+    client: u64,
+}
+
+/// Why an undo or redo was not made.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HistoryError {
+    #[error("nothing to {0}")]
+    Nothing(&'static str),
+    #[error("another tab made the latest change: {0} it there (each tab undoes its own edits)")]
+    OtherTab(&'static str),
+}
+
 /// The opened network and its history.
 pub struct Session {
     registry: Arc<Registry>,
@@ -40,11 +56,11 @@ pub struct Session {
     doc: Document,
     /// The document as last read or saved (dirty = differs).
     saved: Document,
-    undo: Vec<Document>,
-    redo: Vec<Document>,
-    /// The parameter the last edit set, when the client asked to merge
+    undo: Vec<Step>,
+    redo: Vec<Step>,
+    /// The tab and parameter of the last edit, when the tab asked to merge
     /// (a slider drag is one undo step).
-    merge_target: Option<(String, String)>,
+    merge_target: Option<(u64, String, String)>,
     network: Result<Network, Vec<LoadError>>,
     /// Bumped by every change of the document.
     version: u64,
@@ -106,17 +122,26 @@ impl Session {
         self.doc != self.saved
     }
 
-    /// Applies an edit; `merge` folds it into the previous step when both set
-    /// the same parameter (dragging a slider is one undo step).
+    /// Applies an edit of tab 0 (see [`Session::edit_by`]).
     pub fn edit(&mut self, edit: &Edit, merge: bool) -> Result<(), EditError> {
+        self.edit_by(edit, merge, 0)
+    }
+
+    /// Applies an edit made by tab `client`; `merge` folds it into that
+    /// tab's previous step when both set the same parameter (dragging a
+    /// slider is one undo step).
+    pub fn edit_by(&mut self, edit: &Edit, merge: bool, client: u64) -> Result<(), EditError> {
         let next = edits::apply(&self.doc, edit, &self.registry)?;
         let target = match edit {
-            Edit::SetParam { path, param, .. } => Some((path.clone(), param.clone())),
+            Edit::SetParam { path, param, .. } => Some((client, path.clone(), param.clone())),
             _ => None,
         };
         let merged = merge && target.is_some() && target == self.merge_target;
         if !merged {
-            self.undo.push(self.doc.clone());
+            self.undo.push(Step {
+                doc: self.doc.clone(),
+                client,
+            });
             if self.undo.len() > UNDO_DEPTH {
                 self.undo.remove(0);
             }
@@ -127,28 +152,46 @@ impl Session {
         Ok(())
     }
 
+    /// Undoes tab 0's latest step; false when there is none to undo.
     pub fn undo(&mut self) -> bool {
-        self.travel(true)
+        self.undo_by(0).is_ok()
     }
 
+    /// Redoes tab 0's latest undone step; false when there is none.
     pub fn redo(&mut self) -> bool {
-        self.travel(false)
+        self.redo_by(0).is_ok()
+    }
+
+    /// Undoes the latest step if tab `client` made it (undoing an older
+    /// one would also drop the later edits of another tab).
+    pub fn undo_by(&mut self, client: u64) -> Result<(), HistoryError> {
+        self.travel(true, client)
+    }
+
+    pub fn redo_by(&mut self, client: u64) -> Result<(), HistoryError> {
+        self.travel(false, client)
     }
 
     /// One step back (undo) or forward (redo) through the history.
-    fn travel(&mut self, back: bool) -> bool {
-        let (from, to) = if back {
-            (&mut self.undo, &mut self.redo)
+    fn travel(&mut self, back: bool, client: u64) -> Result<(), HistoryError> {
+        let (from, to, verb) = if back {
+            (&mut self.undo, &mut self.redo, "undo")
         } else {
-            (&mut self.redo, &mut self.undo)
+            (&mut self.redo, &mut self.undo, "redo")
         };
-        let Some(doc) = from.pop() else {
-            return false;
-        };
-        to.push(self.doc.clone());
+        match from.last() {
+            None => return Err(HistoryError::Nothing(verb)),
+            Some(step) if step.client != client => return Err(HistoryError::OtherTab(verb)),
+            Some(_) => {}
+        }
+        let step = from.pop().expect("checked above");
+        to.push(Step {
+            doc: self.doc.clone(),
+            client,
+        });
         self.merge_target = None;
-        self.replace(doc);
-        true
+        self.replace(step.doc);
+        Ok(())
     }
 
     fn replace(&mut self, doc: Document) {
@@ -203,6 +246,9 @@ impl Session {
             "dirty": self.is_dirty(),
             "canUndo": !self.undo.is_empty(),
             "canRedo": !self.redo.is_empty(),
+            // The tab whose step is next to undo or redo (only it may).
+            "undoBy": self.undo.last().map(|s| s.client),
+            "redoBy": self.redo.last().map(|s| s.client),
             "output": self.network.as_ref().ok().and_then(|n| n.output().map(str::to_owned)),
         })
     }

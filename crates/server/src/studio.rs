@@ -188,8 +188,8 @@ impl Studio {
     }
 
     /// Handles one request; the reply goes to the sender only.
-    pub fn handle(&self, env: Envelope) -> Json {
-        match self.dispatch(env.request) {
+    pub fn handle(&self, env: Envelope, client: u64) -> Json {
+        match self.dispatch(env.request, client) {
             Ok(extra) => {
                 let mut j = json!({"type": "reply", "id": env.id, "ok": true});
                 if let Json::Object(m) = extra {
@@ -202,11 +202,11 @@ impl Studio {
         }
     }
 
-    fn dispatch(&self, request: Request) -> Result<Json, Refusal> {
+    fn dispatch(&self, request: Request, client: u64) -> Result<Json, Refusal> {
         match request {
             Request::Edit { edit, merge } => {
                 lock(&self.session)
-                    .edit(&edit, merge)
+                    .edit_by(&edit, merge, client)
                     .map_err(|e| Refusal {
                         kind: "edit",
                         path: Some(e.path.clone()),
@@ -223,14 +223,16 @@ impl Studio {
             Request::Undo | Request::Redo => {
                 let mut s = lock(&self.session);
                 let done = if matches!(request, Request::Undo) {
-                    s.undo()
+                    s.undo_by(client)
                 } else {
-                    s.redo()
+                    s.redo_by(client)
                 };
                 drop(s);
-                if !done {
-                    return Err(Refusal::request("nothing to undo or redo"));
-                }
+                done.map_err(|e| Refusal {
+                    kind: "history",
+                    path: None,
+                    message: e.to_string(),
+                })?;
                 self.changed(None);
             }
             Request::View { node } => {

@@ -474,3 +474,42 @@ fn a_node_added_after_another_is_wired_to_it_in_one_step() {
     .unwrap_err();
     assert!(e.to_string().contains("produces field"), "{e}");
 }
+
+#[test]
+fn each_tab_undoes_its_own_edits_and_never_another_tabs() {
+    let r = registry();
+    let mut s = Session::open(Some(&example("coral.json")), r).unwrap();
+    let set =
+        |v: f64| edit(json!({"kind": "set_param", "path": "/grow", "param": "step", "value": v}));
+    s.edit_by(&set(0.1), false, 1).unwrap();
+    s.edit_by(&set(0.2), false, 2).unwrap();
+    assert_eq!(s.state()["undoBy"], 2);
+    // Tab 1's step is under tab 2's: undoing it would drop tab 2's edit.
+    let e = s.undo_by(1).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "another tab made the latest change: undo it there (each tab undoes its own edits)"
+    );
+    s.undo_by(2).unwrap();
+    assert_eq!(
+        s.document().network.nodes["grow"].params["step"],
+        json!(0.1)
+    );
+    assert_eq!(s.state()["redoBy"], 2);
+    assert!(s.redo_by(1).is_err());
+    s.undo_by(1).unwrap();
+    assert!(
+        !s.document().network.nodes["grow"]
+            .params
+            .contains_key("step")
+            || s.document().network.nodes["grow"].params["step"] != json!(0.1)
+    );
+    // A slider drag merges only within one tab.
+    s.edit_by(&set(0.3), false, 1).unwrap();
+    s.edit_by(&set(0.4), true, 2).unwrap();
+    s.undo_by(2).unwrap();
+    assert_eq!(
+        s.document().network.nodes["grow"].params["step"],
+        json!(0.3)
+    );
+}
