@@ -5,7 +5,7 @@ import type { AppStore } from './store';
 export class Timeline {
   playing = false;
   /** One entry per frame shown while playing: how many nodes cooked and came from the cache. */
-  readonly playLog: { frame: number; hits: number; misses: number }[] = [];
+  readonly playLog: { frame: number; hits: number; misses: number; at: number }[] = [];
   private slider: HTMLInputElement;
   private field: HTMLInputElement;
   private start: HTMLInputElement;
@@ -62,7 +62,7 @@ export class Timeline {
   /** Called when a cook for the shown frame arrived: log it and go to the next frame, one frame time after the last. */
   cooked(frame: number, hits: number, misses: number) {
     if (!this.playing) return;
-    this.playLog.push({ frame, hits, misses });
+    this.playLog.push({ frame, hits, misses, at: performance.now() });
     const wait = this.steppedAt + 1000 / this.store.fps - performance.now();
     clearTimeout(this.pending);
     if (wait > 1) this.pending = window.setTimeout(() => this.playing && this.step(), wait);
