@@ -305,19 +305,46 @@ describe('a wrangle in a loop', () => {
     await page.keyboard.press('Enter');
     await page.waitForSelector('g.node[data-node="w"]');
     await clickNode(page, 'w');
-    await page.waitForSelector('.param[data-param="snippet"] textarea.code');
+    await page.waitForSelector('.param[data-param="snippet"] .cm-editor');
   });
   after(async () => {
     await page?.close();
     await server?.stop();
   });
 
+  const editor = () => page.locator('.param[data-param="snippet"] .cm-content');
+
+  /** The editor's text, line by line as it shows it. */
+  const editorText = async () => (await page.locator('.param[data-param="snippet"] .cm-line').allTextContents()).join('\n');
+
+  /** Replaces the editor's text without applying it (select all, delete, insert: exactly the text). */
+  async function replaceText(text) {
+    await editor().click();
+    await page.keyboard.press('Control+a');
+    await page.keyboard.press('Backspace');
+    await page.keyboard.insertText(text);
+    assert.equal(await editorText(), text);
+  }
+
   /** Replaces the snippet in its code editor and commits it (Ctrl+Enter). */
   async function setSnippet(text) {
-    const field = page.locator('.param[data-param="snippet"] textarea.code');
-    await field.fill(text);
-    await field.press('Control+Enter');
+    await replaceText(text);
+    await editor().press('Control+Enter');
   }
+
+  /** Waits until the completion list offers `labels` (and nothing else when `only`). */
+  async function offered(labels, only = false) {
+    await page.waitForFunction(
+      ([want, only]) => {
+        const shown = [...document.querySelectorAll('.cm-tooltip-autocomplete li')].map((li) => li.querySelector('.cm-completionLabel')?.textContent);
+        return want.every((l) => shown.includes(l)) && (!only || shown.length === want.length);
+      },
+      [labels, only],
+    );
+  }
+
+  /** The snippet as the document holds it. */
+  const storedSnippet = () => page.evaluate(() => window.__geode.store.state.document.nodes.l.network.nodes.w.params.snippet);
 
   test('the snippet is edited as code and the loop recooks', async () => {
     const before = await drawn(page);
@@ -336,9 +363,97 @@ describe('a wrangle in a loop', () => {
     await nextCook(page, g);
     const message = await page.locator('.param[data-param="snippet"] .param-error').textContent();
     assert.match(message, /line 2, column 9: undeclared variable 'nope'/);
+    // In the editor: underlined on line 2 from column 9 to the end of the word, the line marked, a
+    // marker in the gutter, the message on hover.
+    const line2 = page.locator('.param[data-param="snippet"] .cm-line').nth(1);
+    await line2.locator('.cm-lintRange-error').waitFor();
+    assert.equal(await line2.locator('.cm-lintRange-error').textContent(), 'nope');
+    assert.equal(await page.locator('.param[data-param="snippet"] .cm-line').nth(0).locator('.cm-lintRange-error').count(), 0);
+    assert.match(await line2.getAttribute('class'), /cm-errorLine/);
+    assert.equal(await page.locator('.param[data-param="snippet"] .cm-lint-marker-error').count(), 1);
+    await line2.locator('.cm-lintRange-error').hover();
+    const tip = page.locator('.cm-tooltip-lint');
+    await tip.waitFor();
+    assert.match(await tip.textContent(), /undeclared variable 'nope'/);
+    await page.mouse.move(0, 0);
     const g2 = await generation(page);
     await setSnippet('@P.y += ch("amp");');
     assert.ok((await nextCook(page, g2)).ok);
+  });
+
+  test('the snippet editor is as wide as the parameter panel', async () => {
+    const panel = await page.locator('#params').evaluate((e) => e.clientWidth);
+    const box = await page.locator('.param[data-param="snippet"] .cm-editor').boundingBox();
+    assert.ok(box.width >= 0.9 * panel, `editor ${box.width}px in a ${panel}px panel`);
+    assert.ok(box.height >= 100, `editor ${box.height}px high`);
+  });
+
+  test('typing does not recook; leaving the editor applies the snippet once', async () => {
+    const g = await generation(page);
+    const before = await storedSnippet();
+    await editor().click();
+    await page.keyboard.press('Control+End');
+    await page.keyboard.type(' @P.x += 0;');
+    await page.waitForTimeout(400);
+    assert.equal(await generation(page), g, 'no cook while typing');
+    assert.equal(await storedSnippet(), before);
+    await page.locator('.param-head').click();
+    const cooked = await nextCook(page, g);
+    assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+    assert.equal(await storedSnippet(), `${before} @P.x += 0;`);
+    const g2 = await generation(page);
+    await setSnippet(before);
+    await nextCook(page, g2);
+  });
+
+  test('typing `noi` offers noise with its signature, `@` the attributes, `ch("` the spare parameters', async () => {
+    const before = await storedSnippet();
+    await editor().click();
+    await page.keyboard.press('Control+End');
+    await page.keyboard.type('\nfloat n = noi');
+    await offered(['noise']);
+    // Keys are ignored for a moment after the list changes (CodeMirror's guard against picking by accident).
+    await page.waitForTimeout(200);
+    const selected = page.locator('.cm-tooltip-autocomplete li[aria-selected]');
+    assert.match(await selected.textContent(), /^noise\(vector pos\) → float/);
+    // The selected option's forms and summaries aside.
+    assert.match(await page.locator('.cm-completionInfo').textContent(), /float noise\(vector pos\)\s+Perlin noise/);
+    await page.keyboard.press('Enter');
+    await page.keyboard.type('(@');
+    await offered(['P', 'N', 'Cd', 'ptnum', 'primnum', 'numpt', 'Frame', 'Time']);
+    await page.keyboard.press('Escape');
+    await page.keyboard.type('P) * ch("');
+    await offered(['amp'], true);
+    await page.keyboard.press('Escape');
+    assert.equal(await editorText(), `${before}\nfloat n = noise(@P) * ch("")`);
+    // Back to the stored text: leaving applies nothing.
+    const g = await generation(page);
+    await replaceText(before);
+    await page.locator('.param-head').click();
+    await page.waitForTimeout(300);
+    assert.equal(await generation(page), g);
+  });
+
+  test('Tab in the editor indents and opens no node menu; Backspace deletes text, not the node', async () => {
+    const before = await storedSnippet();
+    await editor().click();
+    await page.keyboard.press('Control+Home');
+    await page.keyboard.press('Tab');
+    assert.equal(await page.locator('.tab-menu').isVisible(), false);
+    assert.equal(await editorText(), `    ${before}`);
+    await page.keyboard.press('Backspace');
+    await page.keyboard.press('Delete');
+    assert.equal(await editorText(), before.slice(1));
+    assert.ok(await page.evaluate(() => !!window.__geode.store.state.document.nodes.l.network.nodes.w));
+    // Undone step by step in the editor (the studio's own undo is not asked).
+    const version = await page.evaluate(() => window.__geode.store.state.version);
+    for (let i = 0; i < 4 && (await editorText()) !== before; i++) await page.keyboard.press('Control+z');
+    assert.equal(await editorText(), before);
+    assert.equal(await page.evaluate(() => window.__geode.store.state.version), version);
+    const g = await generation(page);
+    await page.locator('.param-head').click();
+    await page.waitForTimeout(300);
+    assert.equal(await generation(page), g, 'the text is as stored: nothing to apply');
   });
 
   test('spare parameters are declared, set and removed in the panel', async () => {

@@ -1,8 +1,10 @@
-// The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
+// The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows, code editors for snippets; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
 
-import { channelAt, isChannel, join, nodeAt } from './network';
+import { knownVexFunctions, loadVexFunctions, SnippetEditor } from './code';
+import { channelAt, isChannel, join, nodeAt, parentOf } from './network';
 import { spareDecls } from './protocol';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
+import { viewedAttributes } from './sheet';
 import type { AppStore } from './store';
 
 export interface ParamActions {
@@ -43,6 +45,10 @@ function fmt(v: number): string {
 export class ParamPanel {
   private shownKey = '';
   private deferred = false;
+  /** Snippet editors by place (node path and parameter), kept across redraws for their undo history and size. */
+  private editors = new Map<string, SnippetEditor>();
+  /** The places whose editors the current redraw showed; the others are closed after it. */
+  private editorsShown = new Set<string>();
 
   constructor(
     private host: HTMLElement,
@@ -76,14 +82,28 @@ export class ParamPanel {
     const node = path && s.state ? nodeAt(s.state.document, path) : null;
     const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(s.cooked?.errors ?? [])}`;
     if (key === this.shownKey) return;
-    // A field being typed in or a slider being dragged is not swept away under the user.
+    // A field being typed in (a snippet editor's text too) or a slider being dragged is not swept away under the user.
     const active = document.activeElement;
-    if (active && this.host.contains(active) && active.matches('input, select, textarea')) {
+    if (active && this.host.contains(active) && active.matches('input, select, textarea, [contenteditable]')) {
       this.deferred = true;
       return;
     }
     this.shownKey = key;
     this.host.replaceChildren();
+    this.editorsShown.clear();
+    try {
+      this.fill(path, node);
+    } finally {
+      for (const [place, editor] of this.editors) {
+        if (this.editorsShown.has(place)) continue;
+        editor.destroy();
+        this.editors.delete(place);
+      }
+    }
+  }
+
+  private fill(path: string | null, node: DocNode | null) {
+    const s = this.store;
     if (!path || !node) {
       this.host.innerHTML = '<div class="empty">Select a node to see its parameters.</div>';
       return;
@@ -159,9 +179,15 @@ export class ParamPanel {
     widgets.className = 'widgets';
     div.appendChild(widgets);
     const set = (v: unknown, merge = false) => this.actions.edit({ kind: 'set_param', path: row.path, param: row.name, value: v }, merge);
-    this.widgets(widgets, decl, value, frame, set, (component, v) =>
+    const place = `${row.path}\n${row.name}`;
+    this.widgets(widgets, decl, value, frame, place, set, (component, v) =>
       this.actions.edit({ kind: 'set_key', path: row.path, param: row.name, component, frame, value: v }),
     );
+    if (decl.code) {
+      // Code takes the panel's width under its label.
+      div.classList.add('code');
+      this.editors.get(place)?.showProblems(problems);
+    }
     if (row.spare) {
       const remove = document.createElement('button');
       remove.className = 'reset';
@@ -196,12 +222,13 @@ export class ParamPanel {
     return div;
   }
 
-  /** The input widgets for one declaration (also used for the fields of list rows). */
+  /** The input widgets for one declaration (also used for the fields of list rows); `place` names it (node path and parameter). */
   private widgets(
     host: HTMLElement,
     decl: ParamDecl,
     value: unknown,
     frame: number,
+    place: string,
     set: (v: unknown, merge?: boolean) => unknown,
     setKey: (component: number, v: number) => unknown,
   ) {
@@ -265,23 +292,9 @@ export class ParamPanel {
       sel.addEventListener('change', () => void set(sel.value));
       host.appendChild(sel);
     } else if (decl.type === 'list') {
-      this.listWidget(host, decl, Array.isArray(value) ? value : [], frame, set);
+      this.listWidget(host, decl, Array.isArray(value) ? value : [], frame, place, set);
     } else if (decl.code) {
-      // Code (a wrangle's snippet): applied on leaving the editor or Ctrl+Enter.
-      const t = document.createElement('textarea');
-      t.className = 'code';
-      t.spellcheck = false;
-      t.value = String(value ?? '');
-      t.rows = Math.min(24, Math.max(6, t.value.split('\n').length + 1));
-      t.addEventListener('change', () => void set(t.value));
-      t.addEventListener('keydown', (e) => {
-        if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) t.blur();
-        if (e.key === 'Tab') {
-          e.preventDefault();
-          t.setRangeText('    ', t.selectionStart, t.selectionEnd, 'end');
-        }
-      });
-      host.appendChild(t);
+      host.appendChild(this.codeEditor(place, String(value ?? ''), set).dom);
     } else {
       const t = document.createElement('input');
       t.type = 'text';
@@ -292,6 +305,36 @@ export class ParamPanel {
       t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
       host.appendChild(t);
     }
+  }
+
+  /** The snippet editor of a place, made once and then given the current text: applied on leaving it or Ctrl/Cmd+Enter. */
+  private codeEditor(place: string, text: string, set: (v: unknown) => unknown): SnippetEditor {
+    void loadVexFunctions();
+    const path = place.slice(0, place.indexOf('\n'));
+    const options = {
+      text,
+      commit: (t: string) => void set(t),
+      info: () => ({ functions: knownVexFunctions(), attributes: viewedAttributes(), channels: this.channelNames(path) }),
+    };
+    let editor = this.editors.get(place);
+    if (editor) editor.update(text, options);
+    else {
+      editor = new SnippetEditor(options);
+      this.editors.set(place, editor);
+    }
+    this.editorsShown.add(place);
+    return editor;
+  }
+
+  /** What `ch()` reads from a node: its spare parameters, and `../name` for those of the blocks around it. */
+  private channelNames(path: string): string[] {
+    const doc = this.store.state?.document;
+    const names: string[] = [];
+    let prefix = '';
+    for (let at = path; doc && at !== '/'; at = parentOf(at), prefix += '../') {
+      names.push(...Object.keys(nodeAt(doc, at)?.spare ?? {}).map((n) => prefix + n));
+    }
+    return names;
   }
 
   /** Declares a spare parameter (read in a snippet with ch()). */
@@ -320,7 +363,7 @@ export class ParamPanel {
     return div;
   }
 
-  private listWidget(host: HTMLElement, decl: ParamDecl, rows: unknown[], frame: number, set: (v: unknown) => unknown) {
+  private listWidget(host: HTMLElement, decl: ParamDecl, rows: unknown[], frame: number, place: string, set: (v: unknown) => unknown) {
     const table = document.createElement('div');
     table.className = 'list';
     const fields = decl.fields ?? [];
@@ -338,7 +381,7 @@ export class ParamPanel {
         const name = document.createElement('small');
         name.textContent = f.name;
         cell.appendChild(name);
-        this.widgets(cell, f, row[f.name] ?? f.default, frame, (v) => {
+        this.widgets(cell, f, row[f.name] ?? f.default, frame, `${place}[${k}].${f.name}`, (v) => {
           const next = rows.map((x, i) => (i === k ? { ...row, [f.name]: v } : x));
           return set(next);
         }, () => undefined);

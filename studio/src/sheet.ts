@@ -20,6 +20,23 @@ export function chunksFor(first: number, last: number): number[] {
   return out;
 }
 
+/** Columns that are not attributes: vertex and primitive built-ins, groups. */
+const BUILTIN_COLUMNS = new Set(['Point', 'Type', 'Vertices']);
+
+/** The attribute names behind a window's column labels (`P[x]`, `P[y]`, `P[z]` are `P`). */
+export function attributeNames(columns: string[]): string[] {
+  const names = columns.filter((c) => !BUILTIN_COLUMNS.has(c) && !c.startsWith('group:')).map((c) => c.replace(/\[\w+\]$/, ''));
+  return [...new Set(names)];
+}
+
+/** The viewed result's attributes by class, as the spreadsheet last received them (what snippet completion offers). */
+const seenAttributes = new Map<SheetClass, string[]>();
+
+/** Attributes of the viewed result that the spreadsheet has seen, point ones first. */
+export function viewedAttributes(): { name: string; cls: SheetClass }[] {
+  return (['point', 'primitive', 'vertex', 'detail'] as SheetClass[]).flatMap((cls) => (seenAttributes.get(cls) ?? []).map((name) => ({ name, cls })));
+}
+
 export class Spreadsheet {
   cls: SheetClass = 'point';
   private chunks = new Map<number, string[][]>();
@@ -79,6 +96,7 @@ export class Spreadsheet {
   invalidate(generation: number) {
     if (generation === this.generation) return;
     this.generation = generation;
+    seenAttributes.clear();
     this.reset();
   }
 
@@ -97,6 +115,7 @@ export class Spreadsheet {
     const w = await this.fetchRows(cls, chunk * CHUNK, CHUNK);
     if (!w || generation !== this.generation || cls !== this.cls) return;
     this.columns = w.columns;
+    seenAttributes.set(cls, attributeNames(w.columns));
     this.total = w.total;
     this.chunks.set(chunk, w.rows);
     this.draw();
