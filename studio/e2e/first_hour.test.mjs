@@ -15,6 +15,16 @@ after(async () => {
   await chrome?.close();
 });
 
+/** The box of an element the editor may be redrawing: asked again until it is there. */
+async function boxOf(locator) {
+  for (let i = 0; i < 50; i++) {
+    const b = await locator.boundingBox().catch(() => null);
+    if (b) return b;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`no box for ${locator}`);
+}
+
 /** Clicks a node of the editor by name. */
 async function clickNode(page, name) {
   const body = page.locator(`g.node[data-node="${name}"] rect.body`);
@@ -164,8 +174,8 @@ describe('loops and solvers', () => {
       const added = await (await page.waitForFunction((old) => Object.keys(window.__geode.store.state.document.nodes).find((n) => !old.includes(n)), names)).jsonValue();
       const ports = page.locator(`g.node[data-node="${added}"] circle.port.in`);
       assert.equal(await ports.count(), 4, 'four inputs, from the declaration');
-      const out = await page.locator('g.node[data-node="ring"] circle.port.out').boundingBox();
-      const second = await ports.nth(1).boundingBox();
+      const out = await boxOf(page.locator('g.node[data-node="ring"] circle.port.out'));
+      const second = await boxOf(ports.nth(1));
       await page.mouse.move(out.x + out.width / 2, out.y + out.height / 2);
       await page.mouse.down();
       await page.mouse.move((out.x + second.x) / 2, (out.y + second.y) / 2, { steps: 4 });
@@ -269,6 +279,16 @@ describe('daily work in the editor', () => {
     await page.locator('#undo').click();
     await page.waitForFunction(() => window.__geode.store.state.document.nodes.ball.params.radius === 0.6);
     await other.close();
+  });
+
+  test('a long status message never widens the page past the window', async () => {
+    const long = 'x'.repeat(2000);
+    await page.evaluate((name) => window.__geode.edit({ kind: 'set_param', path: `/${name}`, param: 'radius', value: 1 }), long);
+    await page.waitForFunction(() => document.querySelector('#status').textContent.length > 1000);
+    const widths = await page.evaluate(() => [document.documentElement.scrollWidth, window.innerWidth]);
+    assert.ok(widths[0] <= widths[1], `page ${widths[0]} px wide in a ${widths[1]} px window`);
+    const timeline = await page.locator('#timeline .fps').boundingBox();
+    assert.ok(timeline.x + timeline.width <= widths[1], 'the timeline stays on screen');
   });
 
   test('the page asks for nothing that is not there (a favicon included)', async () => {

@@ -117,6 +117,13 @@ describe('the coral', () => {
   test('a node added unwired is an error of its own, and the display still draws', async () => {
     const g = await generation(page);
     const names = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes));
+    // Nothing selected (a node added with one selected is wired after it).
+    await page.evaluate(() => {
+      const s = window.__geode.store;
+      s.selected = new Set();
+      s.current = null;
+      s.notify();
+    });
     await page.locator('#editor svg').hover({ position: { x: 60, y: 120 } });
     await page.keyboard.press('Tab');
     await page.locator('.tab-menu input').fill('transform');

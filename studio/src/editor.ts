@@ -1,7 +1,7 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, parentOf, wires } from './network';
-import { hasNetwork } from './protocol';
+import { hasNetwork, uniqueProblems } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
 import type { AppStore } from './store';
 
@@ -351,7 +351,7 @@ export class NetworkEditor {
     const path = join(s.at, name);
     const problems = (s.state?.problems ?? []).filter((p) => p.level !== 'note' && (p.path === path || p.path.startsWith(path + '/')));
     const cookErr = (s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled');
-    const errors = [...problems, ...cookErr];
+    const errors = uniqueProblems([...problems, ...cookErr]);
     const viewed = (s.state?.view.solo ?? s.state?.output) === path;
     const warnings = errors.length ? [] : (s.badges.get(path)?.warnings ?? []);
     const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node, this.store.catalogue) ? 'subnet' : ''];

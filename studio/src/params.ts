@@ -2,7 +2,7 @@
 
 import { knownVexFunctions, loadVexFunctions, SnippetEditor } from './code';
 import { channelAt, isChannel, join, nodeAt, parentOf } from './network';
-import { spareDecls } from './protocol';
+import { spareDecls, uniqueProblems } from './protocol';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
 import { viewedAttributes } from './sheet';
 import type { AppStore } from './store';
@@ -116,10 +116,10 @@ export class ParamPanel {
     head.querySelector('.type')!.textContent = type?.label ?? node.type;
     head.querySelector('.help')!.textContent = type?.summary ?? (node.type === 'subnet' ? 'Subnetwork: its promoted parameters.' : '');
     this.host.appendChild(head);
-    const problems: Problem[] = [
+    const problems: Problem[] = uniqueProblems([
       ...(s.state?.problems ?? []).filter((p) => p.path === path),
       ...(s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled'),
-    ];
+    ]);
     const general = problems.filter((p) => !p.param);
     for (const p of general) {
       const d = document.createElement('div');

@@ -270,6 +270,20 @@ export class Connection {
   }
 }
 
+/**
+ * Load problems and cook errors of one node, each said once: a node with a
+ * load problem fails its cook with that same problem (kind aside).
+ */
+export function uniqueProblems(problems: Problem[]): Problem[] {
+  const seen = new Set<string>();
+  return problems.filter((p) => {
+    const key = `${p.path}\u0000${p.param ?? ''}\u0000${p.message}`;
+    if (seen.has(key)) return false;
+    seen.add(key);
+    return true;
+  });
+}
+
 /** Whether a node holds a network the editor can dive into: the catalogue says which types do. */
 export function hasNetwork(node: DocNode | null | undefined, types: ReadonlyMap<string, NodeType>): boolean {
   return !!node && (node.network !== undefined || types.get(node.type)?.network === true);

@@ -1,6 +1,6 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
 import { expect, test } from 'vitest';
-import { decodeGeometry, hasNetwork, reducedNotice, type GeometryPart } from '../src/protocol';
+import { decodeGeometry, hasNetwork, reducedNotice, uniqueProblems, type GeometryPart, type Problem } from '../src/protocol';
 import { nodeTypes } from './protocol.fixture';
 import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
@@ -100,4 +100,9 @@ test('a reduced geometry is announced with what was drawn of how much', () => {
   expect(reducedNotice([part({ triangles: [10, 20] }), part({ triangles: [5, 30] }), part({ points: [1, 9] })])).toBe(
     'reduced for the viewport: 15 of 50 triangles, 1 of 9 points drawn',
   );
+});
+
+test('a load problem and the cook error it causes are said once', () => {
+  const p = (kind?: string) => ({ path: '/grow', param: 'kill', message: 'value -1 is below the minimum 0', kind }) as Problem;
+  expect(uniqueProblems([p(), p('parameter'), { ...p(), param: 'step' }])).toHaveLength(2);
 });
