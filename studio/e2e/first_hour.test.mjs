@@ -281,6 +281,20 @@ describe('daily work in the editor', () => {
     await other.close();
   });
 
+  test('frames shown one after another compile no shader again', async () => {
+    const programs = () => page.evaluate(() => window.__geode.viewport.renderer.info.programs.map((p) => p.id).join(' '));
+    let g = await generation(page);
+    await page.evaluate(() => window.__geode.request({ op: 'frame', frame: 2 }));
+    await nextCook(page, g);
+    const before = await programs();
+    for (const frame of [3, 4, 5]) {
+      g = await generation(page);
+      await page.evaluate((f) => window.__geode.request({ op: 'frame', frame: f }), frame);
+      await nextCook(page, g);
+    }
+    assert.equal(await programs(), before, 'materials (and their programs) are reused across frames');
+  });
+
   test('a long status message never widens the page past the window', async () => {
     const long = 'x'.repeat(2000);
     await page.evaluate((name) => window.__geode.edit({ kind: 'set_param', path: `/${name}`, param: 'radius', value: 1 }), long);

@@ -52,6 +52,8 @@ export class Viewport {
   private needsRender = true;
   /** Full and decimated versions of large point clouds, swapped while tumbling. */
   private tumbleSwaps: { full: THREE.Object3D; light: THREE.Object3D }[] = [];
+  /** Materials by their settings, kept across rebuilds (see `material`). */
+  private materials = new Map<string, THREE.Material>();
 
   constructor(private host: HTMLElement) {
     this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -124,16 +126,25 @@ export class Viewport {
     this.rebuild();
   }
 
-  /** Re-creates the scene's objects from the last geometry (after a display toggle too). */
+  /**
+   * A material by its settings, made once and kept: a disposed material
+   * releases its shader program, and compiling it again for every frame of
+   * playback cost over 100 ms a frame under a software GL.
+   */
+  private material<T extends THREE.Material>(key: string, make: () => T): T {
+    let m = this.materials.get(key);
+    if (!m) {
+      m = make();
+      this.materials.set(key, m);
+    }
+    return m as T;
+  }
+
+  /** Re-creates the scene's objects from the last geometry (after a display toggle too); materials are reused. */
   rebuild() {
     for (const o of [...this.content.children]) {
       this.content.remove(o);
-      o.traverse((x) => {
-        const m = x as THREE.Mesh;
-        m.geometry?.dispose();
-        const mats = Array.isArray(m.material) ? m.material : m.material ? [m.material] : [];
-        mats.forEach((mt) => mt.dispose());
-      });
+      o.traverse((x) => (x as THREE.Mesh).geometry?.dispose());
     }
     this.tumbleSwaps = [];
     const g = this.last;
@@ -153,7 +164,7 @@ export class Viewport {
       // Too many triangles: one point per instance at its origin.
       const pos = new Float32Array(count * 3);
       for (let i = 0; i < count; i++) pos.set(part.instances.subarray(i * 16 + 12, i * 16 + 15), i * 3);
-      const material = () => new THREE.PointsMaterial({ color: 0xc8d0dc, size: 2, sizeAttenuation: false });
+      const material = () => this.material('instance-points', () => new THREE.PointsMaterial({ color: 0xc8d0dc, size: 2, sizeAttenuation: false }));
       const geo = new THREE.BufferGeometry();
       geo.setAttribute('position', new THREE.BufferAttribute(pos, 3));
       const full = new THREE.Points(geo, material());
@@ -197,10 +208,11 @@ export class Viewport {
       }
       if (hasNormals) repairNormals(geo);
       const flat = this.forceFlat || !hasNormals;
-      const mat = new THREE.MeshStandardMaterial({ color: hasColors ? 0xffffff : uniform, vertexColors: hasColors, flatShading: flat, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
+      const color = hasColors ? 0xffffff : uniform.getHex();
+      const mat = this.material(`mesh ${color} ${hasColors} ${flat}`, () => new THREE.MeshStandardMaterial({ color, vertexColors: hasColors, flatShading: flat, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide }));
       objects.push(part.instances ? instanced(geo, mat, part.instances) : new THREE.Mesh(geo, mat));
       if (this.wireframe) {
-        const wire = new THREE.MeshBasicMaterial({ color: 0x101418, wireframe: true, transparent: true, opacity: 0.35 });
+        const wire = this.material('wire', () => new THREE.MeshBasicMaterial({ color: 0x101418, wireframe: true, transparent: true, opacity: 0.35 }));
         objects.push(part.instances ? instanced(geo, wire, part.instances) : new THREE.Mesh(geo, wire));
       }
       drawn.triangles += tris * count;
@@ -210,7 +222,8 @@ export class Viewport {
       geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
       if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.lines, 1));
-      objects.push(new THREE.LineSegments(geo, new THREE.LineBasicMaterial({ color: part.colors ? 0xffffff : 0xe0e6ef, vertexColors: !!part.colors })));
+      const colored = !!part.colors;
+      objects.push(new THREE.LineSegments(geo, this.material(`lines ${colored}`, () => new THREE.LineBasicMaterial({ color: colored ? 0xffffff : 0xe0e6ef, vertexColors: colored }))));
       drawn.lines += (part.lines.length / 2) * count;
     }
     if (part.points?.length) {
@@ -218,7 +231,8 @@ export class Viewport {
       geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
       if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.points, 1));
-      objects.push(new THREE.Points(geo, new THREE.PointsMaterial({ color: part.colors ? 0xffffff : 0xf2f5f8, vertexColors: !!part.colors, size: 3, sizeAttenuation: false })));
+      const colored = !!part.colors;
+      objects.push(new THREE.Points(geo, this.material(`points ${colored}`, () => new THREE.PointsMaterial({ color: colored ? 0xffffff : 0xf2f5f8, vertexColors: colored, size: 3, sizeAttenuation: false }))));
       drawn.points += part.points.length * count;
     }
     if (part.instances) drawn.instances += count;

@@ -170,6 +170,12 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
                         _ = tokio::signal::ctrl_c() => {}
                     }
                 };
+                // Small messages (a frame's state, then its result) must not
+                // wait for the previous one's acknowledgement: Nagle's
+                // algorithm with delayed ACKs held each played frame ~200 ms.
+                let listener = axum::serve::ListenerExt::tap_io(listener, |tcp| {
+                    let _ = tcp.set_nodelay(true);
+                });
                 let _ = axum::serve(listener, router)
                     .with_graceful_shutdown(stop)
                     .await;
