@@ -119,6 +119,18 @@ describe('files', () => {
     assert.match(await page.locator('.param[data-param="file"] .param-error').textContent(), /\/dev\/zero/);
   });
 
+  test('a click in the middle of a file field edits it (the revert button sits beside it, never over it)', async () => {
+    await clickNode(page, 'zero');
+    const field = page.locator('.param[data-param="file"] input[type=text]');
+    const box = await field.boundingBox();
+    await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2);
+    assert.equal(await page.evaluate(() => document.activeElement?.closest('.param')?.dataset.param), 'file');
+    assert.equal(await page.evaluate(() => window.__geode.store.state.document.nodes.zero.params.file), '$HIP/zero.obj');
+    const reset = await page.locator('.param[data-param="file"] button.reset').boundingBox();
+    assert.ok(reset.width <= 24 && reset.x >= box.x + box.width, `reset at ${JSON.stringify(reset)}, field ${JSON.stringify(box)}`);
+    await page.keyboard.press('Escape');
+  });
+
   test('a write inside the folder writes; one outside is refused and writes nothing', async () => {
     await clickNode(page, 'out');
     let g = await generation(page);
@@ -173,7 +185,8 @@ describe('loops and solvers', () => {
       await page.keyboard.press('Enter');
       const added = await (await page.waitForFunction((old) => Object.keys(window.__geode.store.state.document.nodes).find((n) => !old.includes(n)), names)).jsonValue();
       const ports = page.locator(`g.node[data-node="${added}"] circle.port.in`);
-      assert.equal(await ports.count(), 4, 'four inputs, from the declaration');
+      // Four inputs, from the declaration (once the editor drew the node).
+      await page.waitForFunction((n) => document.querySelectorAll(`g.node[data-node="${n}"] circle.port.in`).length === 4, added);
       const out = await boxOf(page.locator('g.node[data-node="ring"] circle.port.out'));
       const second = await boxOf(ports.nth(1));
       await page.mouse.move(out.x + out.width / 2, out.y + out.height / 2);
@@ -293,6 +306,23 @@ describe('daily work in the editor', () => {
       await nextCook(page, g);
     }
     assert.equal(await programs(), before, 'materials (and their programs) are reused across frames');
+  });
+
+  test('the nodes below a failed node are marked as failed with it', async () => {
+    const g = await generation(page);
+    await page.evaluate(() => window.__geode.edit({ kind: 'set_param', path: '/ball', param: 'radius', value: 'big' }));
+    const cooked = await nextCook(page, g);
+    assert.equal(cooked.ok, false);
+    await page.waitForSelector('g.node.error[data-node="ball"]');
+    for (const below of ['top', 'open_ball', 'all', 'colour', 'out']) {
+      await page.waitForSelector(`g.node.input-error[data-node="${below}"]`);
+    }
+    assert.match(await page.locator('g.node[data-node="all"] text.error-text').textContent(), /an input failed: \/ball/);
+    assert.equal(await page.locator('g.node.input-error[data-node="ring"]').count(), 0, 'a branch that does not read it is untouched');
+    const again = await generation(page);
+    await page.evaluate(() => window.__geode.edit({ kind: 'set_param', path: '/ball', param: 'radius', value: null }));
+    assert.ok((await nextCook(page, again)).ok);
+    assert.equal(await page.locator('g.node.input-error').count(), 0);
   });
 
   test('a long status message never widens the page past the window', async () => {

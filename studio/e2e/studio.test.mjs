@@ -471,7 +471,7 @@ describe('a wrangle in a loop', () => {
     await page.waitForSelector('.param[data-param="freq"]');
     const spare = await page.evaluate(() => window.__geode.store.state.document.nodes.l.network.nodes.w.spare);
     assert.deepEqual(spare, { amp: 'float', freq: 'vector' });
-    await page.locator('.param[data-param="freq"] button.reset').first().click();
+    await page.locator('.param[data-param="freq"] button.remove').click();
     await page.waitForFunction(() => !window.__geode.store.state.document.nodes.l.network.nodes.w.spare.freq);
   });
 });

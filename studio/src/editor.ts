@@ -1,11 +1,11 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, parentOf, wires } from './network';
-import { hasNetwork, uniqueProblems } from './protocol';
+import { freshCookErrors, hasNetwork, uniqueProblems } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
 import type { AppStore } from './store';
 
-/** The smallest zoom "frame all" goes to: node names stay readable (about 8 px). */
+/** The smallest zoom the automatic framing goes to: node names stay readable (about 8 px). */
 const MIN_FIT_ZOOM = 0.6;
 
 const SVG = 'http://www.w3.org/2000/svg';
@@ -88,8 +88,12 @@ export class NetworkEditor {
     this.root.setAttribute('transform', `translate(${this.tx},${this.ty}) scale(${this.zoom})`);
   }
 
-  /** Fits every node (or the selected ones) in view. */
-  frame(selectedOnly = false) {
+  /**
+   * Fits every node (or the selected ones) in view, as Houdini's H; `readable`
+   * (the automatic framing when a network opens) stops at a zoom where names
+   * can be read, centred on the node that matters.
+   */
+  frame(selectedOnly = false, readable = false) {
     const names = [...this.positions.keys()].filter((n) => !selectedOnly || this.store.selected.has(join(this.store.at, n)));
     const r = this.svg.getBoundingClientRect();
     if (!names.length || r.width === 0) return;
@@ -98,10 +102,10 @@ export class NetworkEditor {
     const [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
     const [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
     const fit = Math.min(1.5, Math.min(r.width / (x1 - x0), r.height / (y1 - y0)));
-    this.zoom = Math.max(MIN_FIT_ZOOM, fit);
+    this.zoom = readable ? Math.max(MIN_FIT_ZOOM, fit) : fit;
     this.tx = (r.width - (x1 - x0) * this.zoom) / 2 - x0 * this.zoom;
     this.ty = (r.height - (y1 - y0) * this.zoom) / 2 - y0 * this.zoom;
-    if (fit < MIN_FIT_ZOOM) {
+    if (readable && fit < MIN_FIT_ZOOM) {
       // Too many to read at once: readable, centred on the node that matters.
       const s = this.store;
       const viewed = s.state?.view.solo ?? s.state?.output ?? null;
@@ -319,7 +323,7 @@ export class NetworkEditor {
     }
     if (this.framedAt !== this.store.at && this.positions.size) {
       this.framedAt = this.store.at;
-      this.frame();
+      this.frame(false, true);
     }
     const wireLayer = el('g', { class: 'wires' }, this.root);
     for (const w of wires(net)) {
@@ -329,7 +333,8 @@ export class NetworkEditor {
       const count = Math.max(net.nodes[w.to].inputs?.length ?? 1, this.inputsOf(net.nodes[w.to]));
       drawWire(wireLayer, [a[0] + NODE_W / 2, a[1] + NODE_H], [b[0] + portX(w.input, count), b[1]], `wire from-${w.from} to-${w.to}`);
     }
-    for (const [name, node] of Object.entries(net.nodes)) this.drawNode(name, node, this.positions.get(name)!);
+    const failed = this.readsFailed(net);
+    for (const [name, node] of Object.entries(net.nodes)) this.drawNode(name, node, this.positions.get(name)!, failed.get(name));
     const d = this.drag;
     if (d?.kind === 'wire') {
       const a = this.positions.get(d.from);
@@ -346,15 +351,45 @@ export class NetworkEditor {
     return t?.variadic ? Math.max(declared, (node.inputs?.length ?? 0) + 1) : declared;
   }
 
-  private drawNode(name: string, node: DocNode, [x, y]: [number, number]) {
+  /**
+   * Nodes of this network that read a node whose cook failed (directly or
+   * further up), each with the failed node's path: they failed with it, as
+   * Houdini marks every node below an error.
+   */
+  private readsFailed(net: DocNetwork): Map<string, string> {
+    const s = this.store;
+    const at = s.at === '/' ? '' : s.at;
+    const out = new Map<string, string>();
+    // A failing node at this level, or the node at this level holding it.
+    const here = (path: string) => (path.startsWith(at + '/') ? path.slice(at.length + 1).split('/')[0] : null);
+    const queue: [string, string][] = [];
+    for (const e of freshCookErrors(s.state, s.cooked)) {
+      const n = here(e.path);
+      if (n && e.kind !== 'cancelled') queue.push([n, e.path]);
+    }
+    const readers = new Map<string, string[]>();
+    for (const w of wires(net)) readers.set(w.from, [...(readers.get(w.from) ?? []), w.to]);
+    while (queue.length) {
+      const [n, source] = queue.pop()!;
+      for (const r of readers.get(n) ?? []) {
+        if (!out.has(r)) {
+          out.set(r, source);
+          queue.push([r, source]);
+        }
+      }
+    }
+    return out;
+  }
+
+  private drawNode(name: string, node: DocNode, [x, y]: [number, number], failedInput?: string) {
     const s = this.store;
     const path = join(s.at, name);
     const problems = (s.state?.problems ?? []).filter((p) => p.level !== 'note' && (p.path === path || p.path.startsWith(path + '/')));
-    const cookErr = (s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled');
+    const cookErr = freshCookErrors(s.state, s.cooked).filter((p) => p.path === path && p.kind !== 'cancelled');
     const errors = uniqueProblems([...problems, ...cookErr]);
     const viewed = (s.state?.view.solo ?? s.state?.output) === path;
     const warnings = errors.length ? [] : (s.badges.get(path)?.warnings ?? []);
-    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node, this.store.catalogue) ? 'subnet' : ''];
+    const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', !errors.length && failedInput ? 'input-error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node, this.store.catalogue) ? 'subnet' : ''];
     const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
     el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);
@@ -378,8 +413,13 @@ export class NetworkEditor {
       el('rect', { class: 'progress', x: 0, y: NODE_H + 3, width: NODE_W * progress, height: 3 }, g);
     }
     const info = el('text', { class: 'badge' + (badge?.hit ? ' hit' : ''), x: NODE_W + 8, y: 13 }, g);
-    info.textContent = badge ? (badge.hit ? 'cache' : `${badge.ms < 10 ? badge.ms.toFixed(1) : Math.round(badge.ms)} ms`) : '';
-    if (errors.length) {
+    // Below a failed node, an older cook's time would say this one cooked.
+    info.textContent = badge && !failedInput ? (badge.hit ? 'cache' : `${badge.ms < 10 ? badge.ms.toFixed(1) : Math.round(badge.ms)} ms`) : '';
+    if (!errors.length && failedInput) {
+      const t = el('text', { class: 'error-text', x: NODE_W + 8, y: 26 }, g);
+      t.textContent = `an input failed: ${failedInput}`;
+      el('title', {}, g).textContent = `${failedInput} failed to cook, so this node could not cook`;
+    } else if (errors.length) {
       const t = el('text', { class: 'error-text', x: NODE_W + 8, y: 26 }, g);
       const msg = errors[0].param ? `${errors[0].param}: ${errors[0].message}` : errors[0].message;
       t.textContent = msg.length > 60 ? msg.slice(0, 57) + '…' : msg;

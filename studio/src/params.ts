@@ -2,7 +2,7 @@
 
 import { knownVexFunctions, loadVexFunctions, SnippetEditor } from './code';
 import { channelAt, isChannel, join, nodeAt, parentOf } from './network';
-import { spareDecls, uniqueProblems } from './protocol';
+import { freshCookErrors, spareDecls, uniqueProblems } from './protocol';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
 import { viewedAttributes } from './sheet';
 import type { AppStore } from './store';
@@ -80,7 +80,7 @@ export class ParamPanel {
     const s = this.store;
     const path = s.current;
     const node = path && s.state ? nodeAt(s.state.document, path) : null;
-    const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(s.cooked?.errors ?? [])}`;
+    const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(freshCookErrors(s.state, s.cooked))}`;
     if (key === this.shownKey) return;
     // A field being typed in (a snippet editor's text too) or a slider being dragged is not swept away under the user.
     const active = document.activeElement;
@@ -118,7 +118,7 @@ export class ParamPanel {
     this.host.appendChild(head);
     const problems: Problem[] = uniqueProblems([
       ...(s.state?.problems ?? []).filter((p) => p.path === path),
-      ...(s.cooked?.errors ?? []).filter((p) => p.path === path && p.kind !== 'cancelled'),
+      ...freshCookErrors(s.state, s.cooked).filter((p) => p.path === path && p.kind !== 'cancelled'),
     ]);
     const general = problems.filter((p) => !p.param);
     for (const p of general) {
@@ -190,7 +190,7 @@ export class ParamPanel {
     }
     if (row.spare) {
       const remove = document.createElement('button');
-      remove.className = 'reset';
+      remove.className = 'remove';
       remove.textContent = '×';
       remove.title = 'Remove this spare parameter';
       remove.addEventListener('click', () => void this.actions.edit({ kind: 'set_spare', path: row.path, name: row.name, type: null }));

@@ -270,6 +270,12 @@ export class Connection {
   }
 }
 
+/** The last cook's errors while they are about the shown state; none while a newer cook runs (they may be fixed). */
+export function freshCookErrors(state: StateMsg | null, cooked: CookedMsg | null): Problem[] {
+  if (!cooked || (state && cooked.generation < state.generation)) return [];
+  return cooked.errors;
+}
+
 /**
  * Load problems and cook errors of one node, each said once: a node with a
  * load problem fails its cook with that same problem (kind aside).

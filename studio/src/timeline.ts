@@ -15,6 +15,8 @@ export class Timeline {
   /** When the frame shown last was asked for (playback paces from it). */
   private steppedAt = 0;
   private pending = 0;
+  /** The frame playback asked for last. */
+  private asked: number | null = null;
 
   constructor(
     host: HTMLElement,
@@ -56,12 +58,14 @@ export class Timeline {
     this.playing = !this.playing;
     this.play.textContent = this.playing ? '■' : '▶';
     clearTimeout(this.pending);
+    this.asked = null;
     if (this.playing) this.step();
   }
 
   /** Called when a cook for the shown frame arrived: log it and go to the next frame, one frame time after the last. */
   cooked(frame: number, hits: number, misses: number) {
-    if (!this.playing) return;
+    // Only the frame playback asked for advances it (an edit's recook may land in between).
+    if (!this.playing || frame !== this.asked) return;
     this.playLog.push({ frame, hits, misses, at: performance.now() });
     const wait = this.steppedAt + 1000 / this.store.fps - performance.now();
     clearTimeout(this.pending);
@@ -71,9 +75,10 @@ export class Timeline {
 
   private step() {
     const [a, b] = this.store.range;
-    const f = this.store.state?.view.frame ?? a;
+    const f = this.asked ?? this.store.state?.view.frame ?? a;
     this.steppedAt = performance.now();
-    this.setFrame(f >= b || f < a ? a : f + 1);
+    this.asked = f >= b || f < a ? a : f + 1;
+    this.setFrame(this.asked);
   }
 
   render() {

@@ -155,6 +155,8 @@ pub fn cook(args: CookArgs) -> Result<()> {
     let (_, net) = load_with(args.network, args.sets)?;
     let env = CookEnv::for_network(args.network);
     let target = match args.node {
+        // `spin` is `/spin`: node paths are absolute, as `--set` takes them.
+        Some(n) if !n.starts_with('/') => format!("/{n}"),
         Some(n) => n.to_owned(),
         None => net.output().map(str::to_owned).ok_or_else(|| {
             anyhow!(

@@ -204,6 +204,19 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
         "{}",
         text(&o)
     );
+    // A node named without its leading slash is the same node.
+    let o = geode(
+        &[
+            "cook",
+            net.to_str().unwrap(),
+            "--node",
+            "a",
+            "-o",
+            out.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", text(&o));
     // `geode check` is strict.
     let o = geode(&["check", net.to_str().unwrap()], &[]);
     assert_eq!(o.status.code(), Some(1));

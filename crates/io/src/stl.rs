@@ -4,12 +4,12 @@ use std::io::Write;
 use std::path::Path;
 
 use geode_geo::glam::Vec3;
-use geode_geo::{ops, Geometry, PrimKind};
+use geode_geo::{ops, AttribClass, Geometry, PrimKind};
 use rayon::prelude::*;
 
 use crate::atomic::os_err;
 use crate::error::{IoError, ParseError, ParseResult};
-use crate::progress::{Progress, Throttle};
+use crate::progress::{describe_attrib, Progress, Throttle};
 use crate::text::{parse_f32, Lines};
 
 const HEADER: usize = 80;
@@ -210,16 +210,36 @@ pub fn write_stl(
             });
         w.write_all(&buf[..batch.len() * RECORD]).map_err(&e)?;
     }
-    // STL is triangles by definition: attributes are not news, lost curves are.
+    // STL holds triangle positions only: every attribute but P, every
+    // group and every curve is named (what is lost must never be silent).
+    let mut dropped: Vec<String> = AttribClass::ALL
+        .into_iter()
+        .flat_map(|class| {
+            g.attribs(class)
+                .iter()
+                .filter(move |(name, _)| !(class == AttribClass::Point && *name == geode_geo::P))
+                .map(move |(name, a)| describe_attrib(class, name, a.attrib_type()))
+        })
+        .collect();
+    dropped.extend(
+        g.point_groups()
+            .keys()
+            .map(|n| format!("point group `{n}`")),
+    );
+    dropped.extend(
+        g.prim_groups()
+            .keys()
+            .map(|n| format!("primitive group `{n}`")),
+    );
     let lines = g
         .prim_kinds()
         .iter()
         .filter(|k| **k == PrimKind::Polyline)
         .count();
     if lines > 0 {
-        let what = format!("{lines} polylines (STL holds triangles only)");
-        crate::progress::report_dropped(progress, path, "STL", &[what]);
+        dropped.push(format!("{lines} polylines (STL holds triangles only)"));
     }
+    crate::progress::report_dropped(progress, path, "STL", &dropped);
     throttle.finish();
     Ok(())
 }

@@ -385,3 +385,36 @@ fn obj_names_what_it_drops() {
         quiet.0.lock().unwrap()
     );
 }
+
+/// STL holds triangle positions only: every attribute but P, every group
+/// and every polyline is named in one warning, and plain positions warn
+/// of nothing.
+#[test]
+fn stl_names_everything_it_drops() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.stl");
+    let warnings = Warnings::default();
+    write(&vertex_attributed_cube(), &path, &warnings).unwrap();
+    let warned = warnings.0.lock().unwrap().clone();
+    assert_eq!(warned.len(), 1, "{warned:?}");
+    assert!(
+        warned[0].starts_with(&format!("{}: STL cannot hold ", path.display())),
+        "{warned:?}"
+    );
+    assert!(
+        warned[0].contains("vertex `N` (vector3)") || warned[0].contains("`uv`"),
+        "{warned:?}"
+    );
+    let plain = geode_geo::Geometry::from_triangles(
+        vec![
+            geode_geo::glam::Vec3::ZERO,
+            geode_geo::glam::Vec3::X,
+            geode_geo::glam::Vec3::Y,
+        ],
+        &[[0, 1, 2]],
+    )
+    .unwrap();
+    let quiet = Warnings::default();
+    write(&plain, &dir.path().join("t.stl"), &quiet).unwrap();
+    assert!(quiet.0.lock().unwrap().is_empty());
+}

@@ -76,6 +76,12 @@ static FILE: NodeSpec = NodeSpec::new(
 
 fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let path = p.string(&FILE_FILE)?;
+    if path.is_empty() {
+        return Err(ctx.param_error("file", "names no file to read"));
+    }
+    // Where first, then what: a file the studio may not read is refused
+    // before its name is judged.
+    ctx.readable_file("file", path)?;
     let format = geode_io::read_format(Path::new(path)).map_err(|e| io_error(ctx, "file", e))?;
     let bytes = ctx.read_file("file", path)?;
     let g = geode_io::read_bytes(&bytes, format, Path::new(path), &CookProgress::new(ctx))

@@ -59,7 +59,7 @@ fn a_write_names_the_attributes_its_format_drops() {
     assert_eq!(
         w.warnings.to_vec(),
         vec![format!(
-            "{hip}/f.stl: STL cannot hold 1 polylines (STL holds triangles only); not written"
+            "{hip}/f.stl: STL cannot hold point `B` (vector3), point `N` (vector3), point `T` (vector3), point `orient` (quaternion), 1 polylines (STL holds triangles only); not written"
         )]
     );
 }

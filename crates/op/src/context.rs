@@ -276,6 +276,15 @@ impl CookContext<'_> {
             .map_err(|e| self.file_refusal(param, e))
     }
 
+    /// The real path of the file `param` names, if the environment allows
+    /// reading it (checked before anything else is said of the file).
+    pub fn readable_file(&self, param: &str, path: &str) -> Result<std::path::PathBuf, CookError> {
+        self.env
+            .files
+            .readable(std::path::Path::new(path))
+            .map_err(|e| self.file_refusal(param, e))
+    }
+
     /// The real path to write the file `param` names, if the environment
     /// allows writing there.
     pub fn writable_file(&self, param: &str, path: &str) -> Result<std::path::PathBuf, CookError> {

@@ -142,7 +142,24 @@ impl FileAccess {
     /// The real path of a file that may be read: inside the roots once
     /// every symlink is resolved, and a regular file.
     pub fn readable(&self, path: &Path) -> Result<PathBuf, FileRefusal> {
-        let real = path.canonicalize().map_err(io(path))?;
+        let real = match path.canonicalize() {
+            Ok(real) => real,
+            Err(e) => {
+                // Outside the roots, a missing file is refused like any
+                // other: the studio never tells what exists out there.
+                if let Some(ancestor) = path.ancestors().skip(1).find_map(|a| {
+                    let a = if a.as_os_str().is_empty() {
+                        Path::new(".")
+                    } else {
+                        a
+                    };
+                    a.canonicalize().ok()
+                }) {
+                    self.inside(ancestor, path, "read")?;
+                }
+                return Err(io(path)(e));
+            }
+        };
         let real = self.inside(real, path, "read")?;
         let t = std::fs::metadata(&real).map_err(io(path))?.file_type();
         if !t.is_file() {
@@ -309,6 +326,15 @@ mod tests {
         assert!(FileAccess::anywhere()
             .read(&secret, 1 << 20, &never)
             .is_ok());
+        // A missing file outside is refused as outside (its absence not told).
+        assert!(matches!(
+            access.readable(&outside.path().join("nope.obj")),
+            Err(FileRefusal::Outside { .. })
+        ));
+        assert!(matches!(
+            access.readable(&inside.path().join("nope.obj")),
+            Err(FileRefusal::Io { .. })
+        ));
     }
 
     #[cfg(unix)]
