@@ -267,6 +267,12 @@ describe('daily work in the editor', () => {
     await page.locator('.tab-item[data-type="transform"]').waitFor();
     await page.keyboard.press('Enter');
     await page.waitForFunction(() => Object.entries(window.__geode.store.state.document.nodes).some(([n, d]) => d.type === 'transform' && d.inputs?.[0] === 'ball' && n !== 'spin'));
+    // The new node is selected and its parameters shown, as Houdini does.
+    await page.waitForFunction(() => {
+      const s = window.__geode.store;
+      return s.current && s.state.document.nodes[s.current.slice(1)]?.type === 'transform' && s.current !== '/spin';
+    });
+    await page.waitForSelector('.param[data-param="translate"]');
     // One undo step takes node and wire back.
     const count = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes).length);
     await page.locator('#editor svg').focus();

@@ -32,6 +32,15 @@ async function history(op: 'undo' | 'redo') {
   if (!r.ok) say(r.error ?? `nothing to ${op}`, r.kind === 'history' && !/^nothing/.test(r.error ?? ''));
 }
 
+/** Resolves when the next state arrives (or after `timeout` ms). */
+const stateWaiters: (() => void)[] = [];
+function nextState(timeout: number): Promise<void> {
+  return new Promise((resolve) => {
+    stateWaiters.push(resolve);
+    setTimeout(resolve, timeout);
+  });
+}
+
 async function edit(e: Record<string, unknown>, merge = false): Promise<boolean> {
   const r = await conn.request({ op: 'edit', edit: e, merge });
   if (!r.ok) say(r.error ?? 'refused', true);
@@ -101,6 +110,7 @@ function onMessage(msg: ServerMsg) {
       if (msg.document.frames) store.range = [...msg.document.frames];
       else if (!store.rangeSet) store.range = [1, Math.max(24, lastKeyFrame(msg.document))];
       store.fps = msg.document.fps ?? 24;
+      for (const resolve of stateWaiters.splice(0)) queueMicrotask(resolve);
       if (store.at !== '/' && !nodeAt(msg.document, store.at)) store.at = '/';
       store.selected = new Set([...store.selected].filter((p) => nodeAt(msg.document, p)));
       if (store.current && !nodeAt(msg.document, store.current)) store.current = null;
@@ -272,9 +282,14 @@ function openTab() {
       const from = after ? store.catalogue.get(nodeAt(store.state!.document, after)?.type ?? '') : undefined;
       const wire = after && from && t.inputs[0]?.type === from.output ? after : undefined;
       if (await edit({ kind: 'add_node', parent: store.at, type: t.name, pos: at, after: wire })) {
-        const net = store.at === '/' ? store.state!.document.nodes : (nodeAt(store.state!.document, store.at)?.network?.nodes ?? {});
-        const fresh = Object.keys(net).find((n) => !before.has(n));
-        if (fresh) select([join(store.at, fresh)], join(store.at, fresh));
+        const fresh = () => {
+          const net = store.at === '/' ? store.state!.document.nodes : (nodeAt(store.state!.document, store.at)?.network?.nodes ?? {});
+          return Object.keys(net).find((n) => !before.has(n));
+        };
+        // The reply can come before the state that holds the new node.
+        if (!fresh()) await nextState(1000);
+        const name = fresh();
+        if (name) select([join(store.at, name)], join(store.at, name));
       }
     })();
   });
