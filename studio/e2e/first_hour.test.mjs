@@ -5,7 +5,7 @@ import { mkdtempSync, readFileSync, symlinkSync, existsSync, rmSync } from 'node
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { browser, generation, nextCook, open, repo, serve } from './harness.mjs';
+import { boxOf, browser, clickNode, generation, nextCook, open, repo, serve, setParam } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -14,30 +14,6 @@ before(async () => {
 after(async () => {
   await chrome?.close();
 });
-
-/** The box of an element the editor may be redrawing: asked again until it is there. */
-async function boxOf(locator) {
-  for (let i = 0; i < 50; i++) {
-    const b = await locator.boundingBox().catch(() => null);
-    if (b) return b;
-    await new Promise((r) => setTimeout(r, 50));
-  }
-  throw new Error(`no box for ${locator}`);
-}
-
-/** Clicks a node of the editor by name. */
-async function clickNode(page, name) {
-  const body = page.locator(`g.node[data-node="${name}"] rect.body`);
-  await body.waitFor();
-  const box = await body.boundingBox();
-  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
-}
-
-async function setParam(page, param, text) {
-  const field = page.locator(`.param[data-param="${param}"] input[type=text]`).first();
-  await field.fill(text);
-  await field.press('Enter');
-}
 
 const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
 

@@ -1,4 +1,4 @@
-// Test harness: starts a real `geode serve` on a copy of an example network and drives Debian's Chromium with playwright-core.
+// Test harness: starts a real `geode serve` on a copy of an example network, drives Debian's Chromium with playwright-core, and the editor and panel gestures the browser tests share.
 
 import { spawn } from 'node:child_process';
 import { cpSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
@@ -92,3 +92,27 @@ export const example = (name) => readFileSync(join(repo, 'examples', name), 'utf
 
 export const generation = (page) => page.evaluate(() => window.__geode.store.cooked?.generation ?? 0);
 export const drawn = (page) => page.evaluate(() => window.__geode.drawn);
+
+/** The box of an element the editor may be redrawing: asked again until it is there. */
+export async function boxOf(locator) {
+  for (let i = 0; i < 50; i++) {
+    const b = await locator.boundingBox().catch(() => null);
+    if (b) return b;
+    await new Promise((r) => setTimeout(r, 50));
+  }
+  throw new Error(`no box for ${locator}`);
+}
+
+/** Clicks a node of the editor by name. */
+export async function clickNode(page, name) {
+  // Right of the labels and left of the display flag, at any zoom.
+  const box = await boxOf(page.locator(`g.node[data-node="${name}"] rect.body`));
+  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
+}
+
+/** Types into a parameter's first (or `index`th) text field and commits it with Enter. */
+export async function setParam(page, param, text, index = 0) {
+  const field = page.locator(`.param[data-param="${param}"] input[type=text]`).nth(index);
+  await field.fill(text);
+  await field.press('Enter');
+}

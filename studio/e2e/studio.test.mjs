@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import { readFileSync, writeFileSync, copyFileSync } from 'node:fs';
 import { after, before, describe, test } from 'node:test';
-import { browser, drawn, generation, geodeBin, nextCook, open, serve } from './harness.mjs';
+import { boxOf, browser, clickNode, drawn, generation, geodeBin, nextCook, open, serve, setParam } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -13,30 +13,6 @@ before(async () => {
 after(async () => {
   await chrome?.close();
 });
-
-/** The box of an element the editor may be redrawing: asked again until it is there. */
-async function boxOf(locator) {
-  for (let i = 0; i < 50; i++) {
-    const b = await locator.boundingBox().catch(() => null);
-    if (b) return b;
-    await new Promise((r) => setTimeout(r, 50));
-  }
-  throw new Error(`no box for ${locator}`);
-}
-
-/** Clicks a node of the editor by name. */
-async function clickNode(page, name) {
-  // Right of the labels and left of the display flag, at any zoom.
-  const box = await boxOf(page.locator(`g.node[data-node="${name}"] rect.body`));
-  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
-}
-
-/** Types into a parameter's first text field and commits it with Enter. */
-async function setParam(page, param, text, index = 0) {
-  const field = page.locator(`.param[data-param="${param}"] input[type=text]`).nth(index);
-  await field.fill(text);
-  await field.press('Enter');
-}
 
 describe('the coral', () => {
   let server;

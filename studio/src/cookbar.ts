@@ -46,6 +46,7 @@ export class CookBar {
   private readonly root: HTMLElement;
   private readonly what: HTMLElement;
   private readonly bar: HTMLProgressElement;
+  private readonly cancel: HTMLButtonElement;
   private cookingSince: number | null = null;
   private timer = 0;
 
@@ -60,12 +61,12 @@ export class CookBar {
     this.what.className = 'what';
     this.bar = document.createElement('progress');
     this.bar.max = 1;
-    const cancel = document.createElement('button');
-    cancel.id = 'cancel-cook';
-    cancel.textContent = 'Cancel';
-    cancel.title = 'Stop the cook (Esc)';
-    cancel.addEventListener('click', onCancel);
-    this.root.append(this.what, this.bar, cancel);
+    this.cancel = document.createElement('button');
+    this.cancel.id = 'cancel-cook';
+    this.cancel.textContent = 'Cancel';
+    this.cancel.title = 'Stop the cook (Esc)';
+    this.cancel.addEventListener('click', onCancel);
+    this.root.append(this.what, this.bar, this.cancel);
     wrap.appendChild(this.root);
   }
 
@@ -80,7 +81,7 @@ export class CookBar {
     this.root.hidden = !shown;
     this.root.className = phase.kind;
     this.bar.hidden = phase.kind !== 'cooking';
-    this.root.querySelector('button')!.hidden = phase.kind !== 'cooking';
+    this.cancel.hidden = phase.kind !== 'cooking';
     if (phase.kind === 'cooking') {
       this.what.textContent = phase.node ? `cooking ${phase.node}` : 'cooking…';
       // An indeterminate bar until the node reports a fraction.
