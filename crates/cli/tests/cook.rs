@@ -155,7 +155,7 @@ fn check_reports_every_problem_with_the_file_name() {
     let b = bad.display();
     assert_eq!(
         String::from_utf8_lossy(&o.stderr).trim(),
-        format!("error: 2 problems in the network:\n{b}: /a: unknown node type `sphear` (did you mean sphere?)\n{b}: /b: parameter `rotate`: expected vector3 (an array of 3 numbers or channels), found an array of 2")
+        format!("error: 2 problems in the network:\n{b}: /a: unknown node type `sphear` (did you mean sphere?)\n{b}: /b: parameter `rotate`: expected vector3 (an array of 3 numbers, channels or expressions), found an array of 2")
     );
 }
 
@@ -180,7 +180,7 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
     assert!(o.status.success(), "{}", text(&o));
     let stderr = String::from_utf8_lossy(&o.stderr);
     for warning in [
-        format!("{n}: warning: /b: parameter `rotate`: expected vector3 (an array of 3 numbers or channels), found an array of 2"),
+        format!("{n}: warning: /b: parameter `rotate`: expected vector3 (an array of 3 numbers, channels or expressions), found an array of 2"),
         format!("{n}: warning: /loose: input 1 (geometry) is required but not connected"),
     ] {
         assert!(stderr.contains(&warning), "{stderr}");

@@ -4,13 +4,14 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use geode_op::{
-    CookEnv, ListSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
+    CookEnv, ListSpec, TextPosition, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
     SPARE_TYPES,
 };
 use serde_json::Value as Json;
 
 use crate::channel::{Channel, Key};
 use crate::document::{Document, NetworkDoc, NodeDoc, VERSION};
+use crate::expr::{EvalCx, ExprComponent, Piece};
 
 /// A problem found while loading a network.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -20,36 +21,49 @@ pub struct LoadError {
     pub path: String,
     pub param: Option<String>,
     pub message: String,
+    /// Where in the parameter's text (an expression) the problem is.
+    pub position: Option<TextPosition>,
 }
 
 impl LoadError {
-    fn node(path: &str, message: impl Into<String>) -> LoadError {
+    pub(crate) fn node(path: &str, message: impl Into<String>) -> LoadError {
         LoadError {
             path: path.to_owned(),
             param: None,
             message: message.into(),
+            position: None,
         }
     }
 
-    fn param(path: &str, param: &str, message: impl Into<String>) -> LoadError {
+    pub(crate) fn param(path: &str, param: &str, message: impl Into<String>) -> LoadError {
         LoadError {
             path: path.to_owned(),
             param: Some(param.to_owned()),
             message: message.into(),
+            position: None,
         }
+    }
+
+    /// At a position of the parameter's text.
+    pub(crate) fn at(mut self, position: Option<TextPosition>) -> LoadError {
+        self.position = position;
+        self
     }
 }
 
-/// One numeric component of a parameter: fixed or keyframed.
+/// One numeric component of a parameter: fixed, keyframed or an expression.
 #[derive(Clone, Debug)]
 pub(crate) enum Component {
     Const(f64),
     Channel(Channel),
+    Expr(ExprComponent),
 }
 
 #[derive(Clone, Debug)]
 pub(crate) enum ParamSource {
     Text(String),
+    /// A string with variables or backtick expressions.
+    Template(Vec<Piece>),
     Components(Vec<Component>),
     /// A list parameter's rows, each field compiled like a parameter.
     List(Vec<Vec<CompiledParam>>),
@@ -62,35 +76,88 @@ pub(crate) struct CompiledParam {
 }
 
 impl CompiledParam {
-    fn eval(&self, frame: f64) -> ParamValue {
+    /// The value at `cx`'s frame; `name` is how errors call the parameter.
+    pub(crate) fn eval_named(&self, cx: &EvalCx, name: &str) -> Result<ParamValue, LoadError> {
+        let path = &cx.net.nodes[cx.node].path;
+        let fail = |e: geode_op::ExprError| LoadError::param(path, name, e.message).at(e.position);
         match &self.source {
-            ParamSource::Text(s) => ParamValue::String(s.clone()),
-            ParamSource::List(rows) => ParamValue::List(
-                rows.iter()
-                    .map(|r| r.iter().map(|f| f.eval(frame)).collect())
-                    .collect(),
-            ),
+            ParamSource::Text(s) => Ok(ParamValue::String(s.clone())),
+            ParamSource::Template(pieces) => cx.template(pieces).map(ParamValue::String).map_err(fail),
+            ParamSource::List(rows) => rows
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    r.iter()
+                        .map(|f| f.eval_named(cx, &format!("{name}[{k}].{}", f.spec.name)))
+                        .collect()
+                })
+                .collect::<Result<_, _>>()
+                .map(ParamValue::List),
             ParamSource::Components(c) => {
-                let v: Vec<f64> = c
-                    .iter()
-                    .map(|c| match c {
-                        Component::Const(x) => *x,
-                        Component::Channel(ch) => ch.eval(frame),
-                    })
-                    .collect();
-                self.spec.from_components(&v)
+                let v = (0..c.len())
+                    .map(|k| self.component_at(cx, name, k))
+                    .collect::<Result<Vec<f64>, LoadError>>()?;
+                Ok(self.spec.from_components(&v))
             }
         }
     }
 
-    fn is_animated(&self) -> bool {
-        match &self.source {
-            ParamSource::Components(c) => c
-                .iter()
-                .any(|c| matches!(c, Component::Channel(ch) if !ch.is_constant())),
-            ParamSource::List(rows) => rows.iter().flatten().any(CompiledParam::is_animated),
-            ParamSource::Text(_) => false,
+    /// Component `k` of a numeric parameter at `cx`'s frame (None-like 0
+    /// for text and lists, which have no components).
+    pub(crate) fn component_at(&self, cx: &EvalCx, name: &str, k: usize) -> Result<f64, LoadError> {
+        let path = &cx.net.nodes[cx.node].path;
+        let ParamSource::Components(c) = &self.source else {
+            return Err(LoadError::param(path, name, "not a numeric parameter"));
+        };
+        match c.get(k) {
+            None => Err(LoadError::param(path, name, format!("has no component {k}"))),
+            Some(Component::Const(x)) => Ok(*x),
+            Some(Component::Channel(ch)) => Ok(ch.eval(cx.frame)),
+            Some(Component::Expr(e)) => {
+                let value = cx
+                    .expression(e)
+                    .map_err(|e| LoadError::param(path, name, e.message).at(e.position))?;
+                self.checked(&value, cx.frame)
+                    .map_err(|m| LoadError::param(path, name, m))
+            }
         }
+    }
+
+    /// The value at `cx`'s frame, errors naming the declared parameter.
+    pub(crate) fn eval(&self, cx: &EvalCx) -> Result<ParamValue, LoadError> {
+        self.eval_named(cx, self.spec.name)
+    }
+
+    /// An expression's value as one component, within the declared range.
+    fn checked(&self, value: &geode_op::ExprValue, frame: f64) -> Result<f64, String> {
+        let x = match value {
+            geode_op::ExprValue::Num(v) if v.len() == 1 => v[0],
+            geode_op::ExprValue::Num(v) => {
+                return Err(format!(
+                    "the expression gives {} numbers at frame {frame}; a component takes one (write one expression per component, or .x)",
+                    v.len()
+                ))
+            }
+            geode_op::ExprValue::Str(s) => {
+                return Err(format!(
+                    "the expression gives the text {s:?} at frame {frame}; this parameter takes a number"
+                ))
+            }
+        };
+        if !x.is_finite() {
+            return Err(format!("the expression gives {x} at frame {frame}"));
+        }
+        if let Some(min) = self.spec.min.filter(|m| x < *m) {
+            return Err(format!(
+                "the expression gives {x} at frame {frame}, below the minimum {min}"
+            ));
+        }
+        if let Some(max) = self.spec.max.filter(|m| x > *m) {
+            return Err(format!(
+                "the expression gives {x} at frame {frame}, above the maximum {max}"
+            ));
+        }
+        Ok(x)
     }
 }
 
@@ -154,6 +221,8 @@ pub struct Network {
     notes: Vec<LoadError>,
     /// Every problem found, sorted by path (each node's also on the node).
     problems: Vec<LoadError>,
+    /// The document's frame rate (`fps`), if it sets one.
+    fps: Option<f64>,
 }
 
 impl Network {
@@ -192,35 +261,43 @@ impl Network {
         })
     }
 
-    /// A node's parameters evaluated at `frame`; file paths come expanded
-    /// (`$HIP`, `$F`...) so that what a cook reads of its environment is in
-    /// its parameters, and so in its key.
-    pub(crate) fn params_at(&self, i: usize, frame: f64, env: &CookEnv) -> Params {
-        match &self.nodes[i].kind {
+    /// A node's parameters evaluated at `frame`: expressions evaluated and
+    /// strings expanded (`$HIP`, `$F`...), so that what a cook reads of its
+    /// environment and of other nodes is in its parameters, and so in its key.
+    pub(crate) fn params_at(
+        &self,
+        i: usize,
+        frame: f64,
+        env: &CookEnv,
+    ) -> Result<Params, LoadError> {
+        let cx = EvalCx {
+            net: self,
+            node: i,
+            frame,
+            env,
+            depth: 0,
+        };
+        let path = &self.nodes[i].path;
+        Ok(match &self.nodes[i].kind {
             NodeKind::Op { params, spare, .. } => Params::declared(
-                &self.nodes[i].path,
+                path,
                 params
                     .iter()
-                    .map(|p| {
-                        let v = match (p.spec.ty, p.eval(frame)) {
-                            (ParamType::File, ParamValue::String(s)) => {
-                                ParamValue::String(env.expand(&s, frame))
-                            }
-                            (_, v) => v,
-                        };
-                        (p.spec, v)
-                    })
-                    .collect(),
+                    .map(|p| Ok((p.spec, p.eval(&cx)?)))
+                    .collect::<Result<_, LoadError>>()?,
             )
-            .with_spare(self.spares_at(i, spare, frame)),
+            .with_spare(self.spares_at(i, spare, &cx)?),
             NodeKind::Subnet { block: Some(b), .. } => Params::declared(
-                &self.nodes[i].path,
-                b.params.iter().map(|p| (p.spec, p.eval(frame))).collect(),
+                path,
+                b.params
+                    .iter()
+                    .map(|p| Ok((p.spec, p.eval(&cx)?)))
+                    .collect::<Result<_, LoadError>>()?,
             ),
             NodeKind::Subnet { .. } | NodeKind::Feed { .. } | NodeKind::Invalid => {
-                Params::new(&self.nodes[i].path, Vec::new())
+                Params::new(path, Vec::new())
             }
-        }
+        })
     }
 
     /// A node's spare parameters at `frame`, then (for node types that take
@@ -229,27 +306,26 @@ impl Network {
         &self,
         i: usize,
         own: &[(String, CompiledParam)],
-        frame: f64,
-    ) -> Vec<(String, ParamValue)> {
+        cx: &EvalCx,
+    ) -> Result<Vec<(String, ParamValue)>, LoadError> {
         let mut out: Vec<(String, ParamValue)> = own
             .iter()
-            .map(|(n, p)| (n.clone(), p.eval(frame)))
-            .collect();
+            .map(|(n, p)| Ok((n.clone(), p.eval_named(cx, n)?)))
+            .collect::<Result<_, LoadError>>()?;
         let takes = matches!(&self.nodes[i].kind, NodeKind::Op { op, .. } if op.spec().spare);
         let mut up = String::new();
         let mut at = self.nodes[i].parent;
         while let (true, Some(p)) = (takes, at) {
             up.push_str("../");
             if let NodeKind::Subnet { spare, .. } = &self.nodes[p].kind {
-                out.extend(
-                    spare
-                        .iter()
-                        .map(|(n, c)| (format!("{up}{n}"), c.eval(frame))),
-                );
+                let outer = EvalCx { node: p, ..*cx };
+                for (n, c) in spare {
+                    out.push((format!("{up}{n}"), c.eval_named(&outer, n)?));
+                }
             }
             at = self.nodes[p].parent;
         }
-        out
+        Ok(out)
     }
 
     /// The node a parameter is tagged with: the inner node a promoted subnet
@@ -273,18 +349,45 @@ impl Network {
         self.index(&path).map(|_| path)
     }
 
-    /// Whether any parameter of node `path` is animated.
+    /// Whether any parameter of node `path` is animated (keys, or an
+    /// expression that reads the time or an animated parameter).
     pub fn is_animated(&self, path: &str) -> bool {
-        self.index(path).is_some_and(|i| match &self.nodes[i].kind {
-            NodeKind::Op { params, spare, .. } => params
+        self.index(path).is_some_and(|i| {
+            self.params_of(i)
                 .iter()
-                .chain(spare.iter().map(|s| &s.1))
-                .any(CompiledParam::is_animated),
-            NodeKind::Subnet { block: Some(b), .. } => {
-                b.params.iter().any(CompiledParam::is_animated)
-            }
-            NodeKind::Subnet { .. } | NodeKind::Feed { .. } | NodeKind::Invalid => false,
+                .any(|(_, p)| self.param_animated(i, p, 0))
         })
+    }
+
+    /// The network's frame rate, where its document sets one.
+    pub fn fps(&self) -> Option<f64> {
+        self.fps
+    }
+
+    /// A node's parameters as evaluated at `frame` (expressions and
+    /// expanded strings as the cook would see them), by name; spare
+    /// parameters included. For showing values beside their expressions.
+    pub fn param_values(
+        &self,
+        path: &str,
+        frame: f64,
+        env: &CookEnv,
+    ) -> Option<Vec<(String, Result<ParamValue, LoadError>)>> {
+        let node = self.index(path)?;
+        let env = env.clone().with_fps(self.fps.unwrap_or(env.fps));
+        let cx = EvalCx {
+            net: self,
+            node,
+            frame,
+            env: &env,
+            depth: 0,
+        };
+        Some(
+            self.params_of(node)
+                .into_iter()
+                .map(|(name, p)| (name.to_owned(), p.eval_named(&cx, name)))
+                .collect(),
+        )
     }
 
     /// Every problem the loader found, sorted by node path (document-level
@@ -359,8 +462,14 @@ impl Network {
             promotions: b.promotions,
             notes: b.notes,
             problems: Vec::new(),
+            fps: doc
+                .extra
+                .get("fps")
+                .and_then(Json::as_f64)
+                .filter(|f| f.is_finite() && *f > 0.0),
         };
         let mut errors = b.errors;
+        errors.extend(crate::expr::check_references(&net));
         let (cycle_errors, on_cycles) = find_cycles(&net);
         for (i, e) in on_cycles {
             net.nodes[i].problems.push(e);
@@ -777,7 +886,16 @@ impl Builder<'_> {
                     return None;
                 }
             }
-            return Some(ParamSource::Text(s.clone()));
+            if !crate::expr::expands(spec) {
+                return Some(ParamSource::Text(s.clone()));
+            }
+            return match crate::expr::parse_template(s, self.registry.expressions()) {
+                Ok(pieces) => Some(text_source(pieces)),
+                Err(e) => {
+                    self.errors.push(err(e.message).at(e.position));
+                    None
+                }
+            };
         }
         let n = spec.ty.components();
         let parts: Vec<&Json> = match (n, j) {
@@ -822,6 +940,25 @@ impl Builder<'_> {
                         }
                     }
                 }
+                Json::Object(o) if o.contains_key("expr") => {
+                    let Some(text) = o["expr"].as_str() else {
+                        self.errors
+                            .push(err("an expression (\"expr\") must be a string".into()));
+                        return None;
+                    };
+                    if !spec.animatable {
+                        self.errors
+                            .push(err("this parameter takes no expression".into()));
+                        return None;
+                    }
+                    match crate::expr::parse(text, self.registry.expressions()) {
+                        Ok(e) => Component::Expr(e),
+                        Err(e) => {
+                            self.errors.push(err(e.message).at(e.position));
+                            return None;
+                        }
+                    }
+                }
                 other => {
                     self.errors.push(err(format!(
                         "expected {}, found {}",
@@ -834,6 +971,8 @@ impl Builder<'_> {
             let values: Vec<f64> = match &c {
                 Component::Const(x) => vec![*x],
                 Component::Channel(ch) => ch.keys().iter().map(|k| k.value).collect(),
+                // Checked when evaluated, at each frame.
+                Component::Expr(_) => Vec::new(),
             };
             for v in values {
                 if !v.is_finite() {
@@ -1156,9 +1295,11 @@ impl Builder<'_> {
 
 fn expectation(ty: ParamType) -> String {
     match ty.components() {
-        1 if ty == ParamType::Toggle => "a toggle (true/false, a number or a channel)".into(),
-        1 => format!("{ty} (a number or a channel)"),
-        n => format!("{ty} (an array of {n} numbers or channels)"),
+        1 if ty == ParamType::Toggle => {
+            "a toggle (true/false, a number, a channel or {\"expr\": ...})".into()
+        }
+        1 => format!("{ty} (a number, a channel or {{\"expr\": ...}})"),
+        n => format!("{ty} (an array of {n} numbers, channels or expressions)"),
     }
 }
 
@@ -1185,7 +1326,22 @@ fn closest<'k>(name: &str, known: impl Iterator<Item = &'k str>) -> String {
 }
 
 fn default_source(spec: &'static ParamSpec) -> ParamSource {
-    constant_source(spec.default_value())
+    match spec.default_value() {
+        ParamValue::String(s) if crate::expr::expands(spec) => {
+            crate::expr::parse_template(&s, None)
+                .map_or(ParamSource::Text(s), text_source)
+        }
+        v => constant_source(v),
+    }
+}
+
+/// A string's pieces as a source: plain text when nothing expands.
+fn text_source(pieces: Vec<Piece>) -> ParamSource {
+    match pieces.as_slice() {
+        [] => ParamSource::Text(String::new()),
+        [Piece::Text(t)] => ParamSource::Text(t.clone()),
+        _ => ParamSource::Template(pieces),
+    }
 }
 
 /// A fixed value as a parameter source.

@@ -47,9 +47,13 @@ fn writes_files(spec: &NodeSpec, params: &Params) -> bool {
 
 /// A node's load problem as the error of cooking it.
 fn load_problem(e: &crate::LoadError) -> CookError {
-    match &e.param {
+    let err = match &e.param {
         Some(p) => CookError::param(&e.path, p, e.message.clone()),
         None => CookError::new(&e.path, ErrorKind::Network, e.message.clone()),
+    };
+    match e.position {
+        Some(p) => err.at_position(p.line, p.column),
+        None => err,
     }
 }
 
@@ -136,6 +140,7 @@ fn cook_key(
     inputs: &[Option<Cooked>],
     extra: Option<u128>,
     frame: f64,
+    fps: f64,
 ) -> u128 {
     let mut h = Xxh3::new();
     h.update(b"geode-cook-v1");
@@ -163,7 +168,10 @@ fn cook_key(
         h.update(&x.to_le_bytes());
     }
     if reads_frame {
+        // A cook that reads the frame may read the time, which the frame
+        // rate decides.
         h.update(&frame.to_le_bytes());
+        h.update(&fps.to_le_bytes());
     }
     h.digest128()
 }
@@ -316,7 +324,9 @@ impl Run<'_, '_> {
             }
         };
         let spec = op.spec();
-        let params = net.params_at(i, self.opts.frame, &self.opts.env);
+        let params = net
+            .params_at(i, self.opts.frame, &self.opts.env)
+            .map_err(|e| vec![load_problem(&e)])?;
         let output = writes_files(spec, &params);
         let key_ctx = geode_op::KeyContext {
             env: &self.opts.env,
@@ -330,6 +340,7 @@ impl Run<'_, '_> {
             &inputs,
             extra,
             self.opts.frame,
+            self.opts.env.fps,
         );
         let span = tracing::info_span!(
             "cook",
@@ -511,7 +522,9 @@ impl Run<'_, '_> {
             .cloned()
             .flatten()
             .ok_or_else(|| fail(format!("the {} needs input 1 to start from", kind.name())))?;
-        let params = net.params_at(i, self.opts.frame, &self.opts.env);
+        let params = net
+            .params_at(i, self.opts.frame, &self.opts.env)
+            .map_err(|e| vec![load_problem(&e)])?;
         let mut value = first;
         match kind {
             BlockKind::Loop => {
@@ -611,6 +624,20 @@ impl<'c> Engine<'c> {
             .net
             .index(path)
             .ok_or_else(|| vec![CookError::new(path, ErrorKind::Network, "no such node")])?;
+        // The network's own frame rate, where it sets one, is the cook's.
+        let with_fps;
+        let opts = match self.net.fps() {
+            Some(fps) if fps != opts.env.fps => {
+                with_fps = CookOptions {
+                    frame: opts.frame,
+                    cancel: opts.cancel.clone(),
+                    progress: opts.progress,
+                    env: opts.env.clone().with_fps(fps),
+                };
+                &with_fps
+            }
+            _ => opts,
+        };
         let run = Run {
             engine: self,
             opts,

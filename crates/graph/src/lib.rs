@@ -12,6 +12,7 @@ mod compile;
 pub mod container;
 pub mod document;
 mod engine;
+mod expr;
 
 pub use block::BlockKind;
 pub use cache::{Cache, CacheStats, Cached, Store};
@@ -28,6 +29,7 @@ pub fn load_str(text: &str, registry: &geode_op::Registry) -> Result<Network, Ve
             path: "/".into(),
             param: None,
             message: e.to_string(),
+            position: None,
         }]
     })?;
     Network::load(&doc, registry)

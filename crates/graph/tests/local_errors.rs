@@ -34,7 +34,7 @@ fn problems_elsewhere_do_not_stop_the_display_cooking() {
     assert_eq!(
         listed,
         vec![
-            "/bad: parameter `count`: expected int (a number or a channel), found string \"many\"",
+            "/bad: parameter `count`: expected int (a number, a channel or {\"expr\": ...}), found string \"many\"",
             "/loose: input 1 (geometry) is required but not connected",
             "/typo: unknown node type `pionts` (did you mean points?)",
         ]
@@ -56,7 +56,7 @@ fn downstream_of_a_broken_node_fails_with_its_error() {
     assert_eq!(
         messages(&err),
         vec![
-            "/bad (parameter `count`): expected int (a number or a channel), found string \"many\""
+            "/bad (parameter `count`): expected int (a number, a channel or {\"expr\": ...}), found string \"many\""
         ]
     );
     assert_eq!(err[0].param.as_deref(), Some("count"));

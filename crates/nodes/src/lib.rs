@@ -20,6 +20,7 @@ mod hspline;
 mod instancing;
 mod mesh;
 mod nurbs;
+mod param_expr;
 mod patches;
 mod primitives;
 mod scatter;
@@ -67,5 +68,6 @@ pub fn registry() -> Registry {
     attach::register(&mut r);
     skin::register(&mut r);
     wrangle::register(&mut r);
+    r.set_expressions(std::sync::Arc::new(param_expr::VexExpressions));
     r
 }

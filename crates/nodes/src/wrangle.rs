@@ -59,10 +59,6 @@ static WRANGLE: NodeSpec = NodeSpec::new(
 )
 .spare_params();
 
-/// Seconds per frame for `@Time`: Houdini's default 24 frames a second,
-/// frame 1 at time 0.
-const FPS: f64 = 24.0;
-
 fn channel(v: &ParamValue) -> Channel {
     match v {
         ParamValue::Float(x) => Channel::Num(vec![*x]),
@@ -117,7 +113,7 @@ impl Operator for Wrangle {
             channels: &channels,
             channel_names: &names,
             frame: ctx.frame,
-            time: (ctx.frame - 1.0) / FPS,
+            time: ctx.env.time(ctx.frame),
         };
         let program = geode_vex::compile(p.string(&SNIPPET)?, &spec).map_err(|e| {
             let pos = e.pos;

@@ -20,6 +20,7 @@ fn refused(nodes: &str, hip: &str) -> (String, Duration) {
     let mut opts = CookOptions::at_frame(1.0);
     opts.env = CookEnv {
         hip: hip.into(),
+        fps: 24.0,
         memory_budget: BUDGET,
         files: geode_op::FileAccess::anywhere(),
     };

@@ -32,7 +32,7 @@ fn every_problem_in_every_row_is_reported_at_load() {
         [
             "/n: parameter `edits[0]`: unknown field `mvoe` (did you mean `move`?) (fields: `level`, `vertex`, `move`)",
             "/n: parameter `edits[1].level`: value 40 is above the maximum 16",
-            "/n: parameter `edits[2].move`: expected vector3 (an array of 3 numbers or channels), found an array of 2",
+            "/n: parameter `edits[2].move`: expected vector3 (an array of 3 numbers, channels or expressions), found an array of 2",
             "/n: parameter `edits[3]`: expected an object with fields `level`, `vertex`, `move`, found an array of 3",
         ]
     );

@@ -4,11 +4,17 @@
 
 use crate::files::FileAccess;
 
+/// Houdini's default frame rate.
+pub const DEFAULT_FPS: f64 = 24.0;
+
 /// Hidden inputs and limits of a cook.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CookEnv {
     /// The network file's folder (Houdini's `$HIP`); `.` when unknown.
     pub hip: String,
+    /// Frames per second (`$FPS`; `$T` and `@Time` follow it): the
+    /// network's, 24 when it names none.
+    pub fps: f64,
     /// Bytes a single node's result may take before it is refused.
     pub memory_budget: u64,
     /// Where cooks may read and write files (not in any key: a refused
@@ -20,6 +26,7 @@ impl Default for CookEnv {
     fn default() -> CookEnv {
         CookEnv {
             hip: ".".into(),
+            fps: DEFAULT_FPS,
             memory_budget: default_budget(),
             files: FileAccess::anywhere(),
         }
@@ -36,6 +43,7 @@ impl CookEnv {
             .unwrap_or_else(|| ".".into());
         CookEnv {
             hip,
+            fps: DEFAULT_FPS,
             memory_budget: budget_from_env(),
             files: FileAccess::anywhere(),
         }
@@ -59,6 +67,19 @@ impl CookEnv {
     pub fn with_files(mut self, files: FileAccess) -> CookEnv {
         self.files = files;
         self
+    }
+
+    /// With `fps` frames per second (ignored unless finite and positive).
+    pub fn with_fps(mut self, fps: f64) -> CookEnv {
+        if fps.is_finite() && fps > 0.0 {
+            self.fps = fps;
+        }
+        self
+    }
+
+    /// The time of `frame` in seconds (frame 1 is time 0, as in Houdini).
+    pub fn time(&self, frame: f64) -> f64 {
+        (frame - 1.0) / self.fps
     }
 
     /// With `$HIP` set to `hip`.

@@ -5,6 +5,7 @@
 
 mod context;
 mod env;
+mod expr;
 mod files;
 mod param;
 mod registry;
@@ -14,6 +15,7 @@ pub use context::{
     CancelToken, CookContext, CookError, ErrorKind, KeyContext, ProgressFn, TextPosition, Warnings,
 };
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
+pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
 pub use files::{FileAccess, FileRefusal};
 pub use param::{
     LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,

@@ -305,6 +305,18 @@ pub enum ParamValue {
 }
 
 impl ParamValue {
+    /// The numbers of a numeric value (a toggle is 0 or 1); none for text
+    /// and lists.
+    pub fn as_components(&self) -> Vec<f64> {
+        match self {
+            ParamValue::Float(x) => vec![*x],
+            ParamValue::Int(i) => vec![*i as f64],
+            ParamValue::Toggle(b) => vec![f64::from(u8::from(*b))],
+            ParamValue::Vector(v) => v.clone(),
+            ParamValue::String(_) | ParamValue::List(_) => Vec::new(),
+        }
+    }
+
     /// Feeds a canonical encoding into a cache key.
     pub fn hash_into(&self, h: &mut Xxh3) {
         match self {

@@ -3,12 +3,13 @@
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
-use crate::{CookFn, FnOperator, NodeSpec, Operator};
+use crate::{CookFn, ExprLanguage, FnOperator, NodeSpec, Operator};
 
 /// Node types by name. The engine only ever sees this, never a concrete node.
 #[derive(Clone, Default)]
 pub struct Registry {
     ops: BTreeMap<&'static str, Arc<dyn Operator>>,
+    expressions: Option<Arc<dyn ExprLanguage>>,
 }
 
 impl Registry {
@@ -27,6 +28,16 @@ impl Registry {
             cook,
             key_extra: None,
         });
+    }
+
+    /// Sets the language of parameter expressions.
+    pub fn set_expressions(&mut self, language: Arc<dyn ExprLanguage>) {
+        self.expressions = Some(language);
+    }
+
+    /// The language of parameter expressions, if one is plugged in.
+    pub fn expressions(&self) -> Option<&dyn ExprLanguage> {
+        self.expressions.as_deref()
     }
 
     pub fn get(&self, name: &str) -> Option<&Arc<dyn Operator>> {

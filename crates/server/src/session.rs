@@ -227,7 +227,8 @@ impl Session {
             Ok(n) => (n.problems(), n.notes()),
             Err(e) => (&e[..], &[][..]),
         };
-        let item = |e: &LoadError, level: &str| json!({"path": e.path, "param": e.param, "message": e.message, "level": level});
+        let item = |e: &LoadError, level: &str| json!({"path": e.path, "param": e.param, "message": e.message, "level": level,
+            "line": e.position.map(|p| p.line), "column": e.position.map(|p| p.column)});
         errors
             .iter()
             .map(|e| item(e, "error"))

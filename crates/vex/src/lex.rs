@@ -17,6 +17,9 @@ pub enum Tok {
         name: String,
     },
     Punct(&'static str),
+    /// `$F`, `$HIP`: a global of a parameter expression (not VEX: a
+    /// snippet that uses one is told so).
+    Global(String),
     Eof,
 }
 
@@ -165,6 +168,24 @@ pub fn lex(src: &str) -> Result<Vec<Token>, CompileError> {
             }
             out.push(Token {
                 tok: Tok::Str(s),
+                pos,
+            });
+            continue;
+        }
+        if c == '$' {
+            let start = i + 1;
+            let mut end = start;
+            while end < chars.len() && (chars[end].is_ascii_alphanumeric() || chars[end] == '_') {
+                end += 1;
+            }
+            if end == start {
+                return Err(CompileError::at(pos, "expected a variable name after '$'"));
+            }
+            let name: String = chars[start..end].iter().collect();
+            let n = end - i;
+            advance(&mut i, &mut line, &mut col, n);
+            out.push(Token {
+                tok: Tok::Global(name),
                 pos,
             });
             continue;

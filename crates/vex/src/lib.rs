@@ -17,6 +17,7 @@ mod builtins;
 mod calls;
 mod exec;
 mod expr;
+mod expression;
 mod ir;
 pub mod kdtree;
 mod lex;
@@ -30,6 +31,7 @@ pub mod ty;
 mod world;
 
 pub use bind::{BindSpec, Channel};
+pub use expression::{parse_expression, Expression, Globals, Value, GLOBALS};
 pub use ir::LANES;
 pub use lex::Pos;
 pub use run::{run, RunOptions, RunReport};
@@ -115,9 +117,14 @@ impl Program {
 pub fn compile(src: &str, spec: &BindSpec) -> Result<Program, CompileError> {
     let tokens = lex::fold_prefixes(lex::lex(src)?)?;
     let snippet = parse::Parser::new(tokens).snippet()?;
+    compile_snippet(&snippet, spec)
+}
+
+/// Compiles a parsed snippet.
+fn compile_snippet(snippet: &ast::Snippet, spec: &BindSpec) -> Result<Program, CompileError> {
     let mut counts = Counts::default();
-    let bindings = bind::bindings(&snippet, spec, &mut counts)?;
-    let mut lower = lower::Lower::new(&snippet, &bindings, spec, counts);
+    let bindings = bind::bindings(snippet, spec, &mut counts)?;
+    let mut lower = lower::Lower::new(snippet, &bindings, spec, counts);
     lower.snippet_body(&snippet.body)?;
     let written = std::mem::take(&mut lower.written);
     let (ops, calls, strings, counts) = lower.finish();

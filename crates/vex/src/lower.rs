@@ -837,3 +837,10 @@ impl Counts {
         }
     }
 }
+
+/// The type of `e` in an empty snippet (a parameter expression's).
+pub fn type_of(e: &Expr, spec: &BindSpec) -> LResult<Ty> {
+    let snippet = Snippet::default();
+    let mut lower = Lower::new(&snippet, &[], spec, Counts::default());
+    Ok(lower.expr(e, None)?.ty)
+}

@@ -9,7 +9,16 @@ use crate::CompileError;
 pub struct Parser {
     toks: Vec<Token>,
     at: usize,
+    /// How deep the tree being built is: nested statements, operands and
+    /// chains of operators all count, so neither this parser nor the passes
+    /// that walk its tree recurse past `MAX_DEPTH`.
+    depth: usize,
 }
+
+/// The deepest nesting a snippet may have (VEX written by hand stays far
+/// below; a generated or hostile one is refused before it can overflow the
+/// stack).
+pub const MAX_DEPTH: usize = 200;
 
 /// Binary operators by precedence, loosest first (C's table).
 const LEVELS: &[&[&str]] = &[
@@ -33,7 +42,30 @@ type PResult<T> = Result<T, CompileError>;
 
 impl Parser {
     pub fn new(toks: Vec<Token>) -> Parser {
-        Parser { toks, at: 0 }
+        Parser {
+            toks,
+            at: 0,
+            depth: 0,
+        }
+    }
+
+    /// Runs `f` `1 + extra` levels deeper, refusing to go past `MAX_DEPTH`.
+    fn nested<T>(
+        &mut self,
+        extra: usize,
+        f: impl FnOnce(&mut Parser) -> PResult<T>,
+    ) -> PResult<T> {
+        let levels = 1 + extra;
+        if self.depth + levels > MAX_DEPTH {
+            return Err(CompileError::at(
+                self.pos(),
+                format!("nested too deeply (more than {MAX_DEPTH} levels)"),
+            ));
+        }
+        self.depth += levels;
+        let r = f(self);
+        self.depth -= levels;
+        r
     }
 
     fn peek(&self) -> &Tok {
@@ -119,6 +151,17 @@ impl Parser {
                 .ok_or_else(|| CompileError::at(pos, format!("no arrays of {t}")));
         }
         Ok(t)
+    }
+
+    /// Fails unless every token was read.
+    pub fn end(&mut self) -> PResult<()> {
+        match self.peek() {
+            Tok::Eof => Ok(()),
+            other => Err(CompileError::at(
+                self.pos(),
+                format!("expected the end but found {}", describe(other)),
+            )),
+        }
     }
 
     pub fn snippet(&mut self) -> PResult<Snippet> {
@@ -211,6 +254,10 @@ impl Parser {
     }
 
     fn statement(&mut self) -> PResult<Stmt> {
+        self.nested(0, Parser::statement_here)
+    }
+
+    fn statement_here(&mut self) -> PResult<Stmt> {
         let pos = self.pos();
         if self.is("{") {
             return self.block();
@@ -467,6 +514,7 @@ impl Parser {
             return self.unary();
         }
         let mut lhs = self.binary(level + 1)?;
+        let mut chain = 0;
         loop {
             let op = match *self.peek() {
                 Tok::Punct(p) if LEVELS[level].contains(&p) => p,
@@ -474,7 +522,9 @@ impl Parser {
             };
             let pos = self.pos();
             self.bump();
-            let rhs = self.binary(level + 1)?;
+            // `a + b + c...` nests to the left: each operator is a level.
+            chain += 1;
+            let rhs = self.nested(chain, |me| me.binary(level + 1))?;
             lhs = Expr {
                 kind: ExprKind::Binary(op, Box::new(lhs), Box::new(rhs)),
                 pos,
@@ -483,6 +533,10 @@ impl Parser {
     }
 
     fn unary(&mut self) -> PResult<Expr> {
+        self.nested(0, Parser::unary_here)
+    }
+
+    fn unary_here(&mut self) -> PResult<Expr> {
         let pos = self.pos();
         if let Tok::Punct(p) = *self.peek() {
             match p {
@@ -515,8 +569,16 @@ impl Parser {
 
     fn postfix(&mut self) -> PResult<Expr> {
         let mut e = self.primary()?;
+        let mut chain = 0;
         loop {
             let pos = self.pos();
+            chain += 1;
+            if self.depth + chain > MAX_DEPTH {
+                return Err(CompileError::at(
+                    pos,
+                    format!("nested too deeply (more than {MAX_DEPTH} levels)"),
+                ));
+            }
             if self.eat(".") {
                 let name = self.ident()?;
                 e = Expr {
@@ -627,6 +689,7 @@ fn describe(t: &Tok) -> String {
         Tok::Str(s) => format!("\"{s}\""),
         Tok::Binding { name, .. } => format!("'@{name}'"),
         Tok::Punct(p) => format!("'{p}'"),
+        Tok::Global(g) => format!("'${g}' (a parameter expression's variable; in VEX use @Frame, @Time)"),
         Tok::Eof => "the end of the snippet".into(),
     }
 }
