@@ -4,6 +4,7 @@ import './style.css';
 import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
+import { CurveEditor, curvesOf } from './curves';
 import { CookBar } from './cookbar';
 import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
@@ -68,8 +69,18 @@ const editor = new NetworkEditor($('#editor'), store, {
   select,
   openTabMenu: () => undefined,
 });
-const params = new ParamPanel($('#params'), store, { edit });
+const params = new ParamPanel($('#params'), store, {
+  edit,
+  values: async (path: string) => {
+    const r = await conn.request({ op: 'values', path });
+    return (r.values ?? {}) as Record<string, unknown>;
+  },
+});
 const timeline = new Timeline($('#timeline'), store, setFrame, (frames, fps) => void edit({ kind: 'set_timeline', frames, fps }));
+const curves = new CurveEditor($('#curves'), store, {
+  setParam: (path, param, value, merge) => edit({ kind: 'set_param', path, param, value }, merge),
+  setFrame,
+});
 const tabMenu = new TabMenu(() => [...store.catalogue.values()]);
 const sheet = new Spreadsheet(
   $('#sheet'),
@@ -239,12 +250,19 @@ store.subscribe(() => {
   const t1 = performance.now();
   params.render();
   const t2 = performance.now();
-  timeline.render();
+  timeline.render(keyFrames());
+  curves.render();
   renderTop();
   renderHud();
   probe.panes.push([t1 - t0, t2 - t1, performance.now() - t2]);
   if (probe.panes.length > 100) probe.panes.shift();
 });
+
+/** The frames where the selected node has keys (ticks on the timeline). */
+function keyFrames(): number[] {
+  const node = store.current && store.state ? nodeAt(store.state.document, store.current) : null;
+  return [...new Set(curvesOf(node?.params).flatMap((c) => c.keys.map((k) => k.frame)))];
+}
 
 async function save(path?: string) {
   const r = await conn.request(path ? { op: 'save', path } : { op: 'save' });
@@ -416,7 +434,9 @@ for (const b of document.querySelectorAll<HTMLButtonElement>('.panel-tabs button
     document.querySelectorAll<HTMLElement>('.panel-tabs button').forEach((x) => x.classList.toggle('on', x === b));
     $('#sheet').hidden = b.dataset.panel !== 'sheet';
     $('#trace').hidden = b.dataset.panel !== 'trace';
+    $('#curves').hidden = b.dataset.panel !== 'curves';
     if (b.dataset.panel === 'sheet') sheet.draw();
+    if (b.dataset.panel === 'curves') curves.render();
   });
 }
 

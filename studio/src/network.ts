@@ -1,5 +1,8 @@
 // Reading the network document: the network at a path, node paths, wires, and an automatic layout for nodes the file gives no position.
 
+import { evalChannel } from './channel';
+import type { Key } from './channel';
+
 import type { DocNetwork, DocNode } from './protocol';
 
 export const NODE_W = 132;
@@ -89,21 +92,21 @@ export function layout(net: DocNetwork): Map<string, [number, number]> {
 }
 
 /** A channel's value at `frame` (linear between keys, held outside them). */
-export function channelAt(keys: { frame: number; value: number }[], frame: number): number {
-  if (!keys.length) return 0;
-  if (frame <= keys[0].frame) return keys[0].value;
-  const last = keys[keys.length - 1];
-  if (frame >= last.frame) return last.value;
-  for (let i = 1; i < keys.length; i++) {
-    const a = keys[i - 1];
-    const b = keys[i];
-    if (frame <= b.frame) return a.value + ((b.value - a.value) * (frame - a.frame)) / (b.frame - a.frame);
-  }
-  return last.value;
+export function channelAt(keys: Key[], frame: number): number {
+  return evalChannel(keys, frame);
 }
 
 export interface Keyed {
-  keys: { frame: number; value: number }[];
+  keys: Key[];
+}
+
+/** A component written as an expression: `{"expr": "sin($F)"}`. */
+export interface Expr {
+  expr: string;
+}
+
+export function isExpr(v: unknown): v is Expr {
+  return typeof v === 'object' && v !== null && typeof (v as Expr).expr === 'string';
 }
 
 export function isChannel(v: unknown): v is Keyed {

@@ -1,7 +1,8 @@
 // The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows, code editors for snippets; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
 
 import { knownVexFunctions, loadVexFunctions, SnippetEditor } from './code';
-import { channelAt, isChannel, join, nodeAt, parentOf } from './network';
+import { channelAt, isChannel, isExpr, join, nodeAt, parentOf } from './network';
+import type { Expr } from './network';
 import { freshCookErrors, spareDecls, uniqueProblems } from './protocol';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
 import { viewedAttributes } from './sheet';
@@ -9,6 +10,8 @@ import type { AppStore } from './store';
 
 export interface ParamActions {
   edit(edit: Record<string, unknown>, merge?: boolean): Promise<boolean>;
+  /** A node's parameters as evaluated at the current frame, by name (a failing one as `{error}`). */
+  values(path: string): Promise<Record<string, unknown>>;
 }
 
 /** A parameter as the panel shows it: its declaration and where its value lives. */
@@ -28,6 +31,25 @@ export function parseNumber(text: string): number | string {
   const t = text.trim();
   if (t !== '' && Number.isFinite(Number(t))) return Number(t);
   return text;
+}
+
+/** What a numeric field's text stores: a number when it reads as one, else an expression (as Houdini turns `sin($F)` typed in a field into one). */
+export function parseComponent(text: string): number | Expr {
+  const v = parseNumber(text);
+  return typeof v === 'number' ? v : { expr: text.trim() };
+}
+
+/** Whether a string parameter's text expands (variables or backticks), so its value is worth showing. */
+export function expands(text: string): boolean {
+  return /[$`]/.test(text);
+}
+
+/** An evaluated value as a hover shows it. */
+export function describeValue(v: unknown): string {
+  if (typeof v === 'number') return fmt(v);
+  if (Array.isArray(v)) return v.map(describeValue).join(', ');
+  if (typeof v === 'object' && v !== null && 'error' in v) return `error: ${String((v as { error: unknown }).error)}`;
+  return String(v);
 }
 
 const COMPONENTS: Record<string, number> = { float: 1, int: 1, toggle: 1, vec2: 2, vec3: 3, vec4: 4 };
@@ -136,6 +158,27 @@ export class ParamPanel {
     }
     for (const row of rows) this.host.appendChild(this.rowElement(row, node, problems.filter((p) => p.param?.split(/[[.]/)[0] === row.name)));
     if (type?.spare) this.host.appendChild(this.spareAdder(path));
+    if (this.host.querySelector('input.expr')) void this.showValues(path, this.shownKey);
+  }
+
+  /** Puts each expression's value at this frame on its field (shown on hover), unless the panel has moved on. */
+  private async showValues(path: string, shown: string) {
+    let values: Record<string, unknown>;
+    try {
+      values = await this.actions.values(path);
+    } catch {
+      return;
+    }
+    if (shown !== this.shownKey) return;
+    for (const field of this.host.querySelectorAll<HTMLInputElement>('.param > .widgets > input.expr')) {
+      const name = field.closest<HTMLElement>('.param')?.dataset.param ?? '';
+      const v = values[name];
+      const k = field.dataset.component;
+      const one = k !== undefined && Array.isArray(v) ? v[Number(k)] : v;
+      const text = describeValue(one);
+      field.title = `${field.value}\n= ${text}`;
+      field.dataset.value = text;
+    }
   }
 
   private rowElement(row: Row, node: DocNode, problems: Problem[]): HTMLElement {
@@ -244,22 +287,24 @@ export class ParamPanel {
       const texts: HTMLInputElement[] = comps.map((c, k) => {
         const t = document.createElement('input');
         t.type = 'text';
-        t.className = 'num' + (isChannel(c) ? ' animated' : '');
-        t.value = isChannel(c) ? fmt(channelAt(c.keys, frame)) : typeof c === 'number' ? fmt(c) : String(c);
+        t.className = 'num' + (isChannel(c) ? ' animated' : '') + (isExpr(c) ? ' expr' : '');
+        t.value = isChannel(c) ? fmt(channelAt(c.keys, frame)) : isExpr(c) ? c.expr : typeof c === 'number' ? fmt(c) : String(c);
+        t.dataset.component = String(k);
+        if (isExpr(c)) t.title = `expression: ${c.expr}`;
         t.addEventListener('change', () => {
-          const v = parseNumber(t.value);
+          const v = parseComponent(t.value);
           if (isChannel(c) && typeof v === 'number') {
             void setKey(k, v);
             return;
           }
-          const all = texts.map((x) => parseNumber(x.value));
+          const all = texts.map((x, i) => (x === t ? v : isExpr(comps[i]) && x.value.trim() === (comps[i] as Expr).expr ? comps[i] : parseComponent(x.value)));
           void set(n === 1 ? all[0] : all.map((x, i) => (isChannel(comps[i]) ? comps[i] : x)));
         });
         t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
         host.appendChild(t);
         return t;
       });
-      if (n === 1 && !isChannel(comps[0])) {
+      if (n === 1 && !isChannel(comps[0]) && !isExpr(comps[0])) {
         const cur = Number(comps[0]);
         const dflt = Number(decl.default) || 0;
         const lo = decl.min ?? Math.min(0, cur);
@@ -298,7 +343,7 @@ export class ParamPanel {
     } else {
       const t = document.createElement('input');
       t.type = 'text';
-      t.className = decl.type === 'file' ? 'file' : 'text';
+      t.className = (decl.type === 'file' ? 'file' : 'text') + (expands(String(value ?? '')) ? ' expr' : '');
       t.value = String(value ?? '');
       if (decl.type === 'file') t.placeholder = '$HIP/… or a path';
       t.addEventListener('change', () => void set(t.value));

@@ -12,6 +12,8 @@ export class Timeline {
   private end: HTMLInputElement;
   private play: HTMLButtonElement;
   private rate: HTMLInputElement;
+  private ticks: HTMLElement;
+  private ticksShown = '';
   /** When the frame shown last was asked for (playback paces from it). */
   private steppedAt = 0;
   private pending = 0;
@@ -25,7 +27,7 @@ export class Timeline {
     setTimeline: (frames: [number, number], fps: number) => void,
   ) {
     host.innerHTML = `<button class="play" title="Play / stop (loops the range)">▶</button>
-      <input class="start" type="number" title="First frame"> <input class="slider" type="range" step="1">
+      <input class="start" type="number" title="First frame"> <span class="slider-wrap"><input class="slider" type="range" step="1"><span class="ticks"></span></span>
       <input class="end" type="number" title="Last frame"> <label>Frame <input class="frame" type="number" step="1"></label>
       <label>FPS <input class="fps" type="number" min="1" step="1" title="Playback rate, kept in the network"></label>`;
     this.play = host.querySelector('.play')!;
@@ -34,6 +36,7 @@ export class Timeline {
     this.start = host.querySelector('.start')!;
     this.end = host.querySelector('.end')!;
     this.rate = host.querySelector('.fps')!;
+    this.ticks = host.querySelector('.ticks')!;
     this.slider.addEventListener('input', () => this.setFrame(Number(this.slider.value)));
     this.field.addEventListener('change', () => this.setFrame(Number(this.field.value)));
     const range = () => {
@@ -81,8 +84,25 @@ export class Timeline {
     this.setFrame(this.asked);
   }
 
-  render() {
+  /** Draws the frame controls, and a tick over the slider at each of `keys` (the selected node's key frames). */
+  render(keys: number[] = []) {
     const [a, b] = this.store.range;
+    const shown = `${a}|${b}|${keys.join()}`;
+    if (shown !== this.ticksShown) {
+      this.ticksShown = shown;
+      this.ticks.replaceChildren(
+        ...keys
+          .filter((k) => k >= a && k <= b)
+          .map((k) => {
+            const t = document.createElement('i');
+            // The slider's thumb is 16 px wide: its centre runs from 8 px to the width less 8 px.
+            t.style.left = `calc(8px + (100% - 16px) * ${b > a ? (k - a) / (b - a) : 0})`;
+            t.title = `key at frame ${k}`;
+            t.dataset.frame = String(k);
+            return t;
+          }),
+      );
+    }
     const f = this.store.state?.view.frame ?? 1;
     this.slider.min = String(a);
     this.slider.max = String(b);

@@ -55,6 +55,11 @@ pub enum Request {
         #[serde(default)]
         entry: Option<String>,
     },
+    /// A node's parameters as evaluated at the current frame (expressions
+    /// beside their values).
+    Values {
+        path: String,
+    },
     /// Stop the cook in flight.
     Cancel,
 }
@@ -278,6 +283,7 @@ impl Studio {
                     .sheet(class, start, count, entry.as_deref())
                     .map_err(Refusal::request)
             }
+            Request::Values { path } => return self.values(&path).map_err(Refusal::request),
             Request::Cancel => {
                 let _order = lock(&self.order);
                 let g = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
@@ -289,6 +295,31 @@ impl Studio {
             }
         }
         Ok(Json::Null)
+    }
+
+    /// `{"values": {name: value}}` at the viewed frame; a parameter that
+    /// fails gives `{"error": message, "column": c}`.
+    fn values(&self, path: &str) -> Result<Json, String> {
+        let frame = lock(&self.view).frame;
+        let session = lock(&self.session);
+        let net = session
+            .network()
+            .as_ref()
+            .map_err(|_| "the network does not load")?;
+        let values = net
+            .param_values(path, frame, &self.env)
+            .ok_or_else(|| format!("no node {path}"))?;
+        let out: serde_json::Map<String, Json> = values
+            .into_iter()
+            .map(|(name, v)| {
+                let j = match v {
+                    Ok(v) => param_json(&v),
+                    Err(e) => json!({"error": e.message, "column": e.position.map(|p| p.column)}),
+                };
+                (name, j)
+            })
+            .collect();
+        Ok(json!({"values": out, "frame": frame}))
     }
 
     fn sheet(
@@ -318,5 +349,22 @@ impl Studio {
         j["generation"] = json!(last.generation);
         j["node"] = json!(last.node);
         Ok(j)
+    }
+}
+
+/// A parameter value as the page reads it.
+fn param_json(v: &geode_op::ParamValue) -> Json {
+    use geode_op::ParamValue as V;
+    match v {
+        V::Float(x) => json!(x),
+        V::Int(i) => json!(i),
+        V::Toggle(b) => json!(b),
+        V::Vector(v) => json!(v),
+        V::String(s) => json!(s),
+        V::List(rows) => Json::Array(
+            rows.iter()
+                .map(|r| Json::Array(r.iter().map(param_json).collect()))
+                .collect(),
+        ),
     }
 }

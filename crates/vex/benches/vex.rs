@@ -4,7 +4,10 @@
 //! - `@P += @N * 0.1;` on 10M points;
 //! - a 30-line displacement (noise, fit, normalize) on 10M points;
 //! - `nearpoints` with a radius and 16 results on 1M points;
-//! - `addpoint` + `addprim` making 1M two-point polylines.
+//! - `addpoint` + `addprim` making 1M two-point polylines;
+//! - a parameter expression (`fit(sin($F) * ch("amp"), -1, 1, 0, 10)`)
+//!   evaluated once, as the engine does per parameter per cook: it must stay
+//!   far below a frame's budget for a network of hundreds of them.
 
 use divan::Bencher;
 use geode_geo::glam::Vec3;
@@ -285,4 +288,19 @@ fn polylines_rust(bencher: Bencher) {
             }
             out
         });
+}
+
+/// One evaluation of a typical parameter expression (parse once, evaluate per frame).
+#[divan::bench]
+fn parameter_expression(b: Bencher) {
+    let e = geode_vex::parse_expression("fit(sin($F * 0.1) * ch(\"../grow/amp\"), -1, 1, 0, 10)")
+        .unwrap();
+    let channel = |_: &str| Some(Channel::Num(vec![0.5]));
+    let g = geode_vex::Globals {
+        frame: 12.0,
+        fps: 24.0,
+        hip: "/proj",
+        node: "n",
+    };
+    b.bench(|| e.eval(&g, &channel).unwrap());
 }

@@ -1,0 +1,80 @@
+//! Any text given to the snippet compiler or the expression parser gives a
+//! program, a value or an error, never a panic or a stack overflow: random
+//! token soups built from VEX's own pieces, and nesting far past the limit.
+
+use geode_geo::{AttribClass, Geometry};
+use geode_vex::{compile, parse_expression, BindSpec, Channel, Globals};
+use proptest::prelude::*;
+
+const PIECES: &[&str] = &[
+    "(", ")", "{", "}", "[", "]", ",", ";", "+", "-", "*", "/", "%", "?", ":", "=", "==", "&&", "!",
+    ".", "x", "y", "1", "2.5", "0x1f", "\"s\"", "'t'", "@P", "f@a", "v[]@b", "$F", "$T", "$HIP",
+    "$X", "sin", "fit", "rand", "ch", "chv", "chs", "int", "vector", "float", "if", "else",
+    "for", "foreach", "while", "return", "break", "function", "\n", " ", "//", "/*", "*/", "#",
+];
+
+fn soup() -> impl Strategy<Value = String> {
+    prop::collection::vec(prop::sample::select(PIECES), 0..60).prop_map(|v| v.join(""))
+}
+
+fn channel(name: &str) -> Option<Channel> {
+    match name {
+        "s" => Some(Channel::Str("text".into())),
+        _ => Some(Channel::Num(vec![1.0, 2.0, 3.0])),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
+
+    #[test]
+    fn expressions_never_panic(text in soup()) {
+        if let Ok(e) = parse_expression(&text) {
+            let g = Globals { frame: 3.0, fps: 24.0, hip: "/h", node: "n" };
+            let _ = e.eval(&g, &channel);
+        }
+    }
+
+    #[test]
+    fn snippets_never_panic(text in soup()) {
+        let geo = Geometry::new();
+        let names = Vec::new;
+        let spec = BindSpec {
+            run_over: AttribClass::Point,
+            inputs: vec![Some(&geo)],
+            channels: &channel,
+            channel_names: &names,
+            frame: 1.0,
+            time: 0.0,
+        };
+        let _ = compile(&text, &spec);
+    }
+}
+
+#[test]
+fn nesting_past_the_limit_is_an_error_in_every_form() {
+    let geo = Geometry::new();
+    let names = Vec::new;
+    let spec = BindSpec {
+        run_over: AttribClass::Point,
+        inputs: vec![Some(&geo)],
+        channels: &channel,
+        channel_names: &names,
+        frame: 1.0,
+        time: 0.0,
+    };
+    let deep = [
+        format!("f@a = {}1{};", "(".repeat(100_000), ")".repeat(100_000)),
+        format!("f@a = {}1;", "-".repeat(100_000)),
+        format!("f@a = {};", vec!["1"; 100_000].join("+")),
+        format!("{}{}", "{".repeat(100_000), "}".repeat(100_000)),
+        format!("{}f@a = 1;", "if (1) ".repeat(100_000)),
+        format!("f@a = x{};", "[0]".repeat(100_000)),
+    ];
+    for src in &deep {
+        let e = compile(src, &spec).expect_err("too deep");
+        assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
+    }
+    let e = parse_expression(&format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000))).unwrap_err();
+    assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
+}
