@@ -1,5 +1,6 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
+import { drawAnnotations, freshId, newNote, pickColor, type Annotation } from './annotations';
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, parentOf, wires } from './network';
 import { freshCookErrors, hasNetwork, uniqueProblems } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
@@ -28,7 +29,8 @@ type Drag =
   | { kind: 'pan'; x: number; y: number; tx: number; ty: number }
   | { kind: 'move'; x: number; y: number; start: Map<string, [number, number]>; moved: boolean }
   | { kind: 'box'; x0: number; y0: number; x1: number; y1: number; add: boolean }
-  | { kind: 'wire'; from: string; x: number; y: number };
+  | { kind: 'wire'; from: string; x: number; y: number }
+  | { kind: 'note'; id: string; x: number; y: number; start: [number, number]; resize: boolean; moved: boolean };
 
 export class NetworkEditor {
   readonly svg: SVGSVGElement;
@@ -38,11 +40,17 @@ export class NetworkEditor {
   private zoom = 1;
   private drag: Drag | null = null;
   private positions = new Map<string, [number, number]>();
+  /** Automatic positions given to nodes the file places nowhere, by network path. */
+  private autoPositions = new Map<string, Map<string, [number, number]>>();
   /** Positions moved locally, until the document confirms them. */
   private pending = new Map<string, [number, number]>();
   private framedAt: string | null = null;
   private mouse: [number, number] = [0, 0];
   private mouseAt: [number, number] | null = null;
+  /** The selected note or box (nodes are the store's selection). */
+  private picked: Annotation | null = null;
+  /** A note's or resized note's geometry while dragged, until the document has it. */
+  private notePending = new Map<string, { pos: [number, number]; size: [number, number] }>();
 
   constructor(
     private host: HTMLElement,
@@ -150,6 +158,8 @@ export class NetworkEditor {
       return;
     }
     if (e.button !== 0) return;
+    if (!t.node && this.annotationDown(e, wx, wy)) return;
+    this.picked = null;
     if (!t.node) {
       this.drag = { kind: 'box', x0: wx, y0: wy, x1: wx, y1: wy, add: e.shiftKey };
       return;
@@ -216,6 +226,16 @@ export class NetworkEditor {
       d.x = wx;
       d.y = wy;
       this.render();
+    } else if (d.kind === 'note') {
+      const note = this.net()?.notes?.[d.id];
+      if (!note) return;
+      const [dx, dy] = [wx - d.x, wy - d.y];
+      if (Math.abs(dx) + Math.abs(dy) > 2) d.moved = true;
+      const moved = d.resize
+        ? { pos: note.pos, size: [Math.max(60, d.start[0] + dx), Math.max(30, d.start[1] + dy)] as [number, number] }
+        : { pos: [d.start[0] + dx, d.start[1] + dy] as [number, number], size: note.size };
+      this.notePending.set(d.id, moved);
+      this.render();
     }
   }
 
@@ -223,6 +243,18 @@ export class NetworkEditor {
     const d = this.drag;
     this.drag = null;
     if (!d) return;
+    if (d.kind === 'note') {
+      const note = this.net()?.notes?.[d.id];
+      const moved = this.notePending.get(d.id);
+      if (d.moved && note && moved) {
+        const round = (p: [number, number]): [number, number] => [Math.round(p[0]), Math.round(p[1])];
+        void this.actions.edit({ kind: 'set_note', parent: this.store.at, id: d.id, note: { ...note, pos: round(moved.pos), size: round(moved.size) } }).finally(() => {
+          this.notePending.delete(d.id);
+          this.render();
+        });
+      } else this.notePending.delete(d.id);
+      return;
+    }
     if (d.kind === 'move' && d.moved) {
       const positions: Record<string, [number, number]> = {};
       for (const n of d.start.keys()) positions[join(this.store.at, n)] = this.pending.get(n)!;
@@ -249,6 +281,8 @@ export class NetworkEditor {
 
   private onDoubleClick(e: MouseEvent) {
     const t = this.target(e);
+    const note = (e.target as Element).closest('[data-note]')?.getAttribute('data-note');
+    if (!t.node && note) return this.writeNote(note);
     if (!t.node) return;
     const node = this.net()?.nodes[t.node];
     if ((e.target as Element).closest('.node-name')) {
@@ -313,7 +347,12 @@ export class NetworkEditor {
     const net = this.net();
     this.root.replaceChildren();
     if (!net) return;
-    this.positions = layout(net);
+    // Automatic positions stay put once shown (per network), so adding a node moves nothing.
+    const kept = this.autoPositions.get(this.store.at);
+    this.positions = layout(net, kept);
+    const auto = new Map<string, [number, number]>();
+    for (const [n, p] of this.positions) if (!net.nodes[n]?.ui?.pos) auto.set(n, p);
+    this.autoPositions.set(this.store.at, auto);
     for (const [n, p] of this.pending) {
       const doc = net.nodes[n]?.ui?.pos;
       if (this.drag?.kind === 'move' || !doc || doc[0] !== p[0] || doc[1] !== p[1]) {
@@ -325,6 +364,7 @@ export class NetworkEditor {
       this.framedAt = this.store.at;
       this.frame(false, true);
     }
+    const boxLayer = el('g', { class: 'boxes' }, this.root);
     const wireLayer = el('g', { class: 'wires' }, this.root);
     for (const w of wires(net)) {
       const a = this.positions.get(w.from);
@@ -335,6 +375,10 @@ export class NetworkEditor {
     }
     const failed = this.readsFailed(net);
     for (const [name, node] of Object.entries(net.nodes)) this.drawNode(name, node, this.positions.get(name)!, failed.get(name));
+    const notes = { ...net.notes };
+    for (const [id, p] of this.notePending) if (notes[id]) notes[id] = { ...notes[id], ...p };
+    if (this.picked && !(this.picked.kind === 'note' ? notes[this.picked.id] : net.boxes?.[this.picked.id])) this.picked = null;
+    drawAnnotations(boxLayer, el('g', { class: 'notes' }, this.root), { ...net, notes }, this.positions, this.picked);
     const d = this.drag;
     if (d?.kind === 'wire') {
       const a = this.positions.get(d.from);
@@ -343,6 +387,116 @@ export class NetworkEditor {
     if (d?.kind === 'box') {
       el('rect', { class: 'box-select', x: Math.min(d.x0, d.x1), y: Math.min(d.y0, d.y1), width: Math.abs(d.x1 - d.x0), height: Math.abs(d.y1 - d.y0) }, this.root);
     }
+  }
+
+  /** A press on a note (move, or resize at its corner) or a box's label (moves its nodes); true when it took the press. */
+  private annotationDown(e: PointerEvent, wx: number, wy: number): boolean {
+    const t = e.target as Element;
+    const net = this.net();
+    const note = t.closest('[data-note]')?.getAttribute('data-note');
+    if (note && net?.notes?.[note]) {
+      this.picked = { kind: 'note', id: note };
+      const n = net.notes[note];
+      const resize = t.hasAttribute('data-note-resize');
+      this.drag = { kind: 'note', id: note, x: wx, y: wy, start: resize ? [...n.size] : [...n.pos], resize, moved: false };
+      this.actions.select([], null);
+      this.render();
+      return true;
+    }
+    const bar = t.getAttribute('data-box-bar');
+    const box = bar ?? t.closest('[data-box]')?.getAttribute('data-box');
+    if (box && net?.boxes?.[box]) {
+      this.picked = { kind: 'box', id: box };
+      if (!bar) {
+        this.render();
+        return true;
+      }
+      // Dragging the label moves the box's nodes, as Houdini's boxes do.
+      const members = net.boxes[box].nodes;
+      this.actions.select(members.map((n) => join(this.store.at, n)), null);
+      const start = new Map<string, [number, number]>();
+      for (const n of members) {
+        const at = this.positions.get(n);
+        if (at) start.set(n, [...at] as [number, number]);
+      }
+      this.drag = { kind: 'move', x: wx, y: wy, start, moved: false };
+      return true;
+    }
+    return false;
+  }
+
+  /** Shift+P: a sticky note at the mouse. */
+  addNote() {
+    const id = freshId(this.net()?.notes, 'note');
+    this.picked = { kind: 'note', id };
+    void this.actions.edit({ kind: 'set_note', parent: this.store.at, id, note: newNote(this.mouse) });
+  }
+
+  /** Shift+O: a network box around the selected nodes of this network. */
+  boxSelection() {
+    const net = this.net();
+    const names = [...this.store.selected].filter((p) => parentOf(p) === this.store.at).map((p) => p.slice(p.lastIndexOf('/') + 1));
+    if (!net || !names.length) return;
+    const id = freshId(net.boxes, 'box');
+    this.picked = { kind: 'box', id };
+    void this.actions.edit({ kind: 'set_box', parent: this.store.at, id, box: { label: `Box ${id.slice(3)}`, nodes: names } });
+  }
+
+  /** C: colours the selected nodes, or the selected note or box, from the palette. */
+  async colour() {
+    const at = this.mouseAt ?? [200, 200];
+    const c = await pickColor(at[0], at[1]);
+    if (c === undefined) return;
+    const net = this.net();
+    const p = this.picked;
+    if (p?.kind === 'note' && net?.notes?.[p.id]) {
+      void this.actions.edit({ kind: 'set_note', parent: this.store.at, id: p.id, note: { ...net.notes[p.id], color: c ?? undefined } });
+    } else if (p?.kind === 'box' && net?.boxes?.[p.id]) {
+      void this.actions.edit({ kind: 'set_box', parent: this.store.at, id: p.id, box: { ...net.boxes[p.id], color: c ?? undefined } });
+    } else if (this.store.selected.size) {
+      void this.actions.edit({ kind: 'set_color', paths: [...this.store.selected], color: c });
+    }
+  }
+
+  /** Delete on a selected note or box removes it (its nodes stay); false when neither is selected. */
+  deletePicked(): boolean {
+    const p = this.picked;
+    if (!p) return false;
+    this.picked = null;
+    void this.actions.edit(p.kind === 'note' ? { kind: 'set_note', parent: this.store.at, id: p.id, note: null } : { kind: 'set_box', parent: this.store.at, id: p.id, box: null });
+    return true;
+  }
+
+  /** An inline editor over a note (a box's label too: double-click its bar). */
+  private writeNote(id: string) {
+    const note = this.net()?.notes?.[id];
+    if (!note) return;
+    const r = this.svg.getBoundingClientRect();
+    const hr = this.host.getBoundingClientRect();
+    const area = document.createElement('textarea');
+    area.className = 'note-edit';
+    area.value = note.text;
+    area.style.left = `${r.left - hr.left + this.tx + note.pos[0] * this.zoom}px`;
+    area.style.top = `${r.top - hr.top + this.ty + note.pos[1] * this.zoom}px`;
+    area.style.width = `${note.size[0] * this.zoom}px`;
+    area.style.height = `${note.size[1] * this.zoom}px`;
+    this.host.appendChild(area);
+    area.focus();
+    area.select();
+    let done = false;
+    const finish = (commit: boolean) => {
+      if (done) return;
+      done = true;
+      area.remove();
+      if (commit && area.value !== note.text) void this.actions.edit({ kind: 'set_note', parent: this.store.at, id, note: { ...note, text: area.value } });
+      this.svg.focus();
+    };
+    area.addEventListener('keydown', (e) => {
+      e.stopPropagation();
+      if (e.key === 'Escape') finish(false);
+      if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) finish(true);
+    });
+    area.addEventListener('blur', () => finish(true));
   }
 
   private inputsOf(node: DocNode): number {
@@ -391,7 +545,8 @@ export class NetworkEditor {
     const warnings = errors.length ? [] : (s.badges.get(path)?.warnings ?? []);
     const classes = ['node', node.bypass ? 'bypass' : '', s.selected.has(path) ? 'selected' : '', errors.length ? 'error' : '', !errors.length && failedInput ? 'input-error' : '', warnings.length ? 'warning' : '', viewed ? 'viewed' : '', hasNetwork(node, this.store.catalogue) ? 'subnet' : ''];
     const g = el('g', { class: classes.join(' '), transform: `translate(${x},${y})`, 'data-node': name, 'data-path': path }, this.root);
-    el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
+    const body = el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
+    if (node.ui?.color) body.style.fill = node.ui.color;
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);
     el('rect', { class: 'flag display-flag' + (node.display || viewed ? ' on' : ''), x: NODE_W - 14, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'display' }, g);
     const label = el('text', { class: 'node-name', x: 20, y: 13 }, g);

@@ -344,7 +344,20 @@ document.addEventListener('keydown', (e) => {
       break;
     case 'Delete':
     case 'Backspace':
+      if (editor.deletePicked()) break;
       if (store.selected.size) void edit({ kind: 'remove_nodes', paths: [...store.selected] });
+      break;
+    case 'P':
+      // Shift+P: a sticky note (Houdini's key).
+      if (!inViewport) editor.addNote();
+      break;
+    case 'O':
+      // Shift+O: a network box around the selection.
+      if (!inViewport) editor.boxSelection();
+      break;
+    case 'c':
+    case 'C':
+      if (!inViewport) void editor.colour();
       break;
     case 'Enter':
       if (current) editor.dive(current);

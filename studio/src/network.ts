@@ -1,6 +1,7 @@
 // Reading the network document: the network at a path, node paths, wires, and an automatic layout for nodes the file gives no position.
 
 import { evalChannel } from './channel';
+import { layered } from './layout';
 import type { Key } from './channel';
 
 import type { DocNetwork, DocNode } from './protocol';
@@ -56,37 +57,19 @@ export function wires(net: DocNetwork): Wire[] {
 
 /**
  * Positions for every node: the file's where given, else a layered layout
- * (each node one row below its deepest input, rows centred), as Houdini
- * lays out a network it has no positions for.
+ * (see layout.ts). Nodes in `keep` that the file gives no position keep the
+ * one they had, so adding a node never moves the others.
  */
-export function layout(net: DocNetwork): Map<string, [number, number]> {
+export function layout(net: DocNetwork, keep?: Map<string, [number, number]>): Map<string, [number, number]> {
   const names = Object.keys(net.nodes);
-  const depth = new Map<string, number>();
-  const visiting = new Set<string>();
-  const depthOf = (n: string): number => {
-    const known = depth.get(n);
-    if (known !== undefined) return known;
-    if (visiting.has(n)) return 0;
-    visiting.add(n);
-    const ins = (net.nodes[n]?.inputs ?? []).filter((i): i is string => !!i && i in net.nodes);
-    const d = ins.length ? Math.max(...ins.map(depthOf)) + 1 : 0;
-    visiting.delete(n);
-    depth.set(n, d);
-    return d;
-  };
-  const rows = new Map<number, string[]>();
-  for (const n of names) {
-    const d = depthOf(n);
-    rows.set(d, [...(rows.get(d) ?? []), n]);
-  }
-  const pos = new Map<string, [number, number]>();
-  for (const [d, row] of rows) {
-    const width = row.length * NODE_W + (row.length - 1) * GAP_X;
-    row.forEach((n, k) => pos.set(n, [k * (NODE_W + GAP_X) - width / 2, d * (NODE_H + GAP_Y)]));
-  }
+  const edges: [string, string][] = wires(net)
+    .filter((w) => w.from in net.nodes)
+    .map((w) => [w.from, w.to]);
+  const pos = layered({ nodes: names, edges }, { width: NODE_W, height: NODE_H, gapX: GAP_X, gapY: GAP_Y });
   for (const n of names) {
     const p = net.nodes[n].ui?.pos;
     if (Array.isArray(p) && p.length === 2 && p.every(Number.isFinite)) pos.set(n, [p[0], p[1]]);
+    else if (keep?.has(n)) pos.set(n, keep.get(n)!);
   }
   return pos;
 }

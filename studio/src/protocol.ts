@@ -43,13 +43,29 @@ export interface DocNode {
   promote?: Record<string, string>;
   /** Spare parameters: name -> type (float, int, toggle, vector2, vector, vector4, string). */
   spare?: Record<string, string>;
-  ui?: { pos?: [number, number] };
+  /** Editor data the file keeps: position and colour (`#rrggbb`). */
+  ui?: { pos?: [number, number]; color?: string };
   [extra: string]: unknown;
+}
+
+export interface StickyNote {
+  text: string;
+  pos: [number, number];
+  size: [number, number];
+  color?: string;
+}
+
+export interface NetworkBox {
+  label: string;
+  nodes: string[];
+  color?: string;
 }
 
 export interface DocNetwork {
   nodes: Record<string, DocNode>;
   output?: string;
+  notes?: Record<string, StickyNote>;
+  boxes?: Record<string, NetworkBox>;
 }
 
 export interface Problem {

@@ -4,8 +4,8 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use geode_op::{
-    CookEnv, ListSpec, TextPosition, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
-    SPARE_TYPES,
+    CookEnv, ListSpec, Operator, ParamSpec, ParamType, ParamValue, Params, PortType, Registry,
+    TextPosition, SPARE_TYPES,
 };
 use serde_json::Value as Json;
 
@@ -82,7 +82,9 @@ impl CompiledParam {
         let fail = |e: geode_op::ExprError| LoadError::param(path, name, e.message).at(e.position);
         match &self.source {
             ParamSource::Text(s) => Ok(ParamValue::String(s.clone())),
-            ParamSource::Template(pieces) => cx.template(pieces).map(ParamValue::String).map_err(fail),
+            ParamSource::Template(pieces) => {
+                cx.template(pieces).map(ParamValue::String).map_err(fail)
+            }
             ParamSource::List(rows) => rows
                 .iter()
                 .enumerate()
@@ -110,7 +112,11 @@ impl CompiledParam {
             return Err(LoadError::param(path, name, "not a numeric parameter"));
         };
         match c.get(k) {
-            None => Err(LoadError::param(path, name, format!("has no component {k}"))),
+            None => Err(LoadError::param(
+                path,
+                name,
+                format!("has no component {k}"),
+            )),
             Some(Component::Const(x)) => Ok(*x),
             Some(Component::Channel(ch)) => Ok(ch.eval(cx.frame)),
             Some(Component::Expr(e)) => {
@@ -1328,8 +1334,7 @@ fn closest<'k>(name: &str, known: impl Iterator<Item = &'k str>) -> String {
 fn default_source(spec: &'static ParamSpec) -> ParamSource {
     match spec.default_value() {
         ParamValue::String(s) if crate::expr::expands(spec) => {
-            crate::expr::parse_template(&s, None)
-                .map_or(ParamSource::Text(s), text_source)
+            crate::expr::parse_template(&s, None).map_or(ParamSource::Text(s), text_source)
         }
         v => constant_source(v),
     }

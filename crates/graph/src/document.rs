@@ -28,6 +28,34 @@ pub struct NetworkDoc {
     /// The output node's name; else the node with the display flag; else none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub output: Option<String>,
+    /// Sticky notes by id: what the author wrote beside the nodes (UI data
+    /// the file keeps, as Houdini's .hip keeps its notes).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub notes: BTreeMap<String, StickyNote>,
+    /// Network boxes by id: named, coloured groups of nodes.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub boxes: BTreeMap<String, NetworkBox>,
+}
+
+/// A sticky note of the network editor.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StickyNote {
+    pub text: String,
+    /// Top-left corner and size in the editor's units.
+    pub pos: [f64; 2],
+    pub size: [f64; 2],
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<String>,
+}
+
+/// A network box: a labelled frame around nodes of one network.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NetworkBox {
+    pub label: String,
+    /// Names of the nodes it holds (its frame is drawn around them).
+    pub nodes: Vec<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub color: Option<String>,
 }
 
 /// One node.

@@ -67,7 +67,10 @@ const MAX_REFERENCE_DEPTH: u32 = 64;
 /// Whether a string parameter of this declaration expands variables and
 /// backticks (code and menus are taken as written, as in Houdini).
 pub(crate) fn expands(spec: &geode_op::ParamSpec) -> bool {
-    matches!(spec.ty, geode_op::ParamType::String | geode_op::ParamType::File) && !spec.code
+    matches!(
+        spec.ty,
+        geode_op::ParamType::String | geode_op::ParamType::File
+    ) && !spec.code
 }
 
 /// Splits a string parameter into text, variables and backtick
@@ -203,7 +206,9 @@ impl EvalCx<'_> {
         };
         if let Some(c) = target.component {
             let name = target.param.as_str();
-            return Some(ExprValue::Num(vec![param.component_at(&cx, name, c).ok()?]));
+            return Some(ExprValue::Num(vec![param
+                .component_at(&cx, name, c)
+                .ok()?]));
         }
         match param.eval(&cx).ok()? {
             ParamValue::String(s) => Some(ExprValue::Str(s)),
@@ -326,7 +331,10 @@ impl Network {
 
     /// A node's parameter (declared, spare or a loop's) by name.
     pub(crate) fn param_named(&self, node: usize, name: &str) -> Option<&CompiledParam> {
-        fn spare_named<'p>(spare: &'p [(String, CompiledParam)], name: &str) -> Option<&'p CompiledParam> {
+        fn spare_named<'p>(
+            spare: &'p [(String, CompiledParam)],
+            name: &str,
+        ) -> Option<&'p CompiledParam> {
             spare.iter().find(|(n, _)| n == name).map(|(_, p)| p)
         }
         match &self.nodes[node].kind {
@@ -348,12 +356,16 @@ impl Network {
             s.iter().map(|(n, p)| (n.as_str(), p)).collect()
         }
         match &self.nodes[node].kind {
-            NodeKind::Op { params, spare: s, .. } => params
+            NodeKind::Op {
+                params, spare: s, ..
+            } => params
                 .iter()
                 .map(|p| (p.spec.name, p))
                 .chain(spare(s))
                 .collect(),
-            NodeKind::Subnet { block, spare: s, .. } => block
+            NodeKind::Subnet {
+                block, spare: s, ..
+            } => block
                 .iter()
                 .flat_map(|b| b.params.iter().map(|p| (p.spec.name, p)))
                 .chain(spare(s))
@@ -485,7 +497,10 @@ pub(crate) fn check_references(net: &Network) -> Vec<LoadError> {
                 errors.push(LoadError::param(
                     &net.nodes[*node].path,
                     name,
-                    format!("expression references go round in a cycle: {}", names.join(" → ")),
+                    format!(
+                        "expression references go round in a cycle: {}",
+                        names.join(" → ")
+                    ),
                 ));
             }
         }

@@ -66,7 +66,8 @@ fn rand_in_a_field_is_the_wrangles_rand() {
         .unwrap()
         .0[0];
     let xs: Vec<f32> = g.positions().iter().map(|p| p.x).collect();
-    let width = xs.iter().cloned().fold(f32::MIN, f32::max) - xs.iter().cloned().fold(f32::MAX, f32::min);
+    let width =
+        xs.iter().cloned().fold(f32::MIN, f32::max) - xs.iter().cloned().fold(f32::MAX, f32::min);
     assert!((0.0..1.0).contains(&r));
     assert!((width - r).abs() < 1e-6, "field {width}, wrangle {r}");
 }
@@ -115,7 +116,11 @@ fn a_reference_is_part_of_the_readers_cook_key() {
         g.positions().iter().map(|p| p.x).fold(f32::MIN, f32::max) * 2.0
     };
     assert_eq!(width(2.0), 2.0);
-    assert_eq!(width(3.0), 3.0, "a changed reference recooks through the shared cache");
+    assert_eq!(
+        width(3.0),
+        3.0,
+        "a changed reference recooks through the shared cache"
+    );
 }
 
 #[test]
@@ -132,10 +137,19 @@ fn cycles_and_bad_paths_are_load_problems_on_the_parameter() {
     .unwrap();
     let a = net.node_problems("/a");
     assert_eq!(a[0].param.as_deref(), Some("size"));
-    assert!(a[0].message.contains("cycle: /a/size → /b/size → /a/size"), "{}", a[0].message);
+    assert!(
+        a[0].message.contains("cycle: /a/size → /b/size → /a/size"),
+        "{}",
+        a[0].message
+    );
     assert!(net.node_problems("/b")[0].message.contains("cycle"));
     let c = &net.node_problems("/c")[0];
-    assert!(c.message.contains("ch(\"../nothere/sizex\"): no such parameter"), "{}", c.message);
+    assert!(
+        c.message
+            .contains("ch(\"../nothere/sizex\"): no such parameter"),
+        "{}",
+        c.message
+    );
     // The rest of the network cooks.
     let cache = Cache::disabled();
     assert!(Engine::new(net, &cache)
@@ -146,7 +160,8 @@ fn cycles_and_bad_paths_are_load_problems_on_the_parameter() {
 #[test]
 fn expression_errors_point_at_their_column() {
     let problems = |e: &str| {
-        let nodes = format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{e}"}}, 1]}}}}"#);
+        let nodes =
+            format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{e}"}}, 1]}}}}"#);
         match load_str(&net(&nodes, "b"), &geode_nodes::registry()) {
             Ok(_) => panic!("{e} loaded"),
             Err(p) => p,
@@ -173,7 +188,8 @@ fn expression_errors_point_at_their_column() {
 #[test]
 fn deeply_nested_expressions_are_refused_not_overflowed() {
     let deep = format!("{}1{}", "(".repeat(5000), ")".repeat(5000));
-    let nodes = format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{deep}"}}, 1]}}}}"#);
+    let nodes =
+        format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{deep}"}}, 1]}}}}"#);
     let refused = |nodes: &str| match load_str(&net(nodes, "b"), &geode_nodes::registry()) {
         Ok(_) => panic!("loaded"),
         Err(e) => e[0].message.clone(),
@@ -181,7 +197,8 @@ fn deeply_nested_expressions_are_refused_not_overflowed() {
     let e = refused(&nodes);
     assert!(e.contains("nested too deeply"), "{e}");
     let long = vec!["1"; 20000].join("+");
-    let nodes = format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{long}"}}, 1]}}}}"#);
+    let nodes =
+        format!(r#""b": {{"type": "box", "params": {{"size": [1, {{"expr": "{long}"}}, 1]}}}}"#);
     let e = refused(&nodes);
     assert!(e.contains("nested too deeply"), "{e}");
 }

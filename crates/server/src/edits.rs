@@ -94,6 +94,24 @@ pub enum Edit {
         #[serde(default)]
         offset: [f64; 2],
     },
+    /// Colours nodes (`#rrggbb`; null clears).
+    SetColor {
+        paths: Vec<String>,
+        color: Option<String>,
+    },
+    /// Sets sticky note `id` of network `parent`; null removes it.
+    SetNote {
+        parent: String,
+        id: String,
+        note: Option<geode_graph::document::StickyNote>,
+    },
+    /// Sets network box `id` of network `parent`; null removes it.
+    SetBox {
+        parent: String,
+        id: String,
+        #[serde(rename = "box")]
+        network_box: Option<geode_graph::document::NetworkBox>,
+    },
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, PartialEq)]
@@ -138,7 +156,10 @@ fn join(parent: &str, name: &str) -> String {
 }
 
 /// The network at `parent` (`/` or a subnet path).
-fn network_mut<'d>(doc: &'d mut Document, parent: &str) -> Result<&'d mut NetworkDoc, EditError> {
+pub(crate) fn network_mut<'d>(
+    doc: &'d mut Document,
+    parent: &str,
+) -> Result<&'d mut NetworkDoc, EditError> {
     let mut net = &mut doc.network;
     for name in parent.split('/').filter(|s| !s.is_empty()) {
         net = net
@@ -258,6 +279,19 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             offset,
         } => paste(&mut d, parent, nodes, *offset, registry)?,
         Edit::SetTimeline { frames, fps } => set_timeline(&mut d, *frames, *fps)?,
+        Edit::SetColor { paths, color } => {
+            for p in paths {
+                crate::annotations::set_node_color(node_mut(&mut d, p)?, p, color.as_deref())?;
+            }
+        }
+        Edit::SetNote { parent, id, note } => {
+            crate::annotations::set_note(&mut d, parent, id, note.as_ref())?
+        }
+        Edit::SetBox {
+            parent,
+            id,
+            network_box,
+        } => crate::annotations::set_box(&mut d, parent, id, network_box.as_ref())?,
     }
     Ok(d)
 }
@@ -283,8 +317,14 @@ fn set_timeline(d: &mut Document, [start, end]: [f64; 2], fps: f64) -> Result<()
 
 fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
     let round = |v: f64| (v * 10.0).round() / 10.0;
-    n.extra
-        .insert(UI_KEY.into(), json!({"pos": [round(p[0]), round(p[1])]}));
+    let ui = n
+        .extra
+        .entry(UI_KEY.to_owned())
+        .or_insert_with(|| json!({}));
+    if !ui.is_object() {
+        *ui = json!({});
+    }
+    ui["pos"] = json!([round(p[0]), round(p[1])]);
 }
 
 fn check_type(path: &str, ty: &str, registry: &Registry) -> Result<(), EditError> {
@@ -359,6 +399,7 @@ fn remove_node(d: &mut Document, path: &str) -> Result<(), EditError> {
     if net.output.as_deref() == Some(name) {
         net.output = None;
     }
+    crate::annotations::node_renamed(net, name, None);
     // A subnet's promotions that targeted the removed node go with it.
     if parent != "/" {
         let subnet = node_mut(d, parent)?;
@@ -394,6 +435,7 @@ fn rename(d: &mut Document, path: &str, new: &str) -> Result<(), EditError> {
     if net.output.as_deref() == Some(old) {
         net.output = Some(new.to_owned());
     }
+    crate::annotations::node_renamed(net, old, Some(new));
     if parent != "/" {
         let subnet = node_mut(d, parent)?;
         for target in subnet.promote.values_mut() {

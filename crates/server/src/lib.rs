@@ -2,6 +2,7 @@
 //!
 //! Nothing depends on this crate but the CLI; it sits on graph, nodes and io.
 
+mod annotations;
 mod catalogue;
 mod cooker;
 pub mod edits;

@@ -227,8 +227,10 @@ impl Session {
             Ok(n) => (n.problems(), n.notes()),
             Err(e) => (&e[..], &[][..]),
         };
-        let item = |e: &LoadError, level: &str| json!({"path": e.path, "param": e.param, "message": e.message, "level": level,
-            "line": e.position.map(|p| p.line), "column": e.position.map(|p| p.column)});
+        let item = |e: &LoadError, level: &str| {
+            json!({"path": e.path, "param": e.param, "message": e.message, "level": level,
+            "line": e.position.map(|p| p.line), "column": e.position.map(|p| p.column)})
+        };
         errors
             .iter()
             .map(|e| item(e, "error"))

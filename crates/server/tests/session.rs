@@ -513,3 +513,63 @@ fn each_tab_undoes_its_own_edits_and_never_another_tabs() {
         json!(0.3)
     );
 }
+
+#[test]
+fn notes_boxes_and_colours_are_kept_in_the_file_and_follow_renames() {
+    let r = registry();
+    let mut d = doc("coral.json");
+    for e in [
+        json!({"kind": "move", "positions": {"/base": [10, 20]}}),
+        json!({"kind": "set_color", "paths": ["/base"], "color": "#ff8800"}),
+        json!({"kind": "set_note", "parent": "/", "id": "n1", "note": {"text": "grows for 90 frames", "pos": [0, -80], "size": [200, 60]}}),
+        json!({"kind": "set_box", "parent": "/", "id": "b1", "box": {"label": "growth", "nodes": ["base", "grow"], "color": "#335577"}}),
+        json!({"kind": "rename", "path": "/base", "name": "start"}),
+    ] {
+        d = apply(&d, &edit(e.clone()), &r).unwrap_or_else(|err| panic!("{e}: {err}"));
+    }
+    let text = Document::from_json(&d.to_json()).unwrap();
+    let saved = serde_json::to_value(&text).unwrap();
+    assert_eq!(
+        saved["nodes"]["start"]["ui"],
+        json!({"pos": [10.0, 20.0], "color": "#ff8800"})
+    );
+    assert_eq!(saved["notes"]["n1"]["text"], "grows for 90 frames");
+    assert_eq!(saved["boxes"]["b1"]["nodes"], json!(["start", "grow"]));
+    // A moved node keeps its colour; a removed node leaves its box.
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "move", "positions": {"/start": [5, 5]}})),
+        &r,
+    )
+    .unwrap();
+    let d = apply(
+        &d,
+        &edit(json!({"kind": "remove_nodes", "paths": ["/grow"]})),
+        &r,
+    )
+    .unwrap();
+    let v = serde_json::to_value(&d).unwrap();
+    assert_eq!(v["nodes"]["start"]["ui"]["color"], "#ff8800");
+    assert_eq!(v["boxes"]["b1"]["nodes"], json!(["start"]));
+    for (bad, why) in [
+        (
+            json!({"kind": "set_color", "paths": ["/start"], "color": "orange"}),
+            "#rrggbb",
+        ),
+        (
+            json!({"kind": "set_box", "parent": "/", "id": "b2", "box": {"label": "x", "nodes": ["nope"]}}),
+            "`nope` is not one",
+        ),
+        (
+            json!({"kind": "set_note", "parent": "/", "id": "n2", "note": {"text": "", "pos": [0, 0], "size": [0, 10]}}),
+            "positive size",
+        ),
+        (
+            json!({"kind": "set_note", "parent": "/", "id": "gone", "note": null}),
+            "no note",
+        ),
+    ] {
+        let e = apply(&d, &edit(bad.clone()), &r).unwrap_err();
+        assert!(e.to_string().contains(why), "{bad}: {e}");
+    }
+}

@@ -86,10 +86,9 @@ pub fn parse_expression(text: &str) -> Result<Expression, CompileError> {
             e.pos,
             format!("@{name}: a parameter has no geometry to read (use ch() or a $ variable)"),
         )),
-        ExprKind::Assign(..) | ExprKind::IncDec { .. } => Err(CompileError::at(
-            e.pos,
-            "an expression cannot assign",
-        )),
+        ExprKind::Assign(..) | ExprKind::IncDec { .. } => {
+            Err(CompileError::at(e.pos, "an expression cannot assign"))
+        }
         ExprKind::Call(f, args) if is_channel_call(f) => match args.first().map(|a| &a.kind) {
             Some(ExprKind::Str(path)) => {
                 references.push(path.clone());

@@ -50,11 +50,7 @@ impl Parser {
     }
 
     /// Runs `f` `1 + extra` levels deeper, refusing to go past `MAX_DEPTH`.
-    fn nested<T>(
-        &mut self,
-        extra: usize,
-        f: impl FnOnce(&mut Parser) -> PResult<T>,
-    ) -> PResult<T> {
+    fn nested<T>(&mut self, extra: usize, f: impl FnOnce(&mut Parser) -> PResult<T>) -> PResult<T> {
         let levels = 1 + extra;
         if self.depth + levels > MAX_DEPTH {
             return Err(CompileError::at(
@@ -689,7 +685,9 @@ fn describe(t: &Tok) -> String {
         Tok::Str(s) => format!("\"{s}\""),
         Tok::Binding { name, .. } => format!("'@{name}'"),
         Tok::Punct(p) => format!("'{p}'"),
-        Tok::Global(g) => format!("'${g}' (a parameter expression's variable; in VEX use @Frame, @Time)"),
+        Tok::Global(g) => {
+            format!("'${g}' (a parameter expression's variable; in VEX use @Frame, @Time)")
+        }
         Tok::Eof => "the end of the snippet".into(),
     }
 }

@@ -7,9 +7,9 @@ use geode_vex::{compile, parse_expression, BindSpec, Channel, Globals};
 use proptest::prelude::*;
 
 const PIECES: &[&str] = &[
-    "(", ")", "{", "}", "[", "]", ",", ";", "+", "-", "*", "/", "%", "?", ":", "=", "==", "&&", "!",
-    ".", "x", "y", "1", "2.5", "0x1f", "\"s\"", "'t'", "@P", "f@a", "v[]@b", "$F", "$T", "$HIP",
-    "$X", "sin", "fit", "rand", "ch", "chv", "chs", "int", "vector", "float", "if", "else",
+    "(", ")", "{", "}", "[", "]", ",", ";", "+", "-", "*", "/", "%", "?", ":", "=", "==", "&&",
+    "!", ".", "x", "y", "1", "2.5", "0x1f", "\"s\"", "'t'", "@P", "f@a", "v[]@b", "$F", "$T",
+    "$HIP", "$X", "sin", "fit", "rand", "ch", "chv", "chs", "int", "vector", "float", "if", "else",
     "for", "foreach", "while", "return", "break", "function", "\n", " ", "//", "/*", "*/", "#",
 ];
 
@@ -75,6 +75,7 @@ fn nesting_past_the_limit_is_an_error_in_every_form() {
         let e = compile(src, &spec).expect_err("too deep");
         assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
     }
-    let e = parse_expression(&format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000))).unwrap_err();
+    let e =
+        parse_expression(&format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000))).unwrap_err();
     assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
 }
