@@ -16,6 +16,8 @@ export interface EditorActions {
   view(path: string | null): void;
   select(paths: string[], current?: string | null): void;
   openTabMenu(x: number, y: number, at: [number, number]): void;
+  /** Middle-click on a node: its info panel. */
+  info(path: string): void;
 }
 
 function el<K extends keyof SVGElementTagNameMap>(tag: K, attrs: Record<string, string | number>, parent?: Element) {
@@ -26,7 +28,7 @@ function el<K extends keyof SVGElementTagNameMap>(tag: K, attrs: Record<string, 
 }
 
 type Drag =
-  | { kind: 'pan'; x: number; y: number; tx: number; ty: number }
+  | { kind: 'pan'; x: number; y: number; tx: number; ty: number; node?: string }
   | { kind: 'move'; x: number; y: number; start: Map<string, [number, number]>; moved: boolean }
   | { kind: 'box'; x0: number; y0: number; x1: number; y1: number; add: boolean }
   | { kind: 'wire'; from: string; x: number; y: number }
@@ -47,6 +49,7 @@ export class NetworkEditor {
   private framedAt: string | null = null;
   private mouse: [number, number] = [0, 0];
   private mouseAt: [number, number] | null = null;
+  private lastNoteDown: { id: string; at: number } | null = null;
   /** The selected note or box (nodes are the store's selection). */
   private picked: Annotation | null = null;
   /** A note's or resized note's geometry while dragged, until the document has it. */
@@ -154,7 +157,8 @@ export class NetworkEditor {
     const t = this.target(e);
     const [wx, wy] = this.toWorld(e.clientX, e.clientY);
     if (e.button === 1 || (e.button === 0 && e.altKey)) {
-      this.drag = { kind: 'pan', x: e.clientX, y: e.clientY, tx: this.tx, ty: this.ty };
+      // A middle-click that does not move is Houdini's node info.
+      this.drag = { kind: 'pan', x: e.clientX, y: e.clientY, tx: this.tx, ty: this.ty, node: e.button === 1 ? t.node : undefined };
       return;
     }
     if (e.button !== 0) return;
@@ -243,6 +247,10 @@ export class NetworkEditor {
     const d = this.drag;
     this.drag = null;
     if (!d) return;
+    if (d.kind === 'pan' && d.node && Math.hypot(e.clientX - d.x, e.clientY - d.y) < 4) {
+      this.actions.info(join(this.store.at, d.node));
+      return;
+    }
     if (d.kind === 'note') {
       const note = this.net()?.notes?.[d.id];
       const moved = this.notePending.get(d.id);
@@ -281,8 +289,6 @@ export class NetworkEditor {
 
   private onDoubleClick(e: MouseEvent) {
     const t = this.target(e);
-    const note = (e.target as Element).closest('[data-note]')?.getAttribute('data-note');
-    if (!t.node && note) return this.writeNote(note);
     if (!t.node) return;
     const node = this.net()?.nodes[t.node];
     if ((e.target as Element).closest('.node-name')) {
@@ -395,6 +401,16 @@ export class NetworkEditor {
     const net = this.net();
     const note = t.closest('[data-note]')?.getAttribute('data-note');
     if (note && net?.notes?.[note]) {
+      // The redraw below replaces the note under the mouse, so a double-click is told by time.
+      const now = performance.now();
+      if (this.lastNoteDown?.id === note && now - this.lastNoteDown.at < 400 && !t.hasAttribute('data-note-resize')) {
+        this.lastNoteDown = null;
+        // The press would take the focus back from the text field.
+        e.preventDefault();
+        setTimeout(() => this.writeNote(note), 0);
+        return true;
+      }
+      this.lastNoteDown = { id: note, at: now };
       this.picked = { kind: 'note', id: note };
       const n = net.notes[note];
       const resize = t.hasAttribute('data-note-resize');
@@ -408,6 +424,8 @@ export class NetworkEditor {
     if (box && net?.boxes?.[box]) {
       this.picked = { kind: 'box', id: box };
       if (!bar) {
+        // The box alone is selected: C colours it, Delete removes it.
+        this.actions.select([], null);
         this.render();
         return true;
       }
@@ -429,6 +447,7 @@ export class NetworkEditor {
   addNote() {
     const id = freshId(this.net()?.notes, 'note');
     this.picked = { kind: 'note', id };
+    this.actions.select([], null);
     void this.actions.edit({ kind: 'set_note', parent: this.store.at, id, note: newNote(this.mouse) });
   }
 
@@ -438,17 +457,17 @@ export class NetworkEditor {
     const names = [...this.store.selected].filter((p) => parentOf(p) === this.store.at).map((p) => p.slice(p.lastIndexOf('/') + 1));
     if (!net || !names.length) return;
     const id = freshId(net.boxes, 'box');
-    this.picked = { kind: 'box', id };
     void this.actions.edit({ kind: 'set_box', parent: this.store.at, id, box: { label: `Box ${id.slice(3)}`, nodes: names } });
   }
 
-  /** C: colours the selected nodes, or the selected note or box, from the palette. */
+  /** C: colours the selected nodes, or else the selected note or box, from the palette. */
   async colour() {
     const at = this.mouseAt ?? [200, 200];
     const c = await pickColor(at[0], at[1]);
     if (c === undefined) return;
     const net = this.net();
-    const p = this.picked;
+    // Selected nodes first (Houdini's C); else the selected note or box.
+    const p = this.store.selected.size ? null : this.picked;
     if (p?.kind === 'note' && net?.notes?.[p.id]) {
       void this.actions.edit({ kind: 'set_note', parent: this.store.at, id: p.id, note: { ...net.notes[p.id], color: c ?? undefined } });
     } else if (p?.kind === 'box' && net?.boxes?.[p.id]) {

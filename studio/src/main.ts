@@ -5,6 +5,7 @@ import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
 import { CurveEditor, curvesOf } from './curves';
+import { showInfo, type NodeInfo } from './info';
 import { CookBar } from './cookbar';
 import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
@@ -12,7 +13,7 @@ import { createStore } from './store';
 import { TabMenu } from './tabmenu';
 import { Timeline } from './timeline';
 import { renderTrace } from './trace';
-import { Viewport, type Drawn } from './viewport';
+import { Viewport, type Drawn, type ViewName, type ViewportHit } from './viewport';
 
 const $ = <T extends HTMLElement>(sel: string) => document.querySelector(sel) as T;
 
@@ -68,7 +69,18 @@ const editor = new NetworkEditor($('#editor'), store, {
   view,
   select,
   openTabMenu: () => undefined,
+  info: (path: string) => void openInfo(path),
 });
+
+/** The node info panel for `path`, over the network editor. */
+async function openInfo(path: string) {
+  const r = await conn.request({ op: 'info', path });
+  if (!r.ok) {
+    say(`info: ${r.error ?? 'failed'}`, true);
+    return;
+  }
+  showInfo($('#editor'), r.info as NodeInfo);
+}
 const params = new ParamPanel($('#params'), store, {
   edit,
   values: async (path: string) => {
@@ -106,6 +118,8 @@ const probe = {
   /** The last redraws' times: editor, parameters, the rest (ms). */
   panes: [] as number[][],
   received: 0,
+  /** The last pick's point, vertex and primitive. */
+  picked: null as { point: number; vertex: number | null; primitive: number | null } | null,
   /** When the last `cooked` message arrived (performance.now()). */
   cookedAt: 0,
   edit,
@@ -178,7 +192,36 @@ function onBinary(buf: ArrayBuffer) {
     notice = reducedNotice(g.parts);
     renderHud();
   });
+  viewport.mark(null);
+  if (viewport.display.primNumbers) void loadPrimCenters();
 }
+
+/** The viewed geometry's primitive centres for the primitive numbers. */
+async function loadPrimCenters() {
+  const r = await conn.request({ op: 'centers', limit: 50_000 });
+  viewport.setPrimCenters(r.ok ? new Float32Array(r.centers as number[]) : null);
+}
+
+/** A click in the viewport: the element under it selected in the spreadsheet (its tab's class) and marked. */
+async function pickAt(hit: ViewportHit | null) {
+  if (!hit) {
+    viewport.mark(null);
+    return;
+  }
+  const r = await conn.request({ op: 'pick', entry: hit.entry, hit: hit.hit, at: hit.at });
+  if (!r.ok) {
+    say(`pick: ${r.error ?? 'nothing there'}`, true);
+    return;
+  }
+  const p = r.picked as { point: number; vertex: number | null; primitive: number | null };
+  probe.picked = p;
+  const cls = sheet.cls === 'detail' ? 'point' : sheet.cls;
+  const row = cls === 'point' ? p.point : cls === 'vertex' ? p.vertex : p.primitive;
+  if (row !== null) sheet.reveal(cls, row);
+  viewport.mark(hit.at);
+  say(`picked point ${p.point}${p.primitive !== null ? `, primitive ${p.primitive}` : ''}${p.vertex !== null ? `, vertex ${p.vertex}` : ''}`);
+}
+viewport.onPick = (hit) => void pickAt(hit);
 
 const conn = new Connection(
   `${location.protocol === 'https:' ? 'wss' : 'ws'}://${location.host}/ws?token=${encodeURIComponent(token)}`,
@@ -258,6 +301,12 @@ store.subscribe(() => {
   if (probe.panes.length > 100) probe.panes.shift();
 });
 
+const viewHotkeys: Record<string, ViewName> = { '1': 'persp', '2': 'top', '3': 'front', '4': 'right' };
+let spaceHeld = false;
+window.addEventListener('keydown', (e) => e.key === ' ' && (spaceHeld = true));
+window.addEventListener('keyup', (e) => e.key === ' ' && (spaceHeld = false));
+window.addEventListener('blur', () => (spaceHeld = false));
+
 /** The frames where the selected node has keys (ticks on the timeline). */
 function keyFrames(): number[] {
   const node = store.current && store.state ? nodeAt(store.state.document, store.current) : null;
@@ -335,6 +384,13 @@ document.addEventListener('keydown', (e) => {
   if (mod && e.key.toLowerCase() === 'c') return copy();
   if (mod && e.key.toLowerCase() === 'v') return void paste();
   if (mod) return;
+  if (spaceHeld && viewHotkeys[e.key] && document.querySelector('#viewport:hover')) {
+    // Houdini's Space+1..4: perspective, top, front, right.
+    e.preventDefault();
+    viewport.setView(viewHotkeys[e.key]);
+    ($('#view-name') as HTMLSelectElement).value = viewHotkeys[e.key];
+    return;
+  }
   const inViewport = (e.target as HTMLElement).closest?.('#viewport') || document.querySelector('#viewport:hover');
   const current = store.current;
   switch (e.key) {
@@ -354,6 +410,11 @@ document.addEventListener('keydown', (e) => {
     case 'O':
       // Shift+O: a network box around the selection.
       if (!inViewport) editor.boxSelection();
+      break;
+    case 'i':
+    case 'I':
+      // The current node's info (a middle-click on a node shows it too).
+      if (current && !inViewport) void openInfo(current);
       break;
     case 'c':
     case 'C':
@@ -436,6 +497,14 @@ $('#export').addEventListener('change', () => {
 });
 $('#solo-state').addEventListener('click', () => view(null));
 $('#view-btn').addEventListener('click', () => store.current && view(store.current));
+for (const [id, key] of [['#show-points', 'points'], ['#show-normals', 'normals'], ['#show-ptnum', 'pointNumbers'], ['#show-primnum', 'primNumbers']] as const) {
+  $(id).addEventListener('change', () => {
+    viewport.display[key] = ($(id) as HTMLInputElement).checked;
+    if (key === 'primNumbers' && viewport.display.primNumbers) void loadPrimCenters();
+    viewport.rebuild();
+  });
+}
+$('#view-name').addEventListener('change', () => viewport.setView(($('#view-name') as HTMLSelectElement).value as ViewName));
 for (const [id, key] of [['#wire', 'wireframe'], ['#flat', 'forceFlat']] as const) {
   $(id).addEventListener('change', () => {
     viewport[key] = ($(id) as HTMLInputElement).checked;

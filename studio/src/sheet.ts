@@ -51,7 +51,7 @@ export class Spreadsheet {
   private selectedRow: number | null = null;
 
   constructor(
-    host: HTMLElement,
+    private host: HTMLElement,
     private fetchRows: (cls: SheetClass, start: number, count: number) => Promise<Window | null>,
     private onPick: (row: Record<string, string>) => void,
   ) {
@@ -92,6 +92,21 @@ export class Spreadsheet {
     });
   }
 
+  /** Shows row `row` of class `cls` selected and scrolled into view (a pick in the viewport). */
+  reveal(cls: SheetClass, row: number) {
+    if (cls !== this.cls) {
+      this.cls = cls;
+      this.host.querySelectorAll<HTMLButtonElement>('.sheet-tabs button').forEach((b) => b.classList.toggle('on', b.dataset.cls === cls));
+      this.reset();
+    }
+    this.selectedRow = row;
+    const top = row * ROW_H;
+    if (top < this.body.scrollTop || top + ROW_H > this.body.scrollTop + this.body.clientHeight) {
+      this.body.scrollTop = Math.max(0, top - this.body.clientHeight / 2);
+    }
+    this.draw();
+  }
+
   /** A new result: forget the rows held. */
   invalidate(generation: number) {
     if (generation === this.generation) return;
@@ -104,7 +119,7 @@ export class Spreadsheet {
     this.chunks.clear();
     this.loading.clear();
     this.selectedRow = null;
-    void this.load(0);
+    void this.load(Math.floor(this.body.scrollTop / ROW_H / CHUNK));
   }
 
   private async load(chunk: number) {

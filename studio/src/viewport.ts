@@ -2,7 +2,18 @@
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { Labels, normalsOverlay, pointsOverlay, type DisplayOptions } from './overlays';
 import type { DecodedGeometry, GeometryPart } from './protocol';
+
+/** The views Houdini's Space+1..4 choose: perspective, and top, front and right orthographic. */
+export type ViewName = 'persp' | 'top' | 'front' | 'right';
+
+/** Where a click landed: the part (bundle entry), what was hit by its index in the drawn arrays, and the point in space. */
+export interface ViewportHit {
+  entry: string;
+  hit: { triangle: number } | { segment: number } | { point: number };
+  at: [number, number, number];
+}
 
 /** While the camera moves, point clouds larger than this draw every k-th point (Houdini decimates while tumbling too). */
 export const TUMBLE_POINTS = 100_000;
@@ -39,8 +50,18 @@ export function checksum(a: Float32Array): number {
 export class Viewport {
   readonly renderer: THREE.WebGLRenderer;
   private scene = new THREE.Scene();
-  private camera: THREE.PerspectiveCamera;
+  private camera: THREE.PerspectiveCamera | THREE.OrthographicCamera;
+  private perspective: THREE.PerspectiveCamera;
+  private ortho = new THREE.OrthographicCamera(-1, 1, 1, -1, -1e5, 1e5);
+  view: ViewName = 'persp';
   private controls: OrbitControls;
+  display: DisplayOptions = { points: false, normals: false, pointNumbers: false, primNumbers: false };
+  private pointLabels: Labels;
+  private primLabels: Labels;
+  private primCenters: Float32Array | null = null;
+  private marker: THREE.Points;
+  /** Called with what a click (a press and release without moving) landed on. */
+  onPick: ((hit: ViewportHit | null) => void) | null = null;
   private content = new THREE.Group();
   private grid: THREE.GridHelper;
   private bounds: THREE.Box3 | null = null;
@@ -60,9 +81,20 @@ export class Viewport {
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
     this.renderer.setClearColor(0x2b2f36);
     host.appendChild(this.renderer.domElement);
-    this.camera = new THREE.PerspectiveCamera(45, 1, 0.01, 1e5);
+    this.perspective = new THREE.PerspectiveCamera(45, 1, 0.01, 1e5);
+    this.camera = this.perspective;
     this.camera.position.set(4, 4.5, 6);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    // Houdini's mouse: left tumbles, middle pans, right dollies.
+    this.controls.mouseButtons = { LEFT: THREE.MOUSE.ROTATE, MIDDLE: THREE.MOUSE.PAN, RIGHT: THREE.MOUSE.DOLLY };
+    this.pointLabels = new Labels(host, 'point-labels');
+    this.primLabels = new Labels(host, 'prim-labels');
+    const markerGeo = new THREE.BufferGeometry();
+    markerGeo.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3), 3));
+    this.marker = new THREE.Points(markerGeo, new THREE.PointsMaterial({ color: 0xffd84a, size: 11, sizeAttenuation: false, depthTest: false }));
+    this.marker.visible = false;
+    this.marker.renderOrder = 10;
+    this.clickWatch();
     this.controls.addEventListener('change', () => (this.needsRender = true));
     this.controls.addEventListener('start', () => this.tumbling(true));
     this.controls.addEventListener('end', () => this.tumbling(false));
@@ -72,13 +104,14 @@ export class Viewport {
     this.camera.add(head);
     this.scene.add(this.camera);
     this.grid = new THREE.GridHelper(20, 20, 0x555b66, 0x3a3f48);
-    this.scene.add(this.grid, this.content);
+    this.scene.add(this.grid, this.content, this.marker);
     new ResizeObserver(() => this.resize()).observe(host);
     this.resize();
     const loop = () => {
       if (this.needsRender) {
         this.needsRender = false;
         this.renderer.render(this.scene, this.camera);
+        this.drawLabels();
       }
       requestAnimationFrame(loop);
     };
@@ -97,9 +130,109 @@ export class Viewport {
     const { clientWidth: w, clientHeight: h } = this.host;
     if (!w || !h) return;
     this.renderer.setSize(w, h, false);
-    this.camera.aspect = w / h;
-    this.camera.updateProjectionMatrix();
+    this.perspective.aspect = w / h;
+    this.perspective.updateProjectionMatrix();
+    this.fitOrtho();
     this.needsRender = true;
+  }
+
+  /** The orthographic frustum at the view's aspect, keeping its height. */
+  private fitOrtho() {
+    const { clientWidth: w, clientHeight: h } = this.host;
+    const half = (this.ortho.top - this.ortho.bottom) / 2 || 1;
+    const aspect = w && h ? w / h : 1;
+    this.ortho.left = -half * aspect;
+    this.ortho.right = half * aspect;
+    this.ortho.updateProjectionMatrix();
+  }
+
+  /** Switches between perspective and the orthographic top, front and right views (Space+1..4). */
+  setView(view: ViewName) {
+    this.view = view;
+    const target = this.controls.target.clone();
+    const dist = Math.max(1e-3, this.camera.position.distanceTo(target));
+    if (view === 'persp') {
+      this.perspective.position.copy(target.clone().add(new THREE.Vector3(0.5, 0.45, 0.75).normalize().multiplyScalar(dist)));
+      this.camera = this.perspective;
+      this.controls.enableRotate = true;
+    } else {
+      const dir = { top: new THREE.Vector3(0, 1, 0), front: new THREE.Vector3(0, 0, 1), right: new THREE.Vector3(1, 0, 0) }[view];
+      this.ortho.position.copy(target.clone().add(dir.multiplyScalar(dist)));
+      this.ortho.up.set(0, view === 'top' ? 0 : 1, view === 'top' ? -1 : 0);
+      const size = this.bounds?.getSize(new THREE.Vector3()).length() ?? dist;
+      this.ortho.top = size * 0.6;
+      this.ortho.bottom = -size * 0.6;
+      this.ortho.zoom = 1;
+      this.fitOrtho();
+      this.camera = this.ortho;
+      // Ortho views pan and zoom; tumbling would leave the axis.
+      this.controls.enableRotate = false;
+    }
+    this.controls.object = this.camera;
+    this.camera.lookAt(target);
+    this.controls.update();
+    this.needsRender = true;
+  }
+
+  /** A press and release within a few pixels is a pick, not a tumble. */
+  private clickWatch() {
+    const canvas = this.renderer.domElement;
+    let down: [number, number] | null = null;
+    canvas.addEventListener('pointerdown', (e) => (down = e.button === 0 ? [e.clientX, e.clientY] : null));
+    canvas.addEventListener('pointerup', (e) => {
+      if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+      down = null;
+      this.onPick?.(this.raycast(e.clientX, e.clientY));
+    });
+  }
+
+  /** What lies under a page position: the nearest drawn triangle, segment or loose point of a pickable part. */
+  raycast(cx: number, cy: number): ViewportHit | null {
+    const r = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((cx - r.left) / r.width) * 2 - 1, -((cy - r.top) / r.height) * 2 + 1);
+    const ray = new THREE.Raycaster();
+    const size = this.bounds?.getSize(new THREE.Vector3()).length() ?? 1;
+    ray.params.Points = { threshold: size * 0.01 };
+    ray.params.Line = { threshold: size * 0.01 };
+    ray.setFromCamera(ndc, this.camera);
+    const pickable = this.content.children.filter((o) => o.userData.pick);
+    for (const h of ray.intersectObjects(pickable, false)) {
+      const { entry, pick } = h.object.userData as { entry: string; pick: 'triangle' | 'segment' | 'point' };
+      const at = h.point.toArray() as [number, number, number];
+      if (pick === 'triangle' && h.faceIndex != null) return { entry, hit: { triangle: h.faceIndex }, at };
+      if (pick === 'segment' && h.index != null) return { entry, hit: { segment: Math.floor(h.index / 2) }, at };
+      if (pick === 'point' && h.index != null) return { entry, hit: { point: h.index }, at };
+    }
+    return null;
+  }
+
+  /** Marks a picked point (null clears the mark). */
+  mark(at: [number, number, number] | null) {
+    this.marker.visible = !!at;
+    if (at) {
+      const p = this.marker.geometry.getAttribute('position') as THREE.BufferAttribute;
+      p.setXYZ(0, ...at);
+      p.needsUpdate = true;
+    }
+    this.needsRender = true;
+  }
+
+  /** Primitive centres for the primitive numbers (from the server; null while unknown). */
+  setPrimCenters(c: Float32Array | null) {
+    this.primCenters = c;
+    this.needsRender = true;
+  }
+
+  private drawLabels() {
+    const { clientWidth: w, clientHeight: h } = this.host;
+    const first = this.last?.parts.find((p) => p.positions?.length && !p.instances && !p.reduced);
+    this.pointLabels.update(this.display.pointNumbers && first ? first.positions : null, this.camera, w, h);
+    this.primLabels.update(this.display.primNumbers ? this.primCenters : null, this.camera, w, h);
+  }
+
+  /** How many point and primitive numbers are showing (for tests). */
+  labelCounts(): [number, number] {
+    return [this.pointLabels.count(), this.primLabels.count()];
   }
 
   /** Replaces what is drawn; resolves once a frame with it has been rendered. */
@@ -210,7 +343,10 @@ export class Viewport {
       const flat = this.forceFlat || !hasNormals;
       const color = hasColors ? 0xffffff : uniform.getHex();
       const mat = this.material(`mesh ${color} ${hasColors} ${flat}`, () => new THREE.MeshStandardMaterial({ color, vertexColors: hasColors, flatShading: flat, roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide }));
-      objects.push(part.instances ? instanced(geo, mat, part.instances) : new THREE.Mesh(geo, mat));
+      const mesh = part.instances ? instanced(geo, mat, part.instances) : new THREE.Mesh(geo, mat);
+      // Picking names elements by the drawn arrays: a reduced or instanced part has none of its own.
+      if (!part.instances && !part.reduced) mesh.userData = { pick: 'triangle', entry: part.name };
+      objects.push(mesh);
       if (this.wireframe) {
         const wire = this.material('wire', () => new THREE.MeshBasicMaterial({ color: 0x101418, wireframe: true, transparent: true, opacity: 0.35 }));
         objects.push(part.instances ? instanced(geo, wire, part.instances) : new THREE.Mesh(geo, wire));
@@ -223,7 +359,9 @@ export class Viewport {
       if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.lines, 1));
       const colored = !!part.colors;
-      objects.push(new THREE.LineSegments(geo, this.material(`lines ${colored}`, () => new THREE.LineBasicMaterial({ color: colored ? 0xffffff : 0xe0e6ef, vertexColors: colored }))));
+      const lines = new THREE.LineSegments(geo, this.material(`lines ${colored}`, () => new THREE.LineBasicMaterial({ color: colored ? 0xffffff : 0xe0e6ef, vertexColors: colored })));
+      if (!part.instances) lines.userData = { pick: 'segment', entry: part.name };
+      objects.push(lines);
       drawn.lines += (part.lines.length / 2) * count;
     }
     if (part.points?.length) {
@@ -232,11 +370,27 @@ export class Viewport {
       if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.points, 1));
       const colored = !!part.colors;
-      objects.push(new THREE.Points(geo, this.material(`points ${colored}`, () => new THREE.PointsMaterial({ color: colored ? 0xffffff : 0xf2f5f8, vertexColors: colored, size: 3, sizeAttenuation: false }))));
+      const dots = new THREE.Points(geo, this.material(`points ${colored}`, () => new THREE.PointsMaterial({ color: colored ? 0xffffff : 0xf2f5f8, vertexColors: colored, size: 3, sizeAttenuation: false })));
+      if (!part.instances && !part.reduced) dots.userData = { pick: 'point', entry: part.name };
+      objects.push(dots);
       drawn.points += part.points.length * count;
     }
     if (part.instances) drawn.instances += count;
+    if (!part.instances) this.addOverlays(part, objects);
     this.content.add(...objects);
+  }
+
+  /** Points and normals over a part, as the display options ask. */
+  private addOverlays(part: GeometryPart, objects: THREE.Object3D[]) {
+    if (this.display.points) {
+      const dots = pointsOverlay(part, this.material('overlay-points', () => new THREE.PointsMaterial({ color: 0xf5d142, size: 4, sizeAttenuation: false })));
+      if (dots) objects.push(dots);
+    }
+    if (this.display.normals) {
+      const size = this.last?.bounds ? new THREE.Vector3(...this.last.bounds[1]).distanceTo(new THREE.Vector3(...this.last.bounds[0])) : 1;
+      const lines = normalsOverlay(part, size * 0.03, this.material('overlay-normals', () => new THREE.LineBasicMaterial({ color: 0x5aa8ff })));
+      if (lines) objects.push(lines);
+    }
   }
 
   /** Frames the whole result (or the selected points when `selected`). */
@@ -247,11 +401,19 @@ export class Viewport {
     const center = box.getCenter(new THREE.Vector3());
     const dir = this.camera.position.clone().sub(this.controls.target).normalize();
     if (!Number.isFinite(dir.x) || dir.lengthSq() === 0) dir.set(0.5, 0.4, 0.8).normalize();
-    const dist = size / (2 * Math.tan((this.camera.fov * Math.PI) / 360)) + size * 0.2;
+    const dist = size / (2 * Math.tan((this.perspective.fov * Math.PI) / 360)) + size * 0.2;
+    if (this.camera === this.ortho) {
+      this.ortho.top = size * 0.6;
+      this.ortho.bottom = -size * 0.6;
+      this.ortho.zoom = 1;
+      this.fitOrtho();
+    }
     this.controls.target.copy(center);
     this.camera.position.copy(center.clone().add(dir.multiplyScalar(dist)));
-    this.camera.near = Math.max(1e-4, dist / 1000);
-    this.camera.far = dist * 100;
+    if (this.camera === this.perspective) {
+      this.perspective.near = Math.max(1e-4, dist / 1000);
+      this.perspective.far = dist * 100;
+    }
     this.camera.updateProjectionMatrix();
     this.controls.update();
     this.grid.scale.setScalar(Math.max(0.1, 10 ** Math.round(Math.log10(size / 4))));

@@ -63,6 +63,11 @@ impl Cooker {
         }
     }
 
+    /// The cache cooks share (info requests cook through it too).
+    pub fn cache(&self) -> &Cache {
+        &self.cache
+    }
+
     /// Cancels the cook in flight (its result will not be delivered); the
     /// generation of the cook stopped, if one was still running.
     pub fn cancel(&self, generation: u64) -> Option<u64> {

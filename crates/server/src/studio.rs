@@ -60,6 +60,24 @@ pub enum Request {
     Values {
         path: String,
     },
+    /// The point, vertex and primitive under a click in the viewport.
+    Pick {
+        #[serde(default)]
+        entry: Option<String>,
+        hit: crate::pick::Hit,
+        at: [f32; 3],
+    },
+    /// Centres of the viewed geometry's first `limit` primitives (their
+    /// numbers in the viewport).
+    Centers {
+        #[serde(default)]
+        entry: Option<String>,
+        limit: usize,
+    },
+    /// What the node info panel shows of a node at the viewed frame.
+    Info {
+        path: String,
+    },
     /// Stop the cook in flight.
     Cancel,
 }
@@ -284,6 +302,32 @@ impl Studio {
                     .map_err(Refusal::request)
             }
             Request::Values { path } => return self.values(&path).map_err(Refusal::request),
+            Request::Info { path } => {
+                let frame = lock(&self.view).frame;
+                let net = lock(&self.session)
+                    .network()
+                    .as_ref()
+                    .map_err(|_| Refusal::request("the network does not load"))?
+                    .clone();
+                if !net.paths().any(|p| p == path) {
+                    return Err(Refusal::request(format!("no node {path}")));
+                }
+                let info =
+                    crate::info::node_info(&net, self.cooker.cache(), &path, frame, &self.env);
+                return Ok(json!({ "info": info }));
+            }
+            Request::Pick { entry, hit, at } => {
+                let (geo, generation) = self.viewed(entry.as_deref()).map_err(Refusal::request)?;
+                let picked = crate::pick::pick(&geo, hit, geode_geo::glam::Vec3::from_array(at))
+                    .ok_or_else(|| Refusal::request("nothing drawn there"))?;
+                return Ok(json!({"picked": picked, "generation": generation}));
+            }
+            Request::Centers { entry, limit } => {
+                let (geo, generation) = self.viewed(entry.as_deref()).map_err(Refusal::request)?;
+                let limit = limit.min(200_000);
+                return Ok(json!({"centers": crate::pick::prim_centers(&geo, limit),
+                    "total": geo.num_prims(), "generation": generation}));
+            }
             Request::Cancel => {
                 let _order = lock(&self.order);
                 let g = self.generation.fetch_add(1, Ordering::SeqCst) + 1;
@@ -329,8 +373,18 @@ impl Studio {
         count: usize,
         entry: Option<&str>,
     ) -> Result<Json, String> {
+        let (geo, generation) = self.viewed(entry)?;
+        let mut j = sheet::window(&geo, class, start, count);
+        j["generation"] = json!(generation);
+        j["node"] = json!(self.hub.last().map(|l| l.node));
+        Ok(j)
+    }
+
+    /// The viewed result's geometry (a bundle's entry, by name or the first)
+    /// and the generation that cooked it.
+    fn viewed(&self, entry: Option<&str>) -> Result<(Arc<geode_geo::Geometry>, u64), String> {
         let last = self.hub.last().ok_or("nothing has cooked yet")?;
-        let geo = match (&last.value, entry) {
+        let geo = match (&last.value, entry.filter(|e| !e.is_empty())) {
             (Some(geode_op::Value::Geometry(g)), _) => g.clone(),
             (Some(geode_op::Value::Bundle(b)), Some(e)) => b
                 .entries
@@ -345,10 +399,7 @@ impl Studio {
                 .ok_or("the bundle is empty")?,
             _ => return Err("the viewed node has no geometry".into()),
         };
-        let mut j = sheet::window(&geo, class, start, count);
-        j["generation"] = json!(last.generation);
-        j["node"] = json!(last.node);
-        Ok(j)
+        Ok((geo, last.generation))
     }
 }
 

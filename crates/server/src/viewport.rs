@@ -107,7 +107,7 @@ impl Source {
 
 /// Visits the fan triangles of every polygon (first vertex as apex) as
 /// corners (prim, vertex, point): the one triangulation the viewport uses.
-fn for_each_fan(g: &Geometry, mut f: impl FnMut([(u32, u32, u32); 3])) {
+pub(crate) fn for_each_fan(g: &Geometry, mut f: impl FnMut([(u32, u32, u32); 3])) {
     let vp = g.vertex_points();
     let offsets = g.prim_offsets();
     for (prim, kind) in g.prim_kinds().iter().enumerate() {

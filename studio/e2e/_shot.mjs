@@ -1,0 +1,14 @@
+import { browser, clickNode, open, serve } from './harness.mjs';
+const chrome = await browser();
+const server = await serve('primitives.json');
+const { page } = await open(chrome.b, server.url);
+await page.waitForTimeout(1500);
+for (const id of ['#show-ptnum', '#show-primnum', '#show-normals', '#show-points']) await page.click(id);
+await page.waitForTimeout(1500);
+const vb = await page.locator('#viewport canvas').boundingBox();
+await page.mouse.click(vb.x + vb.width / 2, vb.y + vb.height / 2);
+await page.waitForTimeout(800);
+await page.keyboard.press('Shift+P');
+await page.screenshot({ path: '/tmp/daily1.png' });
+console.log(await page.evaluate(() => JSON.stringify([window.__geode.picked, window.__geode.viewport.labelCounts()])));
+await server.stop(); await chrome.close();
