@@ -108,7 +108,7 @@ describe('the network editor', () => {
     await clickNode(page, names[0]);
     const second = await boxOf(page.locator(`g.node[data-node="${names[1]}"] rect.body`));
     await page.keyboard.down('Shift');
-    await page.mouse.click(second.x + second.width * 0.8, second.y + second.height * 0.8);
+    await page.mouse.click(second.x + second.width * 0.7, second.y + second.height * 0.8);
     await page.keyboard.up('Shift');
     await page.mouse.move(editor.x + 30, editor.y + 30);
     await page.keyboard.press('Shift+O');
@@ -124,6 +124,19 @@ describe('the network editor', () => {
     assert.equal(Object.values(saved.notes)[0].text, 'remember the base');
     assert.deepEqual(Object.values(saved.boxes)[0].nodes.sort(), [names[0], names[1]].sort());
     assert.equal(saved.nodes[names[0]].ui.color, '#6fae4a');
+  });
+
+  test('the template flag (T) draws a second node as a ghost beside the viewed one', async () => {
+    const d = await doc();
+    const other = Object.keys(d.nodes).find((n) => n !== d.output);
+    await clickNode(page, other);
+    const editor = await boxOf(page.locator('#editor svg'));
+    await page.mouse.move(editor.x + 10, editor.y + 10);
+    await page.keyboard.press('t');
+    await page.waitForFunction((p) => window.__geode.viewport.templateNodes().includes(p), `/${other}`);
+    assert.ok(await page.locator(`g.node[data-node="${other}"] rect.template-flag.on`).count());
+    await page.keyboard.press('t');
+    await page.waitForFunction(() => window.__geode.viewport.templateNodes().length === 0);
   });
 
   test('a middle-click on a node opens its info: cook, counts, attributes', async () => {

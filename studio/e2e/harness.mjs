@@ -105,9 +105,9 @@ export async function boxOf(locator) {
 
 /** Clicks a node of the editor by name. */
 export async function clickNode(page, name) {
-  // Right of the labels and left of the display flag, at any zoom.
+  // Right of the labels and left of the template and display flags, at any zoom.
   const box = await boxOf(page.locator(`g.node[data-node="${name}"] rect.body`));
-  await page.mouse.click(box.x + box.width * 0.82, box.y + box.height * 0.8);
+  await page.mouse.click(box.x + box.width * 0.7, box.y + box.height * 0.8);
 }
 
 /** Types into a parameter's first (or `index`th) text field and commits it with Enter. */

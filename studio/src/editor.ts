@@ -173,6 +173,11 @@ export class NetworkEditor {
       void this.actions.edit({ kind: 'set_flag', path, flag: 'display', on: true });
       return;
     }
+    if (t.flag === 'template') {
+      const node = this.net()?.nodes[t.node];
+      void this.actions.edit({ kind: 'set_flag', path, flag: 'template', on: !node?.template });
+      return;
+    }
     if (t.flag === 'bypass') {
       const node = this.net()?.nodes[t.node];
       void this.actions.edit({ kind: 'set_flag', path, flag: 'bypass', on: !node?.bypass });
@@ -567,6 +572,7 @@ export class NetworkEditor {
     const body = el('rect', { class: 'body', width: NODE_W, height: NODE_H, rx: 5 }, g);
     if (node.ui?.color) body.style.fill = node.ui.color;
     el('rect', { class: 'flag bypass-flag' + (node.bypass ? ' on' : ''), x: 0, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'bypass' }, g);
+    el('rect', { class: 'flag template-flag' + (node.template ? ' on' : ''), x: NODE_W - 24, y: 0, width: 10, height: NODE_H, rx: 2, 'data-flag': 'template' }, g);
     el('rect', { class: 'flag display-flag' + (node.display || viewed ? ' on' : ''), x: NODE_W - 14, y: 0, width: 14, height: NODE_H, rx: 4, 'data-flag': 'display' }, g);
     const label = el('text', { class: 'node-name', x: 20, y: 13 }, g);
     label.textContent = name;

@@ -7,7 +7,7 @@ import { ParamPanel } from './params';
 import { CurveEditor, curvesOf } from './curves';
 import { showInfo, type NodeInfo } from './info';
 import { CookBar } from './cookbar';
-import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
+import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type DocNetwork, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
 import { createStore } from './store';
 import { TabMenu } from './tabmenu';
@@ -141,6 +141,7 @@ function onMessage(msg: ServerMsg) {
       if (store.current && !nodeAt(msg.document, store.current)) store.current = null;
       if (!store.current && msg.view.solo) store.current = msg.view.solo;
       store.progress.clear();
+      viewport.keepTemplates(templatedPaths());
       break;
     }
     case 'progress':
@@ -184,6 +185,10 @@ function onBinary(buf: ArrayBuffer) {
   const received = performance.now();
   probe.received = received;
   const g = decodeGeometry(buf);
+  if (g.template) {
+    if (templatedPaths().has(g.node)) viewport.showTemplate(g);
+    return;
+  }
   if (store.cooked && g.generation < store.cooked.generation) return;
   // A newly viewed node is framed; a recook of the same node keeps the camera.
   const framed = g.node !== viewport.drawn?.node;
@@ -194,6 +199,20 @@ function onBinary(buf: ArrayBuffer) {
   });
   viewport.mark(null);
   if (viewport.display.primNumbers) void loadPrimCenters();
+}
+
+/** Paths of the nodes with the template flag. */
+function templatedPaths(): Set<string> {
+  const out = new Set<string>();
+  const walk = (net: DocNetwork, at: string) => {
+    for (const [name, node] of Object.entries(net.nodes)) {
+      const path = join(at, name);
+      if (node.template) out.add(path);
+      if (node.network) walk(node.network, path);
+    }
+  };
+  if (store.state) walk(store.state.document, '/');
+  return out;
 }
 
 /** The viewed geometry's primitive centres for the primitive numbers. */
@@ -415,6 +434,11 @@ document.addEventListener('keydown', (e) => {
     case 'I':
       // The current node's info (a middle-click on a node shows it too).
       if (current && !inViewport) void openInfo(current);
+      break;
+    case 't':
+    case 'T':
+      // The template flag: the current node drawn as a ghost beside the viewed one.
+      if (current && !inViewport) void edit({ kind: 'set_flag', path: current, flag: 'template', on: !nodeAt(store.state!.document, current)?.template });
       break;
     case 'c':
     case 'C':

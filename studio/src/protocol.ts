@@ -39,6 +39,8 @@ export interface DocNode {
   inputs?: (string | null)[];
   bypass?: boolean;
   display?: boolean;
+  /** Houdini's template flag: drawn as a ghost beside the viewed node. */
+  template?: boolean;
   network?: DocNetwork;
   promote?: Record<string, string>;
   /** Spare parameters: name -> type (float, int, toggle, vector2, vector, vector4, string). */
@@ -206,6 +208,8 @@ export interface DecodedGeometry {
   bounds: [number[], number[]] | null;
   parts: GeometryPart[];
   bytes: number;
+  /** A templated node's result: drawn as a ghost beside the viewed one. */
+  template?: boolean;
 }
 
 const FLOAT_KEYS = ['positions', 'normals', 'colors', 'corners', 'cornerNormals', 'cornerColors', 'instances'] as const;
@@ -221,6 +225,7 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     node: string;
     bounds: [number[], number[]] | null;
     parts: Record<string, unknown>[];
+    template?: boolean;
   };
   const base = 8 + headerLen;
   const parts = header.parts.map((p) => {
@@ -239,7 +244,7 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     }
     return part;
   });
-  return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength };
+  return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength, template: header.template === true };
 }
 
 type Listener = (msg: ServerMsg) => void;

@@ -63,6 +63,8 @@ export class Viewport {
   /** Called with what a click (a press and release without moving) landed on. */
   onPick: ((hit: ViewportHit | null) => void) | null = null;
   private content = new THREE.Group();
+  /** Templated nodes' results by path, drawn as ghosts. */
+  private templates = new Map<string, THREE.Object3D>();
   private grid: THREE.GridHelper;
   private bounds: THREE.Box3 | null = null;
   private selection: THREE.Box3 | null = null;
@@ -257,6 +259,56 @@ export class Viewport {
   clear() {
     this.last = null;
     this.rebuild();
+  }
+
+  /** Draws a templated node's result as a ghost (wireframe, translucent, not pickable), replacing its previous one. */
+  showTemplate(g: DecodedGeometry) {
+    this.dropTemplate(g.node);
+    const group = new THREE.Group();
+    const ghost = this.material('template', () => new THREE.MeshBasicMaterial({ color: 0x9aa6b8, wireframe: true, transparent: true, opacity: 0.3, depthWrite: false }));
+    const lines = this.material('template-lines', () => new THREE.LineBasicMaterial({ color: 0x9aa6b8, transparent: true, opacity: 0.45 }));
+    for (const part of g.parts) {
+      if (!part.positions?.length) continue;
+      const geo = new THREE.BufferGeometry();
+      geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
+      if (part.triangles) {
+        geo.setIndex(new THREE.BufferAttribute(part.triangles, 1));
+        group.add(new THREE.Mesh(geo, ghost));
+      } else if (part.corners && part.cornerTriangles) {
+        const c = new THREE.BufferGeometry();
+        c.setAttribute('position', new THREE.BufferAttribute(part.corners, 3));
+        c.setIndex(new THREE.BufferAttribute(part.cornerTriangles, 1));
+        group.add(new THREE.Mesh(c, ghost));
+      }
+      if (part.lines?.length) {
+        const l = new THREE.BufferGeometry();
+        l.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
+        l.setIndex(new THREE.BufferAttribute(part.lines, 1));
+        group.add(new THREE.LineSegments(l, lines));
+      }
+    }
+    this.templates.set(g.node, group);
+    this.scene.add(group);
+    this.needsRender = true;
+  }
+
+  /** Keeps only the ghosts of `paths` (the nodes that still have the template flag). */
+  keepTemplates(paths: Set<string>) {
+    for (const node of [...this.templates.keys()]) if (!paths.has(node)) this.dropTemplate(node);
+  }
+
+  /** The paths drawn as ghosts (for tests). */
+  templateNodes(): string[] {
+    return [...this.templates.keys()];
+  }
+
+  private dropTemplate(node: string) {
+    const old = this.templates.get(node);
+    if (!old) return;
+    this.scene.remove(old);
+    old.traverse((x) => (x as THREE.Mesh).geometry?.dispose());
+    this.templates.delete(node);
+    this.needsRender = true;
   }
 
   /**

@@ -74,6 +74,10 @@ pub struct NodeDoc {
     pub bypass: bool,
     #[serde(default, skip_serializing_if = "is_false")]
     pub display: bool,
+    /// Houdini's template flag: the viewport draws this node's result as a
+    /// ghost beside what is viewed.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub template: bool,
     /// For `type: "subnet"`: the inner network.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub network: Option<Box<NetworkDoc>>,
@@ -100,6 +104,21 @@ pub struct SyntaxError {
     pub line: usize,
     pub column: usize,
     pub message: String,
+}
+
+/// Paths of the nodes with the template flag, subnets' contents included.
+pub fn templated(net: &NetworkDoc, prefix: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (name, node) in &net.nodes {
+        let path = format!("{prefix}/{name}");
+        if node.template {
+            out.push(path.clone());
+        }
+        if let Some(inner) = &node.network {
+            out.extend(templated(inner, &path));
+        }
+    }
+    out
 }
 
 impl Document {

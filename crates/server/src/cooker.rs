@@ -16,6 +16,8 @@ pub struct CookRequest {
     pub node: String,
     pub frame: f64,
     pub env: CookEnv,
+    /// Nodes with the template flag, cooked after `node` and shown as ghosts.
+    pub templates: Vec<String>,
 }
 
 /// A finished cook.
@@ -33,6 +35,8 @@ pub struct Finished {
 pub trait Reporter: Send + Sync + 'static {
     fn progress(&self, generation: u64, node: &str, fraction: f32);
     fn finished(&self, done: Finished);
+    /// A templated node's result (after the viewed node's), for the ghost display.
+    fn template(&self, _generation: u64, _node: &str, _value: Option<Value>) {}
 }
 
 /// Progress reports are thinned to one per node per interval (and every finish).
@@ -148,11 +152,25 @@ fn run(
     if current() {
         reporter.finished(Finished {
             generation,
-            node: req.node,
+            node: req.node.clone(),
             frame: req.frame,
             result,
             seconds: began.elapsed().as_secs_f64(),
         });
+    }
+    // Templates after the viewed node: they share its inputs through the cache.
+    let quiet = CookOptions {
+        progress: None,
+        ..opts
+    };
+    for t in req.templates.iter().filter(|t| **t != req.node) {
+        if !current() {
+            return;
+        }
+        let value = engine.cook(t, &quiet).ok().map(|r| r.value);
+        if current() {
+            reporter.template(generation, t, value);
+        }
     }
 }
 
@@ -190,6 +208,7 @@ mod tests {
             node: "/mesh".into(),
             frame: 1.0,
             env: CookEnv::default(),
+            templates: Vec::new(),
         }
     }
 

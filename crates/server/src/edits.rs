@@ -119,6 +119,8 @@ pub enum Edit {
 pub enum Flag {
     Bypass,
     Display,
+    /// Drawn as a ghost beside the viewed node (any number of nodes).
+    Template,
 }
 
 /// An edit that names something that is not there, or would make a network
@@ -367,6 +369,7 @@ fn add_node(
         inputs: Vec::new(),
         bypass: false,
         display: false,
+        template: false,
         network: geode_graph::container_spec(ty).map(|_| Box::new(NetworkDoc::default())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
@@ -635,6 +638,7 @@ fn set_flag(d: &mut Document, path: &str, flag: Flag, on: bool) -> Result<(), Ed
     }
     match flag {
         Flag::Bypass => net.nodes.get_mut(name).expect("checked").bypass = on,
+        Flag::Template => net.nodes.get_mut(name).expect("checked").template = on,
         Flag::Display => {
             // One display node per network, as in Houdini; it is the output.
             for (n, node) in net.nodes.iter_mut() {

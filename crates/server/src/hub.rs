@@ -95,6 +95,15 @@ impl Hub {
 }
 
 impl Reporter for Hub {
+    fn template(&self, generation: u64, node: &str, value: Option<Value>) {
+        let header = json!({"generation": generation, "node": node, "template": true});
+        // A template that fails or cannot be drawn is simply not shown: its own
+        // errors show when it is viewed.
+        if let Some(Ok(e)) = value.as_ref().map(|v| viewport::encode(v, header)) {
+            let _ = self.tx.send(Out::Binary(Bytes::from(e.bytes)));
+        }
+    }
+
     fn progress(&self, generation: u64, node: &str, fraction: f32) {
         self.send_json(&json!({"type": "progress", "generation": generation, "node": node, "fraction": fraction}));
     }

@@ -190,6 +190,7 @@ impl Studio {
                 node: node.clone(),
                 frame,
                 env: self.env.clone(),
+                templates: geode_graph::document::templated(&session.document().network, ""),
             }),
             _ => None,
         };
