@@ -78,6 +78,46 @@ describe('the viewport', () => {
   });
 });
 
+describe('recooks of the same topology', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('wave.json', [], {
+      'wave.json': network(
+        {
+          g: { type: 'grid', params: { rows: 40, columns: 40 } },
+          t: { type: 'transform', inputs: ['g'], display: true, params: { translate: [0, { keys: [{ frame: 1, value: 0 }, { frame: 10, value: 3 }] }, 0] } },
+        },
+        't',
+      ),
+    });
+    ({ page } = await open(chrome.b, server.url));
+    await page.waitForFunction(() => window.__geode.drawn?.triangles > 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('send only the changed arrays, drawn in place exactly as a whole message would be', async () => {
+    const g = await generation(page);
+    await page.evaluate(() => window.__geode.request({ op: 'frame', frame: 5 }));
+    await nextCook(page, g);
+    const drawn = await page.evaluate(() => window.__geode.drawn);
+    assert.equal(drawn.delta, true, 'drawn from a delta');
+    assert.ok(drawn.triangles > 0);
+    const bounds = await page.evaluate(() => window.__geode.store.cooked.stats.bounds);
+    assert.ok(Math.abs(bounds[0][1] - 4 / 3) < 1e-4, JSON.stringify(bounds));
+    // A page opened now gets the whole message for the same frame: the same drawing.
+    const { page: fresh } = await open(chrome.b, server.url);
+    await fresh.waitForFunction((gen) => window.__geode.drawn?.generation >= gen, drawn.generation);
+    const whole = await fresh.evaluate(() => window.__geode.drawn);
+    assert.equal(whole.delta, undefined);
+    assert.equal(whole.checksum, drawn.checksum);
+    await fresh.close();
+  });
+});
+
 describe('the network editor', () => {
   let server;
   let page;

@@ -190,6 +190,20 @@ function onBinary(buf: ArrayBuffer) {
     return;
   }
   if (store.cooked && g.generation < store.cooked.generation) return;
+  if (g.deltaOf !== undefined) {
+    const applied = viewport.applyDelta(g, received);
+    if (applied) {
+      void applied.then((d) => {
+        probe.drawn = d;
+        renderHud();
+      });
+      if (viewport.display.primNumbers) void loadPrimCenters();
+    } else {
+      // The delta's base is not what this page drew: ask for the whole geometry.
+      void fetch('/api/geometry').then(async (r) => r.ok && onBinary(await r.arrayBuffer()));
+    }
+    return;
+  }
   // A newly viewed node is framed; a recook of the same node keeps the camera.
   const framed = g.node !== viewport.drawn?.node;
   void viewport.show(g, received, framed).then((d) => {

@@ -210,7 +210,10 @@ export interface DecodedGeometry {
   bytes: number;
   /** A templated node's result: drawn as a ghost beside the viewed one. */
   template?: boolean;
+  /** A delta: only the arrays that changed since this generation (the parts hold just those). */
+  deltaOf?: number;
 }
+
 
 const FLOAT_KEYS = ['positions', 'normals', 'colors', 'corners', 'cornerNormals', 'cornerColors', 'instances'] as const;
 const UINT_KEYS = ['triangles', 'cornerTriangles', 'lines', 'points'] as const;
@@ -226,6 +229,7 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     bounds: [number[], number[]] | null;
     parts: Record<string, unknown>[];
     template?: boolean;
+    deltaOf?: number;
   };
   const base = 8 + headerLen;
   const parts = header.parts.map((p) => {
@@ -244,7 +248,26 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     }
     return part;
   });
-  return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength, template: header.template === true };
+  return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength, template: header.template === true, deltaOf: header.deltaOf };
+}
+
+/** The arrays a part may carry. */
+export const PART_ARRAYS = [...FLOAT_KEYS, ...UINT_KEYS];
+
+/** `base` with the arrays a delta carries put in (same parts, in order). */
+export function mergeDelta(base: DecodedGeometry, delta: DecodedGeometry): DecodedGeometry {
+  const parts = base.parts.map((p, i) => {
+    const d = delta.parts[i] as unknown as Record<string, unknown>;
+    const out = { ...p } as unknown as Record<string, unknown>;
+    for (const k of PART_ARRAYS) if (d && d[k] !== undefined && (d[k] as ArrayLike<number>).length) out[k] = d[k];
+    return out as unknown as GeometryPart;
+  });
+  return { ...delta, parts, deltaOf: undefined };
+}
+
+/** The array keys a delta changes, per part. */
+export function deltaKeys(delta: DecodedGeometry): string[][] {
+  return delta.parts.map((p) => PART_ARRAYS.filter((k) => ((p as unknown as Record<string, unknown>)[k] as ArrayLike<number> | undefined)?.length));
 }
 
 type Listener = (msg: ServerMsg) => void;

@@ -3,7 +3,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { Labels, normalsOverlay, pointsOverlay, type DisplayOptions } from './overlays';
-import type { DecodedGeometry, GeometryPart } from './protocol';
+import { deltaKeys, mergeDelta, type DecodedGeometry, type GeometryPart } from './protocol';
 
 /** The views Houdini's Space+1..4 choose: perspective, and top, front and right orthographic. */
 export type ViewName = 'persp' | 'top' | 'front' | 'right';
@@ -35,6 +35,8 @@ export interface Drawn {
   drawMs: number;
   /** When that frame was drawn (performance.now()). */
   drawnAt: number;
+  /** Drawn by updating the buffers of the previous result in place (a delta). */
+  delta?: boolean;
 }
 
 /** A cheap, order-sensitive checksum of a float array (sampled for very large arrays). */
@@ -75,6 +77,8 @@ export class Viewport {
   private needsRender = true;
   /** Full and decimated versions of large point clouds, swapped while tumbling. */
   private tumbleSwaps: { full: THREE.Object3D; light: THREE.Object3D }[] = [];
+  /** The buffer attributes made from each part's arrays, by `part index:key` (a delta updates them in place). */
+  private attrs = new Map<string, THREE.BufferAttribute[]>();
   /** Materials by their settings, kept across rebuilds (see `material`). */
   private materials = new Map<string, THREE.Material>();
 
@@ -332,14 +336,78 @@ export class Viewport {
       o.traverse((x) => (x as THREE.Mesh).geometry?.dispose());
     }
     this.tumbleSwaps = [];
+    this.attrs.clear();
     const g = this.last;
     const drawn: Drawn = { generation: g?.generation ?? 0, node: g?.node ?? '', triangles: 0, lines: 0, points: 0, instances: 0, instancesAsPoints: false, checksum: 0, drawMs: 0, drawnAt: 0 };
-    for (const part of g?.parts ?? []) {
+    (g?.parts ?? []).forEach((part, i) => {
       drawn.checksum = (drawn.checksum * 31 + checksum(part.positions) + (part.instances ? checksum(part.instances) : 0)) >>> 0;
+      this.partIndex = i;
       this.addPart(part, drawn);
-    }
+    });
     this.drawn = drawn;
     this.needsRender = true;
+  }
+
+  private partIndex = 0;
+
+  /** A buffer attribute over one of the current part's arrays, remembered for deltas. */
+  private attr(key: string, array: Float32Array, itemSize: number): THREE.BufferAttribute {
+    const a = new THREE.BufferAttribute(array, itemSize);
+    const k = `${this.partIndex}:${key}`;
+    this.attrs.set(k, [...(this.attrs.get(k) ?? []), a]);
+    return a;
+  }
+
+  /**
+   * Applies a delta (only changed arrays, same topology) to what is drawn:
+   * the arrays are copied into the existing buffers, which upload again; no
+   * object is rebuilt. Falls back to a rebuild where an array has no buffer
+   * of its own (instances, overlays). Null when the delta is not for what is drawn.
+   */
+  applyDelta(delta: DecodedGeometry, received: number): Promise<Drawn> | null {
+    const base = this.last;
+    if (!base || delta.deltaOf !== base.generation || delta.node !== base.node || delta.parts.length !== base.parts.length) return null;
+    const merged = mergeDelta(base, delta);
+    const keys = deltaKeys(delta);
+    const inPlace = !this.display.points && !this.display.normals && keys.every((ks, i) => ks.every((k) => this.attrs.has(`${i}:${k}`)));
+    if (!inPlace) return this.show(merged, received, false);
+    this.last = merged;
+    const touched = new Set<THREE.BufferGeometry>();
+    keys.forEach((ks, i) => {
+      for (const k of ks) {
+        const data = (merged.parts[i] as unknown as Record<string, Float32Array>)[k];
+        for (const a of this.attrs.get(`${i}:${k}`)!) {
+          if (a.array.length !== data.length) return;
+          (a.array as Float32Array).set(data);
+          a.needsUpdate = true;
+        }
+      }
+    });
+    // Bounding volumes follow the new positions (culling, picking); zero normals are filled again.
+    const normalsChanged = keys.some((ks) => ks.includes('normals') || ks.includes('cornerNormals'));
+    this.content.traverse((o) => {
+      const geo = (o as THREE.Mesh).geometry;
+      if (geo && !touched.has(geo)) {
+        touched.add(geo);
+        geo.boundingSphere = null;
+        geo.boundingBox = null;
+        if (normalsChanged && (o as THREE.Mesh).isMesh && geo.getAttribute('normal')) repairNormals(geo);
+      }
+    });
+    this.bounds = merged.bounds ? new THREE.Box3(new THREE.Vector3(...merged.bounds[0]), new THREE.Vector3(...merged.bounds[1])) : null;
+    let sum = 0;
+    for (const part of merged.parts) sum = (sum * 31 + checksum(part.positions) + (part.instances ? checksum(part.instances) : 0)) >>> 0;
+    this.drawn = { ...this.drawn!, generation: merged.generation, checksum: sum };
+    this.renderer.render(this.scene, this.camera);
+    this.needsRender = false;
+    this.drawLabels();
+    return new Promise((resolve) =>
+      requestAnimationFrame(() => {
+        const now = performance.now();
+        this.drawn = { ...this.drawn!, drawMs: now - received, drawnAt: now, delta: true };
+        resolve(this.drawn);
+      }),
+    );
   }
 
   private addPart(part: GeometryPart, drawn: Drawn) {
@@ -377,17 +445,17 @@ export class Viewport {
       let hasNormals = false;
       let hasColors = false;
       if (part.corners) {
-        geo.setAttribute('position', new THREE.BufferAttribute(part.corners, 3));
+        geo.setAttribute('position', this.attr('corners', part.corners, 3));
         if (part.cornerTriangles) geo.setIndex(new THREE.BufferAttribute(part.cornerTriangles, 1));
-        if (part.cornerNormals) geo.setAttribute('normal', new THREE.BufferAttribute(part.cornerNormals, 3));
-        if (part.cornerColors) geo.setAttribute('color', new THREE.BufferAttribute(part.cornerColors, 3));
+        if (part.cornerNormals) geo.setAttribute('normal', this.attr('cornerNormals', part.cornerNormals, 3));
+        if (part.cornerColors) geo.setAttribute('color', this.attr('cornerColors', part.cornerColors, 3));
         hasNormals = !!part.cornerNormals;
         hasColors = !!part.cornerColors;
       } else {
-        geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
+        geo.setAttribute('position', this.attr('positions', part.positions, 3));
         geo.setIndex(new THREE.BufferAttribute(part.triangles!, 1));
-        if (part.normals) geo.setAttribute('normal', new THREE.BufferAttribute(part.normals, 3));
-        if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
+        if (part.normals) geo.setAttribute('normal', this.attr('normals', part.normals, 3));
+        if (part.colors) geo.setAttribute('color', this.attr('colors', part.colors, 3));
         hasNormals = !!part.normals;
         hasColors = !!part.colors;
       }
@@ -407,8 +475,8 @@ export class Viewport {
     }
     if (part.lines?.length) {
       const geo = new THREE.BufferGeometry();
-      geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
-      if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
+      geo.setAttribute('position', this.attr('positions', part.positions, 3));
+      if (part.colors) geo.setAttribute('color', this.attr('colors', part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.lines, 1));
       const colored = !!part.colors;
       const lines = new THREE.LineSegments(geo, this.material(`lines ${colored}`, () => new THREE.LineBasicMaterial({ color: colored ? 0xffffff : 0xe0e6ef, vertexColors: colored })));
@@ -418,8 +486,8 @@ export class Viewport {
     }
     if (part.points?.length) {
       const geo = new THREE.BufferGeometry();
-      geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
-      if (part.colors) geo.setAttribute('color', new THREE.BufferAttribute(part.colors, 3));
+      geo.setAttribute('position', this.attr('positions', part.positions, 3));
+      if (part.colors) geo.setAttribute('color', this.attr('colors', part.colors, 3));
       geo.setIndex(new THREE.BufferAttribute(part.points, 1));
       const colored = !!part.colors;
       const dots = new THREE.Points(geo, this.material(`points ${colored}`, () => new THREE.PointsMaterial({ color: colored ? 0xffffff : 0xf2f5f8, vertexColors: colored, size: 3, sizeAttenuation: false })));
@@ -494,11 +562,12 @@ export function repairNormals(geo: THREE.BufferGeometry) {
   const zero: number[] = [];
   for (let i = 0; i < n.count; i++) if (n.getX(i) === 0 && n.getY(i) === 0 && n.getZ(i) === 0) zero.push(i);
   if (!zero.length) return;
-  const kept = n.clone();
+  // computeVertexNormals writes into this same attribute (a delta updates it later): keep the given normals and put them back.
+  const given = Float32Array.from(n.array as Float32Array);
   geo.computeVertexNormals();
-  const computed = geo.getAttribute('normal') as THREE.BufferAttribute;
-  for (const i of zero) kept.setXYZ(i, computed.getX(i), computed.getY(i), computed.getZ(i));
-  geo.setAttribute('normal', kept);
+  const zeroSet = new Set(zero);
+  for (let i = 0; i < n.count; i++) if (!zeroSet.has(i)) n.setXYZ(i, given[i * 3], given[i * 3 + 1], given[i * 3 + 2]);
+  n.needsUpdate = true;
 }
 
 function instanced(geo: THREE.BufferGeometry, mat: THREE.Material, matrices: Float32Array): THREE.InstancedMesh {

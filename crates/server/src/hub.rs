@@ -67,16 +67,32 @@ impl Hub {
         self.last.lock().unwrap_or_else(|p| p.into_inner()).clone()
     }
 
-    /// Publishes a result unless a newer one was published already.
+    /// Publishes a result unless a newer one was published already: its
+    /// messages, with the geometry sent as a delta of the last result when
+    /// only array contents changed (a page that connects later gets the
+    /// whole geometry).
     fn publish(&self, last: Last) {
         let mut slot = self.last.lock().unwrap_or_else(|p| p.into_inner());
         if self.delivered.fetch_max(last.generation, Ordering::SeqCst) > last.generation {
             return;
         }
+        let previous = slot.as_ref().and_then(|l| binary(&l.messages));
         for m in &last.messages {
-            let _ = self.tx.send(m.clone());
+            let sent = match (m, &previous) {
+                (Out::Binary(next), Some(prev)) => crate::delta::delta(prev, next)
+                    .map(|d| Out::Binary(Bytes::from(d)))
+                    .unwrap_or_else(|| m.clone()),
+                _ => m.clone(),
+            };
+            let _ = self.tx.send(sent);
         }
         *slot = Some(last);
+    }
+
+    /// The whole geometry message of the last result, for a page that missed
+    /// the one a delta applies to.
+    pub fn last_geometry(&self) -> Option<Bytes> {
+        self.last().and_then(|l| binary(&l.messages))
     }
 
     /// The network cannot be cooked (it does not load): nothing to show.
@@ -155,6 +171,14 @@ impl Reporter for Hub {
             messages,
         });
     }
+}
+
+/// The geometry message among a result's messages.
+fn binary(messages: &[Out]) -> Option<Bytes> {
+    messages.iter().find_map(|m| match m {
+        Out::Binary(b) => Some(b.clone()),
+        Out::Text(_) => None,
+    })
 }
 
 /// The last cook as a Chrome trace (`chrome://tracing`, Perfetto): one span

@@ -5,6 +5,7 @@
 mod annotations;
 mod catalogue;
 mod cooker;
+mod delta;
 pub mod edits;
 mod hub;
 mod info;
@@ -159,6 +160,7 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
         .route("/api/state", get(state_json))
         .route("/api/trace.json", get(trace_json))
         .route("/api/export", get(export))
+        .route("/api/geometry", get(last_geometry))
         .route("/ws", get(socket))
         .layer(axum::middleware::from_fn_with_state(guard, security::guard))
         .with_state(app);
@@ -259,6 +261,17 @@ async fn trace_json(State(app): State<App>) -> Response {
 
 /// The viewed result in a file format, as a download (nothing is written
 /// anywhere the user did not ask).
+/// The whole geometry message of the last result (a page that missed the
+/// base of a delta asks for it).
+async fn last_geometry(State(app): State<App>) -> Response {
+    match app.studio.hub.last_geometry() {
+        Some(bytes) => {
+            ([(header::CONTENT_TYPE, "application/octet-stream")], bytes).into_response()
+        }
+        None => (StatusCode::NOT_FOUND, "nothing drawn yet").into_response(),
+    }
+}
+
 async fn export(
     State(app): State<App>,
     Query(q): Query<std::collections::HashMap<String, String>>,
