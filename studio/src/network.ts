@@ -66,10 +66,22 @@ export function layout(net: DocNetwork, keep?: Map<string, [number, number]>): M
     .filter((w) => w.from in net.nodes)
     .map((w) => [w.from, w.to]);
   const pos = layered({ nodes: names, edges }, { width: NODE_W, height: NODE_H, gapX: GAP_X, gapY: GAP_Y });
+  const fresh: string[] = [];
   for (const n of names) {
     const p = net.nodes[n].ui?.pos;
     if (Array.isArray(p) && p.length === 2 && p.every(Number.isFinite)) pos.set(n, [p[0], p[1]]);
     else if (keep?.has(n)) pos.set(n, keep.get(n)!);
+    else fresh.push(n);
+  }
+  // A node laid out now (the others kept where they were) moves right until it covers none of them.
+  if (keep?.size) {
+    const placed = names.filter((n) => !fresh.includes(n)).map((n) => pos.get(n)!);
+    const covers = ([x, y]: [number, number]) => placed.some(([a, b]) => Math.abs(a - x) < NODE_W + GAP_X / 2 && Math.abs(b - y) < NODE_H + GAP_Y / 2);
+    for (const n of fresh) {
+      const p = pos.get(n)!;
+      while (covers(p)) p[0] += NODE_W + GAP_X;
+      placed.push(p);
+    }
   }
   return pos;
 }

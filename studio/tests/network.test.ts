@@ -1,6 +1,6 @@
 // Unit tests of document reading: paths, wires, the automatic layout and channel evaluation.
 import { describe, expect, test } from 'vitest';
-import { channelAt, join, lastKeyFrame, layout, networkAt, NODE_W, nodeAt, parentOf, wires } from '../src/network';
+import { channelAt, join, lastKeyFrame, layout, networkAt, NODE_H, NODE_W, nodeAt, parentOf, wires } from '../src/network';
 import { crossings, layeredOrder } from '../src/layout';
 import type { DocNetwork } from '../src/protocol';
 
@@ -110,4 +110,16 @@ describe('the layered layout', () => {
     for (const [n, p] of before) expect(after.get(n)).toEqual(p);
     expect(after.has('extra')).toBe(true);
   });
+});
+
+test('a node laid out beside kept ones covers none of them', () => {
+  const net: DocNetwork = { nodes: { a: { type: 'box' }, b: { type: 'box', inputs: ['a'] } } };
+  const before = layout(net);
+  const grown: DocNetwork = { nodes: { ...net.nodes, c: { type: 'box' } } };
+  const after = layout(grown, before);
+  const c = after.get('c')!;
+  for (const n of ['a', 'b']) {
+    const p = after.get(n)!;
+    expect(Math.abs(p[0] - c[0]) >= NODE_W || Math.abs(p[1] - c[1]) >= NODE_H).toBe(true);
+  }
 });
