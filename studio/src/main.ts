@@ -24,6 +24,8 @@ const log: string[] = [];
 
 function say(text: string, bad = false) {
   status.textContent = text;
+  // One line in the bar; the whole message on hover.
+  status.title = text;
   status.classList.toggle('bad', bad);
   log.push(text);
 }
@@ -279,7 +281,9 @@ let notice = '';
 function renderHud() {
   const s = store.state;
   const c = store.cooked;
-  const shown = s?.view.solo ?? s?.output ?? '—';
+  const viewed = s?.view.solo ?? s?.output ?? '—';
+  // The counts are the drawn result's: name its node, and the one cooking if another.
+  const shown = c?.node && c.node !== viewed ? `${c.node} (showing it until ${viewed} has cooked)` : viewed;
   const st = c?.stats as { points?: number; primitives?: number; vertices?: number; memory?: number; bounds?: number[][] | null } | null | undefined;
   const d = viewport.drawn;
   const lines = [

@@ -172,6 +172,9 @@ export type ServerMsg = HelloMsg | StateMsg | CookedMsg | ProgressMsg | ReplyMsg
 export interface GeometryPart {
   name: string;
   positions: Float32Array;
+  /** Polygons as point indices and vertex counts (the server's form); `triangles` are made from them. */
+  polygons?: Uint32Array;
+  polygonSizes?: Uint32Array;
   triangles?: Uint32Array;
   normals?: Float32Array;
   colors?: Float32Array;
@@ -216,9 +219,30 @@ export interface DecodedGeometry {
 
 
 const FLOAT_KEYS = ['positions', 'normals', 'colors', 'corners', 'cornerNormals', 'cornerColors', 'instances'] as const;
-const UINT_KEYS = ['triangles', 'cornerTriangles', 'lines', 'points'] as const;
+const UINT_KEYS = ['polygons', 'polygonSizes', 'cornerTriangles', 'lines', 'points'] as const;
 
 /** Decodes a `GEO1` message (see crates/server/src/viewport.rs) without copying its arrays. */
+/** The fan triangles (first vertex as apex) of polygons given as point indices and vertex counts (one count for all, or one each): the server's order, which picking relies on. */
+export function fanTriangles(points: Uint32Array, sizes: Uint32Array | number): Uint32Array {
+  const count = typeof sizes === 'number' ? Math.floor(points.length / sizes) : sizes.length;
+  const size = (i: number) => (typeof sizes === 'number' ? sizes : sizes[i]);
+  let tris = 0;
+  for (let i = 0; i < count; i++) tris += Math.max(0, size(i) - 2);
+  const out = new Uint32Array(tris * 3);
+  let at = 0;
+  let o = 0;
+  for (let i = 0; i < count; i++) {
+    const n = size(i);
+    for (let k = 1; k < n - 1; k++) {
+      out[o++] = points[at];
+      out[o++] = points[at + k];
+      out[o++] = points[at + k + 1];
+    }
+    at += n;
+  }
+  return out;
+}
+
 export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
   const magic = new TextDecoder().decode(new Uint8Array(buf, 0, 4));
   if (magic !== 'GEO1') throw new Error(`not a geometry message (${JSON.stringify(magic)})`);
@@ -246,6 +270,7 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     for (const k of ['normalsUniform', 'colorsUniform', 'protoBounds', 'reduced'] as const) {
       if (p[k]) out[k] = p[k];
     }
+    if (part.polygons) part.triangles = fanTriangles(part.polygons, part.polygonSizes ?? Number(p.polygonSize));
     return part;
   });
   return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength, template: header.template === true, deltaOf: header.deltaOf };

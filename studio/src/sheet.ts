@@ -136,9 +136,18 @@ export class Spreadsheet {
     this.draw();
   }
 
+  /** Column widths that fit their labels and the values of the rows held (at most 480 px). */
+  private widths(): number[] {
+    const longest = this.columns.map((c) => c.length);
+    for (const rows of this.chunks.values()) {
+      for (const r of rows) r.forEach((v, i) => (longest[i] = Math.max(longest[i] ?? 0, v.length)));
+    }
+    return longest.map((n) => Math.min(480, Math.max(96, n * 7.5 + 16)));
+  }
+
   draw() {
     this.spacer.style.height = `${this.total * ROW_H}px`;
-    const widths = this.columns.map((c) => Math.max(96, c.length * 8 + 16));
+    const widths = this.widths();
     const row = (cells: string[], cls: string, index?: number) => {
       const d = document.createElement('div');
       d.className = cls;

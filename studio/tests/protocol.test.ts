@@ -1,6 +1,6 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
-import { expect, test } from 'vitest';
-import { decodeGeometry, hasNetwork, reducedNotice, uniqueProblems, type GeometryPart, type Problem } from '../src/protocol';
+import { describe, expect, it, test } from 'vitest';
+import { decodeGeometry, fanTriangles, hasNetwork, reducedNotice, uniqueProblems, type GeometryPart, type Problem } from '../src/protocol';
 import { nodeTypes } from './protocol.fixture';
 import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
@@ -30,7 +30,7 @@ test('decodes typed arrays at their offsets without copying', () => {
   const positions = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0]);
   const triangles = new Uint32Array([0, 1, 2]);
   const buf = message(
-    { generation: 7, node: '/a', bounds: [[0, 0, 0], [1, 1, 0]], parts: [{ name: '', positions: [0, 9], triangles: [36, 3], colorsUniform: [1, 0, 0] }] },
+    { generation: 7, node: '/a', bounds: [[0, 0, 0], [1, 1, 0]], parts: [{ name: '', positions: [0, 9], polygons: [36, 3], polygonSize: 3, colorsUniform: [1, 0, 0] }] },
     [positions, triangles],
   );
   const g = decodeGeometry(buf);
@@ -105,4 +105,11 @@ test('a reduced geometry is announced with what was drawn of how much', () => {
 test('a load problem and the cook error it causes are said once', () => {
   const p = (kind?: string) => ({ path: '/grow', param: 'kill', message: 'value -1 is below the minimum 0', kind }) as Problem;
   expect(uniqueProblems([p(), p('parameter'), { ...p(), param: 'step' }])).toHaveLength(2);
+});
+
+describe('fanTriangles', () => {
+  it('fans each polygon from its first vertex, in order', () => {
+    expect([...fanTriangles(new Uint32Array([0, 1, 2, 3, 4, 5, 6]), new Uint32Array([4, 3]))]).toEqual([0, 1, 2, 0, 2, 3, 4, 5, 6]);
+    expect([...fanTriangles(new Uint32Array([0, 1, 2, 3, 4, 5, 6, 7]), 4)]).toEqual([0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7]);
+  });
 });

@@ -133,7 +133,7 @@ mod tests {
         assert_eq!(h["generation"], 2);
         let part = h["parts"][0].as_object().unwrap();
         assert!(part.contains_key("positions"));
-        assert!(!part.contains_key("triangles"), "unchanged: left out");
+        assert!(!part.contains_key("polygons"), "unchanged: left out");
         assert_eq!(body.len(), 4 * 3 * 4);
         assert_eq!(
             array(body, &part["positions"]).unwrap()[4..8],

@@ -1,4 +1,4 @@
-//! Geometry for the browser's viewport as one binary message of typed arrays: polygons as triangles, polylines, loose points, `N` and `Cd`, packed instances as one prototype plus a matrix per instance.
+//! Geometry for the browser's viewport as one binary message of typed arrays: polygons with their vertex counts (the page makes the fan triangles), polylines, loose points, `N` and `Cd`, packed instances as one prototype plus a matrix per instance.
 //!
 //! Layout: `GEO1`, a little-endian u32 header length, the JSON header
 //! (padded to 4 bytes), then the arrays, each at a 4-byte aligned offset the
@@ -129,11 +129,29 @@ fn triangle_corners(g: &Geometry) -> Vec<[(u32, u32, u32); 3]> {
     tris
 }
 
-/// The point indices of the fan triangles of every polygon.
-fn fan_indices(g: &Geometry) -> Vec<u32> {
-    let mut idx = Vec::with_capacity(g.num_vertices().saturating_sub(2 * g.num_prims()) * 3);
-    for_each_fan(g, |t| idx.extend_from_slice(&[t[0].2, t[1].2, t[2].2]));
-    idx
+/// The polygons as the page triangulates them (fans, first vertex as apex,
+/// the order `for_each_fan` visits): each polygon's point indices, and the
+/// vertex count of each (None when all have the same, which is returned
+/// alone). A quad mesh travels in two thirds of the bytes of its triangles.
+fn polygon_indices(g: &Geometry) -> (Vec<u32>, Vec<u32>, Option<u32>) {
+    let vp = g.vertex_points();
+    let offsets = g.prim_offsets();
+    let mut points = Vec::with_capacity(g.num_vertices());
+    let mut sizes = Vec::new();
+    for (prim, kind) in g.prim_kinds().iter().enumerate() {
+        let (a, b) = (offsets[prim] as usize, offsets[prim + 1] as usize);
+        // Polygons of fewer than three vertices draw nothing.
+        if *kind != PrimKind::Polygon || b - a < 3 {
+            continue;
+        }
+        points.extend_from_slice(&vp[a..b]);
+        sizes.push((b - a) as u32);
+    }
+    let uniform = sizes
+        .first()
+        .copied()
+        .filter(|n| sizes.iter().all(|m| m == n));
+    (points, sizes, uniform)
 }
 
 /// Drawn vertices where values differ per corner: corners on one point with
@@ -208,13 +226,17 @@ fn encode_part(g: &Geometry, name: &str, arrays: &mut Arrays) -> Json {
         }
         part.insert("cornerTriangles".into(), arrays.push(&split.triangles, 1));
     } else {
-        let idx = fan_indices(g);
-        if !idx.is_empty() {
-            part.insert("triangles".into(), arrays.push(&idx, 1));
+        let (points, sizes, uniform) = polygon_indices(g);
+        if !points.is_empty() {
+            part.insert("polygons".into(), arrays.push(&points, 1));
+            match uniform {
+                Some(n) => part.insert("polygonSize".into(), json!(n)),
+                None => part.insert("polygonSizes".into(), arrays.push(&sizes, 1)),
+            };
         }
     }
     let (lines, loose) = lines_and_loose_points(g);
-    if !part.contains_key("triangles")
+    if !part.contains_key("polygons")
         && !part.contains_key("cornerTriangles")
         && lines.is_empty()
         && loose.is_empty()
@@ -510,6 +532,26 @@ mod tests {
         bytemuck::cast_slice::<u8, u32>(&body[off..off + len * 4]).to_vec()
     }
 
+    /// The fan triangles the page makes of a part's polygons.
+    fn triangles(body: &[u8], part: &Json) -> Vec<u32> {
+        let pts = uints(body, &part["polygons"]);
+        let sizes = match part.get("polygonSizes") {
+            Some(at) => uints(body, at),
+            None => {
+                let n = part["polygonSize"].as_u64().unwrap() as u32;
+                vec![n; pts.len() / n as usize]
+            }
+        };
+        let (mut out, mut at) = (Vec::new(), 0usize);
+        for n in sizes {
+            for k in 1..n as usize - 1 {
+                out.extend_from_slice(&[pts[at], pts[at + k], pts[at + k + 1]]);
+            }
+            at += n as usize;
+        }
+        out
+    }
+
     fn quad() -> Geometry {
         let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y];
         Geometry::from_polygons(p, vec![0, 1, 2, 3], &[4]).unwrap()
@@ -523,7 +565,9 @@ mod tests {
         let (h, body) = decode(&bytes);
         assert_eq!(h["generation"], 3);
         let part = &h["parts"][0];
-        assert_eq!(uints(body, &part["triangles"]), vec![0, 1, 2, 0, 2, 3]);
+        assert_eq!(uints(body, &part["polygons"]), vec![0, 1, 2, 3]);
+        assert_eq!(part["polygonSize"], 4);
+        assert_eq!(triangles(body, part), vec![0, 1, 2, 0, 2, 3]);
         assert_eq!(floats(body, &part["positions"])[3..6], [1.0, 0.0, 0.0]);
         assert_eq!(h["bounds"], json!([[0.0, 0.0, 0.0], [1.0, 1.0, 0.0]]));
         assert!(part.get("corners").is_none());
@@ -604,7 +648,7 @@ mod tests {
         let m = floats(body, &parts[1]["instances"]);
         assert_eq!(m.len(), 3 * 16);
         assert_eq!(m[16 + 12], 2.0, "the second instance's translation x");
-        assert_eq!(uints(body, &parts[1]["triangles"]).len(), 6);
+        assert_eq!(triangles(body, &parts[1]).len(), 6);
         assert_eq!(h["bounds"][1][0], 5.0);
     }
 
@@ -642,7 +686,7 @@ mod tests {
             "{part}"
         );
         assert_eq!(
-            uints(&body, &part["triangles"]).len() as u64,
+            triangles(&body, part).len() as u64,
             drawn.as_u64().unwrap() * 3
         );
         // A cloud of 1000 points over a limit of 100: every tenth.
