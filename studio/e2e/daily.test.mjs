@@ -1,7 +1,8 @@
 // Browser tests of the studio for daily work in Debian's Chromium against a real `geode serve`: viewport display options (points, normals, point and primitive numbers), picking into the spreadsheet, Houdini's Space+1..4 views, sticky notes, network boxes and node colours kept in the saved file, the node info panel, and a layout that stays put when nodes are added.
 
 import assert from 'node:assert/strict';
-import { readFileSync } from 'node:fs';
+import { existsSync, readFileSync } from 'node:fs';
+import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
 import { boxOf, browser, clickNode, generation, nextCook, open, serve } from './harness.mjs';
 
@@ -179,6 +180,25 @@ describe('the network editor', () => {
     await page.waitForFunction(() => window.__geode.viewport.templateNodes().length === 0);
   });
 
+  test('info on a write node writes nothing', async () => {
+    const out = (await doc()).output;
+    await page.evaluate((out) => window.__geode.edit({ kind: 'add_node', parent: '/', type: 'write', name: 'saver', after: `/${out}` }), out);
+    await page.evaluate(() => window.__geode.edit({ kind: 'set_param', path: '/saver', param: 'file', value: '$HIP/info_probe.obj' }));
+    await page.locator('g.node[data-node="saver"]').waitFor();
+    // Frame everything so the new node is on screen.
+    const editor = await boxOf(page.locator('#editor svg'));
+    await page.mouse.move(editor.x + 10, editor.y + 10);
+    await page.keyboard.press('h');
+    const body = await boxOf(page.locator('g.node[data-node="saver"] rect.body'));
+    await page.mouse.click(body.x + body.width * 0.5, body.y + body.height * 0.5, { button: 'middle' });
+    const panel = page.locator('.node-info');
+    await panel.waitFor();
+    assert.match(await panel.textContent(), /writes files/);
+    assert.equal(existsSync(join(server.dir, 'info_probe.obj')), false, 'nothing written');
+    await panel.press('Escape');
+    await page.evaluate(() => window.__geode.edit({ kind: 'remove_nodes', paths: ['/saver'] }));
+  });
+
   test('a middle-click on a node opens its info: cook, counts, attributes', async () => {
     const out = (await doc()).output;
     const body = await boxOf(page.locator(`g.node[data-node="${out}"] rect.body`));
@@ -202,5 +222,28 @@ describe('the network editor', () => {
     const now = await positions();
     for (const [n, t] of Object.entries(before)) assert.equal(now[n], t, `${n} moved`);
     await nextCook(page, g).catch(() => undefined);
+  });
+});
+
+describe("a subnet's promoted parameter", () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('rig.json');
+    ({ page } = await open(chrome.b, server.url));
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  test('shows the inner parameter it sets as set there, not editable', async () => {
+    await page.evaluate(() => window.__geode.store.at = '/rig');
+    await page.evaluate(() => window.__geode.store.notify());
+    await clickNode(page, 'post');
+    const row = page.locator('.param.driven[data-param="radius"]');
+    await row.waitFor();
+    assert.match(await row.textContent(), /set by \/rig detail/);
+    assert.ok(await row.locator('input[type=text]').first().isDisabled());
   });
 });

@@ -78,6 +78,19 @@ describe('expressions in parameters', () => {
     await setParam(page, 'size', '1', 1);
   });
 
+  test('an expression typed over keys replaces them; an error shows on hover', async () => {
+    await page.evaluate(() =>
+      window.__geode.edit({ kind: 'set_param', path: '/b', param: 'size', value: [{ keys: [{ frame: 1, value: 1 }, { frame: 10, value: 4 }] }, 1, 1] }),
+    );
+    await clickNode(page, 'b');
+    await page.waitForSelector('.param.animated[data-param="size"]');
+    await setParam(page, 'size', '$F * 0.5', 0);
+    await page.waitForFunction(() => window.__geode.store.state.document.nodes.b.params.size[0]?.expr === '$F * 0.5');
+    await setParam(page, 'size', '$NOPE', 0);
+    await page.waitForFunction(() => /unknown variable/.test(document.querySelector('.param[data-param="size"] input.expr')?.title ?? ''));
+    await setParam(page, 'size', '1', 0);
+  });
+
   test('a cycle of references is reported on each parameter in it', async () => {
     await page.evaluate(() =>
       window.__geode.edit({ kind: 'set_param', path: '/other', param: 'size', value: [{ expr: 'ch("../b/sizex")' }, 1, 1] }),
@@ -171,6 +184,22 @@ describe('the curve editor', () => {
     await page.waitForFunction(() => window.__geode.store.state.document.nodes.b.params.size[0].keys[1].slope_out > 0);
     const keys = await keysOf();
     assert.equal(keys[1].slope_in, keys[1].slope_out, 'tied tangents');
+  });
+
+  test('a click on a label hides its curve; the wheel zooms and F frames again', async () => {
+    const label = page.locator('#curves text.curve-label').first();
+    await label.click();
+    assert.equal(await page.locator('#curves polyline.curve-line').count(), 0);
+    await page.locator('#curves text.curve-label').first().click();
+    assert.equal(await page.locator('#curves polyline.curve-line').count(), 1);
+    const ticks = () => page.$$eval('#curves text.curve-tick', (t) => t.map((x) => x.textContent).join());
+    const before = await ticks();
+    const svg = await boxOf(page.locator('#curves svg'));
+    await page.mouse.move(svg.x + svg.width / 2, svg.y + svg.height / 2);
+    await page.mouse.wheel(0, -600);
+    assert.notEqual(await ticks(), before, 'zoomed in');
+    await page.locator('#curves').press('f');
+    assert.equal(await ticks(), before, 'framed as at first');
   });
 
   test('double-click adds a key on the curve, Delete removes it', async () => {

@@ -32,8 +32,7 @@ export function boxFrame(b: NetworkBox, positions: Map<string, [number, number]>
   if (!at.length) return null;
   const xs = at.map((p) => p[0]);
   const ys = at.map((p) => p[1]);
-  // Room for the badges right of the nodes, as Houdini's boxes leave.
-  return [Math.min(...xs) - PAD, Math.min(...ys) - PAD - BAR, Math.max(...xs) + NODE_W + PAD + 60, Math.max(...ys) + NODE_H + PAD];
+  return [Math.min(...xs) - PAD, Math.min(...ys) - PAD - BAR, Math.max(...xs) + NODE_W + PAD, Math.max(...ys) + NODE_H + PAD];
 }
 
 /** An id for a new note or box that the network does not use. */
@@ -41,7 +40,7 @@ export function freshId(taken: Record<string, unknown> | undefined, prefix: stri
   for (let i = 1; ; i++) if (!taken?.[`${prefix}${i}`]) return `${prefix}${i}`;
 }
 
-/** Draws the boxes (behind everything) into `back` and the notes into `front`. */
+/** Draws the boxes into `back` and the notes into `front` (both layers behind the nodes). */
 export function drawAnnotations(back: Element, front: Element, net: DocNetwork, positions: Map<string, [number, number]>, selected: Annotation | null) {
   for (const [id, b] of Object.entries(net.boxes ?? {})) {
     const f = boxFrame(b, positions);

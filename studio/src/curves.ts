@@ -1,4 +1,4 @@
-// The curve editor: the selected node's animated components drawn over frames with the engine's own interpolation; keys dragged in frame and value, Bezier tangent handles dragged (tied unless Alt), each key's interpolation chosen, keys added by double-click and deleted with Delete. Every change is one set_param of the whole parameter; a drag coalesces into one undo step.
+// The curve editor: the selected node's animated components drawn over frames with the engine's own interpolation; keys dragged in frame and value, Bezier tangent handles dragged (tied unless Alt), each key's interpolation chosen, keys added by double-click and deleted with Delete; the wheel zooms (Shift: values), middle-drag pans, F frames, a label click hides its curve, the ruler sets the frame. Every change is one set_param of the whole parameter; a drag coalesces into one undo step.
 
 import { evalChannel, slopeIn, slopeOut, type Interp, type Key } from './channel';
 import { isChannel, nodeAt } from './network';
@@ -48,6 +48,13 @@ export function withKeys(value: unknown, component: number, keys: Key[]): unknow
   return value.map((c, i) => (i === component ? channel : c));
 }
 
+/** A hover text on an SVG element. */
+function el_title(e: Element, text: string) {
+  const t = document.createElementNS(SVG, 'title');
+  t.textContent = text;
+  e.appendChild(t);
+}
+
 /** A key without fields at their defaults (the document's form). */
 function clean(k: Key): Key {
   const out: Key = { frame: k.frame, value: k.value };
@@ -84,6 +91,11 @@ export class CurveEditor {
   /** A change in flight and the newest one waiting for it (drags send at most one at a time). */
   private sending = false;
   private queued: (() => Promise<unknown>) | null = null;
+  /** Set once the user zoomed or panned: the view then stays until F or another node. */
+  private userView = false;
+  /** Curves hidden by a click on their label, by label. */
+  private hidden = new Set<string>();
+  private pan: { x: number; y: number; view: { f0: number; f1: number; v0: number; v1: number } } | null = null;
 
   constructor(
     private host: HTMLElement,
@@ -106,7 +118,16 @@ export class CurveEditor {
         e.stopPropagation();
         this.deleteKey();
       }
+      if (e.key === 'f' || e.key === 'F' || e.key === 'h' || e.key === 'H' || e.key === 'a') {
+        // Frame the curves (the panel's own F/H, not the network editor's).
+        e.preventDefault();
+        e.stopPropagation();
+        this.userView = false;
+        this.fit();
+        this.draw();
+      }
     });
+    this.svg.addEventListener('wheel', (e) => this.wheel(e), { passive: false });
   }
 
   /** Redraws from the store unless a drag is under way (the drag draws its own state). */
@@ -118,11 +139,15 @@ export class CurveEditor {
     const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${s.range.join()}|${this.host.clientWidth}x${this.host.clientHeight}`;
     if (key === this.shown) return;
     this.shown = key;
-    if (path !== this.path) this.selection = null;
+    if (path !== this.path) {
+      this.selection = null;
+      this.userView = false;
+      this.hidden.clear();
+    }
     this.path = path;
     this.curves = curvesOf(node?.params);
     if (this.selection && !this.curves[this.selection.curve]?.keys[this.selection.key]) this.selection = null;
-    this.fit();
+    if (!this.userView) this.fit();
     this.draw();
   }
 
@@ -131,16 +156,20 @@ export class CurveEditor {
     const [a, b] = this.store.range;
     let f0 = a;
     let f1 = b;
-    for (const c of this.curves) {
+    const shown = this.curves.filter((c) => !this.hidden.has(c.label));
+    for (const c of shown) {
       for (const k of c.keys) {
         f0 = Math.min(f0, k.frame);
         f1 = Math.max(f1, k.frame);
       }
     }
     if (f1 <= f0) f1 = f0 + 1;
+    // A margin so the first and last keys sit inside the plot.
+    const fm = (f1 - f0) * 0.03;
+    [f0, f1] = [f0 - fm, f1 + fm];
     let v0 = Infinity;
     let v1 = -Infinity;
-    for (const c of this.curves) {
+    for (const c of shown) {
       for (let i = 0; i <= 200; i++) {
         const v = evalChannel(c.keys, f0 + ((f1 - f0) * i) / 200);
         v0 = Math.min(v0, v);
@@ -203,6 +232,7 @@ export class CurveEditor {
     const frame = this.store.state?.view.frame ?? 1;
     this.el('line', { x1: this.x(frame), x2: this.x(frame), y1: MARGIN.top, y2: h - MARGIN.bottom, class: 'curve-now' });
     this.curves.forEach((c, ci) => {
+      if (this.hidden.has(c.label)) return;
       const colour = COLOURS[ci % COLOURS.length];
       const pts: string[] = [];
       for (let px = MARGIN.left; px <= w - MARGIN.right; px += 2) pts.push(`${px},${this.y(evalChannel(c.keys, this.frameAt(px))).toFixed(1)}`);
@@ -223,8 +253,10 @@ export class CurveEditor {
       });
     });
     this.curves.forEach((c, ci) => {
-      const t = this.el('text', { x: w - MARGIN.right - 4, y: MARGIN.top + 12 + ci * 14, 'text-anchor': 'end', fill: COLOURS[ci % COLOURS.length], class: 'curve-label' });
+      const off = this.hidden.has(c.label);
+      const t = this.el('text', { x: w - MARGIN.right - 4, y: MARGIN.top + 12 + ci * 14, 'text-anchor': 'end', fill: COLOURS[ci % COLOURS.length], class: 'curve-label' + (off ? ' off' : ''), 'data-label': c.label });
       t.textContent = c.label;
+      el_title(t, off ? 'Hidden: click to show' : 'Click to hide');
     });
   }
 
@@ -376,6 +408,25 @@ export class CurveEditor {
 
   private pointerDown(e: PointerEvent) {
     this.host.focus();
+    const label = (e.target as Element).getAttribute('data-label');
+    if (label) {
+      if (this.hidden.has(label)) this.hidden.delete(label);
+      else this.hidden.add(label);
+      if (this.selection && this.curves[this.selection.curve]?.label === label) this.selection = null;
+      this.draw();
+      return;
+    }
+    if (e.button === 1 || (e.button === 0 && e.altKey && !this.target(e))) {
+      this.pan = { x: e.clientX, y: e.clientY, view: { ...this.view } };
+      this.svg.setPointerCapture(e.pointerId);
+      return;
+    }
+    const r = this.svg.getBoundingClientRect();
+    if (e.clientY - r.top > this.size().h - MARGIN.bottom) {
+      // The frame ruler under the plot sets the frame, as a timeline does.
+      this.actions.setFrame(Math.round(this.frameAt(e.clientX - r.left)));
+      return;
+    }
     const hit = this.target(e);
     if (!hit) {
       if (this.selection) {
@@ -392,6 +443,16 @@ export class CurveEditor {
   }
 
   private pointerMove(e: PointerEvent) {
+    if (this.pan) {
+      const { w, h } = this.size();
+      const p = this.pan;
+      const df = ((e.clientX - p.x) / (w - MARGIN.left - MARGIN.right)) * (p.view.f1 - p.view.f0);
+      const dv = ((e.clientY - p.y) / (h - MARGIN.top - MARGIN.bottom)) * (p.view.v1 - p.view.v0);
+      this.view = { f0: p.view.f0 - df, f1: p.view.f1 - df, v0: p.view.v0 + dv, v1: p.view.v1 + dv };
+      this.userView = true;
+      this.draw();
+      return;
+    }
     const d = this.drag;
     if (!d) return;
     const r = this.svg.getBoundingClientRect();
@@ -421,11 +482,31 @@ export class CurveEditor {
   }
 
   private pointerUp(e: PointerEvent) {
+    if (this.pan) {
+      this.pan = null;
+      this.svg.releasePointerCapture(e.pointerId);
+      return;
+    }
     if (!this.drag) return;
     this.svg.releasePointerCapture(e.pointerId);
-    const d = this.drag;
     this.drag = null;
-    if (!d.moved && d.kind === 'key') this.actions.setFrame(this.curves[d.sel.curve].keys[d.sel.key].frame);
+  }
+
+  /** The wheel zooms the frames about the mouse; with Shift or Ctrl, the values. */
+  private wheel(e: WheelEvent) {
+    e.preventDefault();
+    const r = this.svg.getBoundingClientRect();
+    const k = Math.exp(e.deltaY * 0.0015);
+    const v = this.view;
+    if (e.shiftKey || e.ctrlKey) {
+      const at = this.valueAt(e.clientY - r.top);
+      this.view = { ...v, v0: at + (v.v0 - at) * k, v1: at + (v.v1 - at) * k };
+    } else {
+      const at = this.frameAt(e.clientX - r.left);
+      this.view = { ...v, f0: at + (v.f0 - at) * k, f1: at + (v.f1 - at) * k };
+    }
+    this.userView = true;
+    this.draw();
   }
 
   /** Double-click: a key on the nearest curve at that frame, on the curve. */
@@ -434,8 +515,10 @@ export class CurveEditor {
     const r = this.svg.getBoundingClientRect();
     const f = Math.round(this.frameAt(e.clientX - r.left));
     const py = e.clientY - r.top;
-    let best = 0;
+    let best = this.curves.findIndex((c) => !this.hidden.has(c.label));
+    if (best < 0) return;
     this.curves.forEach((c, i) => {
+      if (this.hidden.has(c.label)) return;
       if (Math.abs(this.y(evalChannel(c.keys, f)) - py) < Math.abs(this.y(evalChannel(this.curves[best].keys, f)) - py)) best = i;
     });
     const c = this.curves[best];

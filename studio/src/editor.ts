@@ -1,13 +1,13 @@
 // The network editor: nodes with typed ports and wires in SVG, pan and zoom, box select, drag to move and to wire, flags, badges (cook time, cache hit, progress, error, warning), rename, dive into subnets.
 
-import { drawAnnotations, freshId, newNote, pickColor, type Annotation } from './annotations';
+import { boxFrame, drawAnnotations, freshId, newNote, pickColor, type Annotation } from './annotations';
 import { join, layout, networkAt, nodeAt, NODE_H, NODE_W, parentOf, wires } from './network';
 import { freshCookErrors, hasNetwork, uniqueProblems } from './protocol';
 import type { DocNetwork, DocNode } from './protocol';
 import type { AppStore } from './store';
 
-/** The smallest zoom the automatic framing goes to: node names stay readable (about 8 px). */
-const MIN_FIT_ZOOM = 0.6;
+/** The smallest zoom the automatic framing goes to: node names stay readable (about 9 px). */
+const MIN_FIT_ZOOM = 0.85;
 
 const SVG = 'http://www.w3.org/2000/svg';
 
@@ -110,8 +110,13 @@ export class NetworkEditor {
     if (!names.length || r.width === 0) return;
     const xs = names.map((n) => this.positions.get(n)![0]);
     const ys = names.map((n) => this.positions.get(n)![1]);
-    const [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
-    const [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
+    let [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
+    let [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
+    // Frame all takes the notes in too (their corners must stay reachable).
+    for (const n of selectedOnly ? [] : Object.values(this.net()?.notes ?? {})) {
+      [x0, x1] = [Math.min(x0, n.pos[0] - 20), Math.max(x1, n.pos[0] + n.size[0] + 20)];
+      [y0, y1] = [Math.min(y0, n.pos[1] - 20), Math.max(y1, n.pos[1] + n.size[1] + 20)];
+    }
     const fit = Math.min(1.5, Math.min(r.width / (x1 - x0), r.height / (y1 - y0)));
     this.zoom = readable ? Math.max(MIN_FIT_ZOOM, fit) : fit;
     this.tx = (r.width - (x1 - x0) * this.zoom) / 2 - x0 * this.zoom;
@@ -376,6 +381,8 @@ export class NetworkEditor {
       this.frame(false, true);
     }
     const boxLayer = el('g', { class: 'boxes' }, this.root);
+    // Notes sit behind the wires and nodes, as in Houdini: they never hide a node.
+    const noteLayer = el('g', { class: 'notes' }, this.root);
     const wireLayer = el('g', { class: 'wires' }, this.root);
     for (const w of wires(net)) {
       const a = this.positions.get(w.from);
@@ -389,7 +396,7 @@ export class NetworkEditor {
     const notes = { ...net.notes };
     for (const [id, p] of this.notePending) if (notes[id]) notes[id] = { ...notes[id], ...p };
     if (this.picked && !(this.picked.kind === 'note' ? notes[this.picked.id] : net.boxes?.[this.picked.id])) this.picked = null;
-    drawAnnotations(boxLayer, el('g', { class: 'notes' }, this.root), { ...net, notes }, this.positions, this.picked);
+    drawAnnotations(boxLayer, noteLayer, { ...net, notes }, this.positions, this.picked);
     const d = this.drag;
     if (d?.kind === 'wire') {
       const a = this.positions.get(d.from);
@@ -426,6 +433,16 @@ export class NetworkEditor {
     }
     const bar = t.getAttribute('data-box-bar');
     const box = bar ?? t.closest('[data-box]')?.getAttribute('data-box');
+    if (bar && net?.boxes?.[bar]) {
+      const now = performance.now();
+      if (this.lastNoteDown?.id === `box:${bar}` && now - this.lastNoteDown.at < 400) {
+        this.lastNoteDown = null;
+        e.preventDefault();
+        setTimeout(() => this.renameBox(bar), 0);
+        return true;
+      }
+      this.lastNoteDown = { id: `box:${bar}`, at: now };
+    }
     if (box && net?.boxes?.[box]) {
       this.picked = { kind: 'box', id: box };
       if (!bar) {
@@ -491,36 +508,55 @@ export class NetworkEditor {
     return true;
   }
 
-  /** An inline editor over a note (a box's label too: double-click its bar). */
+  /** An inline editor over a note's text. */
   private writeNote(id: string) {
     const note = this.net()?.notes?.[id];
     if (!note) return;
+    this.inlineText('textarea', note.pos, note.size, note.text, (text) =>
+      this.actions.edit({ kind: 'set_note', parent: this.store.at, id, note: { ...note, text } }),
+    );
+  }
+
+  /** An inline editor over a box's label (double-click its bar). */
+  private renameBox(id: string) {
+    const net = this.net();
+    const b = net?.boxes?.[id];
+    const f = b ? boxFrame(b, this.positions) : null;
+    if (!b || !f) return;
+    this.inlineText('input', [f[0], f[1]], [Math.max(120, f[2] - f[0]), 20], b.label, (label) =>
+      this.actions.edit({ kind: 'set_box', parent: this.store.at, id, box: { ...b, label } }),
+    );
+  }
+
+  /** A text field over a world rectangle; Enter (Ctrl/Cmd+Enter in a textarea) or leaving it commits, Esc cancels. */
+  private inlineText(tag: 'textarea' | 'input', pos: [number, number], size: [number, number], value: string, commit: (text: string) => unknown) {
     const r = this.svg.getBoundingClientRect();
     const hr = this.host.getBoundingClientRect();
-    const area = document.createElement('textarea');
-    area.className = 'note-edit';
-    area.value = note.text;
-    area.style.left = `${r.left - hr.left + this.tx + note.pos[0] * this.zoom}px`;
-    area.style.top = `${r.top - hr.top + this.ty + note.pos[1] * this.zoom}px`;
-    area.style.width = `${note.size[0] * this.zoom}px`;
-    area.style.height = `${note.size[1] * this.zoom}px`;
-    this.host.appendChild(area);
-    area.focus();
-    area.select();
+    const field = document.createElement(tag);
+    field.className = tag === 'textarea' ? 'note-edit' : 'note-edit box-edit';
+    field.value = value;
+    field.style.left = `${r.left - hr.left + this.tx + pos[0] * this.zoom}px`;
+    field.style.top = `${r.top - hr.top + this.ty + pos[1] * this.zoom}px`;
+    field.style.width = `${size[0] * this.zoom}px`;
+    field.style.height = `${size[1] * this.zoom}px`;
+    this.host.appendChild(field);
+    field.focus();
+    field.select();
     let done = false;
-    const finish = (commit: boolean) => {
+    const finish = (ok: boolean) => {
       if (done) return;
       done = true;
-      area.remove();
-      if (commit && area.value !== note.text) void this.actions.edit({ kind: 'set_note', parent: this.store.at, id, note: { ...note, text: area.value } });
+      field.remove();
+      if (ok && field.value !== value) void commit(field.value);
       this.svg.focus();
     };
-    area.addEventListener('keydown', (e) => {
+    field.addEventListener('keydown', (ev) => {
+      const e = ev as KeyboardEvent;
       e.stopPropagation();
       if (e.key === 'Escape') finish(false);
-      if (e.key === 'Enter' && (e.ctrlKey || e.metaKey)) finish(true);
+      if (e.key === 'Enter' && (tag === 'input' || e.ctrlKey || e.metaKey)) finish(true);
     });
-    area.addEventListener('blur', () => finish(true));
+    field.addEventListener('blur', () => finish(true));
   }
 
   private inputsOf(node: DocNode): number {

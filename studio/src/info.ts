@@ -28,14 +28,15 @@ export interface NodeInfo {
   value?: GeometryInfo | { bundle: Record<string, GeometryInfo> } | { field: true };
 }
 
-function human(b: number): string {
-  const u = ['bytes', 'KB', 'MB', 'GB'];
+/** Bytes as the HUD and the info panel show them (binary units). */
+export function human(b: number): string {
+  const u = ['B', 'KiB', 'MiB', 'GiB'];
   let i = 0;
-  while (b >= 1000 && i < u.length - 1) {
-    b /= 1000;
+  while (b >= 1024 && i < 3) {
+    b /= 1024;
     i++;
   }
-  return i ? `${b.toFixed(1)} ${u[i]}` : `${b} bytes`;
+  return `${b.toFixed(i ? 1 : 0)} ${u[i]}`;
 }
 
 function section(title: string, lines: string[]): string {

@@ -5,7 +5,7 @@ import { NetworkEditor } from './editor';
 import { join, lastKeyFrame, nodeAt, parentOf } from './network';
 import { ParamPanel } from './params';
 import { CurveEditor, curvesOf } from './curves';
-import { showInfo, type NodeInfo } from './info';
+import { human, showInfo, type NodeInfo } from './info';
 import { CookBar } from './cookbar';
 import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type DocNetwork, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
@@ -265,15 +265,6 @@ const conn = new Connection(
   () => say('Disconnected from geode serve: restart it and reload this page.', true),
 );
 
-function human(b: number): string {
-  const u = ['B', 'KiB', 'MiB', 'GiB'];
-  let i = 0;
-  while (b >= 1024 && i < 3) {
-    b /= 1024;
-    i++;
-  }
-  return `${b.toFixed(i ? 1 : 0)} ${u[i]}`;
-}
 
 /** What the viewport says of a result it draws reduced. */
 let notice = '';

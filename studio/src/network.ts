@@ -9,7 +9,7 @@ import type { DocNetwork, DocNode } from './protocol';
 export const NODE_W = 132;
 export const NODE_H = 30;
 const GAP_X = 40;
-const GAP_Y = 60;
+const GAP_Y = 40;
 
 /** `/` joined with a name: `/a` + `b` = `/a/b`. */
 export function join(parent: string, name: string): string {

@@ -171,7 +171,14 @@ export class ParamPanel {
     }
     if (shown !== this.shownKey) return;
     for (const field of this.host.querySelectorAll<HTMLInputElement>('.param > .widgets > input.expr')) {
-      const name = field.closest<HTMLElement>('.param')?.dataset.param ?? '';
+      const row = field.closest<HTMLElement>('.param');
+      const name = row?.dataset.param ?? '';
+      // A parameter in error has no value to show: its message instead.
+      const error = row?.querySelector('.param-error')?.textContent;
+      if (error) {
+        field.title = `${field.value}\n${error}`;
+        continue;
+      }
       const v = values[name];
       const k = field.dataset.component;
       const one = k !== undefined && Array.isArray(v) ? v[Number(k)] : v;
@@ -194,6 +201,12 @@ export class ParamPanel {
     label.title = `${decl.name}: ${decl.help}${decl.affects ? `\n(shows ${decl.affects} when changed)` : ''}`;
     if (decl.affects || row.drives) label.classList.add('tagged');
     div.appendChild(label);
+    const driver = this.promotedBy(row);
+    if (driver) {
+      // The subnet's promoted parameter sets this one: edit it there (Houdini shows a channel reference).
+      div.classList.add('driven');
+      label.title = `Set by ${driver} (promoted): edit it on the subnet`;
+    }
     const comps = components(decl, value);
     const animated = comps.some(isChannel);
     const keyedHere = comps.some((c) => isChannel(c) && c.keys.some((k) => k.frame === frame));
@@ -226,6 +239,13 @@ export class ParamPanel {
     this.widgets(widgets, decl, value, frame, place, set, (component, v) =>
       this.actions.edit({ kind: 'set_key', path: row.path, param: row.name, component, frame, value: v }),
     );
+    if (driver) {
+      for (const w of widgets.querySelectorAll<HTMLInputElement | HTMLSelectElement>('input, select')) w.disabled = true;
+      const note = document.createElement('div');
+      note.className = 'note';
+      note.textContent = `set by ${driver} (promoted)`;
+      div.appendChild(note);
+    }
     if (decl.code) {
       // Code takes the panel's width under its label.
       div.classList.add('code');
@@ -265,6 +285,18 @@ export class ParamPanel {
     return div;
   }
 
+  /** The subnet parameter (`/rig detail`) that a promotion makes drive this row's parameter, if any. */
+  private promotedBy(row: Row): string | null {
+    if (row.drives || row.spare) return null;
+    const doc = this.store.state?.document;
+    const parent = parentOf(row.path);
+    if (!doc || parent === '/' || parent === row.path) return null;
+    const subnet = nodeAt(doc, parent);
+    const inner = `${row.path.slice(row.path.lastIndexOf('/') + 1)}/${row.name}`;
+    const name = Object.entries(subnet?.promote ?? {}).find(([, target]) => target === inner)?.[0];
+    return name ? `${parent} ${name}` : null;
+  }
+
   /** The input widgets for one declaration (also used for the fields of list rows); `place` names it (node path and parameter). */
   private widgets(
     host: HTMLElement,
@@ -297,8 +329,9 @@ export class ParamPanel {
             void setKey(k, v);
             return;
           }
+          // An expression typed over keys replaces them (a component is keys or an expression).
           const all = texts.map((x, i) => (x === t ? v : isExpr(comps[i]) && x.value.trim() === (comps[i] as Expr).expr ? comps[i] : parseComponent(x.value)));
-          void set(n === 1 ? all[0] : all.map((x, i) => (isChannel(comps[i]) ? comps[i] : x)));
+          void set(n === 1 ? all[0] : all.map((x, i) => (i !== k && isChannel(comps[i]) ? comps[i] : x)));
         });
         t.addEventListener('keydown', (e) => e.key === 'Enter' && t.blur());
         host.appendChild(t);

@@ -175,6 +175,8 @@ export interface GeometryPart {
   /** Polygons as point indices and vertex counts (the server's form); `triangles` are made from them. */
   polygons?: Uint32Array;
   polygonSizes?: Uint32Array;
+  /** The vertex count of every polygon, when they all have the same. */
+  polygonSize?: number;
   triangles?: Uint32Array;
   normals?: Float32Array;
   colors?: Float32Array;
@@ -243,6 +245,23 @@ export function fanTriangles(points: Uint32Array, sizes: Uint32Array | number): 
   return out;
 }
 
+/** The edges of polygons (point index pairs, each polygon closed), as a template or wireframe draws them. */
+export function polygonEdges(points: Uint32Array, sizes: Uint32Array | number): Uint32Array {
+  const count = typeof sizes === 'number' ? Math.floor(points.length / sizes) : sizes.length;
+  const out = new Uint32Array(points.length * 2);
+  let at = 0;
+  let o = 0;
+  for (let i = 0; i < count; i++) {
+    const n = typeof sizes === 'number' ? sizes : sizes[i];
+    for (let k = 0; k < n; k++) {
+      out[o++] = points[at + k];
+      out[o++] = points[at + ((k + 1) % n)];
+    }
+    at += n;
+  }
+  return out.subarray(0, o);
+}
+
 export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
   const magic = new TextDecoder().decode(new Uint8Array(buf, 0, 4));
   if (magic !== 'GEO1') throw new Error(`not a geometry message (${JSON.stringify(magic)})`);
@@ -270,7 +289,8 @@ export function decodeGeometry(buf: ArrayBuffer): DecodedGeometry {
     for (const k of ['normalsUniform', 'colorsUniform', 'protoBounds', 'reduced'] as const) {
       if (p[k]) out[k] = p[k];
     }
-    if (part.polygons) part.triangles = fanTriangles(part.polygons, part.polygonSizes ?? Number(p.polygonSize));
+    if (p.polygonSize) part.polygonSize = Number(p.polygonSize);
+    if (part.polygons) part.triangles = fanTriangles(part.polygons, part.polygonSizes ?? part.polygonSize ?? 3);
     return part;
   });
   return { generation: header.generation, node: header.node, bounds: header.bounds, parts, bytes: buf.byteLength, template: header.template === true, deltaOf: header.deltaOf };

@@ -3,7 +3,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { Labels, normalsOverlay, pointsOverlay, type DisplayOptions } from './overlays';
-import { deltaKeys, mergeDelta, type DecodedGeometry, type GeometryPart } from './protocol';
+import { deltaKeys, mergeDelta, polygonEdges, type DecodedGeometry, type GeometryPart } from './protocol';
 
 /** The views Houdini's Space+1..4 choose: perspective, and top, front and right orthographic. */
 export type ViewName = 'persp' | 'top' | 'front' | 'right';
@@ -93,6 +93,7 @@ export class Viewport {
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     // Houdini's mouse: left tumbles, middle pans, right dollies.
     this.controls.mouseButtons = { LEFT: THREE.MOUSE.ROTATE, MIDDLE: THREE.MOUSE.PAN, RIGHT: THREE.MOUSE.DOLLY };
+    this.controls.zoomSpeed = 2.5;
     this.pointLabels = new Labels(host, 'point-labels');
     this.primLabels = new Labels(host, 'prim-labels');
     const markerGeo = new THREE.BufferGeometry();
@@ -174,6 +175,8 @@ export class Viewport {
       // Ortho views pan and zoom; tumbling would leave the axis.
       this.controls.enableRotate = false;
     }
+    // The ground grid lies in the view's plane (Houdini's construction plane per view).
+    this.grid.rotation.set(view === 'front' ? Math.PI / 2 : 0, 0, view === 'right' ? Math.PI / 2 : 0);
     this.controls.object = this.camera;
     this.camera.lookAt(target);
     this.controls.update();
@@ -275,9 +278,10 @@ export class Viewport {
       if (!part.positions?.length) continue;
       const geo = new THREE.BufferGeometry();
       geo.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
-      if (part.triangles) {
-        geo.setIndex(new THREE.BufferAttribute(part.triangles, 1));
-        group.add(new THREE.Mesh(geo, ghost));
+      if (part.polygons) {
+        // Polygon edges, as Houdini draws a template: no triangulation diagonals.
+        geo.setIndex(new THREE.BufferAttribute(polygonEdges(part.polygons, part.polygonSizes ?? part.polygonSize ?? 3), 1));
+        group.add(new THREE.LineSegments(geo, lines));
       } else if (part.corners && part.cornerTriangles) {
         const c = new THREE.BufferGeometry();
         c.setAttribute('position', new THREE.BufferAttribute(part.corners, 3));

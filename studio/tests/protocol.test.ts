@@ -1,6 +1,6 @@
 // Unit tests of the geometry decoder against a message laid out as the server lays it, and of the panel's text parsing.
 import { describe, expect, it, test } from 'vitest';
-import { decodeGeometry, fanTriangles, hasNetwork, reducedNotice, uniqueProblems, type GeometryPart, type Problem } from '../src/protocol';
+import { decodeGeometry, fanTriangles, hasNetwork, polygonEdges, reducedNotice, uniqueProblems, type GeometryPart, type Problem } from '../src/protocol';
 import { nodeTypes } from './protocol.fixture';
 import { parseNumber } from '../src/params';
 import { filterCatalogue } from '../src/tabmenu';
@@ -112,4 +112,9 @@ describe('fanTriangles', () => {
     expect([...fanTriangles(new Uint32Array([0, 1, 2, 3, 4, 5, 6]), new Uint32Array([4, 3]))]).toEqual([0, 1, 2, 0, 2, 3, 4, 5, 6]);
     expect([...fanTriangles(new Uint32Array([0, 1, 2, 3, 4, 5, 6, 7]), 4)]).toEqual([0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7]);
   });
+});
+
+test('polygon edges close each polygon and draw no diagonal', () => {
+  expect([...polygonEdges(new Uint32Array([0, 1, 2, 3]), 4)]).toEqual([0, 1, 1, 2, 2, 3, 3, 0]);
+  expect([...polygonEdges(new Uint32Array([0, 1, 2, 5, 6, 7, 8]), new Uint32Array([3, 4]))]).toEqual([0, 1, 1, 2, 2, 0, 5, 6, 6, 7, 7, 8, 8, 5]);
 });

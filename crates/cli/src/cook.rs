@@ -194,6 +194,7 @@ pub fn cook(args: CookArgs) -> Result<()> {
             cancel: cancel.clone(),
             progress: Some(&on_progress),
             env: env.clone(),
+            writes: true,
         };
         let result = engine.cook(&target, &opts).map_err(|errors| {
             if errors.iter().any(|e| e.is_cancelled()) {

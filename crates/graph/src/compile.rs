@@ -153,14 +153,16 @@ impl CompiledParam {
         if !x.is_finite() {
             return Err(format!("the expression gives {x} at frame {frame}"));
         }
+        // Expressions compute in VEX's 32-bit floats: shown as such.
+        let shown = x as f32;
         if let Some(min) = self.spec.min.filter(|m| x < *m) {
             return Err(format!(
-                "the expression gives {x} at frame {frame}, below the minimum {min}"
+                "the expression gives {shown} at frame {frame}, below the minimum {min}"
             ));
         }
         if let Some(max) = self.spec.max.filter(|m| x > *m) {
             return Err(format!(
-                "the expression gives {x} at frame {frame}, above the maximum {max}"
+                "the expression gives {shown} at frame {frame}, above the maximum {max}"
             ));
         }
         Ok(x)

@@ -23,6 +23,9 @@ pub struct CookOptions<'a> {
     pub progress: Option<&'a ProgressFn<'a>>,
     /// Hidden inputs and limits, handed to every cook.
     pub env: CookEnv,
+    /// Whether output nodes may write their files; when not, cooking one is
+    /// an error (looking at a node, as the info panel does, writes nothing).
+    pub writes: bool,
 }
 
 impl CookOptions<'_> {
@@ -33,6 +36,7 @@ impl CookOptions<'_> {
             cancel: CancelToken::new(),
             progress: None,
             env: CookEnv::from_process(),
+            writes: true,
         }
     }
 }
@@ -328,6 +332,13 @@ impl Run<'_, '_> {
             .params_at(i, self.opts.frame, &self.opts.env)
             .map_err(|e| vec![load_problem(&e)])?;
         let output = writes_files(spec, &params);
+        if output && !self.opts.writes {
+            return Err(vec![CookError::new(
+                &n.path,
+                ErrorKind::Io,
+                "not cooked here: it writes files (view it, or cook it with geode cook, to write them)",
+            )]);
+        }
         let key_ctx = geode_op::KeyContext {
             env: &self.opts.env,
             cancel: &self.opts.cancel,
@@ -439,6 +450,7 @@ impl Run<'_, '_> {
             cancel: self.opts.cancel.clone(),
             progress: self.opts.progress,
             env: self.opts.env.clone(),
+            writes: self.opts.writes,
         };
         let run = Run {
             engine: self.engine,
@@ -633,6 +645,7 @@ impl<'c> Engine<'c> {
                     cancel: opts.cancel.clone(),
                     progress: opts.progress,
                     env: opts.env.clone().with_fps(fps),
+                    writes: opts.writes,
                 };
                 &with_fps
             }

@@ -6,6 +6,7 @@
 //! evaluates per frame, so a referenced value is part of the reader's
 //! parameters and so of its cook key.
 
+use std::cell::RefCell;
 use std::sync::Arc;
 
 use geode_op::{CookEnv, ExprScope, ExprValue, Expression, ParamValue, TextPosition};
@@ -180,20 +181,39 @@ impl EvalCx<'_> {
         path.rsplit('/').next().unwrap_or(path)
     }
 
-    /// The value of an expression component.
+    /// The value of an expression component. When a `ch()` reference
+    /// fails, the error is the referenced parameter's own (it belongs there).
     pub fn expression(&self, e: &ExprComponent) -> Result<ExprValue, geode_op::ExprError> {
-        let channel = |reference: &str| self.reference(reference);
-        e.expr.eval(&ExprScope {
+        let failed: RefCell<Option<(String, LoadError)>> = RefCell::new(None);
+        let channel = |reference: &str| self.reference(reference, &failed);
+        let r = e.expr.eval(&ExprScope {
             frame: self.frame,
             fps: self.env.fps,
             hip: &self.env.hip,
             node: self.node_name(),
             channel: &channel,
-        })
+        });
+        match (r, failed.into_inner()) {
+            (Err(mut err), Some((reference, cause))) => {
+                err.message = format!(
+                    "ch(\"{reference}\") fails: {}{}: {}",
+                    cause.path,
+                    cause.param.map(|p| format!(" `{p}`")).unwrap_or_default(),
+                    cause.message
+                );
+                Err(err)
+            }
+            (r, _) => r,
+        }
     }
 
-    /// A `ch()` reference's value at this frame.
-    fn reference(&self, reference: &str) -> Option<ExprValue> {
+    /// A `ch()` reference's value at this frame; when the referenced
+    /// parameter fails, its error goes to `failed`.
+    fn reference(
+        &self,
+        reference: &str,
+        failed: &RefCell<Option<(String, LoadError)>>,
+    ) -> Option<ExprValue> {
         if self.depth >= MAX_REFERENCE_DEPTH {
             return None;
         }
@@ -204,16 +224,21 @@ impl EvalCx<'_> {
             depth: self.depth + 1,
             ..*self
         };
+        let fail = |e: LoadError| {
+            failed.borrow_mut().get_or_insert((reference.to_owned(), e));
+            None
+        };
         if let Some(c) = target.component {
-            let name = target.param.as_str();
-            return Some(ExprValue::Num(vec![param
-                .component_at(&cx, name, c)
-                .ok()?]));
+            return match param.component_at(&cx, &target.param, c) {
+                Ok(x) => Some(ExprValue::Num(vec![x])),
+                Err(e) => fail(e),
+            };
         }
-        match param.eval(&cx).ok()? {
-            ParamValue::String(s) => Some(ExprValue::Str(s)),
-            ParamValue::List(_) => None,
-            v => Some(ExprValue::Num(v.as_components())),
+        match param.eval_named(&cx, &target.param) {
+            Ok(ParamValue::String(s)) => Some(ExprValue::Str(s)),
+            Ok(ParamValue::List(_)) => None,
+            Ok(v) => Some(ExprValue::Num(v.as_components())),
+            Err(e) => fail(e),
         }
     }
 
@@ -454,9 +479,28 @@ pub(crate) fn check_references(net: &Network) -> Vec<LoadError> {
         })
     };
     let mut edges: Vec<(usize, usize)> = Vec::new();
+    let env = CookEnv::default();
     for node in 0..net.nodes.len() {
         for (name, p) in net.params_of(node) {
             for (k, e) in expressions_of(p) {
+                // An expression reading no other parameter is tried once now, so
+                // an unknown function or a type error shows on its own
+                // parameter at load rather than on whatever cooks it first.
+                if e.expr.references().is_empty() {
+                    let cx = EvalCx {
+                        net,
+                        node,
+                        frame: 1.0,
+                        env: &env,
+                        depth: 0,
+                    };
+                    if let Err(err) = cx.expression(e) {
+                        errors.push(
+                            LoadError::param(&net.nodes[node].path, name, err.message)
+                                .at(err.position),
+                        );
+                    }
+                }
                 for r in e.expr.references() {
                     let Some(t) = net.resolve_reference(node, r) else {
                         errors.push(LoadError::param(

@@ -174,11 +174,15 @@ fn expression_errors_point_at_their_column() {
     let p = &problems("sin($F")[0];
     assert_eq!(p.position.map(|p| p.column), Some(7), "{}", p.message);
     assert!(problems("@P.x")[0].message.contains("no geometry"));
-    // Type errors show when evaluated, still with the column.
-    let nodes = r#""b": {"type": "box", "params": {"size": [1, {"expr": "2 * \"text\""}, 1]}}"#;
-    let e = &cook_errors(nodes, "b")[0];
-    assert_eq!(e.param.as_deref(), Some("size"));
-    assert!(e.position.is_some(), "{e}");
+    // Type errors show at load too (an expression reading no other parameter
+    // is tried once), with the column.
+    let p = &problems("2 * \\\"text\\\"")[0];
+    assert!(
+        p.message.contains("no form for int and string"),
+        "{}",
+        p.message
+    );
+    assert!(p.position.is_some());
     // A result outside the declared range names the value and the frame.
     let nodes = r#""s": {"type": "sphere", "params": {"radius": {"expr": "$F - 5"}}}"#;
     let e = err(nodes, "s");
@@ -226,4 +230,32 @@ fn strings_expand_variables_and_backticks_but_code_does_not() {
         "w": {"type": "wrangle", "inputs": ["g"], "params": {"snippet": "@P.y = $F;"}}"#;
     let e = err(nodes, "w");
     assert!(e.contains("@Frame"), "{e}");
+}
+
+#[test]
+fn an_error_belongs_to_the_parameter_that_has_it() {
+    // An unknown function fails at load on its own node, not on its readers.
+    let nodes = r#"
+        "link": {"type": "sphere", "params": {"radius": {"expr": "if($F > 10, 0.05, 0.02)"}}},
+        "ring": {"type": "sphere", "params": {"radius": {"expr": "ch(\"../link/radius\") * 50"}}}"#;
+    let net = geode_graph::Network::load_partial(
+        &geode_graph::Document::from_json(&net(nodes, "ring")).unwrap(),
+        &geode_nodes::registry(),
+    )
+    .unwrap();
+    let p = &net.node_problems("/link")[0];
+    assert!(p.message.contains("unknown function 'if'"), "{}", p.message);
+    assert_eq!(p.position.map(|p| p.column), Some(1));
+    assert!(net.node_problems("/ring").is_empty());
+    // A reference whose parameter fails at cook time names that parameter's error.
+    let nodes = r#"
+        "a": {"type": "box", "params": {"size": [{"expr": "ch(\"../b/sizex\")"}, 1, 1]}},
+        "b": {"type": "box", "params": {"size": [{"expr": "ch(\"../c/name\") * 2"}, 1, 1]}},
+        "c": {"type": "wrangle", "inputs": ["a"], "spare": {"name": "string"}, "params": {"name": "x"}}"#;
+    let e = cook_errors(nodes, "a");
+    assert!(
+        e[0].message.contains("ch(\"../b/sizex\") fails: /b `size`"),
+        "{}",
+        e[0].message
+    );
 }

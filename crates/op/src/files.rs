@@ -173,19 +173,51 @@ impl FileAccess {
 
     /// The real path a file may be written at: its folder inside the roots
     /// once resolved, and the file itself, if it exists, a regular file.
+    /// Missing folders on the way are made (as Houdini's output nodes make
+    /// them), once the path is known to be inside the roots.
     pub fn writable(&self, path: &Path) -> Result<PathBuf, FileRefusal> {
         let real = match path.canonicalize() {
             Ok(real) => real,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-                let name = path.file_name().ok_or_else(|| FileRefusal::NotRegular {
-                    path: path.to_owned(),
-                    what: "a folder",
-                })?;
-                let parent = match path.parent() {
-                    Some(p) if !p.as_os_str().is_empty() => p,
-                    _ => Path::new("."),
-                };
-                parent.canonicalize().map_err(io(path))?.join(name)
+                if path.file_name().is_none() {
+                    return Err(FileRefusal::NotRegular {
+                        path: path.to_owned(),
+                        what: "a folder",
+                    });
+                }
+                // The nearest folder that exists, resolved, and the rest as
+                // written (plain names only: no `..` past what was resolved).
+                let mut existing = path;
+                let mut rest = Vec::new();
+                loop {
+                    match existing.parent() {
+                        Some(p) => {
+                            rest.push(existing.file_name().unwrap_or_default());
+                            existing = if p.as_os_str().is_empty() {
+                                Path::new(".")
+                            } else {
+                                p
+                            };
+                            if existing.exists() {
+                                break;
+                            }
+                        }
+                        None => return Err(io(path)(e)),
+                    }
+                }
+                let tail_ok = rest.iter().all(|c| {
+                    let c = Path::new(c);
+                    c.components().count() == 1
+                        && matches!(c.components().next(), Some(std::path::Component::Normal(_)))
+                });
+                if !tail_ok {
+                    return Err(io(path)(e));
+                }
+                let mut real = existing.canonicalize().map_err(io(path))?;
+                for c in rest.iter().rev() {
+                    real.push(c);
+                }
+                real
             }
             Err(e) => return Err(io(path)(e)),
         };
@@ -195,7 +227,12 @@ impl FileAccess {
                 path: path.to_owned(),
                 what: kind_of(m.file_type()),
             }),
-            _ => Ok(real),
+            _ => {
+                if let Some(folder) = real.parent() {
+                    std::fs::create_dir_all(folder).map_err(io(path))?;
+                }
+                Ok(real)
+            }
         }
     }
 
@@ -338,6 +375,23 @@ mod tests {
     }
 
     #[cfg(unix)]
+    #[test]
+    fn missing_folders_are_made_inside_the_roots_only() {
+        let inside = tempfile::tempdir().unwrap();
+        let outside = tempfile::tempdir().unwrap();
+        let access = FileAccess::confined([inside.path().to_owned()]).unwrap();
+        let deep = inside.path().join("out/frames/f.0001.obj");
+        let real = access.writable(&deep).unwrap();
+        assert!(real.parent().unwrap().is_dir(), "out/frames made");
+        // Outside the roots nothing is made.
+        let far = outside.path().join("made/here.obj");
+        assert!(access.writable(&far).is_err());
+        assert!(!outside.path().join("made").exists());
+        // `..` after a missing folder is not followed.
+        let sneaky = inside.path().join("nothere/../../escape.obj");
+        assert!(access.writable(&sneaky).is_err());
+    }
+
     #[test]
     fn devices_are_refused_before_reading_even_behind_a_link() {
         let dir = tempfile::tempdir().unwrap();

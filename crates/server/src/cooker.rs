@@ -146,6 +146,7 @@ fn run(
         cancel: token,
         progress: Some(&progress),
         env: req.env,
+        writes: true,
     };
     let result = engine.cook(&req.node, &opts).map(|r| (r.value, r.events));
     // A stale result never replaces a newer one.

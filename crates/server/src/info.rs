@@ -56,6 +56,7 @@ pub fn node_info(net: &Network, cache: &Cache, path: &str, frame: f64, env: &Coo
         cancel,
         progress: None,
         env: env.clone(),
+        writes: false,
     };
     let result = engine.cook(path, &opts);
     drop(watchdog);

@@ -16,8 +16,19 @@ pub enum Class {
     Detail,
 }
 
+/// A float as the spreadsheet shows it: the shortest text that reads back,
+/// in scientific notation when tiny or huge (as Houdini's spreadsheet).
+fn float_text(x: f32) -> String {
+    let a = x.abs();
+    if a != 0.0 && !(1e-4..1e7).contains(&a) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
 fn components(v: &AttribValue) -> Vec<String> {
-    let f = |x: f32| format!("{x}");
+    let f = float_text;
     match v {
         AttribValue::Float(x) => vec![f(*x)],
         AttribValue::Int(i) => vec![i.to_string()],
@@ -152,6 +163,14 @@ mod tests {
     use super::*;
     use geode_geo::{Attribute, Group, TypeInfo};
     use glam::Vec3;
+
+    #[test]
+    fn tiny_and_huge_floats_read_in_scientific_notation() {
+        assert_eq!(float_text(-5.6048726e-16), "-5.6048726e-16");
+        assert_eq!(float_text(0.25), "0.25");
+        assert_eq!(float_text(0.0), "0");
+        assert_eq!(float_text(3e9), "3e9");
+    }
 
     #[test]
     fn rows_show_attributes_by_component_and_groups() {

@@ -131,7 +131,9 @@ impl Expression {
         channel: &dyn Fn(&str) -> Option<Channel>,
     ) -> Result<Value, CompileError> {
         let expr = parse_tokens(substitute(&self.tokens, globals))?;
-        let names = || self.references.clone();
+        // No suggestions: a reference that cannot be read is reported by the
+        // network, which knows why.
+        let names = Vec::new;
         let empty = Geometry::new();
         let spec = BindSpec {
             run_over: AttribClass::Detail,
