@@ -158,7 +158,7 @@ describe('the network editor', () => {
     await page.keyboard.press('c');
     await page.locator('.palette .swatch').nth(3).click();
     await page.waitForFunction((n) => window.__geode.store.state.document.nodes[n].ui?.color === '#6fae4a', names[0]);
-    assert.equal(await page.locator(`g.node[data-node="${names[0]}"] rect.body`).evaluate((e) => e.style.fill), 'rgb(111, 174, 74)');
+    await page.waitForFunction((n) => document.querySelector(`g.node[data-node="${n}"] rect.body`)?.style.fill === 'rgb(111, 174, 74)', names[0]);
     await page.click('#save');
     await page.waitForFunction(() => /saved/.test(document.querySelector('#status').textContent));
     const saved = JSON.parse(readFileSync(server.network, 'utf8'));

@@ -103,10 +103,19 @@ export async function boxOf(locator) {
   throw new Error(`no box for ${locator}`);
 }
 
-/** Clicks a node of the editor by name. */
+/** Clicks a node of the editor by name (framing all first, as a user would press H, when it is off screen). */
 export async function clickNode(page, name) {
+  const node = page.locator(`g.node[data-node="${name}"] rect.body`);
+  let box = await boxOf(node);
+  const editor = await boxOf(page.locator('#editor svg'));
+  const inside = (b) => b.x >= editor.x && b.y >= editor.y && b.x + b.width <= editor.x + editor.width && b.y + b.height <= editor.y + editor.height;
+  if (!inside(box)) {
+    await page.mouse.move(editor.x + 5, editor.y + 5);
+    await page.locator('#editor svg').focus();
+    await page.keyboard.press('h');
+    box = await boxOf(node);
+  }
   // Right of the labels and left of the template and display flags, at any zoom.
-  const box = await boxOf(page.locator(`g.node[data-node="${name}"] rect.body`));
   await page.mouse.click(box.x + box.width * 0.7, box.y + box.height * 0.8);
 }
 
