@@ -4,7 +4,7 @@ import assert from 'node:assert/strict';
 import { existsSync, readFileSync } from 'node:fs';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { boxOf, browser, clickNode, generation, nextCook, open, serve } from './harness.mjs';
+import { boxOf, browser, clickNode, generation, nextCook, open, serve, network } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -14,7 +14,6 @@ after(async () => {
   await chrome?.close();
 });
 
-const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
 
 describe('the viewport', () => {
   let server;

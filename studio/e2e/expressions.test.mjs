@@ -2,7 +2,7 @@
 
 import assert from 'node:assert/strict';
 import { after, before, describe, test } from 'node:test';
-import { boxOf, browser, clickNode, generation, nextCook, open, serve, setParam } from './harness.mjs';
+import { boxOf, browser, clickNode, generation, nextCook, open, serve, setParam, network } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -12,7 +12,6 @@ after(async () => {
   await chrome?.close();
 });
 
-const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
 const width = (cooked) => cooked.stats.bounds[1][0] - cooked.stats.bounds[0][0];
 
 async function frame(page, f) {

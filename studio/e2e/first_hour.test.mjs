@@ -5,7 +5,7 @@ import { mkdtempSync, readFileSync, symlinkSync, existsSync, rmSync } from 'node
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { after, before, describe, test } from 'node:test';
-import { boxOf, browser, clickNode, generation, nextCook, open, repo, serve, setParam } from './harness.mjs';
+import { boxOf, browser, clickNode, generation, nextCook, open, repo, serve, setParam, network } from './harness.mjs';
 
 let chrome;
 before(async () => {
@@ -15,7 +15,6 @@ after(async () => {
   await chrome?.close();
 });
 
-const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
 
 describe('a long cook', () => {
   let server;

@@ -87,6 +87,9 @@ export async function nextCook(page, after, timeout = 60_000) {
   return page.evaluate(() => window.__geode.store.cooked);
 }
 
+/** A network document's text from its nodes and output node. */
+export const network = (nodes, output) => JSON.stringify({ geode: 'network', version: 1, output, nodes });
+
 /** An example network's text. */
 export const example = (name) => readFileSync(join(repo, 'examples', name), 'utf8');
 

@@ -24,6 +24,21 @@ fn channel(name: &str) -> Option<Channel> {
     }
 }
 
+/// Compiles `text` over the points of an empty geometry.
+fn compile_over_points(text: &str) -> Result<geode_vex::Program, geode_vex::CompileError> {
+    let geo = Geometry::new();
+    let names = Vec::new;
+    let spec = BindSpec {
+        run_over: AttribClass::Point,
+        inputs: vec![Some(&geo)],
+        channels: &channel,
+        channel_names: &names,
+        frame: 1.0,
+        time: 0.0,
+    };
+    compile(text, &spec)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
 
@@ -37,32 +52,12 @@ proptest! {
 
     #[test]
     fn snippets_never_panic(text in soup()) {
-        let geo = Geometry::new();
-        let names = Vec::new;
-        let spec = BindSpec {
-            run_over: AttribClass::Point,
-            inputs: vec![Some(&geo)],
-            channels: &channel,
-            channel_names: &names,
-            frame: 1.0,
-            time: 0.0,
-        };
-        let _ = compile(&text, &spec);
+        let _ = compile_over_points(&text);
     }
 }
 
 #[test]
 fn nesting_past_the_limit_is_an_error_in_every_form() {
-    let geo = Geometry::new();
-    let names = Vec::new;
-    let spec = BindSpec {
-        run_over: AttribClass::Point,
-        inputs: vec![Some(&geo)],
-        channels: &channel,
-        channel_names: &names,
-        frame: 1.0,
-        time: 0.0,
-    };
     let deep = [
         format!("f@a = {}1{};", "(".repeat(100_000), ")".repeat(100_000)),
         format!("f@a = {}1;", "-".repeat(100_000)),
@@ -72,7 +67,7 @@ fn nesting_past_the_limit_is_an_error_in_every_form() {
         format!("f@a = x{};", "[0]".repeat(100_000)),
     ];
     for src in &deep {
-        let e = compile(src, &spec).expect_err("too deep");
+        let e = compile_over_points(src).expect_err("too deep");
         assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
     }
     let e =
