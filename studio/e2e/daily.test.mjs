@@ -62,6 +62,11 @@ describe('the viewport', () => {
     await page.waitForFunction((p) => document.querySelector('.sheet-row.selected')?.dataset.row === String(p), picked.primitive);
   });
 
+  test('on a software GL (this SwiftShader) it draws without multisampling and says so', async () => {
+    assert.equal(await page.evaluate(() => window.__geode.viewport.antialias), false);
+    assert.match(await page.locator('#hud').textContent(), /software rendering \(no GPU\): antialiasing off/);
+  });
+
   test('Space+2 shows the top view, Space+1 perspective again', async () => {
     const canvas = await boxOf(page.locator('#viewport canvas'));
     await page.mouse.move(canvas.x + 40, canvas.y + 40);

@@ -283,6 +283,7 @@ function renderHud() {
     st?.bounds ? `bounds ${st.bounds.map((v) => `(${v.map((x) => x.toFixed(2)).join(', ')})`).join(' – ')}` : '',
     d ? `${d.triangles} triangles drawn${d.instances ? ` · ${d.instances} instances${d.instancesAsPoints ? ' as points' : ''}` : ''}` : '',
     notice,
+    viewport.antialias ? '' : 'software rendering (no GPU): antialiasing off',
   ];
   $('#hud').textContent = lines.filter(Boolean).join('\n');
 }

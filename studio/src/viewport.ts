@@ -72,6 +72,8 @@ export class Viewport {
   private selection: THREE.Box3 | null = null;
   wireframe = false;
   forceFlat = false;
+  /** Multisampling: on, unless the GL is a software rasterizer (SwiftShader, llvmpipe), where it costs more than half of every frame. */
+  readonly antialias: boolean;
   drawn: Drawn | null = null;
   private last: DecodedGeometry | null = null;
   private needsRender = true;
@@ -83,7 +85,8 @@ export class Viewport {
   private materials = new Map<string, THREE.Material>();
 
   constructor(private host: HTMLElement) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.antialias = !softwareGL();
+    this.renderer = new THREE.WebGLRenderer({ antialias: this.antialias, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio));
     this.renderer.setClearColor(0x2b2f36);
     host.appendChild(this.renderer.domElement);
@@ -554,6 +557,24 @@ export class Viewport {
     for (const p of points) b.expandByPoint(new THREE.Vector3(...p));
     b.expandByScalar((this.bounds?.getSize(new THREE.Vector3()).length() ?? 1) * 0.02);
     this.selection = b;
+  }
+}
+
+/**
+ * Whether WebGL runs on a software rasterizer (no GPU: SwiftShader,
+ * llvmpipe). Measured on the chain's cached playback under SwiftShader:
+ * 6.9 fps with 4x multisampling, 16.4 without.
+ */
+export function softwareGL(): boolean {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl2') ?? document.createElement('canvas').getContext('webgl');
+    if (!gl) return false;
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+    gl.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(name);
+  } catch {
+    return false;
   }
 }
 
