@@ -4,6 +4,7 @@
 
 pub mod analytic;
 pub mod attrib;
+mod bytes;
 pub mod codec;
 mod error;
 mod geometry;
@@ -21,6 +22,7 @@ pub use attrib::{
     AttribClass, AttribData, AttribTable, AttribType, AttribValue, Attribute, StringColumn,
     TypeInfo,
 };
+pub use bytes::human_bytes;
 pub use error::GeoError;
 pub use geometry::{Geometry, PackedInstance, PrimKind, P};
 pub use glam;

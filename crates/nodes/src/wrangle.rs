@@ -4,8 +4,8 @@
 
 use geode_geo::AttribClass;
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamSpec as P,
-    ParamType as T, ParamValue, Params, PortType, Registry, Value,
+    CookContext, CookError, ErrorKind, InputSpec, NodeSpec, Operator, ParamDefault as D,
+    ParamSpec as P, ParamType as T, ParamValue, Params, PortType, Registry, Value,
 };
 use geode_vex::{BindSpec, Channel, RunError, RunOptions};
 
@@ -125,10 +125,17 @@ impl Operator for Wrangle {
         let opts = RunOptions {
             group: group.as_deref(),
             cancel: &cancel,
+            memory_budget: ctx.env.memory_budget,
         };
         match geode_vex::run(&program, &mut out, &all, &opts) {
             Ok(_) => geometry(out),
             Err(RunError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+            Err(e @ RunError::OverBudget { pos, .. }) => {
+                Err(CookError::new(ctx.path, ErrorKind::Resource, e.to_string())
+                    .at_param("snippet")
+                    .at_position(pos.line, pos.col)
+                    .with_source(e))
+            }
             Err(e @ RunError::At { pos, .. }) if pos.line > 0 => {
                 Err(ctx.kernel_at("snippet", e).at_position(pos.line, pos.col))
             }

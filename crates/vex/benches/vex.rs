@@ -77,6 +77,7 @@ fn wrangle(bencher: Bencher, src: &str, class: AttribClass, g: &Geometry) {
                 &RunOptions {
                     group: None,
                     cancel: &cancel,
+                    memory_budget: u64::MAX,
                 },
             )
             .unwrap();

@@ -375,7 +375,7 @@ fn set_attr(
     let attr = table.get_mut(name).expect("just made");
     let old = crate::builtins::attrib_value(attr.data(), i);
     let new = combine(&old, value, mode);
-    set_value(attr, i, &new);
+    set_value(attr, i, new);
     Ok(())
 }
 

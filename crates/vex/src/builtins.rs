@@ -184,6 +184,19 @@ pub fn read(fr: &Frame, loc: Loc, l: usize) -> Val {
     }
 }
 
+/// Lane `l` of the value at `loc`, moved out where it is a string or an
+/// array (the register is left empty).
+pub fn take(fr: &mut Frame, loc: Loc, l: usize) -> Val {
+    let k = loc.reg as usize * LANES + l;
+    match loc.ty {
+        Ty::Str => Val::S(std::mem::take(&mut fr.s[k])),
+        Ty::Array(Elem::Int) => Val::AI(std::mem::take(&mut fr.ai[k])),
+        Ty::Array(Elem::Str) => Val::AS(std::mem::take(&mut fr.as_[k])),
+        Ty::Array(e) => Val::AF(std::mem::take(&mut fr.af[k]), e.ty().floats() as u8),
+        _ => read(fr, loc, l),
+    }
+}
+
 /// Stores `v` in lane `l` of `loc`, converting int and float as VEX does.
 pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
     let r = loc.reg as usize;
@@ -227,7 +240,9 @@ pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
     }
 }
 
-/// Runs one call over the lanes its mask selects.
+/// Runs one call over the lanes its mask selects. Each lane's arguments
+/// and result are reserved against the run's memory budget before they
+/// are copied or made.
 pub fn call(
     p: &Program,
     site: &CallSite,
@@ -245,15 +260,72 @@ pub fn call(
                 continue;
             }
         }
+        let copied: u64 = site
+            .args
+            .iter()
+            .zip(&site.consts)
+            .filter(|(_, c)| c.is_none())
+            .map(|(a, _)| held_at(fr, *a, l))
+            .sum();
+        reserve(site, fr, world, l, "copying the arguments", copied)?;
         for (k, a) in site.args.iter().enumerate() {
             if site.consts[k].is_none() {
                 args[k] = read(fr, *a, l);
             }
         }
+        if let Some((what, bytes)) = crate::library::result_bytes(site.f, &args) {
+            reserve(site, fr, world, l, &what, copied.saturating_add(bytes))?;
+        }
         let out = lane(p, site, &args, l, world)?;
+        let before = held_at(fr, site.out, l);
         write(fr, site.out, l, out);
+        let after = held_at(fr, site.out, l);
+        world.shared.budget.charge(after as i64 - before as i64);
+        fr.held = (fr.held + after).saturating_sub(before);
     }
     Ok(())
+}
+
+/// Refuses `bytes` more for lane `l` unless they fit the budget once this
+/// frame's own account is brought up to date.
+fn reserve(
+    site: &CallSite,
+    fr: &mut Frame,
+    world: &World,
+    l: usize,
+    what: &str,
+    bytes: u64,
+) -> Result<(), RunError> {
+    /// Requests from here on also poll cancellation: making them is slow.
+    const LARGE: u64 = 1 << 20;
+    if bytes >= LARGE && (world.cancel)() {
+        return Err(RunError::Cancelled);
+    }
+    let budget = &world.shared.budget;
+    if bytes == 0 || budget.fits(bytes) {
+        return Ok(());
+    }
+    crate::budget::true_up(budget, fr);
+    if budget.fits(bytes) {
+        return Ok(());
+    }
+    Err(RunError::OverBudget {
+        elem: world.elem_of(l),
+        pos: site.pos,
+        msg: budget.refusal(what, bytes),
+    })
+}
+
+/// Bytes lane `l` of `loc` holds on the heap (strings and arrays).
+fn held_at(fr: &Frame, loc: Loc, l: usize) -> u64 {
+    let k = loc.reg as usize * LANES + l;
+    match loc.ty {
+        Ty::Str => fr.s[k].capacity() as u64,
+        Ty::Array(Elem::Int) => (fr.ai[k].capacity() * 4) as u64,
+        Ty::Array(Elem::Str) => crate::budget::strings_bytes(&fr.as_[k]),
+        Ty::Array(_) => (fr.af[k].capacity() * 4) as u64,
+        _ => 0,
+    }
 }
 
 fn rand_of(seed: &[f32], salt: u64) -> f32 {
@@ -267,8 +339,14 @@ fn rand_of(seed: &[f32], salt: u64) -> f32 {
 
 fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Result<Val, RunError> {
     let out_ty = site.out.ty;
+    let elem = w.elem_of(l);
     let err = |msg: String| RunError::At {
-        elem: w.elem_of(l),
+        elem,
+        pos: site.pos,
+        msg,
+    };
+    let over = |msg: String| RunError::OverBudget {
+        elem,
         pos: site.pos,
         msg,
     };
@@ -436,7 +514,8 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     value: a[value].clone(),
                     mode,
                 })),
-            );
+            )
+            .map_err(over)?;
             Val::I(0)
         }
         Builtin::AddPoint => {
@@ -452,7 +531,8 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     from,
                     pos: a[1].v3(),
                 },
-            );
+            )
+            .map_err(over)?;
             Val::I(handle)
         }
         Builtin::AddPrim => {
@@ -481,7 +561,8 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     polyline,
                     points,
                 },
-            );
+            )
+            .map_err(over)?;
             Val::I(handle)
         }
         Builtin::AddVertex => {
@@ -491,11 +572,13 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     prim: a[1].i(),
                     point: a[2].i(),
                 },
-            );
+            )
+            .map_err(over)?;
             Val::I(0)
         }
         Builtin::RemovePoint => {
-            w.queue(l, EffectKind::RemovePoint { point: a[1].i() });
+            w.queue(l, EffectKind::RemovePoint { point: a[1].i() })
+                .map_err(over)?;
             Val::I(1)
         }
         Builtin::RemovePrim => {
@@ -505,7 +588,8 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     prim: a[1].i(),
                     and_points: a.get(2).is_some_and(|v| v.i() != 0),
                 },
-            );
+            )
+            .map_err(over)?;
             Val::I(1)
         }
         Builtin::SetGroup(class) => {
@@ -518,17 +602,24 @@ fn lane(p: &Program, site: &CallSite, a: &[Val], l: usize, w: &mut World) -> Res
                     target: a[2].i(),
                     on,
                 },
-            );
+            )
+            .map_err(over)?;
             Val::I(0)
         }
         Builtin::Print => {
             w.queue(
                 l,
                 EffectKind::Print(crate::library::sprintf(a[0].s(), &a[1..])),
-            );
+            )
+            .map_err(over)?;
             Val::S(String::new())
         }
-        _ => return crate::library::lane(p, site, a).map_err(err),
+        _ => {
+            return crate::library::lane(p, site, a, w.cancel).map_err(|stop| match stop {
+                crate::library::Stop::Msg(msg) => err(msg),
+                crate::library::Stop::Cancelled => RunError::Cancelled,
+            })
+        }
     })
 }
 

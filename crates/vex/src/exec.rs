@@ -18,6 +18,8 @@ pub struct Frame {
     pub af: Vec<Vec<f32>>,
     pub ai: Vec<Vec<i32>>,
     pub as_: Vec<Vec<String>>,
+    /// Bytes this frame has charged to the run's memory budget.
+    pub held: u64,
 }
 
 impl Frame {
@@ -31,6 +33,7 @@ impl Frame {
             af: vec![Vec::new(); c.af as usize * LANES],
             ai: vec![Vec::new(); c.ai as usize * LANES],
             as_: vec![Vec::new(); c.as_ as usize * LANES],
+            held: 0,
         }
     }
 
@@ -191,6 +194,61 @@ fn mov<T: Clone>(file: &mut [T], d: Reg, s: Reg) {
     x.clone_from_slice(src.get(s));
 }
 
+/// A register file whose values live on the heap.
+#[derive(Clone, Copy)]
+enum Heap {
+    S,
+    A(ArrFile),
+}
+
+/// Bytes register `r` of `file` holds on the heap over the batch's lanes.
+fn reg_bytes(fr: &Frame, file: Heap, r: Reg) -> u64 {
+    let lanes = r as usize * LANES..(r as usize + 1) * LANES;
+    match file {
+        Heap::S => fr.s[lanes].iter().map(|s| s.capacity() as u64).sum(),
+        Heap::A(ArrFile::F) => fr.af[lanes].iter().map(|v| v.capacity() as u64 * 4).sum(),
+        Heap::A(ArrFile::I) => fr.ai[lanes].iter().map(|v| v.capacity() as u64 * 4).sum(),
+        Heap::A(ArrFile::S) => fr.as_[lanes]
+            .iter()
+            .map(|v| crate::budget::strings_bytes(v))
+            .sum(),
+    }
+}
+
+/// Copies register `s` of a heap file into `d` with `copy`, reserving
+/// the copy against the budget first (refused at the statement that makes
+/// it) and charging what the destination gains.
+#[allow(clippy::too_many_arguments)]
+fn copy_charged(
+    p: &Program,
+    pc: usize,
+    fr: &mut Frame,
+    world: &World,
+    file: Heap,
+    d: Reg,
+    s: Reg,
+    copy: impl FnOnce(&mut Frame),
+) -> Result<(), RunError> {
+    let budget = &world.shared.budget;
+    let before = reg_bytes(fr, file, d);
+    let copied = reg_bytes(fr, file, s);
+    if !budget.fits(copied) {
+        crate::budget::true_up(budget, fr);
+        if !budget.fits(copied) {
+            return Err(RunError::OverBudget {
+                elem: world.elem_of(0),
+                pos: p.op_pos.get(pc).copied().unwrap_or_default(),
+                msg: budget.refusal("copying a value", copied),
+            });
+        }
+    }
+    copy(fr);
+    let after = reg_bytes(fr, file, d);
+    budget.charge(after as i64 - before as i64);
+    fr.held = (fr.held + after).saturating_sub(before);
+    Ok(())
+}
+
 /// Runs `p` on the batch in `fr`. `world` holds the geometry the library
 /// reads and the effects it queues.
 pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
@@ -208,12 +266,16 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
             }
             Op::FMov { d, s } => mov(&mut fr.f, *d, *s),
             Op::IMov { d, s } => mov(&mut fr.i, *d, *s),
-            Op::SMov { d, s } => mov(&mut fr.s, *d, *s),
-            Op::AMov { file, d, s } => match file {
-                ArrFile::F => mov(&mut fr.af, *d, *s),
-                ArrFile::I => mov(&mut fr.ai, *d, *s),
-                ArrFile::S => mov(&mut fr.as_, *d, *s),
-            },
+            Op::SMov { d, s } => copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
+                mov(&mut fr.s, *d, *s)
+            })?,
+            Op::AMov { file, d, s } => {
+                copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
+                    ArrFile::F => mov(&mut fr.af, *d, *s),
+                    ArrFile::I => mov(&mut fr.ai, *d, *s),
+                    ArrFile::S => mov(&mut fr.as_, *d, *s),
+                })?
+            }
             Op::FSel { d, s, m } => {
                 masks.copy_from_slice(fr.il(*m));
                 sel(&mut fr.f, *d, *s, &masks);
@@ -224,15 +286,17 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
             }
             Op::SSel { d, s, m } => {
                 masks.copy_from_slice(fr.il(*m));
-                sel(&mut fr.s, *d, *s, &masks);
+                copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
+                    sel(&mut fr.s, *d, *s, &masks)
+                })?;
             }
             Op::ASel { file, d, s, m } => {
                 masks.copy_from_slice(fr.il(*m));
-                match file {
+                copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
                     ArrFile::F => sel(&mut fr.af, *d, *s, &masks),
                     ArrFile::I => sel(&mut fr.ai, *d, *s, &masks),
                     ArrFile::S => sel(&mut fr.as_, *d, *s, &masks),
-                }
+                })?;
             }
             Op::FBin { op, d, a, b } => {
                 let (x, src) = Split::new(&mut fr.f, *d);
@@ -304,8 +368,11 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
             }
             Op::Poll => {
                 polls = polls.wrapping_add(1);
-                if polls.is_multiple_of(64) && (world.cancel)() {
-                    return Err(RunError::Cancelled);
+                if polls.is_multiple_of(64) {
+                    if (world.cancel)() {
+                        return Err(RunError::Cancelled);
+                    }
+                    crate::budget::true_up(&world.shared.budget, fr);
                 }
             }
         }

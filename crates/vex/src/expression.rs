@@ -12,6 +12,11 @@ use crate::lex::{Tok, Token};
 use crate::ty::Ty;
 use crate::{CompileError, RunOptions};
 
+/// What one evaluation may hold: a parameter's expression computes a few
+/// values, and one that builds more (a `sprintf` a gigabyte wide) is an
+/// error in that parameter, not an exhausted machine.
+const EXPRESSION_MEMORY: u64 = 256 << 20;
+
 /// The globals an expression may name.
 pub const GLOBALS: &[(&str, &str)] = &[
     ("F", "the frame, rounded to a whole number"),
@@ -187,6 +192,7 @@ impl Expression {
             &RunOptions {
                 group: None,
                 cancel: &never,
+                memory_budget: EXPRESSION_MEMORY,
             },
         )
         .map_err(|e| CompileError::at(pos, e.to_string()))?;

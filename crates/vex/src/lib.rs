@@ -13,6 +13,7 @@
 mod apply;
 pub mod ast;
 mod bind;
+mod budget;
 mod builtins;
 mod calls;
 mod exec;
@@ -64,6 +65,10 @@ pub enum RunError {
     NoInput,
     #[error("element {elem} (line {}, column {}): {msg}", pos.line, pos.col)]
     At { elem: u32, pos: Pos, msg: String },
+    /// A request the run's memory budget cannot hold, refused before it
+    /// was allocated.
+    #[error("element {elem} (line {}, column {}): {msg}", pos.line, pos.col)]
+    OverBudget { elem: u32, pos: Pos, msg: String },
     #[error("not supported yet: {0}")]
     Unsupported(String),
     #[error("{0}")]
@@ -84,6 +89,8 @@ pub struct Counts {
 /// A compiled snippet, ready to run on the geometry it was compiled for.
 pub struct Program {
     ops: Vec<ir::Op>,
+    /// Each instruction's statement, for errors at run time.
+    op_pos: Vec<Pos>,
     calls: Vec<ir::CallSite>,
     strings: Vec<String>,
     counts: Counts,
@@ -127,9 +134,10 @@ fn compile_snippet(snippet: &ast::Snippet, spec: &BindSpec) -> Result<Program, C
     let mut lower = lower::Lower::new(snippet, &bindings, spec, counts);
     lower.snippet_body(&snippet.body)?;
     let written = std::mem::take(&mut lower.written);
-    let (ops, calls, strings, counts) = lower.finish();
+    let (ops, op_pos, calls, strings, counts) = lower.finish();
     Ok(Program {
         ops,
+        op_pos,
         calls,
         strings,
         counts,

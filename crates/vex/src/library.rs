@@ -161,16 +161,144 @@ fn remove_at(a: &mut Val, i: usize) {
     }
 }
 
-fn truncate(a: &mut Val, n: usize, pad: bool) {
+/// Why a library call stopped: its element's error, or cancellation.
+pub enum Stop {
+    Msg(String),
+    Cancelled,
+}
+
+impl From<String> for Stop {
+    fn from(msg: String) -> Stop {
+        Stop::Msg(msg)
+    }
+}
+
+/// Elements a growing fill writes between cancellation polls.
+const FILL_CHUNK: usize = 1 << 22;
+
+/// Sets `v`'s length to `n`, padding with `fill`: the memory is asked of
+/// the allocator first (a refusal is an error, not an abort) and a long
+/// fill polls `cancel`.
+fn grow<T: Clone>(
+    v: &mut Vec<T>,
+    n: usize,
+    fill: T,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(), Stop> {
+    if n <= v.len() {
+        v.truncate(n);
+        return Ok(());
+    }
+    v.try_reserve_exact(n - v.len()).map_err(|_| {
+        Stop::Msg(format!(
+            "the system could not allocate an array of {n} elements"
+        ))
+    })?;
+    while v.len() < n {
+        let to = (v.len() + FILL_CHUNK).min(n);
+        v.resize(to, fill.clone());
+        if to < n && cancel() {
+            return Err(Stop::Cancelled);
+        }
+    }
+    Ok(())
+}
+
+/// Shortens an array to `n` elements, or with `pad` also lengthens it.
+fn truncate(a: &mut Val, n: usize, pad: bool, cancel: &dyn Fn() -> bool) -> Result<(), Stop> {
     match a {
-        Val::AI(v) => v.resize(if pad { n } else { n.min(v.len()) }, 0),
-        Val::AS(v) => v.resize(if pad { n } else { n.min(v.len()) }, String::new()),
+        Val::AI(v) => grow(v, if pad { n } else { n.min(v.len()) }, 0, cancel),
+        Val::AS(v) => grow(
+            v,
+            if pad { n } else { n.min(v.len()) },
+            String::new(),
+            cancel,
+        ),
         Val::AF(v, w) => {
             let w = *w as usize;
-            v.resize(if pad { n * w } else { (n * w).min(v.len()) }, 0.0)
+            let len = if pad {
+                n.saturating_mul(w)
+            } else {
+                (n * w).min(v.len())
+            };
+            grow(v, len, 0.0, cancel)
         }
-        _ => {}
+        _ => Ok(()),
     }
+}
+
+/// What a call's result will hold on the heap, where that can exceed
+/// what its arguments hold (growing arrays, joining and formatting
+/// strings), with the words that name the request in a refusal.
+pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
+    let held = |v: &Val| v.heap_bytes();
+    let slot = |v: &Val| match v {
+        Val::AF(_, w) => 4 * u64::from(*w),
+        Val::AI(_) => 4,
+        Val::AS(_) => std::mem::size_of::<String>() as u64,
+        _ => 0,
+    };
+    match f {
+        Builtin::Resize => {
+            let n = a.get(1)?.i().max(0) as u64;
+            Some((
+                format!("resize to {n} elements"),
+                held(&a[0]).max(n * slot(&a[0])),
+            ))
+        }
+        Builtin::IndexSet => {
+            let i = a.get(1)?.i();
+            let n = (arr_len(&a[0]) as u64).max(u64::try_from(i).map_or(0, |i| i + 1));
+            let extra = held(&a[2]);
+            Some((
+                format!("setting element {i}"),
+                held(&a[0]).max(n * slot(&a[0])) + extra,
+            ))
+        }
+        Builtin::Push | Builtin::Insert | Builtin::ArrayOf => {
+            let elems: u64 = a.iter().map(|v| arr_len(v).max(1) as u64).sum();
+            let bytes = a.iter().map(|v| held(v) + 16).sum();
+            Some((format!("an array of {elems} elements"), bytes))
+        }
+        Builtin::Concat => {
+            let total: u64 = a.iter().map(|v| v.s().len() as u64).sum();
+            Some((format!("a string of {total} bytes"), total))
+        }
+        Builtin::Sprintf | Builtin::Print => {
+            let total = sprintf_bytes(a[0].s()) + a.iter().map(|v| held(v) + 32).sum::<u64>();
+            Some((format!("formatting a string of {total} bytes"), total))
+        }
+        _ => None,
+    }
+}
+
+/// An upper bound on what `sprintf`'s widths and precisions add: every
+/// number in a conversion's flags.
+fn sprintf_bytes(fmt: &str) -> u64 {
+    let mut total = fmt.len() as u64;
+    let mut number: u64 = 0;
+    let mut in_spec = false;
+    for c in fmt.chars() {
+        match (in_spec, c) {
+            (false, '%') => in_spec = true,
+            (true, '0'..='9') => {
+                number = number
+                    .saturating_mul(10)
+                    .saturating_add(u64::from(c as u8 - b'0'));
+            }
+            (true, '.' | '-' | '+' | ' ' | '#') => {
+                total = total.saturating_add(number);
+                number = 0;
+            }
+            (true, _) => {
+                total = total.saturating_add(number);
+                number = 0;
+                in_spec = false;
+            }
+            _ => {}
+        }
+    }
+    total.saturating_add(number)
 }
 
 fn fmt_val(v: &Val) -> String {
@@ -311,7 +439,12 @@ pub fn sprintf(fmt: &str, args: &[Val]) -> String {
 }
 
 /// One lane of a library call; errors are the message for the element.
-pub fn lane(_p: &Program, site: &CallSite, a: &[Val]) -> Result<Val, String> {
+pub fn lane(
+    _p: &Program,
+    site: &CallSite,
+    a: &[Val],
+    cancel: &dyn Fn() -> bool,
+) -> Result<Val, Stop> {
     let out = site.out.ty;
     Ok(match site.f {
         Builtin::Len => Val::I(match &a[0] {
@@ -347,7 +480,7 @@ pub fn lane(_p: &Program, site: &CallSite, a: &[Val]) -> Result<Val, String> {
             let n = arr_len(&arr);
             let at = a[1].i().clamp(0, n as i32) as usize;
             let mut tail = arr.clone();
-            truncate(&mut arr, at, false);
+            truncate(&mut arr, at, false, cancel)?;
             push(&mut arr, &a[2]);
             for i in at..n {
                 push(&mut arr, &elem_get(&tail, i));
@@ -364,7 +497,7 @@ pub fn lane(_p: &Program, site: &CallSite, a: &[Val]) -> Result<Val, String> {
         }
         Builtin::Resize => {
             let mut arr = a[0].clone();
-            truncate(&mut arr, a[1].i().max(0) as usize, true);
+            truncate(&mut arr, a[1].i().max(0) as usize, true, cancel)?;
             arr
         }
         Builtin::Find => {
@@ -448,7 +581,7 @@ pub fn lane(_p: &Program, site: &CallSite, a: &[Val]) -> Result<Val, String> {
             if i >= 0 {
                 let i = i as usize;
                 if i >= n {
-                    truncate(&mut arr, i + 1, true);
+                    truncate(&mut arr, i + 1, true, cancel)?;
                 }
                 match &mut arr {
                     Val::AI(v) => v[i] = a[2].i(),
@@ -612,7 +745,7 @@ pub fn lane(_p: &Program, site: &CallSite, a: &[Val]) -> Result<Val, String> {
             of_mat(out, Mat4::from_mat3(Mat3::from_cols(x, y, z)))
         }
         Builtin::Print => Val::S(sprintf(a[0].s(), &a[1..])),
-        other => return Err(format!("{other:?} is not a library function")),
+        other => return Err(Stop::Msg(format!("{other:?} is not a library function"))),
     })
 }
 

@@ -22,6 +22,10 @@ pub(crate) struct Alloc {
 
 pub(crate) struct Lower<'a> {
     pub ops: Vec<Op>,
+    /// The statement each instruction belongs to, for errors at run time.
+    op_pos: Vec<Pos>,
+    /// The statement being lowered.
+    at: Pos,
     pub calls: Vec<CallSite>,
     pub strings: Vec<String>,
     pub alloc: Alloc,
@@ -67,6 +71,8 @@ impl<'a> Lower<'a> {
         let ones = bump(&mut base.i, 1);
         Lower {
             ops: vec![Op::IConst { d: ones, v: 1 }],
+            op_pos: vec![Pos::default()],
+            at: Pos::default(),
             calls: Vec::new(),
             strings: Vec::new(),
             alloc: Alloc { c: base },
@@ -119,6 +125,7 @@ impl<'a> Lower<'a> {
 
     fn emit(&mut self, op: Op) -> usize {
         self.ops.push(op);
+        self.op_pos.push(self.at);
         self.ops.len() - 1
     }
 
@@ -267,6 +274,11 @@ impl<'a> Lower<'a> {
     }
 
     fn stmt(&mut self, s: &Stmt) -> LResult<()> {
+        match s {
+            Stmt::Expr(e) => self.at = e.pos,
+            Stmt::Decls(d) => self.at = d.first().map_or(self.at, |d| d.pos),
+            _ => {}
+        }
         match s {
             Stmt::Empty => Ok(()),
             Stmt::Expr(e) => {
@@ -738,8 +750,10 @@ impl<'a> Lower<'a> {
         r
     }
 
-    pub fn finish(self) -> (Vec<Op>, Vec<CallSite>, Vec<String>, Counts) {
-        (self.ops, self.calls, self.strings, self.high)
+    /// The instructions, each one's statement position, the call sites,
+    /// the string constants and the register counts.
+    pub fn finish(self) -> (Vec<Op>, Vec<Pos>, Vec<CallSite>, Vec<String>, Counts) {
+        (self.ops, self.op_pos, self.calls, self.strings, self.high)
     }
 }
 

@@ -20,6 +20,9 @@ pub struct RunOptions<'a> {
     /// Only these elements (sorted), as the node's group selects them.
     pub group: Option<&'a [u32]>,
     pub cancel: &'a (dyn Fn() -> bool + Sync),
+    /// Bytes the run's strings, arrays and queued geometry changes may
+    /// hold at once (the node passes `GEODE_MEMORY_MB`'s budget).
+    pub memory_budget: u64,
 }
 
 /// What a run printed (`printf`), in element order.
@@ -144,7 +147,7 @@ pub fn run(
             sinks[k].push(c);
         }
     }
-    let shared = Shared::new(inputs.to_vec());
+    let shared = Shared::new(inputs.to_vec(), opts.memory_budget);
     let results: Vec<Result<BatchOut, RunError>> = sinks
         .into_par_iter()
         .enumerate()
@@ -164,11 +167,18 @@ pub fn run(
                 world.elems = lanes;
                 fr.n = world.elems.len();
                 load(p, fr, &reads, &world.elems);
-                exec::run(p, fr, &mut world)?;
-                for (sink, &b) in sinks.iter_mut().zip(&written) {
-                    store(p, fr, b, sink);
+                crate::budget::true_up(&shared.budget, fr);
+                let ran = exec::run(p, fr, &mut world);
+                if ran.is_ok() {
+                    let mut moved = 0;
+                    for (sink, &b) in sinks.iter_mut().zip(&written) {
+                        moved += store(p, fr, b, sink);
+                    }
+                    // What moved out stays charged: it becomes the output.
+                    fr.held = fr.held.saturating_sub(moved);
                 }
-                Ok((world.effects, sinks))
+                crate::budget::release(&shared.budget, fr);
+                ran.map(|()| (world.effects, sinks))
             },
         )
         .collect();
@@ -197,7 +207,7 @@ pub fn run(
                     let e = opts
                         .group
                         .map_or(k * LANES + l, |g| g[lane_base + l] as usize);
-                    set_value(&mut attr, e, &v);
+                    set_value(&mut attr, e, v);
                 }
             }
             lane_base += LANES;
@@ -211,15 +221,18 @@ pub fn run(
 }
 
 /// Writes a lane value into an attribute, converting as VEX does.
-pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
+/// Sets element `e` of `attr` to `v`, converted to the attribute's type;
+/// strings and arrays move in, as they may be as large as the budget.
+pub fn set_value(attr: &mut Attribute, e: usize, v: Val) {
     let value = match (attr.default_value(), v) {
+        (AttribValue::String(_), Val::S(s)) => AttribValue::String(s),
         (AttribValue::String(_), v) => AttribValue::String(v.s().to_string()),
-        (AttribValue::IntArray(_), Val::AI(a)) => AttribValue::IntArray(a.clone()),
+        (AttribValue::IntArray(_), Val::AI(a)) => AttribValue::IntArray(a),
         (AttribValue::IntArray(_), Val::AF(a, _)) => {
             AttribValue::IntArray(a.iter().map(|x| *x as i32).collect())
         }
         (AttribValue::IntArray(_), v) => AttribValue::IntArray(vec![v.i()]),
-        (AttribValue::FloatArray(_), Val::AF(a, _)) => AttribValue::FloatArray(a.clone()),
+        (AttribValue::FloatArray(_), Val::AF(a, _)) => AttribValue::FloatArray(a),
         (AttribValue::FloatArray(_), Val::AI(a)) => {
             AttribValue::FloatArray(a.iter().map(|x| *x as f32).collect())
         }
@@ -232,7 +245,7 @@ pub fn set_value(attr: &mut Attribute, e: usize, v: &Val) {
         (AttribValue::Vec3Array(_), v) => {
             AttribValue::Vec3Array(vec![geode_geo::glam::Vec3::from(v.v3())])
         }
-        (AttribValue::StringArray(_), Val::AS(a)) => AttribValue::StringArray(a.clone()),
+        (AttribValue::StringArray(_), Val::AS(a)) => AttribValue::StringArray(a),
         (AttribValue::StringArray(_), v) => AttribValue::StringArray(vec![v.s().to_string()]),
         (AttribValue::Int(_), v) => AttribValue::Int(v.i()),
         (AttribValue::Float(_), v) => AttribValue::Float(v.f()),
@@ -526,8 +539,9 @@ fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
     }
 }
 
-/// Stores binding `b`'s registers for the batch's lanes into its sink.
-fn store(p: &Program, fr: &Frame, b: usize, sink: &mut Sink) {
+/// Stores binding `b`'s registers for the batch's lanes into its sink;
+/// strings and arrays move out of the frame. Returns the bytes they hold.
+fn store(p: &Program, fr: &mut Frame, b: usize, sink: &mut Sink) -> u64 {
     let bind = &p.bindings[b];
     let reg = bind.loc.reg as usize;
     match sink {
@@ -550,7 +564,9 @@ fn store(p: &Program, fr: &Frame, b: usize, sink: &mut Sink) {
         Sink::I(dst) => dst[..fr.n].copy_from_slice(&fr.i[reg * LANES..][..fr.n]),
         Sink::Later(vals) => {
             vals.clear();
-            vals.extend((0..fr.n).map(|l| crate::builtins::read(fr, bind.loc, l)));
+            vals.extend((0..fr.n).map(|l| crate::builtins::take(fr, bind.loc, l)));
+            return vals.iter().map(Val::heap_bytes).sum();
         }
     }
+    0
 }

@@ -7,6 +7,7 @@ use std::sync::{Arc, OnceLock};
 
 use geode_geo::{AttribClass, Geometry, Topology};
 
+use crate::budget::Budget;
 use crate::builtins::{attrib_value, Val};
 use crate::kdtree::KdTree;
 
@@ -53,6 +54,24 @@ pub enum EffectKind {
         on: bool,
     },
     Print(String),
+}
+
+impl EffectKind {
+    /// Bytes the effect holds beyond its own size.
+    pub fn heap_bytes(&self) -> u64 {
+        match self {
+            EffectKind::SetAttr(s) => {
+                (std::mem::size_of::<SetAttr>() + s.name.capacity()) as u64 + s.value.heap_bytes()
+            }
+            EffectKind::AddPrim {
+                points: Points::Heap(v),
+                ..
+            } => (v.capacity() * 4) as u64,
+            EffectKind::SetGroup { name, .. } => name.capacity() as u64,
+            EffectKind::Print(s) => s.capacity() as u64,
+            _ => 0,
+        }
+    }
 }
 
 /// The points `addprim` was given: up to four kept inline (the common
@@ -138,16 +157,19 @@ pub struct Shared<'a> {
     trees: Vec<OnceLock<KdTree>>,
     /// Trees over one point group of an input, made on first use.
     group_trees: std::sync::Mutex<Vec<(usize, String, Arc<GroupTree>)>>,
+    /// The run's memory account.
+    pub budget: Budget,
 }
 
 impl<'a> Shared<'a> {
-    pub fn new(inputs: Vec<Option<&'a Geometry>>) -> Shared<'a> {
+    pub fn new(inputs: Vec<Option<&'a Geometry>>, memory_budget: u64) -> Shared<'a> {
         let n = inputs.len();
         Shared {
             inputs,
             topo: (0..n).map(|_| OnceLock::new()).collect(),
             trees: (0..n).map(|_| OnceLock::new()).collect(),
             group_trees: std::sync::Mutex::new(Vec::new()),
+            budget: Budget::new(memory_budget),
         }
     }
 }
@@ -162,6 +184,8 @@ pub struct World<'s, 'a> {
     seq: u32,
     new_points: i32,
     new_prims: i32,
+    /// Bytes of effects queued since the budget was last charged.
+    uncharged: u64,
 }
 
 impl<'s, 'a> World<'s, 'a> {
@@ -174,6 +198,7 @@ impl<'s, 'a> World<'s, 'a> {
             seq: 0,
             new_points: 0,
             new_prims: 0,
+            uncharged: 0,
         }
     }
 
@@ -240,13 +265,30 @@ impl<'s, 'a> World<'s, 'a> {
             .collect()
     }
 
-    pub fn queue(&mut self, lane: usize, kind: EffectKind) {
+    /// Queues an effect of lane `lane`'s element, charged against the
+    /// budget (in steps of `CHARGE_STEP`, so threads seldom meet on the
+    /// shared account).
+    pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), String> {
+        const CHARGE_STEP: u64 = 1 << 16;
+        self.uncharged += std::mem::size_of::<Effect>() as u64 + kind.heap_bytes();
+        if self.uncharged >= CHARGE_STEP {
+            let bytes = std::mem::take(&mut self.uncharged);
+            let budget = &self.shared.budget;
+            if !budget.fits(bytes) {
+                return Err(budget.refusal(
+                    &format!("queueing {} more geometry changes", self.effects.len() + 1),
+                    bytes,
+                ));
+            }
+            budget.charge(bytes as i64);
+        }
         self.seq += 1;
         self.effects.push(Effect {
             elem: self.elem_of(lane),
             seq: self.seq,
             kind,
         });
+        Ok(())
     }
 
     /// A provisional number for a new point: past the input's points,

@@ -291,6 +291,7 @@ fn a_group_limits_the_elements() {
         &geode_vex::RunOptions {
             group: Some(&[1, 3]),
             cancel: &cancel,
+            memory_budget: u64::MAX,
         },
     )
     .unwrap();
@@ -315,6 +316,7 @@ fn an_endless_loop_stops_on_cancel() {
         &geode_vex::RunOptions {
             group: None,
             cancel: &cancel,
+            memory_budget: u64::MAX,
         },
     );
     assert_eq!(r.unwrap_err(), geode_vex::RunError::Cancelled);

@@ -4,7 +4,7 @@
 #![allow(dead_code)]
 
 use geode_geo::{AttribClass, Geometry};
-use geode_vex::{compile, run, BindSpec, Channel, CompileError, RunOptions, RunReport};
+use geode_vex::{compile, run, BindSpec, Channel, CompileError, RunError, RunOptions, RunReport};
 
 pub fn spec<'a>(
     class: AttribClass,
@@ -38,22 +38,34 @@ pub fn wrangle_with(
     g: &Geometry,
     extra: &[&Geometry],
 ) -> Result<(Geometry, RunReport), String> {
+    let cancel = || false;
+    run_with(src, class, g, extra, &cancel, 1 << 32).map_err(|e| e.to_string())
+}
+
+/// `wrangle_with` told when to stop and how much memory it may hold.
+pub fn run_with(
+    src: &str,
+    class: AttribClass,
+    g: &Geometry,
+    extra: &[&Geometry],
+    cancel: &(dyn Fn() -> bool + Sync),
+    memory_budget: u64,
+) -> Result<(Geometry, RunReport), RunError> {
     let mut inputs = vec![Some(g)];
     inputs.extend(extra.iter().map(|x| Some(*x)));
     let s = spec(class, inputs.clone(), &no_channels, &no_names);
-    let p = compile(src, &s).map_err(|e| e.to_string())?;
+    let p = compile(src, &s).unwrap_or_else(|e| panic!("{src}\n{e}"));
     let mut out = g.clone();
-    let cancel = || false;
     let report = run(
         &p,
         &mut out,
         &inputs,
         &RunOptions {
             group: None,
-            cancel: &cancel,
+            cancel,
+            memory_budget,
         },
-    )
-    .map_err(|e| e.to_string())?;
+    )?;
     Ok((out, report))
 }
 
