@@ -1,4 +1,9 @@
 //! The cook cache of `geode cook` and `geode serve` (memory, with the disk cache behind it when `GEODE_CACHE_DIR` names one) and `geode cache stats|gc`.
+//!
+//! The bound (`GEODE_CACHE_DISK_MB`) is the whole directory's, whatever
+//! number of processes share it: every save of every process (each task of
+//! `geode farm`) adds to the directory's shared size estimate and collects
+//! when it passes the bound (see `geode_store`).
 
 use std::path::PathBuf;
 use std::sync::{Arc, OnceLock};
@@ -76,9 +81,11 @@ pub fn gc(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<()> {
         .gc()
         .with_context(|| format!("{}: cannot collect the disk cache", cache.dir().display()))?;
     println!(
-        "removed {} files ({:.1} MB), least recently used first; {:.1} MB left",
+        "removed {} files ({:.1} MB), least recently used first, down to {:.1} MB when over {:.1} MB; {:.1} MB left",
         r.removed,
         r.freed as f64 / 1e6,
+        cache.low_water() as f64 / 1e6,
+        cache.budget() as f64 / 1e6,
         r.bytes_after as f64 / 1e6
     );
     Ok(())

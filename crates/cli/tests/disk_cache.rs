@@ -1,10 +1,11 @@
-//! `GEODE_CACHE_DIR` end to end: a second process reads every node from the disk cache and writes the same bytes; `geode cache stats` and `gc`.
+//! `GEODE_CACHE_DIR` end to end: a second process reads every node from the disk cache and writes the same bytes; an entry under another key's name is not served; a farm of short tasks keeps the bound; `geode cache stats` and `gc`.
 
 mod common;
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use common::{geode, root, stderr};
+use common::{geode, geode_in, root, stderr};
 
 /// The `--stats` lines: (node type, hit kind).
 fn sources(o: &Output) -> Vec<(String, String)> {
@@ -132,11 +133,134 @@ fn two_processes_writing_at_once_leave_whole_entries() {
     );
     let read = |n: &str| std::fs::read(dir.path().join(n)).unwrap();
     assert!(read("a.bgeo") == read("c.bgeo") && read("b.bgeo") == read("c.bgeo"));
-    let stray: Vec<_> = std::fs::read_dir(&cache)
-        .unwrap()
-        .flatten()
-        .flat_map(|d| std::fs::read_dir(d.path()).unwrap().flatten())
-        .filter(|f| f.file_name().to_string_lossy().starts_with(".geode-tmp"))
+    let stray: Vec<_> = files_under(&cache)
+        .into_iter()
+        .filter(|(p, _)| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with(".geode-tmp"))
+        })
         .collect();
-    assert!(stray.is_empty(), "temporary files left");
+    assert!(stray.is_empty(), "temporary files left: {stray:?}");
+}
+
+/// Every file under `dir` with its size.
+fn files_under(dir: &Path) -> Vec<(PathBuf, u64)> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let m = e.metadata().unwrap();
+        if m.is_dir() {
+            out.extend(files_under(&e.path()));
+        } else {
+            out.push((e.path(), m.len()));
+        }
+    }
+    out
+}
+
+/// The key of `node`'s cook in a `--trace` file.
+fn traced_key(trace: &Path, node: &str) -> String {
+    let text = std::fs::read_to_string(trace).unwrap();
+    let line = text
+        .lines()
+        .find(|l| l.contains(&format!(r#""node":"{node}""#)) && l.contains(r#""key":""#))
+        .unwrap_or_else(|| panic!("{node} is not in the trace"));
+    let at = line.find(r#""key":""#).unwrap() + r#""key":""#.len();
+    line[at..at + 32].to_owned()
+}
+
+fn entry_file(cache: &Path, key: &str) -> PathBuf {
+    cache.join(&key[..2]).join(format!("{key}.gve"))
+}
+
+/// Frame 13's valid `/both` entry copied under frame 12's key: the cook of
+/// frame 12 does not take it, writes frame 12's geometry, and the wrong
+/// entry is gone (frame 12's own is written in its place).
+#[test]
+fn an_entry_copied_under_another_key_is_not_served() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let cook = |frame: &str, out: &str| {
+        let trace = dir.path().join(format!("{out}.json"));
+        let o = geode(
+            &[
+                "--trace",
+                trace.to_str().unwrap(),
+                "cook",
+                "examples/coral.json",
+                "--frame",
+                frame,
+                "-o",
+                dir.path().join(out).to_str().unwrap(),
+            ],
+            &[("GEODE_CACHE_DIR", cache.to_str().unwrap())],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        (
+            traced_key(&trace, "/both"),
+            std::fs::read(dir.path().join(out)).unwrap(),
+        )
+    };
+    let (key12, frame12) = cook("12", "f12.bgeo");
+    let (key13, frame13) = cook("13", "f13.bgeo");
+    assert_ne!(key12, key13);
+    assert!(frame12 != frame13, "the frames differ");
+    let (entry12, entry13) = (entry_file(&cache, &key12), entry_file(&cache, &key13));
+    let own12 = std::fs::read(&entry12).unwrap();
+    std::fs::copy(&entry13, &entry12).unwrap();
+
+    let (_, again) = cook("12", "again12.bgeo");
+    assert!(again == frame12, "frame 12 cooked from frame 13's entry");
+    let now = std::fs::read(&entry12).unwrap();
+    assert!(
+        now != std::fs::read(&entry13).unwrap(),
+        "frame 13's entry is still under frame 12's key"
+    );
+    assert!(now == own12, "frame 12's own entry is written back");
+}
+
+/// A local farm of 24 coral frames, each a short `geode cook`, sharing one
+/// cache bounded at 20 MiB (`GEODE_CACHE_DISK_MB` counts MiB; the frames
+/// write about 28 MB): the directory ends within 10% of the bound, counting
+/// every file in it.
+#[test]
+fn a_local_farm_keeps_the_disk_cache_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let coral = root().join("examples/coral.json");
+    let started = std::time::Instant::now();
+    let o = geode_in(
+        dir.path(),
+        &[
+            "farm",
+            coral.to_str().unwrap(),
+            "--frames",
+            "1-24",
+            "--scheduler",
+            "local",
+            "--jobs",
+            "2",
+            "--cache-dir",
+            cache.to_str().unwrap(),
+            "-o",
+            "out/$F4.bgeo",
+        ],
+        &[("GEODE_CACHE_DISK_MB", "20")],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("farm: 24 tasks done"), "{}", stderr(&o));
+    let files = files_under(&cache);
+    let bytes: u64 = files.iter().map(|(_, n)| n).sum();
+    eprintln!(
+        "farm of 24 coral frames: cache {:.2} MB in {} files after {:.1} s",
+        bytes as f64 / 1e6,
+        files.len(),
+        started.elapsed().as_secs_f64()
+    );
+    // 22 MB, not MiB: stricter than 10% over the bound (20 MiB, 20.97 MB).
+    assert!(
+        bytes <= 22_000_000,
+        "the cache holds {bytes} bytes, over 22 MB for a bound of 20 MiB"
+    );
+    // Collected down to the low-water mark, not emptied.
+    assert!(bytes >= 10_000_000, "the cache holds only {bytes} bytes");
 }

@@ -1,5 +1,6 @@
-//! The disk cache's write and read speed for an 8M-point geometry beside the raw disk's for the same bytes.
+//! The disk cache's write and read speed for an 8M-point geometry beside the raw disk's for the same bytes, and what the shared size accounting adds to each save.
 //! Run: cargo bench -p geode-store --bench store
+//! (the accounting alone: cargo bench -p geode-store --bench store -- accounting)
 
 use std::io::Write;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -11,7 +12,7 @@ use geode_geo::glam::Vec3;
 use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_graph::{Cached, Store};
 use geode_op::Value;
-use geode_store::DiskCache;
+use geode_store::{DiskCache, Recount, UsageLog};
 
 /// The allocator the geode binary runs with.
 #[global_allocator]
@@ -101,4 +102,32 @@ fn raw_read_same_bytes(bencher: Bencher) {
     bencher
         .counter(BytesCount::new(bytes()))
         .bench(|| std::fs::read(&path).unwrap());
+}
+
+/// What the bound's accounting adds to one save: one record appended to
+/// the shared usage log and the records since the last look read back.
+#[divan::bench]
+fn accounting_per_save(bencher: Bencher) {
+    let dir = tempfile::tempdir().unwrap();
+    let never = Recount {
+        records: u64::MAX,
+        age: std::time::Duration::from_secs(1 << 30),
+    };
+    let log = UsageLog::new(dir.path(), never);
+    log.restart(0).unwrap();
+    bencher.bench(|| log.record(35_000));
+}
+
+/// A whole save of a small value (a 35 KB torus), accounting included,
+/// for scale: the write, its sync and rename dominate.
+#[divan::bench(sample_count = 20, sample_size = 5)]
+fn accounting_whole_small_save(bencher: Bencher) {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = DiskCache::open(dir.path(), u64::MAX).unwrap();
+    let torus = Cached::new(
+        Value::geometry(geode_geo::primitives::torus(1.0, 0.2, 40, 24)),
+        Arc::from([]),
+    );
+    let key = AtomicU64::new(1);
+    bencher.bench(|| cache.save(key.fetch_add(1, Ordering::Relaxed) as u128, &torus));
 }

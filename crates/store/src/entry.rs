@@ -1,5 +1,9 @@
-//! One disk cache entry's bytes: a header (kind, identity, size, warnings), the value in the geometry codec, and a checksum over all of it.
+//! One disk cache entry's bytes: a header (kind, key, identity, size, warnings), the value in the geometry codec, and a checksum over all of it.
 //!
+//! The header names the key the entry was written under (a cook key, or a
+//! packed source's content hash) and what kind of value it holds, so an
+//! entry found under another name (copied, renamed, a bug) is refused
+//! before its value is decoded rather than served as the wrong result.
 //! Geometry, bundles and fields are stored (fields in geode-frep's codec,
 //! capsule sets with their built hierarchies); a packed instance's source
 //! is its own entry, named by its content hash and shared by every entry
@@ -16,8 +20,9 @@ use geode_op::{Bundle, Value};
 use xxhash_rust::xxh3::xxh3_128;
 
 const MAGIC: &[u8; 8] = b"GEODEVAL";
-/// The entry layout's version (the geometry codec carries its own).
-const ENTRY_VERSION: u32 = 1;
+/// The entry layout's version (the geometry codec carries its own); 2 added
+/// the key, so entries of version 1 are misses.
+const ENTRY_VERSION: u32 = 2;
 const CHECKSUM: usize = 16;
 
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
@@ -29,9 +34,47 @@ pub(crate) enum Kind {
     Field = 3,
 }
 
-/// Bytes of one entry for `cached`, and the packed sources it needs
-/// (`None` when the value has no byte form).
-pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
+/// What a read asks an entry for: a cook result under its cook key, or a
+/// packed source under its content hash.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Asked {
+    CookResult(u128),
+    Source(u128),
+}
+
+impl Asked {
+    fn key(self) -> u128 {
+        match self {
+            Asked::CookResult(k) | Asked::Source(k) => k,
+        }
+    }
+    fn admits(self, kind: Kind) -> bool {
+        (kind == Kind::Source) == matches!(self, Asked::Source(_))
+    }
+    fn what(self) -> &'static str {
+        match self {
+            Asked::CookResult(_) => "cook result",
+            Asked::Source(_) => "packed source",
+        }
+    }
+}
+
+/// Why an entry cannot serve a read.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum EntryError {
+    #[error("entry layout version {0}, this is {ENTRY_VERSION}")]
+    Version(u32),
+    #[error("the entry holds key {found:032x}, not {asked:032x} as its name says")]
+    OtherKey { asked: u128, found: u128 },
+    #[error("a {found:?} entry where a {asked} was expected")]
+    OtherKind { asked: &'static str, found: Kind },
+    #[error(transparent)]
+    Decode(#[from] DecodeError),
+}
+
+/// Bytes of one entry for `cached` under cook key `key`, and the packed
+/// sources it needs (`None` when the value has no byte form).
+pub(crate) fn encode(key: u128, cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
     let mut sources = Vec::new();
     let mut out = header(
         match cached.value {
@@ -39,6 +82,7 @@ pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
             Value::Bundle(_) => Kind::Bundle,
             Value::Field(_) => Kind::Field,
         },
+        key,
         cached.identity,
         cached.bytes as u64,
         &cached.warnings,
@@ -73,7 +117,8 @@ pub(crate) fn encode(cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
 /// Bytes of a packed source's entry, and the sources it places in turn.
 pub(crate) fn encode_source(g: &Geometry) -> Option<(Vec<u8>, Vec<Arc<Geometry>>)> {
     let mut sources = Vec::new();
-    let mut out = header(Kind::Source, g.content_hash(), 0, &[]);
+    let hash = g.content_hash();
+    let mut out = header(Kind::Source, hash, hash, 0, &[]);
     let mut body = Vec::new();
     codec::encode(g, &mut body, &mut |s| sources.push(Arc::clone(s))).ok()?;
     out.extend_from_slice(&(body.len() as u64).to_le_bytes());
@@ -82,11 +127,12 @@ pub(crate) fn encode_source(g: &Geometry) -> Option<(Vec<u8>, Vec<Arc<Geometry>>
     Some((out, sources))
 }
 
-fn header(kind: Kind, identity: u128, bytes: u64, warnings: &[String]) -> Vec<u8> {
+fn header(kind: Kind, key: u128, identity: u128, bytes: u64, warnings: &[String]) -> Vec<u8> {
     let mut out = Vec::new();
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&ENTRY_VERSION.to_le_bytes());
     out.push(kind as u8);
+    out.extend_from_slice(&key.to_le_bytes());
     out.extend_from_slice(&identity.to_le_bytes());
     out.extend_from_slice(&bytes.to_le_bytes());
     out.extend_from_slice(&(warnings.len() as u64).to_le_bytes());
@@ -113,37 +159,40 @@ pub(crate) fn verified(bytes: &[u8]) -> Option<&[u8]> {
     (xxh3_128(body).to_le_bytes() == sum).then_some(body)
 }
 
-/// Decodes a verified entry: a packed source's (`source_entry`) or a cook
-/// result's, whichever kind it says it is; `source` finds packed sources.
+/// Decodes a verified entry if it holds what `asked` names (the key and the
+/// kind are checked before the value is read); `source` finds packed sources.
 pub(crate) fn decode(
     body: &[u8],
-    source_entry: bool,
+    asked: Asked,
     source: &dyn Fn(u128) -> Option<Arc<Geometry>>,
-) -> Result<Cached, DecodeError> {
+) -> Result<Cached, EntryError> {
     let mut r = Reader { b: body, at: 0 };
     if r.take(8)? != MAGIC {
-        return Err(DecodeError::Magic);
+        return Err(DecodeError::Magic.into());
     }
     let version = u32::from_le_bytes(r.array()?);
     if version != ENTRY_VERSION {
-        return Err(DecodeError::Version(version));
+        return Err(EntryError::Version(version));
     }
     let kind = match r.take(1)?[0] {
         0 => Kind::Geometry,
         1 => Kind::Bundle,
         2 => Kind::Source,
         3 => Kind::Field,
-        k => return Err(DecodeError::Invalid(format!("entry kind {k}"))),
+        k => return Err(DecodeError::Invalid(format!("entry kind {k}")).into()),
     };
-    if (kind == Kind::Source) != source_entry {
-        return Err(DecodeError::Invalid(format!(
-            "a {kind:?} entry where a {} was expected",
-            if source_entry {
-                "source"
-            } else {
-                "cook result"
-            }
-        )));
+    if !asked.admits(kind) {
+        return Err(EntryError::OtherKind {
+            asked: asked.what(),
+            found: kind,
+        });
+    }
+    let key = u128::from_le_bytes(r.array()?);
+    if key != asked.key() {
+        return Err(EntryError::OtherKey {
+            asked: asked.key(),
+            found: key,
+        });
     }
     let identity = u128::from_le_bytes(r.array()?);
     let bytes = u64::from_le_bytes(r.array()?) as usize;
@@ -168,7 +217,7 @@ pub(crate) fn decode(
         }
     };
     if r.at != body.len() {
-        return Err(DecodeError::Invalid("bytes after the value".into()));
+        return Err(DecodeError::Invalid("bytes after the value".into()).into());
     }
     Ok(Cached {
         value,

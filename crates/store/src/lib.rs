@@ -1,4 +1,4 @@
-//! geode's disk cache: cook results content-addressed on a directory that many processes and machines share, behind the memory cache.
+//! geode's disk cache: cook results content-addressed on a directory that many processes and machines share, behind the memory cache, bounded across all of them.
 //!
 //! An entry is named by its cook key (`ab/<key>.gve`, 256 folders by the
 //! key's first byte); a packed instance's source by its content hash
@@ -6,36 +6,53 @@
 //! file, are synced and renamed into place (`geode_io::write_atomic_shared`),
 //! so a reader sees a whole entry or none, and two writers of one key both
 //! leave a valid entry (the same bytes: keys name content). Every entry ends
-//! with an xxh3-128 checksum; a bad or unreadable entry is a miss, removed,
-//! never an error. Reads refresh an entry's modification time; `gc` removes
-//! the least recently used entries until the directory fits its bound.
+//! with an xxh3-128 checksum and records in its header the key it was
+//! written under and the kind of value it holds: a damaged entry, or one
+//! holding another key or kind than its name asks (a copied file), is a
+//! miss and is removed, never an error and never served.
+//!
+//! The bound holds across processes: every save adds its bytes to a shared
+//! estimate of the directory's size ([`UsageLog`], `usage.log`, lock-free),
+//! and the save that finds the estimate over the bound collects at once,
+//! however short-lived its process. A collection removes the least
+//! recently used files (reads refresh a file's modification time) down to
+//! a low-water mark, 90% of the bound, so the next saves do not collect
+//! again, and restarts the estimate from the bytes it counted. The estimate
+//! is recounted from a listing when it grows stale, so a killed process
+//! cannot leave it wrong for long. A file another process removes while
+//! this one reads is a miss.
 
 mod entry;
+mod usage;
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, Weak};
 use std::time::SystemTime;
 
+use entry::{Asked, EntryError};
+use geode_geo::codec::DecodeError;
 use geode_geo::Geometry;
 use geode_graph::{Cached, Store};
 
+pub use usage::{Recount, Usage, UsageLog, USAGE_LOG};
+
 /// The default bound of a disk cache (`GEODE_CACHE_DISK_MB`).
 pub const DEFAULT_DISK_MB: u64 = 10 * 1024;
+
+/// A collection brings the directory down to this share of its bound (in
+/// percent), leaving room for the next saves before the next collection.
+pub const LOW_WATER_PERCENT: u64 = 90;
 
 /// A disk cache on one directory, bounded by bytes.
 pub struct DiskCache {
     dir: PathBuf,
     budget: u64,
-    /// Saves since the last bound check (checked every `GC_EVERY`).
-    saves: AtomicU64,
+    /// The directory's size as every process sharing it has changed it.
+    usage: UsageLog,
     /// Sources already read, shared by every entry that places them.
     sources: Mutex<HashMap<u128, Weak<Geometry>>>,
 }
-
-/// How often (in saves) the bound is checked while cooking.
-const GC_EVERY: u64 = 64;
 
 /// What the directory holds.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -54,17 +71,32 @@ pub struct GcReport {
     pub bytes_after: u64,
 }
 
+/// An entry or source file found by listing the directory.
+struct CacheFile {
+    last_used: SystemTime,
+    size: u64,
+    path: PathBuf,
+    is_entry: bool,
+}
+
 impl DiskCache {
     /// A cache on `dir` (created if missing) bounded by `budget` bytes.
     pub fn open(dir: impl Into<PathBuf>, budget: u64) -> std::io::Result<DiskCache> {
         let dir = dir.into();
         std::fs::create_dir_all(&dir)?;
         Ok(DiskCache {
+            usage: UsageLog::new(&dir, Recount::default()),
             dir,
             budget,
-            saves: AtomicU64::new(0),
             sources: Mutex::new(HashMap::new()),
         })
+    }
+
+    /// The same cache, listing its directory again after `recount` (how
+    /// stale the shared size estimate may grow).
+    pub fn with_recount(mut self, recount: Recount) -> DiskCache {
+        self.usage = UsageLog::new(&self.dir, recount);
+        self
     }
 
     /// The cache `GEODE_CACHE_DIR` names, bounded by `GEODE_CACHE_DISK_MB`
@@ -85,17 +117,28 @@ impl DiskCache {
         &self.dir
     }
 
+    /// The bound, in bytes.
+    pub fn budget(&self) -> u64 {
+        self.budget
+    }
+
+    /// The bytes a collection leaves at most.
+    pub fn low_water(&self) -> u64 {
+        self.budget / 100 * LOW_WATER_PERCENT + self.budget % 100 * LOW_WATER_PERCENT / 100
+    }
+
     fn path(&self, name: u128, ext: &str) -> PathBuf {
         let hex = format!("{name:032x}");
         self.dir.join(&hex[..2]).join(format!("{hex}.{ext}"))
     }
 
-    /// The verified body of an entry file; a damaged one is removed.
+    /// The verified body of an entry file; a damaged one is removed. A file
+    /// that vanished (collected by another process) is a miss.
     fn read(&self, path: &Path) -> Option<Vec<u8>> {
         let bytes = std::fs::read(path).ok()?;
         if entry::verified(&bytes).is_none() {
             tracing::warn!(path = %path.display(), "disk cache: bad checksum, entry removed");
-            let _ = std::fs::remove_file(path);
+            self.remove(path);
             return None;
         }
         touch(path);
@@ -105,18 +148,34 @@ impl DiskCache {
         Some(bytes)
     }
 
+    /// The value of the file at `path` if it holds what `asked` names. A
+    /// damaged file, or one holding another key or kind, is removed; one
+    /// whose packed source is missing is kept (it serves again once the
+    /// source is back).
+    fn read_entry(&self, path: &Path, asked: Asked) -> Option<Cached> {
+        let body = self.read(path)?;
+        match entry::decode(&body, asked, &|h| self.source(h)) {
+            Ok(c) => Some(c),
+            Err(EntryError::Decode(DecodeError::MissingSource(_))) => None,
+            Err(e) => {
+                tracing::warn!(path = %path.display(), "disk cache: {e}, entry removed");
+                self.remove(path);
+                None
+            }
+        }
+    }
+
     fn source(&self, hash: u128) -> Option<Arc<Geometry>> {
         if let Some(g) = self.lock_sources().get(&hash).and_then(Weak::upgrade) {
             return Some(g);
         }
         let path = self.path(hash, "gvs");
-        let body = self.read(&path)?;
-        let cached = entry::decode(&body, true, &|h| self.source(h)).ok()?;
+        let cached = self.read_entry(&path, Asked::Source(hash))?;
         let geode_op::Value::Geometry(g) = cached.value else {
             return None;
         };
         if g.content_hash() != hash {
-            let _ = std::fs::remove_file(&path);
+            self.remove(&path);
             return None;
         }
         self.lock_sources().insert(hash, Arc::downgrade(&g));
@@ -127,8 +186,19 @@ impl DiskCache {
         self.sources.lock().unwrap_or_else(|e| e.into_inner())
     }
 
-    /// Writes `bytes` under `path` (callers skip entries already there).
-    fn write(&self, path: &Path, bytes: &[u8]) {
+    /// Removes a file that cannot serve, taking its bytes off the estimate.
+    fn remove(&self, path: &Path) {
+        let Ok(size) = std::fs::metadata(path).map(|m| m.len()) else {
+            return;
+        };
+        if std::fs::remove_file(path).is_ok() {
+            self.account(-(size as i64));
+        }
+    }
+
+    /// Writes `bytes` under `path` (callers skip entries already there);
+    /// whether it was written.
+    fn write(&self, path: &Path, bytes: &[u8]) -> bool {
         if let Some(parent) = path.parent() {
             let _ = std::fs::create_dir_all(parent);
         }
@@ -136,14 +206,16 @@ impl DiskCache {
             w.write_all(bytes)
                 .map_err(|e| geode_io::IoError::os(path, e))
         });
-        if let Err(e) = r {
+        if let Err(e) = &r {
             tracing::warn!("disk cache: {e}");
         }
+        r.is_ok()
     }
 
-    /// Writes packed sources (and theirs) not yet on disk.
-    fn write_sources(&self, mut pending: Vec<Arc<Geometry>>) {
+    /// Writes packed sources (and theirs) not yet on disk; the bytes written.
+    fn write_sources(&self, mut pending: Vec<Arc<Geometry>>) -> u64 {
         let mut done = std::collections::HashSet::new();
+        let mut written = 0;
         while let Some(g) = pending.pop() {
             let hash = g.content_hash();
             if !done.insert(hash) {
@@ -155,29 +227,75 @@ impl DiskCache {
             }
             if let Some((bytes, more)) = entry::encode_source(&g) {
                 pending.extend(more);
-                self.write(&path, &bytes);
+                if self.write(&path, &bytes) {
+                    written += bytes.len() as u64;
+                }
             }
+        }
+        written
+    }
+
+    /// Adds `change` bytes to the shared estimate and collects when the
+    /// directory is over its bound (or counts it again when the estimate
+    /// cannot be trusted).
+    fn account(&self, change: i64) {
+        let result = match self.usage.record(change) {
+            Usage::Estimate(bytes) if bytes <= self.budget => return,
+            Usage::Estimate(_) => self.gc().map(drop),
+            Usage::Recount => self.recount(),
+        };
+        if let Err(e) = result {
+            tracing::warn!("disk cache: collecting {}: {e}", self.dir.display());
+        }
+    }
+
+    /// Lists the directory to restart the shared estimate from what it
+    /// holds, collecting if that is over the bound.
+    fn recount(&self) -> std::io::Result<()> {
+        let files = self.files()?;
+        let bytes: u64 = files.iter().map(|f| f.size).sum();
+        if bytes > self.budget {
+            self.collect(files)?;
+        } else {
+            self.restart_usage(bytes);
+        }
+        Ok(())
+    }
+
+    fn restart_usage(&self, bytes: u64) {
+        if let Err(e) = self.usage.restart(bytes) {
+            tracing::warn!("disk cache: {e}");
         }
     }
 
     /// Every entry and source file with its size and last use.
-    fn files(&self) -> std::io::Result<Vec<(SystemTime, u64, PathBuf, bool)>> {
+    fn files(&self) -> std::io::Result<Vec<CacheFile>> {
         let mut out = Vec::new();
         for dir in std::fs::read_dir(&self.dir)? {
             let dir = dir?.path();
             if !dir.is_dir() {
                 continue;
             }
-            for f in std::fs::read_dir(&dir)?.flatten() {
+            // A folder another process's collection empties stays: listing
+            // it again is cheaper than racing a writer about to fill it.
+            let Ok(listing) = std::fs::read_dir(&dir) else {
+                continue;
+            };
+            for f in listing.flatten() {
                 let path = f.path();
                 let is_entry = path.extension().is_some_and(|e| e == "gve");
                 let is_source = path.extension().is_some_and(|e| e == "gvs");
                 if !(is_entry || is_source) {
                     continue;
                 }
+                // A file removed since the listing is simply not counted.
                 if let Ok(m) = f.metadata() {
-                    let used = m.modified().unwrap_or(SystemTime::UNIX_EPOCH);
-                    out.push((used, m.len(), path, is_entry));
+                    out.push(CacheFile {
+                        last_used: m.modified().unwrap_or(SystemTime::UNIX_EPOCH),
+                        size: m.len(),
+                        path,
+                        is_entry,
+                    });
                 }
             }
         }
@@ -187,57 +305,67 @@ impl DiskCache {
     pub fn stats(&self) -> std::io::Result<DiskStats> {
         let files = self.files()?;
         Ok(DiskStats {
-            entries: files.iter().filter(|f| f.3).count() as u64,
-            sources: files.iter().filter(|f| !f.3).count() as u64,
-            bytes: files.iter().map(|f| f.1).sum(),
+            entries: files.iter().filter(|f| f.is_entry).count() as u64,
+            sources: files.iter().filter(|f| !f.is_entry).count() as u64,
+            bytes: files.iter().map(|f| f.size).sum(),
             budget: self.budget,
         })
     }
 
-    /// Removes the least recently used files until the directory holds at
-    /// most its bound.
+    /// When the directory is over its bound, removes the least recently
+    /// used files down to the low-water mark; restarts the shared estimate
+    /// from what is left either way.
     pub fn gc(&self) -> std::io::Result<GcReport> {
-        let mut files = self.files()?;
-        let mut total: u64 = files.iter().map(|f| f.1).sum();
+        self.collect(self.files()?)
+    }
+
+    fn collect(&self, mut files: Vec<CacheFile>) -> std::io::Result<GcReport> {
+        let mut total: u64 = files.iter().map(|f| f.size).sum();
         let mut report = GcReport::default();
-        files.sort_by(|a, b| a.0.cmp(&b.0).then_with(|| a.2.cmp(&b.2)));
-        for (_, size, path, _) in files {
-            if total <= self.budget {
-                break;
-            }
-            if std::fs::remove_file(&path).is_ok() {
-                total -= size;
-                report.removed += 1;
-                report.freed += size;
+        if total > self.budget {
+            let low_water = self.low_water();
+            files.sort_by(|a, b| {
+                a.last_used
+                    .cmp(&b.last_used)
+                    .then_with(|| a.path.cmp(&b.path))
+            });
+            for f in files {
+                if total <= low_water {
+                    break;
+                }
+                match std::fs::remove_file(&f.path) {
+                    Ok(()) => {
+                        total -= f.size;
+                        report.removed += 1;
+                        report.freed += f.size;
+                    }
+                    // Another process collecting at once removed it first.
+                    Err(e) if e.kind() == std::io::ErrorKind::NotFound => total -= f.size,
+                    Err(_) => {}
+                }
             }
         }
         report.bytes_after = total;
+        self.restart_usage(total);
         Ok(report)
     }
 }
 
-/// Marks a file as just used (its modification time), for `gc`'s order.
-fn touch(path: &Path) {
-    if let Ok(f) = std::fs::File::options().append(true).open(path) {
-        let _ = f.set_modified(SystemTime::now());
+/// Marks a file as just used (its modification time), for `gc`'s order;
+/// whether the file is there.
+fn touch(path: &Path) -> bool {
+    match std::fs::File::options().append(true).open(path) {
+        Ok(f) => {
+            let _ = f.set_modified(SystemTime::now());
+            true
+        }
+        Err(_) => false,
     }
 }
 
 impl Store for DiskCache {
     fn load(&self, key: u128) -> Option<Cached> {
-        let path = self.path(key, "gve");
-        let body = self.read(&path)?;
-        match entry::decode(&body, false, &|h| self.source(h)) {
-            Ok(c) => Some(c),
-            Err(e) => {
-                // A missing source is not damage: the entry may serve again once it is back.
-                if !matches!(e, geode_geo::codec::DecodeError::MissingSource(_)) {
-                    tracing::warn!(path = %path.display(), "disk cache: {e}, entry removed");
-                    let _ = std::fs::remove_file(&path);
-                }
-                None
-            }
-        }
+        self.read_entry(&self.path(key, "gve"), Asked::CookResult(key))
     }
 
     fn save(&self, key: u128, cached: &Cached) {
@@ -246,20 +374,17 @@ impl Store for DiskCache {
             return;
         }
         let path = self.path(key, "gve");
-        if path.exists() {
-            touch(&path);
+        if touch(&path) {
             return;
         }
-        let Some((bytes, sources)) = entry::encode(cached) else {
+        let Some((bytes, sources)) = entry::encode(key, cached) else {
             return;
         };
         // Sources first: an entry never appears before what it places.
-        self.write_sources(sources);
-        self.write(&path, &bytes);
-        if self.saves.fetch_add(1, Ordering::Relaxed) % GC_EVERY == GC_EVERY - 1 {
-            if let Err(e) = self.gc() {
-                tracing::warn!("disk cache: collecting {}: {e}", self.dir.display());
-            }
+        let mut written = self.write_sources(sources);
+        if self.write(&path, &bytes) {
+            written += bytes.len() as u64;
         }
+        self.account(written as i64);
     }
 }

@@ -190,14 +190,19 @@ fn concurrent_writers_never_corrupt_an_entry() {
     }
     let stray: Vec<_> = walk(dir.path())
         .into_iter()
-        .filter(|p| !p.ends_with(".gve"))
+        .filter(|p| !p.ends_with(".gve") && !p.ends_with(geode_store::USAGE_LOG))
         .collect();
     assert!(stray.is_empty(), "temporary files left: {stray:?}");
 }
 
+/// Every file in the cache directory and its folders.
 fn walk(dir: &Path) -> Vec<String> {
     let mut out = Vec::new();
     for d in std::fs::read_dir(dir).unwrap().flatten() {
+        if !d.path().is_dir() {
+            out.push(d.path().display().to_string());
+            continue;
+        }
         for f in std::fs::read_dir(d.path()).unwrap().flatten() {
             out.push(f.path().display().to_string());
         }
@@ -240,4 +245,183 @@ fn collection_keeps_the_bound_and_the_recently_used() {
 fn entry_path(dir: &Path, key: u128) -> std::path::PathBuf {
     let hex = format!("{key:032x}");
     dir.join(&hex[..2]).join(format!("{hex}.gve"))
+}
+
+/// The bytes of every file under `dir`, the usage log and temporaries
+/// included: what the bound promises to keep.
+fn bytes_on_disk(dir: &Path) -> u64 {
+    let mut total = 0;
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let m = e.metadata().unwrap();
+        total += if m.is_dir() {
+            bytes_on_disk(&e.path())
+        } else {
+            m.len()
+        };
+    }
+    total
+}
+
+/// A torus of about 35 KB, of another radius for every `i`.
+fn torus(i: u32) -> Value {
+    Value::geometry(primitives::torus(1.0 + i as f32 / 1024.0, 0.2, 40, 24))
+}
+
+#[test]
+fn an_entry_under_another_keys_name_is_a_miss_and_is_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = DiskCache::open(dir.path(), u64::MAX).unwrap();
+    let (twelve, thirteen) = (torus(12), torus(13));
+    cache.save(12, &cached(twelve.clone(), &[]));
+    cache.save(13, &cached(thirteen.clone(), &[]));
+    let (p12, p13) = (entry_path(dir.path(), 12), entry_path(dir.path(), 13));
+    std::fs::copy(&p13, &p12).unwrap();
+    let fresh = DiskCache::open(dir.path(), u64::MAX).unwrap();
+    assert!(
+        fresh.load(12).is_none(),
+        "key 13's valid entry under key 12's name must be a miss"
+    );
+    assert!(!p12.exists(), "the entry under the wrong name is removed");
+    assert_eq!(
+        fresh.load(13).unwrap().value.identity(),
+        thirteen.identity(),
+        "the original stays"
+    );
+    fresh.save(12, &cached(twelve.clone(), &[]));
+    assert_eq!(fresh.load(12).unwrap().value.identity(), twelve.identity());
+
+    // A packed source under a cook key's name: the wrong kind.
+    cache.save(20, &cached(Value::geometry(instanced()), &[]));
+    let source = files(dir.path(), "gvs").pop().unwrap();
+    std::fs::copy(&source, &p12).unwrap();
+    assert!(fresh.load(12).is_none(), "a source is not a cook result");
+    assert!(!p12.exists(), "the entry of the wrong kind is removed");
+
+    // An entry of the layout before keys (version 1): a miss, removed.
+    let v2 = std::fs::read(&p13).unwrap();
+    let body = &v2[..v2.len() - 16];
+    let mut v1 = Vec::new();
+    v1.extend_from_slice(&body[..8]);
+    v1.extend_from_slice(&1u32.to_le_bytes());
+    v1.push(body[12]);
+    v1.extend_from_slice(&body[13 + 16..]);
+    v1.extend_from_slice(&xxhash_rust::xxh3::xxh3_128(&v1).to_le_bytes());
+    std::fs::write(&p13, &v1).unwrap();
+    assert!(
+        fresh.load(13).is_none(),
+        "an entry without its key is a miss"
+    );
+    assert!(!p13.exists(), "the old entry is removed");
+}
+
+/// 24 short processes (each a fresh cache that saves six values and is
+/// gone), then 4 at once while 2 more read: the directory never passes
+/// the bound by more than 10%, and readers of collected entries only miss.
+#[test]
+fn many_short_processes_keep_the_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = {
+        let probe = tempfile::tempdir().unwrap();
+        DiskCache::open(probe.path(), u64::MAX)
+            .unwrap()
+            .save(0, &cached(torus(0), &[]));
+        bytes_on_disk(probe.path())
+    };
+    // Room for about 20 of the 144 values saved.
+    let budget = one * 20;
+    for process in 0..24u32 {
+        let cache = DiskCache::open(dir.path(), budget).unwrap();
+        for i in 0..6 {
+            let n = process * 6 + i;
+            cache.save(n as u128, &cached(torus(n), &[]));
+        }
+        let on_disk = bytes_on_disk(dir.path());
+        assert!(
+            on_disk <= budget + budget / 10,
+            "after process {process}: {on_disk} bytes on disk, bound {budget}"
+        );
+    }
+    let sequential = bytes_on_disk(dir.path());
+    assert!(
+        sequential >= budget / 2,
+        "collected down to {sequential} of {budget}: far below the low-water mark"
+    );
+
+    std::thread::scope(|s| {
+        for t in 0..6u32 {
+            let dir = dir.path();
+            s.spawn(move || {
+                for process in 0..4u32 {
+                    let cache = DiskCache::open(dir, budget).unwrap();
+                    for i in 0..6 {
+                        let n = 1000 + (process * 6 + i) * 4 + t % 4;
+                        if t < 4 {
+                            cache.save(n as u128, &cached(torus(n), &[]));
+                        } else if let Some(c) = cache.load(n as u128) {
+                            assert_eq!(c.value.identity(), torus(n).identity());
+                        }
+                    }
+                }
+            });
+        }
+    });
+    let on_disk = bytes_on_disk(dir.path());
+    assert!(
+        on_disk <= budget + budget / 10,
+        "after 4 concurrent writers: {on_disk} bytes on disk, bound {budget}"
+    );
+}
+
+/// Files a killed process wrote without accounting them, and a lost usage
+/// log: the estimate is counted again, and the bound holds again.
+#[test]
+fn accounting_lost_by_a_killed_process_is_counted_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let one = {
+        let probe = tempfile::tempdir().unwrap();
+        DiskCache::open(probe.path(), u64::MAX)
+            .unwrap()
+            .save(0, &cached(torus(0), &[]));
+        bytes_on_disk(probe.path())
+    };
+    let budget = one * 10;
+    let recount = geode_store::Recount {
+        records: 8,
+        age: Duration::from_secs(600),
+    };
+    let cache = DiskCache::open(dir.path(), budget)
+        .unwrap()
+        .with_recount(recount);
+    // Entries a killed process renamed into place but never added to the
+    // estimate (copies of one: only their size matters here).
+    let killed_wrote = |cache: &DiskCache, keys: std::ops::Range<u128>| {
+        cache.save(keys.start, &cached(torus(keys.start as u32), &[]));
+        for n in keys.clone().skip(1) {
+            let path = entry_path(dir.path(), n);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::copy(entry_path(dir.path(), keys.start), &path).unwrap();
+        }
+    };
+    killed_wrote(&cache, 0..30);
+    assert!(bytes_on_disk(dir.path()) > budget * 2);
+    // ... and a log it damaged: the next save lists the directory.
+    std::fs::write(dir.path().join(geode_store::USAGE_LOG), b"GEODEUSE").unwrap();
+    cache.save(100, &cached(torus(100), &[]));
+    let on_disk = bytes_on_disk(dir.path());
+    assert!(
+        on_disk <= budget + budget / 10,
+        "a damaged log is recounted at the next save: {on_disk} of {budget}"
+    );
+    // The log is whole, but the killed process's files are not in it:
+    // within `recount.records` saves the directory is listed again.
+    killed_wrote(&cache, 200..230);
+    assert!(bytes_on_disk(dir.path()) > budget * 2);
+    for n in 300..308 {
+        cache.save(n, &cached(torus(n as u32), &[]));
+    }
+    let on_disk = bytes_on_disk(dir.path());
+    assert!(
+        on_disk <= budget + budget / 10,
+        "unaccounted files are counted within 8 saves: {on_disk} of {budget}"
+    );
 }
