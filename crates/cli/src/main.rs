@@ -148,10 +148,11 @@ enum Command {
         (.geode-farm/ beside the network); a failed task is reported with the end of its log."
     )]
     Farm(farm::FarmArgs),
-    /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to its bound.
+    /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to 90% of its bound.
     #[command(
         after_help = "Examples:\n  GEODE_CACHE_DIR=/shared/geode-cache geode cook net.json -o out.bgeo\n  geode cache stats --dir /shared/geode-cache\n  geode cache gc --dir /shared/geode-cache --max-mb 2048\n\n\
-        GEODE_CACHE_DIR turns the disk cache on for `geode cook`; GEODE_CACHE_DISK_MB bounds it (default 10240)."
+        GEODE_CACHE_DIR turns the disk cache on for `geode cook`; GEODE_CACHE_DISK_MB bounds it (MiB, default 10240)\n\
+        across every process sharing it: the save that passes the bound collects, least recently used first."
     )]
     Cache {
         #[command(subcommand)]
