@@ -276,8 +276,7 @@ impl DiskCache {
             if !dir.is_dir() {
                 continue;
             }
-            // A folder another process's collection empties stays: listing
-            // it again is cheaper than racing a writer about to fill it.
+            // A folder removed by hand since the listing holds nothing.
             let Ok(listing) = std::fs::read_dir(&dir) else {
                 continue;
             };
