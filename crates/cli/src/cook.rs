@@ -37,8 +37,9 @@ pub fn load_with(path: &Path, sets: &[String]) -> Result<(Document, Network)> {
 }
 
 fn read_document(path: &Path, sets: &[String]) -> Result<Document> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("{}: cannot read the network", path.display()))?;
+    let text = geode_op::FileAccess::anywhere()
+        .read_text(path, geode_op::budget_from_env(), &|| false)
+        .context("cannot read the network")?;
     let mut doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
     for set in sets {
         apply_set(&mut doc, set).map_err(|e| anyhow!("{}: --set {set}: {e}", path.display()))?;

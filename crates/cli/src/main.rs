@@ -223,7 +223,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             None => catalogue::list(node_type.as_deref())?,
         },
         Command::Info { file, json } => {
-            let g = geode_io::read(&file, &progress::Bar::new())?;
+            let g = read_geometry(&file, &progress::Bar::new())?;
             let report = info::Report::new(&file, &g);
             if json {
                 println!("{}", report.to_json());
@@ -233,7 +233,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Convert { input, output } => {
             let bar = progress::Bar::new();
-            let g = geode_io::read(&input, &bar)?;
+            let g = read_geometry(&input, &bar)?;
             geode_io::write(&g, &output, &bar)?;
             eprintln!(
                 "wrote {} ({} points, {} primitives)",
@@ -244,6 +244,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// A geometry file named on the command line: a regular file no larger
+/// than the memory budget (GEODE_MEMORY_MB), refused unread otherwise.
+fn read_geometry(
+    path: &std::path::Path,
+    progress: &dyn geode_io::Progress,
+) -> anyhow::Result<geode_geo::Geometry> {
+    let format = geode_io::read_format(path)?;
+    let bytes =
+        geode_op::FileAccess::anywhere().read(path, geode_op::budget_from_env(), &|| false)?;
+    Ok(geode_io::read_bytes(&bytes, format, path, progress)?)
 }
 
 fn serve(

@@ -100,3 +100,57 @@ fn errors_name_the_file_and_exit_codes_distinguish() {
     let v = geode(&["--version"]);
     assert!(text(&v).starts_with("geode "), "{}", text(&v));
 }
+
+/// A device behind a geometry or network name is refused unread (it would
+/// never end), as is a file larger than the memory budget.
+#[test]
+fn only_regular_files_within_the_budget_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let zero_obj = dir.path().join("zero.obj");
+    let zero_json = dir.path().join("zero.json");
+    std::os::unix::fs::symlink("/dev/zero", &zero_obj).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &zero_json).unwrap();
+    let t = std::time::Instant::now();
+    let o = geode(&["info", zero_obj.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        format!(
+            "error: {}: not a regular file (a character device); only regular files are read",
+            zero_obj.display()
+        )
+    );
+    let out = dir.path().join("out.obj");
+    let o = geode(&[
+        "cook",
+        zero_json.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).contains(&format!(
+            "cannot read the network: {}: not a regular file (a character device)",
+            zero_json.display()
+        )),
+        "{}",
+        text(&o)
+    );
+    assert!(t.elapsed() < std::time::Duration::from_secs(10));
+
+    let big = dir.path().join("big.obj");
+    std::fs::write(&big, "v 0 0 0\n".repeat(300_000)).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_geode"))
+        .args(["info", big.to_str().unwrap()])
+        .env("GEODE_MEMORY_MB", "1")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim(),
+        format!(
+            "error: {}: the file's 2.4 MB would exceed the memory budget of 1.0 MB (GEODE_MEMORY_MB)",
+            big.display()
+        )
+    );
+}

@@ -45,7 +45,7 @@ fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8
                         ))
                     })?;
                     let p = dir.join(uri);
-                    std::fs::read(&p).map_err(|e| {
+                    crate::read_regular(&p).map_err(|e| {
                         ParseError::whole(format!(
                             "buffer {}: cannot read `{}`: {e}",
                             b.index(),

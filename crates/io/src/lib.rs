@@ -166,11 +166,29 @@ pub fn parse_unguarded(
     }
 }
 
-/// Reads a geometry file, the format chosen by its extension.
+/// Reads a geometry file, the format chosen by its extension. Only a
+/// regular file is read (a device or a pipe may never end); callers with a
+/// memory budget read the bytes themselves and call [`read_bytes`].
 pub fn read(path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
     let format = read_format(path)?;
-    let bytes = std::fs::read(path).map_err(|e| IoError::os(path, e))?;
+    let bytes = read_regular(path).map_err(|e| IoError::os(path, e))?;
     read_bytes(&bytes, format, path, progress)
+}
+
+/// A whole regular file's bytes; anything else is refused unread.
+pub(crate) fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
+    let mut file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if !meta.file_type().is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file; only regular files are read",
+        ));
+    }
+    let mut bytes = Vec::new();
+    bytes.try_reserve_exact(meta.len() as usize)?;
+    std::io::Read::read_to_end(&mut file, &mut bytes)?;
+    Ok(bytes)
 }
 
 /// The format a file is read as, from its extension.

@@ -294,6 +294,21 @@ impl FileAccess {
         }
     }
 
+    /// Reads a whole text file (a network, a script) as `read` does; bytes
+    /// that are not UTF-8 are an I/O error naming the file.
+    pub fn read_text(
+        &self,
+        path: &Path,
+        budget: u64,
+        cancelled: &dyn Fn() -> bool,
+    ) -> Result<String, FileRefusal> {
+        let bytes = self.read(path, budget, cancelled)?;
+        String::from_utf8(bytes).map_err(|e| FileRefusal::Io {
+            path: path.to_owned(),
+            source: std::io::Error::new(std::io::ErrorKind::InvalidData, e),
+        })
+    }
+
     /// The content hash of a file a node reads, for its cache key, read in
     /// chunks (nothing held); `None` when it may not or cannot be read (the
     /// cook then reports why) or when cancelled.

@@ -15,11 +15,10 @@ const UNDO_DEPTH: usize = 1000;
 #[derive(Debug, thiserror::Error)]
 pub enum SessionError {
     // The causes are part of the message, not sources: shown once.
-    #[error("{path}: {cause}")]
-    Read {
-        path: PathBuf,
-        cause: std::io::Error,
-    },
+    /// The network file could not be read (missing, no regular file,
+    /// larger than the memory budget); the refusal names the file.
+    #[error("{0}")]
+    Read(geode_op::FileRefusal),
     #[error("{path}: {cause}")]
     Syntax {
         path: PathBuf,
@@ -71,10 +70,9 @@ impl Session {
     pub fn open(path: Option<&Path>, registry: Arc<Registry>) -> Result<Session, SessionError> {
         let doc = match path {
             Some(p) if p.exists() => {
-                let text = std::fs::read_to_string(p).map_err(|cause| SessionError::Read {
-                    path: p.to_owned(),
-                    cause,
-                })?;
+                let text = geode_op::FileAccess::anywhere()
+                    .read_text(p, geode_op::budget_from_env(), &|| false)
+                    .map_err(SessionError::Read)?;
                 Document::from_json(&text).map_err(|cause| SessionError::Syntax {
                     path: p.to_owned(),
                     cause,

@@ -573,3 +573,20 @@ fn notes_boxes_and_colours_are_kept_in_the_file_and_follow_renames() {
         assert!(e.to_string().contains(why), "{bad}: {e}");
     }
 }
+
+#[test]
+fn a_network_name_leading_to_a_device_is_refused_unread() {
+    let dir = tempfile::tempdir().unwrap();
+    let link = dir.path().join("net.json");
+    std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+    let Err(e) = Session::open(Some(&link), registry()) else {
+        panic!("opened /dev/zero")
+    };
+    assert_eq!(
+        e.to_string(),
+        format!(
+            "{}: not a regular file (a character device); only regular files are read",
+            link.display()
+        )
+    );
+}
