@@ -153,6 +153,8 @@ pub struct CookArgs<'a> {
 }
 
 pub fn cook(args: CookArgs) -> Result<()> {
+    // A farm task says it is alive from the start, loading included.
+    crate::farm::heartbeat::start_from_env();
     let (_, net) = load_with(args.network, args.sets)?;
     let env = CookEnv::for_network(args.network);
     let target = match args.node {

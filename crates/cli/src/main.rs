@@ -141,11 +141,17 @@ enum Command {
     },
     /// Cook frames (and a wedge of one parameter's values) as independent tasks on a scheduler, sharing a disk cache.
     #[command(
-        after_help = "Examples:\n  geode farm examples/coral.json --frames 1-24 -o 'out/$F4.bgeo'\n  geode farm examples/chain.json --wedge /spacing/count=48,96,192 -o 'out/$WEDGE/$F4.bgeo'\n  geode farm examples/coral.json --frames 1-240 --scheduler slurm --retry 2 -o '/shared/coral/$F4.bgeo'\n\n\
+        after_help = "Examples:\n  geode farm examples/coral.json --frames 1-24 -o 'out/$F4.bgeo'\n  geode farm examples/chain.json --wedge /spacing/count=48,96,192 -o 'out/$WEDGE/$F4.bgeo'\n  geode farm examples/coral.json --frames 1-240 --scheduler slurm --retry 2 --task-timeout 10m -o '/shared/coral/$F4.bgeo'\n\n\
         Each task is `geode cook NETWORK --frame F [--set NODE/PARAM=V] -o OUT` with GEODE_CACHE_DIR set\n\
         (--cache-dir, else GEODE_CACHE_DIR, else .geode-cache beside the network): a farm writes the\n\
         bytes a local cook writes. $WEDGE is PARAM_VALUE. Logs and exit statuses go to the farm folder\n\
-        (.geode-farm/ beside the network); a failed task is reported with the end of its log."
+        (.geode-farm/ beside the network); a failed task is reported with the end of its log.\n\n\
+        A task past --task-timeout is cancelled (`timed out after ...`); a started task whose heartbeat\n\
+        (a file its cook touches every 2 s or faster) is older than --stall-limit is cancelled\n\
+        (`stalled: no heartbeat for ...`); both are retried as --retry allows. A task cancelled from\n\
+        outside is reported as `cancelled (by the scheduler)`. Ctrl-C or SIGTERM kills the local tasks\n\
+        or scancels the Slurm jobs, then exits 130 (--scheduler k8s only writes a manifest: nothing to\n\
+        cancel; --task-timeout becomes the pods' activeDeadlineSeconds)."
     )]
     Farm(farm::FarmArgs),
     /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to 90% of its bound.
@@ -306,6 +312,11 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
+        // The convention for a command stopped by SIGINT (128 + 2).
+        Err(e) if e.downcast_ref::<farm::Interrupted>().is_some() => {
+            eprintln!("error: {e:#}");
+            ExitCode::from(130)
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(1)

@@ -3,9 +3,8 @@
 mod common;
 
 use std::path::Path;
-use std::process::Command;
 
-use common::{geode_in, root, stderr};
+use common::{geode_in, root, slurm_lock, slurm_ready, stderr};
 
 /// `geode ARGS` in `dir`.
 fn run(args: &[&str], dir: &Path) -> std::process::Output {
@@ -14,27 +13,6 @@ fn run(args: &[&str], dir: &Path) -> std::process::Output {
 
 fn example(name: &str) -> String {
     root().join("examples").join(name).display().to_string()
-}
-
-/// Whether Slurm can take jobs here; CI (GEODE_REQUIRE_SLURM=1) insists.
-fn slurm_ready() -> bool {
-    let ok = Command::new("sinfo")
-        .args(["-h", "-o", "%t"])
-        .output()
-        .is_ok_and(|o| {
-            o.status.success()
-                && String::from_utf8_lossy(&o.stdout)
-                    .lines()
-                    .any(|l| ["idle", "mix", "alloc"].contains(&l.trim()))
-        });
-    if !ok {
-        assert!(
-            std::env::var("GEODE_REQUIRE_SLURM").is_err(),
-            "GEODE_REQUIRE_SLURM is set but no Slurm node takes jobs (start one: tools/slurm.sh start; export SLURM_CONF)"
-        );
-        eprintln!("skipping: no Slurm cluster (tools/slurm.sh start)");
-    }
-    ok
 }
 
 /// 24 frames of the coral and a 3-value wedge of the chain, farmed, then
@@ -213,6 +191,7 @@ fn local_farm_retries_and_reports_a_failing_task() {
 #[test]
 fn slurm_farm_equals_local_cooks() {
     if slurm_ready() {
+        let _cluster = slurm_lock();
         farms_equal_local_cooks("slurm");
     }
 }
@@ -220,6 +199,7 @@ fn slurm_farm_equals_local_cooks() {
 #[test]
 fn slurm_farm_retries_and_reports_a_failing_task() {
     if slurm_ready() {
+        let _cluster = slurm_lock();
         a_failing_task_is_retried_and_reported("slurm");
     }
 }
@@ -288,6 +268,8 @@ fn the_kubernetes_manifest_indexes_every_task() {
             "cache",
             "--image",
             "registry/geode:1",
+            "--task-timeout",
+            "10m",
             "-o",
             "out/$F4.bgeo",
         ],
@@ -301,6 +283,11 @@ fn the_kubernetes_manifest_indexes_every_task() {
     assert_eq!(job["spec"]["completions"], 5);
     assert_eq!(job["spec"]["parallelism"], 3);
     assert_eq!(job["spec"]["backoffLimitPerIndex"], 2);
+    // Kubernetes enforces --task-timeout itself, per pod.
+    assert_eq!(
+        job["spec"]["template"]["spec"]["activeDeadlineSeconds"],
+        600
+    );
     let container = &job["spec"]["template"]["spec"]["containers"][0];
     assert_eq!(container["image"], "registry/geode:1");
     assert!(container["command"][2]

@@ -1,4 +1,12 @@
 //! The Kubernetes scheduler: an Indexed Job manifest (JSON, which kubectl applies) whose pod i runs line i of `tasks.txt` from the farm's folder on a shared volume.
+//!
+//! The farm only writes the manifest; it never submits it, so an
+//! interrupted `geode farm --scheduler k8s` has no job to delete (whoever
+//! ran `kubectl create` deletes it: `kubectl delete job NAME`). Kubernetes
+//! watches the pods itself: `--task-timeout` becomes each pod's
+//! `activeDeadlineSeconds` (a pod past it fails and its index is retried up
+//! to `--retry` times), and a pod on a lost node is failed and replaced by
+//! the Job controller, so no heartbeat is watched here.
 
 use anyhow::{Context, Result};
 use serde_json::json;
@@ -11,6 +19,16 @@ use super::Farm;
 /// cache) mounted at its own path from the claim `geode-farm`, which the
 /// user provides; tasks run the image's `geode` (`tasks.k8s.txt`).
 pub fn manifest(farm: &Farm, image: &str) -> serde_json::Value {
+    let mut job = job(farm, image);
+    if let Some(limit) = farm.task_timeout {
+        job["spec"]["template"]["spec"]["activeDeadlineSeconds"] =
+            json!(limit.as_secs_f64().ceil() as u64);
+    }
+    job
+}
+
+/// The Job before the optional per-pod deadline.
+fn job(farm: &Farm, image: &str) -> serde_json::Value {
     let dir = farm.dir.display().to_string();
     let cache = farm.cache_dir.display().to_string();
     let run =

@@ -7,12 +7,23 @@
 //! shell-quoted command lines the schedulers index (`tasks.txt`, one line
 //! per task), kept with each task's log and exit status in the farm's
 //! folder (`.geode-farm/<id>/` beside the network unless `--farm-dir`).
+//!
+//! No farm hangs or leaves work behind: a task past `--task-timeout` is
+//! cancelled, a started task whose heartbeat (a file its `geode cook`
+//! touches, see [`heartbeat`]) is older than `--stall-limit` is cancelled
+//! (its process is gone though the scheduler still says it runs), both
+//! retried as `--retry` allows; Ctrl-C or SIGTERM cancels what the farm
+//! submitted before it exits with status 130.
+
+pub mod heartbeat;
 
 mod k8s;
 mod local;
 mod slurm;
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, SystemTime};
 
 use anyhow::{anyhow, bail, Context, Result};
 
@@ -61,6 +72,106 @@ pub struct FarmArgs {
     /// The container image of the Kubernetes job (--scheduler k8s).
     #[arg(long, value_name = "IMAGE", default_value = "geode:latest")]
     pub image: String,
+    /// Cancel a task running longer than this (e.g. 90s, 10m, 2h; a bare
+    /// number is seconds); it counts as failed and is retried as --retry allows.
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub task_timeout: Option<Duration>,
+    /// Cancel and retry a started task whose heartbeat is older than this
+    /// (its process is gone though the scheduler may still say it runs).
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration, default_value = "60s")]
+    pub stall_limit: Duration,
+}
+
+/// A duration as `90s`, `10m`, `2h` or `1.5m`; a bare number is seconds.
+pub fn parse_duration(text: &str) -> Result<Duration, String> {
+    let t = text.trim();
+    let split = t.find(|c: char| c.is_ascii_alphabetic()).unwrap_or(t.len());
+    let (number, unit) = t.split_at(split);
+    let value: f64 = number
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}`: expected a duration such as 90s, 10m or 2h"))?;
+    let seconds = match unit.trim() {
+        "" | "s" | "sec" | "secs" => value,
+        "m" | "min" | "mins" => value * 60.0,
+        "h" | "hour" | "hours" => value * 3600.0,
+        other => return Err(format!("`{text}`: unknown unit `{other}` (use s, m or h)")),
+    };
+    if !seconds.is_finite() || seconds <= 0.0 {
+        return Err(format!("`{text}`: a duration must be above zero"));
+    }
+    Ok(Duration::from_secs_f64(seconds))
+}
+
+/// A duration as a person reads it in a report: `5 s`, `2.5 s`, `10 min`.
+pub(crate) fn human(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s >= 120.0 {
+        let minutes = s / 60.0;
+        if (minutes - minutes.round()).abs() < 0.05 {
+            format!("{:.0} min", minutes)
+        } else {
+            format!("{minutes:.1} min")
+        }
+    } else if s >= 10.0 || (s - s.round()).abs() < 0.05 {
+        format!("{s:.0} s")
+    } else {
+        format!("{s:.1} s")
+    }
+}
+
+/// Why an attempt of a task did not succeed.
+#[derive(Clone, Debug)]
+pub(crate) enum Failure {
+    /// The cook exited with this status (`None`: killed by a signal).
+    Exit(Option<i32>),
+    /// The farm cancelled it at `--task-timeout`.
+    TimedOut(Duration),
+    /// The farm cancelled it: no heartbeat for this long while started.
+    Stalled(Duration),
+    /// Cancelled from outside the farm; the scheduler's word for its state.
+    Cancelled(String),
+    /// Gone from the scheduler without an exit status; what is known of why.
+    Lost(String),
+}
+
+impl std::fmt::Display for Failure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Failure::Exit(Some(code)) => write!(f, "exit status {code}"),
+            Failure::Exit(None) => write!(f, "killed by a signal"),
+            Failure::TimedOut(after) => write!(f, "timed out after {}", human(*after)),
+            Failure::Stalled(for_) => write!(f, "stalled: no heartbeat for {}", human(*for_)),
+            Failure::Cancelled(state) => write!(f, "cancelled (by the scheduler): {state}"),
+            Failure::Lost(why) => write!(f, "lost: {why}"),
+        }
+    }
+}
+
+/// Set by Ctrl-C or SIGTERM; every scheduler polls it and cancels its work.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+pub(crate) fn interrupted() -> bool {
+    INTERRUPTED.load(Ordering::SeqCst)
+}
+
+/// The farm was interrupted and cancelled its tasks; `main` exits 130 on it.
+#[derive(Debug)]
+pub struct Interrupted;
+
+impl std::fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "interrupted; the farm's tasks were cancelled")
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// Ctrl-C and SIGTERM (the `ctrlc` crate's `termination` feature, which
+/// cannot tell the two apart: both exit 130) only raise a flag, so the
+/// scheduler that owns the tasks cancels them before the farm exits.
+fn catch_interrupts() {
+    let _ = ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::SeqCst));
 }
 
 /// One frame of one wedge variant.
@@ -84,14 +195,65 @@ pub(crate) struct Farm {
     pub cache_dir: PathBuf,
     pub jobs: usize,
     pub retry: u32,
+    pub task_timeout: Option<Duration>,
+    pub stall_limit: Duration,
 }
 
 impl Farm {
     pub fn log(&self, task: usize, attempt: u32) -> PathBuf {
         self.dir.join(format!("task-{task}.attempt-{attempt}.log"))
     }
-    pub fn status(&self, task: usize) -> PathBuf {
-        self.dir.join(format!("task-{task}.status"))
+    /// The attempt's exit status (one file per attempt, so a cancelled
+    /// attempt finishing late never speaks for its retry).
+    pub fn status(&self, task: usize, attempt: u32) -> PathBuf {
+        self.dir
+            .join(format!("task-{task}.attempt-{attempt}.status"))
+    }
+    /// The file the attempt's `geode cook` touches while it runs.
+    pub fn heartbeat(&self, task: usize, attempt: u32) -> PathBuf {
+        self.dir
+            .join(format!("task-{task}.attempt-{attempt}.heartbeat"))
+    }
+    /// How often tasks touch their heartbeat: often enough that a few
+    /// beats fit in the stall limit, at most every 2 s.
+    pub fn heartbeat_every(&self) -> Duration {
+        (self.stall_limit / 5).clamp(Duration::from_millis(200), Duration::from_secs(2))
+    }
+
+    /// How long an attempt started at `started` has gone without a
+    /// heartbeat (since it started if it never beat).
+    pub fn silent_for(&self, task: usize, attempt: u32, started: SystemTime) -> Duration {
+        let beat = std::fs::metadata(self.heartbeat(task, attempt))
+            .and_then(|m| m.modified())
+            .map_or(started, |b| b.max(started));
+        SystemTime::now().duration_since(beat).unwrap_or_default()
+    }
+
+    /// The failure, if any, a running attempt has reached: past the
+    /// timeout, or silent past the stall limit.
+    pub fn overdue(&self, task: usize, attempt: u32, started: SystemTime) -> Option<Failure> {
+        let running = SystemTime::now()
+            .duration_since(started)
+            .unwrap_or_default();
+        if let Some(limit) = self.task_timeout.filter(|&l| running > l) {
+            return Some(Failure::TimedOut(limit));
+        }
+        let silent = self.silent_for(task, attempt, started);
+        (silent > self.stall_limit).then_some(Failure::Stalled(silent))
+    }
+
+    /// A task as the report names it: `task 2 (frame 3, to out/0003.ply)`.
+    pub fn describe(&self, t: usize) -> String {
+        let task = &self.tasks[t];
+        format!(
+            "task {t} (frame {}{}, to {})",
+            task.frame,
+            task.set
+                .as_deref()
+                .map(|s| format!(", {s}"))
+                .unwrap_or_default(),
+            task.output.display()
+        )
     }
     pub fn tasks_file(&self) -> PathBuf {
         self.dir.join("tasks.txt")
@@ -104,8 +266,9 @@ impl Farm {
         lines[lines.len().saturating_sub(12)..].join("\n")
     }
 
-    /// Reports tasks still failed after every retry, with their logs; an error if any.
-    pub fn report(&self, failed: &[(usize, u32)]) -> Result<()> {
+    /// Reports tasks still failed after every retry, with why and their
+    /// logs; an error if any.
+    pub fn report(&self, failed: &[(usize, u32, Failure)]) -> Result<()> {
         if failed.is_empty() {
             eprintln!(
                 "farm: {} tasks done; outputs as `-o` names them",
@@ -113,20 +276,25 @@ impl Farm {
             );
             return Ok(());
         }
-        for &(t, attempt) in failed {
-            let task = &self.tasks[t];
+        for (t, attempt, why) in failed {
+            let (t, attempt) = (*t, *attempt);
+            // An exit status speaks through the log; anything else is said.
+            let reason = match why {
+                Failure::Exit(Some(_)) => String::new(),
+                other => format!(": {other}"),
+            };
+            let tail = self.tail(t, attempt);
             eprintln!(
-                "farm: task {t} (frame {}{}, to {}) failed after {} attempt{}; log {}:\n{}",
-                task.frame,
-                task.set
-                    .as_deref()
-                    .map(|s| format!(", {s}"))
-                    .unwrap_or_default(),
-                task.output.display(),
+                "farm: {} failed after {} attempt{}{reason}; log {}:\n{}",
+                self.describe(t),
                 attempt + 1,
                 if attempt == 0 { "" } else { "s" },
                 self.log(t, attempt).display(),
-                self.tail(t, attempt)
+                if tail.trim().is_empty() {
+                    "(the log is empty)".to_owned()
+                } else {
+                    tail
+                }
             );
         }
         bail!("{} of {} farm tasks failed", failed.len(), self.tasks.len())
@@ -292,6 +460,8 @@ fn plan(args: &FarmArgs, frames: &[f64]) -> Result<Farm> {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
             .max(1),
         retry: args.retry,
+        task_timeout: args.task_timeout,
+        stall_limit: args.stall_limit,
     };
     let lines: String = farm
         .tasks
@@ -314,6 +484,7 @@ fn unix_seconds() -> u64 {
 pub fn farm(args: FarmArgs) -> Result<()> {
     let frames = crate::cook::frames(None, args.frames.as_deref())?;
     let farm = plan(&args, &frames)?;
+    catch_interrupts();
     eprintln!(
         "farm: {} tasks ({} frames{}), folder {}, disk cache {}",
         farm.tasks.len(),
@@ -329,5 +500,24 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         Scheduler::Local => local::run(&farm),
         Scheduler::Slurm => slurm::run(&farm),
         Scheduler::K8s => k8s::write(&farm, &args.image),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    #[test]
+    fn durations_read_seconds_minutes_and_hours() {
+        let d = |s| super::parse_duration(s);
+        assert_eq!(d("90s"), Ok(Duration::from_secs(90)));
+        assert_eq!(d("90"), Ok(Duration::from_secs(90)));
+        assert_eq!(d("10m"), Ok(Duration::from_secs(600)));
+        assert_eq!(d("1.5m"), Ok(Duration::from_secs(90)));
+        assert_eq!(d("2h"), Ok(Duration::from_secs(7200)));
+        assert!(d("0s").is_err() && d("ten").is_err() && d("5d").is_err());
+        assert_eq!(super::human(Duration::from_secs(5)), "5 s");
+        assert_eq!(super::human(Duration::from_millis(2500)), "2.5 s");
+        assert_eq!(super::human(Duration::from_secs(600)), "10 min");
     }
 }

@@ -34,3 +34,59 @@ pub fn stderr(o: &Output) -> String {
 pub fn text(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned() + &stderr(o)
 }
+
+/// Whether Slurm can take jobs here; CI (GEODE_REQUIRE_SLURM=1) insists,
+/// elsewhere the caller skips, saying so.
+pub fn slurm_ready() -> bool {
+    let ok = Command::new("sinfo")
+        .args(["-h", "-o", "%t"])
+        .output()
+        .is_ok_and(|o| {
+            o.status.success()
+                && String::from_utf8_lossy(&o.stdout)
+                    .lines()
+                    .any(|l| ["idle", "mix", "alloc", "plnd"].contains(&l.trim()))
+        });
+    if !ok {
+        assert!(
+            std::env::var("GEODE_REQUIRE_SLURM").is_err(),
+            "GEODE_REQUIRE_SLURM is set but no Slurm node takes jobs (start one: tools/slurm.sh start; export SLURM_CONF)"
+        );
+        eprintln!("skipped: no Slurm cluster (tools/slurm.sh start; export SLURM_CONF)");
+    }
+    ok
+}
+
+/// The one-machine cluster, held by one test at a time: `flock(1)` on a
+/// file every Slurm test locks (in any test binary, any checkout), since
+/// one test stops slurmd and another counts the queue. The lock lives as
+/// long as the returned `flock`, which waits on its standard input: dropping
+/// it (or the test process dying) closes that and releases the lock.
+/// (`File::lock` needs Rust 1.89, above the workspace's MSRV.)
+pub struct SlurmLock(std::process::Child);
+
+pub fn slurm_lock() -> SlurmLock {
+    use std::io::BufRead;
+    use std::process::Stdio;
+    let path = std::env::temp_dir().join("geode-slurm-tests.lock");
+    let mut child = Command::new("flock")
+        .arg(&path)
+        .args(["-c", "echo locked; exec cat >/dev/null"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .expect("flock (util-linux) serialises the Slurm tests");
+    let mut line = String::new();
+    std::io::BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    assert_eq!(line.trim(), "locked", "flock {}", path.display());
+    SlurmLock(child)
+}
+
+impl Drop for SlurmLock {
+    fn drop(&mut self) {
+        drop(self.0.stdin.take());
+        let _ = self.0.wait();
+    }
+}

@@ -1,0 +1,505 @@
+//! `geode farm` never hangs and cleans up: a task past `--task-timeout` is killed and reported, tasks Slurm keeps RUNNING after slurmd dies are cancelled and resubmitted once their heartbeat stalls, Ctrl-C cancels the farm's jobs and exits 130, and a task cancelled with `scancel` is reported as cancelled (Slurm tests on the cluster of `tools/slurm.sh`, one at a time).
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, ExitStatus, Stdio};
+use std::time::{Duration, Instant};
+
+use common::{geode_in, slurm_lock, slurm_ready, stderr};
+
+/// A network whose cook spins for `iterations` turns of a wrangle loop
+/// (about 4 µs each) and depends on the frame, so no two frames share a
+/// cached result and every task really runs that long.
+fn slow_network(dir: &Path, iterations: u64) -> PathBuf {
+    let net = format!(
+        r#"{{"geode": "network", "version": 1, "output": "w", "nodes": {{
+        "b": {{"type": "box"}},
+        "w": {{"type": "wrangle", "inputs": ["b"], "params": {{"run_over": "detail",
+            "snippet": "float s = 0; for (int i = 0; i < {iterations}; i++) {{ s += sin(float(i)); }} f@s = s + @Frame;"}}}}}}}}"#
+    );
+    let path = dir.join("slow.json");
+    std::fs::write(&path, net).unwrap();
+    path
+}
+
+/// `geode farm ARGS` started in `dir`, its standard error going to a file
+/// the test reads while it runs.
+fn start_farm(dir: &Path, args: &[&str]) -> (Child, PathBuf) {
+    let log = dir.join("farm.stderr");
+    let child = Command::new(env!("CARGO_BIN_EXE_geode"))
+        .arg("farm")
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    (child, log)
+}
+
+/// Polls `what` every 20 ms until it gives a value; panics after `limit`.
+fn poll<T>(limit: Duration, what: &str, mut f: impl FnMut() -> Option<T>) -> T {
+    let since = Instant::now();
+    loop {
+        if let Some(v) = f() {
+            return v;
+        }
+        assert!(since.elapsed() < limit, "no {what} after {limit:?}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The farm's exit status, killing it (and failing) past `limit`: a farm
+/// that hangs fails the test instead of hanging it.
+fn finish(child: &mut Child, limit: Duration, log: &Path) -> ExitStatus {
+    let since = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status;
+        }
+        if since.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!(
+                "the farm ran past {limit:?}:\n{}",
+                std::fs::read_to_string(log).unwrap_or_default()
+            );
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+/// The first job array the farm submitted, from its standard error.
+fn submitted_job(log: &Path) -> String {
+    poll(Duration::from_secs(30), "submitted job", || {
+        let text = std::fs::read_to_string(log).ok()?;
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("farm: submitted job array "))?;
+        Some(
+            line["farm: submitted job array ".len()..]
+                .split(' ')
+                .next()?
+                .to_owned(),
+        )
+    })
+}
+
+/// `squeue ARGS` standard output (empty if it fails).
+fn squeue(args: &[&str]) -> String {
+    Command::new("squeue")
+        .args(args)
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).into_owned())
+        .unwrap_or_default()
+}
+
+/// The first task of `job` Slurm says is RUNNING, as `JOB_INDEX`; polled
+/// every 20 ms so the test acts as tasks start.
+fn first_running(job: &str) -> String {
+    poll(Duration::from_secs(60), "running task", || {
+        squeue(&["-h", "-r", "-t", "RUNNING", "-j", job, "-o", "%i"])
+            .lines()
+            .map(str::trim)
+            .find(|l| !l.is_empty())
+            .map(str::to_owned)
+    })
+}
+
+/// slurmd of the test cluster, stopped with SIGKILL (as a crash would) and
+/// started again as `tools/slurm.sh` starts it; dropped, it makes sure
+/// slurmd runs and the node takes jobs, so a failing test leaves the
+/// cluster as it found it.
+struct Slurmd {
+    conf: String,
+}
+
+impl Slurmd {
+    fn new() -> Slurmd {
+        Slurmd {
+            conf: std::env::var("SLURM_CONF").expect("SLURM_CONF names the test cluster"),
+        }
+    }
+
+    /// `SlurmdPidFile` of the cluster's configuration.
+    fn pid_file(&self) -> PathBuf {
+        let conf = std::fs::read_to_string(&self.conf).unwrap();
+        let line = conf
+            .lines()
+            .find_map(|l| l.trim().strip_prefix("SlurmdPidFile="))
+            .expect("the configuration names SlurmdPidFile");
+        PathBuf::from(line.trim())
+    }
+
+    fn pid(&self) -> Option<String> {
+        let pid = std::fs::read_to_string(self.pid_file()).ok()?;
+        let pid = pid.trim().to_owned();
+        Path::new("/proc").join(&pid).exists().then_some(pid)
+    }
+
+    fn kill(&self) {
+        let pid = self.pid().expect("slurmd runs");
+        let status = Command::new("kill").args(["-KILL", &pid]).status().unwrap();
+        assert!(status.success(), "kill -KILL {pid}");
+    }
+
+    /// Starts slurmd and waits until the node takes jobs again.
+    fn start(&self) {
+        if self.pid().is_none() {
+            let status = Command::new("slurmd")
+                .args(["-f", &self.conf])
+                .status()
+                .unwrap();
+            assert!(status.success(), "slurmd -f {}", self.conf);
+        }
+        poll(Duration::from_secs(60), "node taking jobs", || {
+            let states = Command::new("sinfo")
+                .args(["-h", "-o", "%t"])
+                .output()
+                .ok()?;
+            String::from_utf8_lossy(&states.stdout)
+                .lines()
+                .any(|l| ["idle", "mix", "alloc", "plnd"].contains(&l.trim()))
+                .then_some(())
+        });
+    }
+}
+
+impl Drop for Slurmd {
+    fn drop(&mut self) {
+        self.start();
+    }
+}
+
+/// The lines of `text` that start with `prefix`.
+fn lines_starting<'a>(text: &'a str, prefix: &str) -> Vec<&'a str> {
+    text.lines().filter(|l| l.starts_with(prefix)).collect()
+}
+
+#[test]
+fn a_local_task_past_its_timeout_is_killed_and_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // About 20 s of cooking, killed after 1 s: twice, as --retry 1 allows.
+    let net = slow_network(d, 5_000_000);
+    let since = Instant::now();
+    let o = geode_in(
+        d,
+        &[
+            "farm",
+            net.to_str().unwrap(),
+            "--task-timeout",
+            "1s",
+            "--retry",
+            "1",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+        &[],
+    );
+    let took = since.elapsed();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    let out = d.join("out/0001.bgeo");
+    assert!(
+        err.contains(&format!(
+            "farm: task 0 (frame 1, to {}) timed out after 1 s; killed it",
+            out.display()
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains("farm: task 0 timed out after 1 s; retry 1 of 1"),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: task 0 (frame 1, to {}) failed after 2 attempts: timed out after 1 s; log {}:",
+            out.display(),
+            d.join("f/task-0.attempt-1.log").display()
+        )),
+        "{err}"
+    );
+    assert!(
+        took < Duration::from_secs(15),
+        "both attempts were killed, not cooked to the end: {took:?}"
+    );
+    assert!(!out.exists(), "a killed cook writes nothing");
+}
+
+#[test]
+fn interrupting_a_local_farm_kills_its_tasks_and_exits_130() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 5_000_000);
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--frames",
+            "1-2",
+            "--jobs",
+            "2",
+            "--stall-limit",
+            "5s",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    // The cooks run once they beat (every second under a 5 s stall limit).
+    let heartbeat = d.join("f/task-0.attempt-0.heartbeat");
+    poll(Duration::from_secs(30), "heartbeat", || {
+        heartbeat.exists().then_some(())
+    });
+    let pid = farm.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let status = finish(&mut farm, Duration::from_secs(10), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(
+        err.contains("farm: interrupted; killed the running tasks"),
+        "{err}"
+    );
+    // No cook outlives the farm: the heartbeat stops.
+    let beat = || std::fs::metadata(&heartbeat).unwrap().modified().unwrap();
+    let before = beat();
+    std::thread::sleep(Duration::from_secs(3));
+    assert_eq!(beat(), before, "a killed cook's heartbeat stopped");
+    assert!(!d.join("out/0001.bgeo").exists());
+}
+
+#[test]
+fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
+    if !slurm_ready() {
+        return;
+    }
+    let _cluster = slurm_lock();
+    let slurmd = Slurmd::new();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 250_000);
+    let since = Instant::now();
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--scheduler",
+            "slurm",
+            "--frames",
+            "1-6",
+            "--jobs",
+            "2",
+            "--retry",
+            "3",
+            "--stall-limit",
+            "5s",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    let job = submitted_job(&log);
+    // As the first task starts, slurmd dies: the tasks it was launching
+    // stay RUNNING in Slurm's eyes with no process behind them.
+    first_running(&job);
+    slurmd.kill();
+    // Down for longer than the stall limit, so the farm must act alone.
+    std::thread::sleep(Duration::from_secs(8));
+    slurmd.start();
+    let status = finish(&mut farm, Duration::from_secs(90), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert!(status.success(), "{err}");
+    assert!(
+        since.elapsed() < Duration::from_secs(100),
+        "{:?}",
+        since.elapsed()
+    );
+    let stalled: Vec<usize> = lines_starting(&err, "farm: task ")
+        .into_iter()
+        .filter(|l| l.contains(") stalled: no heartbeat for "))
+        .map(|l| {
+            assert!(
+                l.ends_with(&format!(
+                    " while Slurm says RUNNING; cancelling job {job}_{} (scancel)",
+                    l.split(' ').nth(2).unwrap()
+                )),
+                "{l}"
+            );
+            l.split(' ').nth(2).unwrap().parse().unwrap()
+        })
+        .collect();
+    assert!(
+        !stalled.is_empty(),
+        "a task launched into the dead slurmd stalled:\n{err}"
+    );
+    let resubmitted: Vec<usize> = lines_starting(&err, "farm: resubmitted task")
+        .iter()
+        .flat_map(|l| {
+            let tasks = l
+                .trim_start_matches("farm: resubmitted tasks ")
+                .trim_start_matches("farm: resubmitted task ");
+            let tasks = tasks.split(" as job array ").next().unwrap();
+            tasks
+                .split(", ")
+                .map(|t| t.parse::<usize>().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    for t in &stalled {
+        assert!(resubmitted.contains(t), "task {t} resubmitted:\n{err}");
+    }
+    assert!(err.contains("farm: 6 tasks done"), "{err}");
+    // Every output is what a plain cook of its frame writes.
+    std::fs::create_dir_all(d.join("local")).unwrap();
+    let o = geode_in(
+        d,
+        &[
+            "cook",
+            net.to_str().unwrap(),
+            "--frames",
+            "1-6",
+            "-o",
+            "local/$F4.bgeo",
+        ],
+        &[],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    for f in 1..=6 {
+        let name = format!("{f:04}.bgeo");
+        assert!(
+            std::fs::read(d.join("out").join(&name)).unwrap()
+                == std::fs::read(d.join("local").join(&name)).unwrap(),
+            "frame {f} differs from a local cook"
+        );
+    }
+}
+
+#[test]
+fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
+    if !slurm_ready() {
+        return;
+    }
+    let _cluster = slurm_lock();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 1_000_000);
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--scheduler",
+            "slurm",
+            "--frames",
+            "1-6",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    let job = submitted_job(&log);
+    first_running(&job);
+    let pid = farm.id().to_string();
+    assert!(Command::new("kill")
+        .args(["-INT", &pid])
+        .status()
+        .unwrap()
+        .success());
+    let status = finish(&mut farm, Duration::from_secs(45), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(130), "{err}");
+    assert!(
+        err.contains(&format!(
+            "farm: interrupted; cancelling job {job} (scancel)"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: job {job} cancelled; nothing left in the queue"
+        )),
+        "{err}"
+    );
+    let queue = squeue(&["-h", "-u", "root", "-o", "%F %i %T"]);
+    assert!(
+        !queue
+            .lines()
+            .any(|l| l.split(' ').next() == Some(job.as_str())),
+        "job {job} is still queued:\n{queue}"
+    );
+}
+
+#[test]
+fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
+    if !slurm_ready() {
+        return;
+    }
+    let _cluster = slurm_lock();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 1_000_000);
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--scheduler",
+            "slurm",
+            "--frames",
+            "1-2",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    let job = submitted_job(&log);
+    let task = first_running(&job);
+    assert!(Command::new("scancel")
+        .arg(&task)
+        .status()
+        .unwrap()
+        .success());
+    let status = finish(&mut farm, Duration::from_secs(60), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(1), "{err}");
+    let t: usize = task.split('_').nth(1).unwrap().parse().unwrap();
+    let describe = format!(
+        "task {t} (frame {}, to {})",
+        t + 1,
+        d.join(format!("out/{:04}.bgeo", t + 1)).display()
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: {describe} cancelled (by the scheduler): Slurm says CANCELLED (job {task})"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: {describe} failed after 1 attempt: cancelled (by the scheduler): Slurm says CANCELLED (job {task}); log {}:",
+            d.join(format!("f/task-{t}.attempt-0.log")).display()
+        )),
+        "{err}"
+    );
+    assert!(err.contains("error: 1 of 2 farm tasks failed"), "{err}");
+}
