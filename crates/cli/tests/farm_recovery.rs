@@ -232,8 +232,46 @@ fn a_local_task_past_its_timeout_is_killed_and_reported() {
     assert!(!out.exists(), "a killed cook writes nothing");
 }
 
+/// `geode cook` processes of the network at `net` (its temporary folder
+/// makes the path this test's own), from /proc.
+fn cook_pids(net: &Path) -> Vec<String> {
+    let net = net.to_str().unwrap();
+    std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(|e| {
+            let e = e.ok()?;
+            let pid = e.file_name().to_str()?.to_owned();
+            let cmdline = std::fs::read(e.path().join("cmdline")).ok()?;
+            let args: Vec<&[u8]> = cmdline.split(|&b| b == 0).collect();
+            let is_cook =
+                args.get(1) == Some(&&b"cook"[..]) && args.get(2) == Some(&net.as_bytes());
+            is_cook.then_some(pid)
+        })
+        .collect()
+}
+
+/// `kill -SIGNAL PID`.
+fn signal(name: &str, pid: &str) {
+    let status = Command::new("kill")
+        .args([&format!("-{name}"), pid])
+        .status()
+        .unwrap();
+    assert!(status.success(), "kill -{name} {pid}");
+}
+
 #[test]
 fn interrupting_a_local_farm_kills_its_tasks_and_exits_130() {
+    local_farm_stopped_by("INT");
+}
+
+#[test]
+fn terminating_a_local_farm_kills_its_tasks_and_exits_130() {
+    local_farm_stopped_by("TERM");
+}
+
+/// A local farm sent `signal_name` while its cooks run: it kills them all
+/// and exits 130.
+fn local_farm_stopped_by(signal_name: &str) {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 5_000_000);
@@ -260,12 +298,7 @@ fn interrupting_a_local_farm_kills_its_tasks_and_exits_130() {
     poll(Duration::from_secs(30), "heartbeat", || {
         heartbeat.exists().then_some(())
     });
-    let pid = farm.id().to_string();
-    assert!(Command::new("kill")
-        .args(["-INT", &pid])
-        .status()
-        .unwrap()
-        .success());
+    signal(signal_name, &farm.id().to_string());
     let status = finish(&mut farm, Duration::from_secs(10), &log);
     let err = std::fs::read_to_string(&log).unwrap();
     assert_eq!(status.code(), Some(130), "{err}");
@@ -279,6 +312,58 @@ fn interrupting_a_local_farm_kills_its_tasks_and_exits_130() {
     std::thread::sleep(Duration::from_secs(3));
     assert_eq!(beat(), before, "a killed cook's heartbeat stopped");
     assert!(!d.join("out/0001.bgeo").exists());
+    assert_eq!(
+        cook_pids(&net),
+        Vec::<String>::new(),
+        "no cook outlives the farm"
+    );
+}
+
+#[test]
+fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 5_000_000);
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--stall-limit",
+            "2s",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    // A stopped process is one that no longer beats (as a hung machine's).
+    let cooks = poll(Duration::from_secs(30), "cook process", || {
+        Some(cook_pids(&net)).filter(|p| !p.is_empty())
+    });
+    for pid in &cooks {
+        signal("STOP", pid);
+    }
+    let status = finish(&mut farm, Duration::from_secs(20), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(1), "{err}");
+    let describe = format!("task 0 (frame 1, to {})", d.join("out/0001.bgeo").display());
+    assert!(
+        err.contains(&format!("farm: {describe} stalled: no heartbeat for ")),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: {describe} failed after 1 attempt: stalled: no heartbeat for "
+        )),
+        "{err}"
+    );
+    assert_eq!(
+        cook_pids(&net),
+        Vec::<String>::new(),
+        "the stalled cook was killed"
+    );
 }
 
 #[test]
@@ -502,4 +587,61 @@ fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
         "{err}"
     );
     assert!(err.contains("error: 1 of 2 farm tasks failed"), "{err}");
+}
+
+#[test]
+fn a_slurm_task_past_its_timeout_is_cancelled_and_reported() {
+    if !slurm_ready() {
+        return;
+    }
+    let _cluster = slurm_lock();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // About 20 s of cooking, cancelled after 2 s.
+    let net = slow_network(d, 5_000_000);
+    let (mut farm, log) = start_farm(
+        d,
+        &[
+            net.to_str().unwrap(),
+            "--scheduler",
+            "slurm",
+            "--task-timeout",
+            "2s",
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ],
+    );
+    let job = submitted_job(&log);
+    let status = finish(&mut farm, Duration::from_secs(30), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(1), "{err}");
+    let describe = format!("task 0 (frame 1, to {})", d.join("out/0001.bgeo").display());
+    assert!(
+        err.contains(&format!(
+            "farm: {describe} timed out after 2 s while Slurm says RUNNING; cancelling job {job}_0 (scancel)"
+        )),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: {describe} failed after 1 attempt: timed out after 2 s; log {}:",
+            d.join("f/task-0.attempt-0.log").display()
+        )),
+        "{err}"
+    );
+    // The cancel reached Slurm: the task leaves the queue.
+    poll(
+        Duration::from_secs(30),
+        "cancelled task leaving the queue",
+        || {
+            squeue(&["-h", "-j", &job, "-o", "%i"])
+                .trim()
+                .is_empty()
+                .then_some(())
+        },
+    );
 }

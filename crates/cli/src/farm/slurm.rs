@@ -147,43 +147,43 @@ struct Seen {
 
 /// Every task of the arrays Slurm still knows, finished ones included
 /// (`-t all`, kept for `MinJobAge`), by array job id and task number;
-/// `None` when `squeue` cannot answer (the controller is down).
+/// `None` when `squeue` cannot answer (the controller is down). Each array
+/// is asked on its own: one Slurm has forgotten fails only its own query.
 fn queue(arrays: &[&Array]) -> Option<HashMap<(String, usize), Seen>> {
-    let ids: Vec<&str> = arrays.iter().map(|a| a.id.as_str()).collect();
-    let out = Command::new("squeue")
-        .args([
-            "-h",
-            "-r",
-            "-t",
-            "all",
-            "-j",
-            &ids.join(","),
-            "-o",
-            "%F %K %T",
-        ])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())?;
     let mut seen = HashMap::new();
-    for line in String::from_utf8_lossy(&out.stdout).lines() {
-        let mut words = line.split_whitespace();
-        let (Some(job), Some(index), Some(state)) = (words.next(), words.next(), words.next())
+    let mut answered = arrays.is_empty();
+    for array in arrays {
+        let Ok(out) = Command::new("squeue")
+            .args(["-h", "-r", "-t", "all", "-j", &array.id, "-o", "%F %K %T"])
+            .output()
         else {
             continue;
         };
-        let (Some(array), Ok(i)) = (arrays.iter().find(|a| a.id == job), index.parse::<usize>())
-        else {
+        if !out.status.success() {
+            // A job past MinJobAge is unknown: answered, with nothing listed.
+            answered |= String::from_utf8_lossy(&out.stderr).contains("Invalid job id");
             continue;
-        };
-        seen.insert(
-            (job.to_owned(), array.offset + i),
-            Seen {
-                state: state.to_owned(),
-                name: format!("{job}_{index}"),
-            },
-        );
+        }
+        answered = true;
+        for line in String::from_utf8_lossy(&out.stdout).lines() {
+            let mut words = line.split_whitespace();
+            let (Some(job), Some(index), Some(state)) = (words.next(), words.next(), words.next())
+            else {
+                continue;
+            };
+            let Ok(i) = index.parse::<usize>() else {
+                continue;
+            };
+            seen.insert(
+                (job.to_owned(), array.offset + i),
+                Seen {
+                    state: state.to_owned(),
+                    name: format!("{job}_{index}"),
+                },
+            );
+        }
     }
-    Some(seen)
+    answered.then_some(seen)
 }
 
 /// Whether a state means the task is still in Slurm's hands.
