@@ -190,16 +190,18 @@ fn local_farm_retries_and_reports_a_failing_task() {
 
 #[test]
 fn slurm_farm_equals_local_cooks() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if slurm_ready() {
-        let _cluster = slurm_lock();
         farms_equal_local_cooks("slurm");
     }
 }
 
 #[test]
 fn slurm_farm_retries_and_reports_a_failing_task() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if slurm_ready() {
-        let _cluster = slurm_lock();
         a_failing_task_is_retried_and_reported("slurm");
     }
 }

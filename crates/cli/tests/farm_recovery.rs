@@ -368,10 +368,11 @@ fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
 
 #[test]
 fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if !slurm_ready() {
         return;
     }
-    let _cluster = slurm_lock();
     let slurmd = Slurmd::new();
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -477,10 +478,11 @@ fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
 
 #[test]
 fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if !slurm_ready() {
         return;
     }
-    let _cluster = slurm_lock();
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
@@ -534,10 +536,11 @@ fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
 
 #[test]
 fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if !slurm_ready() {
         return;
     }
-    let _cluster = slurm_lock();
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
@@ -591,10 +594,11 @@ fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
 
 #[test]
 fn a_slurm_task_past_its_timeout_is_cancelled_and_reported() {
+    // The lock first: a test holding it may have stopped slurmd.
+    let _cluster = slurm_lock();
     if !slurm_ready() {
         return;
     }
-    let _cluster = slurm_lock();
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // About 20 s of cooking, cancelled after 2 s.
