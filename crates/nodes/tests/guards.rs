@@ -1,5 +1,5 @@
-//! Resource guards: requests too big for memory are refused before anything
-//! is allocated, promptly, with a message naming the node, the parameter,
+//! Resource guards: requests too big for memory (a wrangle's included) are
+//! refused before anything is allocated, promptly, with a message naming the node, the parameter,
 //! the estimate and the budget. One test, so the process's peak memory
 //! (VmHWM) reflects these cooks alone.
 
@@ -12,6 +12,10 @@ use geode_op::{CookEnv, ErrorKind};
 const BUDGET: u64 = 8 << 30;
 
 fn refused(nodes: &str, hip: &str) -> (String, Duration) {
+    refused_within(nodes, hip, BUDGET)
+}
+
+fn refused_within(nodes: &str, hip: &str, budget: u64) -> (String, Duration) {
     let text =
         format!(r#"{{"geode": "network", "version": 1, "output": "n", "nodes": {{{nodes}}}}}"#);
     let net = load_str(&text, &geode_nodes::registry()).unwrap_or_else(|e| panic!("{e:?}"));
@@ -21,7 +25,7 @@ fn refused(nodes: &str, hip: &str) -> (String, Duration) {
     opts.env = CookEnv {
         hip: hip.into(),
         fps: 24.0,
-        memory_budget: BUDGET,
+        memory_budget: budget,
         files: geode_op::FileAccess::anywhere(),
     };
     // Inputs first: the time measured is the guarded node's.
@@ -144,8 +148,48 @@ fn oversized_requests_are_refused_promptly_with_exact_messages() {
         0,
         "nothing written"
     );
+    wrangles_within_a_small_budget(hip);
     if let Some(peak) = peak_rss_bytes() {
         eprintln!("peak resident memory: {} MB", peak >> 20);
         assert!(peak < 1 << 30, "peak {} MB", peak >> 20);
     }
+}
+
+/// The requests that once exhausted the machine from a wrangle (a
+/// two-billion-element array, a string doubled forever, a large array on
+/// every point) are refused within 512 MiB, the process never nearing them.
+fn wrangles_within_a_small_budget(hip: &str) {
+    let wrangle = |class: &str, snippet: &str| {
+        let nodes = serde_json::json!({
+            "g": {"type": "grid", "params": {"rows": 10, "columns": 10}},
+            "n": {"type": "wrangle", "params": {"run_over": class, "snippet": snippet}, "inputs": ["g"]},
+        })
+        .to_string();
+        refused_within(&nodes[1..nodes.len() - 1], hip, 512 << 20)
+    };
+    let (msg, dt) = wrangle("detail", "int a[];\nresize(a, 2000000000);\ni[]@a = a;");
+    assert_eq!(
+        msg,
+        "/n (parameter `snippet`): element 0 (line 2, column 1): resize to 2000000000 elements would need 8.0 GB, more than the 537 MB left of the memory budget of 537 MB (GEODE_MEMORY_MB)"
+    );
+    assert!(dt < Duration::from_millis(500), "{dt:?}");
+    let (msg, dt) = wrangle(
+        "detail",
+        "string s = \"ab\";\nwhile (1) {\n    s = s + s;\n}\ns@s = s;",
+    );
+    assert!(
+        msg.starts_with("/n (parameter `snippet`): element 0 (line 3, column 11): ")
+            && msg.contains(" would need ")
+            && msg.ends_with("of the memory budget of 537 MB (GEODE_MEMORY_MB)"),
+        "{msg}"
+    );
+    assert!(dt < Duration::from_secs(5), "{dt:?}");
+    let (msg, dt) = wrangle("points", "int a[];\nresize(a, 100000000);\ni[]@a = a;");
+    assert!(
+        msg.contains(
+            "(line 2, column 1): resize to 100000000 elements would need 400 MB, more than the "
+        ) && msg.ends_with("left of the memory budget of 537 MB (GEODE_MEMORY_MB)"),
+        "{msg}"
+    );
+    assert!(dt < Duration::from_secs(5), "{dt:?}");
 }
