@@ -23,13 +23,23 @@ fn slow_network(dir: &Path, iterations: u64) -> PathBuf {
     path
 }
 
-/// `geode farm ARGS` started in `dir`, its standard error going to a file
-/// the test reads while it runs.
-fn start_farm(dir: &Path, args: &[&str]) -> (Child, PathBuf) {
+/// `geode farm NETWORK ARGS` started in `dir` with its farm folder `f`,
+/// its cache `cache` and outputs `out/$F4.bgeo`, its standard error going
+/// to a file the test reads while it runs.
+fn start_farm(dir: &Path, network: &Path, args: &[&str]) -> (Child, PathBuf) {
     let log = dir.join("farm.stderr");
     let child = Command::new(env!("CARGO_BIN_EXE_geode"))
         .arg("farm")
+        .arg(network)
         .args(args)
+        .args([
+            "--farm-dir",
+            "f",
+            "--cache-dir",
+            "cache",
+            "-o",
+            "out/$F4.bgeo",
+        ])
         .current_dir(dir)
         .stdout(Stdio::null())
         .stderr(std::fs::File::create(&log).unwrap())
@@ -277,21 +287,8 @@ fn local_farm_stopped_by(signal_name: &str) {
     let net = slow_network(d, 5_000_000);
     let (mut farm, log) = start_farm(
         d,
-        &[
-            net.to_str().unwrap(),
-            "--frames",
-            "1-2",
-            "--jobs",
-            "2",
-            "--stall-limit",
-            "5s",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
-        ],
+        &net,
+        &["--frames", "1-2", "--jobs", "2", "--stall-limit", "5s"],
     );
     // The cooks run once they beat (every second under a 5 s stall limit).
     let heartbeat = d.join("f/task-0.attempt-0.heartbeat");
@@ -324,20 +321,7 @@ fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 5_000_000);
-    let (mut farm, log) = start_farm(
-        d,
-        &[
-            net.to_str().unwrap(),
-            "--stall-limit",
-            "2s",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
-        ],
-    );
+    let (mut farm, log) = start_farm(d, &net, &["--stall-limit", "2s"]);
     // A stopped process is one that no longer beats (as a hung machine's).
     let cooks = poll(Duration::from_secs(30), "cook process", || {
         Some(cook_pids(&net)).filter(|p| !p.is_empty())
@@ -380,8 +364,8 @@ fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
     let since = Instant::now();
     let (mut farm, log) = start_farm(
         d,
+        &net,
         &[
-            net.to_str().unwrap(),
             "--scheduler",
             "slurm",
             "--frames",
@@ -392,12 +376,6 @@ fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
             "3",
             "--stall-limit",
             "5s",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
         ],
     );
     let job = submitted_job(&log);
@@ -486,22 +464,7 @@ fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
-    let (mut farm, log) = start_farm(
-        d,
-        &[
-            net.to_str().unwrap(),
-            "--scheduler",
-            "slurm",
-            "--frames",
-            "1-6",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
-        ],
-    );
+    let (mut farm, log) = start_farm(d, &net, &["--scheduler", "slurm", "--frames", "1-6"]);
     let job = submitted_job(&log);
     first_running(&job);
     let pid = farm.id().to_string();
@@ -544,22 +507,7 @@ fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
-    let (mut farm, log) = start_farm(
-        d,
-        &[
-            net.to_str().unwrap(),
-            "--scheduler",
-            "slurm",
-            "--frames",
-            "1-2",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
-        ],
-    );
+    let (mut farm, log) = start_farm(d, &net, &["--scheduler", "slurm", "--frames", "1-2"]);
     let job = submitted_job(&log);
     let task = first_running(&job);
     assert!(Command::new("scancel")
@@ -603,22 +551,7 @@ fn a_slurm_task_past_its_timeout_is_cancelled_and_reported() {
     let d = dir.path();
     // About 20 s of cooking, cancelled after 2 s.
     let net = slow_network(d, 5_000_000);
-    let (mut farm, log) = start_farm(
-        d,
-        &[
-            net.to_str().unwrap(),
-            "--scheduler",
-            "slurm",
-            "--task-timeout",
-            "2s",
-            "--farm-dir",
-            "f",
-            "--cache-dir",
-            "cache",
-            "-o",
-            "out/$F4.bgeo",
-        ],
-    );
+    let (mut farm, log) = start_farm(d, &net, &["--scheduler", "slurm", "--task-timeout", "2s"]);
     let job = submitted_job(&log);
     let status = finish(&mut farm, Duration::from_secs(30), &log);
     let err = std::fs::read_to_string(&log).unwrap();
