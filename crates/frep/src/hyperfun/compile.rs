@@ -130,7 +130,7 @@ fn select(mask: &Field, a: &Field, b: &Field) -> Field {
 const MAX_ITERATIONS: usize = 100_000;
 
 /// Objects calling objects deeper than this are refused (recursion).
-const MAX_DEPTH: usize = 64;
+const MAX_CALL_DEPTH: usize = 64;
 
 type Env = BTreeMap<String, Value>;
 
@@ -396,10 +396,10 @@ impl Program<'_> {
             .map(|a| self.eval(a, env, depth, pos))
             .collect::<Result<_, _>>()?;
         if let Some(obj) = self.objects.iter().find(|o| o.name == name) {
-            if depth >= MAX_DEPTH {
+            if depth >= MAX_CALL_DEPTH {
                 return Err(err(
                     pos,
-                    format!("objects call each other more than {MAX_DEPTH} deep (recursion?)"),
+                    format!("objects call each other more than {MAX_CALL_DEPTH} deep (recursion?)"),
                 ));
             }
             let array = |i: usize| match values.get(i) {

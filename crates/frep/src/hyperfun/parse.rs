@@ -1,7 +1,8 @@
 //! HyperFun's grammar, read by recursive descent into objects of
 //! statements and expressions. Precedence, lowest first: `or`, `and`,
 //! `not`, relations, the set operations `| & \` (below arithmetic, as the
-//! language defines), `+ -`, `* /`, `^` (right to left), unary `- ~`.
+//! language defines), `+ -`, `* /`, `^` (right to left), unary `- ~`. Nesting
+//! deeper than `MAX_DEPTH` is refused with the position where it goes over.
 
 use super::lex::{Tok, Token};
 use super::HfError;
@@ -68,10 +69,23 @@ pub(crate) struct Object {
 struct Parser {
     toks: Vec<Token>,
     at: usize,
+    /// How deep the tree being built is: nested statements, operands and
+    /// chains of operators all count, so neither this parser, nor the
+    /// compiler walking its tree, nor dropping it recurses past `MAX_DEPTH`.
+    depth: usize,
 }
 
+/// The deepest nesting a program may have (VEX's limit: programs written by
+/// hand stay far below; a generated or hostile one is refused before it can
+/// overflow the stack).
+pub(crate) const MAX_DEPTH: usize = 200;
+
 pub(crate) fn objects(toks: Vec<Token>) -> Result<Vec<Object>, HfError> {
-    let mut p = Parser { toks, at: 0 };
+    let mut p = Parser {
+        toks,
+        at: 0,
+        depth: 0,
+    };
     let mut out = Vec::new();
     while p.peek() != &Tok::End {
         out.push(p.object()?);
@@ -83,6 +97,22 @@ pub(crate) fn objects(toks: Vec<Token>) -> Result<Vec<Object>, HfError> {
 }
 
 impl Parser {
+    /// Runs `f` `1 + extra` levels deeper, refusing to go past `MAX_DEPTH`.
+    fn nested<T>(
+        &mut self,
+        extra: usize,
+        f: impl FnOnce(&mut Parser) -> Result<T, HfError>,
+    ) -> Result<T, HfError> {
+        let levels = 1 + extra;
+        if self.depth + levels > MAX_DEPTH {
+            return Err(self.error(format!("nested too deeply (more than {MAX_DEPTH} levels)")));
+        }
+        self.depth += levels;
+        let r = f(self);
+        self.depth -= levels;
+        r
+    }
+
     fn peek(&self) -> &Tok {
         &self.toks[self.at].tok
     }
@@ -202,6 +232,10 @@ impl Parser {
     }
 
     fn statement(&mut self) -> Result<Stmt, HfError> {
+        self.nested(0, Parser::statement_here)
+    }
+
+    fn statement_here(&mut self) -> Result<Stmt, HfError> {
         let pos = self.pos();
         let stmt = if self.is_word("array") {
             self.next();
@@ -276,13 +310,14 @@ impl Parser {
         }
         if level == 2 && self.is_word("not") {
             self.next();
-            let e = self.binary_level(level)?;
+            let e = self.nested(0, |p| p.binary_level(level))?;
             return Ok(Expr::Not(Box::new(e)));
         }
         if level == 2 {
             return self.relations();
         }
         let mut left = self.binary_level(level + 1)?;
+        let mut chain = 0;
         loop {
             let pos = self.pos();
             let Some(&(_, op)) = LEVELS[level]
@@ -292,7 +327,9 @@ impl Parser {
                 return Ok(left);
             };
             self.next();
-            let right = self.binary_level(level + 1)?;
+            // `a + b + c...` nests to the left: each operator is a level.
+            chain += 1;
+            let right = self.nested(chain, |p| p.binary_level(level + 1))?;
             left = Expr::Binary(op, Box::new(left), Box::new(right), pos);
         }
     }
@@ -309,13 +346,16 @@ impl Parser {
         ];
         let mut operand = self.binary_level(3)?;
         let mut chain: Option<Expr> = None;
+        let mut links = 0;
         loop {
             let pos = self.pos();
             let Some(&(_, op)) = RELATIONS.iter().find(|(s, _)| self.is_sym(s)) else {
                 return Ok(chain.unwrap_or(operand));
             };
             self.next();
-            let right = self.binary_level(3)?;
+            // Each link of a chain nests the `and` one level deeper.
+            links += 1;
+            let right = self.nested(links, |p| p.binary_level(3))?;
             let relation = Expr::Binary(op, Box::new(operand), Box::new(right.clone()), pos);
             chain = Some(match chain {
                 None => relation,
@@ -327,6 +367,7 @@ impl Parser {
 
     fn product(&mut self) -> Result<Expr, HfError> {
         let mut left = self.power()?;
+        let mut chain = 0;
         loop {
             let pos = self.pos();
             let op = if self.is_sym("*") {
@@ -337,7 +378,8 @@ impl Parser {
                 return Ok(left);
             };
             self.next();
-            let right = self.power()?;
+            chain += 1;
+            let right = self.nested(chain, Parser::power)?;
             left = Expr::Binary(op, Box::new(left), Box::new(right), pos);
         }
     }
@@ -347,7 +389,7 @@ impl Parser {
         if self.is_sym("^") {
             let pos = self.pos();
             self.next();
-            let exponent = self.power()?;
+            let exponent = self.nested(0, Parser::power)?;
             return Ok(Expr::Binary(
                 Op::Pow,
                 Box::new(base),
@@ -359,6 +401,10 @@ impl Parser {
     }
 
     fn unary(&mut self) -> Result<Expr, HfError> {
+        self.nested(0, Parser::unary_here)
+    }
+
+    fn unary_here(&mut self) -> Result<Expr, HfError> {
         if self.is_sym("-") {
             self.next();
             return Ok(Expr::Neg(Box::new(self.unary()?)));
