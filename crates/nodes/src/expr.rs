@@ -1,5 +1,8 @@
 //! A small expression language for per-element formulas (`x > 0 && y < 0.5`):
 //! numbers, variables, + - * / % ^, comparisons, && || !, and math functions.
+//! Nesting deeper than `MAX_DEPTH` is refused with the column where it goes
+//! over, so evaluating, converting and dropping a parsed tree never recurse
+//! past it.
 
 use std::fmt;
 
@@ -79,13 +82,38 @@ impl fmt::Display for ExprError {
     }
 }
 
+/// The deepest nesting an expression may have (VEX's limit: formulas written
+/// by hand stay far below; a generated or hostile one is refused before the
+/// parser, evaluation or dropping the tree can overflow the stack).
+pub const MAX_DEPTH: usize = 200;
+
 struct Parser<'a> {
     src: &'a [u8],
     pos: usize,
     vars: &'a [&'a str],
+    /// How deep the tree being built is: parentheses, operands, unary
+    /// operators and chains of binary operators all count.
+    depth: usize,
 }
 
 impl Parser<'_> {
+    /// Runs `f` `1 + extra` levels deeper, refusing to go past `MAX_DEPTH`.
+    fn nested(
+        &mut self,
+        extra: usize,
+        f: impl FnOnce(&mut Self) -> Result<Expr, ExprError>,
+    ) -> Result<Expr, ExprError> {
+        let levels = 1 + extra;
+        if self.depth + levels > MAX_DEPTH {
+            self.skip_ws();
+            return self.err(format!("nested too deeply (more than {MAX_DEPTH} levels)"));
+        }
+        self.depth += levels;
+        let r = f(self);
+        self.depth -= levels;
+        r
+    }
+
     fn err<T>(&self, message: impl Into<String>) -> Result<T, ExprError> {
         Err(ExprError {
             column: self.pos + 1,
@@ -123,10 +151,13 @@ impl Parser<'_> {
             return self.power();
         }
         let mut lhs = self.binary(level + 1)?;
+        let mut chain = 0;
         'outer: loop {
             for (tok, op) in LEVELS[level] {
                 if self.eat(tok) {
-                    let rhs = self.binary(level + 1)?;
+                    // `a + b + c...` nests to the left: each operator is a level.
+                    chain += 1;
+                    let rhs = self.nested(chain, |p| p.binary(level + 1))?;
                     lhs = Expr::Bin(*op, Box::new(lhs), Box::new(rhs));
                     continue 'outer;
                 }
@@ -139,13 +170,17 @@ impl Parser<'_> {
         let base = self.unary()?;
         if self.eat("^") {
             // Right associative.
-            let exp = self.power()?;
+            let exp = self.nested(0, Self::power)?;
             return Ok(Expr::Bin(Op::Pow, Box::new(base), Box::new(exp)));
         }
         Ok(base)
     }
 
     fn unary(&mut self) -> Result<Expr, ExprError> {
+        self.nested(0, Self::unary_here)
+    }
+
+    fn unary_here(&mut self) -> Result<Expr, ExprError> {
         if self.eat("-") {
             return Ok(Expr::Neg(Box::new(self.unary()?)));
         }
@@ -258,6 +293,7 @@ impl Expr {
             src: src.as_bytes(),
             pos: 0,
             vars,
+            depth: 0,
         };
         let e = p.binary(0)?;
         p.skip_ws();
@@ -492,5 +528,28 @@ mod tests {
         assert_eq!(e("min(x)"), "column 1: `min` takes 2 argument(s), found 1");
         assert_eq!(e("(x"), "column 3: expected `)`");
         assert_eq!(e("x x"), "column 3: unexpected `x`");
+    }
+
+    /// 100,000 levels of each kind of nesting are refused where they pass
+    /// the limit, never overflowing the stack.
+    #[test]
+    fn deep_nesting_is_refused_with_its_column() {
+        const LEVELS: usize = 100_000;
+        let e = |s: String| Expr::parse(&s, &["x"]).unwrap_err().to_string();
+        let too_deep = |column: usize| {
+            format!("column {column}: nested too deeply (more than {MAX_DEPTH} levels)")
+        };
+        let parens = format!("{}x{}", "(".repeat(LEVELS), ")".repeat(LEVELS));
+        assert_eq!(e(parens), too_deep(201));
+        assert_eq!(e(vec!["x"; LEVELS].join("+")), too_deep(399));
+        assert_eq!(e(vec!["x"; LEVELS].join(" && ")), too_deep(996));
+        assert_eq!(e(vec!["x"; LEVELS].join("^")), too_deep(401));
+        assert_eq!(e(format!("{}x", "-".repeat(LEVELS))), too_deep(201));
+        assert_eq!(e(format!("{}x", "!".repeat(LEVELS))), too_deep(201));
+        // Just inside the limit parses, evaluates and becomes a field.
+        let deep = format!("{}x{}", "(".repeat(150), ")".repeat(150));
+        let ok = Expr::parse(&deep, &["x"]).unwrap();
+        assert_eq!(ok.eval(&[2.0]), 2.0);
+        let _ = ok.to_field(&[geode_frep::Field::x()]);
     }
 }
