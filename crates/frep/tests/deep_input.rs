@@ -103,6 +103,17 @@ fn hyperfun_deepest_accepted_program_compiles() {
     );
 }
 
+/// Loops inside loops, each under the per-loop limit, are stopped by the
+/// compiler's budget of statements instead of running for hours.
+#[test]
+fn hyperfun_nested_loops_are_stopped() {
+    let body = "  i = 0;\n  while i < 100000 loop\n    j = 0;\n    while j < 100000 loop j = j + 1; endloop;\n    i = i + 1;\n  endloop;\n  m = 0;";
+    assert_eq!(
+        hf_error(body),
+        "line 6, column 27: the program runs more than 1000000 statements while compiling (loops inside loops?)"
+    );
+}
+
 /// `.vm` is SSA: a chain is a list of lines, read without recursion, and the
 /// field's passes (compiling, evaluating, dropping) are iterative.
 #[test]

@@ -129,6 +129,11 @@ fn select(mask: &Field, a: &Field, b: &Field) -> Field {
 /// Loops longer than this are refused (a runaway loop at compile time).
 const MAX_ITERATIONS: usize = 100_000;
 
+/// Statements run at compile time, all loops and object calls together,
+/// beyond which a program is refused: nested loops each under
+/// `MAX_ITERATIONS` would otherwise run for hours.
+const MAX_STEPS: usize = 1_000_000;
+
 /// Objects calling objects deeper than this are refused (recursion).
 const MAX_CALL_DEPTH: usize = 64;
 
@@ -172,15 +177,30 @@ pub(crate) fn compile(
     let params: Vec<Field> = (0..n)
         .map(|i| konst(params.get(i).copied().unwrap_or(0.0)))
         .collect();
-    Program { objects }.run(target, vec![Field::x(), Field::y(), Field::z()], params, 0)
+    Program {
+        objects,
+        steps: std::cell::Cell::new(0),
+    }
+    .run(target, vec![Field::x(), Field::y(), Field::z()], params, 0)
 }
 
 struct Program<'a> {
     objects: &'a [Object],
+    /// Statements run so far, against `MAX_STEPS`.
+    steps: std::cell::Cell<usize>,
 }
 
 fn err(pos: Pos, message: String) -> HfError {
     HfError::at(pos.line, pos.column, message)
+}
+
+/// Where a statement starts (a call's position for a bare call).
+fn stmt_pos(stmt: &Stmt) -> Pos {
+    match stmt {
+        Stmt::Arrays(arrays) => arrays.first().map_or(Pos { line: 1, column: 1 }, |a| a.2),
+        Stmt::Assign(_, _, _, p) | Stmt::If(_, _, _, p) | Stmt::While(_, _, p) => *p,
+        Stmt::Call(call) => expr_pos(call, Pos { line: 1, column: 1 }),
+    }
 }
 
 /// Where an expression starts (the enclosing statement's position for a bare number).
@@ -225,6 +245,15 @@ impl Program<'_> {
     }
 
     fn stmt(&self, stmt: &Stmt, env: &mut Env, depth: usize) -> Result<(), HfError> {
+        self.steps.set(self.steps.get() + 1);
+        if self.steps.get() > MAX_STEPS {
+            return Err(err(
+                stmt_pos(stmt),
+                format!(
+                    "the program runs more than {MAX_STEPS} statements while compiling (loops inside loops?)"
+                ),
+            ));
+        }
         match stmt {
             Stmt::Arrays(arrays) => {
                 for (name, n, _) in arrays {
