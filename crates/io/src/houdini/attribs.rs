@@ -13,9 +13,12 @@ use crate::error::{ParseError, ParseResult};
 /// `arrays` (one list per component) or paged `rawpagedata`.
 pub(super) fn decode_values(block: &Json, n: usize, size: usize) -> ParseResult<Vec<f64>> {
     let flat = if let Some(tuples) = block.get("tuples") {
-        let mut flat = Vec::with_capacity(n * size);
+        let mut flat = Vec::new();
         match tuples {
             Json::Array(items) => {
+                // Reserved for the tuples the file holds, not the count it
+                // claims: a lying count must not cost memory.
+                flat.reserve(items.len().min(n).saturating_mul(size));
                 for t in items {
                     let t = t
                         .numbers()

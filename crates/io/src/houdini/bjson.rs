@@ -81,7 +81,9 @@ struct BinaryReader<'a> {
     depth: usize,
 }
 
-/// Deeper nesting than any geometry file has: refuse rather than overflow the stack.
+/// Deeper nesting than any geometry file has (Houdini's nest about 10
+/// deep; an embedded packed detail adds 3): refuse rather than overflow the
+/// stack, here and in the reader's recursion into embedded details.
 const MAX_DEPTH: usize = 256;
 
 impl<'a> BinaryReader<'a> {
@@ -150,8 +152,8 @@ impl<'a> BinaryReader<'a> {
                     self.tokens.remove(&key);
                 }
                 KEY_SEPARATOR | VALUE_SEPARATOR => {}
-                ARRAY_BEGIN => return self.nested(|r| r.array_items()),
-                MAP_BEGIN => return self.nested(|r| r.map_items()),
+                ARRAY_BEGIN => return self.nested(start, |r| r.array_items()),
+                MAP_BEGIN => return self.nested(start, |r| r.map_items()),
                 UNIFORM_ARRAY => return self.uniform_array(),
                 _ => {
                     self.at = start;
@@ -161,11 +163,20 @@ impl<'a> BinaryReader<'a> {
         }
     }
 
-    fn nested(&mut self, f: impl FnOnce(&mut Self) -> ParseResult<Json>) -> ParseResult<Json> {
-        self.depth += 1;
-        if self.depth > MAX_DEPTH {
-            return Err(self.error(format!("nesting deeper than {MAX_DEPTH} levels")));
+    /// Reads an array or map opened at byte `start`, refusing to nest past
+    /// `MAX_DEPTH` (the error names the opening byte).
+    fn nested(
+        &mut self,
+        start: usize,
+        f: impl FnOnce(&mut Self) -> ParseResult<Json>,
+    ) -> ParseResult<Json> {
+        if self.depth >= MAX_DEPTH {
+            return Err(ParseError::byte(
+                start as u64,
+                format!("nesting deeper than {MAX_DEPTH} levels"),
+            ));
         }
+        self.depth += 1;
         let v = f(self);
         self.depth -= 1;
         v

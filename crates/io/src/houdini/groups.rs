@@ -27,18 +27,29 @@ pub(super) fn groups(doc: &Json, key: &str, n: usize) -> ParseResult<Vec<(String
             .ok_or_else(|| bad(&what, "missing `selection`"))?;
         let flags = if let Some(unordered) = sel.get("unordered") {
             if let Some(rle) = unordered.get("boolRLE") {
-                let items = rle.items().map(<[Json]>::to_vec).unwrap_or_default();
+                let items = rle.items().unwrap_or_default();
                 let mut flags = Vec::with_capacity(n);
-                for pair in items.chunks(2) {
+                for (run, pair) in items.chunks(2).enumerate() {
                     let (Some(count), Some(on)) =
                         (pair[0].as_i64(), pair.get(1).and_then(Json::as_bool))
                     else {
                         return Err(bad(&what, "`boolRLE` must alternate counts and flags"));
                     };
-                    if count < 0 || flags.len() as i64 + count > n as i64 {
-                        return Err(bad(&what, "`boolRLE` covers more elements than exist"));
-                    }
-                    flags.extend(std::iter::repeat_n(on, count as usize));
+                    // The count is the file's: compared with what is left
+                    // without adding to it, so no count can overflow.
+                    let left = n - flags.len();
+                    let count = usize::try_from(count)
+                        .ok()
+                        .filter(|&c| c <= left)
+                        .ok_or_else(|| {
+                            bad(
+                                &what,
+                                format!(
+                                    "`boolRLE` run {run} counts {count} elements where {left} of {n} are left"
+                                ),
+                            )
+                        })?;
+                    flags.extend(std::iter::repeat_n(on, count));
                 }
                 flags
             } else if let Some(i8s) = unordered.get("i8") {

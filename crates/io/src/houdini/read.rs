@@ -381,12 +381,18 @@ fn poly_run(body: &Json, closed: bool, prims: &mut Prims, counts: &Counts) -> Pa
             let [size, repeat] = pair else {
                 return Err(ParseError::whole("`nvertices_rle` has an odd length"));
             };
-            if sizes.len() as i64 + repeat > n || *repeat < 0 {
-                return Err(ParseError::whole(
-                    "`nvertices_rle` lists more primitives than `nprimitives`",
-                ));
-            }
-            sizes.extend(std::iter::repeat_n(*size, *repeat as usize));
+            // `n` is checked against the header above; the repeat is compared
+            // with what is left of it, never added to, so it cannot overflow.
+            let left = n as usize - sizes.len();
+            let repeat = usize::try_from(*repeat)
+                .ok()
+                .filter(|&r| r <= left)
+                .ok_or_else(|| {
+                    ParseError::whole(format!(
+                        "`nvertices_rle` repeats a size {repeat} times where {left} of `nprimitives` {n} are left"
+                    ))
+                })?;
+            sizes.extend(std::iter::repeat_n(*size, repeat));
         }
         sizes
     } else {
@@ -403,7 +409,9 @@ fn poly_run(body: &Json, closed: bool, prims: &mut Prims, counts: &Counts) -> Pa
     let mut at = start;
     let mut verts = Vec::new();
     for size in sizes {
-        if size < 0 || at + size > counts.vertices as i64 {
+        // Checked arithmetic: `startvertex` and the sizes are the file's.
+        let end = at.checked_add(size);
+        if at < 0 || size < 0 || end.is_none_or(|end| end > counts.vertices as i64) {
             return Err(ParseError::whole(format!(
                 "a primitive of {size} vertices from vertex {at} runs past vertexcount {}",
                 counts.vertices
