@@ -1,0 +1,65 @@
+//! Hostile nesting in network documents: 100,000 levels of JSON arrays,
+//! objects or subnets are refused by serde_json's recursion limit (128,
+//! never disabled here) with the line and column, on a test thread's stack.
+//! (The fuzzer's crash inputs for the loader are replayed by geode-nodes'
+//! tests, with the registry the fuzz target loads them with.)
+
+mod common;
+
+use geode_graph::{load_str, Document};
+
+const LEVELS: usize = 100_000;
+
+fn syntax_error(text: &str) -> String {
+    Document::from_json(text).unwrap_err().to_string()
+}
+
+#[test]
+fn deep_json_is_refused_with_its_line_and_column() {
+    let arrays = format!(
+        r#"{{"geode": "network", "version": 1, "future": {}{}}}"#,
+        "[".repeat(LEVELS),
+        "]".repeat(LEVELS)
+    );
+    assert_eq!(
+        syntax_error(&arrays),
+        "line 1, column 172: recursion limit exceeded"
+    );
+    let params = format!(
+        r#"{{"geode": "network", "version": 1, "nodes": {{"a": {{"type": "points", "params": {{"count": {}1}}}}}}}}"#,
+        "[".repeat(LEVELS)
+    );
+    assert_eq!(
+        syntax_error(&params),
+        "line 1, column 213: recursion limit exceeded"
+    );
+    // The loader reports it as one error naming the document.
+    let Err(e) = load_str(&params, &common::registry()) else {
+        panic!("loaded");
+    };
+    assert_eq!(e.len(), 1);
+    assert_eq!(e[0].message, "line 1, column 213: recursion limit exceeded");
+}
+
+#[test]
+fn deep_subnets_are_refused_with_their_line_and_column() {
+    let open = r#"{"type": "subnet", "network": {"nodes": {"s": "#;
+    let subnets = format!(
+        r#"{{"geode": "network", "version": 1, "nodes": {{"s": {}{{"type": "points"}}{}}}}}"#,
+        open.repeat(LEVELS),
+        "}}}".repeat(LEVELS)
+    );
+    assert_eq!(
+        syntax_error(&subnets),
+        "line 1, column 1977: recursion limit exceeded"
+    );
+    // As deep as the limit allows loads (the loader recurses per subnet).
+    let fits = format!(
+        r#"{{"geode": "network", "version": 1, "nodes": {{"s": {}{{"type": "points"}}{}}}}}"#,
+        open.repeat(40),
+        "}}}".repeat(40)
+    );
+    if let Err(e) = load_str(&fits, &common::registry()) {
+        panic!("{e:?}");
+    }
+}
