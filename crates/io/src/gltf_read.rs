@@ -382,6 +382,11 @@ fn mesh_geometry(mesh: &gltf::Mesh, buffers: &[Vec<u8>]) -> ParseResult<Geometry
     ops::merge(&refs).map_err(|e| ParseError::whole(e.to_string()))
 }
 
+/// The most nodes the walk of a scene visits (a node reached through two
+/// parents counts twice); glTF's node hierarchy is a tree, so a real file
+/// visits each of its nodes once.
+const MAX_NODE_VISITS: usize = 1_000_000;
+
 /// Parses glTF JSON or GLB. Nodes of the default scene (or the first) are
 /// walked with their transforms; a mesh used by one node is baked in place,
 /// a mesh used by several becomes packed instances of one shared geometry.
@@ -402,11 +407,20 @@ pub fn read_gltf(
         Some(s) => s.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect(),
         None => Vec::new(),
     };
+    let mut visits = 0usize;
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 256 {
             return Err(ParseError::whole(
                 "node hierarchy deeper than 256 levels (a cycle?)",
             ));
+        }
+        // A node listed as a child twice at each of many levels doubles the
+        // walk per level: bounded, so such a file is refused, not a hang.
+        visits += 1;
+        if visits > MAX_NODE_VISITS {
+            return Err(ParseError::whole(format!(
+                "node hierarchy reaches more than {MAX_NODE_VISITS} nodes (children shared between parents?)"
+            )));
         }
         let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         if let Some(m) = node.mesh() {

@@ -168,3 +168,23 @@ fn huge_declared_counts_are_cheap() {
         e.message
     );
 }
+
+/// glTF nodes listing the same child twice at each of 60 levels would walk
+/// 2^60 nodes: refused at the visit limit instead of hanging.
+#[test]
+fn gltf_node_hierarchies_sharing_children_are_refused() {
+    let levels = 60;
+    let nodes: Vec<String> = (0..levels)
+        .map(|i| format!(r#"{{"children": [{0}, {0}]}}"#, i + 1))
+        .chain(std::iter::once("{}".to_string()))
+        .collect();
+    let doc = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "scene": 0, "scenes": [{{"nodes": [0]}}], "nodes": [{}]}}"#,
+        nodes.join(", ")
+    );
+    let e = geode_io::parse_unguarded(doc.as_bytes(), Format::Gltf, None, &NoProgress).unwrap_err();
+    assert_eq!(
+        e.message,
+        "node hierarchy reaches more than 1000000 nodes (children shared between parents?)"
+    );
+}
