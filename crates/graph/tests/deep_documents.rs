@@ -63,3 +63,29 @@ fn deep_subnets_are_refused_with_their_line_and_column() {
         panic!("{e:?}");
     }
 }
+
+/// A chain of 100,000 nodes, each the input of the next, is long, not
+/// nested: it loads and cooks without the loader or the engine recursing
+/// along it.
+#[test]
+fn a_chain_of_100000_nodes_loads_and_cooks() {
+    use geode_graph::{Cache, CookOptions, Engine};
+    let mut nodes = vec![r#""n0": {"type": "points", "params": {"count": 2}}"#.to_string()];
+    for i in 1..LEVELS {
+        nodes.push(format!(
+            r#""n{i}": {{"type": "offset", "inputs": ["n{}"]}}"#,
+            i - 1
+        ));
+    }
+    let text = format!(
+        r#"{{"geode": "network", "version": 1, "output": "n{}", "nodes": {{{}}}}}"#,
+        LEVELS - 1,
+        nodes.join(", ")
+    );
+    let Ok(net) = load_str(&text, &common::registry()) else {
+        panic!("the chain did not load");
+    };
+    let cache = Cache::new(1 << 30);
+    let cooked = Engine::new(net, &cache).cook_output(&CookOptions::at_frame(1.0));
+    assert!(cooked.is_ok());
+}
