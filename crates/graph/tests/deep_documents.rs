@@ -41,6 +41,24 @@ fn deep_json_is_refused_with_its_line_and_column() {
     assert_eq!(e[0].message, "line 1, column 213: recursion limit exceeded");
 }
 
+/// Just inside serde_json's limit, a parameter nested 120 deep reaches the
+/// loader, which refuses it without overflowing the stack.
+#[test]
+fn parameters_nested_just_inside_the_limit_are_refused() {
+    let params = format!(
+        r#"{{"geode": "network", "version": 1, "nodes": {{"a": {{"type": "points", "params": {{"count": {}1{}, "junk": {{"keys": {}{{"frame": 1}}{}}}}}}}}}}}"#,
+        "[".repeat(120),
+        "]".repeat(120),
+        "[".repeat(110),
+        "]".repeat(110)
+    );
+    Document::from_json(&params).unwrap();
+    let Err(e) = load_str(&params, &common::registry()) else {
+        panic!("loaded");
+    };
+    assert!(!e.is_empty());
+}
+
 #[test]
 fn deep_subnets_are_refused_with_their_line_and_column() {
     let open = r#"{"type": "subnet", "network": {"nodes": {"s": "#;
