@@ -72,6 +72,17 @@ fn load_buffers(doc: &gltf::Gltf, base: Option<&Path>) -> ParseResult<Vec<Vec<u8
 /// (found by fuzzing): check those references before handing the document over.
 fn check_position_accessors(bytes: &[u8]) -> ParseResult<()> {
     let json: &[u8] = if bytes.starts_with(b"glTF") {
+        // gltf's GLB reader subtracts its 12-byte header from the length
+        // the file declares (found by fuzzing, a panic with overflow checks).
+        let declared = bytes
+            .get(8..12)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+        if let Some(n @ 0..12) = declared {
+            return Err(ParseError::byte(
+                8,
+                format!("invalid GLB: the header declares {n} bytes, fewer than the header's 12"),
+            ));
+        }
         match gltf::Glb::from_slice(bytes) {
             Ok(glb) => return check_position_json(&glb.json),
             Err(e) => return Err(ParseError::whole(format!("invalid GLB: {e}"))),

@@ -188,3 +188,17 @@ fn gltf_node_hierarchies_sharing_children_are_refused() {
         "node hierarchy reaches more than 1000000 nodes (children shared between parents?)"
     );
 }
+
+/// A GLB header declaring fewer bytes than itself is refused by its byte
+/// (gltf's reader subtracted and overflowed; found by the read_gltf fuzz target).
+#[test]
+fn glb_headers_shorter_than_themselves_are_refused() {
+    let mut glb = b"glTF\x02\0\0\0\x04\0\0\0".to_vec();
+    glb.extend_from_slice(&[0; 20]);
+    let e = geode_io::parse_unguarded(&glb, Format::Glb, None, &NoProgress).unwrap_err();
+    assert_eq!(e.pos, Some(Position::Byte(8)));
+    assert_eq!(
+        e.message,
+        "invalid GLB: the header declares 4 bytes, fewer than the header's 12"
+    );
+}

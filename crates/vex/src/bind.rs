@@ -205,7 +205,13 @@ pub fn bindings(
             ));
         }
         if let Some(p) = prefix {
-            let ty = Ty::from_prefix(*p).expect("the lexer accepts known prefixes");
+            // The lexer folds `2@` too (VEX's matrix2), which has no type here.
+            let Some(ty) = Ty::from_prefix(*p) else {
+                return Err(CompileError::at(
+                    *pos,
+                    format!("{p}@{name}: the type prefix {p}@ is not supported"),
+                ));
+            };
             let ty = if *array {
                 ty.array().expect("a scalar type")
             } else {

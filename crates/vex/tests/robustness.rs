@@ -74,3 +74,11 @@ fn nesting_past_the_limit_is_an_error_in_every_form() {
         parse_expression(&format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000))).unwrap_err();
     assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
 }
+
+/// `2@` (Houdini's matrix2) is folded as a prefix but has no type here: an
+/// error naming it, not a panic (found by the vex_text fuzz target).
+#[test]
+fn unsupported_type_prefixes_are_errors() {
+    let e = compile_over_points("f@a = 2@P;").expect_err("2@ is not a type");
+    assert_eq!(e.msg, "2@P: the type prefix 2@ is not supported");
+}
