@@ -2,7 +2,8 @@
 # Fuzzes geode's parsers and readers without cargo-fuzz: builds fuzz/ with
 # libFuzzer and sanitizer coverage the way `cargo fuzz build` does (stable
 # toolchain), runs each target for GEODE_FUZZ_SECONDS (default 60) over a
-# scratch corpus seeded from fuzz/seeds/<target>, and fails naming any
+# scratch corpus seeded from fuzz/seeds/<target> (and the examples or test
+# files the repository holds for it), and fails naming any
 # crashing input, which it first copies into the regression folder that the
 # test suite replays.
 #
@@ -36,6 +37,15 @@ regressions() {
         read_hs) echo crates/spline/tests/fuzz_regressions ;;
         vex_text) echo crates/vex/tests/fuzz_regressions ;;
         *) echo crates/io/tests/fuzz_regressions ;;
+    esac
+}
+
+# Seeds the repository already holds elsewhere, added to fuzz/seeds/<target>.
+more_seeds() {
+    case "$1" in
+        hyperfun) ls examples/assets/*.hf ;;
+        network) ls examples/*.json ;;
+        read_bgeo) ls crates/io/tests/houdini/*.geo crates/io/tests/houdini/*.bgeo ;;
     esac
 }
 
@@ -81,12 +91,13 @@ for t in $targets; do
     artifacts="$scratch/artifacts/$t"
     mkdir -p "$corpus" "$artifacts"
     if [ -d "fuzz/seeds/$t" ]; then cp -r "fuzz/seeds/$t/." "$corpus/"; fi
+    for f in $(more_seeds "$t"); do cp "$f" "$corpus/"; done
     echo "== fuzz: $t for $seconds s"
     # -rss_limit_mb: a reader must not need more than this on any input.
     # Exit status is not trusted alone: crashes are the files libFuzzer writes.
     "$bin" "$corpus" -max_total_time="$seconds" -artifact_prefix="$artifacts/" \
         -rss_limit_mb=2048 -timeout=60 -print_final_stats=1 >"$scratch/$t.log" 2>&1 || true
-    grep -E '^(stat::number_of_executed_units|#[0-9]+ *DONE)' "$scratch/$t.log" || true
+    grep -E '^(INFO: seed corpus|stat::number_of_executed_units)' "$scratch/$t.log" || true
     shopt -s nullglob
     # crash-, leak-, timeout- and oom- files fail the run; slow-unit- files
     # (an input over 10 s, under the 60 s timeout) are reported only.
