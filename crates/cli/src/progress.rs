@@ -18,6 +18,9 @@ impl Bar {
 }
 
 impl geode_io::Progress for Bar {
+    fn memory_budget(&self) -> u64 {
+        geode_op::budget_from_env()
+    }
     fn start(&self, what: &str, total: u64) {
         let bar = ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr());
         bar.set_style(

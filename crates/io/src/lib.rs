@@ -159,7 +159,7 @@ pub fn parse_unguarded(
         Format::Stl => stl::read_stl(bytes, progress),
         Format::Ply => ply::read_ply(bytes, progress),
         Format::Gltf | Format::Glb => gltf_read::read_gltf(bytes, base, progress),
-        Format::Geo | Format::Bgeo => houdini::read_houdini(bytes),
+        Format::Geo | Format::Bgeo => houdini::read_houdini(bytes, progress.memory_budget()),
         Format::Usda => Err(ParseError::whole(
             "reading USDA is not supported (geode writes it)",
         )),

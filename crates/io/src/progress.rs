@@ -10,6 +10,12 @@ pub trait Progress: Sync {
     fn cancelled(&self) -> bool {
         false
     }
+    /// The bytes a reader's result may need (`GEODE_MEMORY_MB`'s budget
+    /// where the caller has one): a file whose counts claim more is refused
+    /// before anything is allocated for them.
+    fn memory_budget(&self) -> u64 {
+        u64::MAX
+    }
     /// Something the user should know of a result that stands (an
     /// attribute a format had to leave out); the message names the file.
     fn warn(&self, _message: &str) {}

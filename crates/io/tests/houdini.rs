@@ -484,3 +484,43 @@ fn houdini_primitive_runs_cannot_claim_more_than_the_header() {
     let g = read_bytes(ok.as_bytes(), Format::Geo, Path::new("x.geo"), &NoProgress).unwrap();
     assert_eq!((g.num_prims(), g.prim_points(0)), (1, &[0u32, 2, 1][..]));
 }
+
+/// A reader told the memory budget, as the file node and the CLI tell it.
+struct Within(u64);
+
+impl geode_io::Progress for Within {
+    fn memory_budget(&self) -> u64 {
+        self.0
+    }
+}
+
+/// Counts whose geometry, or an attribute's values, would need more than
+/// the memory budget are refused before anything is allocated for them
+/// (constant pages let a small file claim a billion points).
+#[test]
+fn counts_beyond_the_memory_budget_are_refused_before_allocating() {
+    let mut g = Geometry::new();
+    g.add_points(&vec![Vec3::ZERO; 2048]);
+    g.set_attrib(
+        AttribClass::Point,
+        "xform",
+        Attribute::from_data(AttribData::Mat4(vec![Mat4::IDENTITY; 2048]), TypeInfo::None),
+    )
+    .unwrap();
+    for format in [Format::Geo, Format::Bgeo] {
+        let path = Path::new("x.geo");
+        let bytes = write_bytes(&g, format, path, &NoProgress).unwrap();
+        let e = read_bytes(&bytes, format, path, &Within(10_000)).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "x.geo: pointcount: 2048 points, 0 vertices and 0 primitives would need 24.6 KB, more than the memory budget of 10.0 KB (GEODE_MEMORY_MB)"
+        );
+        let e = read_bytes(&bytes, format, path, &Within(100_000)).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "x.geo: pointattributes `xform`: 2048 elements of 16 values would need 262 KB, more than the memory budget of 100 KB (GEODE_MEMORY_MB)"
+        );
+        let back = read_bytes(&bytes, format, path, &Within(1_000_000)).unwrap();
+        assert_eq!(back.num_points(), 2048);
+    }
+}

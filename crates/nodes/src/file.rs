@@ -36,6 +36,9 @@ impl geode_io::Progress for CookProgress<'_, '_> {
     fn cancelled(&self) -> bool {
         self.ctx.cancel.is_cancelled()
     }
+    fn memory_budget(&self) -> u64 {
+        self.ctx.env.memory_budget
+    }
     fn warn(&self, message: &str) {
         self.ctx.warn(message);
     }

@@ -11,7 +11,22 @@ use crate::error::{ParseError, ParseResult};
 
 /// Decodes a values block into `n` tuples of `size`, flat: `tuples`,
 /// `arrays` (one list per component) or paged `rawpagedata`.
-pub(super) fn decode_values(block: &Json, n: usize, size: usize) -> ParseResult<Vec<f64>> {
+/// Values of `n` tuples of `size`; refused, before anything is allocated,
+/// when decoding them would need more than `budget` bytes.
+pub(super) fn decode_values(
+    block: &Json,
+    n: usize,
+    size: usize,
+    budget: u64,
+) -> ParseResult<Vec<f64>> {
+    let bytes = (n as u64).saturating_mul(size as u64).saturating_mul(8);
+    if bytes > budget {
+        return Err(ParseError::whole(format!(
+            "{n} elements of {size} values would need {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
+            geode_geo::human_bytes(bytes as f64),
+            geode_geo::human_bytes(budget as f64)
+        )));
+    }
     let flat = if let Some(tuples) = block.get("tuples") {
         let mut flat = Vec::new();
         match tuples {
@@ -150,6 +165,7 @@ pub(super) fn attribute(
     entry: &Json,
     class_key: &str,
     n: usize,
+    budget: u64,
 ) -> ParseResult<Option<(String, Attribute)>> {
     let Some([header, body]) = entry.items() else {
         return Err(bad(class_key, "expected [header, body] per attribute"));
@@ -171,10 +187,10 @@ pub(super) fn attribute(
         .map(type_info_from_name)
         .unwrap_or(TypeInfo::None);
     let attrib = match header.get("type").and_then(Json::as_str).unwrap_or("") {
-        "numeric" => numeric(body, n, info).map_err(|e| bad(&what, e.message))?,
+        "numeric" => numeric(body, n, info, budget).map_err(|e| bad(&what, e.message))?,
         // String tuples (Houdini's `varmap`) have no geode type.
         "string" if body.get("size").and_then(Json::as_i64).unwrap_or(1) != 1 => None,
-        "string" => Some(strings(body, n).map_err(|e| bad(&what, e.message))?),
+        "string" => Some(strings(body, n, budget).map_err(|e| bad(&what, e.message))?),
         ARRAY_TYPE => Some(arrays(body, n).map_err(|e| bad(&what, e.message))?),
         STRING_ARRAY_TYPE => Some(string_arrays(body, n).map_err(|e| bad(&what, e.message))?),
         _ => None,
@@ -182,7 +198,7 @@ pub(super) fn attribute(
     Ok(attrib.map(|a| (name, a)))
 }
 
-fn numeric(body: &Json, n: usize, info: TypeInfo) -> ParseResult<Option<Attribute>> {
+fn numeric(body: &Json, n: usize, info: TypeInfo, budget: u64) -> ParseResult<Option<Attribute>> {
     let values = body
         .get("values")
         .ok_or_else(|| ParseError::whole("missing `values`"))?;
@@ -199,7 +215,7 @@ fn numeric(body: &Json, n: usize, info: TypeInfo) -> ParseResult<Option<Attribut
     if !matches!(size, 1..=4 | 9 | 16) {
         return Ok(None);
     }
-    let flat = decode_values(values, n, size)?;
+    let flat = decode_values(values, n, size, budget)?;
     let default: Vec<f64> = body
         .get("defaults")
         .and_then(|d| d.get("values"))
@@ -314,12 +330,12 @@ fn string_table(body: &Json) -> ParseResult<Vec<String>> {
     }
 }
 
-fn strings(body: &Json, n: usize) -> ParseResult<Attribute> {
+fn strings(body: &Json, n: usize, budget: u64) -> ParseResult<Attribute> {
     let table = string_table(body)?;
     let block = body
         .get("indices")
         .ok_or_else(|| ParseError::whole("missing `indices`"))?;
-    let idx = decode_values(block, n, 1)?;
+    let idx = decode_values(block, n, 1, budget)?;
     let mut column = StringColumn {
         table: table.clone(),
         indices: Vec::with_capacity(n),

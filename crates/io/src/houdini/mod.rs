@@ -31,13 +31,13 @@ pub(crate) const ARRAY_TYPE: &str = "arraydata";
 pub(crate) const STRING_ARRAY_TYPE: &str = "sharedstringarray";
 
 /// Reads a `.geo` or `.bgeo` file's bytes (binary JSON is recognised by its magic byte).
-pub fn read_houdini(bytes: &[u8]) -> ParseResult<Geometry> {
+pub fn read_houdini(bytes: &[u8], budget: u64) -> ParseResult<Geometry> {
     let doc = if bjson::is_binary(bytes) {
         bjson::parse_binary(bytes)?
     } else {
         json::parse_text(bytes)?
     };
-    read::geometry(&doc, bytes.len())
+    read::geometry(&doc, bytes.len(), budget)
 }
 
 /// Encodes a geometry of polygons, polylines and packed instances as `.geo`

@@ -16,17 +16,18 @@ use super::packed::{self, PackedPrim};
 use crate::error::{ParseError, ParseResult};
 
 /// Reads a parsed document. `file_bytes` bounds the element counts the
-/// header may claim before anything is allocated for them.
-pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
+/// header may claim, and `budget` the bytes they may need, before anything
+/// is allocated for them.
+pub fn geometry(doc: &Json, file_bytes: usize, budget: u64) -> ParseResult<Geometry> {
     if doc.items().is_none() {
         return Err(ParseError::whole(
             "not a Houdini geometry file: expected a top-level list of keys and values (`[\"fileversion\", ...]`)",
         ));
     }
-    let counts = Counts::read(doc, file_bytes)?;
+    let counts = Counts::read(doc, file_bytes, budget)?;
     let pointref = pointref(doc, &counts)?;
     let prims = primitives(doc, &counts)?;
-    let positions = positions(doc, counts.points)?;
+    let positions = positions(doc, counts.points, budget)?;
     let (prim_order, vertex_order) = prims.layout();
     let flat: Vec<usize> = (0..prims.kinds.len())
         .filter(|&p| !matches!(prims.kinds[p], PrimKind::Packed(_)))
@@ -44,7 +45,7 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
     )
     .map_err(|e| ParseError::whole(format!("primitives: {e}")))?;
     if !prims.packed.is_empty() {
-        let shared = packed::read_shared(doc, &|d| geometry(d, file_bytes))?;
+        let shared = packed::read_shared(doc, &|d| geometry(d, file_bytes, budget))?;
         for (_, p) in &prims.packed {
             let source = shared.get(&p.key).ok_or_else(|| {
                 bad(
@@ -70,7 +71,7 @@ pub fn geometry(doc: &Json, file_bytes: usize) -> ParseResult<Geometry> {
             continue;
         };
         for entry in list {
-            let Some((name, attrib)) = attribute(entry, key, n)? else {
+            let Some((name, attrib)) = attribute(entry, key, n, budget)? else {
                 continue;
             };
             if class == AttribClass::Point && name == geode_geo::P {
@@ -108,7 +109,7 @@ struct Counts {
 }
 
 impl Counts {
-    fn read(doc: &Json, file_bytes: usize) -> ParseResult<Counts> {
+    fn read(doc: &Json, file_bytes: usize, budget: u64) -> ParseResult<Counts> {
         // A vertex costs at least a byte of `pointref`; a point or a primitive
         // at least a byte per page of 1024 (constant pages).
         let limit = |key: &str, per_byte: usize| -> ParseResult<usize> {
@@ -124,11 +125,30 @@ impl Counts {
                 )),
             }
         };
-        Ok(Counts {
+        let counts = Counts {
             points: limit("pointcount", 1024)?,
             vertices: limit("vertexcount", 1)?,
             prims: limit("primitivecount", 1024)?,
-        })
+        };
+        // Positions, a point per vertex and a primitive's kind and first
+        // vertex: the least the geometry will hold.
+        let bytes = (counts.points as u64 * 12)
+            .saturating_add(counts.vertices as u64 * 4)
+            .saturating_add(counts.prims as u64 * 16);
+        if bytes > budget {
+            return Err(bad(
+                "pointcount",
+                format!(
+                    "{} points, {} vertices and {} primitives would need {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
+                    counts.points,
+                    counts.vertices,
+                    counts.prims,
+                    geode_geo::human_bytes(bytes as f64),
+                    geode_geo::human_bytes(budget as f64)
+                ),
+            ));
+        }
+        Ok(counts)
     }
 }
 
@@ -458,7 +478,7 @@ fn classic_run(header: &Json, body: &Json, prims: &mut Prims, counts: &Counts) -
     Ok(())
 }
 
-fn positions(doc: &Json, n: usize) -> ParseResult<Vec<Vec3>> {
+fn positions(doc: &Json, n: usize, budget: u64) -> ParseResult<Vec<Vec3>> {
     let list = doc
         .get("attributes")
         .and_then(|a| a.get("pointattributes"))
@@ -481,8 +501,8 @@ fn positions(doc: &Json, n: usize) -> ParseResult<Vec<Vec3>> {
                 format!("tuple size {size}, expected 3 (or 4)"),
             ));
         }
-        let flat =
-            decode_values(values, n, size).map_err(|e| bad("pointattributes `P`", e.message))?;
+        let flat = decode_values(values, n, size, budget)
+            .map_err(|e| bad("pointattributes `P`", e.message))?;
         return Ok(flat
             .chunks_exact(size)
             .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
