@@ -88,6 +88,18 @@ pub enum Builtin {
     Print,
 }
 
+impl Builtin {
+    /// The function's name as errors show it (`push`, `nearpoints`).
+    pub fn name(&self) -> String {
+        let debug = format!("{self:?}");
+        debug
+            .split('(')
+            .next()
+            .unwrap_or(&debug)
+            .to_ascii_lowercase()
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum HedgeFn {
     PointHedge,
@@ -260,6 +272,11 @@ pub fn call(
                 continue;
             }
         }
+        // A call can be slow (a point cloud query of a million results):
+        // each lane's asks whether to stop.
+        if (world.cancel)() {
+            return Err(RunError::Cancelled);
+        }
         let copied: u64 = site
             .args
             .iter()
@@ -267,14 +284,24 @@ pub fn call(
             .filter(|(_, c)| c.is_none())
             .map(|(a, _)| held_at(fr, *a, l))
             .sum();
-        reserve(site, fr, world, l, "copying the arguments", copied)?;
+        let copying = || format!("copying the arguments of {}", site.f.name());
+        reserve(site, fr, world, l, &copying, copied)?;
         for (k, a) in site.args.iter().enumerate() {
             if site.consts[k].is_none() {
                 args[k] = read(fr, *a, l);
             }
         }
-        if let Some((what, bytes)) = crate::library::result_bytes(site.f, &args) {
-            reserve(site, fr, world, l, &what, copied.saturating_add(bytes))?;
+        let predicted =
+            crate::library::result_bytes(site.f, &args).or_else(|| query_bytes(site, &args, world));
+        if let Some((what, bytes)) = predicted {
+            reserve(
+                site,
+                fr,
+                world,
+                l,
+                &|| what.clone(),
+                copied.saturating_add(bytes),
+            )?;
         }
         let out = lane(p, site, &args, l, world)?;
         let before = held_at(fr, site.out, l);
@@ -293,7 +320,7 @@ fn reserve(
     fr: &mut Frame,
     world: &World,
     l: usize,
-    what: &str,
+    what: &dyn Fn() -> String,
     bytes: u64,
 ) -> Result<(), RunError> {
     /// Requests from here on also poll cancellation: making them is slow.
@@ -312,8 +339,23 @@ fn reserve(
     Err(RunError::OverBudget {
         elem: world.elem_of(l),
         pos: site.pos,
-        msg: budget.refusal(what, bytes),
+        msg: budget.refusal(&what(), bytes),
     })
+}
+
+/// What a point cloud query's result will hold: up to the input's points
+/// (found as indices, then converted), before the query runs.
+fn query_bytes(site: &CallSite, a: &[Val], w: &World) -> Option<(String, u64)> {
+    let Builtin::NearPoints(grouped) = site.f else {
+        return None;
+    };
+    let points = w.input(a[0].i()).map_or(0, |g| g.num_points()) as u64;
+    let count = a
+        .get(3 + usize::from(grouped))
+        .map_or(u64::MAX, |c| c.i().max(0) as u64);
+    let n = points.min(count);
+    // The search heap (distance, index), the indices and their conversion.
+    Some((format!("nearpoints finding up to {n} points"), n * 16))
 }
 
 /// Bytes lane `l` of `loc` holds on the heap (strings and arrays).

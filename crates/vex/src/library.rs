@@ -264,8 +264,17 @@ pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
             let total: u64 = a.iter().map(|v| v.s().len() as u64).sum();
             Some((format!("a string of {total} bytes"), total))
         }
+        Builtin::Split => {
+            // At most a piece per two characters, each a string's slot and
+            // the smallest allocation.
+            let len = a[0].s().len() as u64;
+            let pieces = len / 2 + 1;
+            let bytes = pieces * (std::mem::size_of::<String>() as u64 + 16) + len;
+            Some((format!("splitting a string of {len} bytes"), bytes))
+        }
         Builtin::Sprintf | Builtin::Print => {
-            let total = sprintf_bytes(a[0].s()) + a.iter().map(|v| held(v) + 32).sum::<u64>();
+            let args: u64 = a.iter().map(|v| held(v) + 32).sum();
+            let total = sprintf_bytes(a[0].s()).saturating_add(args);
             Some((format!("formatting a string of {total} bytes"), total))
         }
         _ => None,
@@ -273,7 +282,8 @@ pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
 }
 
 /// An upper bound on what `sprintf`'s widths and precisions add: every
-/// number in a conversion's flags.
+/// number in a conversion's flags, twice (a conversion is formatted, then
+/// copied into the result).
 fn sprintf_bytes(fmt: &str) -> u64 {
     let mut total = fmt.len() as u64;
     let mut number: u64 = 0;
@@ -287,18 +297,18 @@ fn sprintf_bytes(fmt: &str) -> u64 {
                     .saturating_add(u64::from(c as u8 - b'0'));
             }
             (true, '.' | '-' | '+' | ' ' | '#') => {
-                total = total.saturating_add(number);
+                total = total.saturating_add(number.saturating_mul(2));
                 number = 0;
             }
             (true, _) => {
-                total = total.saturating_add(number);
+                total = total.saturating_add(number.saturating_mul(2));
                 number = 0;
                 in_spec = false;
             }
             _ => {}
         }
     }
-    total.saturating_add(number)
+    total.saturating_add(number.saturating_mul(2))
 }
 
 fn fmt_val(v: &Val) -> String {
@@ -421,17 +431,20 @@ pub fn sprintf(fmt: &str, args: &[Val]) -> String {
             ('d' | 'i', Val::I(i)) => format!("{}{}", if plus && *i >= 0 { "+" } else { "" }, i),
             _ => body,
         };
+        // Padding goes straight into the result: a wide field is one
+        // allocation, not two.
         let pad = width.saturating_sub(body.chars().count());
+        let fill = |out: &mut String, c: char| out.extend(std::iter::repeat_n(c, pad));
         if left {
             out.push_str(&body);
-            out.push_str(&" ".repeat(pad));
+            fill(&mut out, ' ');
         } else if zero && !matches!(arg, Val::S(_)) {
             let (sign, digits) = body.split_at(usize::from(body.starts_with(['-', '+'])));
             out.push_str(sign);
-            out.push_str(&"0".repeat(pad));
+            fill(&mut out, '0');
             out.push_str(digits);
         } else {
-            out.push_str(&" ".repeat(pad));
+            fill(&mut out, ' ');
             out.push_str(&body);
         }
     }
@@ -621,14 +634,19 @@ pub fn lane(
         Builtin::EndsWith => Val::I(i32::from(a[0].s().ends_with(a[1].s()))),
         Builtin::Split => {
             let s = a[0].s();
-            let parts: Vec<String> = match a.get(1).map(Val::s) {
-                Some(sep) if !sep.is_empty() => s
-                    .split(|c| sep.contains(c))
-                    .filter(|p| !p.is_empty())
-                    .map(String::from)
-                    .collect(),
-                _ => s.split_whitespace().map(String::from).collect(),
+            let pieces: Box<dyn Iterator<Item = &str>> = match a.get(1).map(Val::s) {
+                Some(sep) if !sep.is_empty() => {
+                    Box::new(s.split(|c| sep.contains(c)).filter(|p| !p.is_empty()))
+                }
+                _ => Box::new(s.split_whitespace()),
             };
+            let mut parts = Vec::new();
+            for (k, piece) in pieces.enumerate() {
+                if k % FILL_CHUNK == FILL_CHUNK - 1 && cancel() {
+                    return Err(Stop::Cancelled);
+                }
+                parts.push(piece.to_string());
+            }
             Val::AS(parts)
         }
         Builtin::MatMul => {

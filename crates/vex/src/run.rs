@@ -4,6 +4,8 @@
 //! columns (disjoint slices per batch). Queued effects apply afterwards in
 //! element order (see `apply`), so any thread count gives the same bytes.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use geode_geo::{AttribClass, AttribValue, Attribute, Geometry, StringColumn, TypeInfo};
@@ -148,13 +150,17 @@ pub fn run(
         }
     }
     let shared = Shared::new(inputs.to_vec(), opts.memory_budget);
+    // The first batch to fail stops the others: its error is the run's, and
+    // what they would still compute (and allocate) is wasted.
+    let failed = AtomicBool::new(false);
+    let stop = || failed.load(Ordering::Relaxed) || (opts.cancel)();
     let results: Vec<Result<BatchOut, RunError>> = sinks
         .into_par_iter()
         .enumerate()
         .map_init(
             || Frame::new(p),
             |fr, (k, mut sinks)| {
-                if (opts.cancel)() {
+                if stop() {
                     return Err(RunError::Cancelled);
                 }
                 let lanes: Vec<u32> = match opts.group {
@@ -163,7 +169,7 @@ pub fn run(
                         .map(|e| e as u32)
                         .collect(),
                 };
-                let mut world = World::new(&shared, opts.cancel);
+                let mut world = World::new(&shared, &stop);
                 world.elems = lanes;
                 fr.n = world.elems.len();
                 load(p, fr, &reads, &world.elems);
@@ -178,12 +184,23 @@ pub fn run(
                     fr.held = fr.held.saturating_sub(moved);
                 }
                 crate::budget::release(&shared.budget, fr);
+                if ran.is_err() {
+                    failed.store(true, Ordering::Relaxed);
+                }
                 ran.map(|()| (world.effects, sinks))
             },
         )
         .collect();
     let mut effects = Vec::with_capacity(batches);
     let mut later: Vec<Vec<Option<Vec<Val>>>> = Vec::new();
+    // A batch stopped by another's failure reports Cancelled: the failure
+    // is the error to report.
+    if let Some(e) = results.iter().find_map(|r| match r {
+        Err(e) if *e != RunError::Cancelled => Some(e.clone()),
+        _ => None,
+    }) {
+        return Err(e);
+    }
     for r in results {
         let (e, s) = r?;
         effects.push(e);

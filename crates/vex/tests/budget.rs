@@ -112,8 +112,8 @@ fn a_format_wider_than_the_budget_is_refused() {
         64 * MB,
     );
     assert!(
-        msg.starts_with("element 0 (line 1, column 12): formatting a string of 2000000")
-            && msg.contains("would need 2.0 GB"),
+        msg.starts_with("element 0 (line 1, column 12): formatting a string of 4000000")
+            && msg.contains("would need 4.0 GB"),
         "{msg}"
     );
 }
@@ -163,4 +163,58 @@ fn ordinary_arrays_and_strings_run_within_a_small_budget() {
     .expect("fits");
     let n = g.attribs(AttribClass::Point).get("n").expect("n");
     assert_eq!(n.as_i32().expect("ints"), &[999, 999, 999, 999]);
+}
+
+#[test]
+fn a_width_past_any_integer_is_refused_not_a_panic() {
+    for fmt in [
+        "%99999999999999999999d",
+        "%18446744073709551615d",
+        "%.99999999999999999999f",
+    ] {
+        let (msg, _) = refused(
+            &format!("string s = sprintf(\"{fmt}\", 1);"),
+            AttribClass::Detail,
+            64 * MB,
+        );
+        assert!(msg.contains("formatting a string of "), "{fmt}: {msg}");
+    }
+}
+
+#[test]
+fn splitting_a_huge_string_is_reserved() {
+    let (msg, _) = refused(
+        "string s = \"a,\";\nfor (int i = 0; i < 22; i++) s = s + s;\nstring p[] = split(s, \",\");",
+        AttribClass::Detail,
+        64 * MB,
+    );
+    assert!(
+        msg.starts_with(
+            "element 0 (line 3, column 14): splitting a string of 8388608 bytes would need "
+        ),
+        "{msg}"
+    );
+}
+
+#[test]
+fn the_first_refusal_stops_every_batch() {
+    // 40,000 points each asking for 8 MB: refused within the first batches,
+    // and the others stop instead of running to the end.
+    let mut g = Geometry::new();
+    g.add_points(&vec![[0.0; 3].into(); 40_000]);
+    let t0 = Instant::now();
+    let r = run_with(
+        "int a[];\nresize(a, 2000000);\ni[]@a = a;",
+        AttribClass::Point,
+        &g,
+        &[],
+        &never,
+        64 * MB,
+    );
+    let msg = r.expect_err("refused").to_string();
+    assert!(
+        msg.contains("resize to 2000000 elements would need 8.0 MB"),
+        "{msg}"
+    );
+    assert!(t0.elapsed() < Duration::from_secs(3), "{:?}", t0.elapsed());
 }
