@@ -136,6 +136,31 @@ fn only_regular_files_within_the_budget_are_read() {
         "{}",
         text(&o)
     );
+    // A glTF whose buffer is a FIFO: opening it would wait for a writer.
+    let fifo = dir.path().join("fifo.bin");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let gltf = dir.path().join("fifo.gltf");
+    std::fs::write(
+        &gltf,
+        r#"{"asset": {"version": "2.0"}, "buffers": [{"uri": "fifo.bin", "byteLength": 36}],
+            "bufferViews": [{"buffer": 0, "byteLength": 36}],
+            "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                           "min": [0, 0, 0], "max": [1, 1, 0]}],
+            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+            "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}"#,
+    )
+    .unwrap();
+    let o = geode(&["info", gltf.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).contains("buffer 0: cannot read") && text(&o).contains("not a regular file"),
+        "{}",
+        text(&o)
+    );
     assert!(t.elapsed() < std::time::Duration::from_secs(10));
 
     let big = dir.path().join("big.obj");

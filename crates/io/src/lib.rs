@@ -175,15 +175,23 @@ pub fn read(path: &Path, progress: &dyn Progress) -> Result<Geometry, IoError> {
     read_bytes(&bytes, format, path, progress)
 }
 
-/// A whole regular file's bytes; anything else is refused unread.
+/// A whole regular file's bytes; anything else is refused unread. The kind
+/// is asked before opening (opening a FIFO waits for a writer forever) and
+/// again of the open file (it may have been swapped in between).
 pub(crate) fn read_regular(path: &Path) -> std::io::Result<Vec<u8>> {
+    let not_regular = || {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file; only regular files are read",
+        )
+    };
+    if !std::fs::metadata(path)?.file_type().is_file() {
+        return Err(not_regular());
+    }
     let mut file = std::fs::File::open(path)?;
     let meta = file.metadata()?;
     if !meta.file_type().is_file() {
-        return Err(std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "not a regular file; only regular files are read",
-        ));
+        return Err(not_regular());
     }
     let mut bytes = Vec::new();
     bytes.try_reserve_exact(meta.len() as usize)?;
