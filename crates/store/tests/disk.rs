@@ -425,3 +425,37 @@ fn accounting_lost_by_a_killed_process_is_counted_again() {
         "unaccounted files are counted within 8 saves: {on_disk} of {budget}"
     );
 }
+
+/// A save's temporary file left by a process killed mid-save counts against
+/// the bound once no save could still be writing it, and is collected;
+/// one being written (recent) is left alone.
+#[test]
+fn temporaries_abandoned_by_a_killed_save_are_collected() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = DiskCache::open(dir.path(), 1 << 20).unwrap();
+    cache.save(1, &cached(torus(1), &[]));
+    let folder = entry_path(dir.path(), 1).parent().unwrap().to_owned();
+    let abandoned = folder.join(".geode-tmp-4242-abandoned");
+    let writing = folder.join(".geode-tmp-4243-writing");
+    for path in [&abandoned, &writing] {
+        std::fs::write(path, vec![0u8; 2 << 20]).unwrap();
+    }
+    let f = std::fs::File::options()
+        .append(true)
+        .open(&abandoned)
+        .unwrap();
+    f.set_modified(SystemTime::now() - Duration::from_secs(3600))
+        .unwrap();
+    let before = cache.stats().unwrap();
+    assert!(
+        before.bytes > 2 << 20,
+        "the abandoned file counts: {before:?}"
+    );
+    cache.gc().unwrap();
+    assert!(!abandoned.exists(), "abandoned an hour ago: collected");
+    assert!(writing.exists(), "a save in progress: left alone");
+    assert!(
+        cache.load(1).is_some(),
+        "the entry stays: the bound holds without it"
+    );
+}
