@@ -73,6 +73,9 @@ pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
         (Some(f), None) => Ok(vec![f]),
         (None, None) => Ok(vec![1.0]),
         (None, Some(r)) => {
+            if let Ok(f) = r.trim().parse::<i64>() {
+                return Ok(vec![f as f64]);
+            }
             let (a, b) = r
                 .split_once('-')
                 .ok_or_else(|| anyhow!("--frames expects A-B, found `{r}`"))?;
@@ -90,6 +93,18 @@ pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
         }
         (Some(_), Some(_)) => bail!("give --frame or --frames, not both"),
     }
+}
+
+/// Refuses an output path that does not name the frame when several
+/// frames are written: each would overwrite the last.
+pub fn check_per_frame(pattern: &str, frames: &[f64]) -> Result<()> {
+    if frames.len() > 1 && !pattern.contains("$F") {
+        bail!(
+            "-o {pattern}: {} frames would all write this one file; name the frame with $F, $F4 or $FF",
+            frames.len()
+        );
+    }
+    Ok(())
 }
 
 /// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF`
@@ -155,6 +170,9 @@ pub struct CookArgs<'a> {
 pub fn cook(args: CookArgs) -> Result<()> {
     // A farm task says it is alive from the start, loading included.
     crate::farm::heartbeat::start_from_env();
+    if let Some(pattern) = args.output {
+        check_per_frame(pattern, &args.frames)?;
+    }
     let (_, net) = load_with(args.network, args.sets)?;
     let env = CookEnv::for_network(args.network);
     let target = match args.node {
@@ -307,5 +325,12 @@ mod tests {
             "--frames 5-3: the end is before the start"
         );
         assert!(frames(None, Some("x")).is_err());
+        assert_eq!(frames(None, Some("7")).unwrap(), vec![7.0]);
+        assert_eq!(
+            check_per_frame("out.bgeo", &[1.0, 2.0]).unwrap_err().to_string(),
+            "-o out.bgeo: 2 frames would all write this one file; name the frame with $F, $F4 or $FF"
+        );
+        assert!(check_per_frame("out.bgeo", &[1.0]).is_ok());
+        assert!(check_per_frame("out.$F4.bgeo", &[1.0, 2.0]).is_ok());
     }
 }

@@ -317,6 +317,27 @@ fn local_farm_stopped_by(signal_name: &str) {
 }
 
 #[test]
+fn a_local_task_killed_from_outside_names_the_signal() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 5_000_000);
+    let (mut farm, log) = start_farm(d, &net, &[]);
+    let cooks = poll(Duration::from_secs(30), "cook process", || {
+        Some(cook_pids(&net)).filter(|p| !p.is_empty())
+    });
+    for pid in &cooks {
+        signal("KILL", pid);
+    }
+    let status = finish(&mut farm, Duration::from_secs(20), &log);
+    let err = std::fs::read_to_string(&log).unwrap();
+    assert_eq!(status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("failed after 1 attempt: killed by signal 9 (SIGKILL, perhaps for memory)"),
+        "{err}"
+    );
+}
+
+#[test]
 fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -73,8 +73,11 @@ fn attempt(farm: &Farm, task: usize, n: u32) -> Ending {
                 let _ = std::fs::write(farm.status(task, n), format!("{}\n", code.unwrap_or(-1)));
                 return if status.success() {
                     Ending::Succeeded
+                } else if let Some(signal) = std::os::unix::process::ExitStatusExt::signal(&status)
+                {
+                    Ending::Failed(Failure::Signal(signal))
                 } else {
-                    Ending::Failed(Failure::Exit(code))
+                    Ending::Failed(code.map_or(Failure::Exit(None), Failure::from_exit))
                 };
             }
             Ok(None) => {}
@@ -137,7 +140,7 @@ pub fn run(farm: &Farm) -> Result<()> {
                         .push((t, n, failure)),
                 }
                 let d = done.fetch_add(1, Ordering::Relaxed) + 1;
-                eprintln!("farm: {d}/{} tasks done", farm.tasks.len());
+                eprintln!("farm: {d}/{} tasks finished", farm.tasks.len());
             });
         }
     });

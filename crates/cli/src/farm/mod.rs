@@ -125,6 +125,8 @@ pub(crate) fn human(d: Duration) -> String {
 pub(crate) enum Failure {
     /// The cook exited with this status (`None`: killed by a signal).
     Exit(Option<i32>),
+    /// The cook was killed by this signal (from outside the farm).
+    Signal(i32),
     /// The farm cancelled it at `--task-timeout`.
     TimedOut(Duration),
     /// The farm cancelled it: no heartbeat for this long while started.
@@ -135,11 +137,23 @@ pub(crate) enum Failure {
     Lost(String),
 }
 
+impl Failure {
+    /// A task's exit status as the shell that ran it reports it: past 128,
+    /// the cook was killed by signal (status - 128).
+    pub(crate) fn from_exit(code: i32) -> Failure {
+        match code {
+            129..=159 => Failure::Signal(code - 128),
+            code => Failure::Exit(Some(code)),
+        }
+    }
+}
+
 impl std::fmt::Display for Failure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Failure::Exit(Some(code)) => write!(f, "exit status {code}"),
             Failure::Exit(None) => write!(f, "killed by a signal"),
+            Failure::Signal(n) => write!(f, "killed by signal {n}{}", signal_name(*n)),
             Failure::TimedOut(after) => write!(f, "timed out after {}", human(*after)),
             Failure::Stalled(for_) => write!(f, "stalled: no heartbeat for {}", human(*for_)),
             Failure::Cancelled(state) => write!(f, "cancelled (by the scheduler): {state}"),
@@ -271,8 +285,8 @@ impl Farm {
     pub fn report(&self, failed: &[(usize, u32, Failure)]) -> Result<()> {
         if failed.is_empty() {
             eprintln!(
-                "farm: {} tasks done; outputs as `-o` names them",
-                self.tasks.len()
+                "farm: {} done; outputs as `-o` names them",
+                plural(self.tasks.len(), "task")
             );
             return Ok(());
         }
@@ -380,6 +394,7 @@ fn plan(args: &FarmArgs, frames: &[f64]) -> Result<Farm> {
         let sets: Vec<String> = v.iter().map(|(s, _)| s.clone()).collect();
         crate::cook::load_with(&network, &sets)?;
     }
+    crate::cook::check_per_frame(&args.output, frames)?;
     if args.wedge.is_some() && !args.output.contains("$WEDGE") {
         bail!("-o {}: a wedge needs $WEDGE in the output path, or every variant writes the same files", args.output);
     }
@@ -486,9 +501,9 @@ pub fn farm(args: FarmArgs) -> Result<()> {
     let farm = plan(&args, &frames)?;
     catch_interrupts();
     eprintln!(
-        "farm: {} tasks ({} frames{}), folder {}, disk cache {}",
-        farm.tasks.len(),
-        frames.len(),
+        "farm: {} ({}{}), folder {}, disk cache {}",
+        plural(farm.tasks.len(), "task"),
+        plural(frames.len(), "frame"),
         args.wedge
             .as_deref()
             .map(|w| format!(" x wedge {w}"))
@@ -500,6 +515,28 @@ pub fn farm(args: FarmArgs) -> Result<()> {
         Scheduler::Local => local::run(&farm),
         Scheduler::Slurm => slurm::run(&farm),
         Scheduler::K8s => k8s::write(&farm, &args.image),
+    }
+}
+
+/// ` (SIGKILL)` for the signals a task is commonly killed by.
+fn signal_name(n: i32) -> &'static str {
+    match n {
+        1 => " (SIGHUP)",
+        2 => " (SIGINT)",
+        6 => " (SIGABRT)",
+        9 => " (SIGKILL, perhaps for memory)",
+        11 => " (SIGSEGV)",
+        15 => " (SIGTERM)",
+        _ => "",
+    }
+}
+
+/// `1 task`, `12 tasks`.
+pub(crate) fn plural(n: usize, noun: &str) -> String {
+    if n == 1 {
+        format!("1 {noun}")
+    } else {
+        format!("{n} {noun}s")
     }
 }
 

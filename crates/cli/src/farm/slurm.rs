@@ -261,7 +261,7 @@ fn from_status(code: i32, last: Option<&Seen>) -> Option<Failure> {
             "Slurm says {} (job {})",
             seen.state, seen.name
         ))),
-        _ => Some(Failure::Exit(Some(code))),
+        _ => Some(Failure::from_exit(code)),
     }
 }
 
