@@ -338,6 +338,24 @@ fn a_local_task_killed_from_outside_names_the_signal() {
 }
 
 #[test]
+fn cooks_of_a_local_farm_killed_with_sigkill_stop_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let net = slow_network(d, 5_000_000);
+    let (mut farm, log) = start_farm(d, &net, &["--stall-limit", "2s"]);
+    poll(Duration::from_secs(30), "cook process", || {
+        Some(cook_pids(&net)).filter(|p| !p.is_empty())
+    });
+    // SIGKILL cannot be caught: the farm kills nothing on its way out.
+    signal("KILL", &farm.id().to_string());
+    let _ = finish(&mut farm, Duration::from_secs(5), &log);
+    poll(Duration::from_secs(10), "orphaned cooks gone", || {
+        cook_pids(&net).is_empty().then_some(())
+    });
+    assert!(!d.join("out/0001.bgeo").exists());
+}
+
+#[test]
 fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();

@@ -7,6 +7,10 @@ use std::time::Duration;
 pub const PATH_VAR: &str = "GEODE_FARM_HEARTBEAT";
 /// How often, in milliseconds (the farm derives it from its stall limit).
 pub const EVERY_MS_VAR: &str = "GEODE_FARM_HEARTBEAT_MS";
+/// The process id of a local farm running this task: when it is gone
+/// (killed with SIGKILL, which it cannot catch to kill its tasks), the
+/// task stops rather than cook on for nobody.
+pub const FARM_PID_VAR: &str = "GEODE_FARM_PID";
 
 /// Starts touching the heartbeat file the environment names, on a thread of
 /// its own so a long kernel never delays a beat; nothing if none is named.
@@ -22,11 +26,20 @@ pub fn start_from_env() {
         .ok()
         .and_then(|v| v.parse().ok())
         .map_or(Duration::from_secs(2), Duration::from_millis);
+    let farm = std::env::var(FARM_PID_VAR)
+        .ok()
+        .and_then(|v| v.parse::<u32>().ok());
     beat(&path);
     std::thread::Builder::new()
         .name("farm-heartbeat".into())
         .spawn(move || loop {
             std::thread::sleep(every);
+            if farm.is_some_and(|pid| !std::path::Path::new(&format!("/proc/{pid}")).exists()) {
+                // Outputs are written atomically: stopping here leaves none
+                // half-written.
+                eprintln!("farm process {} is gone; stopping", farm.unwrap_or(0));
+                std::process::exit(130);
+            }
             beat(&path);
         })
         .map(drop)

@@ -29,6 +29,7 @@ fn start(farm: &Farm, task: usize, n: u32) -> std::io::Result<Child> {
         .arg(&farm.tasks[task].command)
         .env("GEODE_CACHE_DIR", &farm.cache_dir)
         .env(heartbeat::PATH_VAR, farm.heartbeat(task, n))
+        .env(heartbeat::FARM_PID_VAR, std::process::id().to_string())
         .env(
             heartbeat::EVERY_MS_VAR,
             farm.heartbeat_every().as_millis().to_string(),
