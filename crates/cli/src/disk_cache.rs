@@ -52,7 +52,7 @@ fn open(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<DiskCache> {
                 .and_then(|v| v.trim().parse().ok())
         })
         .unwrap_or(geode_store::DEFAULT_DISK_MB);
-    DiskCache::open(&dir, mb.saturating_mul(1 << 20))
+    DiskCache::open(&dir, mb.saturating_mul(geode_op::MB))
         .with_context(|| format!("{}: cannot open the disk cache", dir.display()))
 }
 

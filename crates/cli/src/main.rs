@@ -157,7 +157,7 @@ enum Command {
     /// The disk cache cooks share (GEODE_CACHE_DIR): its size, or a collection down to 90% of its bound.
     #[command(
         after_help = "Examples:\n  GEODE_CACHE_DIR=/shared/geode-cache geode cook net.json -o out.bgeo\n  geode cache stats --dir /shared/geode-cache\n  geode cache gc --dir /shared/geode-cache --max-mb 2048\n\n\
-        GEODE_CACHE_DIR turns the disk cache on for `geode cook`; GEODE_CACHE_DISK_MB bounds it (MiB, default 10240)\n\
+        GEODE_CACHE_DIR turns the disk cache on for `geode cook`; GEODE_CACHE_DISK_MB bounds it (megabytes of 10^6 bytes, default 10240)\n\
         across every process sharing it: the save that passes the bound collects, least recently used first."
     )]
     Cache {
@@ -180,7 +180,7 @@ struct CacheDir {
     /// The cache folder (default: GEODE_CACHE_DIR).
     #[arg(long, value_name = "DIR")]
     dir: Option<PathBuf>,
-    /// The bound, in MiB (default: GEODE_CACHE_DISK_MB, else 10240).
+    /// The bound, in megabytes of 10^6 bytes (default: GEODE_CACHE_DISK_MB, else 10240).
     #[arg(long, value_name = "MB")]
     max_mb: Option<u64>,
 }

@@ -97,7 +97,8 @@ impl Cache {
     }
 
     /// Configured from the environment: `GEODE_CACHE=off` disables it,
-    /// `GEODE_CACHE_MB` sizes it (default 2048 MiB).
+    /// `GEODE_CACHE_MB` sizes it in megabytes of 10^6 bytes, as messages
+    /// print sizes (default 2048).
     pub fn from_env() -> Cache {
         if std::env::var("GEODE_CACHE").is_ok_and(|v| v.eq_ignore_ascii_case("off") || v == "0") {
             return Cache::disabled();
@@ -106,7 +107,7 @@ impl Cache {
             .ok()
             .and_then(|v| v.trim().parse::<usize>().ok())
             .unwrap_or(2048);
-        Cache::new(mb.saturating_mul(1 << 20))
+        Cache::new(mb.saturating_mul(1_000_000))
     }
 
     /// The process-wide cache, configured from the environment on first use.

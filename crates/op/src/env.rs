@@ -123,12 +123,16 @@ pub fn expand_frame(pattern: &str, frame: f64) -> String {
     out
 }
 
+/// A megabyte as the `*_MB` variables count it (10^6 bytes), the unit
+/// messages print sizes in: `GEODE_MEMORY_MB=2000` reads back as 2.0 GB.
+pub const MB: u64 = 1_000_000;
+
 /// `GEODE_MEMORY_MB`, or the default.
 pub fn budget_from_env() -> u64 {
     std::env::var("GEODE_MEMORY_MB")
         .ok()
         .and_then(|v| v.trim().parse::<u64>().ok())
-        .map(|mb| mb.saturating_mul(1 << 20))
+        .map(|mb| mb.saturating_mul(MB))
         .unwrap_or_else(default_budget)
 }
 

@@ -14,7 +14,7 @@ mod value;
 pub use context::{
     CancelToken, CookContext, CookError, ErrorKind, KeyContext, ProgressFn, TextPosition, Warnings,
 };
-pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv};
+pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv, MB};
 pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
 pub use files::{FileAccess, FileRefusal};
 pub use param::{

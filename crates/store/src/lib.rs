@@ -127,7 +127,7 @@ impl DiskCache {
             .unwrap_or(DEFAULT_DISK_MB);
         Some(DiskCache::open(
             PathBuf::from(dir),
-            mb.saturating_mul(1 << 20),
+            mb.saturating_mul(1_000_000),
         ))
     }
 
