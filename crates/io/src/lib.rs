@@ -279,12 +279,18 @@ fn encode(
         Format::Glb => gltf_write::write_glb(g, w, path, progress),
         Format::Usda => usda::write_usda(g, w, path, progress),
         Format::Geo | Format::Bgeo => {
-            let bytes = houdini::encode_houdini(g, format == Format::Bgeo).map_err(|message| {
-                IoError::Unsupported {
-                    path: path.to_owned(),
-                    message,
-                }
-            })?;
+            let binary = format == Format::Bgeo;
+            let bytes = houdini::encode_houdini(g, binary, &|| progress.cancelled()).map_err(
+                |e| match e {
+                    houdini::EncodeError::Unsupported(message) => IoError::Unsupported {
+                        path: path.to_owned(),
+                        message,
+                    },
+                    houdini::EncodeError::Cancelled => IoError::Cancelled {
+                        path: path.to_owned(),
+                    },
+                },
+            )?;
             w.write_all(&bytes).map_err(|e| IoError::os(path, e))
         }
         Format::Gltf => Err(IoError::UnknownFormat {

@@ -524,3 +524,28 @@ fn counts_beyond_the_memory_budget_are_refused_before_allocating() {
         assert_eq!(back.num_points(), 2048);
     }
 }
+
+/// A writer asked to stop.
+struct Stopped;
+
+impl geode_io::Progress for Stopped {
+    fn cancelled(&self) -> bool {
+        true
+    }
+}
+
+/// Encoding many packed instances stops when asked, writing nothing (it
+/// once ran to the end, seconds for a million).
+#[test]
+fn encoding_packed_instances_stops_when_cancelled() {
+    let cube = std::sync::Arc::new(geode_geo::primitives::cube(0.5));
+    let mut g = Geometry::new();
+    for i in 0..10_000 {
+        let p = g.add_point(Vec3::new(i as f32, 0.0, 0.0));
+        g.add_packed(p, cube.clone(), Mat4::IDENTITY).unwrap();
+    }
+    for format in [Format::Geo, Format::Bgeo] {
+        let e = write_bytes(&g, format, Path::new("x.bgeo"), &Stopped).unwrap_err();
+        assert_eq!(e.to_string(), "x.bgeo: cancelled, nothing was written");
+    }
+}

@@ -43,8 +43,15 @@ pub fn read_houdini(bytes: &[u8], budget: u64) -> ParseResult<Geometry> {
 /// Encodes a geometry of polygons, polylines and packed instances as `.geo`
 /// text or `.bgeo` binary; an instance whose transform has no Houdini form
 /// is refused with the reason.
-pub fn encode_houdini(g: &Geometry, binary: bool) -> Result<Vec<u8>, String> {
-    let doc = write::document(g)?;
+pub fn encode_houdini(
+    g: &Geometry,
+    binary: bool,
+    cancelled: &dyn Fn() -> bool,
+) -> Result<Vec<u8>, EncodeError> {
+    let doc = write::document(g, cancelled)?;
+    if cancelled() {
+        return Err(EncodeError::Cancelled);
+    }
     let mut out = Vec::new();
     if binary {
         bjson::write_binary(&doc, &mut out);
@@ -54,6 +61,24 @@ pub fn encode_houdini(g: &Geometry, binary: bool) -> Result<Vec<u8>, String> {
     }
     Ok(out)
 }
+
+/// Why a geometry was not encoded.
+#[derive(Debug)]
+pub enum EncodeError {
+    /// The geometry holds what the format cannot (the reason).
+    Unsupported(String),
+    /// The caller asked to stop.
+    Cancelled,
+}
+
+impl From<String> for EncodeError {
+    fn from(reason: String) -> EncodeError {
+        EncodeError::Unsupported(reason)
+    }
+}
+
+/// Packed primitives encoded between two questions whether to stop.
+const CANCEL_EVERY: usize = 4096;
 
 /// A parse error naming where in the document it was found.
 pub(crate) fn bad(

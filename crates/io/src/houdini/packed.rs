@@ -17,6 +17,7 @@ use glam::{DMat3, DVec3, Mat3, Mat4};
 use geode_geo::Geometry;
 
 use super::json::Json;
+use super::{EncodeError, CANCEL_EVERY};
 use crate::error::{ParseError, ParseResult};
 
 /// Houdini's tag for embedded details.
@@ -175,11 +176,15 @@ pub(super) fn write_prim(source: &Geometry, vertex: usize, m: &Mat4) -> Result<J
 /// `sharedprimitivedata` for the distinct sources of `g`, each written by `write`.
 pub(super) fn write_shared(
     g: &Geometry,
-    write: &dyn Fn(&Geometry) -> Result<Json, String>,
-) -> Result<Option<Json>, String> {
+    write: &dyn Fn(&Geometry) -> Result<Json, EncodeError>,
+    cancelled: &dyn Fn() -> bool,
+) -> Result<Option<Json>, EncodeError> {
     let mut seen = std::collections::HashSet::new();
     let mut items = Vec::new();
-    for inst in g.packed_instances() {
+    for (i, inst) in g.packed_instances().iter().enumerate() {
+        if i % CANCEL_EVERY == 0 && cancelled() {
+            return Err(EncodeError::Cancelled);
+        }
         let k = key(&inst.source);
         if seen.insert(k.clone()) {
             items.push(Json::str("PackedGeometry"));

@@ -5,7 +5,9 @@ use geode_geo::{Geometry, PrimKind};
 
 use super::groups::group;
 use super::json::Json;
-use super::{houdini_order, packed, type_info_name, ARRAY_TYPE, STRING_ARRAY_TYPE};
+use super::{
+    houdini_order, packed, type_info_name, EncodeError, ARRAY_TYPE, CANCEL_EVERY, STRING_ARRAY_TYPE,
+};
 
 /// Houdini reads files of its own and older versions; this is the schema
 /// version whose layout (`Polygon_run`, `rawpagedata`) the writer follows.
@@ -15,7 +17,7 @@ const PAGE_SIZE: i64 = 1024;
 
 /// The document for `g`: polygons, polylines and packed instances (their
 /// sources embedded once each); the caller refuses patches.
-pub fn document(g: &Geometry) -> Result<Json, String> {
+pub fn document(g: &Geometry, cancelled: &dyn Fn() -> bool) -> Result<Json, EncodeError> {
     // Houdini's vertex order: each polygon's vertices turned to clockwise.
     let order = vertex_order(g);
     let pointref: Vec<i32> = order
@@ -43,9 +45,9 @@ pub fn document(g: &Geometry) -> Result<Json, String> {
             )]),
         ),
         ("attributes", attributes(g, &order)),
-        ("primitives", primitives(g)?),
+        ("primitives", primitives(g, cancelled)?),
     ];
-    if let Some(shared) = packed::write_shared(g, &document)? {
+    if let Some(shared) = packed::write_shared(g, &|s| document(s, cancelled), cancelled)? {
         entries.push(("sharedprimitivedata", shared));
     }
     for (key, groups) in [
@@ -274,7 +276,7 @@ fn string_arrays(lists: &[Vec<String>]) -> Json {
 /// Consecutive polygons as one `Polygon_run` (sizes run-length encoded);
 /// consecutive polylines as one run of open `Poly` primitives; consecutive
 /// packed primitives as one run of `PackedGeometry`.
-fn primitives(g: &Geometry) -> Result<Json, String> {
+fn primitives(g: &Geometry, cancelled: &dyn Fn() -> bool) -> Result<Json, EncodeError> {
     let mut runs = Vec::new();
     let mut prim = 0;
     let same = |a: PrimKind, b: PrimKind| std::mem::discriminant(&a) == std::mem::discriminant(&b);
@@ -299,6 +301,9 @@ fn primitives(g: &Geometry) -> Result<Json, String> {
             PrimKind::Packed(_) => {
                 let per_prim = (prim..end)
                     .map(|p| {
+                        if p % CANCEL_EVERY == 0 && cancelled() {
+                            return Err(EncodeError::Cancelled);
+                        }
                         let inst = g
                             .packed_instance(p)
                             .expect("a packed primitive has an instance");
@@ -307,6 +312,7 @@ fn primitives(g: &Geometry) -> Result<Json, String> {
                             g.prim_vertex_range(p).start,
                             &inst.transform,
                         )
+                        .map_err(EncodeError::from)
                     })
                     .collect::<Result<Vec<_>, _>>()?;
                 Json::Array(vec![
