@@ -300,16 +300,31 @@ impl Topology {
             }
             i
         }
+        // Each edge's half-edges leaving p are joined once, to the first of
+        // them, and every polygon entering p across that edge to it: linear
+        // in the polygons around p even where thousands share an edge.
+        let mut first_leaving: std::collections::HashMap<usize, Option<usize>> =
+            std::collections::HashMap::new();
         for (i, &h) in out.iter().enumerate() {
             let incoming = self.prev(g, HalfEdge(h));
-            for other in self.edge_half_edges(self.edge_of(incoming)) {
-                if other == incoming {
-                    continue;
+            let edge = self.edge_of(incoming);
+            let first = *first_leaving.entry(edge).or_insert_with(|| {
+                let mut leaving = self
+                    .edge_half_edges(edge)
+                    .filter(|&o| o != incoming)
+                    .filter_map(|o| out.binary_search(&o.0).ok());
+                let first = leaving.next();
+                if let Some(f) = first {
+                    for j in leaving {
+                        let (a, b) = (find(&mut parent, j), find(&mut parent, f));
+                        parent[a] = b;
+                    }
                 }
-                if let Ok(j) = out.binary_search(&other.0) {
-                    let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-                    parent[a] = b;
-                }
+                first
+            });
+            if let Some(f) = first {
+                let (a, b) = (find(&mut parent, i), find(&mut parent, f));
+                parent[a] = b;
             }
         }
         (0..out.len())
@@ -322,6 +337,24 @@ impl Topology {
 mod tests {
     use super::*;
     use crate::primitives::cube;
+
+    /// Thousands of polygons on one edge (a file of one face repeated) are
+    /// counted in linear time: each copy is a fan of its own around each
+    /// corner, as before, without pairing every copy with every other.
+    #[test]
+    fn fans_around_a_shared_edge_are_counted_linearly() {
+        let copies = 20_000;
+        let g = Geometry::from_polygons(
+            vec![glam::Vec3::ZERO, glam::Vec3::X, glam::Vec3::Y],
+            (0..copies).flat_map(|_| [0, 1, 2]).collect(),
+            &vec![3; copies],
+        )
+        .unwrap();
+        let t = g.topology();
+        assert_eq!(t.fan_count(&g, 0), copies);
+        let r = t.manifold_report(&g);
+        assert_eq!((r.non_manifold_edges, r.non_manifold_points), (3, 3));
+    }
 
     #[test]
     fn cube_is_closed_manifold() {
