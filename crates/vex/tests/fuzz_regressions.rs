@@ -3,8 +3,9 @@
 //! are replayed as the `vex_text` fuzz target runs them: an error or a
 //! result, never a panic.
 
-use geode_geo::{AttribClass, Geometry};
-use geode_vex::{compile, parse_expression, BindSpec, Channel, Globals};
+mod common;
+
+use geode_vex::{parse_expression, Globals};
 
 #[test]
 fn vex_text_crashes_stay_fixed() {
@@ -16,7 +17,6 @@ fn vex_text_crashes_stay_fixed() {
         let Ok(text) = String::from_utf8(std::fs::read(entry.unwrap().path()).unwrap()) else {
             continue;
         };
-        let channel = |_: &str| Some(Channel::Num(vec![1.0, 2.0, 3.0]));
         if let Ok(e) = parse_expression(&text) {
             let g = Globals {
                 frame: 3.0,
@@ -24,18 +24,8 @@ fn vex_text_crashes_stay_fixed() {
                 hip: "/h",
                 node: "n",
             };
-            let _ = e.eval(&g, &channel);
+            let _ = e.eval(&g, &common::any_channel);
         }
-        let geo = Geometry::new();
-        let names = Vec::new;
-        let spec = BindSpec {
-            run_over: AttribClass::Point,
-            inputs: vec![Some(&geo)],
-            channels: &channel,
-            channel_names: &names,
-            frame: 1.0,
-            time: 0.0,
-        };
-        let _ = compile(&text, &spec);
+        let _ = common::compile_over_points(&text);
     }
 }

@@ -2,8 +2,10 @@
 //! program, a value or an error, never a panic or a stack overflow: random
 //! token soups built from VEX's own pieces, and nesting far past the limit.
 
-use geode_geo::{AttribClass, Geometry};
-use geode_vex::{compile, parse_expression, BindSpec, Channel, Globals};
+mod common;
+
+use common::{any_channel, compile_over_points};
+use geode_vex::{parse_expression, Globals};
 use proptest::prelude::*;
 
 const PIECES: &[&str] = &[
@@ -17,28 +19,6 @@ fn soup() -> impl Strategy<Value = String> {
     prop::collection::vec(prop::sample::select(PIECES), 0..60).prop_map(|v| v.join(""))
 }
 
-fn channel(name: &str) -> Option<Channel> {
-    match name {
-        "s" => Some(Channel::Str("text".into())),
-        _ => Some(Channel::Num(vec![1.0, 2.0, 3.0])),
-    }
-}
-
-/// Compiles `text` over the points of an empty geometry.
-fn compile_over_points(text: &str) -> Result<geode_vex::Program, geode_vex::CompileError> {
-    let geo = Geometry::new();
-    let names = Vec::new;
-    let spec = BindSpec {
-        run_over: AttribClass::Point,
-        inputs: vec![Some(&geo)],
-        channels: &channel,
-        channel_names: &names,
-        frame: 1.0,
-        time: 0.0,
-    };
-    compile(text, &spec)
-}
-
 proptest! {
     #![proptest_config(ProptestConfig { cases: 3000, ..ProptestConfig::default() })]
 
@@ -46,7 +26,7 @@ proptest! {
     fn expressions_never_panic(text in soup()) {
         if let Ok(e) = parse_expression(&text) {
             let g = Globals { frame: 3.0, fps: 24.0, hip: "/h", node: "n" };
-            let _ = e.eval(&g, &channel);
+            let _ = e.eval(&g, &any_channel);
         }
     }
 

@@ -137,3 +137,25 @@ pub fn ds(g: &Geometry, name: &str) -> String {
 pub fn spec_default(class: AttribClass, g: &Geometry) -> BindSpec<'_> {
     spec(class, vec![Some(g)], &no_channels, &no_names)
 }
+
+/// A channel for every name: `s` a string, any other three numbers.
+pub fn any_channel(name: &str) -> Option<Channel> {
+    match name {
+        "s" => Some(Channel::Str("text".into())),
+        _ => Some(Channel::Num(vec![1.0, 2.0, 3.0])),
+    }
+}
+
+/// Compiles `text` over the points of an empty geometry, every channel
+/// answered by `any_channel`: how the robustness tests and the fuzz target
+/// feed the compiler arbitrary text.
+pub fn compile_over_points(text: &str) -> Result<geode_vex::Program, CompileError> {
+    let geo = Geometry::new();
+    let s = spec(
+        AttribClass::Point,
+        vec![Some(&geo)],
+        &any_channel,
+        &no_names,
+    );
+    compile(text, &s)
+}
