@@ -4,7 +4,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{geode_in, root, slurm_lock, slurm_ready, stderr};
+use common::{geode_in, root, slurm_cluster, stderr};
 
 /// `geode ARGS` in `dir`.
 fn run(args: &[&str], dir: &Path) -> std::process::Output {
@@ -190,18 +190,14 @@ fn local_farm_retries_and_reports_a_failing_task() {
 
 #[test]
 fn slurm_farm_equals_local_cooks() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if slurm_ready() {
+    if let Some(_cluster) = slurm_cluster() {
         farms_equal_local_cooks("slurm");
     }
 }
 
 #[test]
 fn slurm_farm_retries_and_reports_a_failing_task() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if slurm_ready() {
+    if let Some(_cluster) = slurm_cluster() {
         a_failing_task_is_retried_and_reported("slurm");
     }
 }

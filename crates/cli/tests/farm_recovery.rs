@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{geode_in, slurm_lock, slurm_ready, stderr};
+use common::{geode_in, slurm_cluster, stderr};
 
 /// A network whose cook spins for `iterations` turns of a wrangle loop
 /// (about 4 µs each) and depends on the frame, so no two frames share a
@@ -391,11 +391,9 @@ fn a_local_task_whose_heartbeat_stops_is_killed_as_stalled() {
 
 #[test]
 fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if !slurm_ready() {
+    let Some(_cluster) = slurm_cluster() else {
         return;
-    }
+    };
     let slurmd = Slurmd::new();
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -495,11 +493,9 @@ fn a_slurm_farm_recovers_when_slurmd_dies_as_tasks_start() {
 
 #[test]
 fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if !slurm_ready() {
+    let Some(_cluster) = slurm_cluster() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
@@ -538,11 +534,9 @@ fn interrupting_a_slurm_farm_cancels_its_jobs_and_exits_130() {
 
 #[test]
 fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if !slurm_ready() {
+    let Some(_cluster) = slurm_cluster() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let net = slow_network(d, 1_000_000);
@@ -581,11 +575,9 @@ fn a_slurm_task_cancelled_with_scancel_is_reported_as_cancelled() {
 
 #[test]
 fn a_slurm_task_past_its_timeout_is_cancelled_and_reported() {
-    // The lock first: a test holding it may have stopped slurmd.
-    let _cluster = slurm_lock();
-    if !slurm_ready() {
+    let Some(_cluster) = slurm_cluster() else {
         return;
-    }
+    };
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // About 20 s of cooking, cancelled after 2 s.

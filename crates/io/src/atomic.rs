@@ -77,21 +77,28 @@ fn remove_stale_temporaries_by(dir: &Path, by_pid: bool) {
         };
         let pid = rest.split('-').next().and_then(|p| p.parse::<u32>().ok());
         let dead = by_pid && pid.is_some_and(|p| !process_alive(p));
-        let old = e
-            .metadata()
-            .and_then(|m| m.modified())
-            .ok()
-            .and_then(|t| SystemTime::now().duration_since(t).ok())
-            .is_some_and(|age| age > STALE_AFTER);
-        if dead || old {
+        if dead || abandoned_temporary(&e, STALE_AFTER) {
             let _ = std::fs::remove_file(e.path());
         }
     }
 }
 
+/// Whether `e` is an atomic write's temporary file untouched for longer
+/// than `after`: one no write will finish (a killed process's).
+pub fn abandoned_temporary(e: &std::fs::DirEntry, after: Duration) -> bool {
+    e.file_name()
+        .to_str()
+        .is_some_and(|n| n.starts_with(TMP_PREFIX))
+        && e.metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| SystemTime::now().duration_since(t).ok())
+            .is_some_and(|age| age > after)
+}
+
 /// Whether a process with this id runs on this machine (Linux: /proc);
 /// elsewhere every process counts as running, so only age decides.
-fn process_alive(pid: u32) -> bool {
+pub fn process_alive(pid: u32) -> bool {
     if pid == std::process::id() {
         return true;
     }

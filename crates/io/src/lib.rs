@@ -25,7 +25,7 @@ use std::path::Path;
 
 use geode_geo::{ops, Geometry};
 
-pub use atomic::{write_atomic, write_atomic_shared};
+pub use atomic::{abandoned_temporary, process_alive, write_atomic, write_atomic_shared};
 pub use error::{IoError, ParseError, Position};
 pub use progress::{NoProgress, Progress};
 

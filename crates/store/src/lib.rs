@@ -71,25 +71,12 @@ pub struct GcReport {
     pub bytes_after: u64,
 }
 
-/// An entry or source file found by listing the directory.
 /// How long a save may take: a temporary file older than this was left by
 /// a process killed mid-save (on this machine or another sharing the
 /// folder), and counts and goes like any file.
 const ABANDONED_AFTER: std::time::Duration = std::time::Duration::from_secs(600);
 
-/// Whether `f` is a save's temporary file (`.geode-tmp-*`, see
-/// `geode_io::write_atomic_shared`) nobody will finish.
-fn abandoned_temporary(f: &std::fs::DirEntry) -> bool {
-    f.file_name()
-        .to_str()
-        .is_some_and(|n| n.starts_with(".geode-tmp-"))
-        && f.metadata()
-            .and_then(|m| m.modified())
-            .ok()
-            .and_then(|t| SystemTime::now().duration_since(t).ok())
-            .is_some_and(|age| age > ABANDONED_AFTER)
-}
-
+/// An entry or source file found by listing the directory.
 struct CacheFile {
     last_used: SystemTime,
     size: u64,
@@ -302,7 +289,7 @@ impl DiskCache {
                 let path = f.path();
                 let is_entry = path.extension().is_some_and(|e| e == "gve");
                 let is_source = path.extension().is_some_and(|e| e == "gvs");
-                if !(is_entry || is_source || abandoned_temporary(&f)) {
+                if !(is_entry || is_source || geode_io::abandoned_temporary(&f, ABANDONED_AFTER)) {
                     continue;
                 }
                 // A file removed since the listing is simply not counted.

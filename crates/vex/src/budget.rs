@@ -33,7 +33,12 @@ impl Budget {
 
     /// Moves the account by `delta` bytes.
     pub fn charge(&self, delta: i64) {
-        if delta >= 0 {
+        // Every batch trues up: most have nothing to say, and the shared
+        // counter is a cache line the threads would fight over.
+        if delta == 0 {
+            return;
+        }
+        if delta > 0 {
             self.used.fetch_add(delta as u64, Ordering::Relaxed);
         } else {
             // Saturating: an account never goes below zero, even when a
@@ -66,32 +71,77 @@ impl Budget {
     }
 }
 
-impl Val {
-    /// Bytes the value holds on the heap.
-    pub fn heap_bytes(&self) -> u64 {
+/// Bytes a register's value holds on the heap: the one rule every measure
+/// of the account (a value, a lane, a register, a frame) follows.
+pub trait HeapBytes {
+    fn heap_bytes(&self) -> u64;
+}
+
+impl HeapBytes for String {
+    fn heap_bytes(&self) -> u64 {
+        self.capacity() as u64
+    }
+}
+
+impl HeapBytes for Vec<f32> {
+    fn heap_bytes(&self) -> u64 {
+        (self.capacity() * 4) as u64
+    }
+}
+
+impl HeapBytes for Vec<i32> {
+    fn heap_bytes(&self) -> u64 {
+        (self.capacity() * 4) as u64
+    }
+}
+
+/// A string array: its slots and every string's characters.
+impl HeapBytes for Vec<String> {
+    fn heap_bytes(&self) -> u64 {
+        let slots = std::mem::size_of_val(self.as_slice()) as u64;
+        slots + self.iter().map(HeapBytes::heap_bytes).sum::<u64>()
+    }
+}
+
+impl HeapBytes for Val {
+    fn heap_bytes(&self) -> u64 {
         match self {
             Val::I(_) | Val::F(..) => 0,
-            Val::S(s) => s.capacity() as u64,
-            Val::AF(v, _) => (v.capacity() * 4) as u64,
-            Val::AI(v) => (v.capacity() * 4) as u64,
-            Val::AS(v) => strings_bytes(v),
+            Val::S(s) => s.heap_bytes(),
+            Val::AF(v, _) => v.heap_bytes(),
+            Val::AI(v) => v.heap_bytes(),
+            Val::AS(v) => v.heap_bytes(),
         }
     }
 }
 
-/// Bytes a string array holds: its slots and every string's characters.
-pub fn strings_bytes(v: &[String]) -> u64 {
-    let slots = std::mem::size_of_val(v) as u64;
-    slots + v.iter().map(|s| s.capacity() as u64).sum::<u64>()
+/// Bytes a run of register slots holds.
+pub fn slots_bytes<T: HeapBytes>(slots: &[T]) -> u64 {
+    slots.iter().map(HeapBytes::heap_bytes).sum()
 }
 
 /// Bytes `frame`'s string and array registers hold on the heap.
 pub fn frame_bytes(frame: &Frame) -> u64 {
-    let strings: u64 = frame.s.iter().map(|s| s.capacity() as u64).sum();
-    let floats: u64 = frame.af.iter().map(|v| (v.capacity() * 4) as u64).sum();
-    let ints: u64 = frame.ai.iter().map(|v| (v.capacity() * 4) as u64).sum();
-    let texts: u64 = frame.as_.iter().map(|v| strings_bytes(v)).sum();
-    strings + floats + ints + texts
+    slots_bytes(&frame.s)
+        + slots_bytes(&frame.af)
+        + slots_bytes(&frame.ai)
+        + slots_bytes(&frame.as_)
+}
+
+/// Whether `bytes` more fit, once `frame`'s own account is brought up to
+/// date if the shared one says no (it may be stale).
+pub fn reserve(budget: &Budget, frame: &mut Frame, bytes: u64) -> bool {
+    if bytes == 0 || budget.fits(bytes) {
+        return true;
+    }
+    true_up(budget, frame);
+    budget.fits(bytes)
+}
+
+/// Charges what a write into one of `frame`'s registers changed.
+pub fn charge_write(budget: &Budget, frame: &mut Frame, before: u64, after: u64) {
+    budget.charge(after as i64 - before as i64);
+    frame.held = (frame.held + after).saturating_sub(before);
 }
 
 /// Charges the difference between `frame`'s measure and what it last

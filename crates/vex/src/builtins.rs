@@ -7,6 +7,7 @@ use std::sync::Arc;
 
 use geode_geo::{AttribClass, AttribData};
 
+use crate::budget::HeapBytes;
 use crate::exec::Frame;
 use crate::ir::{CallSite, Loc, LANES};
 use crate::ty::{Elem, Ty};
@@ -266,6 +267,28 @@ pub fn call(
         .iter()
         .map(|c| c.clone().unwrap_or(Val::I(0)))
         .collect();
+    // Calls on numbers alone (noise, fit, matrices) allocate nothing the
+    // budget counts and are quick: they skip the accounting, which would
+    // otherwise cost them a third of their time.
+    let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
+    let counted = heap(site.out.ty)
+        || site.args.iter().any(|a| heap(a.ty))
+        || matches!(site.f, Builtin::NearPoints(_) | Builtin::NearPoint(_));
+    if !counted {
+        for l in 0..fr.n {
+            if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {
+                continue;
+            }
+            for (k, a) in site.args.iter().enumerate() {
+                if site.consts[k].is_none() {
+                    args[k] = read(fr, *a, l);
+                }
+            }
+            let out = lane(p, site, &args, l, world)?;
+            write(fr, site.out, l, out);
+        }
+        return Ok(());
+    }
     for l in 0..fr.n {
         if let Some(m) = site.mask {
             if fr.i[m as usize * LANES + l] == 0 {
@@ -284,8 +307,14 @@ pub fn call(
             .filter(|(_, c)| c.is_none())
             .map(|(a, _)| held_at(fr, *a, l))
             .sum();
-        let copying = || format!("copying the arguments of {}", site.f.name());
-        reserve(site, fr, world, l, &copying, copied)?;
+        reserve(
+            site,
+            fr,
+            world,
+            l,
+            &|| format!("copying the arguments of {}", site.f.name()),
+            copied,
+        )?;
         for (k, a) in site.args.iter().enumerate() {
             if site.consts[k].is_none() {
                 args[k] = read(fr, *a, l);
@@ -293,22 +322,15 @@ pub fn call(
         }
         let predicted =
             crate::library::result_bytes(site.f, &args).or_else(|| query_bytes(site, &args, world));
-        if let Some((what, bytes)) = predicted {
-            reserve(
-                site,
-                fr,
-                world,
-                l,
-                &|| what.clone(),
-                copied.saturating_add(bytes),
-            )?;
+        if let Some((request, bytes)) = predicted {
+            let total = copied.saturating_add(bytes);
+            reserve(site, fr, world, l, &|| request.to_string(), total)?;
         }
         let out = lane(p, site, &args, l, world)?;
         let before = held_at(fr, site.out, l);
         write(fr, site.out, l, out);
         let after = held_at(fr, site.out, l);
-        world.shared.budget.charge(after as i64 - before as i64);
-        fr.held = (fr.held + after).saturating_sub(before);
+        crate::budget::charge_write(&world.shared.budget, fr, before, after);
     }
     Ok(())
 }
@@ -329,11 +351,7 @@ fn reserve(
         return Err(RunError::Cancelled);
     }
     let budget = &world.shared.budget;
-    if bytes == 0 || budget.fits(bytes) {
-        return Ok(());
-    }
-    crate::budget::true_up(budget, fr);
-    if budget.fits(bytes) {
+    if crate::budget::reserve(budget, fr, bytes) {
         return Ok(());
     }
     Err(RunError::OverBudget {
@@ -345,7 +363,7 @@ fn reserve(
 
 /// What a point cloud query's result will hold: up to the input's points
 /// (found as indices, then converted), before the query runs.
-fn query_bytes(site: &CallSite, a: &[Val], w: &World) -> Option<(String, u64)> {
+fn query_bytes(site: &CallSite, a: &[Val], w: &World) -> Option<(crate::library::Request, u64)> {
     let Builtin::NearPoints(grouped) = site.f else {
         return None;
     };
@@ -355,17 +373,17 @@ fn query_bytes(site: &CallSite, a: &[Val], w: &World) -> Option<(String, u64)> {
         .map_or(u64::MAX, |c| c.i().max(0) as u64);
     let n = points.min(count);
     // The search heap (distance, index), the indices and their conversion.
-    Some((format!("nearpoints finding up to {n} points"), n * 16))
+    Some((crate::library::Request::NearPoints(n), n * 16))
 }
 
 /// Bytes lane `l` of `loc` holds on the heap (strings and arrays).
 fn held_at(fr: &Frame, loc: Loc, l: usize) -> u64 {
     let k = loc.reg as usize * LANES + l;
     match loc.ty {
-        Ty::Str => fr.s[k].capacity() as u64,
-        Ty::Array(Elem::Int) => (fr.ai[k].capacity() * 4) as u64,
-        Ty::Array(Elem::Str) => crate::budget::strings_bytes(&fr.as_[k]),
-        Ty::Array(_) => (fr.af[k].capacity() * 4) as u64,
+        Ty::Str => fr.s[k].heap_bytes(),
+        Ty::Array(Elem::Int) => fr.ai[k].heap_bytes(),
+        Ty::Array(Elem::Str) => fr.as_[k].heap_bytes(),
+        Ty::Array(_) => fr.af[k].heap_bytes(),
         _ => 0,
     }
 }

@@ -203,15 +203,13 @@ enum Heap {
 
 /// Bytes register `r` of `file` holds on the heap over the batch's lanes.
 fn reg_bytes(fr: &Frame, file: Heap, r: Reg) -> u64 {
+    use crate::budget::slots_bytes;
     let lanes = r as usize * LANES..(r as usize + 1) * LANES;
     match file {
-        Heap::S => fr.s[lanes].iter().map(|s| s.capacity() as u64).sum(),
-        Heap::A(ArrFile::F) => fr.af[lanes].iter().map(|v| v.capacity() as u64 * 4).sum(),
-        Heap::A(ArrFile::I) => fr.ai[lanes].iter().map(|v| v.capacity() as u64 * 4).sum(),
-        Heap::A(ArrFile::S) => fr.as_[lanes]
-            .iter()
-            .map(|v| crate::budget::strings_bytes(v))
-            .sum(),
+        Heap::S => slots_bytes(&fr.s[lanes]),
+        Heap::A(ArrFile::F) => slots_bytes(&fr.af[lanes]),
+        Heap::A(ArrFile::I) => slots_bytes(&fr.ai[lanes]),
+        Heap::A(ArrFile::S) => slots_bytes(&fr.as_[lanes]),
     }
 }
 
@@ -232,20 +230,16 @@ fn copy_charged(
     let budget = &world.shared.budget;
     let before = reg_bytes(fr, file, d);
     let copied = reg_bytes(fr, file, s);
-    if !budget.fits(copied) {
-        crate::budget::true_up(budget, fr);
-        if !budget.fits(copied) {
-            return Err(RunError::OverBudget {
-                elem: world.elem_of(0),
-                pos: p.op_pos.get(pc).copied().unwrap_or_default(),
-                msg: budget.refusal("copying a value", copied),
-            });
-        }
+    if !crate::budget::reserve(budget, fr, copied) {
+        return Err(RunError::OverBudget {
+            elem: world.elem_of(0),
+            pos: p.op_pos.get(pc).copied().unwrap_or_default(),
+            msg: budget.refusal("copying a value", copied),
+        });
     }
     copy(fr);
     let after = reg_bytes(fr, file, d);
-    budget.charge(after as i64 - before as i64);
-    fr.held = (fr.held + after).saturating_sub(before);
+    crate::budget::charge_write(budget, fr, before, after);
     Ok(())
 }
 

@@ -5,6 +5,7 @@
 
 use geode_geo::glam::{EulerRot, Mat3, Mat4, Quat, Vec3, Vec4};
 
+use crate::budget::HeapBytes;
 use crate::builtins::{Builtin, Val};
 use crate::ir::CallSite;
 use crate::ty::{Elem, Ty};
@@ -227,10 +228,38 @@ fn truncate(a: &mut Val, n: usize, pad: bool, cancel: &dyn Fn() -> bool) -> Resu
     }
 }
 
+/// What a call asks the budget for, in the words a refusal uses; made
+/// on every call that grows something, so words are only formatted when
+/// the request is refused.
+#[derive(Clone, Copy, Debug)]
+pub enum Request {
+    Resize(u64),
+    IndexSet(i32),
+    Array(u64),
+    Concat(u64),
+    Split(u64),
+    Format(u64),
+    NearPoints(u64),
+}
+
+impl std::fmt::Display for Request {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Request::Resize(n) => write!(f, "resize to {n} elements"),
+            Request::IndexSet(i) => write!(f, "setting element {i}"),
+            Request::Array(n) => write!(f, "an array of {n} elements"),
+            Request::Concat(n) => write!(f, "a string of {n} bytes"),
+            Request::Split(n) => write!(f, "splitting a string of {n} bytes"),
+            Request::Format(n) => write!(f, "formatting a string of {n} bytes"),
+            Request::NearPoints(n) => write!(f, "nearpoints finding up to {n} points"),
+        }
+    }
+}
+
 /// What a call's result will hold on the heap, where that can exceed
 /// what its arguments hold (growing arrays, joining and formatting
-/// strings), with the words that name the request in a refusal.
-pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
+/// strings), with the request a refusal names.
+pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(Request, u64)> {
     let held = |v: &Val| v.heap_bytes();
     let slot = |v: &Val| match v {
         Val::AF(_, w) => 4 * u64::from(*w),
@@ -241,28 +270,25 @@ pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
     match f {
         Builtin::Resize => {
             let n = a.get(1)?.i().max(0) as u64;
-            Some((
-                format!("resize to {n} elements"),
-                held(&a[0]).max(n * slot(&a[0])),
-            ))
+            Some((Request::Resize(n), held(&a[0]).max(n * slot(&a[0]))))
         }
         Builtin::IndexSet => {
             let i = a.get(1)?.i();
             let n = (arr_len(&a[0]) as u64).max(u64::try_from(i).map_or(0, |i| i + 1));
             let extra = held(&a[2]);
             Some((
-                format!("setting element {i}"),
+                Request::IndexSet(i),
                 held(&a[0]).max(n * slot(&a[0])) + extra,
             ))
         }
         Builtin::Push | Builtin::Insert | Builtin::ArrayOf => {
             let elems: u64 = a.iter().map(|v| arr_len(v).max(1) as u64).sum();
             let bytes = a.iter().map(|v| held(v) + 16).sum();
-            Some((format!("an array of {elems} elements"), bytes))
+            Some((Request::Array(elems), bytes))
         }
         Builtin::Concat => {
             let total: u64 = a.iter().map(|v| v.s().len() as u64).sum();
-            Some((format!("a string of {total} bytes"), total))
+            Some((Request::Concat(total), total))
         }
         Builtin::Split => {
             // At most a piece per two characters, each a string's slot and
@@ -270,12 +296,12 @@ pub fn result_bytes(f: Builtin, a: &[Val]) -> Option<(String, u64)> {
             let len = a[0].s().len() as u64;
             let pieces = len / 2 + 1;
             let bytes = pieces * (std::mem::size_of::<String>() as u64 + 16) + len;
-            Some((format!("splitting a string of {len} bytes"), bytes))
+            Some((Request::Split(len), bytes))
         }
         Builtin::Sprintf | Builtin::Print => {
             let args: u64 = a.iter().map(|v| held(v) + 32).sum();
             let total = sprintf_bytes(a[0].s()).saturating_add(args);
-            Some((format!("formatting a string of {total} bytes"), total))
+            Some((Request::Format(total), total))
         }
         _ => None,
     }

@@ -582,7 +582,7 @@ fn store(p: &Program, fr: &mut Frame, b: usize, sink: &mut Sink) -> u64 {
         Sink::Later(vals) => {
             vals.clear();
             vals.extend((0..fr.n).map(|l| crate::builtins::take(fr, bind.loc, l)));
-            return vals.iter().map(Val::heap_bytes).sum();
+            return crate::budget::slots_bytes(vals);
         }
     }
     0

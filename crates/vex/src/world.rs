@@ -7,7 +7,7 @@ use std::sync::{Arc, OnceLock};
 
 use geode_geo::{AttribClass, Geometry, Topology};
 
-use crate::budget::Budget;
+use crate::budget::{Budget, HeapBytes};
 use crate::builtins::{attrib_value, Val};
 use crate::kdtree::KdTree;
 

@@ -34,7 +34,7 @@ pub fn start_from_env() {
         .name("farm-heartbeat".into())
         .spawn(move || loop {
             std::thread::sleep(every);
-            if farm.is_some_and(|pid| !std::path::Path::new(&format!("/proc/{pid}")).exists()) {
+            if farm.is_some_and(|pid| !geode_io::process_alive(pid)) {
                 // Outputs are written atomically: stopping here leaves none
                 // half-written.
                 eprintln!("farm process {} is gone; stopping", farm.unwrap_or(0));

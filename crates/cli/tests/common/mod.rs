@@ -84,6 +84,13 @@ pub fn slurm_lock() -> SlurmLock {
     SlurmLock(child)
 }
 
+/// The cluster for one test: its lock taken first (a test holding it may
+/// have stopped slurmd), then `None` if no node takes jobs (the test skips).
+pub fn slurm_cluster() -> Option<SlurmLock> {
+    let lock = slurm_lock();
+    slurm_ready().then_some(lock)
+}
+
 impl Drop for SlurmLock {
     fn drop(&mut self) {
         drop(self.0.stdin.take());
