@@ -6,7 +6,7 @@ use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use serde_json::{json, Value as Json};
 
-/// The table as JSON: `{"functions": [{name, ret, args: [{type, name}], optional, variadic, display, summary}]}`.
+/// The table as JSON: `{"functions": [{name, ret, category, args: [{type, name}], optional, variadic, display, summary}]}`.
 pub fn table() -> Json {
     let functions: Vec<Json> = geode_nodes::vex_signatures()
         .iter()
@@ -14,15 +14,16 @@ pub fn table() -> Json {
             let args: Vec<Json> = s
                 .args
                 .iter()
-                .map(|(ty, name)| json!({"type": ty.to_string(), "name": name}))
+                .map(|(ty, name)| json!({"type": ty, "name": name}))
                 .collect();
             json!({
                 "name": s.name,
-                "ret": s.ret.to_string(),
+                "ret": s.ret,
+                "category": s.category.title(),
                 "args": args,
                 "optional": s.optional,
                 "variadic": s.variadic,
-                "display": s.display(),
+                "display": s.display,
                 "summary": s.summary,
             })
         })
@@ -48,8 +49,12 @@ mod tests {
         assert_eq!(functions.len(), geode_nodes::vex_signatures().len());
         let noise = functions.iter().find(|f| f["name"] == "noise").unwrap();
         assert_eq!(noise["ret"], "float");
-        assert_eq!(noise["args"], json!([{"type": "vector", "name": "pos"}]));
-        assert_eq!(noise["display"], "float noise(vector pos)");
+        assert_eq!(
+            noise["args"],
+            json!([{"type": "<float|vector>", "name": "pos"}])
+        );
+        assert_eq!(noise["display"], "float noise(<float|vector> pos)");
+        assert_eq!(noise["category"], "Random numbers and noise");
         assert!(noise["summary"].as_str().unwrap().contains("noise"));
         let near = functions
             .iter()

@@ -6,11 +6,12 @@
 
 use geode_geo::{AttribClass, AttribData, Geometry};
 
-use crate::ast::{Expr, ExprKind, Snippet, Stmt};
-use crate::bind::{BindSpec, Channel};
-use crate::lex::{Tok, Token};
+use crate::compile::ast::{Expr, ExprKind, Snippet, Stmt};
+use crate::compile::lex::{Tok, Token};
+use crate::compile::{BindSpec, Channel};
+use crate::error::CompileError;
+use crate::run::RunOptions;
 use crate::ty::Ty;
-use crate::{CompileError, RunOptions};
 
 /// What one evaluation may hold: a parameter's expression computes a few
 /// values, and one that builds more (a `sprintf` a gigabyte wide) is an
@@ -57,7 +58,7 @@ const RESULT: &str = "__expression_value";
 
 /// Parses `text`: syntax, globals and `ch()` paths are checked now.
 pub fn parse_expression(text: &str) -> Result<Expression, CompileError> {
-    let tokens = crate::lex::lex(text)?;
+    let tokens = crate::compile::lex::lex(text)?;
     let mut reads_time = false;
     for t in &tokens {
         if let Tok::Global(name) = &t.tok {
@@ -148,7 +149,7 @@ impl Expression {
             frame: globals.frame,
             time: (globals.frame - 1.0) / globals.fps,
         };
-        let ty = crate::lower::type_of(&expr, &spec)?;
+        let ty = crate::compile::type_of(&expr, &spec)?;
         let prefix = match ty {
             Ty::Float => 'f',
             Ty::Int => 'i',
@@ -182,7 +183,7 @@ impl Expression {
                 pos,
             })],
         };
-        let program = crate::compile_snippet(&snippet, &spec)?;
+        let program = crate::compile::compile_snippet(&snippet, &spec)?;
         let mut out = empty.clone();
         let never = || false;
         crate::run(
@@ -238,8 +239,8 @@ fn substitute(tokens: &[Token], g: &Globals) -> Vec<Token> {
 
 /// One whole expression from the tokens, nothing after it.
 fn parse_tokens(tokens: Vec<Token>) -> Result<Expr, CompileError> {
-    let tokens = crate::lex::fold_prefixes(tokens)?;
-    let mut parser = crate::parse::Parser::new(tokens);
+    let tokens = crate::compile::lex::fold_prefixes(tokens)?;
+    let mut parser = crate::compile::parse::Parser::new(tokens);
     let e = parser.expr()?;
     parser.end()?;
     Ok(e)
@@ -268,6 +269,18 @@ fn walk(
             walk(a, f)?;
             walk(b, f)?;
             walk(c, f)
+        }
+        ExprKind::Slice {
+            seq,
+            start,
+            end,
+            step,
+        } => {
+            walk(seq, f)?;
+            [start, end, step]
+                .into_iter()
+                .flatten()
+                .try_for_each(|part| walk(part, f))
         }
     }
 }

@@ -3,8 +3,6 @@
 //! and arrays. Control flow is masks (int registers of 0/1) and jumps taken
 //! when no lane is left, so a batch runs in lockstep.
 
-use crate::builtins::Builtin;
-
 /// Elements per batch: large enough that dispatch vanishes, small enough
 /// that a snippet's registers stay in cache.
 pub const LANES: usize = 256;
@@ -229,17 +227,4 @@ pub enum Op {
 pub struct Loc {
     pub ty: crate::ty::Ty,
     pub reg: Reg,
-}
-
-#[derive(Clone, Debug)]
-pub struct CallSite {
-    pub f: Builtin,
-    pub args: Vec<Loc>,
-    /// The arguments that are literals, read once instead of per lane.
-    pub consts: Vec<Option<crate::builtins::Val>>,
-    pub out: Loc,
-    /// Lanes the call applies to (side effects): `None` for all.
-    pub mask: Option<Reg>,
-    /// Where in the snippet, for runtime errors.
-    pub pos: crate::lex::Pos,
 }

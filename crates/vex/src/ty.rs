@@ -1,4 +1,7 @@
-//! VEX's value types, their widths in float slots and their spelling.
+//! VEX's value types, their widths in float slots and their spelling,
+//! and how they map to attribute columns.
+
+use geode_geo::{AttribData, AttribType};
 
 /// The element type of an array, or the type of a plain value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -159,4 +162,41 @@ impl std::fmt::Display for Ty {
             Ty::Array(e) => write!(f, "{}[]", e.ty()),
         }
     }
+}
+
+/// The VEX type of an attribute column.
+pub fn ty_of(data: &AttribData) -> Option<Ty> {
+    Some(match data {
+        AttribData::Float(_) => Ty::Float,
+        AttribData::Int(_) => Ty::Int,
+        AttribData::Vec2(_) => Ty::Vec2,
+        AttribData::Vec3(_) => Ty::Vec3,
+        AttribData::Vec4(_) | AttribData::Quat(_) => Ty::Vec4,
+        AttribData::Mat4(_) => Ty::Mat4,
+        AttribData::String(_) => Ty::Str,
+        AttribData::IntArray(_) => Ty::Array(crate::ty::Elem::Int),
+        AttribData::FloatArray(_) => Ty::Array(crate::ty::Elem::Float),
+        AttribData::Mat3(_) => Ty::Mat3,
+        AttribData::Vec3Array(_) => Ty::Array(crate::ty::Elem::Vec3),
+        AttribData::StringArray(_) => Ty::Array(crate::ty::Elem::Str),
+    })
+}
+
+/// The attribute type a binding of `ty` creates.
+pub fn attrib_type(ty: Ty) -> Option<AttribType> {
+    Some(match ty {
+        Ty::Float => AttribType::Float,
+        Ty::Int => AttribType::Int,
+        Ty::Vec2 => AttribType::Vec2,
+        Ty::Vec3 => AttribType::Vec3,
+        Ty::Vec4 => AttribType::Vec4,
+        Ty::Mat4 => AttribType::Mat4,
+        Ty::Str => AttribType::String,
+        Ty::Array(crate::ty::Elem::Int) => AttribType::IntArray,
+        Ty::Array(crate::ty::Elem::Float) => AttribType::FloatArray,
+        Ty::Array(crate::ty::Elem::Vec3) => AttribType::Vec3Array,
+        Ty::Array(crate::ty::Elem::Str) => AttribType::StringArray,
+        Ty::Mat3 => AttribType::Mat3,
+        _ => return None,
+    })
 }

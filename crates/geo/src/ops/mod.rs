@@ -1,6 +1,7 @@
 //! Operations every node needs: merge, transform, bounds, triangulate, normals, fuse, delete, unpack, validate, ray casts, wall thickness, reduction within a distance bound and by vertex clustering.
 
 mod bounds;
+mod closest;
 mod cluster;
 mod collapse;
 mod edit;
@@ -18,6 +19,7 @@ mod unpack;
 mod validate;
 
 pub use bounds::{bounds, signed_volume, surface_area, Aabb};
+pub use closest::{closest_on_triangle, Closest};
 pub use cluster::{cluster_triangles, fan_triangle_count};
 pub use collapse::reduce_triangles;
 pub use edit::{compact_points, delete_points, delete_prims, reverse_prims};

@@ -8,14 +8,14 @@ use glam::Vec3;
 const LEAF: usize = 4;
 
 #[derive(Clone, Copy, Debug)]
-struct Node {
-    lo: Vec3,
-    hi: Vec3,
+pub(super) struct Node {
+    pub(super) lo: Vec3,
+    pub(super) hi: Vec3,
     /// Leaf: triangles `start..end` (in `order`). Inner: `end == start` and
     /// the children are the next node and `second`.
-    start: u32,
-    end: u32,
-    second: u32,
+    pub(super) start: u32,
+    pub(super) end: u32,
+    pub(super) second: u32,
 }
 
 /// A hit: the distance along the ray (in units of its direction's length)
@@ -28,10 +28,10 @@ pub struct RayHit {
 
 /// Triangles by their corners, with their hierarchy; immutable once built.
 pub struct TriangleBvh {
-    corners: Vec<[Vec3; 3]>,
+    pub(super) corners: Vec<[Vec3; 3]>,
     /// Triangle indices in hierarchy order.
-    order: Vec<u32>,
-    nodes: Vec<Node>,
+    pub(super) order: Vec<u32>,
+    pub(super) nodes: Vec<Node>,
 }
 
 fn bounds_of(corners: &[[Vec3; 3]], tris: &[u32]) -> (Vec3, Vec3) {

@@ -1,10 +1,10 @@
 //! A recursive-descent parser for VEX snippets: statements, declarations,
 //! functions defined in the snippet, and expressions by precedence climbing.
 
-use crate::ast::*;
-use crate::lex::{Pos, Tok, Token};
+use crate::compile::ast::*;
+use crate::compile::lex::{Pos, Tok, Token};
+use crate::error::CompileError;
 use crate::ty::Ty;
-use crate::CompileError;
 
 pub struct Parser {
     toks: Vec<Token>,
@@ -473,6 +473,40 @@ impl Parser {
         })
     }
 
+    /// After `seq[`: an index `seq[i]` or a slice `seq[start:end:step]`.
+    fn index_or_slice(&mut self, seq: Expr, pos: Pos) -> PResult<Expr> {
+        let part = |me: &mut Self| -> PResult<Option<Box<Expr>>> {
+            if me.is(":") || me.is("]") {
+                Ok(None)
+            } else {
+                Ok(Some(Box::new(me.expr()?)))
+            }
+        };
+        let start = part(self)?;
+        if !self.eat(":") {
+            self.expect("]")?;
+            let Some(i) = start else {
+                return Err(CompileError::at(pos, "an index is missing between [ and ]"));
+            };
+            return Ok(Expr {
+                kind: ExprKind::Index(Box::new(seq), i),
+                pos,
+            });
+        }
+        let end = part(self)?;
+        let step = if self.eat(":") { part(self)? } else { None };
+        self.expect("]")?;
+        Ok(Expr {
+            kind: ExprKind::Slice {
+                seq: Box::new(seq),
+                start,
+                end,
+                step,
+            },
+            pos,
+        })
+    }
+
     pub fn expr(&mut self) -> PResult<Expr> {
         let lhs = self.ternary()?;
         if let Tok::Punct(p) = *self.peek() {
@@ -582,12 +616,7 @@ impl Parser {
                     pos,
                 };
             } else if self.eat("[") {
-                let i = self.expr()?;
-                self.expect("]")?;
-                e = Expr {
-                    kind: ExprKind::Index(Box::new(e), Box::new(i)),
-                    pos,
-                };
+                e = self.index_or_slice(e, pos)?;
             } else if self.is("++") || self.is("--") {
                 let delta = if self.is("++") { 1 } else { -1 };
                 self.bump();

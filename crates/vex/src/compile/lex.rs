@@ -1,7 +1,7 @@
 //! VEX's tokens: identifiers, numbers, strings, `@` bindings and operators,
 //! each with its line and column for error messages.
 
-use crate::CompileError;
+use crate::error::CompileError;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Tok {

@@ -5,13 +5,19 @@
 
 use std::collections::HashMap;
 
-use crate::ast::*;
-use crate::bind::{BindSpec, Binding};
-use crate::builtins::{Builtin, Val};
+use super::ast::*;
+use super::bind::BindSpec;
+use super::lex::Pos;
+use crate::error::CompileError;
 use crate::ir::*;
-use crate::lex::Pos;
+use crate::library::{array_ops, Callee};
+use crate::program::{Binding, CallSite, Counts};
 use crate::ty::{Elem, Ty};
-use crate::{CompileError, Counts};
+use crate::value::Val;
+
+mod calls;
+mod expr;
+mod inline;
 
 /// Register counters, saved and restored around statements so temporaries
 /// are reused.
@@ -371,11 +377,15 @@ impl<'a> Lower<'a> {
                         call: self.calls.len() as u32,
                     });
                     self.calls.push(CallSite {
-                        f: Builtin::ArrayOf,
+                        name: array_ops::ARRAY_OF.name,
+                        lane: array_ops::ARRAY_OF.lane,
+                        bytes: None,
                         args: vec![],
                         consts: vec![],
+                        outs: vec![],
                         out: fresh,
                         mask: None,
+                        counted: false,
                         pos: Pos::default(),
                     });
                     self.emit(Op::AMov {
@@ -527,7 +537,7 @@ impl<'a> Lower<'a> {
         let arr = self.copy(arr);
         let i = self.alloc(Ty::Int);
         self.emit(Op::IConst { d: i.reg, v: 0 });
-        let n = self.call_site(Builtin::Len, vec![arr], Ty::Int, elem.pos);
+        let n = self.call_site(array_ops::LEN, vec![arr], Ty::Int, elem.pos);
         let x = self.alloc(elem.ty);
         if let Some(name) = index {
             self.declare(name, i, elem.pos)?;
@@ -548,7 +558,7 @@ impl<'a> Lower<'a> {
         });
         self.update_int(active, IBinOp::LAnd, t.reg);
         let exit = self.emit(Op::JumpIfNone { m: active, to: 0 });
-        let item = self.call_site(Builtin::IndexGet, vec![arr, i], e.ty(), elem.pos);
+        let item = self.call_site(array_ops::INDEX_GET, vec![arr, i], e.ty(), elem.pos);
         let item = self.convert(item, elem.ty, elem.pos)?;
         self.store(x, item);
         self.loop_body(active_at, body)?;
@@ -704,24 +714,49 @@ impl<'a> Lower<'a> {
     }
 
     /// Emits a library call over the current mask into a new register.
-    pub fn call_site(&mut self, f: Builtin, args: Vec<Loc>, out: Ty, pos: Pos) -> Loc {
+    /// A call of `callee` with its result in a new register of type `out`.
+    pub fn call_site(&mut self, callee: Callee, args: Vec<Loc>, out: Ty, pos: Pos) -> Loc {
+        let outs = vec![false; args.len()];
+        self.call_site_outs(callee, args, outs, out, pos)
+    }
+
+    /// A call whose arguments marked in `outs` the function may change in
+    /// place (their registers are moved into the call and back).
+    pub fn call_site_outs(
+        &mut self,
+        callee: Callee,
+        args: Vec<Loc>,
+        outs: Vec<bool>,
+        out: Ty,
+        pos: Pos,
+    ) -> Loc {
         let consts = args
             .iter()
-            .map(|a| {
+            .zip(&outs)
+            .map(|(a, o)| {
+                if *o {
+                    return None;
+                }
                 self.consts
                     .iter()
                     .find(|(l, _)| l == a)
                     .map(|(_, v)| v.clone())
             })
             .collect();
+        let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
+        let counted = heap(out) || args.iter().any(|a| heap(a.ty)) || callee.bytes.is_some();
         let out = self.alloc(out);
         let call = self.calls.len() as u32;
         self.calls.push(CallSite {
-            f,
+            name: callee.name,
+            lane: callee.lane,
+            bytes: callee.bytes,
             args,
             consts,
+            outs,
             out,
             mask: self.mask(),
+            counted,
             pos,
         });
         self.emit(Op::Call { call });

@@ -6,10 +6,10 @@
 
 use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
 
-use crate::builtins::Val;
-use crate::run::{elem_count, set_value};
-use crate::world::{Effect, EffectKind, Mode};
-use crate::RunError;
+use super::{elem_count, set_value};
+use crate::effect::{Effect, EffectKind, Mode};
+use crate::error::RunError;
+use crate::value::Val;
 
 /// Final numbers of a batch's provisional handles (`base + k` -> slot k).
 #[derive(Default)]
@@ -206,7 +206,7 @@ pub fn apply(
         for e in batch {
             match &e.kind {
                 EffectKind::SetAttr(set) => {
-                    let crate::world::SetAttr {
+                    let crate::effect::SetAttr {
                         class,
                         name,
                         target,
@@ -266,7 +266,7 @@ pub fn apply(
                         grp.set(i, *on);
                     }
                 }
-                EffectKind::RemovePoint { point: p } => dead_points.extend(point(*p)),
+                EffectKind::RemovePoint { point: p, .. } => dead_points.extend(point(*p)),
                 EffectKind::RemovePrim {
                     prim: p,
                     and_points,
@@ -373,7 +373,7 @@ fn set_attr(
             .map_err(|e| RunError::Geometry(e.to_string()))?;
     }
     let attr = table.get_mut(name).expect("just made");
-    let old = crate::builtins::attrib_value(attr.data(), i);
+    let old = crate::value::attrib_value(attr.data(), i);
     let new = combine(&old, value, mode);
     set_value(attr, i, new);
     Ok(())

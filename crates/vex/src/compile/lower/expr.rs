@@ -2,13 +2,14 @@
 //! with VEX's promotions (int to float, scalar to vector), assignment to
 //! variables, components and array elements, and conversions.
 
-use crate::ast::*;
-use crate::builtins::Builtin;
+use crate::compile::ast::*;
+use crate::compile::lex::Pos;
+use crate::error::CompileError;
 use crate::ir::*;
-use crate::lex::Pos;
-use crate::lower::{LResult, Lower};
+use crate::library::{array_ops, matrix_ops, string_ops};
 use crate::ty::Ty;
-use crate::CompileError;
+
+use super::{LResult, Lower};
 
 fn err<T>(pos: Pos, msg: impl Into<String>) -> LResult<T> {
     Err(CompileError::at(pos, msg))
@@ -43,9 +44,15 @@ impl<'a> Lower<'a> {
             }),
             ExprKind::Float(x) => Ok(self.fconst(*x as f32)),
             ExprKind::Str(s) => Ok(self.sconst(s)),
-            ExprKind::Var(name) => self
-                .lookup(name)
-                .ok_or_else(|| self.undeclared(name, e.pos)),
+            ExprKind::Var(name) => match self.lookup(name) {
+                Some(v) => Ok(v),
+                // math.h's constants, unless the snippet declares the name.
+                None => match crate::library::constant(name) {
+                    Some(crate::library::Constant::Float(x)) => Ok(self.fconst(x as f32)),
+                    Some(crate::library::Constant::Int(i)) => Ok(self.iconst(i)),
+                    None => Err(self.undeclared(name, e.pos)),
+                },
+            },
             ExprKind::Binding { name, .. } => Ok(self.binding(name)),
             ExprKind::Braces(items) => self.braces(items, hint, e.pos),
             ExprKind::Unary(op, x) => self.unary(op, x, e.pos),
@@ -103,6 +110,12 @@ impl<'a> Lower<'a> {
                 let v = self.expr(x, None)?;
                 self.index(v, i, e.pos)
             }
+            ExprKind::Slice {
+                seq,
+                start,
+                end,
+                step,
+            } => self.slice(seq, [start, end, step], e.pos),
             ExprKind::Cast(ty, x) => {
                 let v = self.expr(x, Some(*ty))?;
                 self.cast(v, *ty, e.pos)
@@ -197,7 +210,7 @@ impl<'a> Lower<'a> {
                 let v = self.expr(it, Some(e.ty()))?;
                 vals.push(self.convert(v, e.ty(), it.pos)?);
             }
-            return Ok(self.call_site(Builtin::ArrayOf, vals, t, pos));
+            return Ok(self.call_site(array_ops::ARRAY_OF, vals, t, pos));
         }
         // Nested braces of a matrix ({{1,0,0},{0,1,0},{0,0,1}}) flatten.
         let mut vals = Vec::new();
@@ -351,7 +364,7 @@ impl<'a> Lower<'a> {
         }
         if !(x.ty.is_numeric() && y.ty.is_numeric()) {
             if op == "+" && x.ty == Ty::Str && y.ty == Ty::Str {
-                return Ok(self.call_site(Builtin::Concat, vec![x, y], Ty::Str, pos));
+                return Ok(self.call_site(string_ops::CONCAT, vec![x, y], Ty::Str, pos));
             }
             return Err(no_form());
         }
@@ -373,14 +386,14 @@ impl<'a> Lower<'a> {
         {
             return match (x.ty.is_matrix(), y.ty.is_matrix()) {
                 (true, true) if x.ty == y.ty => {
-                    Ok(self.call_site(Builtin::MatMul, vec![x, y], x.ty, pos))
+                    Ok(self.call_site(matrix_ops::MATMUL, vec![x, y], x.ty, pos))
                 }
-                (true, true) => Ok(self.call_site(Builtin::MatMul, vec![x, y], Ty::Mat4, pos)),
-                (false, true) => Ok(self.call_site(Builtin::VecMat, vec![x, y], x.ty, pos)),
+                (true, true) => Ok(self.call_site(matrix_ops::MATMUL, vec![x, y], Ty::Mat4, pos)),
+                (false, true) => Ok(self.call_site(matrix_ops::VECMAT, vec![x, y], x.ty, pos)),
                 // matrix * vector: the vector as a column, i.e. v * transpose(m).
                 (true, false) if y.ty.is_vector() => {
-                    let t = self.call_site(Builtin::Transpose, vec![x], x.ty, pos);
-                    Ok(self.call_site(Builtin::VecMat, vec![y, t], y.ty, pos))
+                    let t = self.call_site(matrix_ops::TRANSPOSE, vec![x], x.ty, pos);
+                    Ok(self.call_site(matrix_ops::VECMAT, vec![y, t], y.ty, pos))
                 }
                 _ => Err(no_form()),
             };
@@ -600,7 +613,7 @@ impl<'a> Lower<'a> {
                 let Ty::Array(e) = arr.ty else {
                     return err(pos, "not an array");
                 };
-                Ok(self.call_site(Builtin::IndexGet, vec![arr, idx], e.ty(), pos))
+                Ok(self.call_site(array_ops::INDEX_GET, vec![arr, idx], e.ty(), pos))
             }
         }
     }
@@ -612,8 +625,17 @@ impl<'a> Lower<'a> {
                 self.store(l, v);
             }
             Target::Elem { arr, idx } => {
-                let new = self.call_site(Builtin::IndexSet, vec![arr, idx, v], arr.ty, pos);
-                self.store(arr, new);
+                let Ty::Array(e) = arr.ty else {
+                    return err(pos, "not an array");
+                };
+                let v = self.convert(v, e.ty(), pos)?;
+                self.call_site_outs(
+                    array_ops::INDEX_SET,
+                    vec![arr, idx, v],
+                    vec![true, false, false],
+                    Ty::Void,
+                    pos,
+                );
             }
         }
         Ok(())
@@ -659,17 +681,43 @@ impl<'a> Lower<'a> {
         Ok(out)
     }
 
+    /// `seq[start:end:step]`: the parts left out are marked in the last
+    /// argument (bit 0 start, bit 1 end).
+    fn slice(&mut self, seq: &Expr, parts: [&Option<Box<Expr>>; 3], pos: Pos) -> LResult<Loc> {
+        let v = self.expr(seq, None)?;
+        if !matches!(v.ty, Ty::Array(_) | Ty::Str) {
+            return err(pos, format!("{} cannot be sliced", v.ty.a()));
+        }
+        let mut args = vec![v];
+        let mut given = 0;
+        for (k, part) in parts.into_iter().enumerate() {
+            let value = match part {
+                Some(x) => {
+                    if k < 2 {
+                        given |= 1 << k;
+                    }
+                    let i = self.expr(x, Some(Ty::Int))?;
+                    self.convert(i, Ty::Int, x.pos)?
+                }
+                None => self.iconst(i32::from(k == 2)),
+            };
+            args.push(value);
+        }
+        args.push(self.iconst(given));
+        Ok(self.call_site(array_ops::SLICE, args, v.ty, pos))
+    }
+
     fn index(&mut self, v: Loc, i: &Expr, pos: Pos) -> LResult<Loc> {
         match v.ty {
             Ty::Array(e) => {
                 let idx = self.expr(i, Some(Ty::Int))?;
                 let idx = self.convert(idx, Ty::Int, i.pos)?;
-                Ok(self.call_site(Builtin::IndexGet, vec![v, idx], e.ty(), pos))
+                Ok(self.call_site(array_ops::INDEX_GET, vec![v, idx], e.ty(), pos))
             }
             Ty::Str => {
                 let idx = self.expr(i, Some(Ty::Int))?;
                 let idx = self.convert(idx, Ty::Int, i.pos)?;
-                Ok(self.call_site(Builtin::IndexGet, vec![v, idx], Ty::Str, pos))
+                Ok(self.call_site(array_ops::INDEX_GET, vec![v, idx], Ty::Str, pos))
             }
             t if t.is_vector() || t.is_matrix() => self.component(v, i),
             t => err(pos, format!("{} cannot be indexed", t.a())),
@@ -687,10 +735,10 @@ impl<'a> Lower<'a> {
             }
             (Ty::Int | Ty::Float, Ty::Str) => {
                 let fmt = self_fmt(self, v);
-                Ok(self.call_site(Builtin::Sprintf, vec![fmt, v], Ty::Str, pos))
+                Ok(self.call_site(string_ops::FORMAT, vec![fmt, v], Ty::Str, pos))
             }
-            (Ty::Str, Ty::Int) => Ok(self.call_site(Builtin::Atoi, vec![v], Ty::Int, pos)),
-            (Ty::Str, Ty::Float) => Ok(self.call_site(Builtin::Atof, vec![v], Ty::Float, pos)),
+            (Ty::Str, Ty::Int) => Ok(self.call_site(string_ops::ATOI, vec![v], Ty::Int, pos)),
+            (Ty::Str, Ty::Float) => Ok(self.call_site(string_ops::ATOF, vec![v], Ty::Float, pos)),
             _ => self.convert(v, ty, pos),
         }
     }
@@ -738,7 +786,7 @@ impl<'a> Lower<'a> {
         }
         if v.ty.is_matrix() && to.is_matrix() {
             // matrix3 <-> matrix: the upper-left 3x3, identity elsewhere.
-            let ident = self.call_site(Builtin::Ident, vec![], to, pos);
+            let ident = self.call_site(matrix_ops::IDENT, vec![], to, pos);
             let (src_side, dst_side) = (
                 if v.ty == Ty::Mat3 { 3 } else { 4 },
                 if to == Ty::Mat3 { 3 } else { 4 },

@@ -10,12 +10,20 @@ use rayon::prelude::*;
 
 use geode_geo::{AttribClass, AttribValue, Attribute, Geometry, StringColumn, TypeInfo};
 
-use crate::bind::{attrib_type, Source};
-use crate::builtins::Val;
-use crate::exec::{self, Frame};
+use crate::effect::Effect;
+use crate::error::RunError;
 use crate::ir::LANES;
-use crate::world::{Effect, Shared, World};
-use crate::{apply, Program, RunError};
+use crate::program::{Program, Source};
+use crate::ty::attrib_type;
+use crate::value::Val;
+use exec::Frame;
+use world::{Shared, World};
+
+mod apply;
+mod budget;
+mod call;
+mod exec;
+mod world;
 
 /// What a run may be told beyond the program and its geometry.
 pub struct RunOptions<'a> {
@@ -173,7 +181,7 @@ pub fn run(
                 world.elems = lanes;
                 fr.n = world.elems.len();
                 load(p, fr, &reads, &world.elems);
-                crate::budget::true_up(&shared.budget, fr);
+                budget::true_up(&shared.budget, fr);
                 let ran = exec::run(p, fr, &mut world);
                 if ran.is_ok() {
                     let mut moved = 0;
@@ -183,7 +191,7 @@ pub fn run(
                     // What moved out stays charged: it becomes the output.
                     fr.held = fr.held.saturating_sub(moved);
                 }
-                crate::budget::release(&shared.budget, fr);
+                budget::release(&shared.budget, fr);
                 if ran.is_err() {
                     failed.store(true, Ordering::Relaxed);
                 }
@@ -333,7 +341,7 @@ fn reads<'g>(
                 }
             }
             Source::Detail(name) => {
-                match crate::world::read_attrib(snapshot, AttribClass::Detail, name, 0) {
+                match crate::value::read_attrib(snapshot, AttribClass::Detail, name, 0) {
                     Some(v) => Read::Uniform(v),
                     None => Read::Zero,
                 }
@@ -526,7 +534,7 @@ fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
             }
             (Read::Uniform(v), _) => {
                 for l in 0..LANES {
-                    crate::builtins::write(fr, b.loc, l, v.clone());
+                    call::write(fr, b.loc, l, v.clone());
                 }
             }
             _ => {
@@ -581,8 +589,8 @@ fn store(p: &Program, fr: &mut Frame, b: usize, sink: &mut Sink) -> u64 {
         Sink::I(dst) => dst[..fr.n].copy_from_slice(&fr.i[reg * LANES..][..fr.n]),
         Sink::Later(vals) => {
             vals.clear();
-            vals.extend((0..fr.n).map(|l| crate::builtins::take(fr, bind.loc, l)));
-            return crate::budget::slots_bytes(vals);
+            vals.extend((0..fr.n).map(|l| call::take(fr, bind.loc, l)));
+            return budget::slots_bytes(vals);
         }
     }
     0

@@ -14,8 +14,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use geode_geo::human_bytes;
 
-use crate::builtins::Val;
-use crate::exec::Frame;
+use super::exec::Frame;
+use crate::value::HeapBytes;
 
 /// The bytes a run may hold at once and the bytes it holds.
 pub struct Budget {
@@ -73,48 +73,6 @@ impl Budget {
 
 /// Bytes a register's value holds on the heap: the one rule every measure
 /// of the account (a value, a lane, a register, a frame) follows.
-pub trait HeapBytes {
-    fn heap_bytes(&self) -> u64;
-}
-
-impl HeapBytes for String {
-    fn heap_bytes(&self) -> u64 {
-        self.capacity() as u64
-    }
-}
-
-impl HeapBytes for Vec<f32> {
-    fn heap_bytes(&self) -> u64 {
-        (self.capacity() * 4) as u64
-    }
-}
-
-impl HeapBytes for Vec<i32> {
-    fn heap_bytes(&self) -> u64 {
-        (self.capacity() * 4) as u64
-    }
-}
-
-/// A string array: its slots and every string's characters.
-impl HeapBytes for Vec<String> {
-    fn heap_bytes(&self) -> u64 {
-        let slots = std::mem::size_of_val(self.as_slice()) as u64;
-        slots + self.iter().map(HeapBytes::heap_bytes).sum::<u64>()
-    }
-}
-
-impl HeapBytes for Val {
-    fn heap_bytes(&self) -> u64 {
-        match self {
-            Val::I(_) | Val::F(..) => 0,
-            Val::S(s) => s.heap_bytes(),
-            Val::AF(v, _) => v.heap_bytes(),
-            Val::AI(v) => v.heap_bytes(),
-            Val::AS(v) => v.heap_bytes(),
-        }
-    }
-}
-
 /// Bytes a run of register slots holds.
 pub fn slots_bytes<T: HeapBytes>(slots: &[T]) -> u64 {
     slots.iter().map(HeapBytes::heap_bytes).sum()

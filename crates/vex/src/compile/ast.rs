@@ -1,6 +1,6 @@
 //! The syntax tree the parser builds and the lowering reads.
 
-use crate::lex::Pos;
+use crate::compile::lex::Pos;
 use crate::ty::Ty;
 
 #[derive(Clone, Debug)]
@@ -37,6 +37,14 @@ pub enum ExprKind {
     /// `v.x`, `v.zyx`, `m.xx`.
     Member(Box<Expr>, String),
     Index(Box<Expr>, Box<Expr>),
+    /// `a[start:end:step]` on an array or string; each part may be left
+    /// out.
+    Slice {
+        seq: Box<Expr>,
+        start: Option<Box<Expr>>,
+        end: Option<Box<Expr>>,
+        step: Option<Box<Expr>>,
+    },
     /// `vector(x)`, `(float)x`: an explicit conversion.
     Cast(Ty, Box<Expr>),
 }

@@ -2,12 +2,14 @@
 //! their types (prefix, VEX's implicit names, the attribute itself), the
 //! pre-pass that finds them, and loading and storing them as columns.
 
-use geode_geo::{AttribClass, AttribData, AttribType, Geometry};
+use geode_geo::{AttribClass, Geometry};
 
-use crate::ast::*;
+use crate::compile::ast::*;
+use crate::error::CompileError;
 use crate::ir::Loc;
+use crate::program::{Binding, Counts, Source};
+use crate::ty::ty_of;
 use crate::ty::Ty;
-use crate::{CompileError, Counts};
 
 /// A spare parameter's value, as `ch()` reads it.
 #[derive(Clone, Debug, PartialEq)]
@@ -27,42 +29,6 @@ pub struct BindSpec<'a> {
     pub time: f64,
 }
 
-/// Where a binding's value comes from.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Source {
-    /// An attribute of input `input` (0 is written back), of `class`.
-    Attr {
-        input: usize,
-        class: AttribClass,
-        attrib: String,
-    },
-    /// A detail attribute of input 0, the same for every element.
-    Detail(String),
-    /// The element's own number (`@ptnum` over points, `@elemnum`).
-    Elem,
-    /// The primitive of the vertex (`@primnum` over vertices).
-    PrimOfVertex,
-    /// The point of the vertex (`@ptnum` over vertices).
-    PointOfVertex,
-    /// A constant of the run (`@numpt`, `@Frame`, `-1` for numbers that do
-    /// not apply).
-    Const(f64),
-}
-
-#[derive(Clone, Debug)]
-pub struct Binding {
-    pub name: String,
-    pub ty: Ty,
-    pub loc: Loc,
-    pub source: Source,
-}
-
-impl Binding {
-    pub fn writable(&self) -> bool {
-        matches!(self.source, Source::Attr { input: 0, .. })
-    }
-}
-
 /// VEX's implicitly typed names (SideFX, "VEX > Attributes").
 fn implicit(name: &str) -> Option<Ty> {
     Some(match name {
@@ -77,47 +43,10 @@ fn implicit(name: &str) -> Option<Ty> {
     })
 }
 
-/// The VEX type of an attribute column.
-pub fn ty_of(data: &AttribData) -> Option<Ty> {
-    Some(match data {
-        AttribData::Float(_) => Ty::Float,
-        AttribData::Int(_) => Ty::Int,
-        AttribData::Vec2(_) => Ty::Vec2,
-        AttribData::Vec3(_) => Ty::Vec3,
-        AttribData::Vec4(_) | AttribData::Quat(_) => Ty::Vec4,
-        AttribData::Mat4(_) => Ty::Mat4,
-        AttribData::String(_) => Ty::Str,
-        AttribData::IntArray(_) => Ty::Array(crate::ty::Elem::Int),
-        AttribData::FloatArray(_) => Ty::Array(crate::ty::Elem::Float),
-        AttribData::Mat3(_) => Ty::Mat3,
-        AttribData::Vec3Array(_) => Ty::Array(crate::ty::Elem::Vec3),
-        AttribData::StringArray(_) => Ty::Array(crate::ty::Elem::Str),
-    })
-}
-
-/// The attribute type a binding of `ty` creates.
-pub fn attrib_type(ty: Ty) -> Option<AttribType> {
-    Some(match ty {
-        Ty::Float => AttribType::Float,
-        Ty::Int => AttribType::Int,
-        Ty::Vec2 => AttribType::Vec2,
-        Ty::Vec3 => AttribType::Vec3,
-        Ty::Vec4 => AttribType::Vec4,
-        Ty::Mat4 => AttribType::Mat4,
-        Ty::Str => AttribType::String,
-        Ty::Array(crate::ty::Elem::Int) => AttribType::IntArray,
-        Ty::Array(crate::ty::Elem::Float) => AttribType::FloatArray,
-        Ty::Array(crate::ty::Elem::Vec3) => AttribType::Vec3Array,
-        Ty::Array(crate::ty::Elem::Str) => AttribType::StringArray,
-        Ty::Mat3 => AttribType::Mat3,
-        _ => return None,
-    })
-}
-
 /// Every `@name` in the snippet with its prefix and position.
-fn collect(s: &Snippet) -> Vec<(String, Option<char>, bool, crate::lex::Pos)> {
+fn collect(s: &Snippet) -> Vec<(String, Option<char>, bool, crate::compile::lex::Pos)> {
     let mut out = Vec::new();
-    fn expr(e: &Expr, out: &mut Vec<(String, Option<char>, bool, crate::lex::Pos)>) {
+    fn expr(e: &Expr, out: &mut Vec<(String, Option<char>, bool, crate::compile::lex::Pos)>) {
         match &e.kind {
             ExprKind::Binding {
                 prefix,
@@ -136,10 +65,21 @@ fn collect(s: &Snippet) -> Vec<(String, Option<char>, bool, crate::lex::Pos)> {
                 expr(b, out);
                 expr(c, out);
             }
+            ExprKind::Slice {
+                seq,
+                start,
+                end,
+                step,
+            } => {
+                expr(seq, out);
+                for part in [start, end, step].into_iter().flatten() {
+                    expr(part, out);
+                }
+            }
             _ => {}
         }
     }
-    fn stmt(s: &Stmt, out: &mut Vec<(String, Option<char>, bool, crate::lex::Pos)>) {
+    fn stmt(s: &Stmt, out: &mut Vec<(String, Option<char>, bool, crate::compile::lex::Pos)>) {
         match s {
             Stmt::Expr(e) => expr(e, out),
             Stmt::Decls(ds) => ds
@@ -194,7 +134,7 @@ pub fn bindings(
     let uses = collect(s);
     let mut out: Vec<Binding> = Vec::new();
     // Typed uses decide first; untyped uses adopt them.
-    let mut typed: Vec<(String, Ty, crate::lex::Pos, char)> = Vec::new();
+    let mut typed: Vec<(String, Ty, crate::compile::lex::Pos, char)> = Vec::new();
     for (name, prefix, array, pos) in &uses {
         if *array && !matches!(prefix, Some('i') | Some('f') | Some('v') | Some('s')) {
             return Err(CompileError::at(

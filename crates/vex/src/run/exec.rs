@@ -3,10 +3,11 @@
 //! its registers; the lowering guarantees a destination never aliases its
 //! sources, so each loop borrows one mutable and some shared registers.
 
-use crate::builtins;
+use super::call;
+use super::world::World;
+use crate::error::RunError;
 use crate::ir::*;
-use crate::world::World;
-use crate::{Program, RunError};
+use crate::program::Program;
 
 /// One batch's registers.
 pub struct Frame {
@@ -203,7 +204,7 @@ enum Heap {
 
 /// Bytes register `r` of `file` holds on the heap over the batch's lanes.
 fn reg_bytes(fr: &Frame, file: Heap, r: Reg) -> u64 {
-    use crate::budget::slots_bytes;
+    use super::budget::slots_bytes;
     let lanes = r as usize * LANES..(r as usize + 1) * LANES;
     match file {
         Heap::S => slots_bytes(&fr.s[lanes]),
@@ -230,7 +231,7 @@ fn copy_charged(
     let budget = &world.shared.budget;
     let before = reg_bytes(fr, file, d);
     let copied = reg_bytes(fr, file, s);
-    if !crate::budget::reserve(budget, fr, copied) {
+    if !super::budget::reserve(budget, fr, copied) {
         return Err(RunError::OverBudget {
             elem: world.elem_of(0),
             pos: p.op_pos.get(pc).copied().unwrap_or_default(),
@@ -239,7 +240,7 @@ fn copy_charged(
     }
     copy(fr);
     let after = reg_bytes(fr, file, d);
-    crate::budget::charge_write(budget, fr, before, after);
+    super::budget::charge_write(budget, fr, before, after);
     Ok(())
 }
 
@@ -349,7 +350,7 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
                     x[l] = a[l] as i32;
                 }
             }
-            Op::Call { call } => builtins::call(p, &p.calls[*call as usize], fr, world)?,
+            Op::Call { call } => call::call(p, &p.calls[*call as usize], fr, world)?,
             Op::Jump { to } => {
                 pc = *to as usize;
                 continue;
@@ -366,7 +367,7 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
                     if (world.cancel)() {
                         return Err(RunError::Cancelled);
                     }
-                    crate::budget::true_up(&world.shared.budget, fr);
+                    super::budget::true_up(&world.shared.budget, fr);
                 }
             }
         }

@@ -1,0 +1,238 @@
+//! Writing geometry (SideFX's "Geometry" writing functions): attribute
+//! writes to any element, new points, primitives and vertices, removals
+//! and group membership. Each queues an effect that applies after every
+//! element ran, in element order.
+
+use geode_geo::AttribClass;
+
+use super::{a, form, lane, Category, Function, Ret, I, IA, S, T, V};
+use crate::effect::{EffectKind, Mode, Points, SetAttr};
+use crate::program::{Lane, Stop};
+use crate::ty::Ty;
+use crate::value::Val;
+
+const C: Category = Category::Editing;
+const INT: Ret = Ret::Is(Ty::Int);
+
+#[rustfmt::skip]
+pub const FUNCTIONS: &[Function] = &[
+    lane("setpointattrib", C, "Writes a point attribute of any type (mode: set, add, min, max, mult, append).", &[
+        form(INT, &[a(I, "geo"), a(S, "attrib"), a(I, "ptnum"), a(T::Any, "value"), a(S, "mode")], |l, a| set(l, a, AttribClass::Point)).opt(1),
+    ]),
+    lane("setprimattrib", C, "Writes a primitive attribute of any type (mode: set, add, min, max, mult, append).", &[
+        form(INT, &[a(I, "geo"), a(S, "attrib"), a(I, "primnum"), a(T::Any, "value"), a(S, "mode")], |l, a| set(l, a, AttribClass::Primitive)).opt(1),
+    ]),
+    lane("setvertexattrib", C, "Writes a vertex attribute: by primitive and vertex index, or by linear vertex with primnum -1.", &[
+        form(INT, &[a(I, "geo"), a(S, "attrib"), a(I, "primnum"), a(I, "vertex"), a(T::Any, "value"), a(S, "mode")], |l, a| set(l, a, AttribClass::Vertex)).opt(1),
+    ]),
+    lane("setdetailattrib", C, "Writes a detail attribute of any type (mode: set, add, min, max, mult, append).", &[
+        form(INT, &[a(I, "geo"), a(S, "attrib"), a(T::Any, "value"), a(S, "mode")], |l, a| set(l, a, AttribClass::Detail)).opt(1),
+    ]),
+    lane("setattrib", C, "Writes an attribute of a class (\"point\", \"prim\", \"vertex\", \"detail\"): element, vertex index (-1 for a linear element), value, mode.", &[
+        form(INT, &[a(I, "geo"), a(S, "attribclass"), a(S, "attrib"), a(I, "elemnum"), a(I, "vertex"), a(T::Any, "value"), a(S, "mode")], set_any).opt(1),
+    ]),
+    lane("addpoint", C, "Adds a point at a position, or a copy of a point with its attributes; the number is valid for calls in this element.", &[
+        form(INT, &[a(I, "geo"), a(V, "pos")], addpoint),
+        form(INT, &[a(I, "geo"), a(I, "ptnum")], addpoint),
+    ]),
+    lane("addprim", C, "Adds a \"poly\" or \"polyline\" through the given points.", &[
+        form(INT, &[a(I, "geo"), a(S, "type"), a(I, "pt")], addprim).opt(1).many(),
+        form(INT, &[a(I, "geo"), a(S, "type"), a(IA, "points")], addprim),
+    ]),
+    lane("addvertex", C, "Appends a vertex on a point to a primitive.", &[
+        form(INT, &[a(I, "geo"), a(I, "primnum"), a(I, "ptnum")], addvertex),
+    ]),
+    lane("removepoint", C, "Removes a point and its vertices; primitives left degenerate are removed (unless and_prims is 0).", &[
+        form(INT, &[a(I, "geo"), a(I, "ptnum"), a(I, "and_prims")], removepoint).opt(1),
+    ]),
+    lane("removeprim", C, "Removes a primitive; its points too when andpoints is 1 and nothing else uses them.", &[
+        form(INT, &[a(I, "geo"), a(I, "primnum"), a(I, "andpoints")], removeprim).opt(1),
+    ]),
+    lane("setpointgroup", C, "Puts a point in (1) or out of (0) a point group.", &[
+        form(INT, &[a(I, "geo"), a(S, "group"), a(I, "ptnum"), a(I, "value"), a(S, "mode")], |l, a| set_group(l, a, AttribClass::Point)).opt(1),
+    ]),
+    lane("setprimgroup", C, "Puts a primitive in (1) or out of (0) a primitive group.", &[
+        form(INT, &[a(I, "geo"), a(S, "group"), a(I, "primnum"), a(I, "value"), a(S, "mode")], |l, a| set_group(l, a, AttribClass::Primitive)).opt(1),
+    ]),
+];
+
+fn mode_of(m: Option<&Val>) -> Result<Mode, Stop> {
+    Ok(match m.map(Val::s) {
+        None | Some("set") => Mode::Set,
+        Some("add") => Mode::Add,
+        Some("min") => Mode::Min,
+        Some("max") => Mode::Max,
+        Some("mult") | Some("multiply") => Mode::Mult,
+        Some("append") => Mode::Append,
+        Some(other) => {
+            return Err(Stop::Msg(format!(
+                "unknown mode \"{other}\": expected set, add, min, max, mult or append"
+            )))
+        }
+    })
+}
+
+fn queue(l: &mut Lane, kind: EffectKind) -> Result<(), Stop> {
+    l.host.queue(kind).map_err(Stop::OverBudget)
+}
+
+fn write(
+    l: &mut Lane,
+    class: AttribClass,
+    name: &str,
+    target: i32,
+    vtx: i32,
+    value: Val,
+    mode: Mode,
+) -> Result<Val, Stop> {
+    queue(
+        l,
+        EffectKind::SetAttr(Box::new(SetAttr {
+            class,
+            name: name.to_string(),
+            target,
+            vtx,
+            value,
+            mode,
+        })),
+    )?;
+    Ok(Val::I(0))
+}
+
+/// `(geo, name, [elem, [vtx,]] value, [mode])`.
+fn set(l: &mut Lane, a: &mut [Val], class: AttribClass) -> Result<Val, Stop> {
+    let (target, vtx, value) = match class {
+        AttribClass::Detail => (0, -1, 2),
+        AttribClass::Vertex => (a[2].i(), a[3].i(), 4),
+        _ => (a[2].i(), -1, 3),
+    };
+    let mode = mode_of(a.get(value + 1))?;
+    let v = a[value].clone();
+    write(l, class, a[1].s(), target, vtx, v, mode)
+}
+
+fn set_any(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let class = match a[1].s() {
+        "point" => AttribClass::Point,
+        "prim" | "primitive" => AttribClass::Primitive,
+        "vertex" => AttribClass::Vertex,
+        "detail" | "global" => AttribClass::Detail,
+        other => {
+            return Err(Stop::Msg(format!(
+                "setattrib: unknown class \"{other}\": expected point, prim, vertex or detail"
+            )))
+        }
+    };
+    let mode = mode_of(a.get(6))?;
+    let (target, vtx) = match class {
+        AttribClass::Vertex => (a[3].i(), a[4].i()),
+        AttribClass::Detail => (0, -1),
+        _ => (a[3].i(), -1),
+    };
+    let v = a[5].clone();
+    let name = a[2].s().to_string();
+    write(l, class, &name, target, vtx, v, mode)
+}
+
+fn addpoint(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let from = match &a[1] {
+        Val::I(pt) => Some(*pt),
+        _ => None,
+    };
+    let handle = l.host.new_point();
+    queue(
+        l,
+        EffectKind::AddPoint {
+            handle,
+            from,
+            pos: a[1].v3(),
+        },
+    )?;
+    Ok(Val::I(handle))
+}
+
+fn addprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let polyline = match a[1].s() {
+        "poly" => false,
+        "polyline" => true,
+        other => {
+            return Err(Stop::Msg(format!(
+                "addprim: unknown type \"{other}\": expected \"poly\" or \"polyline\""
+            )))
+        }
+    };
+    let mut points = Points::new();
+    for v in &a[2..] {
+        match v {
+            Val::AI(v) => v.iter().for_each(|p| points.push(*p)),
+            v => points.push(v.i()),
+        }
+    }
+    let handle = l.host.new_prim();
+    queue(
+        l,
+        EffectKind::AddPrim {
+            handle,
+            polyline,
+            points,
+        },
+    )?;
+    Ok(Val::I(handle))
+}
+
+fn addvertex(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    queue(
+        l,
+        EffectKind::AddVertex {
+            prim: a[1].i(),
+            point: a[2].i(),
+        },
+    )?;
+    Ok(Val::I(0))
+}
+
+fn removepoint(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    queue(
+        l,
+        EffectKind::RemovePoint {
+            point: a[1].i(),
+            and_prims: a.get(2).is_none_or(|v| v.i() != 0),
+        },
+    )?;
+    Ok(Val::I(1))
+}
+
+fn removeprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    queue(
+        l,
+        EffectKind::RemovePrim {
+            prim: a[1].i(),
+            and_points: a.get(2).is_some_and(|v| v.i() != 0),
+        },
+    )?;
+    Ok(Val::I(1))
+}
+
+fn set_group(l: &mut Lane, a: &mut [Val], class: AttribClass) -> Result<Val, Stop> {
+    let on = a.get(3).is_none_or(|v| v.i() != 0);
+    let on = match a.get(4).map(Val::s) {
+        None | Some("set") => on,
+        Some("add") | Some("or") => on,
+        Some("subtract") | Some("remove") => !on,
+        Some(other) => {
+            return Err(Stop::Msg(format!(
+                "unknown group mode \"{other}\": expected set, add or subtract"
+            )))
+        }
+    };
+    queue(
+        l,
+        EffectKind::SetGroup {
+            class,
+            name: a[1].s().to_string(),
+            target: a[2].i(),
+            on,
+        },
+    )?;
+    Ok(Val::I(0))
+}

@@ -1,0 +1,546 @@
+//! Measuring (SideFX's "Measuring" and intrinsics functions): bounding
+//! boxes, primitive intrinsics (`measuredarea`, `closed`...), the closest
+//! point on a surface (`xyzdist`), ray hits (`intersect`), and attribute
+//! values at a primitive's parametric coordinates (`primuv`).
+//!
+//! Parametric coordinates follow Houdini's "Primitive parametric spaces":
+//! a triangle is `P0 (1-u-v) + P1 u + P2 v`; a quad the bilinear patch
+//! `P0 (1-u)(1-v) + P1 (1-u) v + P2 u v + P3 u (1-v)`; an n-gon a fan
+//! around its vertices' average where each edge spans `1/n` of u and v
+//! runs from the centre (0) to the boundary (1); a polyline has u uniform
+//! per segment. The surface searched is triangles in a hierarchy built
+//! once per input (quads split on 0-2, polylines as segments); a
+//! non-planar quad answers on those triangles, its (u, v) fitted on the
+//! patch.
+
+use std::any::Any;
+use std::sync::Arc;
+
+use geode_geo::glam::Vec3;
+use geode_geo::ops::TriangleBvh;
+use geode_geo::{AttribClass, Geometry, PrimKind};
+
+use super::{a, form, lane, out, Category, Function, Ret, F, I, S, V};
+use crate::program::{Lane, Stop};
+use crate::ty::{Elem, Ty};
+use crate::value::read_attrib;
+use crate::value::Val;
+
+const C: Category = Category::Measuring;
+const VEC: Ret = Ret::Is(Ty::Vec3);
+
+#[rustfmt::skip]
+pub const FUNCTIONS: &[Function] = &[
+    lane("getbbox", C, "The bounding box of input geo's points (of a primitive group's points when one is named) into min and max.", &[
+        form(Ret::Is(Ty::Void), &[a(I, "geo"), out(V, "min"), out(V, "max")], getbbox),
+        form(Ret::Is(Ty::Void), &[a(I, "geo"), a(S, "primgroup"), out(V, "min"), out(V, "max")], getbbox),
+    ]),
+    lane("getbbox_min", C, "The smallest corner of input geo's bounding box.", &[
+        form(VEC, &[a(I, "geo"), a(S, "primgroup")], |l, a| corner(l, a, Corner::Min)).opt(1),
+    ]),
+    lane("getbbox_max", C, "The largest corner of input geo's bounding box.", &[
+        form(VEC, &[a(I, "geo"), a(S, "primgroup")], |l, a| corner(l, a, Corner::Max)).opt(1),
+    ]),
+    lane("getbbox_size", C, "The size of input geo's bounding box.", &[
+        form(VEC, &[a(I, "geo"), a(S, "primgroup")], |l, a| corner(l, a, Corner::Size)).opt(1),
+    ]),
+    lane("getbbox_center", C, "The centre of input geo's bounding box.", &[
+        form(VEC, &[a(I, "geo"), a(S, "primgroup")], |l, a| corner(l, a, Corner::Center)).opt(1),
+    ]),
+    lane("relbbox", C, "A position relative to input geo's bounding box: 0 at the smallest corner, 1 at the largest (0.5 on a flat axis).", &[
+        form(VEC, &[a(I, "geo"), a(V, "pos")], relbbox),
+    ]),
+    lane("relpointbbox", C, "A position relative to the bounding box of input geo's points.", &[
+        form(VEC, &[a(I, "geo"), a(V, "pos")], relbbox),
+    ]),
+    lane("primintrinsic", C, "A primitive intrinsic: measuredarea, measuredperimeter, closed, typename, typeid, pointcount, vertexcount, bounds.", &[
+        form(Ret::Intrinsic, &[a(I, "geo"), a(S, "intrinsic"), a(I, "primnum")], primintrinsic),
+    ]),
+    lane("detailintrinsic", C, "A detail intrinsic: pointcount, primitivecount, vertexcount, bounds.", &[
+        form(Ret::Intrinsic, &[a(I, "geo"), a(S, "intrinsic")], detailintrinsic),
+    ]),
+    lane("xyzdist", C, "The distance from pos to the closest point of input geo's surface (within maxdist); its primitive and parametric uv into prim and uv (-1 if none).", &[
+        form(Ret::Is(Ty::Float), &[a(I, "geo"), a(V, "pos"), out(I, "prim"), out(V, "uv"), a(F, "maxdist")], xyzdist).opt(3),
+    ]),
+    lane("primuv", C, "An attribute's value at a primitive's parametric uv, interpolated from its vertices or points.", &[
+        form(Ret::Attrib(AttribClass::Point), &[a(I, "geo"), a(S, "attrib"), a(I, "primnum"), a(V, "uv")], primuv),
+    ]),
+    lane("prim_normal", C, "The normal of a polygon (its area-weighted Newell normal).", &[
+        form(VEC, &[a(I, "geo"), a(I, "primnum"), a(V, "uv")], prim_normal).opt(1),
+    ]),
+    lane("intersect", C, "The first primitive the ray from orig along dir (its length the reach) hits; the hit position and parametric uv into pos and uvw (-1 if none).", &[
+        form(Ret::Is(Ty::Int), &[a(I, "geo"), a(V, "orig"), a(V, "dir"), out(V, "pos"), out(V, "uvw")], intersect),
+    ]),
+];
+
+/// The type of an intrinsic by name, for calls whose name is a literal.
+pub fn intrinsic_type(name: &str) -> Option<Ty> {
+    Some(match name {
+        "measuredarea" | "measuredperimeter" | "measuredvolume" => Ty::Float,
+        "closed" | "pointcount" | "vertexcount" | "primitivecount" | "typeid" => Ty::Int,
+        "typename" => Ty::Str,
+        "bounds" => Ty::Array(Elem::Float),
+        _ => return None,
+    })
+}
+
+/// Input `geo`'s points, or the points of the primitives a group pattern
+/// names.
+fn bounds(g: &Geometry, group: Option<&str>) -> Option<(Vec3, Vec3)> {
+    let mut lo = Vec3::INFINITY;
+    let mut hi = Vec3::NEG_INFINITY;
+    let mut add = |p: Vec3| {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    };
+    match group.filter(|s| !s.is_empty()) {
+        Some(pattern) => {
+            for prim in super::geometry::expand_pattern(g, AttribClass::Primitive, pattern) {
+                for &p in g.prim_points(prim as usize) {
+                    add(g.positions()[p as usize]);
+                }
+            }
+        }
+        None => g.positions().iter().for_each(|&p| add(p)),
+    }
+    (lo.x <= hi.x).then_some((lo, hi))
+}
+
+fn getbbox(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let group = (a.len() == 4).then(|| a[1].s().to_string());
+    let (lo, hi) = l
+        .host
+        .input(a[0].i())
+        .and_then(|g| bounds(g, group.as_deref()))
+        .unwrap_or((Vec3::ZERO, Vec3::ZERO));
+    let n = a.len();
+    a[n - 2] = Val::vec(&lo.to_array());
+    a[n - 1] = Val::vec(&hi.to_array());
+    Ok(Val::I(0))
+}
+
+#[derive(Clone, Copy)]
+enum Corner {
+    Min,
+    Max,
+    Size,
+    Center,
+}
+
+fn corner(l: &mut Lane, a: &mut [Val], which: Corner) -> Result<Val, Stop> {
+    let (lo, hi) = l
+        .host
+        .input(a[0].i())
+        .and_then(|g| bounds(g, a.get(1).map(Val::s)))
+        .unwrap_or((Vec3::ZERO, Vec3::ZERO));
+    let v = match which {
+        Corner::Min => lo,
+        Corner::Max => hi,
+        Corner::Size => hi - lo,
+        Corner::Center => (lo + hi) * 0.5,
+    };
+    Ok(Val::vec(&v.to_array()))
+}
+
+fn relbbox(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let p = Vec3::from_array(a[1].v3());
+    let Some((lo, hi)) = l.host.input(a[0].i()).and_then(|g| bounds(g, None)) else {
+        return Ok(Val::vec(&[0.0; 3]));
+    };
+    let size = hi - lo;
+    let r = Vec3::select(size.cmpgt(Vec3::ZERO), (p - lo) / size, Vec3::splat(0.5));
+    Ok(Val::vec(&r.to_array()))
+}
+
+/// The polygon's corners, in vertex order.
+fn corners(g: &Geometry, prim: usize) -> Vec<Vec3> {
+    g.prim_points(prim)
+        .iter()
+        .map(|&p| g.positions()[p as usize])
+        .collect()
+}
+
+/// Twice the area vector of a closed polygon (Newell).
+fn newell(c: &[Vec3]) -> Vec3 {
+    let mut n = Vec3::ZERO;
+    for (i, p) in c.iter().enumerate() {
+        let q = c[(i + 1) % c.len()];
+        n += p.cross(q);
+    }
+    n
+}
+
+fn is_closed(g: &Geometry, prim: usize) -> bool {
+    g.prim_kind(prim) == PrimKind::Polygon
+}
+
+fn primintrinsic(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let Some(g) = l.host.input(a[0].i()) else {
+        return Ok(super::support::empty_like(l.out));
+    };
+    let Some(prim) = usize::try_from(a[2].i())
+        .ok()
+        .filter(|&p| p < g.num_prims())
+    else {
+        return Ok(super::support::empty_like(l.out));
+    };
+    let c = corners(g, prim);
+    let closed = is_closed(g, prim);
+    Ok(match a[1].s() {
+        "measuredarea" => Val::float(if closed && c.len() >= 3 {
+            newell(&c).length() * 0.5
+        } else {
+            0.0
+        }),
+        "measuredperimeter" => {
+            let open: f32 = c.windows(2).map(|w| w[0].distance(w[1])).sum();
+            let wrap = if closed && c.len() > 2 {
+                c[c.len() - 1].distance(c[0])
+            } else {
+                0.0
+            };
+            Val::float(open + wrap)
+        }
+        "measuredvolume" => Val::float(0.0),
+        "closed" => Val::I(i32::from(closed)),
+        "typename" => Val::S(
+            match g.prim_kind(prim) {
+                PrimKind::Polygon | PrimKind::Polyline => "Poly",
+                _ => "PackedGeometry",
+            }
+            .into(),
+        ),
+        "typeid" => Val::I(match g.prim_kind(prim) {
+            PrimKind::Polygon | PrimKind::Polyline => 1,
+            _ => 0,
+        }),
+        "pointcount" | "vertexcount" => Val::I(c.len() as i32),
+        "bounds" => {
+            let (lo, hi) = c.iter().fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+            Val::AF(vec![lo.x, hi.x, lo.y, hi.y, lo.z, hi.z], 1)
+        }
+        other => {
+            return Err(Stop::Msg(format!(
+                "primintrinsic: unknown intrinsic \"{other}\": expected measuredarea, measuredperimeter, closed, typename, typeid, pointcount, vertexcount or bounds"
+            )))
+        }
+    })
+}
+
+fn detailintrinsic(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let Some(g) = l.host.input(a[0].i()) else {
+        return Ok(super::support::empty_like(l.out));
+    };
+    Ok(match a[1].s() {
+        "pointcount" => Val::I(g.num_points() as i32),
+        "primitivecount" => Val::I(g.num_prims() as i32),
+        "vertexcount" => Val::I(g.num_vertices() as i32),
+        "bounds" => {
+            let (lo, hi) = bounds(g, None).unwrap_or((Vec3::ZERO, Vec3::ZERO));
+            Val::AF(vec![lo.x, hi.x, lo.y, hi.y, lo.z, hi.z], 1)
+        }
+        other => {
+            return Err(Stop::Msg(format!(
+                "detailintrinsic: unknown intrinsic \"{other}\": expected pointcount, primitivecount, vertexcount or bounds"
+            )))
+        }
+    })
+}
+
+/// What a triangle of the searched surface is part of.
+#[derive(Clone, Copy, Debug)]
+enum Piece {
+    Triangle,
+    /// Quad triangle (0, 1, 2) or (0, 2, 3).
+    QuadFirst,
+    QuadSecond,
+    /// n-gon: the fan triangle (centre, k, k + 1) of `sides` edges.
+    Sector {
+        k: u32,
+        sides: u32,
+    },
+    /// Polyline segment k of `segments`, as the triangle (k, k+1, k+1).
+    Segment {
+        k: u32,
+        segments: u32,
+    },
+}
+
+/// Input geometry's primitives as triangles in a hierarchy.
+struct Surface {
+    bvh: TriangleBvh,
+    owner: Vec<(u32, Piece)>,
+}
+
+fn surface_of(g: &Geometry) -> Arc<dyn Any + Send + Sync> {
+    let mut positions: Vec<Vec3> = g.positions().to_vec();
+    let mut tris: Vec<[u32; 3]> = Vec::new();
+    let mut owner = Vec::new();
+    for prim in 0..g.num_prims() {
+        let pts = g.prim_points(prim);
+        let p = prim as u32;
+        match (g.prim_kind(prim), pts.len()) {
+            (PrimKind::Polygon, 3) => {
+                tris.push([pts[0], pts[1], pts[2]]);
+                owner.push((p, Piece::Triangle));
+            }
+            (PrimKind::Polygon, 4) => {
+                tris.push([pts[0], pts[1], pts[2]]);
+                owner.push((p, Piece::QuadFirst));
+                tris.push([pts[0], pts[2], pts[3]]);
+                owner.push((p, Piece::QuadSecond));
+            }
+            (PrimKind::Polygon, n) if n > 4 => {
+                let centre = pts.iter().map(|&i| positions[i as usize]).sum::<Vec3>() / n as f32;
+                let c = positions.len() as u32;
+                positions.push(centre);
+                for k in 0..n {
+                    tris.push([c, pts[k], pts[(k + 1) % n]]);
+                    owner.push((
+                        p,
+                        Piece::Sector {
+                            k: k as u32,
+                            sides: n as u32,
+                        },
+                    ));
+                }
+            }
+            (PrimKind::Polyline, n) if n >= 2 => {
+                for k in 0..n - 1 {
+                    tris.push([pts[k], pts[k + 1], pts[k + 1]]);
+                    owner.push((
+                        p,
+                        Piece::Segment {
+                            k: k as u32,
+                            segments: (n - 1) as u32,
+                        },
+                    ));
+                }
+            }
+            _ => {}
+        }
+    }
+    Arc::new(Surface {
+        bvh: TriangleBvh::new(&positions, &tris),
+        owner,
+    })
+}
+
+fn surface(l: &Lane, geo: i32) -> Option<Arc<Surface>> {
+    l.host
+        .cached(geo, "surface", &surface_of)
+        .and_then(|s| s.downcast::<Surface>().ok())
+}
+
+/// The bilinear patch's point at (u, v).
+fn bilinear(c: &[Vec3], u: f32, v: f32) -> Vec3 {
+    c[0] * (1.0 - u) * (1.0 - v) + c[1] * (1.0 - u) * v + c[2] * u * v + c[3] * u * (1.0 - v)
+}
+
+/// The (u, v) of a quad's patch nearest `p`, by Gauss-Newton from a guess.
+fn invert_bilinear(c: &[Vec3], p: Vec3, mut u: f32, mut v: f32) -> (f32, f32) {
+    for _ in 0..8 {
+        let r = bilinear(c, u, v) - p;
+        let du = (c[3] - c[0]) * (1.0 - v) + (c[2] - c[1]) * v;
+        let dv = (c[1] - c[0]) * (1.0 - u) + (c[2] - c[3]) * u;
+        let (a, b, d) = (du.dot(du), du.dot(dv), dv.dot(dv));
+        let det = a * d - b * b;
+        if det.abs() < 1e-20 {
+            break;
+        }
+        let (gu, gv) = (du.dot(r), dv.dot(r));
+        u -= (d * gu - b * gv) / det;
+        v -= (a * gv - b * gu) / det;
+    }
+    (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))
+}
+
+/// The primitive's parametric (u, v) of a point found on its piece, from
+/// the piece triangle's barycentric weights of corners 1 and 2.
+fn prim_uv(g: &Geometry, prim: u32, piece: Piece, point: Vec3, b1: f32, b2: f32) -> (f32, f32) {
+    match piece {
+        Piece::Triangle => (b1, b2),
+        Piece::QuadFirst | Piece::QuadSecond => {
+            // On triangle (0,1,2) the guess from its weights: vertex 1 is
+            // (0,1) and 2 is (1,1); on (0,2,3): 2 is (1,1) and 3 is (1,0).
+            let (u, v) = match piece {
+                Piece::QuadFirst => (b2, b1 + b2),
+                _ => (b1 + b2, b1),
+            };
+            invert_bilinear(&corners(g, prim as usize), point, u, v)
+        }
+        Piece::Sector { k, sides } => {
+            let rim = b1 + b2;
+            let t = if rim > 0.0 { b2 / rim } else { 0.0 };
+            ((k as f32 + t) / sides as f32, rim)
+        }
+        Piece::Segment { k, segments } => {
+            // The segment triangle's corners 1 and 2 are both its end.
+            let t = b1 + b2;
+            ((k as f32 + t) / segments as f32, 0.0)
+        }
+    }
+}
+
+fn xyzdist(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let max = a.get(4).map_or(f32::INFINITY, |m| {
+        if m.f() < 0.0 {
+            f32::INFINITY
+        } else {
+            m.f()
+        }
+    });
+    let q = Vec3::from_array(a[1].v3());
+    let (Some(g), Some(s)) = (l.host.input(a[0].i()), surface(l, a[0].i())) else {
+        set_out(a, 2, Val::I(-1));
+        return Ok(Val::float(-1.0));
+    };
+    let Some(hit) = s.bvh.closest(q, max) else {
+        set_out(a, 2, Val::I(-1));
+        return Ok(Val::float(-1.0));
+    };
+    let (prim, piece) = s.owner[hit.triangle as usize];
+    let (u, v) = prim_uv(g, prim, piece, hit.point, hit.u, hit.v);
+    set_out(a, 2, Val::I(prim as i32));
+    set_out(a, 3, Val::vec(&[u, v, 0.0]));
+    Ok(Val::float(hit.dist2.sqrt()))
+}
+
+/// Writes an output argument the call was given.
+fn set_out(a: &mut [Val], k: usize, v: Val) {
+    if let Some(slot) = a.get_mut(k) {
+        *slot = v;
+    }
+}
+
+/// The weights of a primitive's vertices at (u, v); `None` outside the
+/// shapes parametrised.
+fn weights(g: &Geometry, prim: usize, u: f32, v: f32) -> Option<Vec<f32>> {
+    let n = g.prim_vertex_range(prim).len();
+    Some(match (g.prim_kind(prim), n) {
+        (_, 1) => vec![1.0],
+        (PrimKind::Polygon, 3) => vec![1.0 - u - v, u, v],
+        (PrimKind::Polygon, 4) => vec![(1.0 - u) * (1.0 - v), (1.0 - u) * v, u * v, u * (1.0 - v)],
+        (PrimKind::Polygon, n) if n > 4 => {
+            // Centre (the average) times (1 - v), the rim point times v.
+            let x = u.clamp(0.0, 1.0) * n as f32;
+            let k = (x.floor() as usize).min(n - 1);
+            let t = x - k as f32;
+            let mut w = vec![(1.0 - v) / n as f32; n];
+            w[k] += v * (1.0 - t);
+            w[(k + 1) % n] += v * t;
+            w
+        }
+        (PrimKind::Polyline, n) if n >= 2 => {
+            let x = u.clamp(0.0, 1.0) * (n - 1) as f32;
+            let k = (x.floor() as usize).min(n - 2);
+            let t = x - k as f32;
+            let mut w = vec![0.0; n];
+            w[k] = 1.0 - t;
+            w[k + 1] = t;
+            w
+        }
+        _ => return None,
+    })
+}
+
+fn primuv(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let zero = || super::support::empty_like(l.out);
+    let Some(g) = l.host.input(a[0].i()) else {
+        return Ok(zero());
+    };
+    let Some(prim) = usize::try_from(a[2].i())
+        .ok()
+        .filter(|&p| p < g.num_prims())
+    else {
+        return Ok(zero());
+    };
+    let name = a[1].s();
+    let uv = a[3].v3();
+    let range = g.prim_vertex_range(prim);
+    // Point or vertex values at each vertex; a primitive or detail value
+    // is the same everywhere.
+    let values: Vec<Val> = if name == "P" || g.attrib(AttribClass::Point, name).is_some() {
+        g.prim_points(prim)
+            .iter()
+            .filter_map(|&p| read_attrib(g, AttribClass::Point, name, p as i32))
+            .collect()
+    } else if g.attrib(AttribClass::Vertex, name).is_some() {
+        range
+            .clone()
+            .filter_map(|v| read_attrib(g, AttribClass::Vertex, name, v as i32))
+            .collect()
+    } else {
+        let whole = read_attrib(g, AttribClass::Primitive, name, prim as i32)
+            .or_else(|| read_attrib(g, AttribClass::Detail, name, 0));
+        return Ok(whole.unwrap_or_else(zero));
+    };
+    let Some(w) = weights(g, prim, uv[0], uv[1]) else {
+        return Ok(zero());
+    };
+    if values.len() != w.len() {
+        return Ok(zero());
+    }
+    let width = values
+        .iter()
+        .map(|v| v.floats().len().max(1))
+        .max()
+        .unwrap_or(1);
+    let mut acc = vec![0.0f32; width];
+    for (v, wk) in values.iter().zip(&w) {
+        let f: Vec<f32> = match v {
+            Val::I(i) => vec![*i as f32],
+            v => v.floats().to_vec(),
+        };
+        for (s, x) in acc.iter_mut().zip(f) {
+            *s += wk * x;
+        }
+    }
+    Ok(match values[0] {
+        Val::I(_) => Val::I(acc[0].round() as i32),
+        _ => Val::vec(&acc),
+    })
+}
+
+fn prim_normal(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let n = l
+        .host
+        .input(a[0].i())
+        .and_then(|g| {
+            usize::try_from(a[1].i())
+                .ok()
+                .filter(|&p| p < g.num_prims())
+                .map(|p| newell(&corners(g, p)).normalize_or_zero())
+        })
+        .unwrap_or(Vec3::ZERO);
+    Ok(Val::vec(&n.to_array()))
+}
+
+fn intersect(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let (origin, dir) = (Vec3::from_array(a[1].v3()), Vec3::from_array(a[2].v3()));
+    let miss = |a: &mut [Val]| {
+        a[3] = Val::vec(&[0.0; 3]);
+        a[4] = Val::vec(&[0.0; 3]);
+        Ok(Val::I(-1))
+    };
+    let (Some(g), Some(s)) = (l.host.input(a[0].i()), surface(l, a[0].i())) else {
+        return miss(a);
+    };
+    let Some(hit) = s.bvh.first_hit(origin, dir, 0.0, 1.0, |_| false) else {
+        return miss(a);
+    };
+    let point = origin + dir * hit.t;
+    let (prim, piece) = s.owner[hit.triangle as usize];
+    // The hit triangle's weights, from the closest point at the hit.
+    let on = s
+        .bvh
+        .closest(point, f32::INFINITY)
+        .filter(|c| c.triangle == hit.triangle)
+        .map_or((0.0, 0.0), |c| (c.u, c.v));
+    let (u, v) = prim_uv(g, prim, piece, point, on.0, on.1);
+    a[3] = Val::vec(&point.to_array());
+    a[4] = Val::vec(&[u, v, 0.0]);
+    Ok(Val::I(prim as i32))
+}

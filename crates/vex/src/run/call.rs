@@ -1,0 +1,283 @@
+//! Running a call site over a batch: each selected lane's arguments are
+//! read from (or, for strings and arrays used once, moved out of) their
+//! registers, the form's lane function runs, outputs and moved arguments go
+//! back, and the result is written. Strings and arrays are reserved against
+//! the run's memory budget before they are copied or made.
+
+use super::exec::Frame;
+use super::world::{LaneHost, World};
+use crate::error::RunError;
+use crate::ir::{Loc, LANES};
+use crate::program::{CallSite, Lane, Program, Stop};
+use crate::ty::{Elem, Ty};
+use crate::value::{HeapBytes, Val};
+
+/// Lane `l` of the value at `loc`.
+pub fn read(fr: &Frame, loc: Loc, l: usize) -> Val {
+    let r = loc.reg as usize;
+    match loc.ty {
+        Ty::Int => Val::I(fr.i[r * LANES + l]),
+        Ty::Str => Val::S(fr.s[r * LANES + l].clone()),
+        Ty::Array(e) => match e {
+            Elem::Int => Val::AI(fr.ai[r * LANES + l].clone()),
+            Elem::Str => Val::AS(fr.as_[r * LANES + l].clone()),
+            _ => Val::AF(fr.af[r * LANES + l].clone(), e.ty().floats() as u8),
+        },
+        Ty::Void => Val::I(0),
+        t => {
+            let mut a = [0.0; 16];
+            for (k, x) in a.iter_mut().enumerate().take(t.floats()) {
+                *x = fr.f[(r + k) * LANES + l];
+            }
+            Val::F(a, t.floats() as u8)
+        }
+    }
+}
+
+/// Lane `l` of the value at `loc`, moved out where it is a string or an
+/// array (the register is left empty).
+pub fn take(fr: &mut Frame, loc: Loc, l: usize) -> Val {
+    let k = loc.reg as usize * LANES + l;
+    match loc.ty {
+        Ty::Str => Val::S(std::mem::take(&mut fr.s[k])),
+        Ty::Array(Elem::Int) => Val::AI(std::mem::take(&mut fr.ai[k])),
+        Ty::Array(Elem::Str) => Val::AS(std::mem::take(&mut fr.as_[k])),
+        Ty::Array(e) => Val::AF(std::mem::take(&mut fr.af[k]), e.ty().floats() as u8),
+        _ => read(fr, loc, l),
+    }
+}
+
+/// Stores `v` in lane `l` of `loc`, converting int and float as VEX does.
+pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
+    let r = loc.reg as usize;
+    match (loc.ty, v) {
+        (Ty::Void, _) => {}
+        (Ty::Int, v) => fr.i[r * LANES + l] = v.i(),
+        (Ty::Str, Val::S(s)) => fr.s[r * LANES + l] = s,
+        (Ty::Str, _) => fr.s[r * LANES + l].clear(),
+        (Ty::Array(Elem::Int), Val::AI(a)) => fr.ai[r * LANES + l] = a,
+        (Ty::Array(Elem::Str), Val::AS(a)) => fr.as_[r * LANES + l] = a,
+        (Ty::Array(_), Val::AF(a, _)) => fr.af[r * LANES + l] = a,
+        (Ty::Array(Elem::Int), _) => fr.ai[r * LANES + l].clear(),
+        (Ty::Array(Elem::Str), _) => fr.as_[r * LANES + l].clear(),
+        (Ty::Array(_), _) => fr.af[r * LANES + l].clear(),
+        (t, v) => {
+            let n = t.floats();
+            match v {
+                Val::F(a, m) if m as usize >= n => {
+                    for (k, x) in a.iter().enumerate().take(n) {
+                        fr.f[(r + k) * LANES + l] = *x;
+                    }
+                }
+                Val::F(a, 1) => {
+                    for k in 0..n {
+                        fr.f[(r + k) * LANES + l] = a[0];
+                    }
+                }
+                Val::F(a, m) => {
+                    for (k, x) in a.iter().enumerate().take(n) {
+                        fr.f[(r + k) * LANES + l] = if k < m as usize { *x } else { 0.0 };
+                    }
+                }
+                other => {
+                    let x = other.f();
+                    for k in 0..n {
+                        fr.f[(r + k) * LANES + l] = x;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// How a call reads each argument for a lane.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum ArgMode {
+    /// A literal, read once for every lane.
+    Const,
+    /// Copied out of its register (numbers, or a register another argument
+    /// also reads).
+    Copy,
+    /// Moved out of its register and back after the call: a string or an
+    /// array used once, or an output.
+    Move,
+}
+
+fn modes(site: &CallSite) -> Vec<ArgMode> {
+    let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
+    site.args
+        .iter()
+        .enumerate()
+        .map(|(k, a)| {
+            if site.consts[k].is_some() {
+                return ArgMode::Const;
+            }
+            let shared = site
+                .args
+                .iter()
+                .enumerate()
+                .any(|(j, b)| j != k && b.reg == a.reg && b.ty == a.ty);
+            if site.outs[k] || (heap(a.ty) && !shared) {
+                ArgMode::Move
+            } else {
+                ArgMode::Copy
+            }
+        })
+        .collect()
+}
+
+/// Runs one call over the lanes its mask selects.
+pub fn call(
+    _p: &Program,
+    site: &CallSite,
+    fr: &mut Frame,
+    world: &mut World,
+) -> Result<(), RunError> {
+    let modes = modes(site);
+    let mut args: Vec<Val> = site
+        .consts
+        .iter()
+        .map(|c| c.clone().unwrap_or(Val::I(0)))
+        .collect();
+    for l in 0..fr.n {
+        if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {
+            continue;
+        }
+        if site.counted {
+            // A call can be slow (a point cloud query of a million
+            // results): each lane's asks whether to stop.
+            if (world.cancel)() {
+                return Err(RunError::Cancelled);
+            }
+            let copied: u64 = site
+                .args
+                .iter()
+                .zip(&modes)
+                .filter(|(_, m)| **m == ArgMode::Copy)
+                .map(|(a, _)| held_at(fr, *a, l))
+                .sum();
+            reserve(
+                site,
+                fr,
+                world,
+                l,
+                &|| format!("copying the arguments of {}", site.name),
+                copied,
+            )?;
+        }
+        // Copies first: a register an output also names is read before
+        // the output moves it.
+        for (k, a) in site.args.iter().enumerate() {
+            if modes[k] == ArgMode::Copy {
+                args[k] = read(fr, *a, l);
+            }
+        }
+        let mut before = 0u64;
+        for (k, a) in site.args.iter().enumerate() {
+            if modes[k] == ArgMode::Move {
+                before += held_at(fr, *a, l);
+                args[k] = take(fr, *a, l);
+            }
+        }
+        let result = run_lane(site, &mut args, fr, world, l);
+        // Moved arguments go back whatever happened, so an error leaves
+        // the registers as they were.
+        let mut after = 0u64;
+        for (k, a) in site.args.iter().enumerate() {
+            if modes[k] == ArgMode::Move {
+                write(fr, *a, l, std::mem::replace(&mut args[k], Val::I(0)));
+                after += held_at(fr, *a, l);
+            }
+        }
+        let out = result?;
+        if site.counted {
+            super::budget::charge_write(&world.shared.budget, fr, before, after);
+            let before = held_at(fr, site.out, l);
+            write(fr, site.out, l, out);
+            let after = held_at(fr, site.out, l);
+            super::budget::charge_write(&world.shared.budget, fr, before, after);
+        } else {
+            write(fr, site.out, l, out);
+        }
+    }
+    Ok(())
+}
+
+/// The lane function of lane `l`, after its predicted result is reserved.
+fn run_lane(
+    site: &CallSite,
+    args: &mut [Val],
+    fr: &mut Frame,
+    world: &mut World,
+    l: usize,
+) -> Result<Val, RunError> {
+    if let Some(bytes) = site.bytes {
+        let predicted = {
+            let host = LaneHost {
+                world: &mut *world,
+                lane: l,
+            };
+            bytes(args, &host)
+        };
+        if let Some((request, bytes)) = predicted {
+            reserve(site, fr, world, l, &|| request.to_string(), bytes)?;
+        }
+    }
+    let elem = world.elem_of(l);
+    let mut host = LaneHost { world, lane: l };
+    let mut lane = Lane {
+        host: &mut host,
+        out: site.out.ty,
+    };
+    (site.lane)(&mut lane, args).map_err(|stop| match stop {
+        Stop::Msg(msg) => RunError::At {
+            elem,
+            pos: site.pos,
+            msg,
+        },
+        Stop::OverBudget(msg) => RunError::OverBudget {
+            elem,
+            pos: site.pos,
+            msg,
+        },
+        Stop::Cancelled => RunError::Cancelled,
+    })
+}
+
+/// Refuses `bytes` more for lane `l` unless they fit the budget once this
+/// frame's own account is brought up to date.
+fn reserve(
+    site: &CallSite,
+    fr: &mut Frame,
+    world: &World,
+    l: usize,
+    what: &dyn Fn() -> String,
+    bytes: u64,
+) -> Result<(), RunError> {
+    /// Requests from here on also poll cancellation: making them is slow.
+    const LARGE: u64 = 1 << 20;
+    if bytes >= LARGE && (world.cancel)() {
+        return Err(RunError::Cancelled);
+    }
+    let budget = &world.shared.budget;
+    if super::budget::reserve(budget, fr, bytes) {
+        return Ok(());
+    }
+    Err(RunError::OverBudget {
+        elem: world.elem_of(l),
+        pos: site.pos,
+        msg: budget.refusal(&what(), bytes),
+    })
+}
+
+/// Bytes lane `l` of `loc` holds on the heap (strings and arrays).
+fn held_at(fr: &Frame, loc: Loc, l: usize) -> u64 {
+    let k = loc.reg as usize * LANES + l;
+    match loc.ty {
+        Ty::Str => fr.s[k].heap_bytes(),
+        Ty::Array(Elem::Int) => fr.ai[k].heap_bytes(),
+        Ty::Array(Elem::Str) => fr.as_[k].heap_bytes(),
+        Ty::Array(_) => fr.af[k].heap_bytes(),
+        _ => 0,
+    }
+}

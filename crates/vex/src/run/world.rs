@@ -1,0 +1,256 @@
+//! What the library sees of the geometry while a batch runs: the inputs'
+//! snapshots, indexes built once per input (topology, k-d tree), and the
+//! effects the batch queues (writes to other elements, new and removed
+//! geometry) to be applied after every element ran.
+
+use std::any::Any;
+use std::sync::{Arc, OnceLock};
+
+use geode_geo::{Geometry, Topology};
+
+use super::budget::Budget;
+use crate::effect::{Effect, EffectKind};
+use crate::kdtree::KdTree;
+use crate::program::{Host, PointQuery};
+
+/// A k-d tree over one point group and the point numbers of its members.
+type GroupTree = (KdTree, Vec<u32>);
+
+/// An index over an input: (input, key, index).
+type Cached = (usize, &'static str, Arc<dyn Any + Send + Sync>);
+
+/// Per-run data shared by every batch.
+pub struct Shared<'a> {
+    pub inputs: Vec<Option<&'a Geometry>>,
+    topo: Vec<OnceLock<Arc<Topology>>>,
+    trees: Vec<OnceLock<KdTree>>,
+    /// Trees over one point group of an input, made on first use.
+    group_trees: std::sync::Mutex<Vec<(usize, String, Arc<GroupTree>)>>,
+    /// Indexes the library builds over an input once per run (by input
+    /// and key).
+    caches: std::sync::Mutex<Vec<Cached>>,
+    /// The run's memory account.
+    pub budget: Budget,
+}
+
+impl<'a> Shared<'a> {
+    pub fn new(inputs: Vec<Option<&'a Geometry>>, memory_budget: u64) -> Shared<'a> {
+        let n = inputs.len();
+        Shared {
+            inputs,
+            topo: (0..n).map(|_| OnceLock::new()).collect(),
+            trees: (0..n).map(|_| OnceLock::new()).collect(),
+            group_trees: std::sync::Mutex::new(Vec::new()),
+            caches: std::sync::Mutex::new(Vec::new()),
+            budget: Budget::new(memory_budget),
+        }
+    }
+}
+
+/// One batch's view: the shared inputs and its queued effects.
+pub struct World<'s, 'a> {
+    pub shared: &'s Shared<'a>,
+    pub cancel: &'s (dyn Fn() -> bool + Sync),
+    /// Element number of each lane.
+    pub elems: Vec<u32>,
+    pub effects: Vec<Effect>,
+    seq: u32,
+    new_points: i32,
+    new_prims: i32,
+    /// Bytes of effects queued since the budget was last charged.
+    uncharged: u64,
+    /// Point cloud queries opened in this batch, by handle.
+    queries: Vec<PointQuery>,
+}
+
+impl<'s, 'a> World<'s, 'a> {
+    pub fn new(shared: &'s Shared<'a>, cancel: &'s (dyn Fn() -> bool + Sync)) -> World<'s, 'a> {
+        World {
+            shared,
+            cancel,
+            elems: Vec::new(),
+            effects: Vec::new(),
+            seq: 0,
+            new_points: 0,
+            new_prims: 0,
+            uncharged: 0,
+            queries: Vec::new(),
+        }
+    }
+
+    pub fn elem_of(&self, lane: usize) -> u32 {
+        self.elems.get(lane).copied().unwrap_or(0)
+    }
+
+    pub fn input(&self, i: i32) -> Option<&'a Geometry> {
+        usize::try_from(i)
+            .ok()
+            .and_then(|i| self.shared.inputs.get(i).copied().flatten())
+    }
+
+    /// Input `i`'s topology, built on first use.
+    pub fn topology(&self, i: i32) -> Option<&Arc<Topology>> {
+        let g = self.input(i)?;
+        Some(self.shared.topo[i as usize].get_or_init(|| g.topology()))
+    }
+
+    /// Up to `count` points of input `i` (of point group `group` unless it
+    /// is empty) within `radius` of `q`, nearest first.
+    pub fn nearest(&self, i: i32, group: &str, q: [f32; 3], radius: f32, count: usize) -> Vec<u32> {
+        let Some(g) = self.input(i) else {
+            return Vec::new();
+        };
+        let i = i as usize;
+        if group.is_empty() {
+            let tree = self.shared.trees[i]
+                .get_or_init(|| KdTree::new(g.positions().iter().map(|p| p.to_array()).collect()));
+            return tree.nearest(q, radius, count);
+        }
+        let tree = {
+            let mut cache = self
+                .shared
+                .group_trees
+                .lock()
+                .unwrap_or_else(|p| p.into_inner());
+            match cache.iter().find(|(k, name, _)| *k == i && name == group) {
+                Some((_, _, t)) => Arc::clone(t),
+                None => {
+                    let members: Vec<u32> = match g.point_groups().get(group) {
+                        Some(grp) => (0..grp.len())
+                            .filter(|&p| grp.contains(p))
+                            .map(|p| p as u32)
+                            .collect(),
+                        None => Vec::new(),
+                    };
+                    let pts = members
+                        .iter()
+                        .map(|&p| g.positions()[p as usize].to_array())
+                        .collect();
+                    let t = Arc::new((KdTree::new(pts), members));
+                    cache.push((i, group.to_string(), Arc::clone(&t)));
+                    t
+                }
+            }
+        };
+        tree.0
+            .nearest(q, radius, count)
+            .into_iter()
+            .map(|k| tree.1[k as usize])
+            .collect()
+    }
+
+    /// Queues an effect of lane `lane`'s element, charged against the
+    /// budget (in steps of `CHARGE_STEP`, so threads seldom meet on the
+    /// shared account).
+    pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), String> {
+        const CHARGE_STEP: u64 = 1 << 16;
+        self.uncharged += std::mem::size_of::<Effect>() as u64 + kind.heap_bytes();
+        if self.uncharged >= CHARGE_STEP {
+            let bytes = std::mem::take(&mut self.uncharged);
+            let budget = &self.shared.budget;
+            if !budget.fits(bytes) {
+                return Err(budget.refusal(
+                    &format!("queueing {} more geometry changes", self.effects.len() + 1),
+                    bytes,
+                ));
+            }
+            budget.charge(bytes as i64);
+        }
+        self.seq += 1;
+        self.effects.push(Effect {
+            elem: self.elem_of(lane),
+            seq: self.seq,
+            kind,
+        });
+        Ok(())
+    }
+
+    /// A provisional number for a new point: past the input's points,
+    /// counted within this batch (resolved when the batch's effects apply).
+    pub fn new_point(&mut self) -> i32 {
+        self.new_points += 1;
+        self.input(0).map_or(0, |g| g.num_points() as i32) + self.new_points - 1
+    }
+
+    pub fn new_prim(&mut self) -> i32 {
+        self.new_prims += 1;
+        self.input(0).map_or(0, |g| g.num_prims() as i32) + self.new_prims - 1
+    }
+}
+
+/// One lane's view of its batch, as the library's lane functions see it.
+pub struct LaneHost<'w, 's, 'a> {
+    pub world: &'w mut World<'s, 'a>,
+    pub lane: usize,
+}
+
+impl Host for LaneHost<'_, '_, '_> {
+    fn input(&self, i: i32) -> Option<&Geometry> {
+        self.world.input(i)
+    }
+
+    fn topology(&self, i: i32) -> Option<Arc<Topology>> {
+        self.world.topology(i).map(Arc::clone)
+    }
+
+    fn nearest(&self, i: i32, group: &str, q: [f32; 3], radius: f32, count: usize) -> Vec<u32> {
+        self.world.nearest(i, group, q, radius, count)
+    }
+
+    fn queue(&mut self, kind: EffectKind) -> Result<(), String> {
+        self.world.queue(self.lane, kind)
+    }
+
+    fn new_point(&mut self) -> i32 {
+        self.world.new_point()
+    }
+
+    fn new_prim(&mut self) -> i32 {
+        self.world.new_prim()
+    }
+
+    fn cancelled(&self) -> bool {
+        (self.world.cancel)()
+    }
+
+    fn elem(&self) -> u32 {
+        self.world.elem_of(self.lane)
+    }
+
+    fn cached(
+        &self,
+        i: i32,
+        key: &'static str,
+        build: &dyn Fn(&Geometry) -> Arc<dyn Any + Send + Sync>,
+    ) -> Option<Arc<dyn Any + Send + Sync>> {
+        let g = self.world.input(i)?;
+        let i = i as usize;
+        let shared = self.world.shared;
+        {
+            let cache = shared.caches.lock().unwrap_or_else(|p| p.into_inner());
+            if let Some((_, _, v)) = cache.iter().find(|(k, n, _)| *k == i && *n == key) {
+                return Some(Arc::clone(v));
+            }
+        }
+        // Built outside the lock (other batches wait on nothing); a race
+        // builds twice and keeps the first.
+        let built = build(g);
+        let mut cache = shared.caches.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((_, _, v)) = cache.iter().find(|(k, n, _)| *k == i && *n == key) {
+            return Some(Arc::clone(v));
+        }
+        cache.push((i, key, Arc::clone(&built)));
+        Some(built)
+    }
+
+    fn open_query(&mut self, q: PointQuery) -> i32 {
+        self.world.queries.push(q);
+        self.world.queries.len() as i32 - 1
+    }
+
+    fn query(&mut self, handle: i32) -> Option<&mut PointQuery> {
+        usize::try_from(handle)
+            .ok()
+            .and_then(|h| self.world.queries.get_mut(h))
+    }
+}
