@@ -74,6 +74,12 @@ pub enum Source {
     PrimOfVertex,
     /// The point of the vertex (`@ptnum` over vertices).
     PointOfVertex,
+    /// Membership of the element in a group of input 0 (`@group_name`):
+    /// 1 or 0, and written back as the group.
+    Group(String),
+    /// The vertex count of the element's primitive (`@numvtx` over
+    /// primitives and vertices).
+    PrimVertexCount,
     /// A constant of the run (`@numpt`, `@Frame`, `-1` for numbers that do
     /// not apply).
     Const(f64),
@@ -89,7 +95,10 @@ pub struct Binding {
 
 impl Binding {
     pub fn writable(&self) -> bool {
-        matches!(self.source, Source::Attr { input: 0, .. })
+        matches!(
+            self.source,
+            Source::Attr { input: 0, .. } | Source::Group(_)
+        )
     }
 }
 

@@ -6,6 +6,11 @@ use crate::group::Group;
 /// Keeps the primitives whose flag is true; everything stays consistent
 /// (vertex and primitive attributes, groups, packed instances).
 fn keep_prims(g: &mut Geometry, keep: &[bool]) {
+    keep_where(g, keep, None);
+}
+
+/// Keeps the flagged primitives and, of those, the flagged vertices.
+fn keep_where(g: &mut Geometry, keep: &[bool], keep_vertex: Option<&[bool]>) {
     let mut vertex_keep: Vec<u32> = Vec::new();
     let mut prim_keep: Vec<u32> = Vec::new();
     let mut offsets = vec![0u32];
@@ -17,7 +22,11 @@ fn keep_prims(g: &mut Geometry, keep: &[bool]) {
             continue;
         }
         prim_keep.push(prim as u32);
-        vertex_keep.extend(g.prim_vertex_range(prim).map(|v| v as u32));
+        vertex_keep.extend(
+            g.prim_vertex_range(prim)
+                .filter(|&v| keep_vertex.is_none_or(|kv| kv[v]))
+                .map(|v| v as u32),
+        );
         offsets.push(vertex_keep.len() as u32);
         kinds.push(match g.prim_kinds[prim] {
             PrimKind::Packed(i) => {
@@ -55,6 +64,41 @@ pub fn delete_prims(g: &mut Geometry, group: &Group, delete_unused_points: bool)
     if delete_unused_points {
         compact_points(g);
     }
+}
+
+/// Removes the points in `group` and their vertices, as VEX's
+/// `removepoint` does: a primitive that loses vertices stays unless it is
+/// left with none or, when one of the points it lost is in `degenerate`,
+/// left degenerate (a polygon with fewer than 3 vertices, a polyline with
+/// fewer than 2); packed primitives and spline patches that lose their
+/// vertex go.
+pub fn remove_points(g: &mut Geometry, group: &Group, degenerate: &Group) {
+    let keep_vertex: Vec<bool> = g
+        .vertex_point
+        .iter()
+        .map(|&p| !group.contains(p as usize))
+        .collect();
+    let keep: Vec<bool> = (0..g.num_prims())
+        .map(|prim| {
+            let range = g.prim_vertex_range(prim);
+            let left = range.clone().filter(|&v| keep_vertex[v]).count();
+            if left == range.len() {
+                return true;
+            }
+            let and_degenerate = range.clone().any(|v| {
+                let p = g.vertex_point[v] as usize;
+                p < degenerate.len() && degenerate.contains(p)
+            });
+            match g.prim_kinds[prim] {
+                PrimKind::Polygon => left >= if and_degenerate { 3 } else { 1 },
+                PrimKind::Polyline => left >= if and_degenerate { 2 } else { 1 },
+                _ => false,
+            }
+        })
+        .collect();
+    keep_where(g, &keep, Some(&keep_vertex));
+    let keep_points: Vec<bool> = (0..g.num_points()).map(|p| !group.contains(p)).collect();
+    keep_points_where(g, &keep_points);
 }
 
 /// Deletes the points in `group` and every primitive that uses one of them.

@@ -226,8 +226,17 @@ fn source(name: &str, spec: &BindSpec, input0: Option<&Geometry>) -> (Source, Op
         ("ptnum" | "primnum" | "vtxnum", _) => Some(Source::Const(-1.0)),
         ("numpt", _) => Some(Source::Const(count(AttribClass::Point))),
         ("numprim", _) => Some(Source::Const(count(AttribClass::Primitive))),
+        ("numvtx", AttribClass::Primitive | AttribClass::Vertex) => Some(Source::PrimVertexCount),
         ("numvtx", _) => Some(Source::Const(count(AttribClass::Vertex))),
         ("numelem", c) => Some(Source::Const(count(c))),
+        (n, AttribClass::Point | AttribClass::Primitive)
+            if n.starts_with("group_") && n.len() > 6 =>
+        {
+            return (
+                Source::Group(n["group_".len()..].to_string()),
+                Some(Ty::Int),
+            );
+        }
         ("Frame", _) => Some(Source::Const(spec.frame)),
         ("Time", _) => Some(Source::Const(spec.time)),
         _ => None,

@@ -184,7 +184,7 @@ pub fn apply(
     }
     let prim_id = |k: usize| base_prims as usize + k;
     let mut printed = Vec::new();
-    let mut dead_points: Vec<usize> = Vec::new();
+    let mut dead_points: Vec<(usize, bool)> = Vec::new();
     let mut dead_prims: Vec<(usize, bool)> = Vec::new();
     // Group writes: ((point group?, name), members), stored once at the end.
     let mut groups: Vec<((bool, String), Group)> = Vec::new();
@@ -217,6 +217,8 @@ pub fn apply(
                     let idx = match class {
                         AttribClass::Point => point(*target),
                         AttribClass::Primitive => prim(*target),
+                        // A primitive of -1 makes the vertex a linear one.
+                        AttribClass::Vertex if *target < 0 => usize::try_from(*vtx).ok(),
                         AttribClass::Vertex => prim(*target).and_then(|p| {
                             let r = out.prim_vertex_range(p);
                             usize::try_from(*vtx)
@@ -266,7 +268,10 @@ pub fn apply(
                         grp.set(i, *on);
                     }
                 }
-                EffectKind::RemovePoint { point: p, .. } => dead_points.extend(point(*p)),
+                EffectKind::RemovePoint {
+                    point: p,
+                    and_prims,
+                } => dead_points.extend(point(*p).map(|p| (p, *and_prims))),
                 EffectKind::RemovePrim {
                     prim: p,
                     and_points,
@@ -284,17 +289,41 @@ pub fn apply(
         };
         r.map_err(|e| RunError::Geometry(e.to_string()))?;
     }
-    if !dead_prims.is_empty() {
-        let n = out.num_prims();
-        let with_points = dead_prims.iter().any(|d| d.1);
-        let group = Group::from_members(n, dead_prims.iter().map(|d| d.0));
-        ops::delete_prims(out, &group, with_points);
-    }
-    if !dead_points.is_empty() {
-        let group = Group::from_members(out.num_points(), dead_points);
-        ops::delete_points(out, &group);
+    // Removing primitives renumbers none of the points: the points
+    // removed and those orphaned go in one pass.
+    let orphans = remove_prims(out, &dead_prims);
+    if !dead_points.is_empty() || !orphans.is_empty() {
+        let n = out.num_points();
+        let all = dead_points.iter().map(|d| d.0).chain(orphans);
+        let group = Group::from_members(n, all);
+        let degenerate = Group::from_members(n, dead_points.iter().filter(|d| d.1).map(|d| d.0));
+        ops::remove_points(out, &group, &degenerate);
     }
     Ok(printed)
+}
+
+/// `removeprim`: deletes the primitives and gives the points of those
+/// removed with their points that no primitive uses any more (SideFX
+/// removes the others first, so theirs count as unused).
+fn remove_prims(out: &mut Geometry, dead: &[(usize, bool)]) -> Vec<usize> {
+    if dead.is_empty() {
+        return Vec::new();
+    }
+    let n = out.num_prims();
+    let mut orphans = vec![false; out.num_points()];
+    for &(prim, with_points) in dead {
+        if with_points {
+            for &p in out.prim_points(prim) {
+                orphans[p as usize] = true;
+            }
+        }
+    }
+    let group = Group::from_members(n, dead.iter().map(|d| d.0));
+    ops::delete_prims(out, &group, false);
+    for &p in out.vertex_points() {
+        orphans[p as usize] = false;
+    }
+    (0..orphans.len()).filter(|&p| orphans[p]).collect()
 }
 
 fn resolve_point(

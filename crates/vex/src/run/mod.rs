@@ -127,6 +127,19 @@ pub fn run(
             };
             taken.push((b, *c, attrib.clone(), attr));
         }
+        if let (true, Source::Group(group)) = (p.written[b], &bind.source) {
+            // Written as an int column over the run's class (starting from
+            // the membership), turned back into the group after the run.
+            let flags = group_flags(out, class, group);
+            let column = AttribValue::Int(0);
+            let mut attr = Attribute::new(column, TypeInfo::None, flags.len());
+            if let Some(v) = attr.as_i32_mut() {
+                for (x, f) in v.iter_mut().zip(&flags) {
+                    *x = *f as i32;
+                }
+            }
+            taken.push((b, class, group.clone(), attr));
+        }
     }
     let batches = n.div_ceil(LANES);
     let contiguous = opts.group.is_none();
@@ -224,7 +237,7 @@ pub fn run(
         }
     }
     // Put the columns back, with values gathered for later.
-    for (slot, (_, c, name, mut attr)) in taken.into_iter().enumerate() {
+    for (slot, (b, c, name, mut attr)) in taken.into_iter().enumerate() {
         let mut lane_base = 0;
         for (k, batch) in later.iter_mut().enumerate() {
             if let Some(Some(vals)) = batch.get_mut(slot) {
@@ -236,6 +249,18 @@ pub fn run(
                 }
             }
             lane_base += LANES;
+        }
+        let is_group = matches!(p.bindings[b].source, Source::Group(_));
+        if is_group {
+            let members = attr.as_i32().unwrap_or(&[]);
+            let group = geode_geo::Group::from_flags(members.iter().map(|&m| m != 0));
+            let r = if c == AttribClass::Point {
+                out.set_point_group(&name, group)
+            } else {
+                out.set_prim_group(&name, group)
+            };
+            r.map_err(|e| RunError::Geometry(e.to_string()))?;
+            continue;
         }
         out.attribs_mut(c)
             .insert(&name, attr)
@@ -302,6 +327,22 @@ pub fn set_value(attr: &mut Attribute, e: usize, v: Val) {
     let _ = attr.values_mut().set(e, &value);
 }
 
+/// 1 for each element of `class` in group `name` (none if it is missing).
+fn group_flags(g: &Geometry, class: AttribClass, name: &str) -> Vec<u32> {
+    let n = elem_count(g, class);
+    let groups = if class == AttribClass::Point {
+        g.point_groups()
+    } else {
+        g.prim_groups()
+    };
+    match groups.get(name) {
+        Some(grp) => (0..n)
+            .map(|i| u32::from(i < grp.len() && grp.contains(i)))
+            .collect(),
+        None => vec![0; n],
+    }
+}
+
 fn reads<'g>(
     p: &Program,
     snapshot: &'g Geometry,
@@ -355,6 +396,20 @@ fn reads<'g>(
                     t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
                 }
                 Read::Table(t)
+            }
+            Source::Group(group) => Read::Table(group_flags(snapshot, p.run_over, group)),
+            Source::PrimVertexCount => {
+                let offs = snapshot.prim_offsets();
+                let count = |prim: usize| offs[prim + 1] - offs[prim];
+                Read::Table(if p.run_over == AttribClass::Vertex {
+                    let mut t = vec![0u32; snapshot.num_vertices()];
+                    for prim in 0..snapshot.num_prims() {
+                        t[offs[prim] as usize..offs[prim + 1] as usize].fill(count(prim));
+                    }
+                    t
+                } else {
+                    (0..snapshot.num_prims()).map(count).collect()
+                })
             }
             Source::Const(c) => Read::Const(*c),
         })
