@@ -36,7 +36,9 @@ pub(crate) struct Lower<'a> {
     pub strings: Vec<String>,
     pub alloc: Alloc,
     pub high: Counts,
-    scopes: Vec<Vec<(String, Loc)>>,
+    /// Variables by name, innermost scope last (maps: a snippet of many
+    /// declarations compiles in linear time).
+    scopes: Vec<HashMap<String, Loc>>,
     /// Masks in effect, innermost last (block, loop, function masks).
     masks: Vec<Reg>,
     loops: Vec<(usize, usize)>,
@@ -48,7 +50,7 @@ pub(crate) struct Lower<'a> {
     pub spec: &'a BindSpec<'a>,
     /// Registers holding a literal (set by the constant helpers, dropped
     /// when the register is allocated again): calls read them once.
-    consts: Vec<(Loc, Val)>,
+    consts: HashMap<(FileKey, Reg), (Loc, Val)>,
     /// Which bindings the snippet assigns.
     pub written: Vec<bool>,
     /// A register holding 1 in every lane (masks start from it), set by
@@ -83,7 +85,7 @@ impl<'a> Lower<'a> {
             strings: Vec::new(),
             alloc: Alloc { c: base },
             high: base,
-            scopes: vec![Vec::new()],
+            scopes: vec![HashMap::new()],
             masks: Vec::new(),
             loops: Vec::new(),
             funcs: Vec::new(),
@@ -93,7 +95,7 @@ impl<'a> Lower<'a> {
             spec,
             ones,
             written: vec![false; bindings.len()],
-            consts: Vec::new(),
+            consts: HashMap::new(),
         }
     }
 
@@ -113,7 +115,12 @@ impl<'a> Lower<'a> {
         self.high = self.high.max(&self.alloc.c);
         let loc = Loc { ty, reg };
         // A reused register no longer holds the constant it held.
-        self.consts.retain(|(l, _)| !overlaps(*l, loc));
+        if !self.consts.is_empty() {
+            let file = file_of(ty);
+            for r in reg..reg + ty.floats().max(1) as u32 {
+                self.consts.remove(&(file, r));
+            }
+        }
         loc
     }
 
@@ -149,14 +156,14 @@ impl<'a> Lower<'a> {
     pub fn fconst(&mut self, v: f32) -> Loc {
         let d = self.alloc(Ty::Float);
         self.emit(Op::FConst { d: d.reg, v });
-        self.consts.push((d, Val::float(v)));
+        self.consts.insert((file_of(d.ty), d.reg), (d, Val::float(v)));
         d
     }
 
     pub fn iconst(&mut self, v: i32) -> Loc {
         let d = self.alloc(Ty::Int);
         self.emit(Op::IConst { d: d.reg, v });
-        self.consts.push((d, Val::I(v)));
+        self.consts.insert((file_of(d.ty), d.reg), (d, Val::I(v)));
         d
     }
 
@@ -173,7 +180,7 @@ impl<'a> Lower<'a> {
             d: d.reg,
             s: idx as u32,
         });
-        self.consts.push((d, Val::S(s.to_string())));
+        self.consts.insert((file_of(d.ty), d.reg), (d, Val::S(s.to_string())));
         d
     }
 
@@ -248,7 +255,7 @@ impl<'a> Lower<'a> {
 
     fn scoped(&mut self, f: impl FnOnce(&mut Self) -> LResult<()>) -> LResult<()> {
         let mark = self.alloc;
-        self.scopes.push(Vec::new());
+        self.scopes.push(HashMap::new());
         let r = f(self);
         self.scopes.pop();
         self.alloc = mark;
@@ -257,10 +264,10 @@ impl<'a> Lower<'a> {
 
     pub fn declare(&mut self, name: &str, loc: Loc, pos: Pos) -> LResult<()> {
         let scope = self.scopes.last_mut().expect("a scope");
-        if scope.iter().any(|(n, _)| n == name) {
+        if scope.contains_key(name) {
             return err(pos, format!("redeclaration of '{name}'"));
         }
-        scope.push((name.to_string(), loc));
+        scope.insert(name.to_string(), loc);
         Ok(())
     }
 
@@ -268,14 +275,13 @@ impl<'a> Lower<'a> {
         self.scopes
             .iter()
             .rev()
-            .find_map(|s| s.iter().rev().find(|(n, _)| n == name).map(|(_, l)| *l))
+            .find_map(|s| s.get(name).copied())
     }
 
     fn visible_names(&self) -> Vec<String> {
         self.scopes
             .iter()
-            .flatten()
-            .map(|(n, _)| n.clone())
+            .flat_map(|s| s.keys().cloned())
             .collect()
     }
 
@@ -681,7 +687,7 @@ impl<'a> Lower<'a> {
                 reg: 0,
             })),
         ));
-        let saved_scopes = std::mem::replace(&mut self.scopes, vec![params]);
+        let saved_scopes = std::mem::replace(&mut self.scopes, vec![params.into_iter().collect()]);
         let saved_loops = std::mem::take(&mut self.loops);
         let r = self.scoped(|me| me.body(&f.body));
         self.scopes = saved_scopes;
@@ -738,8 +744,8 @@ impl<'a> Lower<'a> {
                     return None;
                 }
                 self.consts
-                    .iter()
-                    .find(|(l, _)| l == a)
+                    .get(&(file_of(a.ty), a.reg))
+                    .filter(|(l, _)| l == a)
                     .map(|(_, v)| v.clone())
             })
             .collect();
@@ -816,9 +822,12 @@ fn copy_op(ty: Ty, d: Reg, s: Reg, m: Option<Reg>) -> Op {
     }
 }
 
-/// Whether two locations share a register of the same file.
-fn overlaps(a: Loc, b: Loc) -> bool {
-    let file = |t: Ty| match t {
+
+/// Which register file a type lives in (registers are numbered per file).
+type FileKey = u8;
+
+fn file_of(ty: Ty) -> FileKey {
+    match ty {
         Ty::Int => 0,
         Ty::Str => 1,
         Ty::Array(Elem::Int) => 2,
@@ -826,10 +835,7 @@ fn overlaps(a: Loc, b: Loc) -> bool {
         Ty::Array(_) => 4,
         Ty::Void => 5,
         _ => 6,
-    };
-    let span = |l: Loc| l.reg..l.reg + (l.ty.floats() as u32).max(1);
-    let (x, y) = (span(a), span(b));
-    file(a.ty) == file(b.ty) && x.start < y.end && y.start < x.end
+    }
 }
 
 fn bump(c: &mut u32, n: u32) -> Reg {
