@@ -5,14 +5,6 @@
 
 mod common;
 use common::*;
-
-#[derive(Debug)]
-enum Want {
-    F(f32),
-    I(i32),
-    V(&'static [f32]),
-    S(&'static str),
-}
 use Want::*;
 
 /// (snippet, attribute, expected)
@@ -285,42 +277,10 @@ const CASES: &[(&str, &str, Want)] = &[
     ("matrix3 m = qconvert(quaternion(radians(90), {0, 1, 0})); vector4 q = quaternion(m); v@r = qrotate(q, {0, 0, 1});", "r", V(&[1.0, 0.0, 0.0])),
 ];
 
-fn check(src: &str, name: &str, want: &Want) -> Result<(), String> {
-    let (g, _) = wrangle_with(src, geode_geo::AttribClass::Detail, &four_points(), &[])?;
-    let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * (1.0 + b.abs());
-    let ok = match want {
-        F(x) => close(df(&g, name), *x),
-        I(x) => di(&g, name) == *x,
-        V(xs) => {
-            let got = dv(&g, name);
-            got.len() == xs.len() && got.iter().zip(xs.iter()).all(|(a, b)| close(*a, *b))
-        }
-        S(s) => ds(&g, name) == *s,
-    };
-    if ok {
-        Ok(())
-    } else {
-        let got = match want {
-            F(_) => format!("{}", df(&g, name)),
-            I(_) => format!("{}", di(&g, name)),
-            V(_) => format!("{:?}", dv(&g, name)),
-            S(_) => ds(&g, name),
-        };
-        Err(format!("got {got}, want {want:?}"))
-    }
-}
-
 #[test]
 fn every_documented_program_gives_its_documented_result() {
     assert!(CASES.len() >= 150, "{} cases", CASES.len());
-    let failures: Vec<String> = CASES
-        .iter()
-        .filter_map(|(src, name, want)| {
-            check(src, name, want)
-                .err()
-                .map(|e| format!("{src}\n    {e}"))
-        })
-        .collect();
+    let failures = failures(four_points, CASES);
     assert!(
         failures.is_empty(),
         "{} of {} failed:\n{}",
