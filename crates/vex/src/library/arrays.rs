@@ -27,8 +27,8 @@ pub const FUNCTIONS: &[Function] = &[
         form(Ret::Is(Ty::Void), &[out(T::Array, "array"), a(T::Array, "values")], push_values).bytes(growth),
         form(Ret::Is(Ty::Void), &[out(S, "s"), a(S, "value")], append_string).bytes(growth),
     ]),
-    lane("upush", C, "Appends a value to an array unless the array already holds it.", &[
-        form(Ret::Is(Ty::Void), &[out(T::Array, "array"), a(T::Elem, "value")], upush).bytes(growth),
+    lane("upush", C, "Appends a uniform value to an array (as push).", &[
+        form(Ret::Is(Ty::Void), &[out(T::Array, "array"), a(T::Elem, "value")], push_values).bytes(growth),
     ]),
     lane("pop", C, "Removes and gives the last element (or the one at index) of an array.", &[
         form(Ret::Elem, &[out(T::Array, "array")], pop),
@@ -52,7 +52,7 @@ pub const FUNCTIONS: &[Function] = &[
         form(Ret::Is(Ty::Int), &[a(T::Seq, "array"), a(I, "index")], isvalidindex),
     ]),
     lane("find", C, "Index of the first element equal to value (-1 if none); all of them when an int array is wanted. On strings, the first index of a substring from start.", &[
-        form(Ret::Context(&[Ty::Int, Ty::Array(Elem::Int)]), &[a(T::Array, "array"), a(T::Elem, "value")], find),
+        form(Ret::Context(&[Ty::Int, Ty::Array(Elem::Int)]), &[a(T::Array, "array"), a(T::Elem, "value"), a(I, "start"), a(I, "end")], find).opt(2),
         form(Ret::Context(&[Ty::Int, Ty::Array(Elem::Int)]), &[a(S, "s"), a(S, "search"), a(I, "start"), a(I, "end")], find).opt(2),
     ]),
     lane("sort", C, "The array in ascending order.", &[
@@ -61,14 +61,15 @@ pub const FUNCTIONS: &[Function] = &[
     lane("argsort", C, "The indices that put the array in ascending order (stable).", &[
         form(Ret::Is(Ty::Array(Elem::Int)), &[a(T::Array, "array")], argsort),
     ]),
-    lane("reorder", C, "The array's elements at the given indices, in their order.", &[
-        form(Ret::Same, &[a(T::Array, "array"), a(IA, "indices")], reorder),
+    lane("reorder", C, "The array's elements (or the string's characters) at the given indices, in their order.", &[
+        form(Ret::Same, &[a(T::Seq, "array"), a(IA, "indices")], reorder),
     ]),
     lane("reverse", C, "The array (or string) in reverse order.", &[
         form(Ret::Same, &[a(T::Seq, "array")], reverse),
     ]),
-    lane("sum", C, "The sum of the elements (zero for an empty array).", &[
+    lane("sum", C, "The sum of an array's elements (zero for an empty array), or of a vector's components.", &[
         form(Ret::Elem, &[a(T::Array, "array")], sum),
+        form(Ret::Is(Ty::Float), &[a(T::Vector, "v")], sum),
     ]),
     compiler("array", C, "An array of the arguments; its type is the declared one, else the first argument's.", &[
         shape(Ret::Same, &[a(T::Elem, "value")]).opt(1).many(),
@@ -182,14 +183,6 @@ fn append_string(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let add = a[1].s().to_string();
     if let Val::S(s) = &mut a[0] {
         s.push_str(&add);
-    }
-    Ok(Val::I(0))
-}
-
-fn upush(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    if position(&a[0], &a[1]).is_none() {
-        let (arr, rest) = a.split_at_mut(1);
-        push(&mut arr[0], &rest[0]);
     }
     Ok(Val::I(0))
 }
@@ -336,16 +329,12 @@ fn find(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
         let needle: Vec<char> = a[1].s().chars().collect();
         let mut found = Vec::new();
         if start <= end {
-            let window = &chars[start..end];
-            if needle.is_empty() {
-                found.push(start as i32);
-            } else if needle.len() <= window.len() {
-                for i in 0..=window.len() - needle.len() {
-                    if window[i..i + needle.len()] == needle[..] {
-                        found.push((start + i) as i32);
-                        if !all {
-                            break;
-                        }
+            // A match starts at or after start and at or before end.
+            for i in start..=end.min(n) {
+                if i + needle.len() <= n && chars[i..i + needle.len()] == needle[..] {
+                    found.push(i as i32);
+                    if !all || needle.is_empty() {
+                        break;
                     }
                 }
             }
@@ -356,14 +345,14 @@ fn find(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
             Val::I(found.first().copied().unwrap_or(-1))
         });
     }
+    let n = arr_len(&a[0]);
+    let start = a.get(2).map_or(0, |v| v.i().clamp(0, n as i32) as usize);
+    let end = a.get(3).map_or(n, |v| (v.i().max(0) as usize).min(n));
+    let mut hits = (start..end).filter(|&i| equal(&elem_get(&a[0], i), &a[1]));
     if all {
-        let found = (0..arr_len(&a[0]))
-            .filter(|&i| equal(&elem_get(&a[0], i), &a[1]))
-            .map(|i| i as i32)
-            .collect();
-        return Ok(Val::AI(found));
+        return Ok(Val::AI(hits.map(|i| i as i32).collect()));
     }
-    Ok(Val::I(position(&a[0], &a[1]).map_or(-1, |i| i as i32)))
+    Ok(Val::I(hits.next().map_or(-1, |i| i as i32)))
 }
 
 /// The order that sorts the array: stable, floats by total order, vectors
@@ -412,6 +401,18 @@ fn pick(v: &Val, idx: &[usize]) -> Val {
 }
 
 fn reorder(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    if let Val::S(s) = &a[0] {
+        let chars: Vec<char> = s.chars().collect();
+        let picked = match &a[1] {
+            Val::AI(ix) => ix
+                .iter()
+                .filter_map(|&i| index(i, chars.len()))
+                .map(|i| chars[i])
+                .collect(),
+            _ => String::new(),
+        };
+        return Ok(Val::S(picked));
+    }
     let n = arr_len(&a[0]);
     let idx: Vec<usize> = match &a[1] {
         Val::AI(ix) => ix.iter().filter_map(|&i| index(i, n)).collect(),
@@ -443,6 +444,7 @@ fn sum(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
             }
             Val::vec(&acc)
         }
+        Val::F(f, n) => Val::float(f[..*n as usize].iter().sum()),
         _ => empty_like(lane.out),
     })
 }
@@ -528,7 +530,13 @@ fn slice(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     } as i64;
     let step = i64::from(a[3].i());
     let given = a[4].i();
-    let step = if step == 0 { 1 } else { step };
+    if step == 0 {
+        // "If step is zero, the function returns an empty string/array."
+        return Ok(match &a[0] {
+            Val::S(_) => Val::S(String::new()),
+            v => empty_like_val(v),
+        });
+    }
     let bound = |v: i64, dflt: i64, lo: i64, hi: i64| {
         let v = if v < 0 { v + n } else { v };
         let _ = dflt;

@@ -53,7 +53,7 @@ pub const FUNCTIONS: &[Function] = &[
     lane("attribsize", A, "The number of components of an attribute (0 if missing).", &[
         form(INT, &[a(I, "geo"), a(S, "attribclass"), a(S, "attrib")], attribsize),
     ]),
-    lane("attribtype", A, "An attribute's type: 0 int, 1 float, 2 string, 4 int array, 5 float array, 6 string array; -1 if missing.", &[
+    lane("attribtype", A, "An attribute's type: 0 int, 1 float, 2 string, 3 int array, 4 float array, 5 string array; -1 if missing.", &[
         form(INT, &[a(I, "geo"), a(S, "attribclass"), a(S, "attrib")], attribtype),
     ]),
     lane("findattribval", A, "The first element (or the which-th) whose attribute equals value; -1 if none.", &[
@@ -141,10 +141,10 @@ pub const FUNCTIONS: &[Function] = &[
     lane("nprimitivesgroup", GR, "Number of primitives in a primitive group.", &[
         form(INT, &[a(I, "geo"), a(S, "group")], nprimitivesgroup),
     ]),
-    lane("expandpointgroup", GR, "The points a group pattern names: group names and globs, numbers, ranges a-b[:step], * for all, ^ to remove.", &[
+    lane("expandpointgroup", GR, "The points a group pattern names, in its order: numbers, ranges a-b[:step], * (or an empty pattern) for all, group names and globs, !x for all but x, ^x to remove x.", &[
         form(INTS, &[a(I, "geo"), a(S, "pattern")], expandpointgroup),
     ]),
-    lane("expandprimgroup", GR, "The primitives a group pattern names: group names and globs, numbers, ranges a-b[:step], * for all, ^ to remove.", &[
+    lane("expandprimgroup", GR, "The primitives a group pattern names, in its order: numbers, ranges a-b[:step], * (or an empty pattern) for all, group names and globs, !x for all but x, ^x to remove x.", &[
         form(INTS, &[a(I, "geo"), a(S, "pattern")], expandprimgroup),
     ]),
     lane("pointhedge", H, "A half-edge leaving the point (-1 if none).", &[
@@ -281,9 +281,9 @@ fn attribtype(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
         |at| match crate::ty::ty_of(at.data()) {
             Some(Ty::Int) => 0,
             Some(Ty::Str) => 2,
-            Some(Ty::Array(Elem::Int)) => 4,
-            Some(Ty::Array(Elem::Str)) => 6,
-            Some(Ty::Array(_)) => 5,
+            Some(Ty::Array(Elem::Int)) => 3,
+            Some(Ty::Array(Elem::Str)) => 5,
+            Some(Ty::Array(_)) => 4,
             _ => 1,
         },
     )))
@@ -604,74 +604,21 @@ fn nprimitivesgroup(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     })))
 }
 
-/// The elements a Houdini group pattern names, ascending: tokens separated
-/// by spaces are numbers, ranges `a-b` with an optional `:step`, `*`, group
-/// names or globs over group names; a token starting with `^` removes.
-pub fn expand_pattern(g: &Geometry, class: AttribClass, pattern: &str) -> Vec<i32> {
-    let n = count(g, class);
-    let groups = if class == AttribClass::Point {
-        g.point_groups()
-    } else {
-        g.prim_groups()
-    };
-    let mut on = vec![false; n];
-    for token in pattern.split_whitespace() {
-        let (value, body) = match token.strip_prefix('^').or_else(|| token.strip_prefix('!')) {
-            Some(rest) => (false, rest),
-            None => (true, token),
-        };
-        let mut mark = |i: usize| {
-            if i < n {
-                on[i] = value;
-            }
-        };
-        if body == "*" {
-            (0..n).for_each(&mut mark);
-        } else if let Some(range) = number_range(body) {
-            let (lo, hi, step) = range;
-            let mut i = lo;
-            while i <= hi.min(n.saturating_sub(1)) {
-                mark(i);
-                i += step;
-            }
-        } else {
-            for (name, grp) in groups {
-                if super::strings_glob(body, name) {
-                    grp.members().for_each(&mut mark);
-                }
-            }
-        }
-    }
-    (0..n).filter(|&i| on[i]).map(|i| i as i32).collect()
-}
-
-/// `7`, `2-5` or `0-10:2` as (first, last, step).
-fn number_range(s: &str) -> Option<(usize, usize, usize)> {
-    let (range, step) = match s.split_once(':') {
-        Some((r, st)) => (r, st.parse::<usize>().ok().filter(|&s| s > 0)?),
-        None => (s, 1),
-    };
-    match range.split_once('-') {
-        Some((a, b)) => {
-            let (a, b): (usize, usize) = (a.parse().ok()?, b.parse().ok()?);
-            Some((a.min(b), a.max(b), step))
-        }
-        None => {
-            let a = range.parse().ok()?;
-            Some((a, a, step))
-        }
-    }
-}
-
 fn expandpointgroup(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::AI(l.host.input(a[0].i()).map_or(Vec::new(), |g| {
-        expand_pattern(g, AttribClass::Point, a[1].s())
+        crate::pattern::expand(g, AttribClass::Point, a[1].s())
+            .into_iter()
+            .map(|i| i as i32)
+            .collect()
     })))
 }
 
 fn expandprimgroup(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::AI(l.host.input(a[0].i()).map_or(Vec::new(), |g| {
-        expand_pattern(g, AttribClass::Primitive, a[1].s())
+        crate::pattern::expand(g, AttribClass::Primitive, a[1].s())
+            .into_iter()
+            .map(|i| i as i32)
+            .collect()
     })))
 }
 

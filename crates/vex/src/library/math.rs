@@ -119,8 +119,9 @@ pub const FUNCTIONS: &[Function] = &[
 
 fn invlerp(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let (x, lo, hi) = (a[0].f(), a[1].f(), a[2].f());
+    // "If min and max are equal, the mixing value is 0.5."
     Ok(Val::float(if hi == lo {
-        0.0
+        0.5
     } else {
         (x - lo) / (hi - lo)
     }))

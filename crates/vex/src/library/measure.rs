@@ -95,8 +95,8 @@ fn bounds(g: &Geometry, group: Option<&str>) -> Option<(Vec3, Vec3)> {
     };
     match group.filter(|s| !s.is_empty()) {
         Some(pattern) => {
-            for prim in super::geometry::expand_pattern(g, AttribClass::Primitive, pattern) {
-                for &p in g.prim_points(prim as usize) {
+            for prim in crate::pattern::expand(g, AttribClass::Primitive, pattern) {
+                for &p in g.prim_points(prim) {
                     add(g.positions()[p as usize]);
                 }
             }

@@ -175,7 +175,6 @@ pub struct Callee {
 
 pub(crate) use arrays::intrinsics as array_ops;
 pub(crate) use matrix::intrinsics as matrix_ops;
-pub(crate) use strings::glob as strings_glob;
 pub(crate) use strings::intrinsics as string_ops;
 
 // Constructors the category files write their entries with.

@@ -267,31 +267,8 @@ fn ord(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::I(a[0].s().chars().next().map_or(0, |c| c as i32)))
 }
 
-/// Glob matching with `*` and `?`, iterative (no backtracking blow-up).
-pub(crate) fn glob(pattern: &str, s: &str) -> bool {
-    let (p, t): (Vec<char>, Vec<char>) = (pattern.chars().collect(), s.chars().collect());
-    let (mut i, mut j) = (0, 0);
-    let mut star: Option<(usize, usize)> = None;
-    while j < t.len() {
-        if i < p.len() && (p[i] == '?' || p[i] == t[j]) {
-            i += 1;
-            j += 1;
-        } else if i < p.len() && p[i] == '*' {
-            star = Some((i, j));
-            i += 1;
-        } else if let Some((si, sj)) = star {
-            i = si + 1;
-            j = sj + 1;
-            star = Some((si, sj + 1));
-        } else {
-            return false;
-        }
-    }
-    p[i..].iter().all(|&c| c == '*')
-}
-
 fn glob_match(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    Ok(Val::I(i32::from(glob(a[0].s(), a[1].s()))))
+    Ok(Val::I(i32::from(crate::pattern::glob(a[0].s(), a[1].s()))))
 }
 
 thread_local! {
@@ -383,7 +360,13 @@ fn re_replace(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 
 fn re_split(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let s = a[1].s();
-    let parts = with_regex(a[0].s(), |re| re.split(s).map(str::to_string).collect())?;
+    // "a,b, will only split into two strings": empty pieces are dropped.
+    let parts = with_regex(a[0].s(), |re| {
+        re.split(s)
+            .filter(|p| !p.is_empty())
+            .map(str::to_string)
+            .collect()
+    })?;
     Ok(Val::AS(parts))
 }
 
@@ -796,10 +779,13 @@ mod tests {
 
     #[test]
     fn globs_match_without_backtracking() {
-        assert!(glob("*.bgeo", "a.bgeo"));
-        assert!(glob("p?t", "pat"));
-        assert!(!glob("p?t", "part"));
+        assert!(crate::pattern::glob("*.bgeo", "a.bgeo"));
+        assert!(crate::pattern::glob("p?t", "pat"));
+        assert!(!crate::pattern::glob("p?t", "part"));
         let long = "a".repeat(10_000);
-        assert!(!glob(&format!("{}b", "*a".repeat(50)), &long));
+        assert!(!crate::pattern::glob(
+            &format!("{}b", "*a".repeat(50)),
+            &long
+        ));
     }
 }

@@ -219,6 +219,8 @@ pub fn apply(
                         AttribClass::Primitive => prim(*target),
                         // A primitive of -1 makes the vertex a linear one.
                         AttribClass::Vertex if *target < 0 => usize::try_from(*vtx).ok(),
+                        // ... and so does a vertex of -1 with the primitive.
+                        AttribClass::Vertex if *vtx < 0 => usize::try_from(*target).ok(),
                         AttribClass::Vertex => prim(*target).and_then(|p| {
                             let r = out.prim_vertex_range(p);
                             usize::try_from(*vtx)

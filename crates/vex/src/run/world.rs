@@ -115,13 +115,13 @@ impl<'s, 'a> World<'s, 'a> {
             match cache.iter().find(|(k, name, _)| *k == i && name == group) {
                 Some((_, _, t)) => Arc::clone(t),
                 None => {
-                    let members: Vec<u32> = match g.point_groups().get(group) {
-                        Some(grp) => (0..grp.len())
-                            .filter(|&p| grp.contains(p))
+                    // A group pattern, as Houdini reads the argument.
+                    let mut members: Vec<u32> =
+                        crate::pattern::expand(g, geode_geo::AttribClass::Point, group)
+                            .into_iter()
                             .map(|p| p as u32)
-                            .collect(),
-                        None => Vec::new(),
-                    };
+                            .collect();
+                    members.sort_unstable();
                     let pts = members
                         .iter()
                         .map(|&p| g.positions()[p as usize].to_array())

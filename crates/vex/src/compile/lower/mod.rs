@@ -156,7 +156,8 @@ impl<'a> Lower<'a> {
     pub fn fconst(&mut self, v: f32) -> Loc {
         let d = self.alloc(Ty::Float);
         self.emit(Op::FConst { d: d.reg, v });
-        self.consts.insert((file_of(d.ty), d.reg), (d, Val::float(v)));
+        self.consts
+            .insert((file_of(d.ty), d.reg), (d, Val::float(v)));
         d
     }
 
@@ -180,7 +181,8 @@ impl<'a> Lower<'a> {
             d: d.reg,
             s: idx as u32,
         });
-        self.consts.insert((file_of(d.ty), d.reg), (d, Val::S(s.to_string())));
+        self.consts
+            .insert((file_of(d.ty), d.reg), (d, Val::S(s.to_string())));
         d
     }
 
@@ -272,17 +274,11 @@ impl<'a> Lower<'a> {
     }
 
     pub fn lookup(&self, name: &str) -> Option<Loc> {
-        self.scopes
-            .iter()
-            .rev()
-            .find_map(|s| s.get(name).copied())
+        self.scopes.iter().rev().find_map(|s| s.get(name).copied())
     }
 
     fn visible_names(&self) -> Vec<String> {
-        self.scopes
-            .iter()
-            .flat_map(|s| s.keys().cloned())
-            .collect()
+        self.scopes.iter().flat_map(|s| s.keys().cloned()).collect()
     }
 
     fn stmt(&mut self, s: &Stmt) -> LResult<()> {
@@ -821,7 +817,6 @@ fn copy_op(ty: Ty, d: Reg, s: Reg, m: Option<Reg>) -> Op {
         (_, None) => Op::FMov { d, s },
     }
 }
-
 
 /// Which register file a type lives in (registers are numbered per file).
 type FileKey = u8;
