@@ -13,6 +13,9 @@ use crate::program::Program;
 pub struct Frame {
     /// Lanes holding elements (the rest compute but are never stored).
     pub n: usize,
+    /// Lanes each instruction computes: the elements' lanes, so a detail
+    /// run (one element) computes one lane, not a whole batch.
+    pub w: usize,
     pub f: Vec<f32>,
     pub i: Vec<i32>,
     pub s: Vec<String>,
@@ -28,6 +31,7 @@ impl Frame {
         let c = &p.counts;
         Frame {
             n: 0,
+            w: 0,
             f: vec![0.0; c.f as usize * LANES],
             i: vec![0; c.i as usize * LANES],
             s: vec![String::new(); c.s as usize * LANES],
@@ -39,7 +43,13 @@ impl Frame {
     }
 
     pub fn il(&self, r: Reg) -> &[i32] {
-        &self.i[r as usize * LANES..][..LANES]
+        &self.i[r as usize * LANES..][..self.w]
+    }
+
+    /// Sets the number of elements the batch holds.
+    pub fn set_lanes(&mut self, n: usize) {
+        self.n = n;
+        self.w = n.clamp(1, LANES);
     }
 }
 
@@ -48,23 +58,24 @@ struct Split<'a, T> {
     lo: &'a [T],
     hi: &'a [T],
     d: usize,
+    w: usize,
 }
 
 impl<'a, T> Split<'a, T> {
-    fn new(file: &'a mut [T], d: Reg) -> (&'a mut [T], Split<'a, T>) {
+    fn new(file: &'a mut [T], d: Reg, w: usize) -> (&'a mut [T], Split<'a, T>) {
         let d = d as usize;
         let (lo, rest) = file.split_at_mut(d * LANES);
         let (dst, hi) = rest.split_at_mut(LANES);
-        (dst, Split { lo, hi, d })
+        (&mut dst[..w], Split { lo, hi, d, w })
     }
 
     fn get(&self, r: Reg) -> &'a [T] {
         let r = r as usize;
         debug_assert_ne!(r, self.d, "a destination aliases a source");
         if r < self.d {
-            &self.lo[r * LANES..][..LANES]
+            &self.lo[r * LANES..][..self.w]
         } else {
-            &self.hi[(r - self.d - 1) * LANES..][..LANES]
+            &self.hi[(r - self.d - 1) * LANES..][..self.w]
         }
     }
 }
@@ -182,7 +193,7 @@ fn compare<T: PartialOrd>(op: Cmp, a: &T, b: &T) -> i32 {
 }
 
 fn sel<T: Clone>(file: &mut [T], d: Reg, s: Reg, m: &[i32]) {
-    let (x, src) = Split::new(file, d);
+    let (x, src) = Split::new(file, d, m.len());
     for ((o, v), &k) in x.iter_mut().zip(src.get(s)).zip(m) {
         if k != 0 {
             o.clone_from(v);
@@ -190,8 +201,8 @@ fn sel<T: Clone>(file: &mut [T], d: Reg, s: Reg, m: &[i32]) {
     }
 }
 
-fn mov<T: Clone>(file: &mut [T], d: Reg, s: Reg) {
-    let (x, src) = Split::new(file, d);
+fn mov<T: Clone>(file: &mut [T], d: Reg, s: Reg, w: usize) {
+    let (x, src) = Split::new(file, d, w);
     x.clone_from_slice(src.get(s));
 }
 
@@ -205,7 +216,7 @@ enum Heap {
 /// Bytes register `r` of `file` holds on the heap over the batch's lanes.
 fn reg_bytes(fr: &Frame, file: Heap, r: Reg) -> u64 {
     use super::budget::slots_bytes;
-    let lanes = r as usize * LANES..(r as usize + 1) * LANES;
+    let lanes = r as usize * LANES..r as usize * LANES + fr.w;
     match file {
         Heap::S => slots_bytes(&fr.s[lanes]),
         Heap::A(ArrFile::F) => slots_bytes(&fr.af[lanes]),
@@ -250,103 +261,104 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
     let mut pc = 0usize;
     let mut polls = 0u32;
     let mut masks = [0i32; LANES];
+    let w = fr.w;
     while pc < p.ops.len() {
         match &p.ops[pc] {
-            Op::FConst { d, v } => fr.f[*d as usize * LANES..][..LANES].fill(*v),
-            Op::IConst { d, v } => fr.i[*d as usize * LANES..][..LANES].fill(*v),
+            Op::FConst { d, v } => fr.f[*d as usize * LANES..][..w].fill(*v),
+            Op::IConst { d, v } => fr.i[*d as usize * LANES..][..w].fill(*v),
             Op::SConst { d, s } => {
-                for o in &mut fr.s[*d as usize * LANES..][..LANES] {
+                for o in &mut fr.s[*d as usize * LANES..][..w] {
                     o.clone_from(&p.strings[*s as usize]);
                 }
             }
-            Op::FMov { d, s } => mov(&mut fr.f, *d, *s),
-            Op::IMov { d, s } => mov(&mut fr.i, *d, *s),
+            Op::FMov { d, s } => mov(&mut fr.f, *d, *s, w),
+            Op::IMov { d, s } => mov(&mut fr.i, *d, *s, w),
             Op::SMov { d, s } => copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
-                mov(&mut fr.s, *d, *s)
+                mov(&mut fr.s, *d, *s, w)
             })?,
             Op::AMov { file, d, s } => {
                 copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
-                    ArrFile::F => mov(&mut fr.af, *d, *s),
-                    ArrFile::I => mov(&mut fr.ai, *d, *s),
-                    ArrFile::S => mov(&mut fr.as_, *d, *s),
+                    ArrFile::F => mov(&mut fr.af, *d, *s, w),
+                    ArrFile::I => mov(&mut fr.ai, *d, *s, w),
+                    ArrFile::S => mov(&mut fr.as_, *d, *s, w),
                 })?
             }
             Op::FSel { d, s, m } => {
-                masks.copy_from_slice(fr.il(*m));
-                sel(&mut fr.f, *d, *s, &masks);
+                masks[..w].copy_from_slice(fr.il(*m));
+                sel(&mut fr.f, *d, *s, &masks[..w]);
             }
             Op::ISel { d, s, m } => {
-                masks.copy_from_slice(fr.il(*m));
-                sel(&mut fr.i, *d, *s, &masks);
+                masks[..w].copy_from_slice(fr.il(*m));
+                sel(&mut fr.i, *d, *s, &masks[..w]);
             }
             Op::SSel { d, s, m } => {
-                masks.copy_from_slice(fr.il(*m));
+                masks[..w].copy_from_slice(fr.il(*m));
                 copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
-                    sel(&mut fr.s, *d, *s, &masks)
+                    sel(&mut fr.s, *d, *s, &masks[..w])
                 })?;
             }
             Op::ASel { file, d, s, m } => {
-                masks.copy_from_slice(fr.il(*m));
+                masks[..w].copy_from_slice(fr.il(*m));
                 copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
-                    ArrFile::F => sel(&mut fr.af, *d, *s, &masks),
-                    ArrFile::I => sel(&mut fr.ai, *d, *s, &masks),
-                    ArrFile::S => sel(&mut fr.as_, *d, *s, &masks),
+                    ArrFile::F => sel(&mut fr.af, *d, *s, &masks[..w]),
+                    ArrFile::I => sel(&mut fr.ai, *d, *s, &masks[..w]),
+                    ArrFile::S => sel(&mut fr.as_, *d, *s, &masks[..w]),
                 })?;
             }
             Op::FBin { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.f, *d);
+                let (x, src) = Split::new(&mut fr.f, *d, w);
                 fbin(*op, x, src.get(*a), src.get(*b));
             }
             Op::FUn { op, d, a } => {
-                let (x, src) = Split::new(&mut fr.f, *d);
+                let (x, src) = Split::new(&mut fr.f, *d, w);
                 fun(*op, x, src.get(*a));
             }
             Op::IBin { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.i, *d);
+                let (x, src) = Split::new(&mut fr.i, *d, w);
                 ibin(*op, x, src.get(*a), src.get(*b));
             }
             Op::IUn { op, d, a } => {
-                let (x, src) = Split::new(&mut fr.i, *d);
+                let (x, src) = Split::new(&mut fr.i, *d, w);
                 iun(*op, x, src.get(*a));
             }
             Op::FCmp { op, d, a, b } => {
                 let (a, b) = (
-                    &fr.f[*a as usize * LANES..][..LANES],
-                    &fr.f[*b as usize * LANES..][..LANES],
+                    &fr.f[*a as usize * LANES..][..w],
+                    &fr.f[*b as usize * LANES..][..w],
                 );
-                let x = &mut fr.i[*d as usize * LANES..][..LANES];
-                for l in 0..LANES {
+                let x = &mut fr.i[*d as usize * LANES..][..w];
+                for l in 0..w {
                     x[l] = compare(*op, &a[l], &b[l]);
                 }
             }
             Op::ICmp { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.i, *d);
+                let (x, src) = Split::new(&mut fr.i, *d, w);
                 let (a, b) = (src.get(*a), src.get(*b));
-                for l in 0..LANES {
+                for l in 0..w {
                     x[l] = compare(*op, &a[l], &b[l]);
                 }
             }
             Op::SCmp { op, d, a, b } => {
-                let x = &mut fr.i[*d as usize * LANES..][..LANES];
+                let x = &mut fr.i[*d as usize * LANES..][..w];
                 let (a, b) = (
-                    &fr.s[*a as usize * LANES..][..LANES],
-                    &fr.s[*b as usize * LANES..][..LANES],
+                    &fr.s[*a as usize * LANES..][..w],
+                    &fr.s[*b as usize * LANES..][..w],
                 );
-                for l in 0..LANES {
+                for l in 0..w {
                     x[l] = compare(*op, &a[l], &b[l]);
                 }
             }
             Op::IToF { d, s } => {
-                let a = &fr.i[*s as usize * LANES..][..LANES];
-                let x = &mut fr.f[*d as usize * LANES..][..LANES];
-                for l in 0..LANES {
+                let a = &fr.i[*s as usize * LANES..][..w];
+                let x = &mut fr.f[*d as usize * LANES..][..w];
+                for l in 0..w {
                     x[l] = a[l] as f32;
                 }
             }
             Op::FToI { d, s } => {
-                let a = &fr.f[*s as usize * LANES..][..LANES];
-                let x = &mut fr.i[*d as usize * LANES..][..LANES];
-                for l in 0..LANES {
+                let a = &fr.f[*s as usize * LANES..][..w];
+                let x = &mut fr.i[*d as usize * LANES..][..w];
+                for l in 0..w {
                     x[l] = a[l] as i32;
                 }
             }

@@ -192,7 +192,7 @@ pub fn run(
                 };
                 let mut world = World::new(&shared, &stop);
                 world.elems = lanes;
-                fr.n = world.elems.len();
+                fr.set_lanes(world.elems.len());
                 load(p, fr, &reads, &world.elems);
                 budget::true_up(&shared.budget, fr);
                 let ran = exec::run(p, fr, &mut world);
