@@ -65,7 +65,9 @@ fn one_point() -> Geometry {
 fn cloud(n: usize) -> Geometry {
     let mut g = Geometry::new();
     let h = |i: usize, k: u64| geode_geo::random::unit(i as u64, k, 7);
-    let p: Vec<Vec3> = (0..n).map(|i| Vec3::new(h(i, 0), h(i, 1), h(i, 2))).collect();
+    let p: Vec<Vec3> = (0..n)
+        .map(|i| Vec3::new(h(i, 0), h(i, 1), h(i, 2)))
+        .collect();
     g.set_positions(p);
     g
 }

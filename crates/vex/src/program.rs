@@ -211,6 +211,19 @@ pub type LaneFn = fn(&mut Lane<'_>, &mut [Val]) -> Result<Val, Stop>;
 /// names.
 pub type BytesFn = fn(&[Val], &dyn Host) -> Option<(Request, u64)>;
 
+/// How a call reads an argument for a lane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArgMode {
+    /// A literal, read once for every lane.
+    Const,
+    /// Copied out of its register (numbers, or a register another argument
+    /// also reads).
+    Copy,
+    /// Moved out of its register and back after the call: a string or an
+    /// array used once, or an output.
+    Move,
+}
+
 /// A call of a library function at one place of the snippet.
 #[derive(Clone, Debug)]
 pub struct CallSite {
@@ -220,9 +233,9 @@ pub struct CallSite {
     pub args: Vec<ir::Loc>,
     /// The arguments that are literals, read once instead of per lane.
     pub consts: Vec<Option<Val>>,
-    /// Arguments the function may change: moved out of their registers
-    /// before the call and back after it.
-    pub outs: Vec<bool>,
+    /// How each argument is read for a lane (outputs are moved out of
+    /// their registers before the call and back after it).
+    pub modes: Vec<ArgMode>,
     pub out: ir::Loc,
     /// Lanes the call applies to (side effects): `None` for all.
     pub mask: Option<ir::Reg>,
@@ -241,4 +254,29 @@ pub struct PointQuery {
     pub distances: Vec<f32>,
     /// The next point `pciterate` moves to (1-based: 0 before the first).
     pub cursor: usize,
+}
+
+impl ArgMode {
+    /// How a call reads each argument: literals once, outputs and strings
+    /// or arrays no other argument reads moved, the rest copied.
+    pub fn of(args: &[ir::Loc], consts: &[Option<Val>], outs: &[bool]) -> Vec<ArgMode> {
+        let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
+        args.iter()
+            .enumerate()
+            .map(|(k, a)| {
+                if consts[k].is_some() {
+                    return ArgMode::Const;
+                }
+                let shared = args
+                    .iter()
+                    .enumerate()
+                    .any(|(j, b)| j != k && b.reg == a.reg && b.ty == a.ty);
+                if outs[k] || (heap(a.ty) && !shared) {
+                    ArgMode::Move
+                } else {
+                    ArgMode::Copy
+                }
+            })
+            .collect()
+    }
 }

@@ -8,7 +8,7 @@ use super::exec::Frame;
 use super::world::{LaneHost, World};
 use crate::error::RunError;
 use crate::ir::{Loc, LANES};
-use crate::program::{CallSite, Lane, Program, Stop};
+use crate::program::{ArgMode, CallSite, Lane, Program, Stop};
 use crate::ty::{Elem, Ty};
 use crate::value::{HeapBytes, Val};
 
@@ -90,42 +90,6 @@ pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
     }
 }
 
-/// How a call reads each argument for a lane.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum ArgMode {
-    /// A literal, read once for every lane.
-    Const,
-    /// Copied out of its register (numbers, or a register another argument
-    /// also reads).
-    Copy,
-    /// Moved out of its register and back after the call: a string or an
-    /// array used once, or an output.
-    Move,
-}
-
-fn modes(site: &CallSite) -> Vec<ArgMode> {
-    let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
-    site.args
-        .iter()
-        .enumerate()
-        .map(|(k, a)| {
-            if site.consts[k].is_some() {
-                return ArgMode::Const;
-            }
-            let shared = site
-                .args
-                .iter()
-                .enumerate()
-                .any(|(j, b)| j != k && b.reg == a.reg && b.ty == a.ty);
-            if site.outs[k] || (heap(a.ty) && !shared) {
-                ArgMode::Move
-            } else {
-                ArgMode::Copy
-            }
-        })
-        .collect()
-}
-
 /// Runs one call over the lanes its mask selects.
 pub fn call(
     _p: &Program,
@@ -133,12 +97,24 @@ pub fn call(
     fr: &mut Frame,
     world: &mut World,
 ) -> Result<(), RunError> {
-    let modes = modes(site);
-    let mut args: Vec<Val> = site
-        .consts
-        .iter()
-        .map(|c| c.clone().unwrap_or(Val::I(0)))
-        .collect();
+    let modes = &site.modes;
+    // The argument list is the frame's, reused call after call (a detail
+    // loop makes millions of calls).
+    let mut args = std::mem::take(&mut fr.args);
+    args.clear();
+    args.extend(site.consts.iter().map(|c| c.clone().unwrap_or(Val::I(0))));
+    let result = call_lanes(site, modes, &mut args, fr, world);
+    fr.args = args;
+    result
+}
+
+fn call_lanes(
+    site: &CallSite,
+    modes: &[ArgMode],
+    args: &mut [Val],
+    fr: &mut Frame,
+    world: &mut World,
+) -> Result<(), RunError> {
     for l in 0..fr.n {
         if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {
             continue;
@@ -152,7 +128,7 @@ pub fn call(
             let copied: u64 = site
                 .args
                 .iter()
-                .zip(&modes)
+                .zip(modes)
                 .filter(|(_, m)| **m == ArgMode::Copy)
                 .map(|(a, _)| held_at(fr, *a, l))
                 .sum();
@@ -179,7 +155,7 @@ pub fn call(
                 args[k] = take(fr, *a, l);
             }
         }
-        let result = run_lane(site, &mut args, fr, world, l);
+        let result = run_lane(site, args, fr, world, l);
         // Moved arguments go back whatever happened, so an error leaves
         // the registers as they were.
         let mut after = 0u64;

@@ -24,6 +24,8 @@ pub struct Frame {
     pub as_: Vec<Vec<String>>,
     /// Bytes this frame has charged to the run's memory budget.
     pub held: u64,
+    /// A call's arguments for one lane, kept from call to call.
+    pub args: Vec<crate::value::Val>,
 }
 
 impl Frame {
@@ -39,6 +41,7 @@ impl Frame {
             ai: vec![Vec::new(); c.ai as usize * LANES],
             as_: vec![Vec::new(); c.as_ as usize * LANES],
             held: 0,
+            args: Vec::new(),
         }
     }
 
@@ -80,104 +83,205 @@ impl<'a, T> Split<'a, T> {
     }
 }
 
+/// One lane of a float operation: the rule the batch loops and the scalar
+/// path share.
+#[inline(always)]
+fn fbin1(op: FBinOp, p: f32, q: f32) -> f32 {
+    match op {
+        FBinOp::Add => p + q,
+        FBinOp::Sub => p - q,
+        FBinOp::Mul => p * q,
+        FBinOp::Div => {
+            if q == 0.0 {
+                0.0
+            } else {
+                p / q
+            }
+        }
+        FBinOp::Mod => {
+            if q == 0.0 {
+                0.0
+            } else {
+                p % q
+            }
+        }
+        FBinOp::Pow => p.powf(q),
+        FBinOp::Min => p.min(q),
+        FBinOp::Max => p.max(q),
+        FBinOp::Atan2 => p.atan2(q),
+    }
+}
+
+#[inline(always)]
+fn fun1(op: FUnOp, p: f32) -> f32 {
+    match op {
+        FUnOp::Neg => -p,
+        FUnOp::Abs => p.abs(),
+        FUnOp::Sqrt => {
+            if p > 0.0 {
+                p.sqrt()
+            } else {
+                0.0
+            }
+        }
+        FUnOp::Sin => p.sin(),
+        FUnOp::Cos => p.cos(),
+        FUnOp::Tan => p.tan(),
+        FUnOp::Asin => p.clamp(-1.0, 1.0).asin(),
+        FUnOp::Acos => p.clamp(-1.0, 1.0).acos(),
+        FUnOp::Atan => p.atan(),
+        FUnOp::Sinh => p.sinh(),
+        FUnOp::Cosh => p.cosh(),
+        FUnOp::Tanh => p.tanh(),
+        FUnOp::Exp => p.exp(),
+        FUnOp::Log => {
+            if p > 0.0 {
+                p.ln()
+            } else {
+                0.0
+            }
+        }
+        FUnOp::Log10 => {
+            if p > 0.0 {
+                p.log10()
+            } else {
+                0.0
+            }
+        }
+        FUnOp::Floor => p.floor(),
+        FUnOp::Ceil => p.ceil(),
+        FUnOp::Frac => p - p.floor(),
+        FUnOp::Rint => p.round(),
+        FUnOp::Trunc => p.trunc(),
+        FUnOp::Sign => {
+            if p > 0.0 {
+                1.0
+            } else if p < 0.0 {
+                -1.0
+            } else {
+                0.0
+            }
+        }
+        FUnOp::Radians => p.to_radians(),
+        FUnOp::Degrees => p.to_degrees(),
+    }
+}
+
+#[inline(always)]
+fn ibin1(op: IBinOp, p: i32, q: i32) -> i32 {
+    match op {
+        IBinOp::Add => p.wrapping_add(q),
+        IBinOp::Sub => p.wrapping_sub(q),
+        IBinOp::Mul => p.wrapping_mul(q),
+        IBinOp::Div => {
+            if q == 0 {
+                0
+            } else {
+                p.wrapping_div(q)
+            }
+        }
+        IBinOp::Mod => {
+            if q == 0 {
+                0
+            } else {
+                p.wrapping_rem(q)
+            }
+        }
+        IBinOp::And => p & q,
+        IBinOp::Or => p | q,
+        IBinOp::Xor => p ^ q,
+        IBinOp::Shl => p.wrapping_shl(q as u32),
+        IBinOp::Shr => p.wrapping_shr(q as u32),
+        IBinOp::Min => p.min(q),
+        IBinOp::Max => p.max(q),
+        IBinOp::LAnd => i32::from(p != 0 && q != 0),
+        IBinOp::LOr => i32::from(p != 0 || q != 0),
+        IBinOp::AndNot => i32::from(p != 0 && q == 0),
+    }
+}
+
+#[inline(always)]
+fn iun1(op: IUnOp, p: i32) -> i32 {
+    match op {
+        IUnOp::Neg => p.wrapping_neg(),
+        IUnOp::Not => i32::from(p == 0),
+        IUnOp::BitNot => !p,
+        IUnOp::Abs => p.wrapping_abs(),
+        IUnOp::Truth => i32::from(p != 0),
+    }
+}
+
 fn fbin(op: FBinOp, x: &mut [f32], a: &[f32], b: &[f32]) {
     macro_rules! each {
-        ($f:expr) => {
+        ($op:expr) => {
             for ((o, &p), &q) in x.iter_mut().zip(a).zip(b) {
-                *o = $f(p, q);
+                *o = fbin1($op, p, q);
             }
         };
     }
     match op {
-        FBinOp::Add => each!(|p: f32, q: f32| p + q),
-        FBinOp::Sub => each!(|p: f32, q: f32| p - q),
-        FBinOp::Mul => each!(|p: f32, q: f32| p * q),
-        FBinOp::Div => each!(|p: f32, q: f32| if q == 0.0 { 0.0 } else { p / q }),
-        FBinOp::Mod => each!(|p: f32, q: f32| if q == 0.0 { 0.0 } else { p % q }),
-        FBinOp::Pow => each!(|p: f32, q: f32| p.powf(q)),
-        FBinOp::Min => each!(|p: f32, q: f32| p.min(q)),
-        FBinOp::Max => each!(|p: f32, q: f32| p.max(q)),
-        FBinOp::Atan2 => each!(|p: f32, q: f32| p.atan2(q)),
+        FBinOp::Add => each!(FBinOp::Add),
+        FBinOp::Sub => each!(FBinOp::Sub),
+        FBinOp::Mul => each!(FBinOp::Mul),
+        FBinOp::Div => each!(FBinOp::Div),
+        FBinOp::Mod => each!(FBinOp::Mod),
+        FBinOp::Pow => each!(FBinOp::Pow),
+        FBinOp::Min => each!(FBinOp::Min),
+        FBinOp::Max => each!(FBinOp::Max),
+        FBinOp::Atan2 => each!(FBinOp::Atan2),
     }
 }
 
 fn fun(op: FUnOp, x: &mut [f32], a: &[f32]) {
+    // Transcendental loops do not vectorise; the arms that do are the
+    // cheap ones, each with its operator constant.
     macro_rules! each {
-        ($f:expr) => {
+        ($op:expr) => {
             for (o, &p) in x.iter_mut().zip(a) {
-                *o = $f(p);
+                *o = fun1($op, p);
             }
         };
     }
     match op {
-        FUnOp::Neg => each!(|p: f32| -p),
-        FUnOp::Abs => each!(f32::abs),
-        FUnOp::Sqrt => each!(|p: f32| if p > 0.0 { p.sqrt() } else { 0.0 }),
-        FUnOp::Sin => each!(f32::sin),
-        FUnOp::Cos => each!(f32::cos),
-        FUnOp::Tan => each!(f32::tan),
-        FUnOp::Asin => each!(|p: f32| p.clamp(-1.0, 1.0).asin()),
-        FUnOp::Acos => each!(|p: f32| p.clamp(-1.0, 1.0).acos()),
-        FUnOp::Atan => each!(f32::atan),
-        FUnOp::Sinh => each!(f32::sinh),
-        FUnOp::Cosh => each!(f32::cosh),
-        FUnOp::Tanh => each!(f32::tanh),
-        FUnOp::Exp => each!(f32::exp),
-        FUnOp::Log => each!(|p: f32| if p > 0.0 { p.ln() } else { 0.0 }),
-        FUnOp::Log10 => each!(|p: f32| if p > 0.0 { p.log10() } else { 0.0 }),
-        FUnOp::Floor => each!(f32::floor),
-        FUnOp::Ceil => each!(f32::ceil),
-        FUnOp::Frac => each!(|p: f32| p - p.floor()),
-        FUnOp::Rint => each!(|p: f32| p.round()),
-        FUnOp::Trunc => each!(f32::trunc),
-        FUnOp::Sign => each!(|p: f32| if p > 0.0 {
-            1.0
-        } else if p < 0.0 {
-            -1.0
-        } else {
-            0.0
-        }),
-        FUnOp::Radians => each!(f32::to_radians),
-        FUnOp::Degrees => each!(f32::to_degrees),
+        FUnOp::Neg => each!(FUnOp::Neg),
+        FUnOp::Abs => each!(FUnOp::Abs),
+        FUnOp::Sqrt => each!(FUnOp::Sqrt),
+        FUnOp::Floor => each!(FUnOp::Floor),
+        FUnOp::Ceil => each!(FUnOp::Ceil),
+        FUnOp::Frac => each!(FUnOp::Frac),
+        FUnOp::Rint => each!(FUnOp::Rint),
+        FUnOp::Trunc => each!(FUnOp::Trunc),
+        FUnOp::Sign => each!(FUnOp::Sign),
+        FUnOp::Radians => each!(FUnOp::Radians),
+        FUnOp::Degrees => each!(FUnOp::Degrees),
+        other => each!(other),
     }
 }
 
 fn ibin(op: IBinOp, x: &mut [i32], a: &[i32], b: &[i32]) {
     macro_rules! each {
-        ($f:expr) => {
+        ($op:expr) => {
             for ((o, &p), &q) in x.iter_mut().zip(a).zip(b) {
-                *o = $f(p, q);
+                *o = ibin1($op, p, q);
             }
         };
     }
     match op {
-        IBinOp::Add => each!(|p: i32, q: i32| p.wrapping_add(q)),
-        IBinOp::Sub => each!(|p: i32, q: i32| p.wrapping_sub(q)),
-        IBinOp::Mul => each!(|p: i32, q: i32| p.wrapping_mul(q)),
-        IBinOp::Div => each!(|p: i32, q: i32| if q == 0 { 0 } else { p.wrapping_div(q) }),
-        IBinOp::Mod => each!(|p: i32, q: i32| if q == 0 { 0 } else { p.wrapping_rem(q) }),
-        IBinOp::And => each!(|p: i32, q: i32| p & q),
-        IBinOp::Or => each!(|p: i32, q: i32| p | q),
-        IBinOp::Xor => each!(|p: i32, q: i32| p ^ q),
-        IBinOp::Shl => each!(|p: i32, q: i32| p.wrapping_shl(q as u32)),
-        IBinOp::Shr => each!(|p: i32, q: i32| p.wrapping_shr(q as u32)),
-        IBinOp::Min => each!(|p: i32, q: i32| p.min(q)),
-        IBinOp::Max => each!(|p: i32, q: i32| p.max(q)),
-        IBinOp::LAnd => each!(|p: i32, q: i32| i32::from(p != 0 && q != 0)),
-        IBinOp::LOr => each!(|p: i32, q: i32| i32::from(p != 0 || q != 0)),
-        IBinOp::AndNot => each!(|p: i32, q: i32| i32::from(p != 0 && q == 0)),
+        IBinOp::Add => each!(IBinOp::Add),
+        IBinOp::Sub => each!(IBinOp::Sub),
+        IBinOp::Mul => each!(IBinOp::Mul),
+        IBinOp::LAnd => each!(IBinOp::LAnd),
+        IBinOp::LOr => each!(IBinOp::LOr),
+        IBinOp::AndNot => each!(IBinOp::AndNot),
+        IBinOp::And => each!(IBinOp::And),
+        IBinOp::Or => each!(IBinOp::Or),
+        other => each!(other),
     }
 }
 
 fn iun(op: IUnOp, x: &mut [i32], a: &[i32]) {
     for (o, &p) in x.iter_mut().zip(a) {
-        *o = match op {
-            IUnOp::Neg => p.wrapping_neg(),
-            IUnOp::Not => i32::from(p == 0),
-            IUnOp::BitNot => !p,
-            IUnOp::Abs => p.wrapping_abs(),
-            IUnOp::Truth => i32::from(p != 0),
-        };
+        *o = iun1(op, p);
     }
 }
 
@@ -258,12 +362,32 @@ fn copy_charged(
 /// Runs `p` on the batch in `fr`. `world` holds the geometry the library
 /// reads and the effects it queues.
 pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
+    if fr.w == 1 {
+        run_lanes::<true>(p, fr, world)
+    } else {
+        run_lanes::<false>(p, fr, world)
+    }
+}
+
+/// The interpreter, with `SCALAR` for a batch of one lane (a detail run, a
+/// parameter expression): numeric instructions then read and write that
+/// lane directly instead of looping over slices, with the same lane rules.
+fn run_lanes<const SCALAR: bool>(
+    p: &Program,
+    fr: &mut Frame,
+    world: &mut World,
+) -> Result<(), RunError> {
     let mut pc = 0usize;
     let mut polls = 0u32;
     let mut masks = [0i32; LANES];
     let w = fr.w;
     while pc < p.ops.len() {
-        match &p.ops[pc] {
+        let op = &p.ops[pc];
+        if SCALAR && scalar(op, fr) {
+            pc += 1;
+            continue;
+        }
+        match op {
             Op::FConst { d, v } => fr.f[*d as usize * LANES..][..w].fill(*v),
             Op::IConst { d, v } => fr.i[*d as usize * LANES..][..w].fill(*v),
             Op::SConst { d, s } => {
@@ -367,6 +491,12 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
                 pc = *to as usize;
                 continue;
             }
+            Op::JumpIfNone { m, to } if SCALAR => {
+                if fr.i[*m as usize * LANES] == 0 {
+                    pc = *to as usize;
+                    continue;
+                }
+            }
             Op::JumpIfNone { m, to } => {
                 if !fr.il(*m)[..fr.n].iter().any(|&k| k != 0) {
                     pc = *to as usize;
@@ -386,4 +516,37 @@ pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunErro
         pc += 1;
     }
     Ok(())
+}
+
+/// Runs a numeric instruction on lane 0 alone; false for the others (they
+/// take the batch path, which handles one lane as well).
+#[inline(always)]
+fn scalar(op: &Op, fr: &mut Frame) -> bool {
+    let at = |r: &Reg| *r as usize * LANES;
+    match op {
+        Op::FConst { d, v } => fr.f[at(d)] = *v,
+        Op::IConst { d, v } => fr.i[at(d)] = *v,
+        Op::FMov { d, s } => fr.f[at(d)] = fr.f[at(s)],
+        Op::IMov { d, s } => fr.i[at(d)] = fr.i[at(s)],
+        Op::FSel { d, s, m } => {
+            if fr.i[at(m)] != 0 {
+                fr.f[at(d)] = fr.f[at(s)];
+            }
+        }
+        Op::ISel { d, s, m } => {
+            if fr.i[at(m)] != 0 {
+                fr.i[at(d)] = fr.i[at(s)];
+            }
+        }
+        Op::FBin { op, d, a, b } => fr.f[at(d)] = fbin1(*op, fr.f[at(a)], fr.f[at(b)]),
+        Op::FUn { op, d, a } => fr.f[at(d)] = fun1(*op, fr.f[at(a)]),
+        Op::IBin { op, d, a, b } => fr.i[at(d)] = ibin1(*op, fr.i[at(a)], fr.i[at(b)]),
+        Op::IUn { op, d, a } => fr.i[at(d)] = iun1(*op, fr.i[at(a)]),
+        Op::FCmp { op, d, a, b } => fr.i[at(d)] = compare(*op, &fr.f[at(a)], &fr.f[at(b)]),
+        Op::ICmp { op, d, a, b } => fr.i[at(d)] = compare(*op, &fr.i[at(a)], &fr.i[at(b)]),
+        Op::IToF { d, s } => fr.f[at(d)] = fr.i[at(s)] as f32,
+        Op::FToI { d, s } => fr.i[at(d)] = fr.f[at(s)] as i32,
+        _ => return false,
+    }
+    true
 }

@@ -11,7 +11,7 @@ use super::lex::Pos;
 use crate::error::CompileError;
 use crate::ir::*;
 use crate::library::{array_ops, Callee};
-use crate::program::{Binding, CallSite, Counts};
+use crate::program::{ArgMode, Binding, CallSite, Counts};
 use crate::ty::{Elem, Ty};
 use crate::value::Val;
 
@@ -384,7 +384,7 @@ impl<'a> Lower<'a> {
                         bytes: None,
                         args: vec![],
                         consts: vec![],
-                        outs: vec![],
+                        modes: vec![],
                         out: fresh,
                         mask: None,
                         counted: false,
@@ -732,7 +732,7 @@ impl<'a> Lower<'a> {
         out: Ty,
         pos: Pos,
     ) -> Loc {
-        let consts = args
+        let consts: Vec<Option<Val>> = args
             .iter()
             .zip(&outs)
             .map(|(a, o)| {
@@ -749,13 +749,14 @@ impl<'a> Lower<'a> {
         let counted = heap(out) || args.iter().any(|a| heap(a.ty)) || callee.bytes.is_some();
         let out = self.alloc(out);
         let call = self.calls.len() as u32;
+        let modes = ArgMode::of(&args, &consts, &outs);
         self.calls.push(CallSite {
+            modes,
             name: callee.name,
             lane: callee.lane,
             bytes: callee.bytes,
             args,
             consts,
-            outs,
             out,
             mask: self.mask(),
             counted,
