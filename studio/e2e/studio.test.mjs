@@ -1,4 +1,4 @@
-// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors kept local, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, and the million-instance example.
+// Browser tests of the studio in Debian's Chromium against a real `geode serve`: live edits, errors kept local, the Tab menu, wiring, undo and redo, the timeline and its cache, solo and auto-solo, latest-wins cooking, saving, the pictures in the docs (the README screenshot, the VEX coral), and the million-instance example.
 
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
@@ -496,6 +496,39 @@ describe('the README screenshot', () => {
       await page.waitForSelector('.param[data-param="kill"]');
       await page.waitForTimeout(300);
       writeFileSync(process.env.GEODE_SCREENSHOT ?? `${server.dir}/studio.png`, await page.screenshot());
+    } finally {
+      await page.close();
+      await server.stop();
+    }
+  });
+});
+
+describe('the VEX coral picture', () => {
+  test('seed 001 grown by VEX, one tube per branch (docs/coral_vex.png)', async () => {
+    const server = await serve('coral_vex.json');
+    const { page } = await open(chrome.b, server.url, { width: 1500, height: 1100 });
+    try {
+      await nextCook(page, 0, 120_000);
+      const g = await generation(page);
+      await page.locator('#timeline .frame').fill('90');
+      await page.locator('#timeline .frame').press('Enter');
+      const cooked = await nextCook(page, g, 300_000);
+      assert.ok(cooked.ok, JSON.stringify(cooked.errors));
+      assert.ok((await drawn(page)).triangles > 10_000, 'the grown coral is drawn');
+      // Frame the whole coral, as H over the viewport does (the frame field
+      // typed in keeps the keys until it lets go of the focus), and leave
+      // out the viewport's text and buttons.
+      await page.locator('#timeline .frame').blur();
+      const box = await boxOf(page.locator('#viewport canvas'));
+      await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+      const before = await page.evaluate(() => window.__geode.viewport.camera.position.toArray());
+      await page.keyboard.press('h');
+      await page.waitForFunction((p) => window.__geode.viewport.camera.position.toArray().some((x, i) => x !== p[i]), before);
+      // Closer than H frames it (its box's diagonal fills the view).
+      for (let i = 0; i < Number(process.env.GEODE_CORAL_VEX_ZOOM ?? 3); i++) await page.mouse.wheel(0, -120);
+      await page.addStyleTag({ content: '#hud, #view-tools { visibility: hidden; }' });
+      await page.waitForTimeout(300);
+      writeFileSync(process.env.GEODE_CORAL_VEX_PNG ?? `${server.dir}/coral_vex.png`, await page.locator('#viewport canvas').screenshot());
     } finally {
       await page.close();
       await server.stop();

@@ -1,12 +1,14 @@
 //! Curve kernels at realistic sizes: frames along a long helix, sweeping it
-//! into a tube, and a million packed copies of a 10k-triangle object
-//! (memory per copy printed: a transform, not a mesh).
+//! into a tube, a million packed copies of a 10k-triangle object (memory
+//! per copy printed: a transform, not a mesh), and PolyPath joining a
+//! million grown segments into branches.
 //! Run: cargo bench -p geode-curve --bench curve
 
 use geode_curve::frames::{frames, tangents, FrameMethod, TangentMode};
 use geode_curve::shapes::helix;
-use geode_curve::{copy_to_points, sweep, CopyOptions, SweepOptions};
-use geode_geo::{primitives, Geometry};
+use geode_curve::{copy_to_points, polypath, sweep, CopyOptions, PolyPathOptions, SweepOptions};
+use geode_geo::glam::Vec3;
+use geode_geo::{primitives, Geometry, PrimKind};
 
 fn main() {
     let source = primitives::uv_sphere(1.0, 100, 51);
@@ -78,4 +80,43 @@ fn copy_packed_10k_triangle_sphere(bencher: divan::Bencher, n: usize) {
         variant_attrib: String::new(),
     };
     bencher.bench(|| copy_to_points(&source, &template, &opts, &|| false).unwrap());
+}
+
+/// A tree of `n` two-point segments as a growth wrangle writes them (each
+/// new point a segment from its parent): a point continues the last one,
+/// every eighth branches off an earlier point.
+fn grown_segments(n: usize) -> Geometry {
+    let mut positions = vec![Vec3::ZERO];
+    let mut vertex_points = Vec::with_capacity(2 * n);
+    let mut h: u64 = 0x9E37_79B9_7F4A_7C15;
+    for i in 1..=n {
+        h ^= h << 13;
+        h ^= h >> 7;
+        h ^= h << 17;
+        let parent = if i % 8 == 0 {
+            (h % i as u64) as usize
+        } else {
+            i - 1
+        };
+        let step = Vec3::new(
+            (h & 0xff) as f32 / 255.0 - 0.5,
+            1.0,
+            (h >> 8 & 0xff) as f32 / 255.0 - 0.5,
+        );
+        positions.push(positions[parent] + step * 0.01);
+        vertex_points.extend([parent as u32, i as u32]);
+    }
+    Geometry::from_prims(
+        positions,
+        vertex_points,
+        &vec![2; n],
+        vec![PrimKind::Polyline; n],
+    )
+    .unwrap()
+}
+
+#[divan::bench(args = [100_000, 1_000_000], sample_count = 5)]
+fn polypath_grown_segments(bencher: divan::Bencher, n: usize) {
+    let g = grown_segments(n);
+    bencher.bench(|| polypath(&g, &PolyPathOptions::default(), &|| false).unwrap());
 }

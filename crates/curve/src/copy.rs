@@ -10,10 +10,13 @@ use std::sync::Arc;
 use geode_geo::{ops, AttribClass, GeoError, Geometry, Group};
 use rayon::prelude::*;
 
-/// Attributes that place copies: consumed, never carried onto them.
-const PLACEMENT: [&str; 10] = [
+/// Attributes that place copies: consumed, never carried onto them
+/// (Houdini's Copy to Points leaves these out of the attributes it copies
+/// by default, `v` included).
+const PLACEMENT: [&str; 11] = [
     "P",
     "N",
+    "v",
     "up",
     "orient",
     "rot",
@@ -84,7 +87,8 @@ fn pieces(source: &Geometry, attrib: &str) -> Result<Vec<Arc<Geometry>>, CopyErr
 }
 
 /// Copies `source` onto every point of `template`; `cancel` is polled per
-/// copy and between phases.
+/// copy and between phases. An instance attribute of a type that cannot
+/// mean what its name does is an error (see `ops::InstanceAttribs`).
 pub fn copy_to_points(
     source: &Geometry,
     template: &Geometry,
@@ -106,7 +110,7 @@ pub fn copy_to_points(
                 .collect(),
         }
     };
-    let instances = ops::InstanceAttribs::new(template);
+    let instances = ops::InstanceAttribs::new(template)?;
     let carried: Vec<&str> = template
         .attribs(AttribClass::Point)
         .names()

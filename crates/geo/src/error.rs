@@ -19,6 +19,12 @@ pub enum GeoError {
         expected: AttribType,
         found: AttribType,
     },
+    #[error("point attribute `{name}` is {found}; it is read as {expected}")]
+    AttribReadAs {
+        name: String,
+        expected: &'static str,
+        found: AttribType,
+    },
     #[error("no {class} attribute named `{name}`")]
     MissingAttrib { class: AttribClass, name: String },
     #[error("the point attribute `P` cannot be removed or retyped")]

@@ -1,10 +1,11 @@
 //! Curve edits: resample by length or count, smooth, carve a range,
-//! reverse, join. Resampling and carving blend every point attribute
+//! reverse, join, polypath (segments joined into one curve per branch).
+//! Resampling and carving blend every point attribute
 //! between the points a new point falls between.
 
 use geode_curve::polyline::glam_d::DVec3;
 use geode_curve::resample::{self, Sample};
-use geode_curve::{curves, rebuild, Curve, CurveOut};
+use geode_curve::{curves, polypath, rebuild, Curve, CurveOut, PolyPathError, PolyPathOptions};
 use geode_geo::{ops, Geometry};
 use geode_op::{
     geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
@@ -267,10 +268,65 @@ fn cook_join(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     geometry(rebuild(g, &[out]).map_err(|e| ctx.kernel(e))?)
 }
 
+const POLYPATH_CLOSE_LOOPS: P = P::new(
+    "close_loops",
+    "Make isolated loops closed",
+    T::Toggle,
+    D::Toggle(true),
+    "A loop of edges that touches no other edge becomes a closed polygon (off: an open polyline ending at its first point).",
+);
+
+static POLYPATH: NodeSpec = NodeSpec::new(
+    "polypath",
+    "PolyPath",
+    "curve",
+    "Houdini's PolyPath: the edges of all polylines and polygons rewired into polylines that run until a point with one edge or three or more (an end or a branch), so segments grown one at a time become one curve per branch. Duplicate edges count once, edges from a point to itself go; points and their attributes stay. Each path runs the way most of its edges ran; it takes the primitive attributes of its first source edge's primitive. Points are joined by number, not position (fuse first to join coincident ends). Other primitives are dropped.",
+    &[geometry_input("curves")],
+    &[
+        POLYPATH_CLOSE_LOOPS,
+    ],
+);
+
+fn cook_polypath(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    if curves(g).is_empty() {
+        return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
+    }
+    let opts = PolyPathOptions {
+        close_loops: p.toggle(&POLYPATH_CLOSE_LOOPS)?,
+    };
+    let dropped = g
+        .prim_kinds()
+        .iter()
+        .filter(|k| {
+            !matches!(
+                k,
+                geode_geo::PrimKind::Polyline | geode_geo::PrimKind::Polygon
+            )
+        })
+        .count();
+    if dropped > 0 {
+        ctx.warn(format!(
+            "{dropped} primitives that are not polylines or polygons were dropped"
+        ));
+    }
+    let cancel = || ctx.cancel.is_cancelled();
+    match polypath(g, &opts, &cancel) {
+        Ok(out) => geometry(out),
+        Err(PolyPathError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+        Err(e) => Err(ctx.kernel(e)),
+    }
+}
+
 pub fn register(r: &mut Registry) {
     r.node(&RESAMPLE, cook_resample);
     r.node(&CARVE, cook_carve);
     r.node(&SMOOTH, cook_smooth);
     r.node(&REVERSE, cook_reverse);
     r.node(&JOIN, cook_join);
+    r.node(&POLYPATH, cook_polypath);
 }

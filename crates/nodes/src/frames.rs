@@ -203,7 +203,7 @@ const SWEEP_RADIUS_ATTRIBUTE: P = P::new(
     "Radius attribute",
     T::String,
     D::Str("pscale"),
-    "Float point attribute multiplying the radius (if present).",
+    "Float (or int) point attribute multiplying the radius (if present).",
 );
 const SWEEP_RAMP: P = P::new("ramp", "Radius ramp", T::String, D::Str(""), "Multiplier along each curve as `u value` keys, e.g. `0 1, 1 0.2` (linear between keys; empty: 1).");
 const SWEEP_CAPS: P = P::new(
@@ -229,7 +229,9 @@ static SWEEP: NodeSpec = NodeSpec::new(
         TANGENT,
         UP,
     ],
-);
+)
+// 2: `orient` from any float4 column, an int radius attribute.
+.version(2);
 
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
@@ -263,12 +265,10 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         None => SweepOptions::circle(p.int(&SWEEP_SIDES)? as usize, caps),
     };
     let radius = p.float(&SWEEP_RADIUS)?;
-    let attr = g
-        .attrib(AttribClass::Point, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
-        .and_then(|a| a.as_f32());
-    let orient = g
-        .attrib(AttribClass::Point, "orient")
-        .and_then(|a| a.as_quat());
+    let attr = geode_geo::ops::point_scalar(g, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
+        .map_err(|e| ctx.kernel_at("radius_attribute", e))?;
+    // Any float4 `orient` (a wrangle's `p@orient` is a plain vector4).
+    let orient = geode_geo::ops::point_float4(g, "orient").map_err(|e| ctx.kernel(e))?;
     let (tangent, up) = (p.string(&TANGENT)?, vec3(p, &UP)?.as_dvec3());
     let rings: f64 = cs.iter().map(|c| c.points.len() as f64).sum();
     let sides = opts.section.len() as f64;
@@ -294,7 +294,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
                         .points
                         .iter()
                         .map(|&i| {
-                            let q: DQuat = o[i as usize].as_dquat().normalize();
+                            let q: DQuat = geode_geo::ops::unit_quat(o[i as usize]).as_dquat();
                             Frame {
                                 tangent: q * DVec3::Z,
                                 normal: q * DVec3::Y,
@@ -313,7 +313,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
                 .zip(&along)
                 .map(|(&i, s)| {
                     let u = if total > 0.0 { s / total } else { 0.0 };
-                    radius * attr.map_or(1.0, |a| a[i as usize] as f64) * eval_ramp(&ramp, u)
+                    radius * attr.map_or(1.0, |a| a.get(i as usize) as f64) * eval_ramp(&ramp, u)
                 })
                 .collect();
             let cancel = || ctx.cancel.is_cancelled();

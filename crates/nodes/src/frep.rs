@@ -443,7 +443,7 @@ const SWEEP_RADIUS_ATTRIBUTE: P = P::new(
     "Radius attribute",
     T::String,
     D::Str("pscale"),
-    "Float point attribute giving the radius per point (if present).",
+    "Float (or int) point attribute giving the radius per point (if present).",
 );
 
 static SWEEP: NodeSpec = NodeSpec::new(
@@ -457,13 +457,14 @@ static SWEEP: NodeSpec = NodeSpec::new(
         SWEEP_RADIUS_ATTRIBUTE,
     ],
 )
-.output(PortType::Field);
+.output(PortType::Field)
+// 2: an int radius attribute.
+.version(2);
 
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = crate::util::input(ctx, inputs, 0)?;
-    let attr = g
-        .attrib(AttribClass::Point, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
-        .and_then(|a| a.as_f32());
+    let attr = geode_geo::ops::point_scalar(g, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
+        .map_err(|e| ctx.kernel_at("radius_attribute", e))?;
     let r = p.float(&SWEEP_RADIUS)?;
     let pos = g.positions();
     let mut segments = Vec::new();
@@ -479,7 +480,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
             .collect();
         let radii: Vec<f64> = pts
             .iter()
-            .map(|&i| attr.map_or(r, |a| a[i as usize] as f64))
+            .map(|&i| attr.map_or(r, |a| a.get(i as usize) as f64))
             .collect();
         segments.extend(CapsuleSet::polyline_segments(&points, &radii));
     }
@@ -497,7 +498,9 @@ static INSTANCE: NodeSpec = NodeSpec::new(
     &[FIELD_IN, InputSpec { name: "points", ty: PortType::Geometry, required: true }],
     &[],
 )
-.output(PortType::Field);
+.output(PortType::Field)
+// 2: instance attributes as copy_to_points reads them (its version 2).
+.version(2);
 
 fn cook_instance(
     ctx: &CookContext,
@@ -507,7 +510,8 @@ fn cook_instance(
     let f = field_input(ctx, inputs, 0)?;
     let g = crate::util::input(ctx, inputs, 1)?;
     let mut copies = Vec::new();
-    for m in geode_geo::ops::instance_transforms(g) {
+    let transforms = geode_geo::ops::instance_transforms(g).map_err(|e| ctx.kernel(e))?;
+    for m in transforms {
         ctx.check()?;
         copies.push(
             f.transformed(&m.as_dmat4())

@@ -29,14 +29,16 @@ static COPY_TO_POINTS: NodeSpec = NodeSpec::new(
     "copy_to_points",
     "Copy to Points",
     "instancing",
-    "A copy of input 1 on every point of input 2, placed by the points' instance attributes with Houdini's precedence: P + trans, then transform (a matrix, replacing the rest) or orient (else N as +Z with up as +Y), rot, pscale and scale, about pivot. Packed copies share one geometry (memory per copy is a transform). Other template point attributes are copied onto the copies.",
+    "A copy of input 1 on every point of input 2, placed by the points' instance attributes as SideFX documents them: moved by -pivot, scaled by scale x pscale, turned by orient (else N as +Z with up as +Y, else v), then by rot, moved to P + trans; a transform matrix replaces scale and rotations. orient and rot are any float4 (a wrangle's vector4 too), N, up, v, scale, trans and pivot any float3, pscale a float or an int; another type under one of these names is an error. Packed copies share one geometry (memory per copy is a transform). Other template point attributes are copied onto the copies.",
     &[geometry_input("source"), geometry_input("template")],
     &[
         COPY_TO_POINTS_PACK,
         COPY_TO_POINTS_PIECE_ATTRIBUTE,
         COPY_TO_POINTS_VARIANT_ATTRIBUTE,
     ],
-);
+)
+// 2: instance attributes from any column of their width, rot after orient, N alone by the dihedral turn, v.
+.version(2);
 
 fn cook_copy_to_points(
     ctx: &CookContext,

@@ -212,3 +212,108 @@ fn density_sets_the_count_from_volume_or_area() {
     let want = 4000.0 * std::f64::consts::PI / 3.0;
     assert!((n as f64 - want).abs() / want < 0.02, "{n} vs {want}");
 }
+
+/// A wrangle's `p@orient` is a plain vector4 column (no quaternion type):
+/// copy_to_points still turns each copy by it, and an int `pscale` scales.
+/// Copy k of source point s lands at P_k + R_z((k + 1) 90 deg) (2 s).
+#[test]
+fn copies_follow_an_orient_a_wrangle_wrote() {
+    let nodes = r#"
+        "source": {"type": "curve_line", "params": {"start": [1, 0, 0], "end": [1, 0, 2], "points": 2}},
+        "line": {"type": "curve_line", "params": {"start": [0, 0, 0], "end": [0, 5, 0], "points": 2}},
+        "aim": {"type": "wrangle", "inputs": ["line"], "params": {"snippet":
+            "p@orient = quaternion(radians(90) * (@ptnum + 1), {0, 0, 1});\ni@pscale = 2;"}},
+        "copy": {"type": "copy_to_points", "inputs": ["source", "aim"], "params": {"pack": false}}"#;
+    let aim = geo(nodes, "aim");
+    assert!(
+        matches!(
+            aim.attrib(AttribClass::Point, "orient").unwrap().data(),
+            geode_geo::AttribData::Vec4(_)
+        ),
+        "the wrangle writes a vector4, the case this test is about"
+    );
+    let g = geo(nodes, "copy");
+    let expected = [
+        Vec3::new(0.0, 2.0, 0.0),
+        Vec3::new(0.0, 2.0, 4.0),
+        Vec3::new(-2.0, 5.0, 0.0),
+        Vec3::new(-2.0, 5.0, 4.0),
+    ];
+    assert_eq!(g.num_points(), 4);
+    for (got, want) in g.positions().iter().zip(expected) {
+        assert!((*got - want).length() < 1e-5, "{got} != {want}");
+    }
+    // The placing attributes are consumed, not carried onto the copies.
+    assert!(g.attrib(AttribClass::Point, "orient").is_none());
+    assert!(g.attrib(AttribClass::Point, "pscale").is_none());
+}
+
+/// An instance attribute whose type cannot mean what its name does is a
+/// cook error naming the node, the attribute and the type it must have.
+#[test]
+fn a_string_orient_is_an_error_naming_node_attribute_and_type() {
+    let nodes = |snippet: &str| {
+        format!(
+            r#""source": {{"type": "curve_line"}},
+            "line": {{"type": "curve_line", "params": {{"points": 3}}}},
+            "aim": {{"type": "wrangle", "inputs": ["line"], "params": {{"snippet": "{snippet}"}}}},
+            "copy": {{"type": "copy_to_points", "inputs": ["source", "aim"]}}"#
+        )
+    };
+    for (snippet, name, expected) in [
+        ("s@orient = 'x';", "orient", "float4"),
+        ("v@rot = {1, 0, 0};", "rot", "float4"),
+        ("p@N = {0, 0, 0, 1};", "N", "float3"),
+        ("v@pscale = {1, 1, 1};", "pscale", "a float or an int"),
+    ] {
+        let e = common::cook_errors(&nodes(snippet), "copy");
+        assert_eq!(e[0].path, "/copy", "{snippet}");
+        let text = e[0].to_string();
+        assert!(
+            text.contains(&format!("`{name}`")) && text.contains(expected),
+            "{snippet}: {text}"
+        );
+    }
+}
+
+/// PolyPath through the engine: a Y of two-point segments (as a growth
+/// wrangle writes them) becomes three polylines, one per branch, and a
+/// ring of segments one closed polygon or, with close_loops off, an open
+/// polyline back to its start.
+#[test]
+fn polypath_joins_segments_into_branches_and_loops() {
+    let y = r#"
+        "base": {"type": "curve_line", "params": {"start": [0, 0, 0], "end": [0, 1, 0], "points": 2}},
+        "seg": {"type": "wrangle", "inputs": ["base"], "params": {"run_over": "detail", "snippet":
+            "vector at[] = {{0,2,0}, {-1,3,0}, {-2,4,0}, {1,3,0}, {2,4,0}};\nforeach (vector p; at) addpoint(0, p);\nint s[] = {1,2, 2,3, 3,4, 2,5, 5,6};\nfor (int k = 0; k < len(s); k += 2) { int pr = addprim(0, \"polyline\"); addvertex(0, pr, s[k]); addvertex(0, pr, s[k + 1]); }"}},
+        "paths": {"type": "polypath", "inputs": ["seg"]}"#;
+    let g = geo(y, "paths");
+    let prims: Vec<Vec<u32>> = (0..g.num_prims())
+        .map(|p| g.prim_points(p).to_vec())
+        .collect();
+    assert_eq!(prims, vec![vec![0, 1, 2], vec![2, 3, 4], vec![2, 5, 6]]);
+    let ring = |close: bool| {
+        format!(
+            r#""c": {{"type": "curve_circle", "params": {{"points": 6}}}},
+            "cut": {{"type": "wrangle", "inputs": ["c"], "params": {{"run_over": "primitives", "snippet":
+                "int n = len(primpoints(0, @primnum));\nfor (int k = 0; k < n; k++) {{ int pr = addprim(0, \"polyline\"); addvertex(0, pr, k); addvertex(0, pr, (k + 1) % n); }}\nremoveprim(0, @primnum, 0);"}}}},
+            "paths": {{"type": "polypath", "inputs": ["cut"], "params": {{"close_loops": {close}}}}}"#
+        )
+    };
+    let closed = geo(&ring(true), "paths");
+    assert_eq!(closed.num_prims(), 1);
+    assert_eq!(closed.prim_kind(0), geode_geo::PrimKind::Polygon);
+    assert_eq!(closed.prim_points(0), [0, 1, 2, 3, 4, 5]);
+    let open = geo(&ring(false), "paths");
+    assert_eq!(open.prim_kind(0), geode_geo::PrimKind::Polyline);
+    assert_eq!(open.prim_points(0), [0, 1, 2, 3, 4, 5, 0]);
+    let bare = r#"
+        "base": {"type": "curve_line"},
+        "bare": {"type": "wrangle", "inputs": ["base"], "params": {"run_over": "detail", "snippet": "removeprim(0, 0, 0);"}},
+        "paths": {"type": "polypath", "inputs": ["bare"]}"#;
+    assert!(
+        err(bare, "paths").contains("no curves"),
+        "{}",
+        err(bare, "paths")
+    );
+}

@@ -24,7 +24,10 @@ pub use cluster::{cluster_triangles, fan_triangle_count};
 pub use collapse::reduce_triangles;
 pub use edit::{compact_points, delete_points, delete_prims, remove_points, reverse_prims};
 pub use fuse::{fuse_points, FuseStats};
-pub use instance::{instance_transforms, InstanceAttribs};
+pub use instance::{
+    instance_transforms, point_float3, point_float4, point_scalar, unit_quat, InstanceAttribs,
+    Scalars,
+};
 pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
 pub use quadric::Quadric;
