@@ -181,6 +181,17 @@ const CASES: &[(&str, &str, Want)] = &[
     (r#"vector4 q = dihedral({0, 0, 1}, {0, 1, 0}); v@r = qrotate(q, {1, 0, 0});"#, "r", V(&[1.0, 0.0, 0.0])),
     (r#"matrix3 m = dihedral({1, 0, 0}, {0, 0, 1}); v@r = {1, 0, 0} * m;"#, "r", V(&[0.0, 0.0, 1.0])),
     // Random numbers and noise: in range and repeatable.
+    // onoise and xnoise are Perlin's original and simplex noise; wnoise
+    // "generates Worley (cellular) noise": f1 is the nearest feature point's
+    // distance and f2 the second's, so f1 <= f2; curlnoise2d is "divergence
+    // free noise in the plane", so its z is 0 and its divergence vanishes.
+    (r#"float n = onoise({0.3, 0.7, 0.2}); f@r = abs(n) <= 1 && n == onoise({0.3, 0.7, 0.2});"#, "r", F(1.0)),
+    (r#"float n = xnoise({0.3, 0.7, 0.2}); f@r = n >= 0 && n <= 1;"#, "r", F(1.0)),
+    (r#"float n = xnoised({0.3, 0.7, 0.2}); f@r = n >= -1 && n <= 1 && n != 0;"#, "r", F(1.0)),
+    (r#"int s; float f1, f2; wnoise({0.3, 0.7, 0.2}, s, f1, f2); f@r = f1 <= f2 && f1 >= 0;"#, "r", F(1.0)),
+    (r#"int s; float f1, f2; int t; float g1, g2; wnoise({0.3, 0.7, 0.2}, s, f1, f2); wnoise({0.3001, 0.7, 0.2}, t, g1, g2); i@r = s == t;"#, "r", I(1)),
+    (r#"vector c = curlnoise2d(set(0.3, 0.7)); f@r = c.z;"#, "r", F(0.0)),
+    (r#"vector2 p = {0.3, 0.7}; float h = 0.01; float d = (curlnoise2d(p + set(h, 0)).x - curlnoise2d(p - set(h, 0)).x) / (2 * h) + (curlnoise2d(p + set(0, h)).y - curlnoise2d(p - set(0, h)).y) / (2 * h); vector c = curlnoise2d(p); f@r = abs(d) < 0.05 * (abs(c.x) + abs(c.y)) + 0.01;"#, "r", F(1.0)),
     (r#"float x = random(7); f@r = x >= 0 && x < 1;"#, "r", F(1.0)),
     (r#"vector v = rand(5); f@r = v.x >= 0 && v.x < 1 && v.y >= 0 && v.y < 1 && v.z >= 0 && v.z < 1;"#, "r", F(1.0)),
     (r#"f@r = rand(1, 2) == rand(1, 2);"#, "r", F(1.0)),

@@ -1,7 +1,8 @@
-//! Seeded gradient noise for `noise`, `snoise` and `curlnoise`: Perlin's
-//! improved noise over a fixed permutation, so every machine gives the same
-//! values. `noise` maps to about [0, 1] centred on 0.5 as Houdini's does;
-//! `snoise` is the signed form in about [-1, 1].
+//! Perlin's gradient noise over a fixed permutation: the improved noise
+//! (2002: quintic fade, twelve edge gradients) behind `noise`, `snoise`
+//! and `curlnoise`, and the original (1985: cubic fade, gradients from a
+//! fixed table) behind `onoise`. `noise` maps to about [0, 1] centred on
+//! 0.5 as Houdini's does; the signed forms are about [-1, 1].
 
 /// Ken Perlin's reference permutation (public domain), doubled.
 const PERM: [u8; 256] = [
@@ -20,7 +21,7 @@ const PERM: [u8; 256] = [
     128, 195, 78, 66, 215, 61, 156, 180,
 ];
 
-fn perm(i: i32) -> i32 {
+pub(super) fn perm(i: i32) -> i32 {
     PERM[(i & 255) as usize] as i32
 }
 
@@ -89,6 +90,74 @@ pub fn perlin(p: [f32; 3], salt: i32) -> f32 {
     n.clamp(-1.0, 1.0)
 }
 
+/// Perlin's original noise: the cubic fade `3t² - 2t³` and a gradient per
+/// lattice point drawn from the permutation (unit vectors of a fixed
+/// table), about [-1, 1], zero on the lattice.
+pub fn original(p: [f32; 3], salt: i32) -> f32 {
+    let [x, y, z] = p;
+    let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
+    let (xi, yi, zi) = (
+        fx as i32 + salt * 57,
+        fy as i32 + salt * 131,
+        fz as i32 + salt * 17,
+    );
+    let (x, y, z) = (x - fx, y - fy, z - fz);
+    let s = |t: f32| t * t * (3.0 - 2.0 * t);
+    let (u, v, w) = (s(x), s(y), s(z));
+    let dot = |i: i32, j: i32, k: i32, dx: f32, dy: f32, dz: f32| {
+        let h = perm(perm(perm(xi + i) + yi + j) + zi + k) as usize;
+        let g = GRADIENTS[h % GRADIENTS.len()];
+        g[0] * dx + g[1] * dy + g[2] * dz
+    };
+    let corner = |i: i32, j: i32, k: i32| dot(i, j, k, x - i as f32, y - j as f32, z - k as f32);
+    let n = lerp(
+        w,
+        lerp(
+            v,
+            lerp(u, corner(0, 0, 0), corner(1, 0, 0)),
+            lerp(u, corner(0, 1, 0), corner(1, 1, 0)),
+        ),
+        lerp(
+            v,
+            lerp(u, corner(0, 0, 1), corner(1, 0, 1)),
+            lerp(u, corner(0, 1, 1), corner(1, 1, 1)),
+        ),
+    );
+    // Unit gradients reach about ±0.87 in 3D; scale to about ±1.
+    (n * 1.15).clamp(-1.0, 1.0)
+}
+
+/// Unit gradients spread over the sphere (the vertices of an icosahedron
+/// and the centres of its faces, normalised).
+const GRADIENTS: [[f32; 3]; 16] = [
+    [0.0, 0.525731, 0.850651],
+    [0.0, -0.525731, 0.850651],
+    [0.0, 0.525731, -0.850651],
+    [0.0, -0.525731, -0.850651],
+    [0.525731, 0.850651, 0.0],
+    [-0.525731, 0.850651, 0.0],
+    [0.525731, -0.850651, 0.0],
+    [-0.525731, -0.850651, 0.0],
+    [0.850651, 0.0, 0.525731],
+    [-0.850651, 0.0, 0.525731],
+    [0.850651, 0.0, -0.525731],
+    [-0.850651, 0.0, -0.525731],
+    [0.57735, 0.57735, 0.57735],
+    [-0.57735, -0.57735, 0.57735],
+    [0.57735, -0.57735, -0.57735],
+    [-0.57735, 0.57735, -0.57735],
+];
+
+/// The curl of a 2D noise potential at (x, y): a divergence-free vector in
+/// the plane (z is 0), by central differences.
+pub fn curl2d(p: [f32; 2]) -> [f32; 3] {
+    const H: f32 = 1e-3;
+    let f = |x: f32, y: f32| perlin([x, y, 0.5], 5);
+    let dx = (f(p[0] + H, p[1]) - f(p[0] - H, p[1])) / (2.0 * H);
+    let dy = (f(p[0], p[1] + H) - f(p[0], p[1] - H)) / (2.0 * H);
+    [dy, -dx, 0.0]
+}
+
 /// Curl of a vector potential of three independent noise channels, by
 /// central differences (divergence-free up to the step).
 pub fn curl(p: [f32; 3]) -> [f32; 3] {
@@ -114,6 +183,31 @@ mod tests {
             let v = perlin([t, t * 0.7, -t * 1.3], 0);
             assert!((-1.0..=1.0).contains(&v));
         }
+    }
+
+    #[test]
+    fn original_noise_is_zero_on_the_lattice_smooth_and_bounded() {
+        assert_eq!(original([1.0, 2.0, -3.0], 0), 0.0);
+        let mut lo = 0.0f32;
+        let mut hi = 0.0f32;
+        for i in 0..4000 {
+            let t = i as f32 * 0.0371;
+            let v = original([t, t * 0.61, -t * 1.7], 0);
+            let w = original([t + 1e-3, t * 0.61, -t * 1.7], 0);
+            assert!((v - w).abs() < 1e-2, "continuous at {t}");
+            lo = lo.min(v);
+            hi = hi.max(v);
+        }
+        assert!(lo < -0.3 && hi > 0.3 && lo >= -1.0 && hi <= 1.0, "{lo} {hi}");
+    }
+
+    #[test]
+    fn curl2d_is_divergence_free() {
+        let (p, h) = ([0.3f32, 0.7], 1e-2);
+        let dx = (curl2d([p[0] + h, p[1]])[0] - curl2d([p[0] - h, p[1]])[0]) / (2.0 * h);
+        let dy = (curl2d([p[0], p[1] + h])[1] - curl2d([p[0], p[1] - h])[1]) / (2.0 * h);
+        let size = curl2d(p)[0].abs() + curl2d(p)[1].abs();
+        assert!((dx + dy).abs() < 0.05 * size.max(1.0));
     }
 
     #[test]
