@@ -17,8 +17,10 @@ cd "$(dirname "$0")/.."
 root="$PWD"
 
 seconds="${GEODE_FUZZ_SECONDS:-60}"
-# The parsers issue 33 asked to be fuzzed in CI; `all` adds the other readers.
-default_targets="hyperfun vm expr network read_bgeo"
+# The parsers issue 33 asked to be fuzzed in CI and the wrangle compiler
+# (issue 34; seeds: the real snippets, `tools/vex_mutate.py --write-seeds`);
+# `all` adds the other readers. Every target is built whichever run.
+default_targets="hyperfun vm expr network read_bgeo vex_text"
 all_targets="hyperfun vm expr network read_bgeo read_obj read_ply read_stl read_gltf read_hs vex_text"
 if [ "$#" -gt 0 ]; then
     targets="$*"

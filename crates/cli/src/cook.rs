@@ -7,8 +7,8 @@ use geode_graph::{CookOptions, Document, Engine, Network};
 use geode_op::{expand_frame, CancelToken, CookEnv, Value};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// Reads and checks a network file, failing on any problem (`geode check`,
-/// `geode fmt`); every problem is listed, each prefixed by the file.
+/// Reads and checks a network file, failing on any problem (`geode fmt`);
+/// every problem is listed, each prefixed by the file.
 pub fn load(path: &Path) -> Result<(Document, Network)> {
     let doc = read_document(path, &[])?;
     match Network::load(&doc, &geode_nodes::registry()) {
@@ -31,7 +31,7 @@ pub fn load_with(path: &Path, sets: &[String]) -> Result<(Document, Network)> {
         .map_err(|errors| problems(path, &errors))?;
     print_notes(path, &net);
     for e in net.problems() {
-        eprintln!("{}: warning: {e}", path.display());
+        eprintln!("{}: warning: {}", path.display(), describe(e));
     }
     Ok((doc, net))
 }
@@ -57,7 +57,7 @@ fn print_notes(path: &Path, net: &Network) {
 fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error {
     let lines: Vec<String> = errors
         .iter()
-        .map(|e| format!("{}: {e}", path.display()))
+        .map(|e| format!("{}: {}", path.display(), describe(e)))
         .collect();
     anyhow!(
         "{} problem{} in the network:\n{}",
@@ -65,6 +65,18 @@ fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error {
         if errors.len() == 1 { "" } else { "s" },
         lines.join("\n")
     )
+}
+
+/// A load problem with the line and column of the parameter's text it
+/// points at, where it points at one.
+fn describe(e: &geode_graph::LoadError) -> String {
+    match (&e.param, e.position) {
+        (Some(p), Some(at)) => format!(
+            "{}: parameter `{p}`: line {}, column {}: {}",
+            e.path, at.line, at.column, e.message
+        ),
+        _ => e.to_string(),
+    }
 }
 
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).
@@ -278,8 +290,22 @@ pub fn cook(args: CookArgs) -> Result<()> {
     Ok(())
 }
 
+/// Loads strictly and finds what cooking frame 1 would refuse without
+/// cooking: every parameter evaluated (expressions included) and every
+/// node's own check (each wrangle snippet compiled).
 pub fn check(path: &Path) -> Result<()> {
-    let (_, net) = load(path)?;
+    let doc = read_document(path, &[])?;
+    let net = Network::load_partial(&doc, &geode_nodes::registry())
+        .map_err(|errors| problems(path, &errors))?;
+    print_notes(path, &net);
+    // The loader's problems and the check's (of the nodes the loader
+    // passed), all at once, by node path.
+    let mut found = net.problems().to_vec();
+    found.extend(net.check(1.0, &CookEnv::for_network(path)));
+    found.sort_by(|a, b| a.path.cmp(&b.path));
+    if !found.is_empty() {
+        return Err(problems(path, &found));
+    }
     println!(
         "{}: ok ({} nodes, output {})",
         path.display(),

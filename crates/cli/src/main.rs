@@ -103,7 +103,9 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         allow: Vec<PathBuf>,
     },
-    /// Load and check a network without cooking it: every problem is reported.
+    /// Load and check a network without cooking it: every parameter
+    /// evaluated at frame 1 and every wrangle snippet compiled; every problem
+    /// is reported.
     Check { network: PathBuf },
     /// Rewrite a network file in canonical form (atomically; unknown fields are kept).
     Fmt { network: PathBuf },

@@ -160,6 +160,63 @@ fn check_reports_every_problem_with_the_file_name() {
 }
 
 #[test]
+fn check_compiles_every_snippet_and_evaluates_every_expression() {
+    let dir = tempfile::tempdir().unwrap();
+    let net = dir.path().join("net.json");
+    // A wrangle whose second line does not compile, one inside a loop
+    // naming a missing function, an expression that adds a string (found at
+    // load) and one below its minimum at frame 1 (found evaluating it),
+    // all reported at once; the wrangle reading `@rest` as a vector is fine
+    // (its input may well carry one: check cannot know without cooking).
+    std::fs::write(
+        &net,
+        r#"{"geode": "network", "version": 1, "output": "fine", "nodes": {
+        "grid": {"type": "grid"},
+        "bad": {"type": "wrangle", "inputs": ["grid"],
+                "params": {"snippet": "f@a = 1;\n  f@b = @a * ;"}},
+        "fine": {"type": "wrangle", "inputs": ["grid"],
+                 "params": {"snippet": "v@P += @rest.zyx * ch(\"amp\");", "amp": 0.5},
+                 "spare": {"amp": "float"}},
+        "spin": {"type": "transform", "inputs": ["grid"],
+                 "params": {"uniform_scale": {"expr": "1 + \"two\""}}},
+        "repeat": {"type": "loop", "inputs": ["grid"], "params": {"iterations": {"expr": "$F - 5"}},
+                   "network": {"output": "step", "nodes": {
+                       "step": {"type": "wrangle", "inputs": ["@0"],
+                                "params": {"snippet": "@P.y += frobnicate(@P.x);"}}}}}}}"#,
+    )
+    .unwrap();
+    let o = geode(&["check", net.to_str().unwrap()], &[]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let err = common::stderr(&o);
+    let n = net.display();
+    assert!(
+        err.starts_with("error: 4 problems in the network:\n"),
+        "{err}"
+    );
+    for want in [
+        format!("{n}: /bad: parameter `snippet`: line 2, column 14: expected an expression"),
+        format!("{n}: /repeat: parameter `iterations`: the expression gives -4 at frame 1"),
+        format!("{n}: /repeat/step: parameter `snippet`: line 1, column 9: "),
+        format!("{n}: /spin: parameter `uniform_scale`: "),
+    ] {
+        assert!(err.contains(&want), "missing {want:?} in:\n{err}");
+    }
+    assert!(err.contains("frobnicate"), "{err}");
+    assert!(!err.contains("/fine"), "{err}");
+    // Fixed, the network checks: a snippet needs no geometry to be checked.
+    let text_now = std::fs::read_to_string(&net).unwrap();
+    let fixed = text_now
+        .replace("@a * ;", "@a * 2;")
+        .replace("frobnicate(@P.x)", "sin(@P.x)")
+        .replace(r#"1 + \"two\""#, "1 + 2")
+        .replace("$F - 5", "$F + 1");
+    std::fs::write(&net, fixed).unwrap();
+    let o = geode(&["check", net.to_str().unwrap()], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains(": ok ("), "{}", text(&o));
+}
+
+#[test]
 fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
     let dir = tempfile::tempdir().unwrap();
     let net = dir.path().join("net.json");
@@ -305,6 +362,32 @@ fn node_docs_are_up_to_date() {
         "{}",
         text(&o)
     );
+    // The engine's own node types, from the same declarations: in the
+    // list, in detail with their parameters, and as pages in the index.
+    let list = text(&geode(&["nodes"], &[]));
+    for ty in ["loop ", "solver ", "subnet "] {
+        assert!(list.lines().any(|l| l.starts_with(ty)), "{ty}in {list}");
+    }
+    let o = geode(&["nodes", "loop"], &[]);
+    assert!(o.status.success(), "{}", text(&o));
+    for row in [
+        "# For-Loop with Feedback (`loop`)",
+        "| `iterations` | Iterations | int | 1 |",
+        "| `stop` | Stop attribute | string |",
+        "1. input 1 (geometry, required)",
+    ] {
+        assert!(text(&o).contains(row), "{row}: {}", text(&o));
+    }
+    let o = geode(&["nodes", "solver"], &[]);
+    assert!(text(&o).contains("| `start_frame` |"), "{}", text(&o));
+    let index = std::fs::read_to_string(root().join("docs/nodes/README.md")).unwrap();
+    for ty in ["loop", "solver", "subnet"] {
+        assert!(index.contains(&format!("[`{ty}`]({ty}.md)")), "{ty}");
+        assert!(root().join(format!("docs/nodes/{ty}.md")).exists(), "{ty}");
+    }
+    let o = geode(&["nodes", "lop"], &[]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).contains("did you mean loop"), "{}", text(&o));
 }
 
 #[test]

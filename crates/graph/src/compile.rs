@@ -410,6 +410,54 @@ impl Network {
         self.index(path).map_or(&[], |i| &self.nodes[i].problems)
     }
 
+    /// What cooking at `frame` would refuse, found without cooking (`geode
+    /// check`): every node's parameters are evaluated (expressions
+    /// included), then each operator checks its own ([`Operator::check`]:
+    /// a wrangle compiles its snippet). Bypassed nodes and nodes with load
+    /// problems (reported by the loader) are skipped; sorted by path.
+    pub fn check(&self, frame: f64, env: &CookEnv) -> Vec<LoadError> {
+        let env = env.clone().with_fps(self.fps.unwrap_or(env.fps));
+        let mut found = Vec::new();
+        for (i, node) in self.nodes.iter().enumerate() {
+            if !node.problems.is_empty() {
+                continue;
+            }
+            if let NodeKind::Feed { .. } | NodeKind::Invalid = node.kind {
+                continue;
+            }
+            let params = match self.params_at(i, frame, &env) {
+                Ok(p) => p,
+                Err(e) => {
+                    found.push(e);
+                    continue;
+                }
+            };
+            let NodeKind::Op { op, .. } = &node.kind else {
+                continue;
+            };
+            if node.bypass {
+                continue;
+            }
+            let wired: Vec<bool> = node.inputs.iter().map(Option::is_some).collect();
+            let ctx = geode_op::CheckContext {
+                path: &node.path,
+                frame,
+                env: &env,
+                wired: &wired,
+            };
+            if let Err(e) = op.check(&ctx, &params) {
+                found.push(LoadError {
+                    path: e.path,
+                    param: e.param,
+                    message: e.message,
+                    position: e.position,
+                });
+            }
+        }
+        found.sort_by(|a, b| a.path.cmp(&b.path));
+        found
+    }
+
     /// Loads and checks a document against the registry's node types,
     /// failing on any problem (`geode check`).
     pub fn load(doc: &Document, registry: &Registry) -> Result<Network, Vec<LoadError>> {

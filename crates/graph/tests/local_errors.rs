@@ -127,3 +127,43 @@ fn only_an_unreadable_document_fails_partial_loading() {
         assert_eq!(listed, vec![message]);
     }
 }
+
+#[test]
+fn check_finds_what_operators_refuse_without_cooking() {
+    // `max` is keyed from -1 at frame 1 to 9 at frame 10: negative at 1.
+    let keyed = r#"{"keys": [{"frame": 1, "value": -1}, {"frame": 10, "value": 9}]}"#;
+    let text = format!(
+        r#"{{"geode": "network", "version": 1, "output": "c", "nodes": {{
+        "a": {{"type": "points", "params": {{"count": 4}}}},
+        "c": {{"type": "clamp", "inputs": ["a"], "params": {{"max": {keyed}}}}},
+        "off": {{"type": "clamp", "inputs": ["a"], "bypass": true, "params": {{"max": -5}}}},
+        "fine": {{"type": "clamp", "inputs": ["a"], "params": {{"max": 2}}}},
+        "sub": {{"type": "subnet", "inputs": ["a"], "network": {{"output": "in", "nodes": {{
+            "in": {{"type": "clamp", "inputs": ["@0"], "params": {{"max": -2}}}}}}}}}}
+    }}}}"#
+    );
+    let net = load_str(&text, &registry()).unwrap();
+    let env = geode_op::CookEnv::default();
+    let found: Vec<String> = net.check(1.0, &env).iter().map(|e| e.to_string()).collect();
+    assert_eq!(
+        found,
+        vec![
+            "/c: parameter `max`: -1 at frame 1 is negative (input wired: true)",
+            "/sub/in: parameter `max`: -2 at frame 1 is negative (input wired: true)",
+        ]
+    );
+    let found: Vec<String> = net
+        .check(10.0, &env)
+        .iter()
+        .map(|e| e.to_string())
+        .collect();
+    assert_eq!(
+        found,
+        vec!["/sub/in: parameter `max`: -2 at frame 10 is negative (input wired: true)"]
+    );
+    // A cook is not a check: the hook refuses nothing the engine cooks.
+    let cache = Cache::new(1 << 20);
+    assert!(Engine::new(net, &cache)
+        .cook_output(&CookOptions::at_frame(1.0))
+        .is_ok());
+}

@@ -30,6 +30,7 @@ mod thickness;
 mod transform;
 mod util;
 mod wrangle;
+mod wrangle_check;
 
 pub use expr::{Expr, ExprError};
 /// The wrangle language's function table, for the studio's snippet

@@ -4,8 +4,9 @@
 
 use geode_geo::AttribClass;
 use geode_op::{
-    CookContext, CookError, ErrorKind, InputSpec, NodeSpec, Operator, ParamDefault as D,
-    ParamSpec as P, ParamType as T, ParamValue, Params, PortType, Registry, Value,
+    CheckContext, CookContext, CookError, ErrorKind, InputSpec, NodeSpec, Operator,
+    ParamDefault as D, ParamSpec as P, ParamType as T, ParamValue, Params, PortType, Registry,
+    Value,
 };
 use geode_vex::{BindSpec, Channel, RunError, RunOptions};
 
@@ -147,6 +148,40 @@ impl Operator for Wrangle {
         p.string(&SNIPPET)
             .is_ok_and(|s| s.contains("@Frame") || s.contains("@Time"))
     }
+
+    /// Compiles the snippet against what is known without cooking: the
+    /// class it runs over, which inputs are wired, the spare parameters and
+    /// the frame; the inputs' attributes are unknown (see `wrangle_check`).
+    fn check(&self, ctx: &CheckContext, p: &Params) -> Result<(), CookError> {
+        let class = run_over(p)?;
+        if !p.string(&GROUP)?.is_empty() {
+            group_class(ctx.path, class)?;
+        }
+        let channels = |name: &str| p.spare(name).map(channel);
+        let names = || p.spares().iter().map(|(n, _)| n.clone()).collect();
+        let unknown = crate::wrangle_check::Unknown {
+            run_over: class,
+            wired: ctx.wired,
+            channels: &channels,
+            channel_names: &names,
+            frame: ctx.frame,
+            time: ctx.env.time(ctx.frame),
+        };
+        crate::wrangle_check::compiles(p.string(&SNIPPET)?, &unknown)
+            .map_err(|e| ctx.text_error("snippet", e.pos.line, e.pos.col, e.msg))
+    }
+}
+
+/// Refuses a group on a class groups do not select.
+fn group_class(path: &str, class: AttribClass) -> Result<(), CookError> {
+    match class {
+        AttribClass::Point | AttribClass::Primitive => Ok(()),
+        _ => Err(CookError::param(
+            path,
+            "group",
+            "a group selects points or primitives; run over those to use one",
+        )),
+    }
 }
 
 /// The sorted members of the named group, or None for every element.
@@ -160,15 +195,11 @@ fn group_members(
     if name.is_empty() {
         return Ok(None);
     }
-    let groups = match class {
-        AttribClass::Point => g.point_groups(),
-        AttribClass::Primitive => g.prim_groups(),
-        _ => {
-            return Err(ctx.param_error(
-                "group",
-                "a group selects points or primitives; run over those to use one",
-            ))
-        }
+    group_class(ctx.path, class)?;
+    let groups = if class == AttribClass::Point {
+        g.point_groups()
+    } else {
+        g.prim_groups()
     };
     let Some(grp) = groups.get(name) else {
         let known: Vec<&str> = groups.keys().map(String::as_str).collect();

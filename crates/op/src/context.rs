@@ -185,6 +185,34 @@ impl KeyContext<'_> {
     }
 }
 
+/// What a node is checked against without cooking ([`crate::Operator::check`],
+/// `geode check`): its place, the frame its parameters were evaluated at,
+/// and which inputs are wired (what they would carry is not known without
+/// cooking them).
+pub struct CheckContext<'a> {
+    pub path: &'a str,
+    pub frame: f64,
+    pub env: &'a CookEnv,
+    /// One per declared input: whether a wire feeds it.
+    pub wired: &'a [bool],
+}
+
+impl CheckContext<'_> {
+    /// A problem in a parameter's text at a line and column (from 1); the
+    /// message says what, the position where.
+    pub fn text_error(
+        &self,
+        param: &str,
+        line: u32,
+        column: u32,
+        message: impl Into<String>,
+    ) -> CookError {
+        CookError::new(self.path, ErrorKind::Kernel, message)
+            .at_param(param)
+            .at_position(line, column)
+    }
+}
+
 /// Receives (node path, fraction done) as cooks progress.
 pub type ProgressFn<'a> = dyn Fn(&str, f32) + Sync + 'a;
 

@@ -12,7 +12,8 @@ mod registry;
 mod value;
 
 pub use context::{
-    CancelToken, CookContext, CookError, ErrorKind, KeyContext, ProgressFn, TextPosition, Warnings,
+    CancelToken, CheckContext, CookContext, CookError, ErrorKind, KeyContext, ProgressFn,
+    TextPosition, Warnings,
 };
 pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv, MB};
 pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
@@ -165,6 +166,14 @@ pub trait Operator: Send + Sync {
     /// wrangle reads it only when its snippet names `@Frame` or `@Time`).
     fn reads_frame(&self, _params: &Params) -> bool {
         self.spec().time_dependent
+    }
+
+    /// Finds what a cook with these parameters would refuse, without
+    /// cooking and without its inputs' values (`geode check`): a wrangle
+    /// compiles its snippet. The error names the node, the parameter and,
+    /// for text, the line and column. The default finds nothing.
+    fn check(&self, _ctx: &CheckContext, _params: &Params) -> Result<(), CookError> {
+        Ok(())
     }
 }
 

@@ -83,3 +83,38 @@ pub fn catalogue(registry: &Registry) -> Json {
     specs.sort_by_key(|s| (s.category, s.name));
     json!({"nodes": specs.into_iter().map(spec_json).collect::<Vec<_>>()})
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_engine_s_own_types_are_served_from_their_declarations() {
+        let cat = catalogue(&geode_nodes::registry());
+        let nodes = cat["nodes"].as_array().unwrap();
+        for ty in ["subnet", "loop", "solver"] {
+            let spec = geode_graph::container_spec(ty).unwrap();
+            let node = nodes.iter().find(|n| n["name"] == ty).expect(ty);
+            assert_eq!(node["network"], true, "{ty}");
+            assert_eq!(node["spare"], true, "{ty}");
+            assert_eq!(node["label"], spec.label);
+            assert_eq!(node["summary"], spec.summary());
+            let names: Vec<&str> = node["params"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|p| p["name"].as_str().unwrap())
+                .collect();
+            let declared: Vec<&str> = spec.params.iter().map(|p| p.name).collect();
+            assert_eq!(names, declared, "{ty}");
+            assert_eq!(node["inputs"].as_array().unwrap().len(), spec.inputs.len());
+        }
+        let lp = nodes.iter().find(|n| n["name"] == "loop").unwrap();
+        assert_eq!(lp["params"][0]["name"], "iterations");
+        assert_eq!(lp["params"][0]["default"], 1);
+        assert_eq!(lp["inputs"][0]["required"], true);
+        // Nothing else holds a network.
+        let holders = nodes.iter().filter(|n| n["network"] == true).count();
+        assert_eq!(holders, 3);
+    }
+}

@@ -549,21 +549,16 @@ fn set_param(
     Ok(())
 }
 
-/// The declaration of a node's parameter: the node type's own, a loop's or
-/// solver's, or a spare parameter the node declares.
+/// The declaration of a node's parameter: the node type's own (the
+/// registry's or the engine's: a loop's or solver's), or a spare parameter
+/// the node declares.
 pub(crate) fn param_spec(
     node: &NodeDoc,
     param: &str,
     registry: &Registry,
 ) -> Option<&'static geode_op::ParamSpec> {
-    if let Some(kind) = geode_graph::BlockKind::from_type(&node.ty) {
-        if let Some(p) = kind.params().iter().find(|p| p.name == param) {
-            return Some(p);
-        }
-    }
-    registry
-        .get(&node.ty)
-        .and_then(|op| op.spec().param(param))
+    geode_graph::node_spec(registry, &node.ty)
+        .and_then(|spec| spec.param(param))
         .or_else(|| {
             node.spare
                 .get(param)
@@ -579,18 +574,16 @@ fn set_spare(
     registry: &Registry,
 ) -> Result<(), EditError> {
     let node = node_mut(d, path)?;
-    // Subnets, loops and solvers take them for their inner nodes (`../name`).
-    let block = geode_graph::BlockKind::from_type(&node.ty);
-    let op = registry.get(&node.ty);
-    if node.ty != "subnet" && block.is_none() && !op.is_some_and(|op| op.spec().spare) {
+    // As declared: subnets, loops and solvers take them for their inner
+    // nodes (`../name`).
+    let spec = geode_graph::node_spec(registry, &node.ty);
+    if !spec.is_some_and(|s| s.spare) {
         return Err(refuse(
             path,
             format!("a {} takes no spare parameters", node.ty),
         ));
     }
-    let own = op.is_some_and(|op| op.spec().param(name).is_some())
-        || node.promote.contains_key(name)
-        || block.is_some_and(|k| k.params().iter().any(|p| p.name == name));
+    let own = spec.is_some_and(|s| s.param(name).is_some()) || node.promote.contains_key(name);
     match ty {
         None => {
             node.spare.remove(name);

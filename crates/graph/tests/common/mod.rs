@@ -6,8 +6,8 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use geode_geo::glam::Vec3;
 use geode_geo::Geometry;
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault, ParamSpec, ParamType,
-    Params, PortType, Registry, Value,
+    CheckContext, CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault, ParamSpec,
+    ParamType, Params, PortType, Registry, Value,
 };
 
 /// `points`: `count` points along X, spaced by `step`.
@@ -149,6 +149,21 @@ impl Operator for Clamp {
             q.x = q.x.min(max);
         }
         Ok(Value::geometry(g))
+    }
+    /// Refuses a negative `max` without cooking (`Network::check`).
+    fn check(&self, ctx: &CheckContext, p: &Params) -> Result<(), CookError> {
+        let max = p.float("max")?;
+        if max < 0.0 {
+            return Err(CookError::param(
+                ctx.path,
+                "max",
+                format!(
+                    "{max} at frame {} is negative (input wired: {})",
+                    ctx.frame, ctx.wired[0]
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 
