@@ -12,7 +12,10 @@ timeout. Each run is one of:
   error   exit 1 with a message (a clean refusal)
   crash   a signal, exit 101 or 134, 'panicked' or 'overflowed its stack'
           (or any other exit status)
-  hang    still running at the timeout
+  long    still running at the timeout, and stopped within 5 s of
+          Ctrl-C (SIGINT) with geode's cancelled status: a runaway loop
+          the user can stop, as in Houdini
+  hang    still running at the timeout and not stopped by Ctrl-C
 
 Deterministic for a --seed (the cases, not the timings). Prints the counts
 (overall and per mutation) and saves every crash and hang under --out:
@@ -298,6 +301,8 @@ CRASH_TEXT = ("panicked", "overflowed its stack", "SIGSEGV", "SIGABRT", "memory 
 def classify(code, stderr):
     if code is None:
         return "hang"
+    if code == "long":
+        return "long"
     if code == 0:
         return "ok"
     if code < 0 or code in (101, 134) or any(t in stderr for t in CRASH_TEXT):
@@ -323,9 +328,16 @@ def run_one(geode, work, index, snippet, run_over, timeout, env):
         _, err = p.communicate(timeout=timeout)
         code = p.returncode
     except subprocess.TimeoutExpired:
-        os.killpg(p.pid, signal.SIGKILL)
-        _, err = p.communicate()
-        code = None
+        # A long program is fine if the user can stop it: Ctrl-C, then
+        # a grace period before it counts as a hang.
+        os.killpg(p.pid, signal.SIGINT)
+        try:
+            _, err = p.communicate(timeout=5)
+            code = "long" if p.returncode in (130, 1) else p.returncode
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            _, err = p.communicate()
+            code = None
     os.remove(path)
     err = err.decode("utf-8", "replace")
     return classify(code, err), code, err, time.monotonic() - t0
@@ -408,12 +420,12 @@ def main():
     total = sum(counts.values())
     print("ran %d cases in %.0f s (seed %d, timeout %g s, %d jobs, %s)"
           % (total, time.monotonic() - t0, args.seed, args.timeout, args.jobs, args.geode))
-    for outcome in ("ok", "error", "crash", "hang"):
+    for outcome in ("ok", "error", "long", "crash", "hang"):
         print("  %-6s %d" % (outcome, counts.get(outcome, 0)))
     print("by mutation:")
     for kind in sorted(per_kind):
         c = per_kind[kind]
-        print("  %-10s %s" % (kind, "  ".join("%s %d" % (o, c[o]) for o in ("ok", "error", "crash", "hang") if o in c)))
+        print("  %-10s %s" % (kind, "  ".join("%s %d" % (o, c[o]) for o in ("ok", "error", "long", "crash", "hang") if o in c)))
     if counts.get("crash") or counts.get("hang"):
         print("crashes and hangs saved in %s" % args.out)
     return 1 if counts.get("crash") else 0

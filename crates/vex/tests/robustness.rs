@@ -45,6 +45,22 @@ fn nesting_past_the_limit_is_an_error_in_every_form() {
         format!("{}{}", "{".repeat(100_000), "}".repeat(100_000)),
         format!("{}f@a = 1;", "if (1) ".repeat(100_000)),
         format!("f@a = x{};", "[0]".repeat(100_000)),
+        // Found by tools/vex_mutate.py: right-nested forms.
+        format!("f@r = {}1{};", "1 ? ".repeat(30_000), " : 0".repeat(30_000)),
+        format!("float x; f@r = {}1;", "x = ".repeat(30_000)),
+        format!("{}f@a = 1;", "if (0) f@a = 2; else ".repeat(50_000)),
+        format!(
+            "{}f@a = 1;{}",
+            "while (0) { ".repeat(50_000),
+            "}".repeat(50_000)
+        ),
+        format!("f@a = {}1{};", "sin(".repeat(50_000), ")".repeat(50_000)),
+        format!("f@a = {}1{};", "{".repeat(50_000), "}".repeat(50_000)),
+        format!(
+            "int a[]; f@a = a[{}0{}];",
+            "a[".repeat(50_000),
+            "]".repeat(50_000)
+        ),
     ];
     for src in &deep {
         let e = compile_over_points(src).expect_err("too deep");
@@ -53,6 +69,28 @@ fn nesting_past_the_limit_is_an_error_in_every_form() {
     let e =
         parse_expression(&format!("{}1{}", "(".repeat(100_000), ")".repeat(100_000))).unwrap_err();
     assert!(e.msg.contains("nested too deeply"), "{}", e.msg);
+}
+
+/// Functions each calling the one before are inlined one inside another:
+/// the chain is refused past a depth, not a stack overflow.
+#[test]
+fn long_chains_of_function_calls_are_refused() {
+    let mut src = String::from("float f0(float x) { return x; }\n");
+    for i in 1..7_000 {
+        src.push_str(&format!(
+            "float f{i}(float x) {{ return f{}(x) + 1; }}\n",
+            i - 1
+        ));
+    }
+    src.push_str("f@r = f6999(1);");
+    let e = compile_over_points(&src).expect_err("too deep");
+    assert!(
+        e.msg.contains("call each other more than 64 deep"),
+        "{}",
+        e.msg
+    );
+    let ok = "float f0(float x) { return x; } float f1(float x) { return f0(x) + 1; } f@r = f1(1);";
+    compile_over_points(ok).expect("two levels compile");
 }
 
 /// `2@` (Houdini's matrix2) is folded as a prefix but has no type here: an

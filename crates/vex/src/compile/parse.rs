@@ -55,7 +55,7 @@ impl Parser {
         if self.depth + levels > MAX_DEPTH {
             return Err(CompileError::at(
                 self.pos(),
-                format!("nested too deeply (more than {MAX_DEPTH} levels)"),
+                format!("nested too deeply (more than {MAX_DEPTH} levels; each operator of a chain counts one: split a long one into statements)"),
             ));
         }
         self.depth += levels;
@@ -513,7 +513,8 @@ impl Parser {
             if ASSIGN_OPS.contains(&p) {
                 let pos = self.pos();
                 self.bump();
-                let rhs = self.expr()?;
+                // `a = b = c...` nests to the right: each `=` is a level.
+                let rhs = self.nested(0, Parser::expr)?;
                 return Ok(Expr {
                     kind: ExprKind::Assign(p, Box::new(lhs), Box::new(rhs)),
                     pos,
@@ -530,9 +531,10 @@ impl Parser {
         }
         let pos = self.pos();
         self.bump();
-        let a = self.expr()?;
+        // `c ? x : c ? y : z...` nests to the right: each `?` is a level.
+        let a = self.nested(0, Parser::expr)?;
         self.expect(":")?;
-        let b = self.expr()?;
+        let b = self.nested(0, Parser::expr)?;
         Ok(Expr {
             kind: ExprKind::Ternary(Box::new(c), Box::new(a), Box::new(b)),
             pos,
@@ -606,7 +608,7 @@ impl Parser {
             if self.depth + chain > MAX_DEPTH {
                 return Err(CompileError::at(
                     pos,
-                    format!("nested too deeply (more than {MAX_DEPTH} levels)"),
+                    format!("nested too deeply (more than {MAX_DEPTH} levels; each operator of a chain counts one: split a long one into statements)"),
                 ));
             }
             if self.eat(".") {

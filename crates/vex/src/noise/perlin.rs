@@ -198,7 +198,10 @@ mod tests {
             lo = lo.min(v);
             hi = hi.max(v);
         }
-        assert!(lo < -0.3 && hi > 0.3 && lo >= -1.0 && hi <= 1.0, "{lo} {hi}");
+        assert!(
+            lo < -0.3 && hi > 0.3 && lo >= -1.0 && hi <= 1.0,
+            "{lo} {hi}"
+        );
     }
 
     #[test]

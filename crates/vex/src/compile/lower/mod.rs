@@ -60,6 +60,9 @@ pub(crate) struct Lower<'a> {
 
 pub(crate) type LResult<T> = Result<T, CompileError>;
 
+/// How deep snippet functions may call one another (each call is inlined).
+pub const MAX_INLINE: usize = 64;
+
 fn err<T>(pos: Pos, msg: impl Into<String>) -> LResult<T> {
     Err(CompileError::at(pos, msg))
 }
@@ -648,6 +651,14 @@ impl<'a> Lower<'a> {
             return err(
                 pos,
                 format!("'{name}' calls itself: VEX functions cannot recurse"),
+            );
+        }
+        // Calls are inlined: a chain of functions each calling the next is
+        // as deep as the chain.
+        if self.inlining.len() >= MAX_INLINE {
+            return err(
+                pos,
+                format!("functions call each other more than {MAX_INLINE} deep ('{name}')"),
             );
         }
         // Arguments pass by reference: an argument of the parameter's type is
