@@ -140,7 +140,9 @@ fn xyzdist_1m_onto_1m_triangles(bencher: Bencher) {
     let mesh = surface(1_000_000);
     wrangle(
         bencher,
-        "int pr; vector uv; f@d = xyzdist(1, @P - {0.5, 0.5, 0.5}, pr, uv); i@pr = pr; v@uv = uv;",
+        // Points within 0.01 of the surface (seven mesh cells), as points
+        // projected onto a surface they follow are.
+        "float x = @P.x - 0.5, z = @P.z - 0.5; vector q = set(x, 0.05 * sin(x * 9) * cos(z * 7) + (@P.y - 0.5) * 0.02, z); int pr; vector uv; f@d = xyzdist(1, q, pr, uv); i@pr = pr; v@uv = uv;",
         AttribClass::Point,
         &[Some(&points), Some(&mesh)],
     );

@@ -43,8 +43,9 @@ impl TriangleBvh {
                 continue;
             }
             if node.end > node.start {
-                for &tri in &self.order[node.start as usize..node.end as usize] {
-                    let (point, u, v) = closest_on_triangle(&self.corners[tri as usize], q);
+                for i in node.start as usize..node.end as usize {
+                    let tri = self.order[i];
+                    let (point, u, v) = closest_on_triangle(&self.corners[i], q);
                     let d2 = (point - q).length_squared();
                     let better = match best {
                         Some(b) => d2 < b.dist2 || (d2 == b.dist2 && tri < b.triangle),
@@ -62,11 +63,19 @@ impl TriangleBvh {
                     }
                 }
             } else {
-                // The nearer child is walked first (pushed last).
+                // The nearer child is walked first (pushed last); when the
+                // query is inside both boxes (thick boxes of a wavy
+                // surface), the one whose centre is nearer, so the first
+                // leaf reached is near and the bound tight at once.
                 let (a, b) = (n + 1, node.second);
                 let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
-                let (da, db) = (box_dist2(na.lo, na.hi, q), box_dist2(nb.lo, nb.hi, q));
-                let (first, second) = if da <= db { (a, b) } else { (b, a) };
+                let key = |m: &super::raycast::Node| {
+                    let centre = (m.lo + m.hi) * 0.5;
+                    (box_dist2(m.lo, m.hi, q), (centre - q).length_squared())
+                };
+                let (ka, kb) = (key(na), key(nb));
+                let a_first = ka.0 < kb.0 || (ka.0 == kb.0 && ka.1 <= kb.1);
+                let (first, second) = if a_first { (a, b) } else { (b, a) };
                 stack[top] = second;
                 stack[top + 1] = first;
                 top += 2;

@@ -28,6 +28,8 @@ pub struct RayHit {
 
 /// Triangles by their corners, with their hierarchy; immutable once built.
 pub struct TriangleBvh {
+    /// Corners in hierarchy order (a leaf's triangles are contiguous:
+    /// a query reads memory it just touched); `order` maps back.
     pub(super) corners: Vec<[Vec3; 3]>,
     /// Triangle indices in hierarchy order.
     pub(super) order: Vec<u32>,
@@ -56,6 +58,7 @@ impl TriangleBvh {
         let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * triangles.len() / LEAF + 1);
         build(&corners, &centroids, &mut order, 0, &mut nodes);
+        let corners = order.iter().map(|&t| corners[t as usize]).collect();
         TriangleBvh {
             corners,
             order,
@@ -90,11 +93,12 @@ impl TriangleBvh {
                 continue;
             }
             if node.end > node.start {
-                for &tri in &self.order[node.start as usize..node.end as usize] {
+                for i in node.start as usize..node.end as usize {
+                    let tri = self.order[i];
                     if skip(tri) {
                         continue;
                     }
-                    let Some(t) = triangle_hit(&self.corners[tri as usize], origin, dir) else {
+                    let Some(t) = triangle_hit(&self.corners[i], origin, dir) else {
                         continue;
                     };
                     let better = match best {
