@@ -1,9 +1,10 @@
-// The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows, code editors for snippets; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
+// The parameter panel, generated from the node type's declarations: sliders over declared ranges, vectors, menus, toggles, text, files, list rows, ramps (rampeditor.ts), code editors for snippets; keys at the current frame; animated values marked; errors by parameter, with an expression's column pointed at.
 
 import { knownVexFunctions, loadVexFunctions, SnippetEditor } from './code';
 import { channelAt, isChannel, isExpr, join, nodeAt, parentOf } from './network';
 import type { Expr } from './network';
-import { freshCookErrors, spareDecls, uniqueProblems } from './protocol';
+import { freshCookErrors, rampFields, spareDecls, uniqueProblems } from './protocol';
+import { rampRows, RampWidget } from './rampeditor';
 import type { DocNode, NodeType, ParamDecl, Problem } from './protocol';
 import { viewedAttributes } from './sheet';
 import type { AppStore } from './store';
@@ -71,6 +72,8 @@ export class ParamPanel {
   private editors = new Map<string, SnippetEditor>();
   /** The places whose editors the current redraw showed; the others are closed after it. */
   private editorsShown = new Set<string>();
+  /** The selected key of each ramp (by node path and parameter), kept across redraws. */
+  private rampSelection = new Map<string, number | null>();
 
   constructor(
     private host: HTMLElement,
@@ -104,17 +107,22 @@ export class ParamPanel {
     const node = path && s.state ? nodeAt(s.state.document, path) : null;
     const key = `${path}|${s.state?.version}|${s.state?.view.frame}|${JSON.stringify(freshCookErrors(s.state, s.cooked))}`;
     if (key === this.shownKey) return;
-    // A field being typed in (a snippet editor's text too) or a slider being dragged is not swept away under the user.
+    // A field being typed in (a snippet editor's text too), a slider or a ramp's key being dragged is not swept away under the user.
     const active = document.activeElement;
-    if (active && this.host.contains(active) && active.matches('input, select, textarea, [contenteditable]')) {
+    if ((active && this.host.contains(active) && active.matches('input, select, textarea, [contenteditable]')) || this.host.querySelector('.ramp[data-dragging]')) {
       this.deferred = true;
       return;
     }
+    // A focused ramp keeps the focus (and with it Delete) across the redraw.
+    const ramp = active instanceof HTMLElement && this.host.contains(active) && active.classList.contains('ramp') ? active.dataset.place : undefined;
     this.shownKey = key;
     this.host.replaceChildren();
     this.editorsShown.clear();
     try {
       this.fill(path, node);
+      if (ramp !== undefined) {
+        for (const r of this.host.querySelectorAll<HTMLElement>('.ramp')) if (r.dataset.place === ramp) r.focus({ preventScroll: true });
+      }
     } finally {
       for (const [place, editor] of this.editors) {
         if (this.editorsShown.has(place)) continue;
@@ -246,6 +254,7 @@ export class ParamPanel {
       note.textContent = `set by ${driver} (promoted)`;
       div.appendChild(note);
     }
+    if (decl.type === 'ramp' || decl.type === 'colorramp') div.classList.add('wide');
     if (decl.code) {
       // Code takes the panel's width under its label.
       div.classList.add('code');
@@ -371,6 +380,8 @@ export class ParamPanel {
       host.appendChild(sel);
     } else if (decl.type === 'list') {
       this.listWidget(host, decl, Array.isArray(value) ? value : [], frame, place, set);
+    } else if (decl.type === 'ramp' || decl.type === 'colorramp') {
+      this.rampWidget(host, decl, value, frame, place, set);
     } else if (decl.code) {
       host.appendChild(this.codeEditor(place, String(value ?? ''), set).dom);
     } else {
@@ -424,7 +435,7 @@ export class ParamPanel {
     name.placeholder = 'new spare parameter';
     name.className = 'text';
     const ty = document.createElement('select');
-    for (const t of ['float', 'int', 'toggle', 'vector2', 'vector', 'vector4', 'string']) {
+    for (const t of ['float', 'int', 'toggle', 'vector2', 'vector', 'vector4', 'string', 'ramp', 'colorramp']) {
       const o = document.createElement('option');
       o.value = o.textContent = t;
       ty.appendChild(o);
@@ -439,6 +450,41 @@ export class ParamPanel {
     name.addEventListener('keydown', (e) => e.key === 'Enter' && submit());
     div.append(name, ty, add);
     return div;
+  }
+
+  /** A ramp: its curve or gradient, keys added, dragged and removed there, the selected key's fields below. */
+  private rampWidget(host: HTMLElement, decl: ParamDecl, value: unknown, frame: number, place: string, set: (v: unknown, merge?: boolean) => unknown) {
+    const colour = decl.type === 'colorramp';
+    const fields = decl.fields ?? rampFields(colour);
+    const widget = new RampWidget({
+      rows: rampRows(value),
+      colour,
+      frame,
+      place,
+      selected: this.rampSelection.get(place) ?? null,
+      select: (k) => this.rampSelection.set(place, k),
+      set: (rows, merge) => set(rows, merge),
+      fields: (cells, row, k, setRow) => {
+        for (const f of fields) {
+          const cell = document.createElement('div');
+          cell.className = 'list-cell';
+          cell.dataset.field = f.name;
+          cell.title = `${f.label}: ${f.help}`;
+          const name = document.createElement('small');
+          name.textContent = f.name;
+          cell.appendChild(name);
+          this.widgets(cell, f, row[f.name] ?? f.default, frame, `${place}[${k}].${f.name}`, (v, merge) => setRow({ ...row, [f.name]: v }, merge), () => undefined);
+          cells.appendChild(cell);
+        }
+      },
+      dragEnded: () => {
+        if (this.deferred) {
+          this.deferred = false;
+          this.render();
+        }
+      },
+    });
+    host.appendChild(widget.dom);
   }
 
   private listWidget(host: HTMLElement, decl: ParamDecl, rows: unknown[], frame: number, place: string, set: (v: unknown) => unknown) {
@@ -483,4 +529,3 @@ export class ParamPanel {
     host.appendChild(table);
   }
 }
-

@@ -3,7 +3,7 @@
 export interface ParamDecl {
   name: string;
   label: string;
-  type: 'float' | 'int' | 'toggle' | 'vec2' | 'vec3' | 'vec4' | 'string' | 'file' | 'menu' | 'list';
+  type: 'float' | 'int' | 'toggle' | 'vec2' | 'vec3' | 'vec4' | 'string' | 'file' | 'menu' | 'list' | 'ramp' | 'colorramp';
   default: unknown;
   min: number | null;
   max: number | null;
@@ -43,7 +43,7 @@ export interface DocNode {
   template?: boolean;
   network?: DocNetwork;
   promote?: Record<string, string>;
-  /** Spare parameters: name -> type (float, int, toggle, vector2, vector, vector4, string). */
+  /** Spare parameters: name -> type (float, int, toggle, vector2, vector, vector4, string, ramp, colorramp). */
   spare?: Record<string, string>;
   /** Editor data the file keeps: position and colour (`#rrggbb`). */
   ui?: { pos?: [number, number]; color?: string };
@@ -384,6 +384,18 @@ export function hasNetwork(node: DocNode | null | undefined, types: ReadonlyMap<
   return !!node && (node.network !== undefined || types.get(node.type)?.network === true);
 }
 
+/** The fields of a ramp's keys, as the catalogue declares them (crates/op/src/param.rs). */
+export function rampFields(colour: boolean): ParamDecl[] {
+  const field = (name: string, label: string, type: ParamDecl['type'], dflt: unknown, help: string, extra: Partial<ParamDecl> = {}): ParamDecl => ({
+    name, label, type, default: dflt, min: null, max: null, animatable: type !== 'menu', help, affects: null, ...extra,
+  });
+  return [
+    field('pos', 'Position', 'float', 0, 'Where the key sits along the ramp (0 to 1).', { min: 0, max: 1 }),
+    colour ? field('value', 'Colour', 'vec3', [0, 0, 0], "The key's colour.") : field('value', 'Value', 'float', 0, "The key's value."),
+    field('interp', 'Interpolation', 'menu', 'linear', 'How the segment from this key to the next is drawn.', { items: ['constant', 'linear', 'catmull-rom', 'monotonecubic', 'bspline'] }),
+  ];
+}
+
 const SPARE_TYPES: Record<string, { type: ParamDecl['type']; default: unknown }> = {
   float: { type: 'float', default: 0 },
   int: { type: 'int', default: 0 },
@@ -392,6 +404,8 @@ const SPARE_TYPES: Record<string, { type: ParamDecl['type']; default: unknown }>
   vector: { type: 'vec3', default: [0, 0, 0] },
   vector4: { type: 'vec4', default: [0, 0, 0, 0] },
   string: { type: 'string', default: '' },
+  ramp: { type: 'ramp', default: [{ pos: 0, value: 0, interp: 'linear' }, { pos: 1, value: 1, interp: 'linear' }] },
+  colorramp: { type: 'colorramp', default: [{ pos: 0, value: [0, 0, 0], interp: 'linear' }, { pos: 1, value: [1, 1, 1], interp: 'linear' }] },
 };
 
 /** Declarations of a node's spare parameters, as the panel shows them. */
@@ -407,8 +421,9 @@ export function spareDecls(node: DocNode): ParamDecl[] {
       min: null,
       max: null,
       animatable: t.type !== 'string',
-      help: `Spare parameter (${ty}), read in the snippet with ch("${name}").`,
+      help: t.type === 'ramp' || t.type === 'colorramp' ? `Spare parameter (${ty}), read in the snippet with chramp("${name}", x).` : `Spare parameter (${ty}), read in the snippet with ch("${name}").`,
       affects: null,
+      ...(t.type === 'ramp' || t.type === 'colorramp' ? { fields: rampFields(t.type === 'colorramp') } : {}),
     }];
   });
 }

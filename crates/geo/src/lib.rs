@@ -15,6 +15,7 @@ pub mod ops;
 mod patch;
 mod payload;
 pub mod primitives;
+pub mod ramp;
 pub mod random;
 pub mod topology;
 
@@ -30,4 +31,5 @@ pub use group::Group;
 pub use hash::hash_bytes;
 pub use patch::{KnotVector, PatchBasis, WEIGHT};
 pub use payload::Payload;
+pub use ramp::{Ramp, RampBasis, RampError, RampKey, RampKind};
 pub use topology::{HalfEdge, ManifoldReport, Topology};

@@ -85,16 +85,24 @@ impl CompiledParam {
             ParamSource::Template(pieces) => {
                 cx.template(pieces).map(ParamValue::String).map_err(fail)
             }
-            ParamSource::List(rows) => rows
-                .iter()
-                .enumerate()
-                .map(|(k, r)| {
-                    r.iter()
-                        .map(|f| f.eval_named(cx, &format!("{name}[{k}].{}", f.spec.name)))
-                        .collect()
-                })
-                .collect::<Result<_, _>>()
-                .map(ParamValue::List),
+            ParamSource::List(rows) => {
+                let rows: Vec<Vec<ParamValue>> = rows
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| {
+                        r.iter()
+                            .map(|f| f.eval_named(cx, &format!("{name}[{k}].{}", f.spec.name)))
+                            .collect()
+                    })
+                    .collect::<Result<_, _>>()?;
+                match self.spec.ty {
+                    // A ramp's rows are its keys: sorted, checked and built here.
+                    ParamType::Ramp(kind) => geode_op::ramp_from_rows(kind, &rows)
+                        .map(ParamValue::Ramp)
+                        .map_err(|m| LoadError::param(path, name, m)),
+                    _ => Ok(ParamValue::List(rows)),
+                }
+            }
             ParamSource::Components(c) => {
                 let v = (0..c.len())
                     .map(|k| self.component_at(cx, name, k))
@@ -813,12 +821,19 @@ impl Builder<'_> {
         j: &Json,
     ) -> Option<ParamSource> {
         let err = |m: String| LoadError::param(path, name, m);
+        let noun = if std::ptr::eq(rows, &geode_op::FLOAT_RAMP_ROWS)
+            || std::ptr::eq(rows, &geode_op::COLOR_RAMP_ROWS)
+        {
+            "a ramp's keys"
+        } else {
+            "a list of rows"
+        };
         let items = match j {
             Json::Array(items) => items,
             Json::String(text) => {
                 let Some(legacy) = rows.legacy else {
                     self.errors.push(err(format!(
-                        "expected a list of rows (an array of objects with fields {}), found {}",
+                        "expected {noun} (an array of objects with fields {}), found {}",
                         field_names(rows),
                         describe(j)
                     )));
@@ -856,7 +871,7 @@ impl Builder<'_> {
             }
             other => {
                 self.errors.push(err(format!(
-                    "expected a list of rows (an array of objects with fields {}), found {}",
+                    "expected {noun} (an array of objects with fields {}), found {}",
                     field_names(rows),
                     describe(other)
                 )));
@@ -924,6 +939,10 @@ impl Builder<'_> {
     ) -> Option<ParamSource> {
         let err = |m: String| LoadError::param(path, name, m);
         if let ParamType::List(rows) = spec.ty {
+            return self.parse_list(path, name, rows, j);
+        }
+        if let Some(rows) = spec.ty.ramp_rows() {
+            // A ramp is written as list rows, one per key.
             return self.parse_list(path, name, rows, j);
         }
         if spec.ty.is_textual() {
@@ -1414,6 +1433,27 @@ fn constant_source(v: ParamValue) -> ParamSource {
         // A list's default has no rows (legacy rows are built field by
         // field in `parse_list`, where the field declarations are known).
         ParamValue::List(_) => ParamSource::List(Vec::new()),
+        // A ramp's keys as the rows it is written as.
+        ParamValue::Ramp(r) => {
+            let fields = ParamType::Ramp(r.kind())
+                .ramp_rows()
+                .map_or(&[][..], |l| l.fields);
+            ParamSource::List(
+                geode_op::ramp_to_rows(&r)
+                    .into_iter()
+                    .map(|row| {
+                        fields
+                            .iter()
+                            .zip(row)
+                            .map(|(spec, v)| CompiledParam {
+                                spec,
+                                source: constant_source(v),
+                            })
+                            .collect()
+                    })
+                    .collect(),
+            )
+        }
     }
 }
 

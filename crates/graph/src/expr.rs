@@ -236,7 +236,7 @@ impl EvalCx<'_> {
         }
         match param.eval_named(&cx, &target.param) {
             Ok(ParamValue::String(s)) => Some(ExprValue::Str(s)),
-            Ok(ParamValue::List(_)) => None,
+            Ok(ParamValue::List(_) | ParamValue::Ramp(_)) => None,
             Ok(v) => Some(ExprValue::Num(v.as_components())),
             Err(e) => fail(e),
         }

@@ -8,7 +8,9 @@ use geode_curve::polyline::glam_d::{DQuat, DVec2, DVec3};
 use geode_curve::sweep::Tube;
 use geode_curve::{curves, sweep, Curve, SweepOptions};
 use geode_geo::glam::{Quat, Vec3};
-use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
+use geode_geo::{
+    AttribClass, AttribData, Attribute, Geometry, RampBasis, RampKey, RampKind, TypeInfo,
+};
 use geode_op::{
     geometry_input, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, PortType, Registry, Value,
@@ -136,52 +138,6 @@ fn cook_poly_frame(
     geometry(g)
 }
 
-/// A piecewise-linear ramp "u value, u value, ..." over [0, 1].
-fn parse_ramp(text: &str) -> Result<Vec<(f64, f64)>, String> {
-    let mut keys = Vec::new();
-    for (k, pair) in text
-        .split(',')
-        .map(str::trim)
-        .filter(|s| !s.is_empty())
-        .enumerate()
-    {
-        let nums: Vec<&str> = pair.split_whitespace().collect();
-        let parse = |s: &str| s.parse::<f64>().ok().filter(|x| x.is_finite());
-        match nums[..] {
-            [u, v] => match (parse(u), parse(v)) {
-                (Some(u), Some(v)) => keys.push((u, v)),
-                _ => {
-                    return Err(format!(
-                        "key {} `{pair}`: expected two numbers `u value`",
-                        k + 1
-                    ))
-                }
-            },
-            _ => return Err(format!("key {} `{pair}`: expected `u value`", k + 1)),
-        }
-    }
-    keys.sort_by(|a, b| a.0.total_cmp(&b.0));
-    Ok(keys)
-}
-
-fn eval_ramp(keys: &[(f64, f64)], u: f64) -> f64 {
-    match keys {
-        [] => 1.0,
-        [only] => only.1,
-        _ => {
-            let i = keys.partition_point(|k| k.0 <= u);
-            if i == 0 {
-                keys[0].1
-            } else if i == keys.len() {
-                keys[i - 1].1
-            } else {
-                let (a, b) = (keys[i - 1], keys[i]);
-                a.1 + (b.1 - a.1) * (u - a.0) / (b.0 - a.0)
-            }
-        }
-    }
-}
-
 const SWEEP_SIDES: P = P::new(
     "sides",
     "Sides",
@@ -205,7 +161,12 @@ const SWEEP_RADIUS_ATTRIBUTE: P = P::new(
     D::Str("pscale"),
     "Float (or int) point attribute multiplying the radius (if present).",
 );
-const SWEEP_RAMP: P = P::new("ramp", "Radius ramp", T::String, D::Str(""), "Multiplier along each curve as `u value` keys, e.g. `0 1, 1 0.2` (linear between keys; empty: 1).");
+/// Houdini's Sweep "Apply Scale Along Curve": flat at 1 until edited.
+const SWEEP_RAMP_DEFAULT: &[RampKey] = &[
+    RampKey::float(0.0, 1.0, RampBasis::Linear),
+    RampKey::float(1.0, 1.0, RampBasis::Linear),
+];
+const SWEEP_RAMP: P = P::ramp("ramp", "Scale along curve", RampKind::Float, SWEEP_RAMP_DEFAULT, "Multiplies the radius along each curve: the ramp at the point's arc-length fraction (0 at the start, 1 at the end); a ramp without keys multiplies by 1. The old text form `u value, u value` still loads, as linear keys.");
 const SWEEP_CAPS: P = P::new(
     "caps",
     "End caps",
@@ -239,7 +200,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     if cs.is_empty() {
         return Err(ctx.input_error("input 1 has no curves (polylines or polygons)"));
     }
-    let ramp = parse_ramp(p.string(&SWEEP_RAMP)?).map_err(|e| ctx.param_error("ramp", e))?;
+    let ramp = p.ramp(&SWEEP_RAMP)?;
     let caps = p.toggle(&SWEEP_CAPS)?;
     let opts = match inputs
         .get(1)
@@ -313,7 +274,12 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
                 .zip(&along)
                 .map(|(&i, s)| {
                     let u = if total > 0.0 { s / total } else { 0.0 };
-                    radius * attr.map_or(1.0, |a| a.get(i as usize) as f64) * eval_ramp(&ramp, u)
+                    let along = if ramp.is_empty() {
+                        1.0
+                    } else {
+                        ramp.eval_float(u)
+                    };
+                    radius * attr.map_or(1.0, |a| a.get(i as usize) as f64) * along
                 })
                 .collect();
             let cancel = || ctx.cancel.is_cancelled();
@@ -340,22 +306,4 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
 pub fn register(r: &mut Registry) {
     r.node(&POLYFRAME, cook_poly_frame);
     r.node(&SWEEP, cook_sweep);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn ramps_parse_interpolate_and_name_bad_keys() {
-        let r = parse_ramp("1 0.2, 0 1").unwrap();
-        assert_eq!(r, vec![(0.0, 1.0), (1.0, 0.2)]);
-        assert!((eval_ramp(&r, 0.5) - 0.6).abs() < 1e-12);
-        assert_eq!(eval_ramp(&r, -1.0), 1.0);
-        assert_eq!(eval_ramp(&[], 0.3), 1.0);
-        assert_eq!(
-            parse_ramp("0 1, 0.5").unwrap_err(),
-            "key 2 `0.5`: expected `u value`"
-        );
-    }
 }

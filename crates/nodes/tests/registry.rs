@@ -60,6 +60,10 @@ fn setup(node: &str, dir: &str) -> (Vec<String>, String) {
             r#"{"group": "low", "class": "point"}"#.into(),
         ),
         "switch" | "merge" => (vec![r#""in0": {"type": "box"}"#.into()], "{}".into()),
+        "attribute_remap" => (
+            vec![r#""in0": {"type": "attribute_randomize", "inputs": ["b"]}, "b": {"type": "box"}"#.into()],
+            "{}".into(),
+        ),
         "file" => (vec![], format!(r#"{{"file": "{dir}/in.obj"}}"#)),
         "frep_file" => (vec![], format!(r#"{{"file": "{dir}/ball.vm"}}"#)),
         "write" => (
@@ -185,6 +189,7 @@ fn cooks_read_parameters_through_their_declarations_not_string_literals() {
         "p.toggle(\"",
         "p.string(\"",
         "p.list(\"",
+        "p.ramp(\"",
         "p.get(\"",
         "(p, \"",
     ];

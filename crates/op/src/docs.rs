@@ -14,6 +14,18 @@ fn default_text(d: &ParamDefault) -> String {
         ParamDefault::Vec4(v) => format!("{v:?}"),
         ParamDefault::Str(s) => format!("{s:?}"),
         ParamDefault::EmptyList => "no rows".into(),
+        ParamDefault::Ramp(kind, keys) => {
+            let keys: Vec<String> = keys
+                .iter()
+                .map(|k| match kind {
+                    geode_geo::RampKind::Float => format!("{}: {} {}", k.pos, k.value[0], k.basis),
+                    geode_geo::RampKind::Color => {
+                        format!("{}: {:?} {}", k.pos, k.value, k.basis)
+                    }
+                })
+                .collect();
+            keys.join("; ")
+        }
     }
 }
 
@@ -29,6 +41,7 @@ fn param_rows(s: &mut String, params: &[crate::ParamSpec]) {
         };
         let ty = match p.ty {
             crate::ParamType::List(_) => "list (rows below)".to_string(),
+            crate::ParamType::Ramp(_) => format!("{} (keys below)", p.ty),
             t => t.to_string(),
         };
         let _ = writeln!(
@@ -96,6 +109,14 @@ pub fn markdown(spec: &NodeSpec) -> String {
             let _ = writeln!(
                 s,
                 "\n### Rows of `{}`\n\nA list parameter: an array of objects with these fields (missing fields take their defaults).\n",
+                p.name
+            );
+            param_rows(&mut s, l.fields);
+        }
+        if let Some(l) = p.ty.ramp_rows() {
+            let _ = writeln!(
+                s,
+                "\n### Keys of `{}`\n\nA ramp: an array of keys with these fields, sorted by position when loaded; each key's interpolation draws the segment after it (see `docs/ramps.md`).\n",
                 p.name
             );
             param_rows(&mut s, l.fields);

@@ -19,8 +19,9 @@ pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv, MB};
 pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
 pub use files::{FileAccess, FileRefusal};
 pub use param::{
-    LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec, ParamType, ParamValue, Params,
-    SPARE_TYPES,
+    ramp_from_rows, ramp_to_rows, LegacyRows, ListSpec, ParamDefault, ParamName, ParamSpec,
+    ParamType, ParamValue, Params, COLOR_RAMP_ROWS, DEFAULT_COLOR_RAMP, DEFAULT_FLOAT_RAMP,
+    FLOAT_RAMP_ROWS, SPARE_TYPES,
 };
 pub use registry::{edit_distance, Registry};
 pub use value::{Bundle, PortType, Value};

@@ -1,8 +1,10 @@
 //! Parameter declarations (name, type, default, range, animatable, help, tag),
-//! list parameters (Houdini's multiparms: rows of typed fields) and evaluated values.
+//! list parameters (Houdini's multiparms: rows of typed fields), ramps (rows
+//! of keys, evaluated by `geode_geo::Ramp`) and evaluated values.
 
 use std::fmt;
 
+use geode_geo::{Ramp, RampBasis, RampKey, RampKind};
 use xxhash_rust::xxh3::Xxh3;
 
 use crate::context::CookError;
@@ -24,6 +26,10 @@ pub enum ParamType {
     /// A list of records (Houdini's multiparm): each row has the declared
     /// fields, each field typed, ranged and animatable like a parameter.
     List(&'static ListSpec),
+    /// A ramp (Houdini's ramp parameter): keys of position, value (a float
+    /// or an RGB colour) and interpolation, written as list rows (each
+    /// field animatable) and evaluated into a `geode_geo::Ramp`.
+    Ramp(RampKind),
 }
 
 /// Reads the text form a list parameter had before it was a list: constant
@@ -58,7 +64,20 @@ impl ParamType {
             ParamType::Vec2 => 2,
             ParamType::Vec3 => 3,
             ParamType::Vec4 => 4,
-            ParamType::String | ParamType::Menu(_) | ParamType::File | ParamType::List(_) => 0,
+            ParamType::String
+            | ParamType::Menu(_)
+            | ParamType::File
+            | ParamType::List(_)
+            | ParamType::Ramp(_) => 0,
+        }
+    }
+
+    /// The rows a ramp is written as (its keys' fields), for a ramp.
+    pub fn ramp_rows(self) -> Option<&'static ListSpec> {
+        match self {
+            ParamType::Ramp(RampKind::Float) => Some(&FLOAT_RAMP_ROWS),
+            ParamType::Ramp(RampKind::Color) => Some(&COLOR_RAMP_ROWS),
+            _ => None,
         }
     }
 
@@ -90,8 +109,139 @@ impl fmt::Display for ParamType {
                     .collect();
                 write!(f, "list of ({})", fields.join(", "))
             }
+            ParamType::Ramp(RampKind::Float) => f.write_str("ramp"),
+            ParamType::Ramp(RampKind::Color) => f.write_str("colour ramp"),
         }
     }
+}
+
+const RAMP_POS: ParamSpec = ParamSpec::new(
+    "pos",
+    "Position",
+    ParamType::Float,
+    ParamDefault::Float(0.0),
+    "Where the key sits along the ramp (0 to 1); keys are sorted by it.",
+)
+.range(0.0, 1.0);
+const RAMP_INTERP: ParamSpec = ParamSpec::new(
+    "interp",
+    "Interpolation",
+    ParamType::Menu(RampBasis::NAMES),
+    ParamDefault::Str("linear"),
+    "How the segment from this key to the next is drawn: constant, linear, catmull-rom (smooth, through the keys), monotonecubic (smooth, never overshooting) or bspline (smooth, approximating).",
+);
+static FLOAT_RAMP_FIELDS: [ParamSpec; 3] = [
+    RAMP_POS,
+    ParamSpec::new(
+        "value",
+        "Value",
+        ParamType::Float,
+        ParamDefault::Float(0.0),
+        "The key's value.",
+    ),
+    RAMP_INTERP,
+];
+static COLOR_RAMP_FIELDS: [ParamSpec; 3] = [
+    RAMP_POS,
+    ParamSpec::new(
+        "value",
+        "Colour",
+        ParamType::Vec3,
+        ParamDefault::Vec3([0.0; 3]),
+        "The key's colour (red, green, blue).",
+    ),
+    RAMP_INTERP,
+];
+
+/// A float ramp's keys as rows: `pos`, `value`, `interp`. The text form
+/// `u value, u value` (a sweep's radius ramp before ramps were a type)
+/// reads as linear keys.
+pub static FLOAT_RAMP_ROWS: ListSpec = ListSpec {
+    fields: &FLOAT_RAMP_FIELDS,
+    legacy: Some(float_ramp_text),
+};
+
+/// A colour ramp's keys as rows: `pos`, `value` (RGB), `interp`.
+pub static COLOR_RAMP_ROWS: ListSpec = ListSpec {
+    fields: &COLOR_RAMP_FIELDS,
+    legacy: None,
+};
+
+/// `u value, u value`: linear keys, as sweep's radius ramp was written.
+fn float_ramp_text(text: &str) -> Result<Vec<Vec<ParamValue>>, String> {
+    let mut rows = Vec::new();
+    for (k, pair) in text
+        .split(',')
+        .map(str::trim)
+        .filter(|s| !s.is_empty())
+        .enumerate()
+    {
+        let nums: Vec<Option<f64>> = pair
+            .split_whitespace()
+            .map(|s| s.parse::<f64>().ok().filter(|x| x.is_finite()))
+            .collect();
+        match nums[..] {
+            [Some(u), Some(v)] => rows.push(vec![
+                ParamValue::Float(u),
+                ParamValue::Float(v),
+                ParamValue::String("linear".into()),
+            ]),
+            _ => {
+                return Err(format!(
+                    "key {} `{pair}`: expected two numbers `position value`",
+                    k + 1
+                ))
+            }
+        }
+    }
+    Ok(rows)
+}
+
+/// A ramp from its evaluated rows (`pos`, `value`, `interp` each), sorted
+/// by position; why not, naming the row.
+pub fn ramp_from_rows(kind: RampKind, rows: &[Vec<ParamValue>]) -> Result<Ramp, String> {
+    let mut keys = Vec::with_capacity(rows.len());
+    for (k, row) in rows.iter().enumerate() {
+        let (pos, value, interp) = match row.as_slice() {
+            [ParamValue::Float(p), v, ParamValue::String(i)] => (*p, v, i),
+            _ => return Err(format!("key {k}: expected `pos`, `value` and `interp`")),
+        };
+        let value = match (kind, value) {
+            (RampKind::Float, ParamValue::Float(x)) => [*x, 0.0, 0.0],
+            (RampKind::Color, ParamValue::Vector(v)) if v.len() == 3 => [v[0], v[1], v[2]],
+            _ => {
+                return Err(format!(
+                    "key {k}: `value` is not a {}",
+                    ParamType::Ramp(kind)
+                ))
+            }
+        };
+        let basis = RampBasis::from_name(interp).ok_or_else(|| {
+            format!(
+                "key {k}: unknown interpolation `{interp}` (expected one of {})",
+                RampBasis::NAMES.join(", ")
+            )
+        })?;
+        keys.push(RampKey { pos, value, basis });
+    }
+    Ramp::new(kind, keys).map_err(|e| e.to_string())
+}
+
+/// A ramp's keys as rows (`pos`, `value`, `interp`), in position order.
+pub fn ramp_to_rows(ramp: &Ramp) -> Vec<Vec<ParamValue>> {
+    ramp.keys()
+        .iter()
+        .map(|k| {
+            vec![
+                ParamValue::Float(k.pos),
+                match ramp.kind() {
+                    RampKind::Float => ParamValue::Float(k.value[0]),
+                    RampKind::Color => ParamValue::Vector(k.value.to_vec()),
+                },
+                ParamValue::String(k.basis.name().to_owned()),
+            ]
+        })
+        .collect()
 }
 
 /// A default value, writable in a `const` declaration.
@@ -106,6 +256,8 @@ pub enum ParamDefault {
     Str(&'static str),
     /// A list parameter starts with no rows.
     EmptyList,
+    /// A ramp's keys (of a float or colour ramp).
+    Ramp(RampKind, &'static [RampKey]),
 }
 
 /// A parameter, declared once: it drives validation, docs, the CLI and the studio.
@@ -129,12 +281,32 @@ pub struct ParamSpec {
 
 /// The type names `ParamSpec::spare` accepts, for error messages.
 pub const SPARE_TYPES: &[&str] = &[
-    "float", "int", "toggle", "vector2", "vector", "vector4", "string",
+    "float",
+    "int",
+    "toggle",
+    "vector2",
+    "vector",
+    "vector4",
+    "string",
+    "ramp",
+    "colorramp",
+];
+
+/// A new float ramp: 0 to 1, linear (Houdini's default ramp).
+pub const DEFAULT_FLOAT_RAMP: &[RampKey] = &[
+    RampKey::float(0.0, 0.0, RampBasis::Linear),
+    RampKey::float(1.0, 1.0, RampBasis::Linear),
+];
+
+/// A new colour ramp: black to white, linear.
+pub const DEFAULT_COLOR_RAMP: &[RampKey] = &[
+    RampKey::color(0.0, [0.0; 3], RampBasis::Linear),
+    RampKey::color(1.0, [1.0; 3], RampBasis::Linear),
 ];
 
 const SPARE_HELP: &str = "A spare parameter declared by the network.";
 
-static SPARE_SPECS: [ParamSpec; 7] = [
+static SPARE_SPECS: [ParamSpec; 9] = [
     ParamSpec::new(
         "spare",
         "Spare",
@@ -182,6 +354,20 @@ static SPARE_SPECS: [ParamSpec; 7] = [
         "Spare",
         ParamType::String,
         ParamDefault::Str(""),
+        SPARE_HELP,
+    ),
+    ParamSpec::ramp(
+        "spare",
+        "Spare",
+        RampKind::Float,
+        DEFAULT_FLOAT_RAMP,
+        SPARE_HELP,
+    ),
+    ParamSpec::ramp(
+        "spare",
+        "Spare",
+        RampKind::Color,
+        DEFAULT_COLOR_RAMP,
         SPARE_HELP,
     ),
 ];
@@ -244,7 +430,27 @@ impl ParamSpec {
             ParamDefault::Vec4(v) => ParamValue::Vector(v.to_vec()),
             ParamDefault::Str(s) => ParamValue::String(s.to_owned()),
             ParamDefault::EmptyList => ParamValue::List(Vec::new()),
+            ParamDefault::Ramp(kind, keys) => ParamValue::Ramp(
+                Ramp::new(kind, keys.to_vec()).expect("declared ramp defaults are finite"),
+            ),
         }
+    }
+
+    /// A ramp parameter with these default keys.
+    pub const fn ramp(
+        name: &'static str,
+        label: &'static str,
+        kind: RampKind,
+        keys: &'static [RampKey],
+        help: &'static str,
+    ) -> ParamSpec {
+        ParamSpec::new(
+            name,
+            label,
+            ParamType::Ramp(kind),
+            ParamDefault::Ramp(kind, keys),
+            help,
+        )
     }
 
     /// A list parameter with these row fields (and, for networks written
@@ -265,8 +471,10 @@ impl ParamSpec {
     }
 
     /// The declaration a spare parameter of type `ty` (as a network names
-    /// it: float, int, toggle, vector2, vector, vector4, string) takes: one
-    /// static spec per type, the name carried beside it.
+    /// it: float, int, toggle, vector2, vector, vector4, string, ramp,
+    /// colorramp) takes: one
+    /// static spec per type, the name carried beside it. `ramp` and
+    /// `colorramp` are float and colour ramps (`chramp()` in a wrangle).
     pub fn spare(ty: &str) -> Option<&'static ParamSpec> {
         Some(match ty {
             "float" => &SPARE_SPECS[0],
@@ -276,6 +484,8 @@ impl ParamSpec {
             "vector" => &SPARE_SPECS[4],
             "vector4" => &SPARE_SPECS[5],
             "string" => &SPARE_SPECS[6],
+            "ramp" => &SPARE_SPECS[7],
+            "colorramp" => &SPARE_SPECS[8],
             _ => return None,
         })
     }
@@ -302,18 +512,20 @@ pub enum ParamValue {
     String(String),
     /// Rows of a list parameter, each with its fields in declaration order.
     List(Vec<Vec<ParamValue>>),
+    /// A ramp, its keys sorted by position.
+    Ramp(Ramp),
 }
 
 impl ParamValue {
-    /// The numbers of a numeric value (a toggle is 0 or 1); none for text
-    /// and lists.
+    /// The numbers of a numeric value (a toggle is 0 or 1); none for text,
+    /// lists and ramps.
     pub fn as_components(&self) -> Vec<f64> {
         match self {
             ParamValue::Float(x) => vec![*x],
             ParamValue::Int(i) => vec![*i as f64],
             ParamValue::Toggle(b) => vec![f64::from(u8::from(*b))],
             ParamValue::Vector(v) => v.clone(),
-            ParamValue::String(_) | ParamValue::List(_) => Vec::new(),
+            ParamValue::String(_) | ParamValue::List(_) | ParamValue::Ramp(_) => Vec::new(),
         }
     }
 
@@ -351,6 +563,20 @@ impl ParamValue {
                     }
                 }
             }
+            ParamValue::Ramp(r) => {
+                h.update(match r.kind() {
+                    RampKind::Float => b"rf",
+                    RampKind::Color => b"rc",
+                });
+                h.update(&(r.keys().len() as u64).to_le_bytes());
+                for k in r.keys() {
+                    h.update(&canonical(k.pos).to_le_bytes());
+                    for x in k.value {
+                        h.update(&canonical(x).to_le_bytes());
+                    }
+                    h.update(&[k.basis as u8]);
+                }
+            }
         }
     }
 }
@@ -373,6 +599,17 @@ impl fmt::Display for ParamValue {
             ParamValue::Vector(v) => write!(f, "{v:?}"),
             ParamValue::String(s) => write!(f, "{s:?}"),
             ParamValue::List(rows) => write!(f, "{} rows", rows.len()),
+            ParamValue::Ramp(r) => {
+                let keys: Vec<String> = r
+                    .keys()
+                    .iter()
+                    .map(|k| match r.kind() {
+                        RampKind::Float => format!("{} {} {}", k.pos, k.value[0], k.basis),
+                        RampKind::Color => format!("{} {:?} {}", k.pos, k.value, k.basis),
+                    })
+                    .collect();
+                write!(f, "ramp [{}]", keys.join(", "))
+            }
         }
     }
 }
@@ -515,6 +752,14 @@ impl Params {
         match self.get(name)? {
             ParamValue::String(s) => Ok(s),
             _ => Err(self.wrong(name, "string")),
+        }
+    }
+
+    /// A ramp parameter's value (evaluate it with `eval` or `eval_float`).
+    pub fn ramp(&self, name: &(impl ParamName + ?Sized)) -> Result<&Ramp, CookError> {
+        match self.get(name)? {
+            ParamValue::Ramp(r) => Ok(r),
+            _ => Err(self.wrong(name, "ramp")),
         }
     }
 

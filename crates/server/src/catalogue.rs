@@ -1,7 +1,23 @@
 //! The node catalogue as the studio reads it: every node type's ports and parameter declarations (the same declarations that drive the cook, the docs and the CLI).
 
+use geode_geo::{RampKey, RampKind};
 use geode_op::{NodeSpec, ParamDefault, ParamSpec, ParamType, Registry};
 use serde_json::{json, Value as Json};
+
+/// A ramp's keys as the document writes them: `{pos, value, interp}` each.
+pub fn ramp_keys_json(kind: RampKind, keys: &[RampKey]) -> Json {
+    Json::Array(
+        keys.iter()
+            .map(|k| {
+                let value = match kind {
+                    RampKind::Float => json!(k.value[0]),
+                    RampKind::Color => json!(k.value),
+                };
+                json!({"pos": k.pos, "value": value, "interp": k.basis.name()})
+            })
+            .collect(),
+    )
+}
 
 fn default_json(d: ParamDefault) -> Json {
     match d {
@@ -13,6 +29,7 @@ fn default_json(d: ParamDefault) -> Json {
         ParamDefault::Vec4(v) => json!(v),
         ParamDefault::Str(s) => json!(s),
         ParamDefault::EmptyList => json!([]),
+        ParamDefault::Ramp(kind, keys) => ramp_keys_json(kind, keys),
     }
 }
 
@@ -28,6 +45,8 @@ fn type_json(t: ParamType) -> Json {
         ParamType::File => json!("file"),
         ParamType::Menu(_) => json!("menu"),
         ParamType::List(_) => json!("list"),
+        ParamType::Ramp(RampKind::Float) => json!("ramp"),
+        ParamType::Ramp(RampKind::Color) => json!("colorramp"),
     }
 }
 
@@ -49,6 +68,10 @@ pub fn param_json(p: &ParamSpec) -> Json {
     match p.ty {
         ParamType::Menu(items) => j["items"] = json!(items),
         ParamType::List(l) => {
+            j["fields"] = Json::Array(l.fields.iter().map(param_json).collect());
+        }
+        ParamType::Ramp(_) => {
+            let l = p.ty.ramp_rows().expect("a ramp has key rows");
             j["fields"] = Json::Array(l.fields.iter().map(param_json).collect());
         }
         _ => {}

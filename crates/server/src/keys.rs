@@ -15,7 +15,7 @@ fn default_components(d: ParamDefault) -> Vec<Json> {
         ParamDefault::Vec2(v) => v.iter().map(|x| json!(x)).collect(),
         ParamDefault::Vec3(v) => v.iter().map(|x| json!(x)).collect(),
         ParamDefault::Vec4(v) => v.iter().map(|x| json!(x)).collect(),
-        ParamDefault::Str(_) | ParamDefault::EmptyList => Vec::new(),
+        ParamDefault::Str(_) | ParamDefault::EmptyList | ParamDefault::Ramp(..) => Vec::new(),
     }
 }
 
