@@ -68,10 +68,9 @@ fn channel(v: &ParamValue) -> Channel {
         ParamValue::Vector(v) => Channel::Num(v.clone()),
         ParamValue::String(s) => Channel::Str(s.clone()),
         ParamValue::List(_) => Channel::Num(Vec::new()),
-        // ch() of a ramp is its number of keys (a ramp is a multiparm in
-        // Houdini, and a multiparm's value is its count). For `chramp`, the
-        // VEX side takes the ramp itself: `Channel::Ramp(r.clone())`.
-        ParamValue::Ramp(r) => Channel::Num(vec![r.keys().len() as f64]),
+        // chramp() evaluates it; ch() of it is its number of keys (a ramp
+        // is a multiparm in Houdini, and a multiparm's value is its count).
+        ParamValue::Ramp(r) => Channel::Ramp(r.clone()),
     }
 }
 

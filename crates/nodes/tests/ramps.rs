@@ -254,6 +254,49 @@ fn spare_ramps_load_on_wrangles_with_their_defaults_and_errors() {
     );
 }
 
+/// chramp: "Returns the value of a ramp parameter at position x" (SideFX's
+/// chramp page): a linear float ramp from 0 at 0 to 2 at 1 gives 2x along a
+/// line of eleven points; a colour ramp from red to blue gives the mix; ch()
+/// of a ramp is its key count, as a multiparm's.
+#[test]
+fn chramp_reads_spare_ramps_in_wrangles() {
+    let nodes = r#""l": {"type": "curve_line", "params": {"points": 11, "end": [1, 0, 0]}},
+        "n": {"type": "wrangle", "inputs": ["l"], "spare": {"profile": "ramp", "tint": "colorramp"},
+            "params": {"snippet": "f@h = chramp(\"profile\", @P.x); v@c = chramp(\"tint\", @P.x); i@keys = chi(\"profile\");",
+                "profile": [{"pos": 0, "value": 0, "interp": "linear"}, {"pos": 1, "value": 2}],
+                "tint": [{"pos": 0, "value": [1, 0, 0], "interp": "linear"}, {"pos": 1, "value": [0, 0, 1]}]}}"#;
+    let g = cook_at(nodes, "n", 1.0).unwrap_or_else(|e| panic!("{e}"));
+    let g = g.as_geometry().unwrap();
+    let h = g.attrib(AttribClass::Point, "h").unwrap().as_f32().unwrap();
+    let c = g
+        .attrib(AttribClass::Point, "c")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
+    for (i, (h, c)) in h.iter().zip(c).enumerate() {
+        let x = i as f32 / 10.0;
+        assert!((h - 2.0 * x).abs() < 1e-5, "{i}: {h}");
+        assert!(
+            (*c - Vec3::new(1.0 - x, 0.0, x)).length() < 1e-5,
+            "{i}: {c}"
+        );
+    }
+    let keys = g
+        .attrib(AttribClass::Point, "keys")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    assert_eq!(keys[0], 2);
+    // A parameter that is not a ramp is named.
+    let bad = r#""l": {"type": "curve_line"}, "n": {"type": "wrangle", "inputs": ["l"], "spare": {"amp": "float"},
+            "params": {"snippet": "f@h = chramp(\"amp\", 0.5);"}}"#;
+    let e = cook_at(bad, "n", 1.0).unwrap_err().to_string();
+    assert!(
+        e.contains("chramp(\"amp\"): the parameter is not a ramp"),
+        "{e}"
+    );
+}
+
 /// The distance of each ring of a sweep (16 sides) from the line it follows.
 fn ring_radii(params: &str) -> Vec<f32> {
     let nodes = format!(

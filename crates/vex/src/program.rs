@@ -34,6 +34,8 @@ pub struct Program {
     pub(crate) bindings: Vec<Binding>,
     pub(crate) written: Vec<bool>,
     pub(crate) run_over: AttribClass,
+    /// The ramp parameters `chramp` reads, by index.
+    pub(crate) ramps: Vec<geode_geo::Ramp>,
 }
 
 impl Program {
@@ -187,6 +189,8 @@ pub trait Host {
         key: &'static str,
         build: &dyn Fn(&Geometry) -> Arc<dyn std::any::Any + Send + Sync>,
     ) -> Option<Arc<dyn std::any::Any + Send + Sync>>;
+    /// The ramp parameter `chramp` compiled as index `k`.
+    fn ramp(&self, k: usize) -> Option<&geode_geo::Ramp>;
     /// Keeps a point cloud query for this lane; its handle.
     fn open_query(&mut self, q: PointQuery) -> i32;
     /// The query of a handle `open_query` gave this lane.

@@ -824,6 +824,11 @@ fn every_documented_function_has_a_case() {
             })
         })
     };
+    // Functions that need what this harness has not: tested where it is.
+    const TESTED_ELSEWHERE: &[(&str, &str)] = &[(
+        "chramp",
+        "crates/nodes/tests/ramps.rs: needs a ramp parameter",
+    )];
     let mut missing = Vec::new();
     for line in text[start..end].lines().filter(|l| l.starts_with("- `")) {
         // The signatures are the backticked spans before the description.
@@ -831,7 +836,12 @@ fn every_documented_function_has_a_case() {
         for sig in signatures.split('`').skip(1).step_by(2) {
             let Some(open) = sig.find('(') else { continue };
             let name = sig[..open].rsplit(' ').next().unwrap_or("");
-            if !name.is_empty() && !calls(name) && !missing.contains(&name.to_string()) {
+            let elsewhere = TESTED_ELSEWHERE.iter().any(|(n, _)| *n == name);
+            if !name.is_empty()
+                && !elsewhere
+                && !calls(name)
+                && !missing.contains(&name.to_string())
+            {
                 missing.push(name.to_string());
             }
         }

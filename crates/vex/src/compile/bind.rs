@@ -16,6 +16,8 @@ use crate::ty::Ty;
 pub enum Channel {
     Num(Vec<f64>),
     Str(String),
+    /// A ramp parameter: `chramp` evaluates it, `ch` gives its key count.
+    Ramp(geode_geo::Ramp),
 }
 
 /// What the compiler knows of the run: the element class, the inputs (for

@@ -32,6 +32,7 @@ pub(crate) fn compile_snippet(
     let mut lower = lower::Lower::new(snippet, &bindings, spec, counts);
     lower.snippet_body(&snippet.body)?;
     let written = std::mem::take(&mut lower.written);
+    let ramps = std::mem::take(&mut lower.ramps);
     let (ops, op_pos, calls, strings, counts) = lower.finish();
     Ok(Program {
         ops,
@@ -42,6 +43,7 @@ pub(crate) fn compile_snippet(
         bindings,
         written,
         run_over: spec.run_over,
+        ramps,
     })
 }
 

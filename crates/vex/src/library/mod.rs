@@ -174,6 +174,7 @@ pub struct Callee {
 }
 
 pub(crate) use arrays::intrinsics as array_ops;
+pub(crate) use channels::intrinsics as channel_ops;
 pub(crate) use matrix::intrinsics as matrix_ops;
 pub(crate) use strings::intrinsics as string_ops;
 

@@ -253,6 +253,9 @@ impl crate::program::Host for NoHost {
     ) -> Option<std::sync::Arc<dyn std::any::Any + Send + Sync>> {
         None
     }
+    fn ramp(&self, _: usize) -> Option<&geode_geo::Ramp> {
+        None
+    }
     fn open_query(&mut self, _: crate::program::PointQuery) -> i32 {
         -1
     }

@@ -107,13 +107,21 @@ fn every_form_compiles_with_its_argument_types_and_gives_its_return_type() {
     for f in functions() {
         let channels = |_: &str| Some(Channel::Num(vec![0.5; 4]));
         let strings = |_: &str| Some(Channel::Str("x".into()));
+        let ramp = geode_geo::Ramp::new(geode_geo::RampKind::Float, Vec::new()).unwrap();
+        let ramps = move |_: &str| Some(Channel::Ramp(ramp.clone()));
         let names = Vec::new;
         for form in f.forms {
             let reads_string = form.ret == Ret::Is(Ty::Str);
             let spec = BindSpec {
                 run_over: AttribClass::Point,
                 inputs: vec![Some(&g)],
-                channels: if reads_string { &strings } else { &channels },
+                channels: if f.name == "chramp" {
+                    &ramps
+                } else if reads_string {
+                    &strings
+                } else {
+                    &channels
+                },
                 channel_names: &names,
                 frame: 1.0,
                 time: 0.0,

@@ -170,7 +170,7 @@ pub fn run(
             sinks[k].push(c);
         }
     }
-    let shared = Shared::new(inputs.to_vec(), opts.memory_budget);
+    let shared = Shared::new(inputs.to_vec(), opts.memory_budget, &p.ramps);
     // The first batch to fail stops the others: its error is the run's, and
     // what they would still compute (and allocate) is wasted.
     let failed = AtomicBool::new(false);

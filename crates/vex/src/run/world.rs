@@ -31,10 +31,16 @@ pub struct Shared<'a> {
     caches: std::sync::Mutex<Vec<Cached>>,
     /// The run's memory account.
     pub budget: Budget,
+    /// The program's ramp parameters (`chramp`).
+    pub ramps: &'a [geode_geo::Ramp],
 }
 
 impl<'a> Shared<'a> {
-    pub fn new(inputs: Vec<Option<&'a Geometry>>, memory_budget: u64) -> Shared<'a> {
+    pub fn new(
+        inputs: Vec<Option<&'a Geometry>>,
+        memory_budget: u64,
+        ramps: &'a [geode_geo::Ramp],
+    ) -> Shared<'a> {
         let n = inputs.len();
         Shared {
             inputs,
@@ -43,6 +49,7 @@ impl<'a> Shared<'a> {
             group_trees: std::sync::Mutex::new(Vec::new()),
             caches: std::sync::Mutex::new(Vec::new()),
             budget: Budget::new(memory_budget),
+            ramps,
         }
     }
 }
@@ -241,6 +248,10 @@ impl Host for LaneHost<'_, '_, '_> {
         }
         cache.push((i, key, Arc::clone(&built)));
         Some(built)
+    }
+
+    fn ramp(&self, k: usize) -> Option<&geode_geo::Ramp> {
+        self.world.shared.ramps.get(k)
     }
 
     fn open_query(&mut self, q: PointQuery) -> i32 {

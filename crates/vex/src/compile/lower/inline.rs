@@ -403,6 +403,7 @@ impl<'a> Lower<'a> {
                 })
             }
             "ch" | "chf" | "chi" | "chv" | "chs" | "chu" | "chp" => self.channel(name, args, pos),
+            "chramp" => self.chramp(args, hint, pos),
             "array" => self.array_call(args, hint, pos),
             _ => Err(self.unknown_function(name, pos)),
         }
@@ -436,6 +437,11 @@ impl<'a> Lower<'a> {
             _ => Ty::Float,
         };
         use crate::compile::Channel as C;
+        // ch() of a ramp is its number of keys (a multiparm's count).
+        let value = match value {
+            C::Ramp(r) => C::Num(vec![r.keys().len() as f64]),
+            other => other,
+        };
         Ok(match (ty, value) {
             (Ty::Str, C::Str(s)) => self.sconst(&s),
             (Ty::Str, _) => {
@@ -451,6 +457,7 @@ impl<'a> Lower<'a> {
                 )
             }
             (Ty::Int, C::Num(v)) => self.iconst(v.first().copied().unwrap_or(0.0).round() as i32),
+            (_, C::Ramp(_)) => unreachable!("read as its key count above"),
             (t, C::Num(v)) => {
                 let out = self.alloc(t);
                 for k in 0..t.floats() {
@@ -468,6 +475,56 @@ impl<'a> Lower<'a> {
                 out
             }
         })
+    }
+
+    /// `chramp("name", x)`: the ramp parameter at x (clamped to [0, 1]), a
+    /// float for a float ramp, a vector for a colour ramp (or the declared
+    /// type). The ramp is a constant of the cook, kept in the program.
+    fn chramp(&mut self, args: &[Expr], hint: Option<Ty>, pos: Pos) -> LResult<Loc> {
+        self.arity("chramp", args, 2, 3, pos)?;
+        let ExprKind::Str(param) = &args[0].kind else {
+            return err(
+                args[0].pos,
+                "'chramp' needs the parameter's name as a string literal",
+            );
+        };
+        let ramp = match (self.spec.channels)(param) {
+            Some(crate::compile::Channel::Ramp(r)) => r,
+            Some(_) => {
+                return err(
+                    args[0].pos,
+                    format!("chramp(\"{param}\"): the parameter is not a ramp"),
+                )
+            }
+            None => {
+                let known = (self.spec.channel_names)();
+                return err(
+                    args[0].pos,
+                    format!(
+                        "chramp(\"{param}\"): the node has no parameter '{param}'{}",
+                        suggest(param, known.iter().map(String::as_str))
+                    ),
+                );
+            }
+        };
+        let natural = match ramp.kind() {
+            geode_geo::RampKind::Color => Ty::Vec3,
+            _ => Ty::Float,
+        };
+        let out = match hint {
+            Some(t) if t.is_floaty() && !t.is_matrix() => t,
+            _ => natural,
+        };
+        let k = self.ramps.len() as i32;
+        self.ramps.push(ramp);
+        let x = self.arg(&args[1], Ty::Float, "chramp")?;
+        let index = self.iconst(k);
+        Ok(self.call_site(
+            crate::library::channel_ops::CHRAMP,
+            vec![index, x],
+            out,
+            pos,
+        ))
     }
 
     /// `array(a, b, ...)`: the element type is the declared one, else the

@@ -53,6 +53,8 @@ pub(crate) struct Lower<'a> {
     consts: HashMap<(FileKey, Reg), (Loc, Val)>,
     /// Which bindings the snippet assigns.
     pub written: Vec<bool>,
+    /// The ramp parameters `chramp` reads, by index.
+    pub ramps: Vec<geode_geo::Ramp>,
     /// A register holding 1 in every lane (masks start from it), set by
     /// the program's first instruction.
     ones: Reg,
@@ -99,6 +101,7 @@ impl<'a> Lower<'a> {
             ones,
             written: vec![false; bindings.len()],
             consts: HashMap::new(),
+            ramps: Vec::new(),
         }
     }
 
