@@ -4,9 +4,9 @@
 //! steps applies them left to right (`maketransform(XFORM_SRT, ...)` is
 //! `S * R * T`), which in glam's column convention is the reverse product.
 
-use geode_geo::glam::{EulerRot, Mat3, Mat4, Quat, Vec3, Vec4};
+use geode_geo::glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
-use super::support::{euler_order, euler_quat, m3, m4, of_mat, of_quat, q, v3};
+use super::support::{euler_axes, euler_order, euler_quat, m3, m4, of_mat, of_quat, q, v3};
 use super::{a, form, lane, out, Category, Function, Ret, F, I, M3, M4, V, V4};
 use crate::program::{Lane, Stop};
 use crate::ty::Ty;
@@ -368,16 +368,8 @@ fn quaterniontoeuler(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let rot = euler_order(order);
     let (x, y, z) = q(&a[0]).normalize().to_euler(rot);
     // `euler_quat` hands glam the angles in the order of its axis names.
-    let names = match rot {
-        EulerRot::ZYX => "zyx",
-        EulerRot::YZX => "yzx",
-        EulerRot::ZXY => "zxy",
-        EulerRot::XZY => "xzy",
-        EulerRot::YXZ => "yxz",
-        _ => "xyz",
-    };
     let mut r = [0.0f32; 3];
-    for (c, v) in names.chars().zip([x, y, z]) {
+    for (c, v) in euler_axes(rot).chars().zip([x, y, z]) {
         r[(c as u8 - b'x') as usize] = v;
     }
     Ok(Val::vec(&r))

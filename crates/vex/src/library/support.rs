@@ -75,16 +75,20 @@ pub fn euler_quat(r: Vec3, order: i32) -> Quat {
         'y' => r.y,
         _ => r.z,
     };
-    let names = match rot {
+    let c: Vec<char> = euler_axes(rot).chars().collect();
+    Quat::from_euler(rot, pick(c[0]), pick(c[1]), pick(c[2]))
+}
+
+/// The axes glam's Euler order takes its three angles for, in order.
+pub fn euler_axes(rot: EulerRot) -> &'static str {
+    match rot {
         EulerRot::ZYX => "zyx",
         EulerRot::YZX => "yzx",
         EulerRot::ZXY => "zxy",
         EulerRot::XZY => "xzy",
         EulerRot::YXZ => "yxz",
         _ => "xyz",
-    };
-    let c: Vec<char> = names.chars().collect();
-    Quat::from_euler(rot, pick(c[0]), pick(c[1]), pick(c[2]))
+    }
 }
 
 pub fn arr_len(v: &Val) -> usize {

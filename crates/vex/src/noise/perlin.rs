@@ -46,17 +46,21 @@ fn grad(hash: i32, x: f32, y: f32, z: f32) -> f32 {
     (if h & 1 == 0 { u } else { -u }) + (if h & 2 == 0 { v } else { -v })
 }
 
+/// The lattice cell of `p` (hashed coordinates, offset by `salt` for
+/// independent channels) and `p`'s place inside it.
+fn cell(p: [f32; 3], salt: i32) -> ([i32; 3], [f32; 3]) {
+    let f = p.map(f32::floor);
+    let salts = [57, 131, 17];
+    (
+        std::array::from_fn(|k| f[k] as i32 + salt * salts[k]),
+        std::array::from_fn(|k| p[k] - f[k]),
+    )
+}
+
 /// Signed gradient noise at `p`, zero on the integer lattice, about [-1, 1];
 /// `salt` offsets the lattice hash for independent channels.
 pub fn perlin(p: [f32; 3], salt: i32) -> f32 {
-    let [x, y, z] = p;
-    let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
-    let (xi, yi, zi) = (
-        fx as i32 + salt * 57,
-        fy as i32 + salt * 131,
-        fz as i32 + salt * 17,
-    );
-    let (x, y, z) = (x - fx, y - fy, z - fz);
+    let ([xi, yi, zi], [x, y, z]) = cell(p, salt);
     let (u, v, w) = (fade(x), fade(y), fade(z));
     let a = perm(xi) + yi;
     let (aa, ab) = (perm(a) + zi, perm(a + 1) + zi);
@@ -94,14 +98,7 @@ pub fn perlin(p: [f32; 3], salt: i32) -> f32 {
 /// lattice point drawn from the permutation (unit vectors of a fixed
 /// table), about [-1, 1], zero on the lattice.
 pub fn original(p: [f32; 3], salt: i32) -> f32 {
-    let [x, y, z] = p;
-    let (fx, fy, fz) = (x.floor(), y.floor(), z.floor());
-    let (xi, yi, zi) = (
-        fx as i32 + salt * 57,
-        fy as i32 + salt * 131,
-        fz as i32 + salt * 17,
-    );
-    let (x, y, z) = (x - fx, y - fy, z - fz);
+    let ([xi, yi, zi], [x, y, z]) = cell(p, salt);
     let s = |t: f32| t * t * (3.0 - 2.0 * t);
     let (u, v, w) = (s(x), s(y), s(z));
     let dot = |i: i32, j: i32, k: i32, dx: f32, dy: f32, dz: f32| {
