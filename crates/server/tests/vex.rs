@@ -46,5 +46,5 @@ fn the_function_table_is_served_with_the_token_only() {
     let functions = table["functions"].as_array().unwrap();
     assert_eq!(functions.len(), geode_nodes::vex_signatures().len());
     let noise = functions.iter().find(|f| f["name"] == "noise").unwrap();
-    assert_eq!(noise["display"], "float noise(vector pos)");
+    assert_eq!(noise["display"], "float noise(<float|vector> pos)");
 }
