@@ -16,6 +16,7 @@ mod patch;
 mod payload;
 pub mod primitives;
 pub mod random;
+mod shared;
 pub mod topology;
 
 pub use attrib::{
