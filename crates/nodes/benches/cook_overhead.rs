@@ -4,7 +4,12 @@
 //! their input held ready (an operator handing out the same shared
 //! geometry, as a cache hit does), beside their kernels alone on a copy
 //! they own. Goal: each node at most 60 ms (6 ns a point), the wrangle
-//! within 1.5x of the transform.
+//! within 1.5x of the transform. Asked for itself, a node's output is
+//! not hashed (nothing reads it); `_read` rows add a `null` reading it, so
+//! the node hashes its output for the null's key (the null costs nothing).
+//! The same in a trace: `geode --trace t.json cook examples/grid_wrangle.json
+//! --set grid/rows=3162 --set grid/columns=3162` (the wrangle's output is
+//! read, the transform's not).
 //! Run: cargo bench -p geode-nodes --bench cook_overhead
 
 use std::sync::{Arc, OnceLock};
@@ -61,14 +66,17 @@ impl Operator for Held {
     }
 }
 
-/// `held -> node`, cooked without a cache so every cook runs the node.
-fn node(bencher: Bencher, node: &str) {
+/// `held -> node` (`-> null` when `read`), cooked without a cache so every
+/// cook runs the node.
+fn node(bencher: Bencher, node: &str, read: bool) {
     input().content_hash();
     let mut reg = geode_nodes::registry();
     reg.add(Held);
     let net = format!(
-        r#"{{"geode": "network", "version": 1, "output": "x", "nodes": {{
-            "in": {{"type": "held"}}, "x": {node}}}}}"#
+        r#"{{"geode": "network", "version": 1, "output": "{}", "nodes": {{
+            "in": {{"type": "held"}}, "x": {node},
+            "y": {{"type": "null", "inputs": ["x"]}}}}}}"#,
+        if read { "y" } else { "x" }
     );
     let net = load_str(&net, &reg).unwrap();
     let cache = Cache::disabled();
@@ -81,22 +89,30 @@ fn node(bencher: Bencher, node: &str) {
     });
 }
 
+fn wrangle() -> String {
+    format!(r#"{{"type": "wrangle", "inputs": ["in"], "params": {{"snippet": "{SNIPPET}"}}}}"#)
+}
+
+const TRANSFORM: &str = r#"{"type": "transform", "inputs": ["in"], "params": {"translate": [1, 2, 3], "rotate": [10, 20, 30]}}"#;
+
 #[divan::bench(sample_count = 10, sample_size = 1)]
 fn wrangle_node(bencher: Bencher) {
-    node(
-        bencher,
-        &format!(
-            r#"{{"type": "wrangle", "inputs": ["in"], "params": {{"snippet": "{SNIPPET}"}}}}"#
-        ),
-    );
+    node(bencher, &wrangle(), false);
+}
+
+#[divan::bench(sample_count = 10, sample_size = 1)]
+fn wrangle_node_read(bencher: Bencher) {
+    node(bencher, &wrangle(), true);
 }
 
 #[divan::bench(sample_count = 10, sample_size = 1)]
 fn transform_node(bencher: Bencher) {
-    node(
-        bencher,
-        r#"{"type": "transform", "inputs": ["in"], "params": {"translate": [1, 2, 3], "rotate": [10, 20, 30]}}"#,
-    );
+    node(bencher, TRANSFORM, false);
+}
+
+#[divan::bench(sample_count = 10, sample_size = 1)]
+fn transform_node_read(bencher: Bencher) {
+    node(bencher, TRANSFORM, true);
 }
 
 /// A copy of the input whose P the kernel owns (made outside the timing).
