@@ -6,6 +6,7 @@ use std::fmt;
 use glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
 
 use crate::error::GeoError;
+use crate::shared::Shared;
 
 /// Which element an attribute is stored on, as in Houdini.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -291,6 +292,31 @@ impl AttribData {
         }
     }
 
+    /// A column of `len` elements of type `ty`, every bit zero (the empty
+    /// string, empty arrays), allocated zeroed: its pages are first touched
+    /// by whoever writes them.
+    pub fn zeroed(ty: AttribType, len: usize) -> AttribData {
+        use bytemuck::zeroed_vec as z;
+        match ty {
+            AttribType::Float => AttribData::Float(z(len)),
+            AttribType::Int => AttribData::Int(z(len)),
+            AttribType::Vec2 => AttribData::Vec2(z(len)),
+            AttribType::Vec3 => AttribData::Vec3(z(len)),
+            AttribType::Vec4 => AttribData::Vec4(z(len)),
+            AttribType::Quat => AttribData::Quat(z(len)),
+            AttribType::Mat4 => AttribData::Mat4(z(len)),
+            AttribType::Mat3 => AttribData::Mat3(z(len)),
+            AttribType::String => AttribData::String(StringColumn {
+                table: vec![String::new()],
+                indices: z(len),
+            }),
+            AttribType::IntArray => AttribData::IntArray(vec![Vec::new(); len]),
+            AttribType::FloatArray => AttribData::FloatArray(vec![Vec::new(); len]),
+            AttribType::Vec3Array => AttribData::Vec3Array(vec![Vec::new(); len]),
+            AttribType::StringArray => AttribData::StringArray(vec![Vec::new(); len]),
+        }
+    }
+
     pub fn attrib_type(&self) -> AttribType {
         match self {
             AttribData::Float(_) => AttribType::Float,
@@ -523,23 +549,29 @@ impl AttribData {
 }
 
 /// An attribute: its column, its semantic tag and the default for new elements.
+/// The column is shared with the attribute's clones until one writes it
+/// (copy on write): cloning a geometry copies no column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Attribute {
     pub type_info: TypeInfo,
     default: AttribValue,
-    data: AttribData,
+    data: Shared<AttribData>,
 }
 
 macro_rules! typed_access {
     ($get:ident, $get_mut:ident, $variant:ident, $t:ty) => {
         pub fn $get(&self) -> Option<&[$t]> {
-            match &self.data {
+            match &*self.data {
                 AttribData::$variant(v) => Some(v),
                 _ => None,
             }
         }
+        /// Copies the column first when another geometry shares it.
         pub fn $get_mut(&mut self) -> Option<&mut [$t]> {
-            match &mut self.data {
+            if !matches!(*self.data, AttribData::$variant(_)) {
+                return None;
+            }
+            match self.data.make_mut() {
                 AttribData::$variant(v) => Some(v),
                 _ => None,
             }
@@ -552,7 +584,7 @@ impl Attribute {
     pub fn new(default: AttribValue, type_info: TypeInfo, len: usize) -> Attribute {
         Attribute {
             type_info,
-            data: AttribData::filled(&default, len),
+            data: Shared::new(AttribData::filled(&default, len)),
             default,
         }
     }
@@ -562,7 +594,7 @@ impl Attribute {
         Attribute {
             type_info,
             default: AttribValue::zero(data.attrib_type()),
-            data,
+            data: Shared::new(data),
         }
     }
 
@@ -592,13 +624,34 @@ impl Attribute {
         Attribute {
             type_info: self.type_info,
             default: self.default.clone(),
-            data,
+            data: Shared::new(data),
         }
     }
 
-    /// Mutable access to the values; the length cannot change through it.
+    /// Mutable access to the values (copied first when shared); the length
+    /// cannot change through it.
     pub fn values_mut(&mut self) -> ValuesMut<'_> {
-        ValuesMut(&mut self.data)
+        ValuesMut(self.data.make_mut())
+    }
+
+    /// Whether two attributes hold one and the same column.
+    pub fn shares_values(&self, other: &Attribute) -> bool {
+        Shared::ptr_eq(&self.data, &other.data)
+    }
+
+    /// Makes the column this attribute's own without copying it when it is
+    /// shared: its values become zeros. For a caller about to write every
+    /// element (a copy would only be overwritten).
+    pub fn discard_values(&mut self) {
+        if !self.data.is_unique() {
+            self.data = Shared::new(AttribData::zeroed(self.attrib_type(), self.len()));
+        }
+    }
+
+    /// The content hash of the values alone, cached with the column (so
+    /// geometries sharing it hash it once).
+    pub(crate) fn values_hash(&self, f: impl FnOnce(&AttribData) -> u128) -> u128 {
+        self.data.hash_with(f)
     }
 
     pub fn len(&self) -> usize {
@@ -612,7 +665,8 @@ impl Attribute {
     /// The column's floats, flat, and the floats per element (float-based
     /// columns only).
     pub fn floats_mut(&mut self) -> Option<(&mut [f32], usize)> {
-        self.data.as_floats_mut()
+        self.data.as_floats()?;
+        self.data.make_mut().as_floats_mut()
     }
 
     typed_access!(as_f32, as_f32_mut, Float, f32);
@@ -625,7 +679,7 @@ impl Attribute {
     typed_access!(as_mat3, as_mat3_mut, Mat3, Mat3);
 
     pub fn as_strings(&self) -> Option<&StringColumn> {
-        match &self.data {
+        match &*self.data {
             AttribData::String(s) => Some(s),
             _ => None,
         }
@@ -636,7 +690,7 @@ impl Attribute {
         Attribute {
             type_info: self.type_info,
             default: self.default.clone(),
-            data: self.data.gather(indices),
+            data: Shared::new(self.data.gather(indices)),
         }
     }
 }
@@ -786,8 +840,10 @@ impl AttribTable {
     pub(crate) fn resize(&mut self, len: usize) {
         self.len = len;
         for a in self.attribs.values_mut() {
-            let d = a.default.clone();
-            a.data.resize(len, &d);
+            if a.len() != len {
+                let d = a.default.clone();
+                a.data.make_mut().resize(len, &d);
+            }
         }
     }
 
@@ -825,13 +881,13 @@ impl AttribTable {
             let ours = self.attribs.entry(name.clone()).or_insert_with(|| {
                 Attribute::new(theirs.default.clone(), theirs.type_info, old_len)
             });
-            let appended = ours.data.append(&theirs.data);
+            let appended = theirs.is_empty() || ours.data.make_mut().append(&theirs.data);
             debug_assert!(appended, "types checked above");
         }
         for a in self.attribs.values_mut() {
             if a.len() != new_len {
                 let d = a.default.clone();
-                a.data.resize(new_len, &d);
+                a.data.make_mut().resize(new_len, &d);
             }
         }
         self.len = new_len;

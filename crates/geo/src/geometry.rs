@@ -9,6 +9,7 @@ use rayon::prelude::*;
 use crate::attrib::{AttribClass, AttribData, AttribTable, AttribValue, Attribute, TypeInfo};
 use crate::error::GeoError;
 use crate::group::Group;
+use crate::shared::Shared;
 use crate::topology::Topology;
 
 /// The name of the point position attribute, always present.
@@ -51,16 +52,20 @@ pub struct PackedInstance {
 
 /// Houdini's geometry model. Vertices are corners of primitives referencing
 /// points; each primitive's vertices are contiguous (`prim_offsets`).
+///
+/// Cloning is cheap: the connectivity arrays and every attribute column are
+/// shared (copy on write, `shared.rs`), as are the cached topology and
+/// content hash; a clone that writes one column copies that column only.
 #[derive(Clone, Debug)]
 pub struct Geometry {
     pub(crate) points: AttribTable,
     pub(crate) vertices: AttribTable,
     pub(crate) prims: AttribTable,
     pub(crate) detail: AttribTable,
-    pub(crate) vertex_point: Vec<u32>,
-    pub(crate) prim_offsets: Vec<u32>,
-    pub(crate) prim_kinds: Vec<PrimKind>,
-    pub(crate) packed: Vec<PackedInstance>,
+    pub(crate) vertex_point: Shared<Vec<u32>>,
+    pub(crate) prim_offsets: Shared<Vec<u32>>,
+    pub(crate) prim_kinds: Shared<Vec<PrimKind>>,
+    pub(crate) packed: Shared<Vec<PackedInstance>>,
     pub(crate) patches: Vec<crate::patch::PatchBasis>,
     pub(crate) point_groups: BTreeMap<String, Group>,
     pub(crate) prim_groups: BTreeMap<String, Group>,
@@ -101,10 +106,10 @@ impl Geometry {
             vertices: AttribTable::new(AttribClass::Vertex, 0),
             prims: AttribTable::new(AttribClass::Primitive, 0),
             detail: AttribTable::new(AttribClass::Detail, 1),
-            vertex_point: Vec::new(),
-            prim_offsets: vec![0],
-            prim_kinds: Vec::new(),
-            packed: Vec::new(),
+            vertex_point: Shared::default(),
+            prim_offsets: Shared::new(vec![0]),
+            prim_kinds: Shared::default(),
+            packed: Shared::default(),
             patches: Vec::new(),
             point_groups: BTreeMap::new(),
             prim_groups: BTreeMap::new(),
@@ -174,9 +179,9 @@ impl Geometry {
                 vertex_points.len()
             )));
         }
-        g.prim_kinds = kinds;
-        g.vertex_point = vertex_points;
-        g.prim_offsets = offsets;
+        g.prim_kinds = kinds.into();
+        g.vertex_point = vertex_points.into();
+        g.prim_offsets = offsets.into();
         g.vertices.resize(g.vertex_point.len());
         g.prims.resize(g.prim_kinds.len());
         Ok(g)
@@ -202,7 +207,8 @@ impl Geometry {
     }
 
     /// A copy whose attribute tables `f` makes from this one's (same
-    /// classes and lengths); topology, groups and instances are copied.
+    /// classes and lengths); connectivity (shared), groups and instances are
+    /// copied.
     pub(crate) fn clone_with_tables(&self, f: impl Fn(&AttribTable) -> AttribTable) -> Geometry {
         Geometry {
             points: f(&self.points),
@@ -463,10 +469,10 @@ impl Geometry {
             });
         }
         let prim = checked_u32(self.num_prims(), "primitive count")?;
-        self.vertex_point.extend_from_slice(points);
+        self.vertex_point.make_mut().extend_from_slice(points);
         let end = checked_u32(self.vertex_point.len(), "vertex count")?;
-        self.prim_offsets.push(end);
-        self.prim_kinds.push(kind);
+        self.prim_offsets.make_mut().push(end);
+        self.prim_kinds.make_mut().push(kind);
         self.vertices.resize(self.vertex_point.len());
         self.prims.resize(self.prim_kinds.len());
         for g in self.prim_groups.values_mut() {
@@ -501,7 +507,9 @@ impl Geometry {
     ) -> Result<u32, GeoError> {
         let idx = checked_u32(self.packed.len(), "packed instance count")?;
         let prim = self.push_prim(PrimKind::Packed(idx), &[point])?;
-        self.packed.push(PackedInstance { source, transform });
+        self.packed
+            .make_mut()
+            .push(PackedInstance { source, transform });
         Ok(prim)
     }
 
@@ -556,14 +564,18 @@ impl Geometry {
         let first_vertex = self.vertex_point.len() as u32;
         // One vertex and one primitive per instance.
         self.vertex_point
+            .make_mut()
             .extend((0..n as u32).map(|i| first_point as u32 + i));
         self.prim_offsets
+            .make_mut()
             .extend((1..=n as u32).map(|i| first_vertex + i));
         self.prim_kinds
+            .make_mut()
             .extend((0..n as u32).map(|i| PrimKind::Packed(first_packed as u32 + i)));
         // One thread: clones of one Arc from several contend for its count.
-        self.packed.reserve(n);
-        self.packed.extend((0..n).map(|_| PackedInstance {
+        let packed = self.packed.make_mut();
+        packed.reserve(n);
+        packed.extend((0..n).map(|_| PackedInstance {
             source: Arc::clone(source),
             transform: Mat4::IDENTITY,
         }));
@@ -575,7 +587,7 @@ impl Geometry {
             .and_then(|a| a.as_vec3_mut())
             .expect("P is always a vector3 point attribute");
         let positions = &mut positions[first_point..];
-        let packed = &mut self.packed[first_packed..];
+        let packed = &mut self.packed.make_mut()[first_packed..];
         positions
             .par_iter_mut()
             .zip(packed.par_iter_mut())
@@ -665,6 +677,56 @@ mod tests {
             "the source itself is large"
         );
         assert!(crate::ops::validate(&g).is_empty());
+    }
+
+    /// The same content in arrays no geometry has hashed (a round trip
+    /// through the binary form).
+    fn fresh(g: &Geometry) -> Geometry {
+        let mut bytes = Vec::new();
+        crate::codec::encode(g, &mut bytes, &mut |_| {}).unwrap();
+        crate::codec::decode(&bytes, &|_| None).unwrap()
+    }
+
+    #[test]
+    fn a_clone_copies_and_rehashes_only_what_it_writes() {
+        let mut a = crate::primitives::grid(glam::Vec2::ONE, 40, 30);
+        let n = Attribute::new(AttribValue::Vec3(Vec3::Y), TypeInfo::Normal, a.num_points());
+        a.set_attrib(AttribClass::Point, "N", n).unwrap();
+        let hash = a.content_hash();
+        let topology = a.topology();
+        let mut b = a.clone();
+        assert_eq!(b.content_hash(), hash);
+        b.positions_mut()[7].y = 0.5;
+        let col = |g: &Geometry, name: &str| g.attrib(AttribClass::Point, name).unwrap().clone();
+        assert!(!col(&b, P).shares_values(&col(&a, P)), "P written: copied");
+        for name in ["N", "uv"] {
+            assert!(col(&b, name).shares_values(&col(&a, name)), "{name}");
+        }
+        assert!(Shared::ptr_eq(&a.vertex_point, &b.vertex_point));
+        assert!(Shared::ptr_eq(&a.prim_offsets, &b.prim_offsets));
+        assert!(Shared::ptr_eq(&a.prim_kinds, &b.prim_kinds));
+        // Positions are no connectivity: the topology stays, shared.
+        assert!(Arc::ptr_eq(&topology, &b.topology()));
+        // Cached digests give what hashing everything afresh gives.
+        assert_ne!(b.content_hash(), hash);
+        assert_eq!(b.content_hash(), fresh(&b).content_hash());
+        assert_eq!(a.content_hash(), hash);
+        assert_eq!(fresh(&a).content_hash(), hash);
+        // Written in place once unshared: the column's digest goes with it.
+        let before = b.content_hash();
+        b.attribs_mut(AttribClass::Point)
+            .get_mut("N")
+            .and_then(|a| a.as_vec3_mut())
+            .unwrap()[3] = Vec3::X;
+        assert!(!col(&b, "N").shares_values(&col(&a, "N")));
+        assert_ne!(b.content_hash(), before);
+        assert_eq!(b.content_hash(), fresh(&b).content_hash());
+        // New connectivity: a new topology, the input's untouched.
+        b.add_polygon(&[0, 1, 2]).unwrap();
+        assert!(!Shared::ptr_eq(&a.vertex_point, &b.vertex_point));
+        assert_eq!(b.topology().edges().len(), topology.edges().len() + 1);
+        assert_eq!(a.num_prims(), 40 * 30);
+        assert_eq!(b.content_hash(), fresh(&b).content_hash());
     }
 
     #[test]

@@ -1,4 +1,8 @@
 //! Content hash (xxh3-128) of a geometry: equal for equal content whatever its history.
+//!
+//! Every large array (each attribute column, each connectivity array) enters
+//! as its own digest, cached with the array (`shared.rs`): a geometry that
+//! shares all but one column with a hashed one hashes that column only.
 
 use rayon::prelude::*;
 use xxhash_rust::xxh3::{xxh3_128, Xxh3};
@@ -55,16 +59,10 @@ fn put_array(h: &mut Xxh3, bytes: &[u8]) {
     h.update(bytes);
 }
 
-/// Per-element arrays: each row's length and bytes, folded into one digest.
-fn put_rows<'a>(h: &mut Xxh3, rows: impl Iterator<Item = &'a [u8]>) {
-    let mut r = Xxh3::new();
-    rows.for_each(|a| put_array(&mut r, a));
-    h.update(&r.digest128().to_le_bytes());
-}
-
 /// Strings hash by value: indices are renumbered in order of first use so two
 /// columns with different tables but the same strings hash equally.
-fn put_strings(h: &mut Xxh3, table: &[String], indices: &[u32]) {
+fn strings_digest(table: &[String], indices: &[u32]) -> u128 {
+    let mut h = Xxh3::new();
     let mut remap = vec![u32::MAX; table.len()];
     let mut order: Vec<u32> = Vec::new();
     let canonical: Vec<u32> = indices
@@ -80,9 +78,36 @@ fn put_strings(h: &mut Xxh3, table: &[String], indices: &[u32]) {
         .collect();
     h.update(&(order.len() as u64).to_le_bytes());
     for &i in &order {
-        put_str(h, &table[i as usize]);
+        put_str(&mut h, &table[i as usize]);
     }
     h.update(&hash_bytes(bytemuck::cast_slice(&canonical)).to_le_bytes());
+    h.digest128()
+}
+
+/// Per-element arrays: each row's length and bytes, in one digest.
+fn rows_digest<'a>(rows: impl Iterator<Item = &'a [u8]>) -> u128 {
+    let mut r = Xxh3::new();
+    rows.for_each(|a| put_array(&mut r, a));
+    r.digest128()
+}
+
+/// The digest of a column's values (what the column's cache keeps).
+fn values_digest(data: &AttribData) -> u128 {
+    match data {
+        AttribData::String(s) => strings_digest(&s.table, &s.indices),
+        AttribData::IntArray(rows) => rows_digest(rows.iter().map(|a| bytemuck::cast_slice(a))),
+        AttribData::FloatArray(rows) => rows_digest(rows.iter().map(|a| bytemuck::cast_slice(a))),
+        AttribData::Vec3Array(rows) => rows_digest(rows.iter().map(|a| bytemuck::cast_slice(a))),
+        AttribData::StringArray(rows) => {
+            let mut r = Xxh3::new();
+            for row in rows {
+                r.update(&(row.len() as u64).to_le_bytes());
+                row.iter().for_each(|s| put_str(&mut r, s));
+            }
+            r.digest128()
+        }
+        d => hash_bytes(d.as_bytes().expect("numeric column")),
+    }
 }
 
 fn put_table(h: &mut Xxh3, t: &AttribTable) {
@@ -93,28 +118,7 @@ fn put_table(h: &mut Xxh3, t: &AttribTable) {
         put_str(h, &a.attrib_type().to_string());
         put_str(h, &a.type_info.to_string());
         put_value(h, a.default_value());
-        match a.data() {
-            AttribData::String(s) => put_strings(h, &s.table, &s.indices),
-            AttribData::IntArray(rows) => put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a))),
-            AttribData::FloatArray(rows) => {
-                put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a)))
-            }
-            AttribData::Vec3Array(rows) => {
-                put_rows(h, rows.iter().map(|a| bytemuck::cast_slice(a)))
-            }
-            AttribData::StringArray(rows) => {
-                let mut r = Xxh3::new();
-                for row in rows {
-                    r.update(&(row.len() as u64).to_le_bytes());
-                    row.iter().for_each(|s| put_str(&mut r, s));
-                }
-                h.update(&r.digest128().to_le_bytes());
-            }
-            d => {
-                let bytes = d.as_bytes().expect("numeric column");
-                h.update(&hash_bytes(bytes).to_le_bytes());
-            }
-        }
+        h.update(&a.values_hash(values_digest).to_le_bytes());
     }
 }
 
@@ -145,41 +149,54 @@ fn put_instance_or_patch(h: &mut Vec<u8>, g: &Geometry, kind: &PrimKind) {
 
 pub(crate) fn compute(g: &Geometry) -> u128 {
     let mut h = Xxh3::new();
-    h.update(b"geode-geometry-v1");
+    // v2: a string column enters as one digest.
+    h.update(b"geode-geometry-v2");
     put_table(&mut h, &g.points);
     put_table(&mut h, &g.vertices);
     put_table(&mut h, &g.prims);
     put_table(&mut h, &g.detail);
-    h.update(&hash_bytes(bytemuck::cast_slice(&g.vertex_point)).to_le_bytes());
-    h.update(&hash_bytes(bytemuck::cast_slice(&g.prim_offsets)).to_le_bytes());
+    let words = |v: &Vec<u32>| hash_bytes(bytemuck::cast_slice(v));
+    h.update(&g.vertex_point.hash_with(words).to_le_bytes());
+    h.update(&g.prim_offsets.hash_with(words).to_le_bytes());
     // Kinds as bytes; packed instances by their source's content and transform,
     // in primitive order, so the instance table's internal order does not matter.
-    let kinds: Vec<u8> = g
-        .prim_kinds
-        .iter()
-        .map(|k| match k {
-            PrimKind::Polygon => 0u8,
-            PrimKind::Polyline => 1,
-            PrimKind::Packed(_) => 2,
-            PrimKind::Patch(_) => 3,
-        })
-        .collect();
-    h.update(&hash_bytes(&kinds).to_le_bytes());
+    let kinds = g.prim_kinds.hash_with(|kinds| {
+        let bytes: Vec<u8> = kinds
+            .par_iter()
+            .with_min_len(PRIMS_PER_CHUNK)
+            .map(|k| match k {
+                PrimKind::Polygon => 0u8,
+                PrimKind::Polyline => 1,
+                PrimKind::Packed(_) => 2,
+                PrimKind::Patch(_) => 3,
+            })
+            .collect();
+        hash_bytes(&bytes)
+    });
+    h.update(&kinds.to_le_bytes());
     // Fixed chunks of primitives hashed in parallel, digests in order.
-    let digests: Vec<u128> = g
-        .prim_kinds
-        .par_chunks(PRIMS_PER_CHUNK)
-        .map(|kinds| {
-            // Gathered into one buffer: xxh3 is many times faster on one long
-            // input than on a million short updates.
-            let mut bytes = Vec::new();
-            for k in kinds {
-                put_instance_or_patch(&mut bytes, g, k);
-            }
-            xxh3_128(&bytes)
-        })
-        .collect();
-    h.update(bytemuck::cast_slice(&digests));
+    let chunks = g.prim_kinds.len().div_ceil(PRIMS_PER_CHUNK);
+    if g.packed.is_empty() && g.patches.is_empty() {
+        // No primitive is an instance or a patch: every chunk's bytes are
+        // empty (the same digests, without the walk).
+        let empty = xxh3_128(&[]).to_le_bytes();
+        (0..chunks).for_each(|_| h.update(&empty));
+    } else {
+        let digests: Vec<u128> = g
+            .prim_kinds
+            .par_chunks(PRIMS_PER_CHUNK)
+            .map(|kinds| {
+                // Gathered into one buffer: xxh3 is many times faster on one
+                // long input than on a million short updates.
+                let mut bytes = Vec::new();
+                for k in kinds {
+                    put_instance_or_patch(&mut bytes, g, k);
+                }
+                xxh3_128(&bytes)
+            })
+            .collect();
+        h.update(bytemuck::cast_slice(&digests));
+    }
     put_str(&mut h, "payloads");
     h.update(&(g.payloads.len() as u64).to_le_bytes());
     for (name, p) in &g.payloads {

@@ -17,6 +17,7 @@ mod payload;
 pub mod primitives;
 pub mod ramp;
 pub mod random;
+mod shared;
 pub mod topology;
 
 pub use attrib::{

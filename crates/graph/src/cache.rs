@@ -5,12 +5,14 @@ use std::sync::{Arc, Mutex, OnceLock};
 use geode_op::Value;
 use lru::LruCache;
 
-/// A cached result: the value and its content identity (so a hit never
-/// touches geometry data).
+/// A cached result: the value, its size and its content identity. The
+/// identity is computed when first asked for (a cook key reading the value,
+/// the store saving it) and kept, so a hit never touches geometry data and
+/// an output nothing reads is never hashed.
 #[derive(Clone, Debug)]
 pub struct Cached {
     pub value: Value,
-    pub identity: u128,
+    pub(crate) identity: OnceLock<u128>,
     pub bytes: usize,
     /// The cook's warnings, replayed on every hit.
     pub warnings: Arc<[String]>,
@@ -19,16 +21,32 @@ pub struct Cached {
 }
 
 impl Cached {
-    /// A value just cooked, with its identity and size and the cook's
-    /// warnings.
+    /// A value just cooked, with its size and the cook's warnings.
     pub fn new(value: Value, warnings: Arc<[String]>) -> Cached {
         Cached {
-            identity: value.identity(),
+            identity: OnceLock::new(),
             bytes: value.bytes(),
             value,
             warnings,
             from_store: false,
         }
+    }
+
+    /// A value read back from a store with the identity it was saved with
+    /// (its content is not hashed again).
+    pub fn stored(value: Value, identity: u128, bytes: usize, warnings: Arc<[String]>) -> Cached {
+        Cached {
+            value,
+            identity: OnceLock::from(identity),
+            bytes,
+            warnings,
+            from_store: true,
+        }
+    }
+
+    /// The value's content identity ([`Value::identity`]), computed once.
+    pub fn identity(&self) -> u128 {
+        *self.identity.get_or_init(|| self.value.identity())
     }
 }
 
@@ -278,7 +296,7 @@ mod tests {
         let second = Cache::new(1 << 20).with_store(shelf);
         let hit = second.get(5).expect("the store serves the miss");
         assert!(hit.from_store);
-        assert_eq!(hit.identity, first_hit.identity);
+        assert_eq!(hit.identity(), first_hit.identity());
         assert_eq!(second.stats().store_hits, 1);
         assert!(!second.get(5).unwrap().from_store, "kept in memory after");
         assert!(second.get(6).is_none());

@@ -1,5 +1,6 @@
 //! The cook engine: cooks what a node needs in waves (independent branches in parallel, no thread ever waiting on another's cook), keys every cook by content, consults the cache, traces each cook.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::time::Instant;
 
@@ -106,18 +107,24 @@ pub struct Engine<'c> {
     cache: &'c Cache,
 }
 
+/// A node's value in a run, with its content identity once computed (a
+/// cook key reading it, or its producer knowing it will be read).
 #[derive(Clone)]
 struct Cooked {
     value: Value,
-    identity: u128,
+    identity: OnceLock<u128>,
 }
 
 impl Cooked {
     fn of(value: Value) -> Cooked {
         Cooked {
-            identity: value.identity(),
             value,
+            identity: OnceLock::new(),
         }
+    }
+
+    fn identity(&self) -> u128 {
+        *self.identity.get_or_init(|| self.value.identity())
     }
 }
 
@@ -127,6 +134,10 @@ struct Run<'e, 'o> {
     engine: &'e Engine<'e>,
     opts: &'o CookOptions<'o>,
     slots: Vec<Slot>,
+    /// Nodes another node of this run reads: their cooks hash their output
+    /// (its identity, for the readers' keys) inside their own span. The
+    /// node asked for is hashed only if something asks its identity.
+    read: Vec<AtomicBool>,
     /// Inside a loop's or solver's pass: the values its feed nodes give.
     feeds: Vec<(usize, Cooked)>,
     events: Mutex<Vec<CookEvent>>,
@@ -164,7 +175,7 @@ fn cook_key(
     }
     for inp in inputs {
         match inp {
-            Some(c) => h.update(&c.identity.to_le_bytes()),
+            Some(c) => h.update(&c.identity().to_le_bytes()),
             None => h.update(b"none"),
         }
     }
@@ -241,6 +252,11 @@ impl Run<'_, '_> {
             }
             let below = reads.iter().filter_map(|&j| depth[j]).max();
             depth[i] = Some(below.map_or(0, |d| d + 1));
+        }
+        for (i, d) in depth.iter().enumerate() {
+            if d.is_some() && i != target {
+                self.read[i].store(true, Ordering::Relaxed);
+            }
         }
         let deepest = depth.iter().flatten().copied().max().unwrap_or(0);
         let mut waves: Vec<Vec<usize>> = vec![Vec::new(); deepest + 1];
@@ -417,6 +433,9 @@ impl Run<'_, '_> {
             )]);
         }
         let cooked = Cached::new(value, warnings.take().into());
+        if self.read[i].load(Ordering::Relaxed) {
+            cooked.identity();
+        }
         span.record("bytes", cooked.bytes);
         for w in cooked.warnings.iter() {
             tracing::warn!(node = %n.path, "{w}");
@@ -457,6 +476,9 @@ impl Run<'_, '_> {
             opts: &opts,
             slots: (0..self.engine.net.nodes.len())
                 .map(|_| OnceLock::new())
+                .collect(),
+            read: (0..self.engine.net.nodes.len())
+                .map(|_| AtomicBool::new(false))
                 .collect(),
             feeds,
             events: Mutex::new(Vec::new()),
@@ -655,6 +677,9 @@ impl<'c> Engine<'c> {
             engine: self,
             opts,
             slots: (0..self.net.nodes.len()).map(|_| OnceLock::new()).collect(),
+            read: (0..self.net.nodes.len())
+                .map(|_| AtomicBool::new(false))
+                .collect(),
             feeds: Vec::new(),
             events: Mutex::new(Vec::new()),
             began: Instant::now(),
@@ -694,5 +719,62 @@ impl<'c> Engine<'c> {
                 .tagged_target(node, param)
                 .or_else(|| self.net.index(node).map(|_| node.to_string()))
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geode_geo::glam::Vec3;
+    use geode_geo::Geometry;
+    use geode_op::{geometry_input, Registry};
+
+    static SOURCE: NodeSpec = NodeSpec::new("source", "Source", "test", "Two points.", &[], &[]);
+    static SHIFT: NodeSpec = NodeSpec::new(
+        "shift",
+        "Shift",
+        "test",
+        "Its input moved up.",
+        &[geometry_input("geometry")],
+        &[],
+    );
+
+    fn source(_: &CookContext, _: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
+        let mut g = Geometry::new();
+        g.add_points(&[Vec3::ZERO, Vec3::X]);
+        Ok(Value::geometry(g))
+    }
+
+    fn shift(_: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<Value, CookError> {
+        let input = inputs[0].as_ref().and_then(|v| v.as_geometry()).unwrap();
+        let mut g = Geometry::clone(input);
+        g.positions_mut().iter_mut().for_each(|p| p.y += 1.0);
+        Ok(Value::geometry(g))
+    }
+
+    /// An output is hashed (for its readers' keys) only when a node of the
+    /// run reads it; the node asked for is not, until something asks.
+    #[test]
+    fn only_outputs_that_are_read_are_hashed() {
+        let mut reg = Registry::new();
+        reg.node(&SOURCE, source);
+        reg.node(&SHIFT, shift);
+        let net = crate::load_str(
+            r#"{"geode": "network", "version": 1, "output": "b", "nodes": {
+                "a": {"type": "source"}, "b": {"type": "shift", "inputs": ["a"]}}}"#,
+            &reg,
+        )
+        .unwrap();
+        let cache = Cache::new(1 << 20);
+        let engine = Engine::new(net, &cache);
+        let r = engine.cook_output(&CookOptions::at_frame(1.0)).unwrap();
+        assert_eq!(r.cooked(), ["/a", "/b"]);
+        for e in &r.events {
+            let entry = cache.get(e.key).unwrap();
+            assert_eq!(entry.identity.get().is_some(), e.path == "/a", "{}", e.path);
+        }
+        let b = r.events.iter().find(|e| e.path == "/b").unwrap();
+        let entry = cache.get(b.key).unwrap();
+        assert_eq!(entry.identity(), r.value.identity());
     }
 }

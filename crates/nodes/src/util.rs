@@ -19,7 +19,8 @@ pub fn input<'a>(
         .ok_or_else(|| ctx.input_error(format!("input {} needs geometry", i + 1)))
 }
 
-/// A copy of input `i` to modify (shared data is cloned only here).
+/// A copy of input `i` to modify: cheap, every column stays shared with
+/// the input until written (copy on write).
 pub fn input_owned(
     ctx: &CookContext,
     inputs: &[Option<Value>],

@@ -1,6 +1,7 @@
 //! The wrangle node in networks: spare parameters (animated too) read by
 //! `ch()`, errors naming node, parameter, line and column, groups, extra
-//! inputs, and the frame in the key only when the snippet reads it.
+//! inputs, the frame in the key only when the snippet reads it, and outputs
+//! sharing the columns they do not write with their inputs.
 
 mod common;
 use common::*;
@@ -267,4 +268,53 @@ fn seed_001_growth_terminates_inside_the_influence_region() {
         "{left} of {} attractors left",
         food.num_points()
     );
+}
+
+/// A node's output shares every array it does not write with its input
+/// (copy on write): the wrangle writing P and the transform writing P and
+/// N copy those columns only, and the connectivity not at all.
+#[test]
+fn nodes_copy_only_the_columns_they_write() {
+    use geode_graph::{load_str, Cache, CookOptions, Engine};
+    let nodes = r#"
+        "g": {"type": "grid", "params": {"rows": 20, "columns": 30}},
+        "n": {"type": "normals", "inputs": ["g"], "params": {"class": "point"}},
+        "w": {"type": "wrangle", "inputs": ["n"], "params": {"snippet": "@P += @N * 0.1;"}},
+        "t": {"type": "transform", "inputs": ["n"], "params": {"rotate": [0, 30, 0]}}"#;
+    let net = load_str(&net(nodes, "w"), &geode_nodes::registry()).unwrap();
+    let cache = Cache::new(1 << 30);
+    let engine = Engine::new(net, &cache);
+    let opts = CookOptions::at_frame(1.0);
+    let cook = |path: &str| {
+        let r = engine.cook(path, &opts).unwrap();
+        r.value.as_geometry().unwrap().clone()
+    };
+    let input = cook("/n");
+    for (node, written) in [("/w", &["P"][..]), ("/t", &["P", "N"][..])] {
+        let out = cook(node);
+        assert_ne!(out.content_hash(), input.content_hash());
+        for name in ["P", "N", "uv"] {
+            let (a, b) = (
+                input.attrib(AttribClass::Point, name).unwrap(),
+                out.attrib(AttribClass::Point, name).unwrap(),
+            );
+            assert_eq!(
+                !a.shares_values(b),
+                written.contains(&name),
+                "{node} {name}"
+            );
+        }
+        assert_eq!(out.vertex_points().as_ptr(), input.vertex_points().as_ptr());
+        assert_eq!(out.prim_offsets().as_ptr(), input.prim_offsets().as_ptr());
+    }
+    // The wrangle's P is computed from the input's, not from zeros.
+    let w = cook("/w");
+    let n = input
+        .attrib(AttribClass::Point, "N")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
+    for ((p, q), n) in input.positions().iter().zip(w.positions()).zip(n) {
+        assert!((*q - (*p + *n * 0.1)).length() < 1e-6);
+    }
 }

@@ -83,7 +83,7 @@ pub(crate) fn encode(key: u128, cached: &Cached) -> Option<(Vec<u8>, Vec<Arc<Geo
             Value::Field(_) => Kind::Field,
         },
         key,
-        cached.identity,
+        cached.identity(),
         cached.bytes as u64,
         &cached.warnings,
     );
@@ -219,13 +219,7 @@ pub(crate) fn decode(
     if r.at != body.len() {
         return Err(DecodeError::Invalid("bytes after the value".into()).into());
     }
-    Ok(Cached {
-        value,
-        identity,
-        bytes,
-        warnings: warnings.into(),
-        from_store: true,
-    })
+    Ok(Cached::stored(value, identity, bytes, warnings.into()))
 }
 
 struct Reader<'a> {

@@ -77,7 +77,7 @@ fn another_cache_on_the_directory_reads_every_value_back() {
             .load(key)
             .unwrap_or_else(|| panic!("entry {key} missing"));
         assert!(back.from_store);
-        assert_eq!(back.identity, value.identity());
+        assert_eq!(back.identity(), value.identity());
         assert_eq!(back.value.identity(), value.identity(), "entry {key}");
         assert_eq!(back.bytes, value.bytes());
     }

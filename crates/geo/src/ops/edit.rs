@@ -46,9 +46,9 @@ fn keep_where(g: &mut Geometry, keep: &[bool], keep_vertex: Option<&[bool]>) {
         .collect();
     g.vertices = g.vertices.gather(&vertex_keep);
     g.prims = g.prims.gather(&prim_keep);
-    g.prim_offsets = offsets;
-    g.prim_kinds = kinds;
-    g.packed = packed;
+    g.prim_offsets = offsets.into();
+    g.prim_kinds = kinds.into();
+    g.packed = packed.into();
     g.patches = patches;
     for grp in g.prim_groups.values_mut() {
         *grp = grp.gather(&prim_keep);
@@ -137,7 +137,7 @@ fn keep_points_where(g: &mut Geometry, keep: &[bool]) {
             kept.push(p as u32);
         }
     }
-    for v in g.vertex_point.iter_mut() {
+    for v in g.vertex_point.make_mut().iter_mut() {
         *v = remap[*v as usize];
         debug_assert!(*v != u32::MAX, "vertex references a deleted point");
     }

@@ -102,7 +102,7 @@ pub fn fuse_points(g: &mut Geometry, distance: f32) -> FuseStats {
             p[i] = a;
         }
     }
-    for v in g.vertex_point.iter_mut() {
+    for v in g.vertex_point.make_mut().iter_mut() {
         *v = roots[*v as usize];
     }
     let degenerate = collapse_repeated_points(g);

@@ -47,8 +47,21 @@ pub fn merge_cancellable(
     let total_vertices: usize = inputs.iter().map(|g| g.num_vertices()).sum();
     checked_u32(total_points, "point count")?;
     checked_u32(total_vertices, "vertex count")?;
-    out.vertex_point
-        .reserve(total_vertices - out.num_vertices());
+    if inputs.len() > 1 {
+        // Connectivity grown in fresh arrays of the final size (the first
+        // input's are shared with it).
+        let total_prims: usize = inputs.iter().map(|g| g.num_prims()).sum();
+        let grown = |v: &[u32], n: usize| {
+            let mut out = Vec::with_capacity(n);
+            out.extend_from_slice(v);
+            out
+        };
+        out.vertex_point = grown(&out.vertex_point, total_vertices).into();
+        out.prim_offsets = grown(&out.prim_offsets, total_prims + 1).into();
+        let mut kinds = Vec::with_capacity(total_prims);
+        kinds.extend_from_slice(&out.prim_kinds);
+        out.prim_kinds = kinds.into();
+    }
     for (k, g) in inputs[1..].iter().enumerate() {
         if k % INPUTS_PER_POLL == 0 && cancel() {
             return Ok(None);
@@ -63,15 +76,21 @@ pub fn merge_cancellable(
         out.prims.append(&g.prims)?;
         merge_detail(&mut out.detail, &g.detail)?;
         out.vertex_point
+            .make_mut()
             .extend(g.vertex_point.iter().map(|&p| p + point_base));
         out.prim_offsets
+            .make_mut()
             .extend(g.prim_offsets[1..].iter().map(|&o| o + vertex_base));
-        out.prim_kinds.extend(g.prim_kinds.iter().map(|k| match k {
-            PrimKind::Packed(i) => PrimKind::Packed(i + packed_base),
-            PrimKind::Patch(i) => PrimKind::Patch(i + patch_base),
-            other => *other,
-        }));
-        out.packed.extend(g.packed.iter().cloned());
+        out.prim_kinds
+            .make_mut()
+            .extend(g.prim_kinds.iter().map(|k| match k {
+                PrimKind::Packed(i) => PrimKind::Packed(i + packed_base),
+                PrimKind::Patch(i) => PrimKind::Patch(i + patch_base),
+                other => *other,
+            }));
+        if !g.packed.is_empty() {
+            out.packed.make_mut().extend(g.packed.iter().cloned());
+        }
         out.patches.extend(g.patches.iter().cloned());
         append_groups(
             &mut out.point_groups,

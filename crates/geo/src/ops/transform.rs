@@ -100,7 +100,10 @@ impl Affine {
     /// Packed instances turn by the linear part (their translation comes
     /// from their point).
     fn turn_instances(&self, g: &mut Geometry) {
-        for inst in g.packed.iter_mut() {
+        if g.packed.is_empty() {
+            return;
+        }
+        for inst in g.packed.make_mut().iter_mut() {
             inst.transform = self.linear * inst.transform;
         }
     }

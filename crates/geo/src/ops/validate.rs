@@ -216,9 +216,9 @@ mod tests {
     fn reports_instead_of_panicking() {
         let mut g = cube(1.0);
         assert!(validate(&g).is_empty());
-        g.vertex_point[3] = 99;
+        g.vertex_point.make_mut()[3] = 99;
         g.positions_mut()[0].x = f32::NAN;
-        g.prim_kinds[1] = PrimKind::Packed(7);
+        g.prim_kinds.make_mut()[1] = PrimKind::Packed(7);
         let issues: Vec<String> = validate(&g).iter().map(|i| i.to_string()).collect();
         assert_eq!(
             issues,
@@ -228,7 +228,7 @@ mod tests {
                 "point 0 has a non-finite position",
             ]
         );
-        g.prim_offsets.pop();
+        g.prim_offsets.make_mut().pop();
         assert!(matches!(validate(&g)[0], ValidationIssue::BadOffsets(_)));
     }
 }

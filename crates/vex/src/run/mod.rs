@@ -151,10 +151,16 @@ pub fn run(
     let mut sinks: Vec<Vec<Sink>> = (0..batches)
         .map(|_| Vec::with_capacity(written.len()))
         .collect();
-    for (_, _, _, attr) in taken.iter_mut() {
+    for (b, _, _, attr) in taken.iter_mut() {
         let later = || (0..batches).map(|_| Sink::Later(Vec::new())).collect();
-        let floats = attr.data().as_floats().is_some();
+        let floats = attr.data().as_floats().map(|(_, w)| w);
         let ints = attr.as_i32().is_some();
+        if contiguous && (ints || floats == Some(p.bindings[*b].ty.floats())) {
+            // Every element is stored whole from the registers (`store`),
+            // so a column shared with the input is not copied first.
+            attr.discard_values();
+        }
+        let floats = floats.is_some();
         let chunks: Vec<Sink> = if !contiguous {
             later()
         } else if floats {
