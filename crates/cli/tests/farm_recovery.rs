@@ -9,14 +9,15 @@ use std::time::{Duration, Instant};
 use common::{geode_in, slurm_cluster, stderr};
 
 /// A network whose cook spins for `iterations` turns of a wrangle loop
-/// (about 4 µs each) and depends on the frame, so no two frames share a
-/// cached result and every task really runs that long.
+/// (about 4 µs each: sixty inner turns, since a detail loop runs one lane
+/// at about 70 ns a turn) and depends on the frame, so no two frames share
+/// a cached result and every task really runs that long.
 fn slow_network(dir: &Path, iterations: u64) -> PathBuf {
     let net = format!(
         r#"{{"geode": "network", "version": 1, "output": "w", "nodes": {{
         "b": {{"type": "box"}},
         "w": {{"type": "wrangle", "inputs": ["b"], "params": {{"run_over": "detail",
-            "snippet": "float s = 0; for (int i = 0; i < {iterations}; i++) {{ s += sin(float(i)); }} f@s = s + @Frame;"}}}}}}}}"#
+            "snippet": "float s = 0; for (int i = 0; i < {iterations}; i++) {{ for (int j = 0; j < 60; j++) {{ s += sin(float(i + j)); }} }} f@s = s + @Frame;"}}}}}}}}"#
     );
     let path = dir.join("slow.json");
     std::fs::write(&path, net).unwrap();
