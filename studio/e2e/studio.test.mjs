@@ -398,9 +398,9 @@ describe('a wrangle in a loop', () => {
     // Keys are ignored for a moment after the list changes (CodeMirror's guard against picking by accident).
     await page.waitForTimeout(200);
     const selected = page.locator('.cm-tooltip-autocomplete li[aria-selected]');
-    assert.match(await selected.textContent(), /^noise\(vector pos\) → float/);
+    assert.match(await selected.textContent(), /^noise\(<float\|vector> pos\) → float/);
     // The selected option's forms and summaries aside.
-    assert.match(await page.locator('.cm-completionInfo').textContent(), /float noise\(vector pos\)\s+Perlin noise/);
+    assert.match(await page.locator('.cm-completionInfo').textContent(), /float noise\(<float\|vector> pos\)\s+Perlin noise/);
     await page.keyboard.press('Enter');
     await page.keyboard.type('(@');
     await offered(['P', 'N', 'Cd', 'ptnum', 'primnum', 'numpt', 'Frame', 'Time']);
