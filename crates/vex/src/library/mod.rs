@@ -276,6 +276,7 @@ pub(crate) const fn lane(
     }
 }
 
+/// A function the compiler lowers itself (its forms serve checks and docs).
 pub(crate) const fn compiler(
     name: &'static str,
     category: Category,
@@ -283,11 +284,8 @@ pub(crate) const fn compiler(
     forms: &'static [Form],
 ) -> Function {
     Function {
-        name,
-        category,
-        summary,
-        forms,
         lowering: Lowering::Compiler,
+        ..lane(name, category, summary, forms)
     }
 }
 
