@@ -45,6 +45,8 @@ pub enum GeoError {
     PolygonTooSmall(usize),
     #[error("a polyline needs at least 2 vertices, got {0}")]
     PolylineTooSmall(usize),
+    #[error("the primitives count {counted} vertices but {given} points were given")]
+    VertexCountMismatch { counted: usize, given: usize },
     #[error("geometry too large: {what} exceeds the 32-bit index range")]
     TooLarge { what: &'static str },
     #[error("{0}")]

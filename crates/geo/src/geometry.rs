@@ -461,6 +461,12 @@ impl Geometry {
     }
 
     pub(crate) fn push_prim(&mut self, kind: PrimKind, points: &[u32]) -> Result<u32, GeoError> {
+        self.push_prims(&[(kind, points.len() as u32)], points)
+    }
+
+    /// Appends primitives at once: each `(kind, count)` of `prims` over the
+    /// next `count` points of `points`. Nothing is added on an error.
+    fn push_prims(&mut self, prims: &[(PrimKind, u32)], points: &[u32]) -> Result<u32, GeoError> {
         let n = self.num_points();
         if let Some(&bad) = points.iter().find(|&&p| p as usize >= n) {
             return Err(GeoError::PointOutOfRange {
@@ -468,18 +474,59 @@ impl Geometry {
                 count: n,
             });
         }
-        let prim = checked_u32(self.num_prims(), "primitive count")?;
+        let first = checked_u32(self.num_prims(), "primitive count")?;
+        checked_u32(self.num_prims() + prims.len(), "primitive count")?;
+        let mut end = checked_u32(self.vertex_point.len() + points.len(), "vertex count")?;
+        end -= points.len() as u32;
         self.vertex_point.make_mut().extend_from_slice(points);
-        let end = checked_u32(self.vertex_point.len(), "vertex count")?;
-        self.prim_offsets.make_mut().push(end);
-        self.prim_kinds.make_mut().push(kind);
+        let offsets = self.prim_offsets.make_mut();
+        offsets.reserve(prims.len());
+        for (_, count) in prims {
+            end += count;
+            offsets.push(end);
+        }
+        let kinds = self.prim_kinds.make_mut();
+        kinds.extend(prims.iter().map(|(kind, _)| *kind));
         self.vertices.resize(self.vertex_point.len());
         self.prims.resize(self.prim_kinds.len());
         for g in self.prim_groups.values_mut() {
             g.resize(self.prim_kinds.len());
         }
         self.invalidate_topology();
-        Ok(prim)
+        Ok(first)
+    }
+
+    /// Adds polygons and polylines at once (a generator's thousands in one
+    /// step rather than one resize of every column per primitive): each
+    /// `(closed, count)` of `prims` over the next `count` points of
+    /// `points`. Returns the first new primitive's number.
+    pub fn add_polys(&mut self, prims: &[(bool, u32)], points: &[u32]) -> Result<u32, GeoError> {
+        let mut total = 0usize;
+        for &(closed, count) in prims {
+            match (closed, count) {
+                (true, c) if c < 3 => return Err(GeoError::PolygonTooSmall(c as usize)),
+                (false, c) if c < 2 => return Err(GeoError::PolylineTooSmall(c as usize)),
+                _ => total += count as usize,
+            }
+        }
+        if total != points.len() {
+            return Err(GeoError::VertexCountMismatch {
+                counted: total,
+                given: points.len(),
+            });
+        }
+        let kinds: Vec<(PrimKind, u32)> = prims
+            .iter()
+            .map(|&(closed, count)| {
+                let kind = if closed {
+                    PrimKind::Polygon
+                } else {
+                    PrimKind::Polyline
+                };
+                (kind, count)
+            })
+            .collect();
+        self.push_prims(&kinds, points)
     }
 
     /// Adds a closed polygon over existing points.
@@ -659,6 +706,49 @@ impl Geometry {
 mod tests {
     use super::*;
     use crate::primitives::torus;
+
+    #[test]
+    fn many_primitives_at_once_equal_one_at_a_time() {
+        let mut one = Geometry::new();
+        one.add_points(&[Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z]);
+        one.set_prim_group("g", Group::new(0)).unwrap();
+        let mut many = one.clone();
+        one.add_polygon(&[0, 1, 2]).unwrap();
+        one.add_polyline(&[2, 3]).unwrap();
+        one.add_polygon(&[0, 1, 2, 3]).unwrap();
+        let first = many
+            .add_polys(
+                &[(true, 3), (false, 2), (true, 4)],
+                &[0, 1, 2, 2, 3, 0, 1, 2, 3],
+            )
+            .unwrap();
+        assert_eq!(first, 0);
+        assert_eq!(many.content_hash(), one.content_hash());
+        assert_eq!(many.prim_groups().get("g").map(Group::len), Some(3));
+        assert!(crate::ops::validate(&many).is_empty());
+        // Nothing is added when any primitive is wrong.
+        let before = many.content_hash();
+        let errors = [
+            many.add_polys(&[(true, 2)], &[0, 1]).unwrap_err(),
+            many.add_polys(&[(false, 1)], &[0]).unwrap_err(),
+            many.add_polys(&[(true, 3)], &[0, 1]).unwrap_err(),
+            many.add_polys(&[(true, 3)], &[0, 1, 9]).unwrap_err(),
+        ];
+        assert!(matches!(errors[0], GeoError::PolygonTooSmall(2)));
+        assert!(matches!(errors[1], GeoError::PolylineTooSmall(1)));
+        assert!(matches!(
+            errors[2],
+            GeoError::VertexCountMismatch {
+                counted: 3,
+                given: 2
+            }
+        ));
+        assert!(matches!(
+            errors[3],
+            GeoError::PointOutOfRange { index: 9, .. }
+        ));
+        assert_eq!(many.content_hash(), before);
+    }
 
     #[test]
     fn packed_instances_cost_a_transform_not_a_copy() {

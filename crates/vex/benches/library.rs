@@ -14,6 +14,10 @@ use geode_geo::glam::{Vec2, Vec3};
 use geode_geo::{primitives, AttribClass, Geometry};
 use geode_vex::{compile, run, BindSpec, Channel, Program, RunOptions};
 
+/// The allocator the geode binary runs with.
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
 fn main() {
     divan::main();
 }

@@ -15,6 +15,10 @@ use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_vex::{compile, run, BindSpec, Channel, Program, RunOptions};
 use rayon::prelude::*;
 
+/// The allocator the geode binary runs with.
+#[global_allocator]
+static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
 fn main() {
     divan::main();
 }

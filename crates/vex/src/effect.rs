@@ -54,6 +54,14 @@ pub enum EffectKind {
 }
 
 impl EffectKind {
+    /// Whether the effect makes points or primitives (see `run::build`).
+    pub fn builds(&self) -> bool {
+        matches!(
+            self,
+            EffectKind::AddPoint { .. } | EffectKind::AddPrim { .. } | EffectKind::AddVertex { .. }
+        )
+    }
+
     /// Bytes the effect holds beyond its own size.
     pub fn heap_bytes(&self) -> u64 {
         match self {
@@ -130,4 +138,58 @@ pub struct Effect {
     pub elem: u32,
     pub seq: u32,
     pub kind: EffectKind,
+}
+
+/// Effects in a batch's first chunk; each next chunk doubles, up to 4 MiB
+/// (whole huge pages, where the binary's allocator asks for them).
+const FIRST_CHUNK: usize = 64;
+const CHUNK_BYTES: usize = 4 << 20;
+
+/// A batch's queued effects, in chunks: a detail loop queues millions, and
+/// a chunk never moves what it holds (one long array would be copied each
+/// time it grows, touching twice the memory).
+#[derive(Debug, Default)]
+pub struct EffectQueue {
+    chunks: Vec<Vec<Effect>>,
+    len: usize,
+}
+
+impl EffectQueue {
+    pub fn push(&mut self, e: Effect) {
+        match self.chunks.last_mut() {
+            Some(c) if c.len() < c.capacity() => c.push(e),
+            _ => {
+                let most = CHUNK_BYTES / std::mem::size_of::<Effect>();
+                let next = self.chunks.last().map_or(FIRST_CHUNK, |c| c.capacity() * 2);
+                let mut c = Vec::with_capacity(next.min(most));
+                c.push(e);
+                self.chunks.push(c);
+            }
+        }
+        self.len += 1;
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &Effect> {
+        self.chunks.iter().flatten()
+    }
+
+    /// Puts the effects in (element, order) sequence: a batch's calls run
+    /// lane after lane, so effects come call by call. One element's (a
+    /// detail run's) are in sequence already.
+    pub fn sort(&mut self) {
+        let key = |e: &Effect| (e.elem, e.seq);
+        if self.iter().map(key).is_sorted() {
+            return;
+        }
+        let mut all: Vec<Effect> = std::mem::take(&mut self.chunks)
+            .into_iter()
+            .flatten()
+            .collect();
+        all.sort_by_key(key);
+        self.chunks = vec![all];
+    }
 }

@@ -217,8 +217,115 @@ pub enum Op {
         m: Reg,
         to: u32,
     },
-    /// A loop's back edge: polls cancellation.
-    Poll,
+    /// `if (!(a op b)) goto to` on a one-lane program's ints: a branch's
+    /// comparison and jump in one instruction.
+    JumpUnlessI {
+        op: Cmp,
+        a: Reg,
+        b: Reg,
+        to: u32,
+    },
+    /// The same on floats.
+    JumpUnlessF {
+        op: Cmp,
+        a: Reg,
+        b: Reg,
+        to: u32,
+    },
+    /// A loop's back edge: polls cancellation, then jumps to the loop's top.
+    Back {
+        to: u32,
+    },
+}
+
+impl Op {
+    /// Calls `f` on every register the instruction names (of any file),
+    /// for passes that renumber registers.
+    pub fn for_each_reg(&mut self, mut f: impl FnMut(&mut Reg)) {
+        match self {
+            Op::FConst { d, .. } | Op::IConst { d, .. } | Op::SConst { d, .. } => f(d),
+            Op::FMov { d, s }
+            | Op::IMov { d, s }
+            | Op::SMov { d, s }
+            | Op::AMov { d, s, .. }
+            | Op::IToF { d, s }
+            | Op::FToI { d, s } => {
+                f(d);
+                f(s);
+            }
+            Op::FSel { d, s, m }
+            | Op::ISel { d, s, m }
+            | Op::SSel { d, s, m }
+            | Op::ASel { d, s, m, .. } => {
+                f(d);
+                f(s);
+                f(m);
+            }
+            Op::FBin { d, a, b, .. }
+            | Op::IBin { d, a, b, .. }
+            | Op::FCmp { d, a, b, .. }
+            | Op::ICmp { d, a, b, .. }
+            | Op::SCmp { d, a, b, .. } => {
+                f(d);
+                f(a);
+                f(b);
+            }
+            Op::FUn { d, a, .. } | Op::IUn { d, a, .. } => {
+                f(d);
+                f(a);
+            }
+            Op::JumpIfNone { m, .. } => f(m),
+            Op::JumpUnlessI { a, b, .. } | Op::JumpUnlessF { a, b, .. } => {
+                f(a);
+                f(b);
+            }
+            Op::Call { .. } | Op::Jump { .. } | Op::Back { .. } => {}
+        }
+    }
+
+    /// The register the instruction writes, if it writes one.
+    pub fn dest(&self) -> Option<Reg> {
+        match *self {
+            Op::FConst { d, .. }
+            | Op::IConst { d, .. }
+            | Op::SConst { d, .. }
+            | Op::FMov { d, .. }
+            | Op::IMov { d, .. }
+            | Op::SMov { d, .. }
+            | Op::AMov { d, .. }
+            | Op::FSel { d, .. }
+            | Op::ISel { d, .. }
+            | Op::SSel { d, .. }
+            | Op::ASel { d, .. }
+            | Op::FBin { d, .. }
+            | Op::FUn { d, .. }
+            | Op::IBin { d, .. }
+            | Op::IUn { d, .. }
+            | Op::FCmp { d, .. }
+            | Op::ICmp { d, .. }
+            | Op::SCmp { d, .. }
+            | Op::IToF { d, .. }
+            | Op::FToI { d, .. } => Some(d),
+            Op::Call { .. }
+            | Op::Jump { .. }
+            | Op::JumpIfNone { .. }
+            | Op::JumpUnlessI { .. }
+            | Op::JumpUnlessF { .. }
+            | Op::Back { .. } => None,
+        }
+    }
+
+    /// The jump target, for passes that patch jumps.
+    pub fn target_mut(&mut self) -> Option<&mut u32> {
+        match self {
+            Op::Jump { to }
+            | Op::JumpIfNone { to, .. }
+            | Op::JumpUnlessI { to, .. }
+            | Op::JumpUnlessF { to, .. }
+            | Op::Back { to } => Some(to),
+            _ => None,
+        }
+    }
 }
 
 /// A value's registers: floats from `reg` on (`ty.floats()` of them), or

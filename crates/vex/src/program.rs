@@ -23,6 +23,14 @@ pub struct Counts {
     pub as_: u32,
 }
 
+/// The program's numeric constants, each file's from its first register
+/// on: a frame sets them once (see `compile::lower::pool`).
+#[derive(Clone, Debug, Default)]
+pub struct Constants {
+    pub floats: (ir::Reg, Vec<f32>),
+    pub ints: (ir::Reg, Vec<i32>),
+}
+
 /// A compiled snippet, ready to run on the geometry it was compiled for.
 pub struct Program {
     pub(crate) ops: Vec<ir::Op>,
@@ -36,6 +44,10 @@ pub struct Program {
     pub(crate) run_over: AttribClass,
     /// The ramp parameters `chramp` reads, by index.
     pub(crate) ramps: Vec<geode_geo::Ramp>,
+    pub(crate) constants: Constants,
+    /// One lane (a detail run): control flow is jumps and an instruction
+    /// may write a register it reads (see `compile::lower::flow`).
+    pub(crate) uniform: bool,
 }
 
 impl Program {
@@ -46,6 +58,16 @@ impl Program {
 
     pub fn is_empty(&self) -> bool {
         self.ops.is_empty()
+    }
+
+    /// The instructions, one a line with its index, for tests and for
+    /// reading what the compiler made of a snippet.
+    pub fn listing(&self) -> String {
+        self.ops
+            .iter()
+            .enumerate()
+            .map(|(k, op)| format!("{k:4} {op:?}\n"))
+            .collect()
     }
 
     /// The attributes the snippet writes (created if missing).

@@ -24,6 +24,10 @@ pub(super) struct Node {
 pub struct RayHit {
     pub t: f32,
     pub triangle: u32,
+    /// Barycentric weights of the triangle's second and third corners at
+    /// the hit (the point is `c0 + u (c1 - c0) + v (c2 - c0)`).
+    pub u: f32,
+    pub v: f32,
 }
 
 /// Triangles by their corners, with their hierarchy; immutable once built.
@@ -98,7 +102,7 @@ impl TriangleBvh {
                     if skip(tri) {
                         continue;
                     }
-                    let Some(t) = triangle_hit(&self.corners[i], origin, dir) else {
+                    let Some((t, u, v)) = triangle_hit(&self.corners[i], origin, dir) else {
                         continue;
                     };
                     let better = match best {
@@ -106,7 +110,12 @@ impl TriangleBvh {
                         None => true,
                     };
                     if t > t_min && t <= t_max && better {
-                        best = Some(RayHit { t, triangle: tri });
+                        best = Some(RayHit {
+                            t,
+                            triangle: tri,
+                            u,
+                            v,
+                        });
                         t_max = t;
                     }
                 }
@@ -172,8 +181,9 @@ fn slab_hit(lo: Vec3, hi: Vec3, origin: Vec3, inv: Vec3, t_min: f32, t_max: f32)
 /// one of the triangles there despite rounding (no cracks in closed meshes).
 const EDGE_SLACK: f32 = 1e-6;
 
-/// Möller–Trumbore: the ray's parameter at the triangle, either side facing.
-fn triangle_hit(c: &[Vec3; 3], origin: Vec3, dir: Vec3) -> Option<f32> {
+/// Möller–Trumbore: the ray's parameter at the triangle, either side
+/// facing, and the hit's barycentric (u, v) clamped into the triangle.
+fn triangle_hit(c: &[Vec3; 3], origin: Vec3, dir: Vec3) -> Option<(f32, f32, f32)> {
     let e1 = c[1] - c[0];
     let e2 = c[2] - c[0];
     let p = dir.cross(e2);
@@ -192,7 +202,9 @@ fn triangle_hit(c: &[Vec3; 3], origin: Vec3, dir: Vec3) -> Option<f32> {
     if v < -EDGE_SLACK || u + v > 1.0 + EDGE_SLACK {
         return None;
     }
-    Some(e2.dot(q) * inv)
+    let (u, v) = (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0));
+    let over = (u + v - 1.0).max(0.0) / 2.0;
+    Some((e2.dot(q) * inv, u - over, v - over))
 }
 
 #[cfg(test)]
@@ -231,12 +243,18 @@ mod tests {
         for _ in 0..200 {
             let o = Vec3::new(next() * 12.0, next() * 12.0, next() * 4.0 - 1.5);
             let d = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5).normalize();
-            let got = bvh
-                .first_hit(o, d, 1e-6, f32::INFINITY, |_| false)
-                .map(|h| h.t);
+            let hit = bvh.first_hit(o, d, 1e-6, f32::INFINITY, |_| false);
+            if let Some(h) = hit {
+                // The weights give back the point the ray reaches.
+                let c = t[h.triangle as usize].map(|i| p[i as usize]);
+                let on = c[0] + (c[1] - c[0]) * h.u + (c[2] - c[0]) * h.v;
+                assert!(on.distance(o + d * h.t) < 1e-4, "ray {o} {d}: {on}");
+            }
+            let got = hit.map(|h| h.t);
             let want = t
                 .iter()
                 .filter_map(|tri| triangle_hit(&tri.map(|i| p[i as usize]), o, d))
+                .map(|(s, _, _)| s)
                 .filter(|&s| s > 1e-6)
                 .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.min(s))));
             assert_eq!(got, want, "ray {o} {d}");

@@ -33,17 +33,19 @@ pub(crate) fn compile_snippet(
     lower.snippet_body(&snippet.body)?;
     let written = std::mem::take(&mut lower.written);
     let ramps = std::mem::take(&mut lower.ramps);
-    let (ops, op_pos, calls, strings, counts) = lower.finish();
+    let l = lower.finish();
     Ok(Program {
-        ops,
-        op_pos,
-        calls,
-        strings,
-        counts,
+        ops: l.ops,
+        op_pos: l.op_pos,
+        calls: l.calls,
+        strings: l.strings,
+        counts: l.counts,
         bindings,
         written,
         run_over: spec.run_over,
         ramps,
+        constants: l.constants,
+        uniform: l.uniform,
     })
 }
 

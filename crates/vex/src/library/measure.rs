@@ -533,13 +533,7 @@ fn intersect(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     };
     let point = origin + dir * hit.t;
     let (prim, piece) = s.owner[hit.triangle as usize];
-    // The hit triangle's weights, from the closest point at the hit.
-    let on = s
-        .bvh
-        .closest(point, f32::INFINITY)
-        .filter(|c| c.triangle == hit.triangle)
-        .map_or((0.0, 0.0), |c| (c.u, c.v));
-    let (u, v) = prim_uv(g, prim, piece, point, on.0, on.1);
+    let (u, v) = prim_uv(g, prim, piece, point, hit.u, hit.v);
     a[3] = Val::vec(&point.to_array());
     a[4] = Val::vec(&[u, v, 0.0]);
     Ok(Val::I(prim as i32))

@@ -6,182 +6,47 @@
 
 use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
 
+use super::build::Builder;
 use super::{elem_count, set_value};
-use crate::effect::{Effect, EffectKind, Mode};
+use crate::effect::{EffectKind, EffectQueue, Mode};
 use crate::error::RunError;
 use crate::value::Val;
 
-/// Final numbers of a batch's provisional handles (`base + k` -> slot k).
-#[derive(Default)]
-struct Handles {
-    base: i32,
-    ids: Vec<Option<u32>>,
-}
-
-impl Handles {
-    fn new(base: i32) -> Handles {
-        Handles {
-            base,
-            ids: Vec::new(),
-        }
-    }
-
-    fn insert(&mut self, h: i32, id: u32) {
-        let k = (h - self.base) as usize;
-        if self.ids.len() <= k {
-            self.ids.resize(k + 1, None);
-        }
-        self.ids[k] = Some(id);
-    }
-
-    fn get(&self, h: &i32) -> Option<u32> {
-        usize::try_from(h - self.base)
-            .ok()
-            .and_then(|k| self.ids.get(k).copied().flatten())
-    }
-}
-
-/// A new primitive: its points are `flat[start..start + len]`, then any
-/// `addvertex` made after another primitive was started (`extra`).
-struct NewPrim {
-    polyline: bool,
-    start: usize,
-    len: usize,
-    extra: Vec<u32>,
-    elem: u32,
-}
-
-/// Applies `batches` to `out`; returns what `printf` printed, in order.
+/// Applies `batches` to `out`, with what a one-lane run made as it ran
+/// (`built`); returns what `printf` printed, in order.
 pub fn apply(
     out: &mut Geometry,
     snapshot: &Geometry,
-    mut batches: Vec<Vec<Effect>>,
+    mut batches: Vec<EffectQueue>,
+    built: Option<Builder>,
 ) -> Result<Vec<String>, RunError> {
-    if batches.iter().all(Vec::is_empty) {
+    if batches.iter().all(EffectQueue::is_empty) && built.as_ref().is_none_or(Builder::is_empty) {
         return Ok(Vec::new());
     }
     let (base_points, base_prims) = (snapshot.num_points() as i32, snapshot.num_prims() as i32);
     for b in &mut batches {
-        b.sort_by_key(|e| (e.elem, e.seq));
+        b.sort();
     }
-    // Provisional numbers are per batch: map them to final ones.
-    let mut point_maps: Vec<Handles> = Vec::with_capacity(batches.len());
-    let mut prim_maps: Vec<Handles> = Vec::with_capacity(batches.len());
-    let mut new_prims: Vec<NewPrim> = Vec::new();
-    // New points are numbered as they come and added together after.
-    let first_new = out.num_points();
-    let mut pending: Vec<([f32; 3], Option<usize>)> = Vec::new();
-    let mut flat: Vec<u32> = Vec::new();
-    for batch in &batches {
-        let mut points = Handles::new(base_points);
-        let mut prims = Handles::new(base_prims);
-        for e in batch {
-            match &e.kind {
-                EffectKind::AddPoint { handle, from, pos } => {
-                    let total = first_new + pending.len();
-                    let from = match from {
-                        Some(src) => match usize::try_from(*src).ok().filter(|&s| s < total) {
-                            Some(s) => Some(s),
-                            None => {
-                                return Err(RunError::At {
-                                    elem: e.elem,
-                                    pos: Default::default(),
-                                    msg: format!("addpoint: point {src} does not exist"),
-                                })
-                            }
-                        },
-                        None => None,
-                    };
-                    points.insert(*handle, total as u32);
-                    pending.push((*pos, from));
+    let mut builder = match built {
+        Some(b) => b,
+        None => {
+            let mut b = Builder::new(base_points, base_prims);
+            for (k, batch) in batches.iter().enumerate() {
+                if k > 0 {
+                    b.begin_batch();
                 }
-                EffectKind::AddPrim {
-                    handle,
-                    polyline,
-                    points: pts,
-                } => {
-                    let start = flat.len();
-                    for &p in pts.as_slice() {
-                        flat.push(resolve_point(
-                            p,
-                            &points,
-                            base_points,
-                            first_new + pending.len(),
-                            e.elem,
-                        )?);
-                    }
-                    prims.insert(*handle, new_prims.len() as u32);
-                    new_prims.push(NewPrim {
-                        polyline: *polyline,
-                        start,
-                        len: flat.len() - start,
-                        extra: Vec::new(),
+                for e in batch.iter() {
+                    b.take(e.elem, &e.kind).map_err(|msg| RunError::At {
                         elem: e.elem,
-                    });
+                        pos: Default::default(),
+                        msg,
+                    })?;
                 }
-                EffectKind::AddVertex { prim, point } => {
-                    let pt = resolve_point(
-                        *point,
-                        &points,
-                        base_points,
-                        first_new + pending.len(),
-                        e.elem,
-                    )?;
-                    match prims.get(prim) {
-                        Some(k) => {
-                            let last = k as usize + 1 == new_prims.len();
-                            let p = &mut new_prims[k as usize];
-                            if last && p.extra.is_empty() && p.start + p.len == flat.len() {
-                                flat.push(pt);
-                                p.len += 1;
-                            } else {
-                                p.extra.push(pt);
-                            }
-                        }
-                        None => {
-                            return Err(RunError::At {
-                                elem: e.elem,
-                                pos: Default::default(),
-                                msg: format!("addvertex: primitive {prim} was not created by this wrangle; only new primitives take vertices"),
-                            })
-                        }
-                    }
-                }
-                _ => {}
             }
+            b
         }
-        point_maps.push(points);
-        prim_maps.push(prims);
-    }
-    let positions: Vec<geode_geo::glam::Vec3> = pending.iter().map(|(p, _)| (*p).into()).collect();
-    out.add_points(&positions);
-    for (k, (_, from)) in pending.iter().enumerate() {
-        if let Some(src) = from {
-            copy_point(out, *src, first_new + k);
-        }
-    }
-    let mut scratch: Vec<u32> = Vec::new();
-    for p in &new_prims {
-        let own = &flat[p.start..p.start + p.len];
-        let pts = if p.extra.is_empty() {
-            own
-        } else {
-            scratch.clear();
-            scratch.extend_from_slice(own);
-            scratch.extend_from_slice(&p.extra);
-            &scratch
-        };
-        let r = if p.polyline {
-            out.add_polyline(pts)
-        } else {
-            out.add_polygon(pts)
-        };
-        r.map_err(|err| RunError::At {
-            elem: p.elem,
-            pos: Default::default(),
-            msg: format!("addprim: {err}"),
-        })?;
-    }
+    };
+    let (point_maps, prim_maps) = builder.finish(out)?;
     let prim_id = |k: usize| base_prims as usize + k;
     let mut printed = Vec::new();
     let mut dead_points: Vec<(usize, bool)> = Vec::new();
@@ -203,7 +68,7 @@ pub fn apply(
                 usize::try_from(h).ok()
             }
         };
-        for e in batch {
+        for e in batch.iter() {
             match &e.kind {
                 EffectKind::SetAttr(set) => {
                     let crate::effect::SetAttr {
@@ -328,28 +193,8 @@ fn remove_prims(out: &mut Geometry, dead: &[(usize, bool)]) -> Vec<usize> {
     (0..orphans.len()).filter(|&p| orphans[p]).collect()
 }
 
-fn resolve_point(
-    h: i32,
-    map: &Handles,
-    base: i32,
-    count: usize,
-    elem: u32,
-) -> Result<u32, RunError> {
-    let p = if h >= base {
-        map.get(&h)
-    } else {
-        u32::try_from(h).ok()
-    };
-    p.filter(|&p| (p as usize) < count)
-        .ok_or_else(|| RunError::At {
-            elem,
-            pos: Default::default(),
-            msg: format!("point {h} does not exist"),
-        })
-}
-
 /// Every attribute (position included) of point `src` onto point `id`.
-fn copy_point(out: &mut Geometry, src: usize, id: usize) {
+pub(super) fn copy_point(out: &mut Geometry, src: usize, id: usize) {
     let names: Vec<String> = out
         .attribs(AttribClass::Point)
         .names()

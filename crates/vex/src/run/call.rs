@@ -90,21 +90,28 @@ pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
     }
 }
 
-/// Runs one call over the lanes its mask selects.
-pub fn call(
-    _p: &Program,
-    site: &CallSite,
-    fr: &mut Frame,
-    world: &mut World,
-) -> Result<(), RunError> {
-    let modes = &site.modes;
-    // The argument list is the frame's, reused call after call (a detail
-    // loop makes millions of calls).
-    let mut args = std::mem::take(&mut fr.args);
-    args.clear();
-    args.extend(site.consts.iter().map(|c| c.clone().unwrap_or(Val::I(0))));
-    let result = call_lanes(site, modes, &mut args, fr, world);
-    fr.args = args;
+/// Runs call site `call` of `p` over the lanes its mask selects.
+pub fn call(p: &Program, call: usize, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
+    let site = &p.calls[call];
+    // The site's argument list is the frame's, kept call after call (a
+    // detail loop makes millions of calls): a literal is copied in again
+    // only when a lane function changed it.
+    let mut args = std::mem::take(&mut fr.args[call]);
+    if args.len() != site.args.len() {
+        args = site
+            .consts
+            .iter()
+            .map(|c| c.clone().unwrap_or(Val::I(0)))
+            .collect();
+    } else {
+        for (a, c) in args.iter_mut().zip(&site.consts) {
+            if let Some(c) = c.as_ref().filter(|c| *c != a) {
+                a.clone_from(c);
+            }
+        }
+    }
+    let result = call_lanes(site, &site.modes, &mut args, fr, world);
+    fr.args[call] = args;
     result
 }
 

@@ -24,14 +24,15 @@ pub struct Frame {
     pub as_: Vec<Vec<String>>,
     /// Bytes this frame has charged to the run's memory budget.
     pub held: u64,
-    /// A call's arguments for one lane, kept from call to call.
-    pub args: Vec<crate::value::Val>,
+    /// Each call site's arguments for one lane, kept from call to call
+    /// (a literal argument stays in place).
+    pub args: Vec<Vec<crate::value::Val>>,
 }
 
 impl Frame {
     pub fn new(p: &Program) -> Frame {
         let c = &p.counts;
-        Frame {
+        let mut fr = Frame {
             n: 0,
             w: 0,
             f: vec![0.0; c.f as usize * LANES],
@@ -41,8 +42,18 @@ impl Frame {
             ai: vec![Vec::new(); c.ai as usize * LANES],
             as_: vec![Vec::new(); c.as_ as usize * LANES],
             held: 0,
-            args: Vec::new(),
+            args: vec![Vec::new(); p.calls.len()],
+        };
+        // The constant pool, set once: nothing writes its registers.
+        let (f0, floats) = &p.constants.floats;
+        for (k, v) in floats.iter().enumerate() {
+            fr.f[(*f0 as usize + k) * LANES..][..LANES].fill(*v);
         }
+        let (i0, ints) = &p.constants.ints;
+        for (k, v) in ints.iter().enumerate() {
+            fr.i[(*i0 as usize + k) * LANES..][..LANES].fill(*v);
+        }
+        fr
     }
 
     pub fn il(&self, r: Reg) -> &[i32] {
@@ -362,6 +373,7 @@ fn copy_charged(
 /// Runs `p` on the batch in `fr`. `world` holds the geometry the library
 /// reads and the effects it queues.
 pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
+    debug_assert!(!p.uniform || fr.w == 1, "a uniform program runs one lane");
     if fr.w == 1 {
         run_lanes::<true>(p, fr, world)
     } else {
@@ -383,9 +395,18 @@ fn run_lanes<const SCALAR: bool>(
     let w = fr.w;
     while pc < p.ops.len() {
         let op = &p.ops[pc];
-        if SCALAR && scalar(op, fr) {
-            pc += 1;
-            continue;
+        if SCALAR {
+            match scalar(op, fr) {
+                Step::Next => {
+                    pc += 1;
+                    continue;
+                }
+                Step::Goto(to) => {
+                    pc = to as usize;
+                    continue;
+                }
+                Step::Other => {}
+            }
         }
         match op {
             Op::FConst { d, v } => fr.f[*d as usize * LANES..][..w].fill(*v),
@@ -486,16 +507,10 @@ fn run_lanes<const SCALAR: bool>(
                     x[l] = a[l] as i32;
                 }
             }
-            Op::Call { call } => call::call(p, &p.calls[*call as usize], fr, world)?,
+            Op::Call { call } => call::call(p, *call as usize, fr, world)?,
             Op::Jump { to } => {
                 pc = *to as usize;
                 continue;
-            }
-            Op::JumpIfNone { m, to } if SCALAR => {
-                if fr.i[*m as usize * LANES] == 0 {
-                    pc = *to as usize;
-                    continue;
-                }
             }
             Op::JumpIfNone { m, to } => {
                 if !fr.il(*m)[..fr.n].iter().any(|&k| k != 0) {
@@ -503,7 +518,27 @@ fn run_lanes<const SCALAR: bool>(
                     continue;
                 }
             }
-            Op::Poll => {
+            Op::JumpUnlessI { op, a, b, to } => {
+                let (a, b) = (
+                    &fr.i[*a as usize * LANES..][..fr.n.max(1)],
+                    &fr.i[*b as usize * LANES..][..fr.n.max(1)],
+                );
+                if !a.iter().zip(b).any(|(p, q)| compare(*op, p, q) != 0) {
+                    pc = *to as usize;
+                    continue;
+                }
+            }
+            Op::JumpUnlessF { op, a, b, to } => {
+                let (a, b) = (
+                    &fr.f[*a as usize * LANES..][..fr.n.max(1)],
+                    &fr.f[*b as usize * LANES..][..fr.n.max(1)],
+                );
+                if !a.iter().zip(b).any(|(p, q)| compare(*op, p, q) != 0) {
+                    pc = *to as usize;
+                    continue;
+                }
+            }
+            Op::Back { to } => {
                 polls = polls.wrapping_add(1);
                 if polls.is_multiple_of(64) {
                     if (world.cancel)() {
@@ -511,6 +546,8 @@ fn run_lanes<const SCALAR: bool>(
                     }
                     super::budget::true_up(&world.shared.budget, fr);
                 }
+                pc = *to as usize;
+                continue;
             }
         }
         pc += 1;
@@ -518,12 +555,28 @@ fn run_lanes<const SCALAR: bool>(
     Ok(())
 }
 
-/// Runs a numeric instruction on lane 0 alone; false for the others (they
-/// take the batch path, which handles one lane as well).
+/// What the scalar path did with an instruction.
+enum Step {
+    Next,
+    Goto(u32),
+    /// Not a scalar instruction: the batch path runs it (one lane as well).
+    Other,
+}
+
+/// Runs a numeric instruction or a forward jump on lane 0 alone.
 #[inline(always)]
-fn scalar(op: &Op, fr: &mut Frame) -> bool {
+fn scalar(op: &Op, fr: &mut Frame) -> Step {
     let at = |r: &Reg| *r as usize * LANES;
+    let goto = |jump: bool, to: &u32| if jump { Step::Goto(*to) } else { Step::Next };
     match op {
+        Op::JumpIfNone { m, to } => return goto(fr.i[at(m)] == 0, to),
+        Op::JumpUnlessI { op, a, b, to } => {
+            return goto(compare(*op, &fr.i[at(a)], &fr.i[at(b)]) == 0, to)
+        }
+        Op::JumpUnlessF { op, a, b, to } => {
+            return goto(compare(*op, &fr.f[at(a)], &fr.f[at(b)]) == 0, to)
+        }
+        Op::Jump { to } => return Step::Goto(*to),
         Op::FConst { d, v } => fr.f[at(d)] = *v,
         Op::IConst { d, v } => fr.i[at(d)] = *v,
         Op::FMov { d, s } => fr.f[at(d)] = fr.f[at(s)],
@@ -546,7 +599,7 @@ fn scalar(op: &Op, fr: &mut Frame) -> bool {
         Op::ICmp { op, d, a, b } => fr.i[at(d)] = compare(*op, &fr.i[at(a)], &fr.i[at(b)]),
         Op::IToF { d, s } => fr.f[at(d)] = fr.i[at(s)] as f32,
         Op::FToI { d, s } => fr.i[at(d)] = fr.f[at(s)] as i32,
-        _ => return false,
+        _ => return Step::Other,
     }
-    true
+    Step::Next
 }

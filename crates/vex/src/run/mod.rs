@@ -10,7 +10,7 @@ use rayon::prelude::*;
 
 use geode_geo::{AttribClass, AttribValue, Attribute, Geometry, StringColumn, TypeInfo};
 
-use crate::effect::Effect;
+use crate::effect::EffectQueue;
 use crate::error::RunError;
 use crate::ir::LANES;
 use crate::program::{Program, Source};
@@ -21,6 +21,7 @@ use world::{Shared, World};
 
 mod apply;
 mod budget;
+mod build;
 mod call;
 mod exec;
 mod world;
@@ -58,7 +59,7 @@ enum Read<'g> {
 }
 
 /// A batch's queued effects and its sinks back.
-type BatchOut<'o> = (Vec<Effect>, Vec<Sink<'o>>);
+type BatchOut<'o> = (EffectQueue, Option<build::Builder>, Vec<Sink<'o>>);
 
 /// Where a batch stores a written binding.
 enum Sink<'o> {
@@ -197,6 +198,13 @@ pub fn run(
                         .collect(),
                 };
                 let mut world = World::new(&shared, &stop);
+                if p.uniform {
+                    let count = |g: &Geometry, c| elem_count(g, c) as i32;
+                    world.built = Some(build::Builder::new(
+                        count(snapshot, AttribClass::Point),
+                        count(snapshot, AttribClass::Primitive),
+                    ));
+                }
                 world.elems = lanes;
                 fr.set_lanes(world.elems.len());
                 load(p, fr, &reads, &world.elems);
@@ -214,7 +222,7 @@ pub fn run(
                 if ran.is_err() {
                     failed.store(true, Ordering::Relaxed);
                 }
-                ran.map(|()| (world.effects, sinks))
+                ran.map(|()| (world.effects, world.built, sinks))
             },
         )
         .collect();
@@ -228,9 +236,11 @@ pub fn run(
     }) {
         return Err(e);
     }
+    let mut built = None;
     for r in results {
-        let (e, s) = r?;
+        let (e, b, s) = r?;
         effects.push(e);
+        built = built.or(b);
         if gathered {
             later.push(
                 s.into_iter()
@@ -272,7 +282,7 @@ pub fn run(
             .insert(&name, attr)
             .map_err(|e| RunError::Geometry(e.to_string()))?;
     }
-    let printed = apply::apply(out, snapshot, effects)?;
+    let printed = apply::apply(out, snapshot, effects, built)?;
     Ok(RunReport { printed })
 }
 

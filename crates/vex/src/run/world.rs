@@ -9,7 +9,8 @@ use std::sync::{Arc, OnceLock};
 use geode_geo::{Geometry, Topology};
 
 use super::budget::Budget;
-use crate::effect::{Effect, EffectKind};
+use super::build::Builder;
+use crate::effect::{Effect, EffectKind, EffectQueue};
 use crate::kdtree::KdTree;
 use crate::program::{Host, PointQuery};
 
@@ -60,7 +61,7 @@ pub struct World<'s, 'a> {
     pub cancel: &'s (dyn Fn() -> bool + Sync),
     /// Element number of each lane.
     pub elems: Vec<u32>,
-    pub effects: Vec<Effect>,
+    pub effects: EffectQueue,
     seq: u32,
     new_points: i32,
     new_prims: i32,
@@ -68,6 +69,11 @@ pub struct World<'s, 'a> {
     uncharged: u64,
     /// Point cloud queries opened in this batch, by handle.
     queries: Vec<PointQuery>,
+    /// A one-lane run's new points and primitives, made as its calls run
+    /// rather than queued (see `build`).
+    pub built: Option<Builder>,
+    /// Changes queued (or built) by this batch, for messages.
+    queued: usize,
 }
 
 impl<'s, 'a> World<'s, 'a> {
@@ -76,12 +82,14 @@ impl<'s, 'a> World<'s, 'a> {
             shared,
             cancel,
             elems: Vec::new(),
-            effects: Vec::new(),
+            effects: EffectQueue::default(),
             seq: 0,
             new_points: 0,
             new_prims: 0,
             uncharged: 0,
             queries: Vec::new(),
+            built: None,
+            queued: 0,
         }
     }
 
@@ -150,25 +158,41 @@ impl<'s, 'a> World<'s, 'a> {
     /// budget (in steps of `CHARGE_STEP`, so threads seldom meet on the
     /// shared account).
     pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), String> {
+        let elem = self.elem_of(lane);
+        self.queued += 1;
+        let bytes = match self.built.as_mut().map(|b| b.take(elem, &kind)) {
+            Some(Ok(Some(bytes))) => bytes,
+            Some(Err(msg)) => return Err(msg),
+            _ => std::mem::size_of::<Effect>() as u64 + kind.heap_bytes(),
+        };
+        self.charge(bytes)?;
+        if self.built.is_none() || !kind.builds() {
+            self.seq += 1;
+            self.effects.push(Effect {
+                elem,
+                seq: self.seq,
+                kind,
+            });
+        }
+        Ok(())
+    }
+
+    /// Charges `bytes` more of queued changes against the budget, in steps
+    /// of `CHARGE_STEP` so threads seldom meet on the shared count.
+    fn charge(&mut self, bytes: u64) -> Result<(), String> {
         const CHARGE_STEP: u64 = 1 << 16;
-        self.uncharged += std::mem::size_of::<Effect>() as u64 + kind.heap_bytes();
+        self.uncharged += bytes;
         if self.uncharged >= CHARGE_STEP {
             let bytes = std::mem::take(&mut self.uncharged);
             let budget = &self.shared.budget;
             if !budget.fits(bytes) {
                 return Err(budget.refusal(
-                    &format!("queueing {} more geometry changes", self.effects.len() + 1),
+                    &format!("queueing {} more geometry changes", self.queued),
                     bytes,
                 ));
             }
             budget.charge(bytes as i64);
         }
-        self.seq += 1;
-        self.effects.push(Effect {
-            elem: self.elem_of(lane),
-            seq: self.seq,
-            kind,
-        });
         Ok(())
     }
 

@@ -8,6 +8,7 @@ use crate::error::CompileError;
 use crate::ir::*;
 use crate::library::{array_ops, matrix_ops, string_ops};
 use crate::ty::Ty;
+use crate::value::Val;
 
 use super::{LResult, Lower};
 
@@ -66,25 +67,7 @@ impl<'a> Lower<'a> {
                 delta,
                 prefix,
                 target,
-            } => {
-                let t = self.target(target)?;
-                let old = self.read_target(t, target.pos)?;
-                let old = self.copy(old);
-                if !old.ty.is_numeric() || old.ty.is_matrix() {
-                    return err(
-                        e.pos,
-                        format!("'++'/'--' needs an int or float, not {}", old.ty),
-                    );
-                }
-                let one = if old.ty == Ty::Int {
-                    self.iconst(*delta)
-                } else {
-                    self.fconst(*delta as f32)
-                };
-                let new = self.binary("+", old, one, e.pos)?;
-                self.write_target(t, new, e.pos)?;
-                Ok(if *prefix { new } else { old })
-            }
+            } => self.inc_dec(*delta, Some(*prefix), target, e.pos),
             ExprKind::Ternary(c, a, b) => {
                 let cond = self.truth(c)?;
                 let x = self.expr(a, hint)?;
@@ -496,6 +479,43 @@ impl<'a> Lower<'a> {
         Ok(d)
     }
 
+    /// `++x`/`x--`: its value is the old one (`prefix` false) or the new
+    /// one; with `prefix` None the value is not used, so the old one is
+    /// not kept.
+    pub fn inc_dec(
+        &mut self,
+        delta: i32,
+        prefix: Option<bool>,
+        target: &Expr,
+        pos: Pos,
+    ) -> LResult<Loc> {
+        let t = self.target(target)?;
+        let old = self.read_target(t, target.pos)?;
+        let old = if prefix == Some(false) {
+            self.copy(old)
+        } else {
+            old
+        };
+        if !old.ty.is_numeric() || old.ty.is_matrix() {
+            return err(
+                pos,
+                format!("'++'/'--' needs an int or float, not {}", old.ty),
+            );
+        }
+        let one = if old.ty == Ty::Int {
+            self.iconst(delta)
+        } else {
+            self.fconst(delta as f32)
+        };
+        let start = self.ops.len();
+        let new = self.binary("+", old, one, pos)?;
+        if let Some(l) = self.retarget(t, start, new) {
+            return Ok(if prefix == Some(false) { old } else { l });
+        }
+        self.write_target(t, new, pos)?;
+        Ok(if prefix == Some(false) { old } else { new })
+    }
+
     fn assign(&mut self, op: &str, target: &Expr, value: &Expr, pos: Pos) -> LResult<Loc> {
         let t = self.target(target)?;
         let tty = self.target_ty(t);
@@ -505,7 +525,12 @@ impl<'a> Lower<'a> {
         } else {
             let old = self.read_target(t, target.pos)?;
             let bop = &op[..op.len() - 1];
-            self.binary(bop, old, v, pos)?
+            let start = self.ops.len();
+            let new = self.binary(bop, old, v, pos)?;
+            if let Some(l) = self.retarget(t, start, new) {
+                return Ok(l);
+            }
+            new
         };
         let v = self.convert(v, tty, value.pos)?;
         self.write_target(t, v, pos)?;
@@ -750,6 +775,15 @@ impl<'a> Lower<'a> {
             return Ok(v);
         }
         let bad = || CompileError::at(pos, format!("cannot convert {} to {to}", v.ty));
+        // A constant converts now, by the rule the instruction would use.
+        match self.constant(v) {
+            Some(Val::F(x, 1)) if to == Ty::Int => return Ok(self.iconst(x[0] as i32)),
+            Some(Val::I(i)) if to.is_floaty() => {
+                let f = self.fconst(i as f32);
+                return self.convert(f, to, pos);
+            }
+            _ => {}
+        }
         if to == Ty::Int {
             if v.ty.is_floaty() {
                 let d = self.alloc(Ty::Int);

@@ -17,7 +17,12 @@ use crate::value::Val;
 
 mod calls;
 mod expr;
+mod flow;
 mod inline;
+mod pool;
+mod update;
+
+use flow::{FuncCtl, LoopCtl};
 
 /// Register counters, saved and restored around statements so temporaries
 /// are reused.
@@ -41,9 +46,9 @@ pub(crate) struct Lower<'a> {
     scopes: Vec<HashMap<String, Loc>>,
     /// Masks in effect, innermost last (block, loop, function masks).
     masks: Vec<Reg>,
-    loops: Vec<(usize, usize)>,
-    /// Per inlined function: (mask stack index of its live mask, return slot).
-    funcs: Vec<(Option<usize>, Option<Loc>)>,
+    loops: Vec<LoopCtl>,
+    /// The inlined functions being lowered, innermost last.
+    funcs: Vec<FuncCtl>,
     inlining: Vec<String>,
     functions: HashMap<String, Vec<&'a Function>>,
     pub bindings: &'a [Binding],
@@ -55,9 +60,13 @@ pub(crate) struct Lower<'a> {
     pub written: Vec<bool>,
     /// The ramp parameters `chramp` reads, by index.
     pub ramps: Vec<geode_geo::Ramp>,
-    /// A register holding 1 in every lane (masks start from it), set by
-    /// the program's first instruction.
+    /// A register holding 1 in every lane (masks start from it).
     ones: Reg,
+    /// The program runs one lane (over the detail): control flow is jumps,
+    /// not masks (see `flow`).
+    uniform: bool,
+    /// Numeric constants, each in a register of its own set once per frame.
+    pool: pool::Pool,
 }
 
 pub(crate) type LResult<T> = Result<T, CompileError>;
@@ -80,11 +89,11 @@ impl<'a> Lower<'a> {
         for f in &snippet.functions {
             functions.entry(f.name.clone()).or_default().push(f);
         }
-        let mut base = base;
-        let ones = bump(&mut base.i, 1);
+        let mut pool = pool::Pool::default();
+        let ones = pool.int(1);
         Lower {
-            ops: vec![Op::IConst { d: ones, v: 1 }],
-            op_pos: vec![Pos::default()],
+            ops: Vec::new(),
+            op_pos: Vec::new(),
             at: Pos::default(),
             calls: Vec::new(),
             strings: Vec::new(),
@@ -99,6 +108,8 @@ impl<'a> Lower<'a> {
             bindings,
             spec,
             ones,
+            uniform: spec.run_over == geode_geo::AttribClass::Detail,
+            pool,
             written: vec![false; bindings.len()],
             consts: HashMap::new(),
             ramps: Vec::new(),
@@ -153,23 +164,35 @@ impl<'a> Lower<'a> {
     }
 
     fn patch(&mut self, at: usize, to: u32) {
-        match &mut self.ops[at] {
-            Op::Jump { to: t } | Op::JumpIfNone { to: t, .. } => *t = to,
-            _ => unreachable!("only jumps are patched"),
-        }
+        let target = self.ops[at].target_mut();
+        *target.expect("only jumps are patched") = to;
     }
 
+    /// The value `v` holds when it is a constant.
+    pub fn constant(&self, v: Loc) -> Option<Val> {
+        self.consts
+            .get(&(file_of(v.ty), v.reg))
+            .filter(|(l, _)| *l == v)
+            .map(|(_, c)| c.clone())
+    }
+
+    /// A float constant: its pool register (no instruction).
     pub fn fconst(&mut self, v: f32) -> Loc {
-        let d = self.alloc(Ty::Float);
-        self.emit(Op::FConst { d: d.reg, v });
+        let d = Loc {
+            ty: Ty::Float,
+            reg: self.pool.float(v),
+        };
         self.consts
             .insert((file_of(d.ty), d.reg), (d, Val::float(v)));
         d
     }
 
+    /// An int constant: its pool register (no instruction).
     pub fn iconst(&mut self, v: i32) -> Loc {
-        let d = self.alloc(Ty::Int);
-        self.emit(Op::IConst { d: d.reg, v });
+        let d = Loc {
+            ty: Ty::Int,
+            reg: self.pool.int(v),
+        };
         self.consts.insert((file_of(d.ty), d.reg), (d, Val::I(v)));
         d
     }
@@ -197,19 +220,12 @@ impl<'a> Lower<'a> {
         self.masks.last().copied()
     }
 
-    fn ones(&mut self) -> Reg {
-        self.ones
-    }
-
     /// A copy of the current mask (all ones when unmasked) in a new register.
     fn mask_copy(&mut self) -> Reg {
         let d = self.alloc(Ty::Int).reg;
         match self.mask() {
             Some(m) => self.emit(Op::IMov { d, s: m }),
-            None => {
-                let o = self.ones();
-                self.emit(Op::IMov { d, s: o })
-            }
+            None => self.emit(Op::IMov { d, s: self.ones }),
         };
         d
     }
@@ -295,12 +311,7 @@ impl<'a> Lower<'a> {
         }
         match s {
             Stmt::Empty => Ok(()),
-            Stmt::Expr(e) => {
-                let mark = self.alloc;
-                self.expr(e, None)?;
-                self.alloc = mark;
-                Ok(())
-            }
+            Stmt::Expr(e) => self.discarded(e),
             Stmt::Decls(ds) => {
                 for d in ds {
                     let loc = self.alloc(d.ty);
@@ -333,28 +344,8 @@ impl<'a> Lower<'a> {
                 array,
                 body,
             } => self.scoped(|me| me.foreach(index.as_deref(), elem, array, body)),
-            Stmt::Break(pos) | Stmt::Continue(pos) => {
-                let Some(&(active_at, live_at)) = self.loops.last() else {
-                    return err(
-                        *pos,
-                        format!(
-                            "'{}' outside a loop",
-                            if matches!(s, Stmt::Break(_)) {
-                                "break"
-                            } else {
-                                "continue"
-                            }
-                        ),
-                    );
-                };
-                let from = if matches!(s, Stmt::Break(_)) {
-                    active_at
-                } else {
-                    live_at
-                };
-                self.leave(from);
-                Ok(())
-            }
+            Stmt::Break(pos) => self.break_or_continue(true, *pos),
+            Stmt::Continue(pos) => self.break_or_continue(false, *pos),
             Stmt::Return(v, pos) => self.return_stmt(v.as_ref(), *pos),
         }
     }
@@ -412,200 +403,6 @@ impl<'a> Lower<'a> {
                 }
             }
         }
-    }
-
-    /// Lanes of the current mask leave every mask from stack index `from`
-    /// upward (break, continue, return).
-    fn leave(&mut self, from: usize) {
-        let Some(m) = self.mask() else { return };
-        let gone = self.copy(Loc {
-            ty: Ty::Int,
-            reg: m,
-        });
-        for k in from..self.masks.len() {
-            let r = self.masks[k];
-            self.update_int(r, IBinOp::AndNot, gone.reg);
-        }
-    }
-
-    fn if_stmt(&mut self, c: &Expr, then: &Stmt, other: Option<&Stmt>) -> LResult<()> {
-        let mark = self.alloc;
-        let cond = self.truth(c)?;
-        let (m_then, m_else) = match self.mask() {
-            Some(m) => (
-                self.ibin(IBinOp::LAnd, m, cond),
-                self.ibin(IBinOp::AndNot, m, cond),
-            ),
-            None => {
-                let o = self.ones();
-                (
-                    self.ibin(IBinOp::LAnd, o, cond),
-                    self.ibin(IBinOp::AndNot, o, cond),
-                )
-            }
-        };
-        let skip_then = self.emit(Op::JumpIfNone { m: m_then, to: 0 });
-        self.masks.push(m_then);
-        let r = self.scoped(|me| me.stmt(then));
-        self.masks.pop();
-        r?;
-        if let Some(o) = other {
-            let at = self.here();
-            self.patch(skip_then, at);
-            let skip_else = self.emit(Op::JumpIfNone { m: m_else, to: 0 });
-            self.masks.push(m_else);
-            let r = self.scoped(|me| me.stmt(o));
-            self.masks.pop();
-            r?;
-            let end = self.here();
-            self.patch(skip_else, end);
-        } else {
-            let end = self.here();
-            self.patch(skip_then, end);
-        }
-        self.alloc = mark;
-        Ok(())
-    }
-
-    fn loop_stmt(
-        &mut self,
-        cond: Option<&Expr>,
-        step: Option<&Expr>,
-        body: &Stmt,
-        post_test: bool,
-    ) -> LResult<()> {
-        let active = self.mask_copy();
-        self.masks.push(active);
-        let active_at = self.masks.len() - 1;
-        let top = self.here();
-        self.emit(Op::Poll);
-        let mut exit = None;
-        if !post_test {
-            exit = Some(self.loop_test(cond, active)?);
-        }
-        self.loop_body(active_at, body)?;
-        if let Some(s) = step {
-            let mark = self.alloc;
-            self.expr(s, None)?;
-            self.alloc = mark;
-        }
-        if post_test {
-            exit = Some(self.loop_test(cond, active)?);
-        }
-        self.emit(Op::Jump { to: top });
-        let end = self.here();
-        if let Some(x) = exit {
-            self.patch(x, end);
-        }
-        self.masks.pop();
-        Ok(())
-    }
-
-    /// A loop's body under its own live mask (what `continue` narrows),
-    /// with `break` narrowing from the loop's active mask at `active_at`.
-    fn loop_body(&mut self, active_at: usize, body: &Stmt) -> LResult<()> {
-        let live = self.mask_copy();
-        self.masks.push(live);
-        self.loops.push((active_at, active_at + 1));
-        let r = self.scoped(|me| me.stmt(body));
-        self.loops.pop();
-        self.masks.pop();
-        r
-    }
-
-    /// Narrows a loop's `active` lanes by its condition and emits the exit
-    /// jump (patched by the caller) taken when none is left.
-    fn loop_test(&mut self, cond: Option<&Expr>, active: Reg) -> LResult<usize> {
-        if let Some(c) = cond {
-            let mark = self.alloc;
-            let t = self.truth(c)?;
-            self.update_int(active, IBinOp::LAnd, t);
-            self.alloc = mark;
-        }
-        Ok(self.emit(Op::JumpIfNone { m: active, to: 0 }))
-    }
-
-    fn foreach(
-        &mut self,
-        index: Option<&str>,
-        elem: &Decl,
-        array: &Expr,
-        body: &Stmt,
-    ) -> LResult<()> {
-        let arr = self.expr(array, None)?;
-        let Ty::Array(e) = arr.ty else {
-            return err(array.pos, format!("foreach needs an array, not {}", arr.ty));
-        };
-        if elem.ty != e.ty() && !(elem.ty.is_numeric() && e.ty().is_numeric()) {
-            return err(
-                elem.pos,
-                format!("foreach over {} cannot bind {}", arr.ty, elem.ty.a()),
-            );
-        }
-        let arr = self.copy(arr);
-        let i = self.alloc(Ty::Int);
-        self.emit(Op::IConst { d: i.reg, v: 0 });
-        let n = self.call_site(array_ops::LEN, vec![arr], Ty::Int, elem.pos);
-        let x = self.alloc(elem.ty);
-        if let Some(name) = index {
-            self.declare(name, i, elem.pos)?;
-        }
-        self.declare(&elem.name, x, elem.pos)?;
-        // while (i < n) { x = arr[i]; body; i++ }
-        let active = self.mask_copy();
-        self.masks.push(active);
-        let active_at = self.masks.len() - 1;
-        let top = self.here();
-        self.emit(Op::Poll);
-        let t = self.alloc(Ty::Int);
-        self.emit(Op::ICmp {
-            op: Cmp::Lt,
-            d: t.reg,
-            a: i.reg,
-            b: n.reg,
-        });
-        self.update_int(active, IBinOp::LAnd, t.reg);
-        let exit = self.emit(Op::JumpIfNone { m: active, to: 0 });
-        let item = self.call_site(array_ops::INDEX_GET, vec![arr, i], e.ty(), elem.pos);
-        let item = self.convert(item, elem.ty, elem.pos)?;
-        self.store(x, item);
-        self.loop_body(active_at, body)?;
-        let one = self.iconst(1);
-        let next = self.ibin(IBinOp::Add, i.reg, one.reg);
-        self.store(
-            i,
-            Loc {
-                ty: Ty::Int,
-                reg: next,
-            },
-        );
-        self.emit(Op::Jump { to: top });
-        let end = self.here();
-        self.patch(exit, end);
-        self.masks.pop();
-        Ok(())
-    }
-
-    fn return_stmt(&mut self, v: Option<&Expr>, pos: Pos) -> LResult<()> {
-        let Some(&(live_at, slot)) = self.funcs.last() else {
-            return err(pos, "'return' outside a function");
-        };
-        match (v, slot) {
-            (Some(e), Some(slot)) => {
-                let x = self.expr(e, Some(slot.ty))?;
-                let x = self.convert(x, slot.ty, e.pos)?;
-                self.store(slot, x);
-            }
-            (Some(e), None) => return err(e.pos, "a void function cannot return a value"),
-            (None, Some(s)) if s.ty != Ty::Void => {
-                return err(pos, format!("this function must return {}", s.ty.a()))
-            }
-            (None, _) => {}
-        }
-        if let Some(at) = live_at {
-            self.leave(at);
-        }
-        Ok(())
     }
 
     // ---- user functions --------------------------------------------------
@@ -668,10 +465,12 @@ impl<'a> Lower<'a> {
         // the parameter itself, so writes reach the caller.
         let mut params = Vec::new();
         for ((p, v), a) in f.params.iter().zip(&vals).zip(args) {
-            let loc = if v.ty == p.ty {
-                *v
+            let loc = self.convert(*v, p.ty, a.pos)?;
+            // A constant's register is shared: the parameter gets a copy.
+            let loc = if pool::holds(loc.reg) {
+                self.copy(loc)
             } else {
-                self.convert(*v, p.ty, a.pos)?
+                loc
             };
             params.push((p.name.clone(), loc));
         }
@@ -679,39 +478,21 @@ impl<'a> Lower<'a> {
         if let Some(s) = slot {
             self.zero(s);
         }
-        let returns = count_returns(&f.body);
-        let simple =
-            returns == 0 || (returns == 1 && matches!(f.body.last(), Some(Stmt::Return(..))));
-        let live_at = if simple {
-            None
-        } else {
-            let live = self.mask_copy();
-            self.masks.push(live);
-            Some(self.masks.len() - 1)
-        };
         self.inlining.push(name.to_string());
-        self.funcs.push((
-            live_at,
-            slot.or(Some(Loc {
-                ty: Ty::Void,
-                reg: 0,
-            })),
-        ));
+        let void = Loc {
+            ty: Ty::Void,
+            reg: 0,
+        };
+        self.enter_function(&f.body, slot.or(Some(void)));
         let saved_scopes = std::mem::replace(&mut self.scopes, vec![params.into_iter().collect()]);
         let saved_loops = std::mem::take(&mut self.loops);
         let r = self.scoped(|me| me.body(&f.body));
         self.scopes = saved_scopes;
         self.loops = saved_loops;
-        self.funcs.pop();
+        self.leave_function();
         self.inlining.pop();
-        if live_at.is_some() {
-            self.masks.pop();
-        }
         r?;
-        Ok(Some(slot.unwrap_or(Loc {
-            ty: Ty::Void,
-            reg: 0,
-        })))
+        Ok(Some(slot.unwrap_or(void)))
     }
 
     pub fn function_names(&self) -> Vec<String> {
@@ -746,6 +527,18 @@ impl<'a> Lower<'a> {
         out: Ty,
         pos: Pos,
     ) -> Loc {
+        // A constant's register is shared: an output gets a copy.
+        let args: Vec<Loc> = args
+            .into_iter()
+            .zip(&outs)
+            .map(|(a, o)| {
+                if *o && pool::holds(a.reg) {
+                    self.copy(a)
+                } else {
+                    a
+                }
+            })
+            .collect();
         let consts: Vec<Option<Val>> = args
             .iter()
             .zip(&outs)
@@ -759,8 +552,15 @@ impl<'a> Lower<'a> {
                     .map(|(_, v)| v.clone())
             })
             .collect();
+        // A literal is never copied per lane: only other strings and
+        // arrays are charged to the memory budget.
         let heap = |t: Ty| matches!(t, Ty::Str | Ty::Array(_));
-        let counted = heap(out) || args.iter().any(|a| heap(a.ty)) || callee.bytes.is_some();
+        let counted = heap(out)
+            || args
+                .iter()
+                .zip(&consts)
+                .any(|(a, c)| heap(a.ty) && c.is_none())
+            || callee.bytes.is_some();
         let out = self.alloc(out);
         let call = self.calls.len() as u32;
         let modes = ArgMode::of(&args, &consts, &outs);
@@ -780,33 +580,33 @@ impl<'a> Lower<'a> {
         out
     }
 
-    /// Lowers the snippet's own statements: a top-level `return` ends the
-    /// element, as in a wrangle.
-    pub fn snippet_body(&mut self, body: &[Stmt]) -> LResult<()> {
-        let live_at = if count_returns(body) > 0 {
-            let live = self.mask_copy();
-            self.masks.push(live);
-            Some(self.masks.len() - 1)
-        } else {
-            None
-        };
-        self.funcs.push((
-            live_at,
-            Some(Loc {
-                ty: Ty::Void,
-                reg: 0,
-            }),
-        ));
-        let r = self.body(body);
-        self.funcs.pop();
-        r
-    }
-
     /// The instructions, each one's statement position, the call sites,
     /// the string constants and the register counts.
-    pub fn finish(self) -> (Vec<Op>, Vec<Pos>, Vec<CallSite>, Vec<String>, Counts) {
-        (self.ops, self.op_pos, self.calls, self.strings, self.high)
+    pub fn finish(mut self) -> Lowered {
+        let constants = self
+            .pool
+            .renumber(&mut self.ops, &mut self.calls, &mut self.high);
+        Lowered {
+            ops: self.ops,
+            op_pos: self.op_pos,
+            calls: self.calls,
+            strings: self.strings,
+            counts: self.high,
+            constants,
+            uniform: self.uniform,
+        }
     }
+}
+
+/// What lowering made of a snippet, for the program.
+pub(crate) struct Lowered {
+    pub ops: Vec<Op>,
+    pub op_pos: Vec<Pos>,
+    pub calls: Vec<CallSite>,
+    pub strings: Vec<String>,
+    pub counts: Counts,
+    pub constants: crate::program::Constants,
+    pub uniform: bool,
 }
 
 /// The instruction copying register `s` to `d` for a value of `ty` (one
@@ -868,26 +668,6 @@ pub fn convertible(from: Ty, to: Ty) -> bool {
         || (from.is_numeric()
             && to.is_numeric()
             && !(from.is_matrix() && !to.is_matrix() && to != Ty::Float))
-}
-
-fn count_returns(stmts: &[Stmt]) -> usize {
-    stmts
-        .iter()
-        .map(|s| match s {
-            Stmt::Return(..) => 1,
-            Stmt::Block(b) => count_returns(b),
-            Stmt::If(_, a, b) => {
-                count_returns(std::slice::from_ref(a))
-                    + b.as_ref()
-                        .map_or(0, |b| count_returns(std::slice::from_ref(b)))
-            }
-            Stmt::While(_, b) | Stmt::DoWhile(b, _) | Stmt::For(_, _, _, b) => {
-                count_returns(std::slice::from_ref(b))
-            }
-            Stmt::Foreach { body, .. } => count_returns(std::slice::from_ref(body)),
-            _ => 0,
-        })
-        .sum()
 }
 
 impl Counts {

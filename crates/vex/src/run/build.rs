@@ -1,0 +1,264 @@
+//! New points and primitives (`addpoint`, `addprim`, `addvertex`), in
+//! (batch, element, order) sequence: new points are numbered as they come,
+//! primitives gather in one flat list and are added together, so a detail
+//! loop making a million of them costs one append per column, not one
+//! resize of every column per primitive.
+//!
+//! A batch numbers what it makes provisionally (past the input's points
+//! and primitives, counted within the batch); each batch's handles map to
+//! the final numbers. A one-lane run (a detail wrangle) makes them in
+//! order, so its calls feed the builder directly instead of queueing
+//! effects, and its handle maps stay a plain offset.
+
+use std::collections::HashMap;
+
+use geode_geo::glam::Vec3;
+use geode_geo::Geometry;
+
+use crate::effect::EffectKind;
+use crate::error::RunError;
+
+/// Final numbers of a batch's provisional handles: `base + k` maps to slot
+/// k. Handles made in order map by an offset; others by a table.
+pub(super) enum Handles {
+    Offset { base: i32, first: u32, count: u32 },
+    Table { base: i32, ids: Vec<Option<u32>> },
+}
+
+impl Handles {
+    fn new(base: i32, first: u32) -> Handles {
+        Handles::Offset {
+            base,
+            first,
+            count: 0,
+        }
+    }
+
+    fn insert(&mut self, h: i32, id: u32) {
+        if let Handles::Offset { base, first, count } = self {
+            if h == *base + *count as i32 && id == *first + *count {
+                *count += 1;
+                return;
+            }
+            let (base, first, count) = (*base, *first, *count);
+            let ids = (0..count).map(|k| Some(first + k)).collect();
+            *self = Handles::Table { base, ids };
+        }
+        let Handles::Table { base, ids } = self else {
+            unreachable!("a table now")
+        };
+        let Ok(k) = usize::try_from(h - *base) else {
+            return;
+        };
+        if ids.len() <= k {
+            ids.resize(k + 1, None);
+        }
+        ids[k] = Some(id);
+    }
+
+    pub fn get(&self, h: &i32) -> Option<u32> {
+        match self {
+            Handles::Offset { base, first, count } => u32::try_from(h - base)
+                .ok()
+                .filter(|k| k < count)
+                .map(|k| first + k),
+            Handles::Table { base, ids } => usize::try_from(h - base)
+                .ok()
+                .and_then(|k| ids.get(k).copied().flatten()),
+        }
+    }
+}
+
+/// What the batches made so far. New points are numbered `base_points +
+/// k` (k in `positions`), new primitives by their index in `shape`, until
+/// `finish` gives them their final numbers.
+pub(super) struct Builder {
+    base_points: i32,
+    base_prims: i32,
+    positions: Vec<Vec3>,
+    /// (source point, new point) for `addpoint(0, src)`.
+    copies: Vec<(u32, u32)>,
+    /// Each primitive's `(closed, vertex count)` over the next points of
+    /// `flat`, plus `addvertex` made after another primitive was started
+    /// (`late`, by primitive), and each one's element for errors.
+    shape: Vec<(bool, u32)>,
+    flat: Vec<u32>,
+    late: HashMap<u32, Vec<u32>>,
+    elem: Vec<u32>,
+    point_maps: Vec<Handles>,
+    prim_maps: Vec<Handles>,
+}
+
+impl Builder {
+    /// A builder over an input of `base_points` points and `base_prims`
+    /// primitives, its first batch begun.
+    pub fn new(base_points: i32, base_prims: i32) -> Builder {
+        let mut b = Builder {
+            base_points,
+            base_prims,
+            positions: Vec::new(),
+            copies: Vec::new(),
+            shape: Vec::new(),
+            flat: Vec::new(),
+            late: HashMap::new(),
+            elem: Vec::new(),
+            point_maps: Vec::new(),
+            prim_maps: Vec::new(),
+        };
+        b.begin_batch();
+        b
+    }
+
+    /// Whether nothing was made.
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty() && self.shape.is_empty()
+    }
+
+    /// The next batch's handles start again from the bases.
+    pub fn begin_batch(&mut self) {
+        let first_point = self.base_points as u32 + self.positions.len() as u32;
+        self.point_maps
+            .push(Handles::new(self.base_points, first_point));
+        self.prim_maps
+            .push(Handles::new(self.base_prims, self.shape.len() as u32));
+    }
+
+    /// Takes a construction effect of element `elem` and returns the bytes
+    /// it now holds; `None` for the other effects.
+    pub fn take(&mut self, elem: u32, kind: &EffectKind) -> Result<Option<u64>, String> {
+        let bytes = match kind {
+            EffectKind::AddPoint { handle, from, pos } => {
+                let id = self.base_points as u32 + self.positions.len() as u32;
+                if let Some(src) = from {
+                    let s = self
+                        .point(*src)
+                        .ok_or_else(|| format!("addpoint: point {src} does not exist"))?;
+                    self.copies.push((s, id));
+                }
+                self.points().insert(*handle, id);
+                self.positions.push((*pos).into());
+                12
+            }
+            EffectKind::AddPrim {
+                handle,
+                polyline,
+                points,
+            } => {
+                let start = self.flat.len();
+                for &h in points.as_slice() {
+                    match self.point(h) {
+                        Some(p) => self.flat.push(p),
+                        None => {
+                            self.flat.truncate(start);
+                            return Err(format!("point {h} does not exist"));
+                        }
+                    }
+                }
+                let k = self.shape.len() as u32;
+                self.prims().insert(*handle, k);
+                let n = points.as_slice().len() as u32;
+                self.shape.push((!polyline, n));
+                self.elem.push(elem);
+                12 + 4 * n as u64
+            }
+            EffectKind::AddVertex { prim, point } => {
+                let pt = self
+                    .point(*point)
+                    .ok_or_else(|| format!("point {point} does not exist"))?;
+                let Some(k) = self.prim_maps.last().and_then(|m| m.get(prim)) else {
+                    return Err(format!("addvertex: primitive {prim} was not created by this wrangle; only new primitives take vertices"));
+                };
+                if k as usize + 1 == self.shape.len() {
+                    // The last primitive grows in place.
+                    self.flat.push(pt);
+                    self.shape[k as usize].1 += 1;
+                } else {
+                    self.late.entry(k).or_default().push(pt);
+                }
+                4
+            }
+            _ => return Ok(None),
+        };
+        Ok(Some(bytes))
+    }
+
+    fn points(&mut self) -> &mut Handles {
+        self.point_maps.last_mut().expect("a batch begun")
+    }
+
+    fn prims(&mut self) -> &mut Handles {
+        self.prim_maps.last_mut().expect("a batch begun")
+    }
+
+    /// Point `h` (an input point or this batch's handle) as numbered here,
+    /// if it exists by now.
+    fn point(&self, h: i32) -> Option<u32> {
+        let p = if h >= self.base_points {
+            self.point_maps.last()?.get(&h)
+        } else {
+            u32::try_from(h).ok()
+        };
+        let count = self.base_points as usize + self.positions.len();
+        p.filter(|&p| (p as usize) < count)
+    }
+
+    /// Adds what was made to `out` (whose points are the input's, so new
+    /// ones are numbered as here); returns each batch's point and primitive
+    /// handle maps (primitives as their index among the new ones).
+    pub fn finish(&mut self, out: &mut Geometry) -> Result<(Vec<Handles>, Vec<Handles>), RunError> {
+        if out.num_points() != self.base_points as usize {
+            return Err(RunError::Geometry(format!(
+                "the output ({} points) is not a copy of input 0 ({} points)",
+                out.num_points(),
+                self.base_points
+            )));
+        }
+        out.add_points(&self.positions);
+        for &(src, id) in &self.copies {
+            super::apply::copy_point(out, src as usize, id as usize);
+        }
+        self.merge_late();
+        self.check_sizes()?;
+        out.add_polys(&self.shape, &self.flat)
+            .map_err(|err| RunError::Geometry(format!("addprim: {err}")))?;
+        Ok((
+            std::mem::take(&mut self.point_maps),
+            std::mem::take(&mut self.prim_maps),
+        ))
+    }
+
+    /// Moves late vertices into their primitives' runs of `flat`.
+    fn merge_late(&mut self) {
+        if self.late.is_empty() {
+            return;
+        }
+        let mut flat = Vec::with_capacity(self.flat.len());
+        let mut start = 0usize;
+        for (k, shape) in self.shape.iter_mut().enumerate() {
+            let own = shape.1 as usize;
+            flat.extend_from_slice(&self.flat[start..start + own]);
+            start += own;
+            if let Some(late) = self.late.get(&(k as u32)) {
+                flat.extend_from_slice(late);
+                shape.1 += late.len() as u32;
+            }
+        }
+        self.flat = flat;
+    }
+
+    /// Every primitive at least its kind's minimum size, its element named.
+    fn check_sizes(&self) -> Result<(), RunError> {
+        for (&(closed, n), &elem) in self.shape.iter().zip(&self.elem) {
+            let least = if closed { 3 } else { 2 };
+            if n < least {
+                let what = if closed { "polygon" } else { "polyline" };
+                return Err(RunError::At {
+                    elem,
+                    pos: Default::default(),
+                    msg: format!("addprim: a {what} needs at least {least} vertices, got {n}"),
+                });
+            }
+        }
+        Ok(())
+    }
+}
