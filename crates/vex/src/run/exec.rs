@@ -307,6 +307,15 @@ fn compare<T: PartialOrd>(op: Cmp, a: &T, b: &T) -> i32 {
     })
 }
 
+/// Whether `a op b` holds on any of the batch's `n` lanes (at least one).
+fn any_lane<T: PartialOrd>(op: Cmp, file: &[T], a: Reg, b: Reg, n: usize) -> bool {
+    let lanes = |r: Reg| &file[r as usize * LANES..][..n.max(1)];
+    lanes(a)
+        .iter()
+        .zip(lanes(b))
+        .any(|(p, q)| compare(op, p, q) != 0)
+}
+
 fn sel<T: Clone>(file: &mut [T], d: Reg, s: Reg, m: &[i32]) {
     let (x, src) = Split::new(file, d, m.len());
     for ((o, v), &k) in x.iter_mut().zip(src.get(s)).zip(m) {
@@ -519,21 +528,13 @@ fn run_lanes<const SCALAR: bool>(
                 }
             }
             Op::JumpUnlessI { op, a, b, to } => {
-                let (a, b) = (
-                    &fr.i[*a as usize * LANES..][..fr.n.max(1)],
-                    &fr.i[*b as usize * LANES..][..fr.n.max(1)],
-                );
-                if !a.iter().zip(b).any(|(p, q)| compare(*op, p, q) != 0) {
+                if !any_lane(*op, &fr.i, *a, *b, fr.n) {
                     pc = *to as usize;
                     continue;
                 }
             }
             Op::JumpUnlessF { op, a, b, to } => {
-                let (a, b) = (
-                    &fr.f[*a as usize * LANES..][..fr.n.max(1)],
-                    &fr.f[*b as usize * LANES..][..fr.n.max(1)],
-                );
-                if !a.iter().zip(b).any(|(p, q)| compare(*op, p, q) != 0) {
+                if !any_lane(*op, &fr.f, *a, *b, fr.n) {
                     pc = *to as usize;
                     continue;
                 }
