@@ -303,23 +303,34 @@ fn a_group_limits_the_elements() {
 
 #[test]
 fn an_endless_loop_stops_on_cancel() {
+    // Over points (masks) and over the detail (one lane, plain jumps),
+    // with and without a call in the loop (the one-lane path hands calls
+    // to the batch path and must still count its turns).
     let g = four_points();
-    let s = spec_default(AttribClass::Point, &g);
-    let p = geode_vex::compile("int i = 0; while (1) { i++; }", &s).unwrap();
-    let mut out = g.clone();
-    let t0 = std::time::Instant::now();
-    let cancel = move || t0.elapsed().as_millis() > 50;
-    let r = geode_vex::run(
-        &p,
-        &mut out,
-        &[Some(&g)],
-        &geode_vex::RunOptions {
-            group: None,
-            cancel: &cancel,
-            memory_budget: u64::MAX,
-        },
-    );
-    assert_eq!(r.unwrap_err(), geode_vex::RunError::Cancelled);
+    for class in [AttribClass::Point, AttribClass::Detail] {
+        for src in [
+            "int i = 0; while (1) { i++; }",
+            "float s = 0; for (;;) { s += sin(s); }",
+            "int a[]; while (1) { push(a, 1); pop(a); }",
+        ] {
+            let s = spec_default(class, &g);
+            let p = geode_vex::compile(src, &s).unwrap();
+            let mut out = g.clone();
+            let t0 = std::time::Instant::now();
+            let cancel = move || t0.elapsed().as_millis() > 50;
+            let r = geode_vex::run(
+                &p,
+                &mut out,
+                &[Some(&g)],
+                &geode_vex::RunOptions {
+                    group: None,
+                    cancel: &cancel,
+                    memory_budget: u64::MAX,
+                },
+            );
+            assert_eq!(r.unwrap_err(), geode_vex::RunError::Cancelled, "{class:?}: {src}");
+        }
+    }
 }
 
 /// A wrangle that reads, writes, creates and removes over many batches.

@@ -4,6 +4,7 @@
 //! sources, so each loop borrows one mutable and some shared registers.
 
 use super::call;
+use super::rules::{compare, fbin1, fun1, ibin1, iun1};
 use super::world::World;
 use crate::error::RunError;
 use crate::ir::*;
@@ -94,134 +95,6 @@ impl<'a, T> Split<'a, T> {
     }
 }
 
-/// One lane of a float operation: the rule the batch loops and the scalar
-/// path share.
-#[inline(always)]
-fn fbin1(op: FBinOp, p: f32, q: f32) -> f32 {
-    match op {
-        FBinOp::Add => p + q,
-        FBinOp::Sub => p - q,
-        FBinOp::Mul => p * q,
-        FBinOp::Div => {
-            if q == 0.0 {
-                0.0
-            } else {
-                p / q
-            }
-        }
-        FBinOp::Mod => {
-            if q == 0.0 {
-                0.0
-            } else {
-                p % q
-            }
-        }
-        FBinOp::Pow => p.powf(q),
-        FBinOp::Min => p.min(q),
-        FBinOp::Max => p.max(q),
-        FBinOp::Atan2 => p.atan2(q),
-    }
-}
-
-#[inline(always)]
-fn fun1(op: FUnOp, p: f32) -> f32 {
-    match op {
-        FUnOp::Neg => -p,
-        FUnOp::Abs => p.abs(),
-        FUnOp::Sqrt => {
-            if p > 0.0 {
-                p.sqrt()
-            } else {
-                0.0
-            }
-        }
-        FUnOp::Sin => p.sin(),
-        FUnOp::Cos => p.cos(),
-        FUnOp::Tan => p.tan(),
-        FUnOp::Asin => p.clamp(-1.0, 1.0).asin(),
-        FUnOp::Acos => p.clamp(-1.0, 1.0).acos(),
-        FUnOp::Atan => p.atan(),
-        FUnOp::Sinh => p.sinh(),
-        FUnOp::Cosh => p.cosh(),
-        FUnOp::Tanh => p.tanh(),
-        FUnOp::Exp => p.exp(),
-        FUnOp::Log => {
-            if p > 0.0 {
-                p.ln()
-            } else {
-                0.0
-            }
-        }
-        FUnOp::Log10 => {
-            if p > 0.0 {
-                p.log10()
-            } else {
-                0.0
-            }
-        }
-        FUnOp::Floor => p.floor(),
-        FUnOp::Ceil => p.ceil(),
-        FUnOp::Frac => p - p.floor(),
-        FUnOp::Rint => p.round(),
-        FUnOp::Trunc => p.trunc(),
-        FUnOp::Sign => {
-            if p > 0.0 {
-                1.0
-            } else if p < 0.0 {
-                -1.0
-            } else {
-                0.0
-            }
-        }
-        FUnOp::Radians => p.to_radians(),
-        FUnOp::Degrees => p.to_degrees(),
-    }
-}
-
-#[inline(always)]
-fn ibin1(op: IBinOp, p: i32, q: i32) -> i32 {
-    match op {
-        IBinOp::Add => p.wrapping_add(q),
-        IBinOp::Sub => p.wrapping_sub(q),
-        IBinOp::Mul => p.wrapping_mul(q),
-        IBinOp::Div => {
-            if q == 0 {
-                0
-            } else {
-                p.wrapping_div(q)
-            }
-        }
-        IBinOp::Mod => {
-            if q == 0 {
-                0
-            } else {
-                p.wrapping_rem(q)
-            }
-        }
-        IBinOp::And => p & q,
-        IBinOp::Or => p | q,
-        IBinOp::Xor => p ^ q,
-        IBinOp::Shl => p.wrapping_shl(q as u32),
-        IBinOp::Shr => p.wrapping_shr(q as u32),
-        IBinOp::Min => p.min(q),
-        IBinOp::Max => p.max(q),
-        IBinOp::LAnd => i32::from(p != 0 && q != 0),
-        IBinOp::LOr => i32::from(p != 0 || q != 0),
-        IBinOp::AndNot => i32::from(p != 0 && q == 0),
-    }
-}
-
-#[inline(always)]
-fn iun1(op: IUnOp, p: i32) -> i32 {
-    match op {
-        IUnOp::Neg => p.wrapping_neg(),
-        IUnOp::Not => i32::from(p == 0),
-        IUnOp::BitNot => !p,
-        IUnOp::Abs => p.wrapping_abs(),
-        IUnOp::Truth => i32::from(p != 0),
-    }
-}
-
 fn fbin(op: FBinOp, x: &mut [f32], a: &[f32], b: &[f32]) {
     macro_rules! each {
         ($op:expr) => {
@@ -296,17 +169,6 @@ fn iun(op: IUnOp, x: &mut [i32], a: &[i32]) {
     }
 }
 
-fn compare<T: PartialOrd>(op: Cmp, a: &T, b: &T) -> i32 {
-    i32::from(match op {
-        Cmp::Lt => a < b,
-        Cmp::Le => a <= b,
-        Cmp::Gt => a > b,
-        Cmp::Ge => a >= b,
-        Cmp::Eq => a == b,
-        Cmp::Ne => a != b,
-    })
-}
-
 /// Whether `a op b` holds on any of the batch's `n` lanes (at least one).
 fn any_lane<T: PartialOrd>(op: Cmp, file: &[T], a: Reg, b: Reg, n: usize) -> bool {
     let lanes = |r: Reg| &file[r as usize * LANES..][..n.max(1)];
@@ -379,228 +241,175 @@ fn copy_charged(
     Ok(())
 }
 
-/// Runs `p` on the batch in `fr`. `world` holds the geometry the library
-/// reads and the effects it queues.
-pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
-    debug_assert!(!p.uniform || fr.w == 1, "a uniform program runs one lane");
-    if fr.w == 1 {
-        run_lanes::<true>(p, fr, world)
-    } else {
-        run_lanes::<false>(p, fr, world)
-    }
+/// Interpreter state that outlives one instruction.
+pub(super) struct Exec {
+    /// Loop back edges taken (every 64th polls cancellation).
+    pub polls: u32,
+    /// A mask's lanes, copied out of the register file it selects in.
+    masks: [i32; LANES],
 }
 
-/// The interpreter, with `SCALAR` for a batch of one lane (a detail run, a
-/// parameter expression): numeric instructions then read and write that
-/// lane directly instead of looping over slices, with the same lane rules.
-fn run_lanes<const SCALAR: bool>(
-    p: &Program,
-    fr: &mut Frame,
-    world: &mut World,
-) -> Result<(), RunError> {
+/// Runs `p` on the batch in `fr`. `world` holds the geometry the library
+/// reads and the effects it queues. A batch of one lane (a detail run, a
+/// parameter expression) runs its numeric instructions and jumps on the
+/// one-lane path, with the same rules.
+pub fn run(p: &Program, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
+    debug_assert!(!p.uniform || fr.w == 1, "a uniform program runs one lane");
+    let mut st = Exec {
+        polls: 0,
+        masks: [0; LANES],
+    };
     let mut pc = 0usize;
-    let mut polls = 0u32;
-    let mut masks = [0i32; LANES];
-    let w = fr.w;
+    let one_lane = fr.w == 1;
     while pc < p.ops.len() {
-        let op = &p.ops[pc];
-        if SCALAR {
-            match scalar(op, fr) {
-                Step::Next => {
-                    pc += 1;
-                    continue;
-                }
-                Step::Goto(to) => {
-                    pc = to as usize;
-                    continue;
-                }
-                Step::Other => {}
+        if one_lane {
+            pc = super::scalar::run_until_batch(&p.ops, pc, &mut fr.f, &mut fr.i, &mut st.polls);
+            if pc >= p.ops.len() {
+                break;
             }
         }
-        match op {
-            Op::FConst { d, v } => fr.f[*d as usize * LANES..][..w].fill(*v),
-            Op::IConst { d, v } => fr.i[*d as usize * LANES..][..w].fill(*v),
-            Op::SConst { d, s } => {
-                for o in &mut fr.s[*d as usize * LANES..][..w] {
-                    o.clone_from(&p.strings[*s as usize]);
-                }
-            }
-            Op::FMov { d, s } => mov(&mut fr.f, *d, *s, w),
-            Op::IMov { d, s } => mov(&mut fr.i, *d, *s, w),
-            Op::SMov { d, s } => copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
-                mov(&mut fr.s, *d, *s, w)
-            })?,
-            Op::AMov { file, d, s } => {
-                copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
-                    ArrFile::F => mov(&mut fr.af, *d, *s, w),
-                    ArrFile::I => mov(&mut fr.ai, *d, *s, w),
-                    ArrFile::S => mov(&mut fr.as_, *d, *s, w),
-                })?
-            }
-            Op::FSel { d, s, m } => {
-                masks[..w].copy_from_slice(fr.il(*m));
-                sel(&mut fr.f, *d, *s, &masks[..w]);
-            }
-            Op::ISel { d, s, m } => {
-                masks[..w].copy_from_slice(fr.il(*m));
-                sel(&mut fr.i, *d, *s, &masks[..w]);
-            }
-            Op::SSel { d, s, m } => {
-                masks[..w].copy_from_slice(fr.il(*m));
-                copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
-                    sel(&mut fr.s, *d, *s, &masks[..w])
-                })?;
-            }
-            Op::ASel { file, d, s, m } => {
-                masks[..w].copy_from_slice(fr.il(*m));
-                copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
-                    ArrFile::F => sel(&mut fr.af, *d, *s, &masks[..w]),
-                    ArrFile::I => sel(&mut fr.ai, *d, *s, &masks[..w]),
-                    ArrFile::S => sel(&mut fr.as_, *d, *s, &masks[..w]),
-                })?;
-            }
-            Op::FBin { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.f, *d, w);
-                fbin(*op, x, src.get(*a), src.get(*b));
-            }
-            Op::FUn { op, d, a } => {
-                let (x, src) = Split::new(&mut fr.f, *d, w);
-                fun(*op, x, src.get(*a));
-            }
-            Op::IBin { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.i, *d, w);
-                ibin(*op, x, src.get(*a), src.get(*b));
-            }
-            Op::IUn { op, d, a } => {
-                let (x, src) = Split::new(&mut fr.i, *d, w);
-                iun(*op, x, src.get(*a));
-            }
-            Op::FCmp { op, d, a, b } => {
-                let (a, b) = (
-                    &fr.f[*a as usize * LANES..][..w],
-                    &fr.f[*b as usize * LANES..][..w],
-                );
-                let x = &mut fr.i[*d as usize * LANES..][..w];
-                for l in 0..w {
-                    x[l] = compare(*op, &a[l], &b[l]);
-                }
-            }
-            Op::ICmp { op, d, a, b } => {
-                let (x, src) = Split::new(&mut fr.i, *d, w);
-                let (a, b) = (src.get(*a), src.get(*b));
-                for l in 0..w {
-                    x[l] = compare(*op, &a[l], &b[l]);
-                }
-            }
-            Op::SCmp { op, d, a, b } => {
-                let x = &mut fr.i[*d as usize * LANES..][..w];
-                let (a, b) = (
-                    &fr.s[*a as usize * LANES..][..w],
-                    &fr.s[*b as usize * LANES..][..w],
-                );
-                for l in 0..w {
-                    x[l] = compare(*op, &a[l], &b[l]);
-                }
-            }
-            Op::IToF { d, s } => {
-                let a = &fr.i[*s as usize * LANES..][..w];
-                let x = &mut fr.f[*d as usize * LANES..][..w];
-                for l in 0..w {
-                    x[l] = a[l] as f32;
-                }
-            }
-            Op::FToI { d, s } => {
-                let a = &fr.f[*s as usize * LANES..][..w];
-                let x = &mut fr.i[*d as usize * LANES..][..w];
-                for l in 0..w {
-                    x[l] = a[l] as i32;
-                }
-            }
-            Op::Call { call } => call::call(p, *call as usize, fr, world)?,
-            Op::Jump { to } => {
-                pc = *to as usize;
-                continue;
-            }
-            Op::JumpIfNone { m, to } => {
-                if !fr.il(*m)[..fr.n].iter().any(|&k| k != 0) {
-                    pc = *to as usize;
-                    continue;
-                }
-            }
-            Op::JumpUnlessI { op, a, b, to } => {
-                if !any_lane(*op, &fr.i, *a, *b, fr.n) {
-                    pc = *to as usize;
-                    continue;
-                }
-            }
-            Op::JumpUnlessF { op, a, b, to } => {
-                if !any_lane(*op, &fr.f, *a, *b, fr.n) {
-                    pc = *to as usize;
-                    continue;
-                }
-            }
-            Op::Back { to } => {
-                polls = polls.wrapping_add(1);
-                if polls.is_multiple_of(64) {
-                    if (world.cancel)() {
-                        return Err(RunError::Cancelled);
-                    }
-                    super::budget::true_up(&world.shared.budget, fr);
-                }
-                pc = *to as usize;
-                continue;
-            }
-        }
-        pc += 1;
+        pc = step(p, pc, fr, world, &mut st)?;
     }
     Ok(())
 }
 
-/// What the scalar path did with an instruction.
-enum Step {
-    Next,
-    Goto(u32),
-    /// Not a scalar instruction: the batch path runs it (one lane as well).
-    Other,
-}
-
-/// Runs a numeric instruction or a forward jump on lane 0 alone.
-#[inline(always)]
-fn scalar(op: &Op, fr: &mut Frame) -> Step {
-    let at = |r: &Reg| *r as usize * LANES;
-    let goto = |jump: bool, to: &u32| if jump { Step::Goto(*to) } else { Step::Next };
+/// Runs the instruction at `pc` over the batch's lanes; returns the next.
+pub(super) fn step(
+    p: &Program,
+    pc: usize,
+    fr: &mut Frame,
+    world: &mut World,
+    st: &mut Exec,
+) -> Result<usize, RunError> {
+    let op = &p.ops[pc];
+    let w = fr.w;
+    let masks = &mut st.masks;
     match op {
-        Op::JumpIfNone { m, to } => return goto(fr.i[at(m)] == 0, to),
-        Op::JumpUnlessI { op, a, b, to } => {
-            return goto(compare(*op, &fr.i[at(a)], &fr.i[at(b)]) == 0, to)
-        }
-        Op::JumpUnlessF { op, a, b, to } => {
-            return goto(compare(*op, &fr.f[at(a)], &fr.f[at(b)]) == 0, to)
-        }
-        Op::Jump { to } => return Step::Goto(*to),
-        Op::FConst { d, v } => fr.f[at(d)] = *v,
-        Op::IConst { d, v } => fr.i[at(d)] = *v,
-        Op::FMov { d, s } => fr.f[at(d)] = fr.f[at(s)],
-        Op::IMov { d, s } => fr.i[at(d)] = fr.i[at(s)],
-        Op::FSel { d, s, m } => {
-            if fr.i[at(m)] != 0 {
-                fr.f[at(d)] = fr.f[at(s)];
+        Op::FConst { d, v } => fr.f[*d as usize * LANES..][..w].fill(*v),
+        Op::IConst { d, v } => fr.i[*d as usize * LANES..][..w].fill(*v),
+        Op::SConst { d, s } => {
+            for o in &mut fr.s[*d as usize * LANES..][..w] {
+                o.clone_from(&p.strings[*s as usize]);
             }
+        }
+        Op::FMov { d, s } => mov(&mut fr.f, *d, *s, w),
+        Op::IMov { d, s } => mov(&mut fr.i, *d, *s, w),
+        Op::SMov { d, s } => copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
+            mov(&mut fr.s, *d, *s, w)
+        })?,
+        Op::AMov { file, d, s } => {
+            copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
+                ArrFile::F => mov(&mut fr.af, *d, *s, w),
+                ArrFile::I => mov(&mut fr.ai, *d, *s, w),
+                ArrFile::S => mov(&mut fr.as_, *d, *s, w),
+            })?
+        }
+        Op::FSel { d, s, m } => {
+            masks[..w].copy_from_slice(fr.il(*m));
+            sel(&mut fr.f, *d, *s, &masks[..w]);
         }
         Op::ISel { d, s, m } => {
-            if fr.i[at(m)] != 0 {
-                fr.i[at(d)] = fr.i[at(s)];
+            masks[..w].copy_from_slice(fr.il(*m));
+            sel(&mut fr.i, *d, *s, &masks[..w]);
+        }
+        Op::SSel { d, s, m } => {
+            masks[..w].copy_from_slice(fr.il(*m));
+            copy_charged(p, pc, fr, world, Heap::S, *d, *s, |fr| {
+                sel(&mut fr.s, *d, *s, &masks[..w])
+            })?;
+        }
+        Op::ASel { file, d, s, m } => {
+            masks[..w].copy_from_slice(fr.il(*m));
+            copy_charged(p, pc, fr, world, Heap::A(*file), *d, *s, |fr| match file {
+                ArrFile::F => sel(&mut fr.af, *d, *s, &masks[..w]),
+                ArrFile::I => sel(&mut fr.ai, *d, *s, &masks[..w]),
+                ArrFile::S => sel(&mut fr.as_, *d, *s, &masks[..w]),
+            })?;
+        }
+        Op::FBin { op, d, a, b } => {
+            let (x, src) = Split::new(&mut fr.f, *d, w);
+            fbin(*op, x, src.get(*a), src.get(*b));
+        }
+        Op::FUn { op, d, a } => {
+            let (x, src) = Split::new(&mut fr.f, *d, w);
+            fun(*op, x, src.get(*a));
+        }
+        Op::IBin { op, d, a, b } => {
+            let (x, src) = Split::new(&mut fr.i, *d, w);
+            ibin(*op, x, src.get(*a), src.get(*b));
+        }
+        Op::IUn { op, d, a } => {
+            let (x, src) = Split::new(&mut fr.i, *d, w);
+            iun(*op, x, src.get(*a));
+        }
+        Op::FCmp { op, d, a, b } => {
+            let (a, b) = (
+                &fr.f[*a as usize * LANES..][..w],
+                &fr.f[*b as usize * LANES..][..w],
+            );
+            let x = &mut fr.i[*d as usize * LANES..][..w];
+            for l in 0..w {
+                x[l] = compare(*op, &a[l], &b[l]);
             }
         }
-        Op::FBin { op, d, a, b } => fr.f[at(d)] = fbin1(*op, fr.f[at(a)], fr.f[at(b)]),
-        Op::FUn { op, d, a } => fr.f[at(d)] = fun1(*op, fr.f[at(a)]),
-        Op::IBin { op, d, a, b } => fr.i[at(d)] = ibin1(*op, fr.i[at(a)], fr.i[at(b)]),
-        Op::IUn { op, d, a } => fr.i[at(d)] = iun1(*op, fr.i[at(a)]),
-        Op::FCmp { op, d, a, b } => fr.i[at(d)] = compare(*op, &fr.f[at(a)], &fr.f[at(b)]),
-        Op::ICmp { op, d, a, b } => fr.i[at(d)] = compare(*op, &fr.i[at(a)], &fr.i[at(b)]),
-        Op::IToF { d, s } => fr.f[at(d)] = fr.i[at(s)] as f32,
-        Op::FToI { d, s } => fr.i[at(d)] = fr.f[at(s)] as i32,
-        _ => return Step::Other,
+        Op::ICmp { op, d, a, b } => {
+            let (x, src) = Split::new(&mut fr.i, *d, w);
+            let (a, b) = (src.get(*a), src.get(*b));
+            for l in 0..w {
+                x[l] = compare(*op, &a[l], &b[l]);
+            }
+        }
+        Op::SCmp { op, d, a, b } => {
+            let x = &mut fr.i[*d as usize * LANES..][..w];
+            let (a, b) = (
+                &fr.s[*a as usize * LANES..][..w],
+                &fr.s[*b as usize * LANES..][..w],
+            );
+            for l in 0..w {
+                x[l] = compare(*op, &a[l], &b[l]);
+            }
+        }
+        Op::IToF { d, s } => {
+            let a = &fr.i[*s as usize * LANES..][..w];
+            let x = &mut fr.f[*d as usize * LANES..][..w];
+            for l in 0..w {
+                x[l] = a[l] as f32;
+            }
+        }
+        Op::FToI { d, s } => {
+            let a = &fr.f[*s as usize * LANES..][..w];
+            let x = &mut fr.i[*d as usize * LANES..][..w];
+            for l in 0..w {
+                x[l] = a[l] as i32;
+            }
+        }
+        Op::Call { call } => call::call(p, *call as usize, fr, world)?,
+        Op::Jump { to } => return Ok(*to as usize),
+        Op::JumpIfNone { m, to } => {
+            if !fr.il(*m)[..fr.n].iter().any(|&k| k != 0) {
+                return Ok(*to as usize);
+            }
+        }
+        Op::JumpUnlessI { op, a, b, to } => {
+            if !any_lane(*op, &fr.i, *a, *b, fr.n) {
+                return Ok(*to as usize);
+            }
+        }
+        Op::JumpUnlessF { op, a, b, to } => {
+            if !any_lane(*op, &fr.f, *a, *b, fr.n) {
+                return Ok(*to as usize);
+            }
+        }
+        Op::Back { to } => {
+            st.polls = st.polls.wrapping_add(1);
+            if st.polls.is_multiple_of(64) {
+                if (world.cancel)() {
+                    return Err(RunError::Cancelled);
+                }
+                super::budget::true_up(&world.shared.budget, fr);
+            }
+            return Ok(*to as usize);
+        }
     }
-    Step::Next
+    Ok(pc + 1)
 }

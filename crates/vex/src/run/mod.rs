@@ -24,6 +24,8 @@ mod budget;
 mod build;
 mod call;
 mod exec;
+mod rules;
+mod scalar;
 mod world;
 
 /// What a run may be told beyond the program and its geometry.
