@@ -34,7 +34,7 @@ const GROUP: P = P::new(
     "Group",
     T::String,
     D::Str(""),
-    "Only the elements of this group (points or primitives, as run over); empty for all.",
+    "Only these elements (points or primitives, as run over): a group name or a Houdini group pattern (`0-9 ^3`, `top*`, `@P.y>0`); empty for all.",
 );
 
 const fn optional(name: &'static str) -> InputSpec {
@@ -132,7 +132,10 @@ impl Operator for Wrangle {
             memory_budget: ctx.env.memory_budget,
         };
         match geode_vex::run(&program, &mut out, &all, &opts) {
-            Ok(_) => geometry(out),
+            Ok(report) => {
+                show_printed(ctx, &report.printed);
+                geometry(out)
+            }
             Err(RunError::Cancelled) => Err(CookError::cancelled(ctx.path)),
             Err(e @ RunError::OverBudget { pos, .. }) => {
                 Err(CookError::new(ctx.path, ErrorKind::Resource, e.to_string())
@@ -204,6 +207,17 @@ fn group_members(
     } else {
         g.prim_groups()
     };
+    let plain = name.chars().all(|c| c.is_alphanumeric() || c == '_')
+        && !name.chars().all(|c| c.is_ascii_digit());
+    if !plain {
+        // A pattern, as `expandpointgroup` reads it: elements in order.
+        let mut members: Vec<u32> = geode_vex::pattern::expand(g, class, name)
+            .into_iter()
+            .map(|i| i as u32)
+            .collect();
+        members.sort_unstable();
+        return Ok(Some(members));
+    }
     let Some(grp) = groups.get(name) else {
         let known: Vec<&str> = groups.keys().map(String::as_str).collect();
         return Err(ctx.param_error(
@@ -229,4 +243,30 @@ fn group_members(
 
 pub fn register(r: &mut Registry) {
     r.add(Wrangle);
+}
+
+/// What `printf` printed, in element order, as the cook's messages (the
+/// CLI writes them to stderr, the studio shows them on the node): the
+/// first `PRINTED_LINES` lines, then how many more there were.
+fn show_printed(ctx: &CookContext, printed: &[String]) {
+    const PRINTED_LINES: usize = 200;
+    if printed.is_empty() {
+        return;
+    }
+    // Calls print pieces; lines are what their text says.
+    let text = printed.concat();
+    let lines = text.strip_suffix('\n').unwrap_or(&text).split('\n');
+    let mut shown = 0usize;
+    let mut more = 0usize;
+    for line in lines {
+        if shown < PRINTED_LINES {
+            ctx.warn(format!("printf: {line}"));
+            shown += 1;
+        } else {
+            more += 1;
+        }
+    }
+    if more > 0 {
+        ctx.warn(format!("printf: ... and {more} more lines"));
+    }
 }

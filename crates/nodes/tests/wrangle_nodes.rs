@@ -54,8 +54,8 @@ fn compile_and_run_errors_carry_their_position_as_fields() {
         e[0].position.map(|p| (p.line, p.column))
     };
     assert_eq!(position("float speed = 1;\n@P.y += sped;"), Some((2, 9)));
-    // Geometry edits applied after the run know no position.
-    assert_eq!(position("addpoint(0, 99999);"), None);
+    // Geometry edits applied after the run still name the call.
+    assert_eq!(position("int n = 1;\n  addpoint(0, 99999);"), Some((2, 3)));
 }
 
 #[test]
@@ -317,4 +317,52 @@ fn nodes_copy_only_the_columns_they_write() {
     for ((p, q), n) in input.positions().iter().zip(w.positions()).zip(n) {
         assert!((*q - (*p + *n * 0.1)).length() < 1e-6);
     }
+}
+
+/// "printf: prints a message to the console" (VEX printf): the cook's
+/// messages carry it, lines joined across calls, in element order.
+#[test]
+fn printf_reaches_the_cook_messages() {
+    let text = net(
+        r#""g": {"type": "grid", "params": {"rows": 1, "columns": 1}},
+           "w": {"type": "wrangle", "inputs": ["g"],
+                 "params": {"snippet": "printf(\"pt %d\", @ptnum); printf(\" of %d\\n\", @numpt);"}}"#,
+        "w",
+    );
+    let net = geode_graph::load_str(&text, &geode_nodes::registry()).unwrap();
+    let cache = geode_graph::Cache::disabled();
+    let r = geode_graph::Engine::new(net, &cache)
+        .cook_output(&geode_graph::CookOptions::at_frame(1.0))
+        .unwrap();
+    let w = r.events.iter().find(|e| e.path == "/w").unwrap();
+    assert_eq!(
+        w.warnings.to_vec(),
+        [
+            "printf: pt 0 of 4",
+            "printf: pt 1 of 4",
+            "printf: pt 2 of 4",
+            "printf: pt 3 of 4"
+        ]
+    );
+}
+
+/// The Group field takes Houdini's group patterns as well as a name.
+#[test]
+fn the_group_field_takes_a_pattern() {
+    let moved = |group: &str| -> Vec<usize> {
+        let nodes = format!(
+            r#""g": {{"type": "grid", "params": {{"rows": 2, "columns": 2}}}},
+               "w": {{"type": "wrangle", "inputs": ["g"],
+                     "params": {{"snippet": "@P.y += 1;", "group": {}}}}}"#,
+            serde_json::to_string(group).unwrap()
+        );
+        let g = geo(&nodes, "w");
+        (0..g.num_points())
+            .filter(|&i| g.positions()[i].y > 0.5)
+            .collect()
+    };
+    assert_eq!(moved("0-3 ^1"), [0, 2, 3]);
+    let right = moved("@P.x>0");
+    assert_eq!(right.len(), 3, "{right:?}");
+    assert!(moved("nosuch*").is_empty());
 }

@@ -48,7 +48,8 @@ pub enum EffectKind {
         class: AttribClass,
         name: String,
         target: i32,
-        on: bool,
+        /// The membership to set; `None` toggles it.
+        on: Option<bool>,
     },
     Print(String),
 }
@@ -137,6 +138,8 @@ pub struct SetAttr {
 pub struct Effect {
     pub elem: u32,
     pub seq: u32,
+    /// The call that queued it, for errors when it applies.
+    pub pos: crate::compile::Pos,
     pub kind: EffectKind,
 }
 

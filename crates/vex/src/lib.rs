@@ -25,7 +25,7 @@ mod ir;
 pub mod kdtree;
 mod library;
 pub mod noise;
-mod pattern;
+pub mod pattern;
 mod program;
 mod run;
 pub mod ty;

@@ -4,7 +4,9 @@
 //! `!token` adds every element the token does not name, `^token` removes
 //! what it names from the result so far. Elements come in the order the
 //! pattern names them (Houdini's default "ordered" mode), each once; an
-//! empty pattern names every element.
+//! empty pattern names every element. `@name op value` tokens name the
+//! elements whose attribute compares so (`@Cd.x>0.5`, `@id==3`,
+//! `@name=piece*`).
 
 use geode_geo::{AttribClass, Geometry};
 
@@ -54,6 +56,9 @@ fn named(g: &Geometry, class: AttribClass, n: usize, token: &str) -> Vec<usize> 
     if token == "*" {
         return (0..n).collect();
     }
+    if let Some(test) = token.strip_prefix('@') {
+        return by_attribute(g, class, n, test);
+    }
     if let Some((lo, hi, step)) = number_range(token) {
         let mut out = Vec::new();
         let mut i = lo;
@@ -75,6 +80,63 @@ fn named(g: &Geometry, class: AttribClass, n: usize, token: &str) -> Vec<usize> 
         }
     }
     out
+}
+
+/// The elements whose attribute passes `test` (`name op value`, the name
+/// with an optional component `.x`..`.w` or `[k]`; the operators are
+/// `=`, `==`, `!=`, `<`, `<=`, `>` and `>=`; strings compare by glob with
+/// the first three). An attribute the geometry lacks, or a test that does
+/// not parse, names nothing.
+fn by_attribute(g: &Geometry, class: AttribClass, n: usize, test: &str) -> Vec<usize> {
+    let Some(at) = test.find(['=', '!', '<', '>']) else {
+        return Vec::new();
+    };
+    let (lhs, rest) = test.split_at(at);
+    let two = rest.len() >= 2 && &rest[1..2] == "=";
+    let (op, value) = rest.split_at(if two { 2 } else { 1 });
+    let (name, comp) = match lhs.split_once('.') {
+        Some((name, c)) => (name, "xyzw".find(c).filter(|_| c.len() == 1)),
+        None => match lhs.strip_suffix(']').and_then(|l| l.split_once('[')) {
+            Some((name, k)) => (name, k.parse().ok()),
+            None => (lhs, Some(0)),
+        },
+    };
+    let (Some(a), Some(k)) = (g.attrib(class, name), comp) else {
+        return Vec::new();
+    };
+    if let Some(strings) = a.as_strings() {
+        let want = match op {
+            "=" | "==" => true,
+            "!=" => false,
+            _ => return Vec::new(),
+        };
+        return (0..n.min(strings.indices.len()))
+            .filter(|&i| glob(value, strings.get(i)) == want)
+            .collect();
+    }
+    let Ok(v) = value.parse::<f64>() else {
+        return Vec::new();
+    };
+    let passes = |x: f64| match op {
+        "=" | "==" => x == v,
+        "!=" => x != v,
+        "<" => x < v,
+        "<=" => x <= v,
+        ">" => x > v,
+        ">=" => x >= v,
+        _ => false,
+    };
+    if let Some(ints) = a.as_i32() {
+        return (0..n.min(ints.len()))
+            .filter(|&i| k == 0 && passes(f64::from(ints[i])))
+            .collect();
+    }
+    match a.data().as_floats() {
+        Some((f, w)) if k < w => (0..n.min(f.len() / w))
+            .filter(|&i| passes(f64::from(f[i * w + k])))
+            .collect(),
+        _ => Vec::new(),
+    }
 }
 
 /// `7`, `2-5` or `0-10:2` as (first, last, step).

@@ -117,6 +117,9 @@ const CASES: &[(&str, &str, Want)] = &[
     ("int s = 0; for (int i = 0; i < 10; i++) { if (i % 2) continue; s += i; } i@r = s;", "r", I(20)),
     ("int s = 0; for (int i = 0; i < 4; i++) for (int j = 0; j < 4; j++) { if (j > i) break; s++; } i@r = s;", "r", I(10)),
     ("int s = 0; int i = 0; while (1) { if (++i > 4) break; s += i; } i@r = s;", "r", I(10)),
+    // `+=` on strings concatenates (appended in place).
+    ("string s = \"a\"; s += \"b\"; s += s; s@r = s;", "r", S("abab")),
+    ("string s = \"\"; for (int i = 0; i < 3; i++) { if (i == 1) continue; s += itoa(i); } s@r = s;", "r", S("02")),
     ("int s = 0; int a[] = {1, 2, 3}; foreach (int x; a) s += x; i@r = s;", "r", I(6)),
     ("int s = 0; int a[] = {5, 6, 7}; foreach (int i; int x; a) s += i * x; i@r = s;", "r", I(20)),
     ("float s = 0; float a[] = {0.5, 1.5}; foreach (float x; a) { if (x > 1) continue; s += x; } f@r = s;", "r", F(0.5)),

@@ -379,6 +379,27 @@ const CASES: &[(&str, &str, Want)] = &[
     (r#"addprim(0, "polyline", 0, 1); ||| i@r = primintrinsic(0, "closed", 0);"#, "r", I(0)),
     (r#"removepoint(0, 1); ||| i@r = npoints(0) * 10 + int(point(0, "P", 1).x);"#, "r", I(32)),
     (r#"setpointgroup(0, "g", 2, 1); ||| i@r = inpointgroup(0, "g", 2) * 10 + npointsgroup(0, "g");"#, "r", I(11)),
+    // nearpoints: "ptgroup ... an ad-hoc group pattern like @Cd.x>0.5";
+    // group syntax: "@attribute==value" selects by an attribute's value.
+    (r#"int a[] = expandpointgroup(0, "@P.x>1"); i@r = len(a) * 1000 + a[0] * 100 + a[1] * 10;"#, "r", I(2230)),
+    (r#"int a[] = nearpoints(0, "@P.x>0", {0, 0, 0}, 10); i@r = len(a) * 1000 + a[0] * 100 + a[1] * 10 + a[2];"#, "r", I(3123)),
+    (r#"int a[] = expandpointgroup(0, "@P[0]<=1 @P.x==3"); i@r = len(a) * 1000 + a[0] * 100 + a[1] * 10 + a[2];"#, "r", I(3013)),
+    (r#"setpointattrib(0, "name", 1, "piece1"); setpointattrib(0, "name", 3, "rock"); ||| int a[] = expandpointgroup(0, "@name=pie*"); i@r = len(a) * 1000 + a[0];"#, "r", I(1001)),
+    (r#"int a[] = expandpointgroup(0, "@nosuch>0 @P.x>9"); i@r = len(a);"#, "r", I(0)),
+    // slice: "slice(nums, 1, 3) == {20, 30}; // nums[1:3]"; "If hasstart
+    // is 0, it ignores start and uses 0. If hasend is 0 it ignores end and
+    // uses the length of the array. If hasstep is 0 it ignores step and
+    // uses 1"; "start or end ... negative count from the end".
+    (r#"int n[] = {10, 20, 30, 40, 50, 60}; int a[] = slice(n, 1, 3); i@r = len(a) * 1000 + a[0] + a[1];"#, "r", I(2050)),
+    (r#"int n[] = {10, 20, 30, 40, 50, 60}; int a[] = slice(n, 0, 9, 0, 9, 1, 2); i@r = len(a) * 1000 + a[0] + a[1] + a[2];"#, "r", I(3090)),
+    (r#"int n[] = {10, 20, 30, 40, 50, 60}; int a[] = slice(n, 1, -1, 2); i@r = len(a) * 1000 + a[0] + a[1];"#, "r", I(2060)),
+    (r#"s@r = slice("houdini", 1, -2);"#, "r", S("oudi")),
+    (r#"s@r = slice("houdini", 0, 0, 0, 0, 1, -1);"#, "r", S("iniduoh")),
+    // setpointattrib: "within a VEX program only one type may be written
+    // to a single attribute ... a literal like 1 will be an integer write
+    // so be ignored if floats were previously written."
+    (r#"setpointattrib(0, "foo", 0, 1); setpointattrib(0, "foo", 1, 2.5); ||| i@r = point(0, "foo", 0) * 10 + point(0, "foo", 1);"#, "r", I(10)),
+    (r#"setpointattrib(0, "bar", 0, 1.5); setpointattrib(0, "bar", 1, 2); ||| f@r = point(0, "bar", 0) + point(0, "bar", 1);"#, "r", F(1.5)),
 ];
 
 /// Over `unit_quad`: one quad whose parametric (u, v) is its (x, y).
@@ -458,6 +479,9 @@ const QUAD_CASES: &[(&str, &str, Want)] = &[
     (r#"vector p, uvw; i@r = intersect(0, {0.25, 0.75, 1}, {0, 0, -0.5}, p, uvw);"#, "r", I(-1)),
     (r#"vector p, uvw; i@r = intersect(0, {2, 2, 1}, {0, 0, -2}, p, uvw);"#, "r", I(-1)),
     (r#"setpointgroup(0, "odd", 1, 0); ||| i@r = npointsgroup(0, "odd");"#, "r", I(1)),
+    // setpointgroup: "Use "toggle" to toggle the point's membership,
+    // regardless of the value."
+    (r#"setpointgroup(0, "t", 1, 1); setpointgroup(0, "t", 2, 0, "toggle"); ||| setpointgroup(0, "t", 1, 1, "toggle"); ||| i@r = inpointgroup(0, "t", 1) * 10 + inpointgroup(0, "t", 2);"#, "r", I(1)),
     (r#"setvertexattrib(0, "vf", 0, 2, 9.0); ||| f@r = vertex(0, "vf", 2);"#, "r", F(9.0)),
 ];
 

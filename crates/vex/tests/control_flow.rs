@@ -87,3 +87,21 @@ fn masked_and_uniform_lowering_agree_with_c() {
         assert_eq!(&batch[..4], want, "{f}: against C's rules");
     }
 }
+
+/// `s += t` under a mask appends only on the lanes taking the branch.
+#[test]
+fn string_appends_follow_the_mask() {
+    let g = points(6);
+    let out = wrangle(
+        "string s = \"p\"; for (int i = 0; i < @ptnum; i++) { if (i % 2 == 0) s += itoa(i); } s@r = s;",
+        AttribClass::Point,
+        &g,
+    );
+    let r = out
+        .attrib(AttribClass::Point, "r")
+        .unwrap()
+        .as_strings()
+        .unwrap();
+    let got: Vec<&str> = (0..6).map(|i| r.get(i)).collect();
+    assert_eq!(got, ["p", "p0", "p0", "p02", "p02", "p024"]);
+}

@@ -112,3 +112,31 @@ fn runtime_errors_name_the_element() {
     .unwrap_err();
     assert_eq!(e, "element 2 (line 1, column 18): addprim: unknown type \"nurbs\": expected \"poly\" or \"polyline\"");
 }
+
+/// A geometry change checked when it applies, after every element ran,
+/// still names the statement that queued it (it used to say line 0).
+#[test]
+fn an_effect_refused_when_it_applies_names_its_call() {
+    let g = four_points();
+    for class in [
+        geode_geo::AttribClass::Point,
+        geode_geo::AttribClass::Detail,
+    ] {
+        let src = "int n = 0;\nif (@ptnum == 0 || n == 0)\n    addprim(0, \"polyline\", 0, 1000);";
+        let e = wrangle_with(src, class, &g, &[]).unwrap_err();
+        assert!(
+            e.contains("(line 3, column 5): point 1000 does not exist"),
+            "{class:?}: {e}"
+        );
+    }
+}
+
+/// A swapped pair of letters is one edit: the suggestion finds the name.
+#[test]
+fn transposed_letters_still_suggest_the_function() {
+    assert_eq!(
+        msg("f@n = nosie(@P);"),
+        "line 1, column 7: unknown function 'nosie' (did you mean 'noise'?)"
+    );
+    assert!(msg("f@f = fti(1, 0, 1, 2, 3);").contains("did you mean 'fit'?"));
+}

@@ -328,7 +328,11 @@ fn an_endless_loop_stops_on_cancel() {
                     memory_budget: u64::MAX,
                 },
             );
-            assert_eq!(r.unwrap_err(), geode_vex::RunError::Cancelled, "{class:?}: {src}");
+            assert_eq!(
+                r.unwrap_err(),
+                geode_vex::RunError::Cancelled,
+                "{class:?}: {src}"
+            );
         }
     }
 }

@@ -168,3 +168,39 @@ fn maketransform_follows_its_order_code() {
         assert!((a - b).abs() < 1e-5, "{r:?}");
     }
 }
+
+/// "Arguments to user functions are always passed by reference, so
+/// modifications in a function affect the variable the function was
+/// called with" (VEX language reference, Functions): an attribute passed
+/// to a function that writes it is written.
+#[test]
+fn a_binding_passed_by_reference_is_written() {
+    let g = four_points();
+    let src =
+        "void up(vector p) { p.y = 1; } void tag(float x) { x = 7; } up(@P); tag(f@w); up(@N);";
+    let out = wrangle(src, AttribClass::Point, &g);
+    assert!(
+        out.positions().iter().all(|p| p.y == 1.0),
+        "@P written through the parameter"
+    );
+    let w = out
+        .attrib(AttribClass::Point, "w")
+        .unwrap()
+        .as_f32()
+        .unwrap();
+    assert_eq!(w, [7.0; 4]);
+    let n = out
+        .attrib(AttribClass::Point, "N")
+        .expect("@N made by the write");
+    assert_eq!(n.as_vec3().unwrap()[0], Vec3::new(0.0, 1.0, 0.0));
+    // A function that only reads its parameter writes nothing back.
+    let out = wrangle(
+        "float len(vector v) { return length(v); } f@l = len(@N);",
+        AttribClass::Point,
+        &g,
+    );
+    assert!(out.attrib(AttribClass::Point, "N").is_none());
+    // A read-only attribute cannot be written through a parameter.
+    let e = compile_error("void bump(int x) { x++; } bump(@ptnum);");
+    assert!(e.to_string().contains("@ptnum is read-only"), "{e}");
+}

@@ -58,17 +58,25 @@ pub fn suggest<'n>(name: &str, known: impl Iterator<Item = &'n str>) -> String {
     best.map_or(String::new(), |(_, k)| format!(" (did you mean '{k}'?)"))
 }
 
+/// Edits between `a` and `b` (insertions, deletions, substitutions and
+/// swaps of neighbours: `nosie` is one edit from `noise`).
 fn edit_distance(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    // Three rows: the one two back serves the swaps.
+    let mut older: Vec<usize> = vec![0; b.len() + 1];
     let mut prev: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
+    for i in 0..a.len() {
         let mut cur = vec![i + 1; b.len() + 1];
-        for (j, cb) in b.iter().enumerate() {
-            cur[j + 1] = (prev[j] + usize::from(ca != *cb))
+        for j in 0..b.len() {
+            let mut d = (prev[j] + usize::from(a[i] != b[j]))
                 .min(prev[j + 1] + 1)
                 .min(cur[j] + 1);
+            if i > 0 && j > 0 && a[i] == b[j - 1] && a[i - 1] == b[j] {
+                d = d.min(older[j - 1] + 1);
+            }
+            cur[j + 1] = d;
         }
-        prev = cur;
+        older = std::mem::replace(&mut prev, cur);
     }
     prev[b.len()]
 }

@@ -64,6 +64,10 @@ pub const FUNCTIONS: &[Function] = &[
     lane("reorder", C, "The array's elements (or the string's characters) at the given indices, in their order.", &[
         form(Ret::Same, &[a(T::Seq, "array"), a(IA, "indices")], reorder),
     ]),
+    lane("slice", C, "The sub-array (or sub-string) seq[start:end:step]: negative bounds count from the end, bounds clamp, a zero step gives an empty one; the seven-argument form says which of start, end and step are given.", &[
+        form(Ret::Same, &[a(T::Seq, "seq"), a(I, "start"), a(I, "end"), a(I, "step")], slice_call).opt(1),
+        form(Ret::Same, &[a(T::Seq, "seq"), a(I, "hasstart"), a(I, "start"), a(I, "hasend"), a(I, "end"), a(I, "hasstep"), a(I, "step")], slice_call),
+    ]),
     lane("reverse", C, "The array (or string) in reverse order.", &[
         form(Ret::Same, &[a(T::Seq, "array")], reverse),
     ]),
@@ -89,6 +93,13 @@ pub mod intrinsics {
         name: "[]=",
         lane: super::index_set,
         bytes: Some(super::index_set_bytes),
+    };
+    /// `s += t` on a string variable: appended in place (amortised O(1)
+    /// in a loop, where `s = s + t` copies `s` each time).
+    pub const APPEND_STRING: Callee = Callee {
+        name: "+=",
+        lane: super::append_string,
+        bytes: Some(super::growth),
     };
     pub const SLICE: Callee = Callee {
         name: "[:]",
@@ -518,6 +529,36 @@ fn index_set(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let x = a[2].clone();
     set_elem(&mut a[0], i, &x);
     Ok(Val::I(0))
+}
+
+/// `slice(seq, start, end[, step])` or `slice(seq, hasstart, start,
+/// hasend, end, hasstep, step)`, as the slicing syntax runs it.
+fn slice_call(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let seq = std::mem::replace(&mut a[0], Val::I(0));
+    let mut args = if a.len() == 7 {
+        let has = |k: usize| a[k].i() != 0;
+        let step = if has(5) { a[6].i() } else { 1 };
+        let given = i32::from(has(1)) | (i32::from(has(3)) << 1);
+        [
+            seq,
+            Val::I(a[2].i()),
+            Val::I(a[4].i()),
+            Val::I(step),
+            Val::I(given),
+        ]
+    } else {
+        let step = a.get(3).map_or(1, Val::i);
+        [
+            seq,
+            Val::I(a[1].i()),
+            Val::I(a[2].i()),
+            Val::I(step),
+            Val::I(3),
+        ]
+    };
+    let r = slice(l, &mut args);
+    a[0] = std::mem::replace(&mut args[0], Val::I(0));
+    r
 }
 
 /// `seq[start:end:step]` as Python slices: negative bounds count from the

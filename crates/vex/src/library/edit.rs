@@ -214,14 +214,17 @@ fn removeprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 }
 
 fn set_group(l: &mut Lane, a: &mut [Val], class: AttribClass) -> Result<Val, Stop> {
+    // "Use "set" to set the membership according to the value. Use
+    // "toggle" to toggle the membership, regardless of the value."
     let on = a.get(3).is_none_or(|v| v.i() != 0);
     let on = match a.get(4).map(Val::s) {
-        None | Some("set") => on,
-        Some("add") | Some("or") => on,
-        Some("subtract") | Some("remove") => !on,
+        None | Some("set") => Some(on),
+        Some("add") | Some("or") => Some(on),
+        Some("subtract") | Some("remove") => Some(!on),
+        Some("toggle") => None,
         Some(other) => {
             return Err(Stop::Msg(format!(
-                "unknown group mode \"{other}\": expected set, add or subtract"
+                "unknown group mode \"{other}\": expected set or toggle"
             )))
         }
     };

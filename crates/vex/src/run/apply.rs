@@ -8,7 +8,7 @@ use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeI
 
 use super::build::Builder;
 use super::{elem_count, set_value};
-use crate::effect::{EffectKind, EffectQueue, Mode};
+use crate::effect::{Effect, EffectKind, EffectQueue, Mode};
 use crate::error::RunError;
 use crate::value::Val;
 
@@ -36,9 +36,9 @@ pub fn apply(
                     b.begin_batch();
                 }
                 for e in batch.iter() {
-                    b.take(e.elem, &e.kind).map_err(|msg| RunError::At {
+                    b.take(e.elem, e.pos, &e.kind).map_err(|msg| RunError::At {
                         elem: e.elem,
-                        pos: Default::default(),
+                        pos: e.pos,
                         msg,
                     })?;
                 }
@@ -53,6 +53,9 @@ pub fn apply(
     let mut dead_prims: Vec<(usize, bool)> = Vec::new();
     // Group writes: ((point group?, name), members), stored once at the end.
     let mut groups: Vec<((bool, String), Group)> = Vec::new();
+    // Whether each attribute the run writes took ints (or floats) first.
+    let mut written_as: std::collections::HashMap<(AttribClass, &str), bool> =
+        std::collections::HashMap::new();
     for (b, batch) in batches.iter().enumerate() {
         let point = |h: i32| -> Option<usize> {
             if h >= base_points {
@@ -96,9 +99,18 @@ pub fn apply(
                         AttribClass::Detail => Some(0),
                     };
                     let count = elem_count(out, *class);
+                    // "Within a VEX program only one type may be written to
+                    // a single attribute ... a literal like 1 will be an
+                    // integer write so be ignored if floats were previously
+                    // written" (setpointattrib): the run's first write to
+                    // an attribute sets whether it takes ints or floats.
+                    let int = matches!(value, Val::I(_));
+                    let numeric = int || matches!(value, Val::F(..));
+                    let first = *written_as.entry((*class, name.as_str())).or_insert(int);
+                    let mixed = numeric && first != int;
                     // Writes to elements that do not exist are ignored, as in VEX.
-                    if let Some(i) = idx.filter(|&i| i < count) {
-                        set_attr(out, *class, name, i, value, *mode, e.elem)?;
+                    if let Some(i) = idx.filter(|&i| i < count && !mixed) {
+                        set_attr(out, *class, name, i, value, *mode, e)?;
                     }
                 }
                 EffectKind::SetGroup {
@@ -132,7 +144,7 @@ pub fn apply(
                                 &mut groups.last_mut().expect("just pushed").1
                             }
                         };
-                        grp.set(i, *on);
+                        grp.set(i, on.unwrap_or(!grp.contains(i)));
                     }
                 }
                 EffectKind::RemovePoint {
@@ -234,14 +246,14 @@ fn set_attr(
     i: usize,
     value: &Val,
     mode: Mode,
-    elem: u32,
+    by: &Effect,
 ) -> Result<(), RunError> {
     let len = elem_count(out, class);
     let table = out.attribs_mut(class);
     if table.get(name).is_none() {
         let zero = value_type(value).ok_or_else(|| RunError::At {
-            elem,
-            pos: Default::default(),
+            elem: by.elem,
+            pos: by.pos,
             msg: format!("cannot create attribute '{name}' from this value"),
         })?;
         table

@@ -15,6 +15,7 @@ use std::collections::HashMap;
 use geode_geo::glam::Vec3;
 use geode_geo::Geometry;
 
+use crate::compile::Pos;
 use crate::effect::EffectKind;
 use crate::error::RunError;
 
@@ -84,7 +85,7 @@ pub(super) struct Builder {
     shape: Vec<(bool, u32)>,
     flat: Vec<u32>,
     late: HashMap<u32, Vec<u32>>,
-    elem: Vec<u32>,
+    made_by: Vec<(u32, Pos)>,
     point_maps: Vec<Handles>,
     prim_maps: Vec<Handles>,
 }
@@ -101,7 +102,7 @@ impl Builder {
             shape: Vec::new(),
             flat: Vec::new(),
             late: HashMap::new(),
-            elem: Vec::new(),
+            made_by: Vec::new(),
             point_maps: Vec::new(),
             prim_maps: Vec::new(),
         };
@@ -123,9 +124,9 @@ impl Builder {
             .push(Handles::new(self.base_prims, self.shape.len() as u32));
     }
 
-    /// Takes a construction effect of element `elem` and returns the bytes
-    /// it now holds; `None` for the other effects.
-    pub fn take(&mut self, elem: u32, kind: &EffectKind) -> Result<Option<u64>, String> {
+    /// Takes a construction effect of element `elem` (made by the call at
+    /// `pos`) and returns the bytes it now holds; `None` for the others.
+    pub fn take(&mut self, elem: u32, pos: Pos, kind: &EffectKind) -> Result<Option<u64>, String> {
         let bytes = match kind {
             EffectKind::AddPoint { handle, from, pos } => {
                 let id = self.base_points as u32 + self.positions.len() as u32;
@@ -158,7 +159,7 @@ impl Builder {
                 self.prims().insert(*handle, k);
                 let n = points.as_slice().len() as u32;
                 self.shape.push((!polyline, n));
-                self.elem.push(elem);
+                self.made_by.push((elem, pos));
                 12 + 4 * n as u64
             }
             EffectKind::AddVertex { prim, point } => {
@@ -248,13 +249,13 @@ impl Builder {
 
     /// Every primitive at least its kind's minimum size, its element named.
     fn check_sizes(&self) -> Result<(), RunError> {
-        for (&(closed, n), &elem) in self.shape.iter().zip(&self.elem) {
+        for (&(closed, n), &(elem, pos)) in self.shape.iter().zip(&self.made_by) {
             let least = if closed { 3 } else { 2 };
             if n < least {
                 let what = if closed { "polygon" } else { "polyline" };
                 return Err(RunError::At {
                     elem,
-                    pos: Default::default(),
+                    pos,
                     msg: format!("addprim: a {what} needs at least {least} vertices, got {n}"),
                 });
             }

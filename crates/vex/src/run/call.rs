@@ -207,6 +207,7 @@ fn run_lane(
         }
     }
     let elem = world.elem_of(l);
+    world.pos = site.pos;
     let mut host = LaneHost { world, lane: l };
     let mut lane = Lane {
         host: &mut host,

@@ -74,6 +74,8 @@ pub struct World<'s, 'a> {
     pub built: Option<Builder>,
     /// Changes queued (or built) by this batch, for messages.
     queued: usize,
+    /// The call running, whose position its effects keep.
+    pub pos: crate::compile::Pos,
 }
 
 impl<'s, 'a> World<'s, 'a> {
@@ -90,6 +92,7 @@ impl<'s, 'a> World<'s, 'a> {
             queries: Vec::new(),
             built: None,
             queued: 0,
+            pos: Default::default(),
         }
     }
 
@@ -160,7 +163,8 @@ impl<'s, 'a> World<'s, 'a> {
     pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), String> {
         let elem = self.elem_of(lane);
         self.queued += 1;
-        let bytes = match self.built.as_mut().map(|b| b.take(elem, &kind)) {
+        let pos = self.pos;
+        let bytes = match self.built.as_mut().map(|b| b.take(elem, pos, &kind)) {
             Some(Ok(Some(bytes))) => bytes,
             Some(Err(msg)) => return Err(msg),
             _ => std::mem::size_of::<Effect>() as u64 + kind.heap_bytes(),
@@ -171,6 +175,7 @@ impl<'s, 'a> World<'s, 'a> {
             self.effects.push(Effect {
                 elem,
                 seq: self.seq,
+                pos: self.pos,
                 kind,
             });
         }

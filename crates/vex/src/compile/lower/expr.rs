@@ -522,6 +522,15 @@ impl<'a> Lower<'a> {
         let v = self.expr(value, Some(tty))?;
         let v = if op == "=" {
             v
+        } else if let (Target::Regs(l), "+=", Ty::Str, Ty::Str) = (t, op, tty, v.ty) {
+            self.call_site_outs(
+                array_ops::APPEND_STRING,
+                vec![l, v],
+                vec![true, false],
+                Ty::Void,
+                pos,
+            );
+            return Ok(l);
         } else {
             let old = self.read_target(t, target.pos)?;
             let bop = &op[..op.len() - 1];
@@ -550,10 +559,13 @@ impl<'a> Lower<'a> {
     /// Resolves an assignable expression.
     pub fn target(&mut self, e: &Expr) -> LResult<Target> {
         match &e.kind {
-            ExprKind::Var(name) => Ok(Target::Regs(
-                self.lookup(name)
-                    .ok_or_else(|| self.undeclared(name, e.pos))?,
-            )),
+            ExprKind::Var(name) => {
+                let loc = self
+                    .lookup(name)
+                    .ok_or_else(|| self.undeclared(name, e.pos))?;
+                self.writes_through(loc, e.pos)?;
+                Ok(Target::Regs(loc))
+            }
             ExprKind::Binding { name, .. } => {
                 let b = self
                     .bindings
@@ -596,6 +608,27 @@ impl<'a> Lower<'a> {
             }
             _ => err(e.pos, "this expression cannot be assigned to"),
         }
+    }
+
+    /// A variable that is a binding passed to a function by reference:
+    /// writing it writes the attribute (or is refused when read-only).
+    fn writes_through(&mut self, loc: Loc, pos: Pos) -> LResult<()> {
+        let width = |l: Loc| l.ty.floats().max(1) as u32;
+        let found = self.bindings.iter().position(|b| {
+            super::file_of(b.loc.ty) == super::file_of(loc.ty)
+                && loc.reg < b.loc.reg + width(b.loc)
+                && b.loc.reg < loc.reg + width(loc)
+        });
+        let Some(b) = found else { return Ok(()) };
+        if !self.bindings[b].writable() {
+            let name = &self.bindings[b].name;
+            return Err(CompileError::at(
+                pos,
+                format!("@{name} is read-only (it was passed to a function by reference)"),
+            ));
+        }
+        self.mark_written(b);
+        Ok(())
     }
 
     /// `v[k]` of a vector (a component) or a matrix (a row), `k` constant:

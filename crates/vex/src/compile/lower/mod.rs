@@ -634,9 +634,9 @@ fn copy_op(ty: Ty, d: Reg, s: Reg, m: Option<Reg>) -> Op {
 }
 
 /// Which register file a type lives in (registers are numbered per file).
-type FileKey = u8;
+pub(super) type FileKey = u8;
 
-fn file_of(ty: Ty) -> FileKey {
+pub(super) fn file_of(ty: Ty) -> FileKey {
     match ty {
         Ty::Int => 0,
         Ty::Str => 1,
