@@ -187,6 +187,19 @@ fn wrangles_within_a_small_budget(hip: &str) {
         "{msg}"
     );
     assert!(dt < Duration::from_secs(5), "{dt:?}");
+    // Points and primitives made without end (their lists double as they
+    // grow: each doubling is asked for first).
+    let (msg, dt) = wrangle(
+        "detail",
+        "while (1) {\n    int p = addpoint(0, {0, 0, 0});\n    addprim(0, \"polyline\", p, p);\n}",
+    );
+    assert!(
+        (msg.contains("(line 2, column 13): ") || msg.contains("(line 3, column 5): "))
+            && msg.contains("queueing")
+            && msg.ends_with("of the memory budget of 537 MB (GEODE_MEMORY_MB)"),
+        "{msg}"
+    );
+    assert!(dt < Duration::from_secs(20), "{dt:?}");
     let (msg, dt) = wrangle("points", "int a[];\nresize(a, 100000000);\ni[]@a = a;");
     assert!(
         msg.contains(

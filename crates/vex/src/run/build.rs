@@ -85,7 +85,10 @@ pub(super) struct Builder {
     shape: Vec<(bool, u32)>,
     flat: Vec<u32>,
     late: HashMap<u32, Vec<u32>>,
-    made_by: Vec<(u32, Pos)>,
+    /// Who made the primitives from each index on, for errors: a new run
+    /// only where the element or the call changes (a loop makes millions
+    /// from one call).
+    made_by: Vec<(u32, u32, Pos)>,
     point_maps: Vec<Handles>,
     prim_maps: Vec<Handles>,
 }
@@ -124,10 +127,38 @@ impl Builder {
             .push(Handles::new(self.base_prims, self.shape.len() as u32));
     }
 
+    /// The bytes taking `kind` would allocate (the lists it grows double),
+    /// so the memory budget is asked before they are.
+    pub fn growth(&self, elem: u32, pos: Pos, kind: &EffectKind) -> u64 {
+        fn grows<T>(v: &Vec<T>, more: usize) -> u64 {
+            if v.len() + more <= v.capacity() {
+                return 0;
+            }
+            let cap = (v.capacity() * 2).max(v.len() + more).max(8);
+            (cap * std::mem::size_of::<T>()) as u64
+        }
+        match kind {
+            EffectKind::AddPoint { from, .. } => {
+                grows(&self.positions, 1) + from.map_or(0, |_| grows(&self.copies, 1))
+            }
+            EffectKind::AddPrim { points, .. } => {
+                grows(&self.flat, points.as_slice().len())
+                    + grows(&self.shape, 1)
+                    + if self.new_maker(elem, pos) {
+                        grows(&self.made_by, 1)
+                    } else {
+                        0
+                    }
+            }
+            EffectKind::AddVertex { .. } => grows(&self.flat, 1) + 16,
+            _ => 0,
+        }
+    }
+
     /// Takes a construction effect of element `elem` (made by the call at
-    /// `pos`) and returns the bytes it now holds; `None` for the others.
-    pub fn take(&mut self, elem: u32, pos: Pos, kind: &EffectKind) -> Result<Option<u64>, String> {
-        let bytes = match kind {
+    /// `pos`); the other effects are not its own.
+    pub fn take(&mut self, elem: u32, pos: Pos, kind: &EffectKind) -> Result<(), String> {
+        match kind {
             EffectKind::AddPoint { handle, from, pos } => {
                 let id = self.base_points as u32 + self.positions.len() as u32;
                 if let Some(src) = from {
@@ -138,7 +169,6 @@ impl Builder {
                 }
                 self.points().insert(*handle, id);
                 self.positions.push((*pos).into());
-                12
             }
             EffectKind::AddPrim {
                 handle,
@@ -159,8 +189,9 @@ impl Builder {
                 self.prims().insert(*handle, k);
                 let n = points.as_slice().len() as u32;
                 self.shape.push((!polyline, n));
-                self.made_by.push((elem, pos));
-                12 + 4 * n as u64
+                if self.new_maker(elem, pos) {
+                    self.made_by.push((k, elem, pos));
+                }
             }
             EffectKind::AddVertex { prim, point } => {
                 let pt = self
@@ -176,11 +207,17 @@ impl Builder {
                 } else {
                     self.late.entry(k).or_default().push(pt);
                 }
-                4
             }
-            _ => return Ok(None),
-        };
-        Ok(Some(bytes))
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Whether a primitive made by `elem` at `pos` starts a run of makers.
+    fn new_maker(&self, elem: u32, pos: Pos) -> bool {
+        self.made_by
+            .last()
+            .is_none_or(|&(_, e, p)| (e, p) != (elem, pos))
     }
 
     fn points(&mut self) -> &mut Handles {
@@ -249,9 +286,13 @@ impl Builder {
 
     /// Every primitive at least its kind's minimum size, its element named.
     fn check_sizes(&self) -> Result<(), RunError> {
-        for (&(closed, n), &(elem, pos)) in self.shape.iter().zip(&self.made_by) {
+        for (k, &(closed, n)) in self.shape.iter().enumerate() {
             let least = if closed { 3 } else { 2 };
             if n < least {
+                let run = self
+                    .made_by
+                    .partition_point(|&(first, _, _)| first as usize <= k);
+                let (_, elem, pos) = self.made_by[run - 1];
                 let what = if closed { "polygon" } else { "polyline" };
                 return Err(RunError::At {
                     elem,

@@ -164,13 +164,16 @@ impl<'s, 'a> World<'s, 'a> {
         let elem = self.elem_of(lane);
         self.queued += 1;
         let pos = self.pos;
-        let bytes = match self.built.as_mut().map(|b| b.take(elem, pos, &kind)) {
-            Some(Ok(Some(bytes))) => bytes,
-            Some(Err(msg)) => return Err(msg),
-            _ => std::mem::size_of::<Effect>() as u64 + kind.heap_bytes(),
-        };
-        self.charge(bytes)?;
-        if self.built.is_none() || !kind.builds() {
+        if let Some(b) = self.built.as_mut().filter(|_| kind.builds()) {
+            // Built as it comes: the budget is asked for what the lists
+            // grow by before they grow.
+            let bytes = b.growth(elem, pos, &kind);
+            self.charge(bytes)?;
+            if let Some(b) = self.built.as_mut() {
+                b.take(elem, pos, &kind)?;
+            }
+        } else {
+            self.charge(std::mem::size_of::<Effect>() as u64 + kind.heap_bytes())?;
             self.seq += 1;
             self.effects.push(Effect {
                 elem,
