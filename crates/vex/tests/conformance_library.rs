@@ -469,6 +469,18 @@ const QUAD_CASES: &[(&str, &str, Want)] = &[
     (r#"int pr; vector uv; xyzdist(0, "face", {0.25, 0.75, 2}, pr, uv); v@r = uv;"#, "r", V(&[0.25, 0.75, 0.0])),
 
     (r#"setvertexattrib(0, "vf", 0, 2, 9.0); ||| f@r = vertex(0, "vf", 2);"#, "r", F(9.0)),
+    // addvertex: "Adds a vertex to a primitive in a geometry"; "prim_num:
+    // The primitive number to add the vertex to. point_num: The point
+    // number to wire the new vertex to." The input's quad takes a fifth
+    // vertex, after its own; their vertex values stay, the new one's is
+    // the default (0).
+    (r#"addvertex(0, 0, 1); ||| i@r = primvertexcount(0, 0) * 10 + primpoint(0, 0, 4);"#, "r", I(51)),
+    (r#"addvertex(0, 0, 1); ||| f@r = vertex(0, "vf", 0, 3) * 100 + vertex(0, "vf", 0, 4);"#, "r", F(1300.0)),
+    // "You can use this number with setvertexattrib to set attributes on
+    // the new vertex": writes apply after the vertex is added.
+    (r#"addvertex(0, 0, 1); setvertexattrib(0, "vf", 0, 4, 7.0); ||| f@r = vertex(0, "vf", 0, 4);"#, "r", F(7.0)),
+    // Removals come last: point 3 loses both its vertices.
+    (r#"addvertex(0, 0, 3); removepoint(0, 3); ||| i@r = primvertexcount(0, 0) * 10 + npoints(0);"#, "r", I(33)),
 ];
 
 /// Over `two_triangles`: primitive 0 on points (0, 1, 2), primitive 1 on
@@ -581,6 +593,13 @@ const TRI_CASES: &[(&str, &str, Want)] = &[
     (r#"setprimattrib(0, "w", 1, 2.5); ||| f@r = prim(0, "w", 1);"#, "r", F(2.5)),
     (r#"setvertexattrib(0, "c", 1, 2, 9.0); ||| f@r = vertex(0, "c", 5);"#, "r", F(9.0)),
     (r#"setprimgroup(0, "pg", 1, 1); ||| i@r = inprimgroup(0, "pg", 1) * 10 + inprimgroup(0, "pg", 0);"#, "r", I(10)),
+    // addvertex on the input's primitive 0: primitive 1's vertices move
+    // along (its first is now linear vertex 4).
+    (r#"addvertex(0, 0, 3); ||| int p[] = primpoints(0, 0); i@r = len(p) * 10000 + p[0] * 1000 + p[1] * 100 + p[2] * 10 + p[3];"#, "r", I(40123)),
+    (r#"addvertex(0, 0, 3); ||| i@r = primvertex(0, 1, 0) * 10 + vertexpoint(0, 4);"#, "r", I(41)),
+    // With a new point and a new primitive in the same run: the new
+    // primitive (0, 1, 4) comes after the input's (4 + 3 vertices).
+    (r#"int p = addpoint(0, {5, 5, 0}); addprim(0, "poly", 0, 1, p); addvertex(0, 0, p); ||| i@r = primpoint(0, 0, 3) * 100 + primvertex(0, 2, 0) * 10 + primpoint(0, 2, 2);"#, "r", I(474)),
     // removeprim(..., 1): points no other primitive uses go too (p0 here).
     (r#"removeprim(0, 0, 1); ||| i@r = nprimitives(0) * 10 + npoints(0);"#, "r", I(13)),
     (r#"removeprim(0, 0, 0); ||| i@r = nprimitives(0) * 10 + npoints(0);"#, "r", I(14)),

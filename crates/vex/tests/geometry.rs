@@ -123,6 +123,60 @@ fn addprim_then_addvertex_builds_a_polygon() {
     assert_eq!(copy.positions()[4].to_array(), [9.0, 9.0, 9.0]);
 }
 
+/// addvertex on the input's primitives from every element: each gets its
+/// vertices in element order, then call order, on any thread count.
+#[test]
+fn addvertex_on_input_primitives_applies_in_element_order() {
+    let grid = primitives::grid(Vec2::splat(4.0), 30, 30);
+    let src =
+        "int pr = @ptnum % 7; addvertex(0, pr, @ptnum); if (@ptnum % 2 == 0) addvertex(0, pr, 0);";
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| wrangle(src, AttribClass::Point, &grid))
+    };
+    let out = run_on(1);
+    for prim in 0..7 {
+        let mut want: Vec<u32> = grid.prim_points(prim).to_vec();
+        for p in (prim as u32..grid.num_points() as u32).step_by(7) {
+            want.push(p);
+            if p % 2 == 0 {
+                want.push(0);
+            }
+        }
+        assert_eq!(out.prim_points(prim), &want[..], "primitive {prim}");
+    }
+    assert_eq!(out.prim_points(7), grid.prim_points(7));
+    for threads in [2, 8] {
+        assert_eq!(run_on(threads), out, "{threads} threads");
+    }
+}
+
+/// A packed primitive takes no vertex: the element that asks is named.
+#[test]
+fn addvertex_on_a_packed_primitive_is_refused() {
+    let mut g = four_points();
+    g.add_packed(
+        0,
+        std::sync::Arc::new(four_points()),
+        geode_geo::glam::Mat4::IDENTITY,
+    )
+    .unwrap();
+    let e = wrangle_with(
+        "if (@ptnum == 2) addvertex(0, 0, 1);",
+        AttribClass::Point,
+        &g,
+        &[],
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        "element 2 (line 1, column 18): addvertex: primitive 0 is a packed primitive: only polygons and polylines take vertices"
+    );
+}
+
 #[test]
 fn removals_apply_after_the_run() {
     let out = wrangle(
