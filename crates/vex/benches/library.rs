@@ -7,7 +7,9 @@
 //! - `push` 1M times in a detail loop (amortised O(1));
 //! - compiling a 1 MB snippet (linear in its size);
 //! - `nearpoint` without a radius on 1M points;
-//! - `xyzdist` and `primuv` from 1M points onto a 1M-triangle mesh.
+//! - `xyzdist` and `primuv` from 1M points onto a 1M-triangle mesh;
+//! - 200k points each appending its number to one detail array
+//!   (`setdetailattrib(..., "append")`: amortised O(1) per element).
 
 use divan::Bencher;
 use geode_geo::glam::{Vec2, Vec3};
@@ -161,5 +163,16 @@ fn primuv_1m_onto_1m_triangles(bencher: Bencher) {
         "v@q = primuv(1, \"P\", @ptnum % nprimitives(1), set(@P.x * 0.5, @P.y * 0.5, 0));",
         AttribClass::Point,
         &[Some(&points), Some(&mesh)],
+    );
+}
+
+#[divan::bench(sample_count = 5)]
+fn append_to_detail_array_200k_points(bencher: Bencher) {
+    let g = cloud(200_000);
+    wrangle(
+        bencher,
+        r#"setdetailattrib(0, "ids", array(@ptnum), "append");"#,
+        AttribClass::Point,
+        &[Some(&g)],
     );
 }

@@ -204,11 +204,13 @@ pub trait Host {
     /// The element this lane runs (for messages).
     fn elem(&self) -> u32;
     /// An index over input `i` built once per run by `build` and kept
-    /// under `key` (the surface `xyzdist` searches, for one).
+    /// under `key` and `variant` (the surface `xyzdist` searches, for one,
+    /// with the primitive group pattern it covers as the variant).
     fn cached(
         &self,
         i: i32,
         key: &'static str,
+        variant: &str,
         build: &dyn Fn(&Geometry) -> Arc<dyn std::any::Any + Send + Sync>,
     ) -> Option<Arc<dyn std::any::Any + Send + Sync>>;
     /// The ramp parameter `chramp` compiled as index `k`.

@@ -482,7 +482,29 @@ const QUAD_CASES: &[(&str, &str, Want)] = &[
     // setpointgroup: "Use "toggle" to toggle the point's membership,
     // regardless of the value."
     (r#"setpointgroup(0, "t", 1, 1); setpointgroup(0, "t", 2, 0, "toggle"); ||| setpointgroup(0, "t", 1, 1, "toggle"); ||| i@r = inpointgroup(0, "t", 1) * 10 + inpointgroup(0, "t", 2);"#, "r", I(1)),
+    // "The variadic argument "farthest" can be used to indicate whether to
+    // return the last intersection instead of the first": a second quad
+    // (primitive 1) one unit below the first.
+    (r#"int a = addpoint(0, {0, 0, -1}); int b = addpoint(0, {0, 1, -1}); int c = addpoint(0, {1, 1, -1}); int d = addpoint(0, {1, 0, -1}); addprim(0, "poly", a, b, c, d); ||| vector p; float u, v; i@r = intersect(0, {0.25, 0.75, 1}, {0, 0, -5}, p, u, v);"#, "r", I(0)),
+    (r#"int a = addpoint(0, {0, 0, -1}); int b = addpoint(0, {0, 1, -1}); int c = addpoint(0, {1, 1, -1}); int d = addpoint(0, {1, 0, -1}); addprim(0, "poly", a, b, c, d); ||| vector p; float u, v; i@r = intersect(0, {0.25, 0.75, 1}, {0, 0, -5}, p, u, v, "farthest", 1);"#, "r", I(1)),
+    (r#"int a = addpoint(0, {0, 0, -1}); int b = addpoint(0, {0, 1, -1}); int c = addpoint(0, {1, 1, -1}); int d = addpoint(0, {1, 0, -1}); addprim(0, "poly", a, b, c, d); ||| vector p; float u, v; intersect(0, {0.25, 0.75, 1}, {0, 0, -5}, p, u, v, "farthest", 1); p@r = set(p.x, p.y, p.z, u);"#, "r", V(&[0.25, 0.75, -1.0, 0.25])),
+    (r#"int a = addpoint(0, {0, 0, -1}); int b = addpoint(0, {0, 1, -1}); int c = addpoint(0, {1, 1, -1}); int d = addpoint(0, {1, 0, -1}); addprim(0, "poly", a, b, c, d); ||| vector p; float u, v; i@r = intersect(0, {0.25, 0.75, 1}, {0, 0, -5}, p, u, v, "farthest", 0);"#, "r", I(0)),
+    // xyzdist's group form on the quad's group `face`.
+    (r#"int pr; vector uv; xyzdist(0, "face", {0.25, 0.75, 2}, pr, uv); v@r = uv;"#, "r", V(&[0.25, 0.75, 0.0])),
+
     (r#"setvertexattrib(0, "vf", 0, 2, 9.0); ||| f@r = vertex(0, "vf", 2);"#, "r", F(9.0)),
+    // addvertex: "Adds a vertex to a primitive in a geometry"; "prim_num:
+    // The primitive number to add the vertex to. point_num: The point
+    // number to wire the new vertex to." The input's quad takes a fifth
+    // vertex, after its own; their vertex values stay, the new one's is
+    // the default (0).
+    (r#"addvertex(0, 0, 1); ||| i@r = primvertexcount(0, 0) * 10 + primpoint(0, 0, 4);"#, "r", I(51)),
+    (r#"addvertex(0, 0, 1); ||| f@r = vertex(0, "vf", 0, 3) * 100 + vertex(0, "vf", 0, 4);"#, "r", F(1300.0)),
+    // "You can use this number with setvertexattrib to set attributes on
+    // the new vertex": writes apply after the vertex is added.
+    (r#"addvertex(0, 0, 1); setvertexattrib(0, "vf", 0, 4, 7.0); ||| f@r = vertex(0, "vf", 0, 4);"#, "r", F(7.0)),
+    // Removals come last: point 3 loses both its vertices.
+    (r#"addvertex(0, 0, 3); removepoint(0, 3); ||| i@r = primvertexcount(0, 0) * 10 + npoints(0);"#, "r", I(33)),
 ];
 
 /// Over `two_triangles`: primitive 0 on points (0, 1, 2), primitive 1 on
@@ -556,10 +578,52 @@ const TRI_CASES: &[(&str, &str, Want)] = &[
     (r#"v@r = primuv(0, "P", 0, {0.25, 0.5, 0});"#, "r", V(&[0.5, 1.0, 0.0])),
     (r#"vector p, uvw; i@r = intersect(0, {2, 1.5, 1}, {0, 0, -5}, p, uvw);"#, "r", I(1)),
     (r#"vector p, uvw; intersect(0, {2, 1.5, 1}, {0, 0, -5}, p, uvw); v@r = uvw;"#, "r", V(&[0.375, 0.1875, 0.0])),
+    // xyzdist's group forms: "Finds the distance from origin to the closest
+    // location in the given primitive group on the given geometry"; the
+    // group is "the name of a primitive group or a pattern to generate a
+    // primitive group. Uses the same semantics as a SOP group, so empty
+    // strings will match all primitives" (uvintersect's primgroup, worded
+    // alike on xyzdist's page). Primitive 1 lies on x + y >= 2: from
+    // (0.5, 0.5, -1) its closest point is (1, 1, 0) on edge p1-p2, at
+    // sqrt(0.5 + 1); there (2 + u - 2v, 3u + 2v) = (1, 1): u 0, v 0.5.
+    (r#"int pr; vector uv; f@r = xyzdist(0, "second", {0.5, 0.5, -1}, pr, uv);"#, "r", F(1.224_744_9)),
+    (r#"int pr; vector uv; xyzdist(0, "second", {0.5, 0.5, -1}, pr, uv); i@r = pr;"#, "r", I(1)),
+    (r#"int pr; vector uv; xyzdist(0, "second", {0.5, 0.5, -1}, pr, uv); v@r = uv;"#, "r", V(&[0.0, 0.5, 0.0])),
+    (r#"f@r = xyzdist(0, "1", {0.5, 0.5, -1});"#, "r", F(1.224_744_9)),
+    (r#"int pr; vector uv; xyzdist(0, "!0", {0.5, 0.5, -1}, pr, uv); i@r = pr;"#, "r", I(1)),
+    (r#"int pr; vector uv; xyzdist(0, "", {0.5, 0.5, -1}, pr, uv); i@r = pr;"#, "r", I(0)),
+    // "&prim ... -1 if no primitive was found": none in the group, or none
+    // within maxdist of it.
+    (r#"int pr = 7; vector uv; xyzdist(0, "nosuchgroup", {0.5, 0.5, -1}, pr, uv); i@r = pr;"#, "r", I(-1)),
+    (r#"int pr = 7; vector uv; xyzdist(0, "second", {0.5, 0.5, -1}, pr, uv, 1); i@r = pr;"#, "r", I(-1)),
+    // Each group its own surface within one run.
+    (r#"int a, b; vector uv; xyzdist(0, "0", {2, 1.5, 1}, a, uv); xyzdist(0, "second", {0.5, 0.5, -1}, b, uv); i@r = a * 10 + b;"#, "r", I(1)),
+    // intersect: "Computes the intersection of the specified ray with
+    // primitives in the given group"; "group: If given, only intersect
+    // primitives in this group." (0.5, 0.5) is inside primitive 0 only.
+    (r#"vector p, uvw; i@r = intersect(0, "second", {0.5, 0.5, 1}, {0, 0, -5}, p, uvw);"#, "r", I(-1)),
+    (r#"vector p, uvw; i@r = intersect(0, "0", {0.5, 0.5, 1}, {0, 0, -5}, p, uvw);"#, "r", I(0)),
+    (r#"vector p, uvw; i@r = intersect(0, "second", {2, 1.5, 1}, {0, 0, -5}, p, uvw);"#, "r", I(1)),
+    (r#"vector p, uvw; intersect(0, "second", {2, 1.5, 1}, {0, 0, -5}, p, uvw); v@r = uvw;"#, "r", V(&[0.375, 0.1875, 0.0])),
+    (r#"vector p, uvw; intersect(0, "second", {2, 1.5, 1}, {0, 0, -5}, p, uvw); v@r = p;"#, "r", V(&[2.0, 1.5, 0.0])),
+    (r#"vector p, uvw; i@r = intersect(0, "0", {2, 1.5, 1}, {0, 0, -5}, p, uvw);"#, "r", I(-1)),
+    // "int intersect(<geometry>geometry, vector orig, vector dir, vector &p,
+    // float &u, float &v)": the parametric location as two floats.
+    (r#"vector p; float u, v; i@r = intersect(0, {2, 1.5, 1}, {0, 0, -5}, p, u, v);"#, "r", I(1)),
+    (r#"vector p; float u, v; intersect(0, {2, 1.5, 1}, {0, 0, -5}, p, u, v); u@r = set(u, v);"#, "r", V(&[0.375, 0.1875])),
+    (r#"vector p; float u, v; intersect(0, {2, 1.5, 1}, {0, 0, -5}, p, u, v); v@r = p;"#, "r", V(&[2.0, 1.5, 0.0])),
+    (r#"vector p; float u = 3, v = 3; i@r = intersect(0, {5, 5, 1}, {0, 0, -5}, p, u, v);"#, "r", I(-1)),
     // Writes.
     (r#"setprimattrib(0, "w", 1, 2.5); ||| f@r = prim(0, "w", 1);"#, "r", F(2.5)),
     (r#"setvertexattrib(0, "c", 1, 2, 9.0); ||| f@r = vertex(0, "c", 5);"#, "r", F(9.0)),
     (r#"setprimgroup(0, "pg", 1, 1); ||| i@r = inprimgroup(0, "pg", 1) * 10 + inprimgroup(0, "pg", 0);"#, "r", I(10)),
+    // addvertex on the input's primitive 0: primitive 1's vertices move
+    // along (its first is now linear vertex 4).
+    (r#"addvertex(0, 0, 3); ||| int p[] = primpoints(0, 0); i@r = len(p) * 10000 + p[0] * 1000 + p[1] * 100 + p[2] * 10 + p[3];"#, "r", I(40123)),
+    (r#"addvertex(0, 0, 3); ||| i@r = primvertex(0, 1, 0) * 10 + vertexpoint(0, 4);"#, "r", I(41)),
+    // With a new point and a new primitive in the same run: the new
+    // primitive (0, 1, 4) comes after the input's (4 + 3 vertices).
+    (r#"int p = addpoint(0, {5, 5, 0}); addprim(0, "poly", 0, 1, p); addvertex(0, 0, p); ||| i@r = primpoint(0, 0, 3) * 100 + primvertex(0, 2, 0) * 10 + primpoint(0, 2, 2);"#, "r", I(474)),
     // removeprim(..., 1): points no other primitive uses go too (p0 here).
     (r#"removeprim(0, 0, 1); ||| i@r = nprimitives(0) * 10 + npoints(0);"#, "r", I(13)),
     (r#"removeprim(0, 0, 0); ||| i@r = nprimitives(0) * 10 + npoints(0);"#, "r", I(14)),
@@ -697,6 +761,11 @@ const EDGE_PROGRAMS: &[(Geo, &str)] = &[
     (Geo::Points, r#"f@r = xyzdist(0, {0, 0, 0});"#),
     (Geo::Points, r#"vector p, uvw; i@r = intersect(0, {0, 0, 0}, {1, 0, 0}, p, uvw);"#),
     (Geo::Points, r#"f@r = primuv(0, "P", 0, {0.5, 0.5, 0}).x;"#),
+    (Geo::Tris, r#"vector p; float u, v; i@r = intersect(0, {1, 1, 1}, {0, 0, -2}, p, u, v, 3, 1);"#),
+    (Geo::Tris, r#"vector p; float u, v; i@r = intersect(0, {1, 1, 1}, {0, 0, -2}, p, u, v, "farthest", 1, "farthest");"#),
+    (Geo::Tris, r#"vector p; float u, v; i@r = intersect(0, {1, 1, 1}, {0, 0, 0}, p, u, v, "farthest", 1);"#),
+    (Geo::Tris, r#"vector p, uvw; i@r = intersect(0, "^*", {1, 1, 1}, {0, 0, -2}, p, uvw);"#),
+    (Geo::Tris, r#"int pr; vector uv; f@r = xyzdist(0, "0-99999 ^1", {1, 1, 1}, pr, uv, -1) + xyzdist(0, "!*", {1, 1, 1});"#),
     (Geo::Points, r#"int h = pcopen(0, "P", {0, 0, 0}, -1, -1); i@r = pcnumfound(h);"#),
     (Geo::Points, r#"int h = pcopen(0, "P", {0, 0, 0}, 10, 0); vector v = pcfilter(h, "P"); f@r = v.x;"#),
     (Geo::Points, r#"vector v = pcfilter(5, "P"); i@r = pciterate(99) + pcnumfound(-1);"#),

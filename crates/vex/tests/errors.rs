@@ -140,3 +140,36 @@ fn transposed_letters_still_suggest_the_function() {
     );
     assert!(msg("f@f = fti(1, 0, 1, 2, 3);").contains("did you mean 'fit'?"));
 }
+
+/// Where every form of a call writes an argument, it needs a variable
+/// there; where only some forms do, the others are tried and the message
+/// lists every form.
+#[test]
+fn outputs_need_a_variable_where_the_forms_write_them() {
+    assert_eq!(
+        msg("vector p; int n = intersect(0, @P, {0, 0, -1}, p, {1, 1, 1});"),
+        "line 1, column 51: 'intersect' writes argument 5: it needs a variable, attribute, component or array element there"
+    );
+    let e = msg("vector uv; float d = xyzdist(0, @P, 3, uv);");
+    assert!(
+        e.starts_with("line 1, column 22: 'xyzdist' takes no (int, vector, int, vector); its forms: float xyzdist(int geo, vector pos"),
+        "{e}"
+    );
+}
+
+#[test]
+fn unknown_options_are_named() {
+    let run = |src: &str| {
+        wrangle_with(src, geode_geo::AttribClass::Detail, &four_points(), &[]).unwrap_err()
+    };
+    assert_eq!(
+        run(r#"vector p; float u, v; i@n = intersect(0, {0, 0, 1}, {0, 0, -2}, p, u, v, "nearest", 1);"#),
+        "element 0 (line 1, column 29): intersect: unknown option \"nearest\": expected \"farthest\""
+    );
+    assert_eq!(
+        run(
+            r#"vector p; float u, v; i@n = intersect(0, {0, 0, 1}, {0, 0, -2}, p, u, v, "farthest");"#
+        ),
+        "element 0 (line 1, column 29): intersect: option \"farthest\" has no value after it"
+    );
+}

@@ -123,6 +123,60 @@ fn addprim_then_addvertex_builds_a_polygon() {
     assert_eq!(copy.positions()[4].to_array(), [9.0, 9.0, 9.0]);
 }
 
+/// addvertex on the input's primitives from every element: each gets its
+/// vertices in element order, then call order, on any thread count.
+#[test]
+fn addvertex_on_input_primitives_applies_in_element_order() {
+    let grid = primitives::grid(Vec2::splat(4.0), 30, 30);
+    let src =
+        "int pr = @ptnum % 7; addvertex(0, pr, @ptnum); if (@ptnum % 2 == 0) addvertex(0, pr, 0);";
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| wrangle(src, AttribClass::Point, &grid))
+    };
+    let out = run_on(1);
+    for prim in 0..7 {
+        let mut want: Vec<u32> = grid.prim_points(prim).to_vec();
+        for p in (prim as u32..grid.num_points() as u32).step_by(7) {
+            want.push(p);
+            if p % 2 == 0 {
+                want.push(0);
+            }
+        }
+        assert_eq!(out.prim_points(prim), &want[..], "primitive {prim}");
+    }
+    assert_eq!(out.prim_points(7), grid.prim_points(7));
+    for threads in [2, 8] {
+        assert_eq!(run_on(threads), out, "{threads} threads");
+    }
+}
+
+/// A packed primitive takes no vertex: the element that asks is named.
+#[test]
+fn addvertex_on_a_packed_primitive_is_refused() {
+    let mut g = four_points();
+    g.add_packed(
+        0,
+        std::sync::Arc::new(four_points()),
+        geode_geo::glam::Mat4::IDENTITY,
+    )
+    .unwrap();
+    let e = wrangle_with(
+        "if (@ptnum == 2) addvertex(0, 0, 1);",
+        AttribClass::Point,
+        &g,
+        &[],
+    )
+    .unwrap_err();
+    assert_eq!(
+        e,
+        "element 2 (line 1, column 18): addvertex: primitive 0 is a packed primitive: only polygons and polylines take vertices"
+    );
+}
+
 #[test]
 fn removals_apply_after_the_run() {
     let out = wrangle(
@@ -442,5 +496,143 @@ fn matrix3_vector_and_string_array_attributes_round_trip() {
             .as_f32()
             .unwrap(),
         &[3.0, 6.0, 9.0, 12.0]
+    );
+}
+
+/// Appends from many batches, interleaved over two attributes, with a
+/// `set` and an `add` among them.
+const APPENDS: &str = r#"
+setdetailattrib(0, "ids", array(@ptnum * 10), "append");
+setdetailattrib(0, "names", array(itoa(@ptnum)), "append");
+if (@ptnum == 300) setdetailattrib(0, "ids", array(-1));
+setdetailattrib(0, "ids", @ptnum * 10 + 1, "add");
+setdetailattrib(0, "s", sprintf("%d,", @ptnum), "append");
+setpointattrib(0, "trail", @ptnum % 3, array(@P), "append");
+"#;
+
+/// What `APPENDS` makes over `n` points at x = 0, 1, 2...: each element's
+/// writes in call order, elements in order.
+fn appends_by_hand(n: i32) -> (Vec<i32>, Vec<String>, String, Vec<Vec<f32>>) {
+    let (mut ids, mut names, mut s, mut trail) =
+        (Vec::new(), Vec::new(), String::new(), vec![Vec::new(); 3]);
+    for p in 0..n {
+        ids.push(p * 10);
+        names.push(p.to_string());
+        if p == 300 {
+            ids = vec![-1];
+        }
+        ids.push(p * 10 + 1);
+        s.push_str(&format!("{p},"));
+        trail[(p % 3) as usize].push(p as f32);
+    }
+    (ids, names, s, trail)
+}
+
+fn points_in_a_row(n: usize) -> Geometry {
+    let mut g = Geometry::new();
+    let p: Vec<geode_geo::glam::Vec3> = (0..n)
+        .map(|i| geode_geo::glam::Vec3::new(i as f32, 0.0, 0.0))
+        .collect();
+    g.add_points(&p);
+    g
+}
+
+#[test]
+fn appends_to_one_element_keep_element_then_call_order() {
+    let n = 700; // three batches
+    let out = wrangle(APPENDS, AttribClass::Point, &points_in_a_row(n));
+    let (ids, names, s, trail) = appends_by_hand(n as i32);
+    let detail = |name: &str| {
+        out.attrib(AttribClass::Detail, name)
+            .unwrap()
+            .data()
+            .clone()
+    };
+    assert_eq!(detail("ids"), geode_geo::AttribData::IntArray(vec![ids]));
+    assert_eq!(
+        detail("names"),
+        geode_geo::AttribData::StringArray(vec![names])
+    );
+    assert_eq!(ds(&out, "s"), s);
+    match out.attrib(AttribClass::Point, "trail").unwrap().data() {
+        geode_geo::AttribData::Vec3Array(v) => {
+            for (k, want) in trail.iter().enumerate() {
+                let xs: Vec<f32> = v[k].iter().map(|p| p.x).collect();
+                assert_eq!(&xs, want, "point {k}");
+            }
+            assert!(v[3..].iter().all(Vec::is_empty));
+        }
+        other => panic!("{:?}", other.attrib_type()),
+    }
+}
+
+#[test]
+fn appends_give_the_same_bytes_on_any_thread_count() {
+    let g = points_in_a_row(2000);
+    let run_on = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| wrangle(APPENDS, AttribClass::Point, &g))
+    };
+    let one = run_on(1);
+    for threads in [2, 3, 8] {
+        assert_eq!(run_on(threads), one, "{threads} threads");
+        assert_eq!(run_on(threads).content_hash(), one.content_hash());
+    }
+}
+
+/// A vector appended to a float array gives its floats, an int one float;
+/// a vector array keeps whole vectors.
+#[test]
+fn appends_convert_to_the_columns_type() {
+    let out = wrangle(
+        r#"f[]@fa = array(); v[]@va = array();
+setdetailattrib(0, "fa", {1, 2, 3}, "append");
+setdetailattrib(0, "fa", 4, "append");
+setdetailattrib(0, "va", {6, 7, 8}, "append");
+setdetailattrib(0, "va", set(9, 10), "append");"#,
+        AttribClass::Detail,
+        &four_points(),
+    );
+    let detail = |name: &str| {
+        out.attrib(AttribClass::Detail, name)
+            .unwrap()
+            .data()
+            .clone()
+    };
+    assert_eq!(
+        detail("fa"),
+        geode_geo::AttribData::FloatArray(vec![vec![1.0, 2.0, 3.0, 4.0]])
+    );
+    assert_eq!(
+        detail("va"),
+        geode_geo::AttribData::Vec3Array(vec![vec![geode_geo::glam::Vec3::new(6.0, 7.0, 8.0)]])
+    );
+}
+
+/// n elements appending to one detail array cost O(n): 16 times the
+/// elements take about 16 times as long, not 256 (generous bounds: the
+/// machine may be shared).
+#[test]
+fn appending_to_one_array_is_linear_in_the_appends() {
+    let src = r#"setdetailattrib(0, "ids", array(@ptnum), "append");"#;
+    let time = |n: usize| {
+        let g = points_in_a_row(n);
+        let t = std::time::Instant::now();
+        let out = wrangle(src, AttribClass::Point, &g);
+        let took = t.elapsed();
+        match out.attrib(AttribClass::Detail, "ids").unwrap().data() {
+            geode_geo::AttribData::IntArray(v) => assert_eq!(v[0].len(), n),
+            other => panic!("{:?}", other.attrib_type()),
+        }
+        took
+    };
+    let small = (0..3).map(|_| time(25_000)).min().unwrap();
+    let large = time(400_000);
+    assert!(
+        large < small * 64,
+        "400k appends took {large:?}, 25k {small:?}"
     );
 }

@@ -204,3 +204,36 @@ fn a_binding_passed_by_reference_is_written() {
     let e = compile_error("void bump(int x) { x++; } bump(@ptnum);");
     assert!(e.to_string().contains("@ptnum is read-only"), "{e}");
 }
+
+/// xyzdist's group form reads its third argument (the position); the
+/// plain form writes it ("&prim: ... overwrites this variable with the
+/// primitive number of the closest primitive"): a binding there is
+/// written, or created, only by the form that writes it.
+#[test]
+fn a_binding_is_written_only_by_the_form_that_writes_it() {
+    let g = two_triangles();
+    // v@q does not exist: it reads as zero, whose closest point on
+    // primitive 1 (x + y >= 2) is (1, 1, 0).
+    let read = wrangle(
+        r#"f@d = xyzdist(0, "second", v@q);"#,
+        AttribClass::Point,
+        &g,
+    );
+    assert!(read.attrib(AttribClass::Point, "q").is_none());
+    let d = read
+        .attrib(AttribClass::Point, "d")
+        .unwrap()
+        .as_f32()
+        .unwrap();
+    assert!(
+        d.iter()
+            .all(|x| (x - std::f32::consts::SQRT_2).abs() < 1e-6),
+        "{d:?}"
+    );
+    let written = wrangle(
+        "vector uv; f@d = xyzdist(0, {2, 1.5, 1}, i@pr, uv);",
+        AttribClass::Point,
+        &g,
+    );
+    assert_eq!(ints(&written, AttribClass::Point, "pr"), vec![1; 4]);
+}

@@ -1,6 +1,7 @@
-//! Structural edits: delete points or primitives, drop unused points, reverse winding.
+//! Structural edits: delete points or primitives, drop unused points, reverse winding, add vertices to existing primitives.
 
-use crate::geometry::{Geometry, PrimKind};
+use crate::error::GeoError;
+use crate::geometry::{checked_u32, Geometry, PrimKind};
 use crate::group::Group;
 
 /// Keeps the primitives whose flag is true; everything stays consistent
@@ -148,6 +149,84 @@ fn keep_points_where(g: &mut Geometry, keep: &[bool]) {
     g.invalidate_topology();
 }
 
+/// Appends vertices to existing polygons and polylines, as VEX's
+/// `addvertex` on a primitive that exists: each `(prim, point)` of `added`
+/// adds a vertex on `point` after `prim`'s last, in the order given.
+/// Existing vertices keep their attribute values; new ones take each
+/// attribute's default. Vertices after the first primitive that grows are
+/// renumbered. Nothing changes on an error (a primitive or point that does
+/// not exist, a packed primitive or patch).
+pub fn append_vertices(g: &mut Geometry, added: &[(u32, u32)]) -> Result<(), GeoError> {
+    if added.is_empty() {
+        return Ok(());
+    }
+    check_appended(g, added)?;
+    // The added points by primitive, in the order given (a counting sort).
+    let n = g.num_prims();
+    let mut starts = vec![0usize; n + 1];
+    for &(prim, _) in added {
+        starts[prim as usize + 1] += 1;
+    }
+    for k in 0..n {
+        starts[k + 1] += starts[k];
+    }
+    let mut next = starts.clone();
+    let mut by_prim = vec![0u32; added.len()];
+    for &(prim, point) in added {
+        by_prim[next[prim as usize]] = point;
+        next[prim as usize] += 1;
+    }
+    // The new vertex lists, and the old vertex each new vertex copies: the
+    // slot past the old vertices (a default) for the added ones.
+    let old = g.num_vertices();
+    checked_u32(old + added.len(), "vertex count")?;
+    let mut source = Vec::with_capacity(old + added.len());
+    let mut points = Vec::with_capacity(old + added.len());
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    for (prim, more) in starts.windows(2).enumerate() {
+        for v in g.prim_vertex_range(prim) {
+            source.push(v as u32);
+            points.push(g.vertex_point[v]);
+        }
+        source.extend(std::iter::repeat_n(old as u32, more[1] - more[0]));
+        points.extend_from_slice(&by_prim[more[0]..more[1]]);
+        offsets.push(points.len() as u32);
+    }
+    let mut vertices = g.vertices.clone();
+    vertices.resize(old + 1);
+    g.vertices = vertices.gather(&source);
+    g.vertex_point = points.into();
+    g.prim_offsets = offsets.into();
+    g.invalidate_topology();
+    Ok(())
+}
+
+/// Every `(prim, point)` names a polygon or polyline and a point there are.
+fn check_appended(g: &Geometry, added: &[(u32, u32)]) -> Result<(), GeoError> {
+    for &(prim, point) in added {
+        if point as usize >= g.num_points() {
+            return Err(GeoError::PointOutOfRange {
+                index: point,
+                count: g.num_points(),
+            });
+        }
+        let Some(kind) = g.prim_kinds.get(prim as usize) else {
+            return Err(GeoError::Invalid(format!(
+                "primitive {prim} does not exist (geometry has {} primitives)",
+                g.num_prims()
+            )));
+        };
+        if !matches!(kind, PrimKind::Polygon | PrimKind::Polyline) {
+            return Err(GeoError::Invalid(format!(
+                "primitive {prim} is a {} primitive: only polygons and polylines take added vertices",
+                kind.name()
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Reverses the vertex order of polygons and polylines (all, or those in
 /// `group`), keeping the first vertex first as Houdini does.
 pub fn reverse_prims(g: &mut Geometry, group: Option<&Group>) {
@@ -167,4 +246,58 @@ pub fn reverse_prims(g: &mut Geometry, group: Option<&Group>) {
     g.vertex_point = order.iter().map(|&v| g.vertex_point[v as usize]).collect();
     g.vertices = g.vertices.gather(&order);
     g.invalidate_topology();
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attrib::{AttribClass, AttribData, Attribute, TypeInfo};
+
+    /// A triangle (0, 1, 2) and a polyline (2, 3), vertex attribute `w`
+    /// 1..5.
+    fn tri_and_line() -> Geometry {
+        let p = |x: f32| glam::Vec3::new(x, 0.0, 0.0);
+        let mut g = Geometry::from_prims(
+            vec![p(0.0), p(1.0), p(2.0), p(3.0), p(4.0)],
+            vec![0, 1, 2, 2, 3],
+            &[3, 2],
+            vec![PrimKind::Polygon, PrimKind::Polyline],
+        )
+        .unwrap();
+        let w = AttribData::Float(vec![1.0, 2.0, 3.0, 4.0, 5.0]);
+        g.set_attrib(
+            AttribClass::Vertex,
+            "w",
+            Attribute::from_data(w, TypeInfo::None),
+        )
+        .unwrap();
+        g
+    }
+
+    #[test]
+    fn appended_vertices_follow_each_primitives_own_in_the_order_given() {
+        let mut g = tri_and_line();
+        assert_eq!(g.topology().point_prims(3), &[1]);
+        append_vertices(&mut g, &[(1, 4), (0, 3), (1, 0)]).unwrap();
+        assert_eq!(g.prim_points(0), &[0, 1, 2, 3]);
+        assert_eq!(g.prim_points(1), &[2, 3, 4, 0]);
+        let w = g
+            .attrib(AttribClass::Vertex, "w")
+            .unwrap()
+            .as_f32()
+            .unwrap();
+        assert_eq!(w, &[1.0, 2.0, 3.0, 0.0, 4.0, 5.0, 0.0, 0.0]);
+        // The cached topology was dropped with the old connectivity.
+        assert_eq!(g.topology().point_prims(3), &[0, 1]);
+    }
+
+    #[test]
+    fn nothing_changes_on_a_bad_primitive_or_point() {
+        let g = tri_and_line();
+        for bad in [[(0, 1), (2, 0)], [(0, 1), (0, 9)]] {
+            let mut h = g.clone();
+            assert!(append_vertices(&mut h, &bad).is_err());
+            assert_eq!(h, g);
+        }
+    }
 }

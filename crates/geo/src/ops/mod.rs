@@ -22,7 +22,9 @@ pub use bounds::{bounds, signed_volume, surface_area, Aabb};
 pub use closest::{closest_on_triangle, Closest};
 pub use cluster::{cluster_triangles, fan_triangle_count};
 pub use collapse::reduce_triangles;
-pub use edit::{compact_points, delete_points, delete_prims, remove_points, reverse_prims};
+pub use edit::{
+    append_vertices, compact_points, delete_points, delete_prims, remove_points, reverse_prims,
+};
 pub use fuse::{fuse_points, FuseStats};
 pub use instance::{
     instance_transforms, point_float3, point_float4, point_scalar, unit_quat, InstanceAttribs,

@@ -3,7 +3,7 @@
 //! and group membership. Each queues an effect that applies after every
 //! element ran, in element order.
 
-use geode_geo::AttribClass;
+use geode_geo::{AttribClass, PrimKind};
 
 use super::{a, form, lane, Category, Function, Ret, I, IA, S, T, V};
 use crate::effect::{EffectKind, Mode, Points, SetAttr};
@@ -39,7 +39,7 @@ pub const FUNCTIONS: &[Function] = &[
         form(INT, &[a(I, "geo"), a(S, "type"), a(I, "pt")], addprim).opt(1).many(),
         form(INT, &[a(I, "geo"), a(S, "type"), a(IA, "points")], addprim),
     ]),
-    lane("addvertex", C, "Appends a vertex on a point to a primitive.", &[
+    lane("addvertex", C, "Appends a vertex on a point to a primitive: a new one, or a polygon or polyline of the input (after the new primitives are added; its new vertex's attributes start at their defaults).", &[
         form(INT, &[a(I, "geo"), a(I, "primnum"), a(I, "ptnum")], addvertex),
     ]),
     lane("removepoint", C, "Removes a point and its vertices; primitives left degenerate are removed (unless and_prims is 0).", &[
@@ -180,7 +180,20 @@ fn addprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::I(handle))
 }
 
+/// `addvertex(geo, prim, point)`: a primitive made by the wrangle, or one
+/// of the input's polygons and polylines (which take the vertex after
+/// the new primitives are added).
 fn addvertex(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let prim = a[1].i();
+    let kind = usize::try_from(prim)
+        .ok()
+        .and_then(|p| l.host.input(0)?.prim_kinds().get(p).copied());
+    if let Some(kind) = kind.filter(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline)) {
+        return Err(Stop::Msg(format!(
+            "addvertex: primitive {prim} is a {} primitive: only polygons and polylines take vertices",
+            kind.name()
+        )));
+    }
     queue(
         l,
         EffectKind::AddVertex {

@@ -9,7 +9,8 @@
 //! around its vertices' average where each edge spans `1/n` of u and v
 //! runs from the centre (0) to the boundary (1); a polyline has u uniform
 //! per segment. The surface searched is triangles in a hierarchy built
-//! once per input (quads split on 0-2, polylines as segments); a
+//! once per input and primitive group pattern (quads split on 0-2,
+//! polylines as segments); a
 //! non-planar quad answers on those triangles, its (u, v) fitted on the
 //! patch.
 
@@ -20,7 +21,7 @@ use geode_geo::glam::Vec3;
 use geode_geo::ops::TriangleBvh;
 use geode_geo::{AttribClass, Geometry, PrimKind};
 
-use super::{a, form, lane, out, Category, Function, Ret, F, I, S, V};
+use super::{a, form, lane, out, Category, Function, Ret, F, I, S, T, V};
 use crate::program::{Lane, Stop};
 use crate::ty::{Elem, Ty};
 use crate::value::read_attrib;
@@ -59,8 +60,9 @@ pub const FUNCTIONS: &[Function] = &[
     lane("detailintrinsic", C, "A detail intrinsic: pointcount, primitivecount, vertexcount, bounds.", &[
         form(Ret::Intrinsic, &[a(I, "geo"), a(S, "intrinsic")], detailintrinsic),
     ]),
-    lane("xyzdist", C, "The distance from pos to the closest point of input geo's surface (within maxdist); its primitive and parametric uv into prim and uv (-1 if none).", &[
+    lane("xyzdist", C, "The distance from pos to the closest point of input geo's surface (of the primitives a group pattern names, when given; within maxdist); its primitive and parametric uv into prim and uv (-1 if none).", &[
         form(Ret::Is(Ty::Float), &[a(I, "geo"), a(V, "pos"), out(I, "prim"), out(V, "uv"), a(F, "maxdist")], xyzdist).opt(3),
+        form(Ret::Is(Ty::Float), &[a(I, "geo"), a(S, "primgroup"), a(V, "pos"), out(I, "prim"), out(V, "uv"), a(F, "maxdist")], xyzdist).opt(3),
     ]),
     lane("primuv", C, "An attribute's value at a primitive's parametric uv, interpolated from its vertices or points.", &[
         form(Ret::Attrib(AttribClass::Point), &[a(I, "geo"), a(S, "attrib"), a(I, "primnum"), a(V, "uv")], primuv),
@@ -68,8 +70,10 @@ pub const FUNCTIONS: &[Function] = &[
     lane("prim_normal", C, "The normal of a polygon (its area-weighted Newell normal).", &[
         form(VEC, &[a(I, "geo"), a(I, "primnum"), a(V, "uv")], prim_normal).opt(1),
     ]),
-    lane("intersect", C, "The first primitive the ray from orig along dir (its length the reach) hits; the hit position and parametric uv into pos and uvw (-1 if none).", &[
+    lane("intersect", C, "The first primitive (of a group pattern's, when given) the ray from orig along dir (its length the reach) hits; the hit position and parametric uv into pos and uvw, or u and v (-1 if none). Options: \"farthest\", 1 takes the last hit.", &[
         form(Ret::Is(Ty::Int), &[a(I, "geo"), a(V, "orig"), a(V, "dir"), out(V, "pos"), out(V, "uvw")], intersect),
+        form(Ret::Is(Ty::Int), &[a(I, "geo"), a(S, "group"), a(V, "orig"), a(V, "dir"), out(V, "pos"), out(V, "uvw")], intersect),
+        form(Ret::Is(Ty::Int), &[a(I, "geo"), a(V, "orig"), a(V, "dir"), out(V, "pos"), out(F, "u"), out(F, "v"), a(T::Any, "option")], intersect_uv).opt(1).many(),
     ]),
 ];
 
@@ -274,11 +278,34 @@ struct Surface {
     owner: Vec<(u32, Piece)>,
 }
 
-fn surface_of(g: &Geometry) -> Arc<dyn Any + Send + Sync> {
+/// The surface of the primitives a group pattern names (every primitive
+/// for an empty one, as SOP groups read it), in primitive order so ties
+/// go to the lower primitive as over the whole input.
+fn surface_of(g: &Geometry, group: &str) -> Arc<dyn Any + Send + Sync> {
+    let prims: Vec<usize> = if group.trim().is_empty() {
+        (0..g.num_prims()).collect()
+    } else {
+        let mut members = crate::pattern::expand(g, AttribClass::Primitive, group);
+        members.sort_unstable();
+        members
+    };
+    let (positions, tris, owner) = pieces(g, &prims);
+    Arc::new(Surface {
+        bvh: TriangleBvh::new(&positions, &tris),
+        owner,
+    })
+}
+
+/// Primitives as triangles: the positions they use (the input's and each
+/// n-gon's centre), the triangles, and what each is part of.
+type Pieces = (Vec<Vec3>, Vec<[u32; 3]>, Vec<(u32, Piece)>);
+
+/// The primitives' pieces (see `Pieces`).
+fn pieces(g: &Geometry, prims: &[usize]) -> Pieces {
     let mut positions: Vec<Vec3> = g.positions().to_vec();
     let mut tris: Vec<[u32; 3]> = Vec::new();
     let mut owner = Vec::new();
-    for prim in 0..g.num_prims() {
+    for &prim in prims {
         let pts = g.prim_points(prim);
         let p = prim as u32;
         match (g.prim_kind(prim), pts.len()) {
@@ -322,16 +349,24 @@ fn surface_of(g: &Geometry) -> Arc<dyn Any + Send + Sync> {
             _ => {}
         }
     }
-    Arc::new(Surface {
-        bvh: TriangleBvh::new(&positions, &tris),
-        owner,
-    })
+    (positions, tris, owner)
 }
 
-fn surface(l: &Lane, geo: i32) -> Option<Arc<Surface>> {
+/// Input `geo`'s surface over the primitives of `group` (all for ""),
+/// built once per run and group.
+fn surface(l: &Lane, geo: i32, group: &str) -> Option<Arc<Surface>> {
     l.host
-        .cached(geo, "surface", &surface_of)
+        .cached(geo, "surface", group, &|g| surface_of(g, group))
         .and_then(|s| s.downcast::<Surface>().ok())
+}
+
+/// The primitive group pattern of a call's group form (its second
+/// argument a string) and where the arguments after it start.
+fn group_arg(a: &[Val]) -> (String, usize) {
+    match a.get(1) {
+        Some(Val::S(group)) => (group.clone(), 2),
+        _ => (String::new(), 1),
+    }
 }
 
 /// The bilinear patch's point at (u, v).
@@ -385,26 +420,28 @@ fn prim_uv(g: &Geometry, prim: u32, piece: Piece, point: Vec3, b1: f32, b2: f32)
 }
 
 fn xyzdist(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let max = a.get(4).map_or(f32::INFINITY, |m| {
+    // (geo, [group,] pos, &prim, &uv, maxdist)
+    let (group, at) = group_arg(a);
+    let max = a.get(at + 3).map_or(f32::INFINITY, |m| {
         if m.f() < 0.0 {
             f32::INFINITY
         } else {
             m.f()
         }
     });
-    let q = Vec3::from_array(a[1].v3());
-    let (Some(g), Some(s)) = (l.host.input(a[0].i()), surface(l, a[0].i())) else {
-        set_out(a, 2, Val::I(-1));
+    let q = Vec3::from_array(a[at].v3());
+    let (Some(g), Some(s)) = (l.host.input(a[0].i()), surface(l, a[0].i(), &group)) else {
+        set_out(a, at + 1, Val::I(-1));
         return Ok(Val::float(-1.0));
     };
     let Some(hit) = s.bvh.closest(q, max) else {
-        set_out(a, 2, Val::I(-1));
+        set_out(a, at + 1, Val::I(-1));
         return Ok(Val::float(-1.0));
     };
     let (prim, piece) = s.owner[hit.triangle as usize];
     let (u, v) = prim_uv(g, prim, piece, hit.point, hit.u, hit.v);
-    set_out(a, 2, Val::I(prim as i32));
-    set_out(a, 3, Val::vec(&[u, v, 0.0]));
+    set_out(a, at + 1, Val::I(prim as i32));
+    set_out(a, at + 2, Val::vec(&[u, v, 0.0]));
     Ok(Val::float(hit.dist2.sqrt()))
 }
 
@@ -518,23 +555,95 @@ fn prim_normal(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::vec(&n.to_array()))
 }
 
-fn intersect(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let (origin, dir) = (Vec3::from_array(a[1].v3()), Vec3::from_array(a[2].v3()));
-    let miss = |a: &mut [Val]| {
-        a[3] = Val::vec(&[0.0; 3]);
-        a[4] = Val::vec(&[0.0; 3]);
-        Ok(Val::I(-1))
+/// Where a ray hits: the primitive, the point and its parametric (u, v).
+struct Hit {
+    prim: u32,
+    point: Vec3,
+    u: f32,
+    v: f32,
+}
+
+/// The first (or, `farthest`, the last) hit of the ray `orig + t dir`,
+/// t in (0, 1], on input `geo`'s primitives of `group`.
+fn ray_hit(l: &Lane, geo: i32, group: &str, orig: Vec3, dir: Vec3, farthest: bool) -> Option<Hit> {
+    let (g, s) = (l.host.input(geo)?, surface(l, geo, group)?);
+    let (hit, point) = if farthest {
+        // The last hit is the first of the ray run backwards from the
+        // end: t' = 1 - t in [0, 1).
+        let end = orig + dir;
+        let below_one = f32::from_bits(1.0f32.to_bits() - 1);
+        let hit = s
+            .bvh
+            .first_hit(end, -dir, -f32::MIN_POSITIVE, below_one, |_| false)?;
+        (hit, end - dir * hit.t)
+    } else {
+        let hit = s.bvh.first_hit(orig, dir, 0.0, 1.0, |_| false)?;
+        (hit, orig + dir * hit.t)
     };
-    let (Some(g), Some(s)) = (l.host.input(a[0].i()), surface(l, a[0].i())) else {
-        return miss(a);
-    };
-    let Some(hit) = s.bvh.first_hit(origin, dir, 0.0, 1.0, |_| false) else {
-        return miss(a);
-    };
-    let point = origin + dir * hit.t;
     let (prim, piece) = s.owner[hit.triangle as usize];
     let (u, v) = prim_uv(g, prim, piece, point, hit.u, hit.v);
+    Some(Hit { prim, point, u, v })
+}
+
+/// `intersect(geo, [group,] orig, dir, &pos, &uvw)`.
+fn intersect(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let (group, at) = group_arg(a);
+    let (orig, dir) = (
+        Vec3::from_array(a[at].v3()),
+        Vec3::from_array(a[at + 1].v3()),
+    );
+    let hit = ray_hit(l, a[0].i(), &group, orig, dir, false);
+    let (prim, point, uvw) = match hit {
+        Some(h) => (h.prim as i32, h.point, Vec3::new(h.u, h.v, 0.0)),
+        None => (-1, Vec3::ZERO, Vec3::ZERO),
+    };
+    a[at + 2] = Val::vec(&point.to_array());
+    a[at + 3] = Val::vec(&uvw.to_array());
+    Ok(Val::I(prim))
+}
+
+/// `intersect(geo, orig, dir, &pos, &u, &v, ["farthest", 1])`.
+fn intersect_uv(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let farthest = farthest_option(&a[6..])?;
+    let (orig, dir) = (Vec3::from_array(a[1].v3()), Vec3::from_array(a[2].v3()));
+    let hit = ray_hit(l, a[0].i(), "", orig, dir, farthest);
+    let (prim, point, u, v) = match hit {
+        Some(h) => (h.prim as i32, h.point, h.u, h.v),
+        None => (-1, Vec3::ZERO, 0.0, 0.0),
+    };
     a[3] = Val::vec(&point.to_array());
-    a[4] = Val::vec(&[u, v, 0.0]);
-    Ok(Val::I(prim as i32))
+    a[4] = Val::float(u);
+    a[5] = Val::float(v);
+    Ok(Val::I(prim))
+}
+
+/// The options after `intersect`'s u and v, as (name, value) pairs: only
+/// "farthest" is documented ("whether to return the last intersection
+/// instead of the first").
+fn farthest_option(options: &[Val]) -> Result<bool, Stop> {
+    let mut farthest = false;
+    for pair in options.chunks(2) {
+        let name = match &pair[0] {
+            Val::S(name) => name.as_str(),
+            _ => {
+                return Err(Stop::Msg(
+                    "intersect: an option is a name (\"farthest\") followed by its value".into(),
+                ))
+            }
+        };
+        let Some(value) = pair.get(1) else {
+            return Err(Stop::Msg(format!(
+                "intersect: option \"{name}\" has no value after it"
+            )));
+        };
+        match name {
+            "farthest" => farthest = value.i() != 0 || value.f() != 0.0,
+            other => {
+                return Err(Stop::Msg(format!(
+                    "intersect: unknown option \"{other}\": expected \"farthest\""
+                )))
+            }
+        }
+    }
+    Ok(farthest)
 }

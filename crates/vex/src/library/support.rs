@@ -253,6 +253,7 @@ impl crate::program::Host for NoHost {
         &self,
         _: i32,
         _: &'static str,
+        _: &str,
         _: &dyn Fn(&geode_geo::Geometry) -> std::sync::Arc<dyn std::any::Any + Send + Sync>,
     ) -> Option<std::sync::Arc<dyn std::any::Any + Send + Sync>> {
         None

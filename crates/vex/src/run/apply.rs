@@ -3,8 +3,15 @@
 //! result is the sequential one. New points are appended as they come; new
 //! primitives are built after (`addvertex` may still grow them); then
 //! attribute and group writes; removals last, since they renumber.
+//!
+//! An array or string that appends grow is kept out of its column until
+//! every write applied (`Growing`): put back after each append, the whole
+//! value would be copied out and in again, so n appends to one detail
+//! array would cost O(n^2).
 
-use geode_geo::{ops, AttribClass, AttribValue, Attribute, Geometry, Group, TypeInfo};
+use std::collections::HashMap;
+
+use geode_geo::{ops, AttribClass, AttribData, AttribValue, Attribute, Geometry, Group, TypeInfo};
 
 use super::build::Builder;
 use super::{elem_count, set_value};
@@ -56,6 +63,7 @@ pub fn apply(
     // Whether each attribute the run writes took ints (or floats) first.
     let mut written_as: std::collections::HashMap<(AttribClass, &str), bool> =
         std::collections::HashMap::new();
+    let mut growing = Growing::default();
     for (b, batch) in batches.iter().enumerate() {
         let point = |h: i32| -> Option<usize> {
             if h >= base_points {
@@ -104,13 +112,19 @@ pub fn apply(
                     // integer write so be ignored if floats were previously
                     // written" (setpointattrib): the run's first write to
                     // an attribute sets whether it takes ints or floats.
+                    // (Appends convert into the array, as their pages say.)
                     let int = matches!(value, Val::I(_));
-                    let numeric = int || matches!(value, Val::F(..));
-                    let first = *written_as.entry((*class, name.as_str())).or_insert(int);
-                    let mixed = numeric && first != int;
+                    let numeric = (int || matches!(value, Val::F(..))) && *mode != Mode::Append;
+                    let mixed =
+                        numeric && *written_as.entry((*class, name.as_str())).or_insert(int) != int;
                     // Writes to elements that do not exist are ignored, as in VEX.
                     if let Some(i) = idx.filter(|&i| i < count && !mixed) {
-                        set_attr(out, *class, name, i, value, *mode, e)?;
+                        let target = Target {
+                            class: *class,
+                            name,
+                            i,
+                        };
+                        set_attr(out, &mut growing, target, value, *mode, e)?;
                     }
                 }
                 EffectKind::SetGroup {
@@ -160,6 +174,7 @@ pub fn apply(
             }
         }
     }
+    growing.store(out);
     for ((points, name), g) in groups {
         let r = if points {
             out.set_point_group(&name, g)
@@ -239,35 +254,155 @@ fn value_type(v: &Val) -> Option<AttribValue> {
     })
 }
 
+/// The element an attribute write goes to.
+#[derive(Clone, Copy)]
+struct Target<'n> {
+    class: AttribClass,
+    name: &'n str,
+    i: usize,
+}
+
+/// Array and string values that `append` (or `add`) writes are growing,
+/// by attribute and element, stored into their columns once at the end:
+/// each append extends the value in place (amortised O(1) an element), and
+/// later writes to the element combine with it here. Stored in the order
+/// first grown, so the result is the same at any thread count.
+#[derive(Default)]
+struct Growing {
+    /// (class, attribute) and its growing elements' slots in `values`.
+    attribs: Vec<(AttribClass, String, HashMap<usize, usize>)>,
+    /// (attribute in `attribs`, element, value so far).
+    values: Vec<(usize, usize, Val)>,
+}
+
+impl Growing {
+    /// The value growing at `t`, if one is.
+    fn get_mut(&mut self, t: Target) -> Option<&mut Val> {
+        let (_, _, slots) = self
+            .attribs
+            .iter()
+            .find(|(c, n, _)| *c == t.class && n == t.name)?;
+        let k = *slots.get(&t.i)?;
+        Some(&mut self.values[k].2)
+    }
+
+    /// Starts growing `value` at `t`.
+    fn insert(&mut self, t: Target, value: Val) {
+        let a = match self
+            .attribs
+            .iter()
+            .position(|(c, n, _)| *c == t.class && n == t.name)
+        {
+            Some(a) => a,
+            None => {
+                self.attribs
+                    .push((t.class, t.name.to_string(), HashMap::new()));
+                self.attribs.len() - 1
+            }
+        };
+        self.attribs[a].2.insert(t.i, self.values.len());
+        self.values.push((a, t.i, value));
+    }
+
+    /// Stores every grown value into its column.
+    fn store(self, out: &mut Geometry) {
+        for (a, i, value) in self.values {
+            let (class, name, _) = &self.attribs[a];
+            if let Some(attr) = out.attribs_mut(*class).get_mut(name) {
+                set_value(attr, i, value);
+            }
+        }
+    }
+}
+
+/// Whether a column's elements are arrays or strings: values appends grow.
+fn grows(data: &AttribData) -> bool {
+    matches!(
+        data,
+        AttribData::String(_)
+            | AttribData::IntArray(_)
+            | AttribData::FloatArray(_)
+            | AttribData::Vec3Array(_)
+            | AttribData::StringArray(_)
+    )
+}
+
+/// Writes `value` to `t` (the attribute created from the value when
+/// missing), combined with what is there by `mode`.
 fn set_attr(
     out: &mut Geometry,
-    class: AttribClass,
-    name: &str,
-    i: usize,
+    growing: &mut Growing,
+    t: Target,
     value: &Val,
     mode: Mode,
     by: &Effect,
 ) -> Result<(), RunError> {
-    let len = elem_count(out, class);
-    let table = out.attribs_mut(class);
-    if table.get(name).is_none() {
+    if let Some(v) = growing.get_mut(t) {
+        combine_in_place(v, value, mode);
+        return Ok(());
+    }
+    let len = elem_count(out, t.class);
+    let table = out.attribs_mut(t.class);
+    if table.get(t.name).is_none() {
         let zero = value_type(value).ok_or_else(|| RunError::At {
             elem: by.elem,
             pos: by.pos,
-            msg: format!("cannot create attribute '{name}' from this value"),
+            msg: format!("cannot create attribute '{}' from this value", t.name),
         })?;
         table
-            .insert(name, Attribute::new(zero, TypeInfo::None, len))
+            .insert(t.name, Attribute::new(zero, TypeInfo::None, len))
             .map_err(|e| RunError::Geometry(e.to_string()))?;
     }
-    let attr = table.get_mut(name).expect("just made");
-    let old = crate::value::attrib_value(attr.data(), i);
-    let new = combine(&old, value, mode);
-    set_value(attr, i, new);
+    let attr = table.get_mut(t.name).expect("just made");
+    let mut old = crate::value::attrib_value(attr.data(), t.i);
+    if matches!(mode, Mode::Append | Mode::Add) && grows(attr.data()) {
+        combine_in_place(&mut old, value, mode);
+        growing.insert(t, old);
+        return Ok(());
+    }
+    set_value(attr, t.i, combine(&old, value, mode));
     Ok(())
 }
 
-/// `old (mode) value`, per component.
+/// `old = old (mode) v`: appends (and adds) extend an array or string in
+/// place, converting `v` to its elements; the rest as `combine`.
+fn combine_in_place(old: &mut Val, v: &Val, mode: Mode) {
+    if !matches!(mode, Mode::Append | Mode::Add) {
+        *old = combine(old, v, mode);
+        return;
+    }
+    match old {
+        Val::AI(a) => match v {
+            Val::AI(x) => a.extend_from_slice(x),
+            Val::AF(x, _) => a.extend(x.iter().map(|f| *f as i32)),
+            x => a.push(x.i()),
+        },
+        Val::AS(a) => match v {
+            Val::AS(x) => a.extend_from_slice(x),
+            x => a.push(x.s().to_string()),
+        },
+        Val::AF(a, w) => extend_floats(a, (*w).max(1) as usize, v),
+        Val::S(a) => a.push_str(v.s()),
+        _ => *old = combine(old, v, mode),
+    }
+}
+
+/// Appends `v` to a float array of `w` floats an element: arrays as they
+/// are, a number as a whole element of it (as `push` converts), a vector
+/// as its floats. The column keeps whole elements only (see `set_value`),
+/// so a partial one is dropped here as storing would drop it.
+fn extend_floats(a: &mut Vec<f32>, w: usize, v: &Val) {
+    match v {
+        Val::AF(x, _) => a.extend_from_slice(x),
+        Val::AI(x) => a.extend(x.iter().map(|i| *i as f32)),
+        Val::I(_) => a.extend(std::iter::repeat_n(v.f(), w)),
+        Val::F(_, 1) => a.extend(std::iter::repeat_n(v.f(), w)),
+        x => a.extend_from_slice(x.floats()),
+    }
+    a.truncate(a.len() - a.len() % w);
+}
+
+/// `old (mode) value`, per component; appends as `combine_in_place`.
 fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
     let op = |a: f32, b: f32| match mode {
         Mode::Add => a + b,
@@ -278,33 +413,11 @@ fn combine(old: &Val, v: &Val, mode: Mode) -> Val {
     };
     match (old, v, mode) {
         (_, _, Mode::Set) => v.clone(),
-        (Val::AI(a), b, Mode::Append | Mode::Add) => {
-            let mut a = a.clone();
-            match b {
-                Val::AI(x) => a.extend_from_slice(x),
-                Val::AF(x, _) => a.extend(x.iter().map(|f| *f as i32)),
-                x => a.push(x.i()),
-            }
-            Val::AI(a)
+        (Val::AI(_) | Val::AS(_) | Val::AF(..) | Val::S(_), _, Mode::Append | Mode::Add) => {
+            let mut grown = old.clone();
+            combine_in_place(&mut grown, v, mode);
+            grown
         }
-        (Val::AS(a), b, Mode::Append | Mode::Add) => {
-            let mut a = a.clone();
-            match b {
-                Val::AS(x) => a.extend_from_slice(x),
-                x => a.push(x.s().to_string()),
-            }
-            Val::AS(a)
-        }
-        (Val::AF(a, w), b, Mode::Append | Mode::Add) => {
-            let mut a = a.clone();
-            match b {
-                Val::AF(x, _) => a.extend_from_slice(x),
-                Val::AI(x) => a.extend(x.iter().map(|i| *i as f32)),
-                x => a.extend_from_slice(x.floats()),
-            }
-            Val::AF(a, *w)
-        }
-        (Val::S(a), b, Mode::Append | Mode::Add) => Val::S(format!("{a}{}", b.s())),
         (Val::I(a), b, _) => Val::I(op(*a as f32, b.f()) as i32),
         (Val::F(a, n), b, _) => {
             let f = b.floats();

@@ -4,6 +4,10 @@
 //! loop making a million of them costs one append per column, not one
 //! resize of every column per primitive.
 //!
+//! `addvertex` on a primitive of the input is kept apart and applied
+//! after the new primitives are added, in the same sequence (see
+//! `geode_geo::ops::append_vertices`).
+//!
 //! A batch numbers what it makes provisionally (past the input's points
 //! and primitives, counted within the batch); each batch's handles map to
 //! the final numbers. A one-lane run (a detail wrangle) makes them in
@@ -13,7 +17,7 @@
 use std::collections::HashMap;
 
 use geode_geo::glam::Vec3;
-use geode_geo::Geometry;
+use geode_geo::{ops, Geometry, PrimKind};
 
 use crate::compile::Pos;
 use crate::effect::EffectKind;
@@ -89,6 +93,9 @@ pub(super) struct Builder {
     /// only where the element or the call changes (a loop makes millions
     /// from one call).
     made_by: Vec<(u32, u32, Pos)>,
+    /// `addvertex` on the input's primitives: (primitive, point, element,
+    /// call).
+    existing: Vec<(u32, u32, u32, Pos)>,
     point_maps: Vec<Handles>,
     prim_maps: Vec<Handles>,
 }
@@ -106,6 +113,7 @@ impl Builder {
             flat: Vec::new(),
             late: HashMap::new(),
             made_by: Vec::new(),
+            existing: Vec::new(),
             point_maps: Vec::new(),
             prim_maps: Vec::new(),
         };
@@ -115,7 +123,7 @@ impl Builder {
 
     /// Whether nothing was made.
     pub fn is_empty(&self) -> bool {
-        self.positions.is_empty() && self.shape.is_empty()
+        self.positions.is_empty() && self.shape.is_empty() && self.existing.is_empty()
     }
 
     /// The next batch's handles start again from the bases.
@@ -196,9 +204,13 @@ impl Builder {
             EffectKind::AddVertex { prim, point } => {
                 let pt = self
                     .point(*point)
-                    .ok_or_else(|| format!("point {point} does not exist"))?;
+                    .ok_or_else(|| format!("addvertex: point {point} does not exist"))?;
+                if (0..self.base_prims).contains(prim) {
+                    self.existing.push((*prim as u32, pt, elem, pos));
+                    return Ok(());
+                }
                 let Some(k) = self.prim_maps.last().and_then(|m| m.get(prim)) else {
-                    return Err(format!("addvertex: primitive {prim} was not created by this wrangle; only new primitives take vertices"));
+                    return Err(format!("addvertex: primitive {prim} does not exist"));
                 };
                 if k as usize + 1 == self.shape.len() {
                     // The last primitive grows in place.
@@ -259,10 +271,38 @@ impl Builder {
         self.check_sizes()?;
         out.add_polys(&self.shape, &self.flat)
             .map_err(|err| RunError::Geometry(format!("addprim: {err}")))?;
+        self.grow_existing(out)?;
         Ok((
             std::mem::take(&mut self.point_maps),
             std::mem::take(&mut self.prim_maps),
         ))
+    }
+
+    /// Appends the vertices `addvertex` gave the input's primitives, after
+    /// the new primitives (whose vertices keep their numbers' order); a
+    /// primitive that takes none (packed) is the element's error.
+    fn grow_existing(&self, out: &mut Geometry) -> Result<(), RunError> {
+        if self.existing.is_empty() {
+            return Ok(());
+        }
+        for &(prim, _, elem, pos) in &self.existing {
+            let kind = out.prim_kinds().get(prim as usize).copied();
+            if let Some(kind) =
+                kind.filter(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline))
+            {
+                return Err(RunError::At {
+                    elem,
+                    pos,
+                    msg: format!(
+                        "addvertex: primitive {prim} is a {} primitive: only polygons and polylines take vertices",
+                        kind.name()
+                    ),
+                });
+            }
+        }
+        let added: Vec<(u32, u32)> = self.existing.iter().map(|&(p, pt, _, _)| (p, pt)).collect();
+        ops::append_vertices(out, &added)
+            .map_err(|err| RunError::Geometry(format!("addvertex: {err}")))
     }
 
     /// Moves late vertices into their primitives' runs of `flat`.

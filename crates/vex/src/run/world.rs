@@ -17,8 +17,8 @@ use crate::program::{Host, PointQuery};
 /// A k-d tree over one point group and the point numbers of its members.
 type GroupTree = (KdTree, Vec<u32>);
 
-/// An index over an input: (input, key, index).
-type Cached = (usize, &'static str, Arc<dyn Any + Send + Sync>);
+/// An index over an input: (input, key, variant, index).
+type Cached = (usize, &'static str, String, Arc<dyn Any + Send + Sync>);
 
 /// Per-run data shared by every batch.
 pub struct Shared<'a> {
@@ -27,8 +27,8 @@ pub struct Shared<'a> {
     trees: Vec<OnceLock<KdTree>>,
     /// Trees over one point group of an input, made on first use.
     group_trees: std::sync::Mutex<Vec<(usize, String, Arc<GroupTree>)>>,
-    /// Indexes the library builds over an input once per run (by input
-    /// and key).
+    /// Indexes the library builds over an input once per run (by input,
+    /// key and variant).
     caches: std::sync::Mutex<Vec<Cached>>,
     /// The run's memory account.
     pub budget: Budget,
@@ -260,25 +260,29 @@ impl Host for LaneHost<'_, '_, '_> {
         &self,
         i: i32,
         key: &'static str,
+        variant: &str,
         build: &dyn Fn(&Geometry) -> Arc<dyn Any + Send + Sync>,
     ) -> Option<Arc<dyn Any + Send + Sync>> {
         let g = self.world.input(i)?;
         let i = i as usize;
         let shared = self.world.shared;
-        {
-            let cache = shared.caches.lock().unwrap_or_else(|p| p.into_inner());
-            if let Some((_, _, v)) = cache.iter().find(|(k, n, _)| *k == i && *n == key) {
-                return Some(Arc::clone(v));
-            }
+        let find = |cache: &[Cached]| {
+            cache
+                .iter()
+                .find(|(k, n, v, _)| *k == i && *n == key && v == variant)
+                .map(|(.., index)| Arc::clone(index))
+        };
+        if let Some(index) = find(&shared.caches.lock().unwrap_or_else(|p| p.into_inner())) {
+            return Some(index);
         }
         // Built outside the lock (other batches wait on nothing); a race
         // builds twice and keeps the first.
         let built = build(g);
         let mut cache = shared.caches.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((_, _, v)) = cache.iter().find(|(k, n, _)| *k == i && *n == key) {
-            return Some(Arc::clone(v));
+        if let Some(index) = find(&cache) {
+            return Some(index);
         }
-        cache.push((i, key, Arc::clone(&built)));
+        cache.push((i, key, variant.to_string(), Arc::clone(&built)));
         Some(built)
     }
 

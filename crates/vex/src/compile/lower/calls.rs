@@ -121,6 +121,46 @@ fn match_form(form: &Form, vals: &[Loc]) -> Option<(u32, Bound)> {
     Some((score, bound))
 }
 
+/// A call's arguments as values, the targets of those a form may write,
+/// and the binding each such target is of.
+type LaneArgs = (Vec<Loc>, Vec<Option<Target>>, Vec<Option<usize>>);
+
+/// The form that fits the arguments best (a form writing an argument
+/// needs a target there); a tie goes to the form whose result `suits` the
+/// context, else to the first.
+fn pick_form<'f>(
+    forms: &[&'f Form],
+    vals: &[Loc],
+    targets: &[Option<Target>],
+    suits: impl Fn(&Form, &Bound) -> bool,
+) -> Option<(&'f Form, Bound)> {
+    let mut best: Option<(u32, bool, &Form, Bound)> = None;
+    for fm in forms {
+        let writable =
+            (0..vals.len()).all(|k| !fm.arg(k).is_some_and(|a| a.out) || targets[k].is_some());
+        let Some((score, bound)) = match_form(fm, vals).filter(|_| writable) else {
+            continue;
+        };
+        let suits = suits(fm, &bound);
+        let better = match best {
+            None => true,
+            Some((s, b, ..)) => score > s || (score == s && suits && !b),
+        };
+        if better {
+            best = Some((score, suits, fm, bound));
+        }
+    }
+    best.map(|(_, _, fm, bound)| (fm, bound))
+}
+
+/// Whether an expression has the shape of an assignment target.
+fn assignable(e: &Expr) -> bool {
+    matches!(
+        e.kind,
+        ExprKind::Var(_) | ExprKind::Binding { .. } | ExprKind::Member(..) | ExprKind::Index(..)
+    )
+}
+
 impl<'a> Lower<'a> {
     pub(super) fn eval_args(&mut self, args: &[Expr]) -> LResult<Vec<Loc>> {
         args.iter().map(|a| self.expr(a, None)).collect()
@@ -255,79 +295,19 @@ impl<'a> Lower<'a> {
                 self.forms_message(f, &format!("takes no {} arguments", args.len())),
             );
         }
-        // Outputs are targets; the rest values, hinted with the type every
-        // form agrees on there.
-        let mut vals = Vec::with_capacity(args.len());
-        let mut targets: Vec<Option<Target>> = Vec::with_capacity(args.len());
-        for (k, e) in args.iter().enumerate() {
-            let out = forms.iter().all(|fm| fm.arg(k).is_some_and(|a| a.out));
-            if out {
-                let t = self.target(e).map_err(|_| {
-                    CompileError::at(
-                        e.pos,
-                        format!(
-                            "'{}' writes argument {}: it needs a variable, attribute, component or array element there",
-                            f.name,
-                            k + 1
-                        ),
-                    )
-                })?;
-                vals.push(self.read_target(t, e.pos)?);
-                targets.push(Some(t));
-            } else {
-                let agreed = forms
-                    .iter()
-                    .map(|fm| match fm.arg(k).map(|a| a.ty) {
-                        Some(T::Is(t)) => Some(t),
-                        _ => None,
-                    })
-                    .reduce(|a, b| if a == b { a } else { None })
-                    .flatten();
-                vals.push(self.expr(e, agreed)?);
-                targets.push(None);
-            }
-        }
-        let mut best: Option<(u32, bool, &Form, Bound)> = None;
-        for fm in &forms {
-            let Some((score, bound)) = match_form(fm, &vals) else {
-                continue;
-            };
-            let suits = hint.is_some_and(|h| self.ret_of(fm.ret, &bound, Some(h), args) == h);
-            let better = match best {
-                None => true,
-                Some((s, b, ..)) => score > s || (score == s && suits && !b),
-            };
-            if better {
-                best = Some((score, suits, fm, bound));
-            }
-        }
-        let Some((_, _, form, bound)) = best else {
-            if let [only] = forms[..] {
-                // One form: name the argument that does not fit it.
-                let bound = Bound {
-                    num: bind_num(only, &vals).flatten(),
-                    seq: None,
-                };
-                for (k, v) in vals.iter().enumerate() {
-                    let arg = only.arg(k).expect("the form takes the argument");
-                    if fit(arg.ty, arg.out, v.ty, &bound).is_none() {
-                        let want = match arg.ty {
-                            T::Is(t) => t.a(),
-                            other => other.spelling(),
-                        };
-                        return err(
-                            args[k].pos,
-                            format!("'{}' expects {want} here, not {}", f.name, v.ty.a()),
-                        );
-                    }
-                }
-            }
-            let got: Vec<String> = vals.iter().map(|v| v.ty.to_string()).collect();
-            return err(
-                pos,
-                self.forms_message(f, &format!("takes no ({})", got.join(", "))),
-            );
+        let (vals, targets, roots) = self.lane_args(f, &forms, args)?;
+        let Some((form, bound)) = pick_form(&forms, &vals, &targets, |fm, bound| {
+            hint.is_some_and(|h| self.ret_of(fm.ret, bound, Some(h), args) == h)
+        }) else {
+            return Err(self.unmatched(f, &forms, &vals, args, pos));
         };
+        // What the form writes is written; an argument other forms would
+        // have written is only read.
+        for (k, root) in roots.iter().enumerate() {
+            if let Some(b) = root.filter(|_| form.arg(k).is_some_and(|a| a.out)) {
+                self.mark_written(b);
+            }
+        }
         let mut converted = Vec::with_capacity(vals.len());
         let mut outs = Vec::with_capacity(vals.len());
         for (k, v) in vals.iter().enumerate() {
@@ -349,12 +329,115 @@ impl<'a> Lower<'a> {
         let result = self.call_site_outs(callee, converted.clone(), outs, out, pos);
         // Registers of a variable, binding or component were written in
         // place; an array element is stored back.
-        for (t, v) in targets.into_iter().zip(converted) {
-            if let Some(t @ Target::Elem { .. }) = t {
+        for (k, (t, v)) in targets.into_iter().zip(converted).enumerate() {
+            let written = form.arg(k).is_some_and(|a| a.out);
+            if let (true, Some(t @ Target::Elem { .. })) = (written, t) {
                 self.write_target(t, v, pos)?;
             }
         }
         Ok(result)
+    }
+
+    /// A call's arguments: values, with the targets of those a form may
+    /// write. Where every form writes an argument it must be a target;
+    /// where only some do (`xyzdist(geo, pos, &prim...)` beside
+    /// `xyzdist(geo, group, pos...)`) an assignable one is taken as a
+    /// target, its binding (`roots`) marked written only if the form
+    /// picked writes it.
+    fn lane_args(&mut self, f: &Function, forms: &[&Form], args: &[Expr]) -> LResult<LaneArgs> {
+        let mut vals = Vec::with_capacity(args.len());
+        let mut targets: Vec<Option<Target>> = Vec::with_capacity(args.len());
+        let mut roots = vec![None; args.len()];
+        for (k, e) in args.iter().enumerate() {
+            let writes = |fm: &&Form| fm.arg(k).is_some_and(|a| a.out);
+            if forms.iter().all(writes) {
+                let t = self.target(e).map_err(|_| {
+                    CompileError::at(
+                        e.pos,
+                        format!(
+                            "'{}' writes argument {}: it needs a variable, attribute, component or array element there",
+                            f.name,
+                            k + 1
+                        ),
+                    )
+                })?;
+                vals.push(self.read_target(t, e.pos)?);
+                targets.push(Some(t));
+                continue;
+            }
+            if forms.iter().any(writes) && assignable(e) {
+                let before = self.written.clone();
+                if let Ok(t) = self.target(e) {
+                    // Marked once the form is known (see `lane_call`).
+                    let root = self.root_binding(e);
+                    if let Some(b) = root {
+                        self.written[b] = before[b];
+                    }
+                    roots[k] = root;
+                    vals.push(self.read_target(t, e.pos)?);
+                    targets.push(Some(t));
+                    continue;
+                }
+                self.written = before;
+            }
+            // A value, hinted with the type every form agrees on there.
+            let agreed = forms
+                .iter()
+                .map(|fm| match fm.arg(k).map(|a| a.ty) {
+                    Some(T::Is(t)) => Some(t),
+                    _ => None,
+                })
+                .reduce(|a, b| if a == b { a } else { None })
+                .flatten();
+            vals.push(self.expr(e, agreed)?);
+            targets.push(None);
+        }
+        Ok((vals, targets, roots))
+    }
+
+    /// The binding an assignable expression writes (`@a`, `@a.x`, `@a[i]`).
+    fn root_binding(&self, e: &Expr) -> Option<usize> {
+        match &e.kind {
+            ExprKind::Binding { name, .. } => self.bindings.iter().position(|b| b.name == *name),
+            ExprKind::Member(x, _) | ExprKind::Index(x, _) => self.root_binding(x),
+            _ => None,
+        }
+    }
+
+    /// Why no form takes these arguments: the argument that does not fit
+    /// the one form there is, else every form.
+    fn unmatched(
+        &self,
+        f: &Function,
+        forms: &[&Form],
+        vals: &[Loc],
+        args: &[Expr],
+        pos: Pos,
+    ) -> CompileError {
+        if let [only] = forms[..] {
+            let bound = Bound {
+                num: bind_num(only, vals).flatten(),
+                seq: None,
+            };
+            for (k, v) in vals.iter().enumerate() {
+                let arg = only.arg(k).expect("the form takes the argument");
+                if fit(arg.ty, arg.out, v.ty, &bound).is_none() {
+                    let want = match arg.ty {
+                        T::Is(t) => t.a(),
+                        other => other.spelling(),
+                    };
+                    return CompileError::at(
+                        args[k].pos,
+                        format!("'{}' expects {want} here, not {}", f.name, v.ty.a()),
+                    );
+                }
+            }
+        }
+        let got: Vec<String> = vals.iter().map(|v| v.ty.to_string()).collect();
+        CompileError::at(
+            pos,
+            self.forms_message(f, &format!("takes no ({})", got.join(", "))),
+        )
     }
 
     /// `'name' <problem>; its forms: ...`.
