@@ -10,7 +10,9 @@
 
 mod common;
 use common::*;
-use std::f32::consts::{E, FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_4, LN_2, PI, SQRT_2};
+use std::f32::consts::{
+    E, FRAC_1_SQRT_2, FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6, LN_2, PI, SQRT_2,
+};
 use Want::*;
 
 const S2: f32 = FRAC_1_SQRT_2;
@@ -145,6 +147,32 @@ const CASES: &[(&str, &str, Want)] = &[
     (r#"matrix m = maketransform(XFORM_SRT, XFORM_ZYX, {0, 0, 0}, {30, 60, 90}); v@r = {0, 1, 0} * m;"#, "r", V(&[-0.5, -0.433_012_7, 0.75])),
     // A pivot: rotating (2,0,0) a quarter turn about z around (1,0,0).
     (r#"matrix m = maketransform(XFORM_SRT, XFORM_XYZ, {0, 0, 0}, {0, 0, 90}, {1, 1, 1}, {1, 0, 0}); v@r = {2, 0, 0} * m;"#, "r", V(&[1.0, 1.0, 0.0])),
+    // cracktransform: "Depending on the value of c, returns the translate
+    // (c=0), rotate (c=1 or c=4), scale (c=2) or shears (c=3) component of
+    // the transform (xform). The function uses the given transform and
+    // rotation orders (trs and xyz), the given pivot point (pivot) and
+    // optional pivot rotation (pr) to calculate the return value": the
+    // parts maketransform was given. "Rotation angles (when c=1) are
+    // returned in degrees ... For example: vector angles =
+    // radians(cracktransform(XFORM_TRS, XFORM_XYZ, 1, {0,0,0}, M));";
+    // "Rotation angles (when c=4) are returned in radians."
+    (r#"matrix M = maketransform(XFORM_TRS, XFORM_XYZ, {1, 2, 3}, {30, 45, 60}, {2, 2, 2}); vector angles = radians(cracktransform(XFORM_TRS, XFORM_XYZ, 1, {0,0,0}, M)); v@r = angles;"#, "r", V(&[FRAC_PI_6, FRAC_PI_4, FRAC_PI_3])),
+    (r#"matrix M = maketransform(XFORM_TRS, XFORM_XYZ, {1, 2, 3}, {30, 45, 60}, {2, 2, 2}); v@r = cracktransform(XFORM_TRS, XFORM_XYZ, 4, {0, 0, 0}, M);"#, "r", V(&[FRAC_PI_6, FRAC_PI_4, FRAC_PI_3])),
+    (r#"matrix M = maketransform(XFORM_TRS, XFORM_XYZ, {1, 2, 3}, {30, 45, 60}, {2, 2, 2}); v@r = cracktransform(XFORM_TRS, XFORM_XYZ, 0, {0, 0, 0}, M);"#, "r", V(&[1.0, 2.0, 3.0])),
+    (r#"matrix M = maketransform(XFORM_TRS, XFORM_XYZ, {1, 2, 3}, {30, 45, 60}, {2, 3, 4}); v@r = cracktransform(XFORM_TRS, XFORM_XYZ, 2, {0, 0, 0}, M);"#, "r", V(&[2.0, 3.0, 4.0])),
+    (r#"matrix M = maketransform(XFORM_RST, XFORM_ZXY, {1, 2, 3}, {30, 45, 60}, {2, 3, 4}, {5, 0, -1}); v@r = cracktransform(XFORM_RST, XFORM_ZXY, 1, {5, 0, -1}, M);"#, "r", V(&[30.0, 45.0, 60.0])),
+    (r#"matrix M = maketransform(XFORM_STR, XFORM_YZX, {1, 2, 3}, {30, 45, 60}, {2, 3, 4}, {5, 0, -1}); v@r = cracktransform(XFORM_STR, XFORM_YZX, 0, {5, 0, -1}, {0, 0, 0}, M);"#, "r", V(&[1.0, 2.0, 3.0])),
+    // "void cracktransform(int trs, int xyz, vector pivot, matrix xform,
+    // vector &t, vector &r, vector &s)": all three at once.
+    (r#"matrix M = maketransform(XFORM_RTS, XFORM_ZYX, {1, 2, 3}, {-30, 20, 100}, {2, 3, 4}); vector t, r, s; cracktransform(XFORM_RTS, XFORM_ZYX, {0, 0, 0}, M, t, r, s); v@r = t + r * 1000 + s * 1000000;"#, "r", V(&[1.0 - 30_000.0 + 2_000_000.0, 2.0 + 20_000.0 + 3_000_000.0, 3.0 + 100_000.0 + 4_000_000.0])),
+    // "void cracktransform(int trs, int xyz, vector pivot, vector
+    // pivot_rotate, matrix xform, vector &t, vector &r, vector &s, vector
+    // &shears)": a scale (2, 3, 4) sheared by xy 0.5, xz 0.25, yz 0.75
+    // (rows sx (1, 0, 0), sy (xy, 1, 0), sz (xz, yz, 1): geode's shear
+    // convention, see docs/wrangle.md), then moved by (5, 6, 7).
+    (r#"matrix M = {2, 0, 0, 0, 1.5, 3, 0, 0, 1, 3, 4, 0, 5, 6, 7, 1}; vector t, r, s, sh; cracktransform(XFORM_SRT, XFORM_XYZ, {0, 0, 0}, {0, 0, 0}, M, t, r, s, sh); v@r = sh;"#, "r", V(&[0.5, 0.25, 0.75])),
+    (r#"matrix M = {2, 0, 0, 0, 1.5, 3, 0, 0, 1, 3, 4, 0, 5, 6, 7, 1}; vector t, r, s, sh; cracktransform(XFORM_SRT, XFORM_XYZ, {0, 0, 0}, {0, 0, 0}, M, t, r, s, sh); v@r = t * 100 + s + r * 1000;"#, "r", V(&[502.0, 603.0, 704.0])),
+    (r#"matrix M = {2, 0, 0, 0, 1.5, 3, 0, 0, 1, 3, 4, 0, 5, 6, 7, 1}; v@r = cracktransform(XFORM_SRT, XFORM_XYZ, 3, {0, 0, 0}, M);"#, "r", V(&[0.5, 0.25, 0.75])),
     // "constructed so that the z-axis will be transformed to the z-axis specified".
     (r#"matrix3 m = maketransform({1, 0, 0}, {0, 1, 0}); v@r = {0, 0, 1} * m;"#, "r", V(&[1.0, 0.0, 0.0])),
     (r#"matrix m = maketransform({0, 0, 1}, {0, 1, 0}, {5, 6, 7}); v@r = {1, 1, 1} * m;"#, "r", V(&[6.0, 7.0, 8.0])),
@@ -779,6 +807,10 @@ const EDGE_PROGRAMS: &[(Geo, &str)] = &[
     (Geo::Points, r#"v@r = quaterniontoeuler({0, 0, 0, 0}, 99);"#),
     (Geo::Points, r#"matrix m = maketransform(99, -4, {1, 2, 3}, {4, 5, 6}, {0, 0, 0}); f@r = determinant(m);"#),
     (Geo::Points, r#"matrix3 m = lookat({1, 1, 1}, {1, 1, 1}, {0, 0, 0}); f@r = m.xx;"#),
+    (Geo::Points, r#"v@r = cracktransform(0, 0, 9, {0, 0, 0}, ident());"#),
+    (Geo::Points, r#"matrix m = 0; v@r = cracktransform(XFORM_TRS, XFORM_ZYX, 1, {1, 2, 3}, {4, 5, 6}, m);"#),
+    (Geo::Points, r#"matrix m = maketransform(0, 0, {1, 2, 3}, {4, 5, 6}, {0, 1, 0}); vector t, r, s, sh; cracktransform(99, -7, {0, 0, 0}, {0, 0, 0}, m, t, r, s, sh); v@r = t + r + s + sh;"#),
+    (Geo::Points, r#"matrix m = {1e30, 0, 0, 0, 0, 1e-30, 0, 0, 0, 0, -1e30, 0, 1, 1, 1, 1}; v@r = cracktransform(XFORM_TSR, XFORM_YXZ, 0, {0, 0, 0}, m);"#),
     (Geo::Points, r#"vector4 q = dihedral({1, 0, 0}, {-1, 0, 0}); p@r = q;"#),
     (Geo::Points, r#"vector4 q = dihedral({0, 0, 0}, {1, 0, 0}); p@r = q;"#),
     (Geo::Points, r#"int a[] = argsort(array()); i@r = len(a);"#),
@@ -943,4 +975,51 @@ fn every_documented_function_has_a_case() {
         CASES.len() + QUAD_CASES.len() + TRI_CASES.len() + LINE_CASES.len() + ONCE_DISAGREED.len();
     assert!(total >= 200, "{total} cases");
     assert!(missing.is_empty(), "no case calls: {missing:?}");
+}
+
+/// cracktransform undoes maketransform in every transform and rotation
+/// order ("The function uses the given transform and rotation orders (trs
+/// and xyz), the given pivot point (pivot) and optional pivot rotation
+/// (pr)"): the parts come back as given, about a pivot, and inside a pivot
+/// frame rotated by pivot_rotate (the pivot frame made as a transform of
+/// its own: rotate by pivot_rotate, then move to the pivot).
+#[test]
+fn cracktransform_undoes_maketransform_in_every_order() {
+    let mut failures = Vec::new();
+    for trs in ["SRT", "STR", "RST", "RTS", "TSR", "TRS"] {
+        for xyz in ["XYZ", "XZY", "YXZ", "YZX", "ZXY", "ZYX"] {
+            // The angle about the order's middle axis within (-90, 90):
+            // the other two may then take any value in (-180, 180].
+            let r = match &xyz[1..2] {
+                "X" => "{-35, 160, -150}",
+                "Y" => "{120, -35, -150}",
+                _ => "{120, 160, -35}",
+            };
+            let make = format!(
+                "matrix X = maketransform(XFORM_{trs}, XFORM_{xyz}, {{1, -2, 3.5}}, {r}, {{2, 0.5, 3}}, {{0.5, 4, -1}}); \
+                 matrix P = maketransform(XFORM_SRT, XFORM_{xyz}, {{0.5, 4, -1}}, {{10, -20, 30}}); \
+                 matrix Y = invert(P) * maketransform(XFORM_{trs}, XFORM_{xyz}, {{1, -2, 3.5}}, {r}, {{2, 0.5, 3}}) * P;"
+            );
+            let checks = [
+                ("vector t, a, s; cracktransform(XFORM_{trs}, XFORM_{xyz}, {0.5, 4, -1}, X, t, a, s); v@r = t;", "{1, -2, 3.5}"),
+                ("vector t, a, s; cracktransform(XFORM_{trs}, XFORM_{xyz}, {0.5, 4, -1}, X, t, a, s); v@r = a;", r),
+                ("vector t, a, s; cracktransform(XFORM_{trs}, XFORM_{xyz}, {0.5, 4, -1}, X, t, a, s); v@r = s;", "{2, 0.5, 3}"),
+                ("v@r = cracktransform(XFORM_{trs}, XFORM_{xyz}, 1, {0.5, 4, -1}, X);", r),
+                ("v@r = cracktransform(XFORM_{trs}, XFORM_{xyz}, 3, {0.5, 4, -1}, X);", "{0, 0, 0}"),
+                ("v@r = cracktransform(XFORM_{trs}, XFORM_{xyz}, 0, {0.5, 4, -1}, {10, -20, 30}, Y);", "{1, -2, 3.5}"),
+                ("v@r = cracktransform(XFORM_{trs}, XFORM_{xyz}, 1, {0.5, 4, -1}, {10, -20, 30}, Y);", r),
+                ("v@r = cracktransform(XFORM_{trs}, XFORM_{xyz}, 2, {0.5, 4, -1}, {10, -20, 30}, Y);", "{2, 0.5, 3}"),
+            ];
+            for (check, want) in checks {
+                let check = check.replace("{trs}", trs).replace("{xyz}", xyz);
+                // Compared in the snippet: the want is a literal there too.
+                let src =
+                    format!("{make} {check} vector w = {want}; i@ok = length(v@r - w) < 1e-3;");
+                if let Err(e) = check_detail(&src, "ok", &Want::I(1), &four_points()) {
+                    failures.push(format!("{src}\n    {e}"));
+                }
+            }
+        }
+    }
+    report("cracktransform", 36 * 8, failures);
 }

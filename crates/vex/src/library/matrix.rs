@@ -6,7 +6,8 @@
 
 use geode_geo::glam::{Mat3, Mat4, Quat, Vec3, Vec4};
 
-use super::support::{euler_axes, euler_order, euler_quat, m3, m4, of_mat, of_quat, q, v3};
+use super::crack::{compose, crack, Parts, Pivot};
+use super::support::{euler_of, euler_quat, m3, m4, of_mat, of_quat, q, v3};
 use super::{a, form, lane, out, Category, Function, Ret, F, I, M3, M4, V, V4};
 use crate::program::{Lane, Stop};
 use crate::ty::Ty;
@@ -15,6 +16,7 @@ use crate::value::Val;
 const C: Category = Category::Matrices;
 const Q: Category = Category::Quaternions;
 const M: Ret = Ret::Context(&[Ty::Mat4, Ty::Mat3]);
+const VEC: Ret = Ret::Is(Ty::Vec3);
 
 #[rustfmt::skip]
 pub const FUNCTIONS: &[Function] = &[
@@ -59,6 +61,12 @@ pub const FUNCTIONS: &[Function] = &[
     lane("maketransform", C, "A transform from translate, rotate (degrees) and scale in the order trs (XFORM_SRT...) and rotation order xyz (XFORM_XYZ...), about a pivot; or from z and y axes and a position.", &[
         form(M, &[a(I, "trs"), a(I, "xyz"), a(V, "t"), a(V, "r"), a(V, "s"), a(V, "p")], make_trs).opt(2),
         form(M, &[a(V, "zaxis"), a(V, "yaxis"), a(V, "translate")], make_axes).opt(1),
+    ]),
+    lane("cracktransform", C, "The translate (c 0), rotate (1: degrees, 4: radians), scale (2) or shears (3: xy, xz, yz) that maketransform's order trs and rotation order xyz would make xform from, about a pivot (and a pivot rotation, degrees); or all of them into t, r (degrees), s and shears.", &[
+        form(VEC, &[a(I, "trs"), a(I, "xyz"), a(I, "c"), a(V, "pivot"), a(V, "pivot_rotate"), a(M4, "xform")], crack_one),
+        form(VEC, &[a(I, "trs"), a(I, "xyz"), a(I, "c"), a(V, "pivot"), a(M4, "xform")], crack_one),
+        form(Ret::Is(Ty::Void), &[a(I, "trs"), a(I, "xyz"), a(V, "pivot"), a(V, "pivot_rotate"), a(M4, "xform"), out(V, "t"), out(V, "r"), out(V, "s"), out(V, "shears")], crack_all),
+        form(Ret::Is(Ty::Void), &[a(I, "trs"), a(I, "xyz"), a(V, "pivot"), a(M4, "xform"), out(V, "t"), out(V, "r"), out(V, "s")], crack_all),
     ]),
     lane("lookat", C, "The rotation that points -z from `from` towards `to`, with y towards up.", &[
         form(Ret::Is(Ty::Mat3), &[a(V, "from"), a(V, "to"), a(V, "up")], lookat).opt(1),
@@ -246,27 +254,65 @@ fn pretranslate(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 
 /// `maketransform(trs, xyz, t, r, s[, p])`: the steps in the order the
 /// `trs` code names (`XFORM_SRT` = 0, STR, RST, RTS, TSR, TRS = 5), the
-/// rotation in the order `xyz` names, all about the pivot `p`.
+/// rotation (degrees) in the order `xyz` names, all about the pivot `p`.
 fn make_trs(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let t = Mat4::from_translation(v3(&a[2]));
-    let r = v3(&a[3]) * std::f32::consts::PI / 180.0;
-    let r = Mat4::from_quat(euler_quat(r, a[1].i()));
-    let s = Mat4::from_scale(a.get(4).map_or(Vec3::ONE, v3));
-    let steps = match a[0].i() {
-        1 => [s, t, r],
-        2 => [r, s, t],
-        3 => [r, t, s],
-        4 => [t, s, r],
-        5 => [t, r, s],
-        _ => [s, r, t],
+    let parts = Parts {
+        t: v3(&a[2]),
+        r: v3(&a[3]) * std::f32::consts::PI / 180.0,
+        s: a.get(4).map_or(Vec3::ONE, v3),
+        shear: Vec3::ZERO,
     };
-    // Row vectors apply the first step first: glam's product is reversed.
-    let mut m = steps[2] * steps[1] * steps[0];
-    if let Some(p) = a.get(5) {
-        let p = v3(p);
-        m = Mat4::from_translation(p) * m * Mat4::from_translation(-p);
+    let pivot = a.get(5).map(|p| Pivot {
+        at: v3(p),
+        rotate: Vec3::ZERO,
+    });
+    Ok(of_mat(lane.out, compose(a[0].i(), a[1].i(), parts, pivot)))
+}
+
+/// `cracktransform(trs, xyz, c, pivot, [pivot_rotate,] xform)`: one part
+/// of the transform, as `c` picks it.
+fn crack_one(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    let rotate = if a.len() == 6 { v3(&a[4]) } else { Vec3::ZERO };
+    let pivot = Pivot {
+        at: v3(&a[3]),
+        rotate: rotate * std::f32::consts::PI / 180.0,
+    };
+    let parts = crack(a[0].i(), a[1].i(), m4(&a[a.len() - 1]), pivot);
+    let part = match a[2].i() {
+        0 => parts.t,
+        1 => parts.r * 180.0 / std::f32::consts::PI,
+        2 => parts.s,
+        3 => parts.shear,
+        4 => parts.r,
+        other => {
+            return Err(Stop::Msg(format!(
+                "cracktransform: c is 0 (translate), 1 (rotate, degrees), 2 (scale), 3 (shears) or 4 (rotate, radians), not {other}"
+            )))
+        }
+    };
+    Ok(Val::vec(&part.to_array()))
+}
+
+/// `cracktransform(trs, xyz, pivot, [pivot_rotate,] xform, &t, &r, &s[,
+/// &shears])`: every part at once (rotation in degrees).
+fn crack_all(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    // (trs, xyz, pivot, pivot_rotate, xform, t, r, s, shears) or
+    // (trs, xyz, pivot, xform, t, r, s).
+    let with_rotate = a.len() == 9;
+    let rotate = if with_rotate { v3(&a[3]) } else { Vec3::ZERO };
+    let pivot = Pivot {
+        at: v3(&a[2]),
+        rotate: rotate * std::f32::consts::PI / 180.0,
+    };
+    let at = if with_rotate { 4 } else { 3 };
+    let parts = crack(a[0].i(), a[1].i(), m4(&a[at]), pivot);
+    a[at + 1] = Val::vec(&parts.t.to_array());
+    a[at + 2] = Val::vec(&(parts.r * 180.0 / std::f32::consts::PI).to_array());
+    a[at + 3] = Val::vec(&parts.s.to_array());
+    if with_rotate {
+        a[at + 4] = Val::vec(&parts.shear.to_array());
     }
-    Ok(of_mat(lane.out, m))
+    Ok(Val::I(0))
 }
 
 /// `maketransform(zaxis, yaxis[, translate])`: an orthonormal frame with
@@ -364,15 +410,7 @@ fn eulertoquaternion(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 }
 
 fn quaterniontoeuler(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let order = a[1].i();
-    let rot = euler_order(order);
-    let (x, y, z) = q(&a[0]).normalize().to_euler(rot);
-    // `euler_quat` hands glam the angles in the order of its axis names.
-    let mut r = [0.0f32; 3];
-    for (c, v) in euler_axes(rot).chars().zip([x, y, z]) {
-        r[(c as u8 - b'x') as usize] = v;
-    }
-    Ok(Val::vec(&r))
+    Ok(Val::vec(&euler_of(q(&a[0]), a[1].i()).to_array()))
 }
 
 fn dihedral(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {

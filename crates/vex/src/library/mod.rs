@@ -11,6 +11,7 @@
 mod arrays;
 mod channels;
 mod constants;
+mod crack;
 mod edit;
 mod geometry;
 mod math;

@@ -79,6 +79,19 @@ pub fn euler_quat(r: Vec3, order: i32) -> Quat {
     Quat::from_euler(rot, pick(c[0]), pick(c[1]), pick(c[2]))
 }
 
+/// A rotation's Euler angles (radians, VEX order code): the inverse of
+/// `euler_quat`.
+pub fn euler_of(q: Quat, order: i32) -> Vec3 {
+    let rot = euler_order(order);
+    let (a, b, c) = q.normalize().to_euler(rot);
+    // `euler_quat` hands glam the angles in the order of its axis names.
+    let mut r = [0.0f32; 3];
+    for (axis, v) in euler_axes(rot).chars().zip([a, b, c]) {
+        r[(axis as u8 - b'x') as usize] = v;
+    }
+    Vec3::from_array(r)
+}
+
 /// The axes glam's Euler order takes its three angles for, in order.
 pub fn euler_axes(rot: EulerRot) -> &'static str {
     match rot {
