@@ -34,6 +34,22 @@ pub fn read(fr: &Frame, loc: Loc, l: usize) -> Val {
     }
 }
 
+/// Lane `l` of the value at `loc` into `slot`: a number or vector over
+/// the one the slot holds from the last call (a call's arguments are read
+/// millions of times in a loop; building each anew costs more than it).
+fn read_into(fr: &Frame, loc: Loc, l: usize, slot: &mut Val) {
+    let r = loc.reg as usize;
+    match (loc.ty, &mut *slot) {
+        (Ty::Int, Val::I(x)) => *x = fr.i[r * LANES + l],
+        (t, Val::F(a, n)) if t.is_floaty() && usize::from(*n) == t.floats() => {
+            for (k, x) in a.iter_mut().enumerate().take(t.floats()) {
+                *x = fr.f[(r + k) * LANES + l];
+            }
+        }
+        _ => *slot = read(fr, loc, l),
+    }
+}
+
 /// Lane `l` of the value at `loc`, moved out where it is a string or an
 /// array (the register is left empty).
 pub fn take(fr: &mut Frame, loc: Loc, l: usize) -> Val {
@@ -152,7 +168,7 @@ fn call_lanes(
         // the output moves it.
         for (k, a) in site.args.iter().enumerate() {
             if modes[k] == ArgMode::Copy {
-                args[k] = read(fr, *a, l);
+                read_into(fr, *a, l, &mut args[k]);
             }
         }
         let mut before = 0u64;
@@ -172,7 +188,10 @@ fn call_lanes(
                 after += held_at(fr, *a, l);
             }
         }
-        let out = result?;
+        let out = match result? {
+            Ok(out) => out,
+            Err(stop) => return Err(stopped(stop, world.elem_of(l), site)),
+        };
         if site.counted {
             super::budget::charge_write(&world.shared.budget, fr, before, after);
             let before = held_at(fr, site.out, l);
@@ -180,7 +199,12 @@ fn call_lanes(
             let after = held_at(fr, site.out, l);
             super::budget::charge_write(&world.shared.budget, fr, before, after);
         } else {
-            write(fr, site.out, l, out);
+            match (site.out.ty, &out) {
+                // The common results of a loop's calls, without moving them.
+                (Ty::Void, _) => {}
+                (Ty::Int, Val::I(x)) => fr.i[site.out.reg as usize * LANES + l] = *x,
+                _ => write(fr, site.out, l, out),
+            }
         }
     }
     Ok(())
@@ -193,7 +217,7 @@ fn run_lane(
     fr: &mut Frame,
     world: &mut World,
     l: usize,
-) -> Result<Val, RunError> {
+) -> Result<Result<Val, Stop>, RunError> {
     if let Some(bytes) = site.bytes {
         let predicted = {
             let host = LaneHost {
@@ -206,14 +230,20 @@ fn run_lane(
             reserve(site, fr, world, l, &|| request.to_string(), bytes)?;
         }
     }
-    let elem = world.elem_of(l);
     world.pos = site.pos;
     let mut host = LaneHost { world, lane: l };
     let mut lane = Lane {
         host: &mut host,
         out: site.out.ty,
     };
-    (site.lane)(&mut lane, args).map_err(|stop| match stop {
+    // The lane's own result goes on as it is: converting it here would
+    // copy every value a loop's calls return.
+    Ok((site.lane)(&mut lane, args))
+}
+
+/// A lane function's stop as the run's error, at its element and call.
+fn stopped(stop: Stop, elem: u32, site: &CallSite) -> RunError {
+    match stop {
         Stop::Msg(msg) => RunError::At {
             elem,
             pos: site.pos,
@@ -225,7 +255,7 @@ fn run_lane(
             msg,
         },
         Stop::Cancelled => RunError::Cancelled,
-    })
+    }
 }
 
 /// Refuses `bytes` more for lane `l` unless they fit the budget once this
