@@ -234,6 +234,17 @@ pub struct Lane<'h> {
 /// read once for every lane of a call.
 pub type LaneFn = fn(&mut Lane<'_>, &mut [Val]) -> Result<Val, Stop>;
 
+/// A pure function of numbers, for calls whose arguments and result are
+/// all numbers: the floats of its arguments in order (ints as floats) to
+/// the floats of its result (as many as the call's result type holds). A
+/// call site runs it over its lanes without building a value per lane; the
+/// form's lane function computes through it too, so both give the same
+/// bits.
+pub type NumFn = fn(&[f32], &mut [f32]);
+
+/// The most argument floats a call of numbers gathers per lane.
+pub const NUM_ARGS: usize = 64;
+
 /// What a call's result will hold on the heap before it is made, where
 /// that can exceed what its arguments hold, with the request a refusal
 /// names.
@@ -270,6 +281,9 @@ pub struct CallSite {
     /// Whether the call touches strings or arrays (only those are charged
     /// to the memory budget).
     pub counted: bool,
+    /// The form's function of numbers, where every argument and the result
+    /// are numbers (see `NumFn`).
+    pub num: Option<NumFn>,
     /// Where in the snippet, for runtime errors.
     pub pos: Pos,
 }

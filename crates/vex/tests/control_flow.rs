@@ -105,3 +105,37 @@ fn string_appends_follow_the_mask() {
     let got: Vec<&str> = (0..6).map(|i| r.get(i)).collect();
     assert_eq!(got, ["p", "p0", "p0", "p02", "p02", "p024"]);
 }
+
+/// Calls of numbers (noise, rand) run over the batch's live lanes only,
+/// and a lane gives what one lane alone gives.
+#[test]
+fn calls_of_numbers_agree_on_a_batch_and_alone() {
+    const N: usize = 16;
+    let g = points(N);
+    let f = "float f(int n) { float s = 0; for (int i = 0; i < n; i++) { if (i % 3 == 1) continue; s += snoise(set(i, n, 0.5)) + rand(i * 7 + n) + noise(float(i)) * length(vector(xnoise(set(n, i, 0.25)))); } return s; }";
+    let batch = wrangle(
+        &format!("{f} vector c = curlnoise(@P * 0.3); f@r = f(@ptnum) + c.x;"),
+        AttribClass::Point,
+        &g,
+    );
+    let batch = batch
+        .attrib(AttribClass::Point, "r")
+        .unwrap()
+        .as_f32()
+        .unwrap()
+        .to_vec();
+    let one = wrangle(
+        &format!("{f} float rs[]; for (int n = 0; n < {N}; n++) {{ vector c = curlnoise(point(0, \"P\", n) * 0.3); push(rs, f(n) + c.x); }} f[]@r = rs;"),
+        AttribClass::Detail,
+        &g,
+    );
+    let one: Vec<f32> = match one
+        .attrib(AttribClass::Detail, "r")
+        .map(|a| a.data().get(0))
+    {
+        Some(geode_geo::AttribValue::FloatArray(v)) => v,
+        other => panic!("detail r: {other:?}"),
+    };
+    assert_eq!(batch, one);
+    assert!(batch.iter().any(|x| *x != 0.0));
+}

@@ -25,7 +25,7 @@ mod support;
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
-use crate::program::{BytesFn, LaneFn};
+use crate::program::{BytesFn, LaneFn, NumFn};
 use crate::ty::{Elem, Ty};
 
 pub use constants::{constant, Constant, CONSTANTS};
@@ -141,6 +141,9 @@ pub struct Form {
     pub lane: Option<LaneFn>,
     /// What the result will hold before it is made (growing calls).
     pub bytes: Option<BytesFn>,
+    /// The lane function as a function of numbers, for calls whose
+    /// arguments and result are all numbers.
+    pub num: Option<NumFn>,
 }
 
 /// How calls of a function are lowered.
@@ -206,6 +209,7 @@ pub(crate) const fn form(ret: Ret, args: &'static [Arg], lane: LaneFn) -> Form {
         variadic: false,
         lane: Some(lane),
         bytes: None,
+        num: None,
     }
 }
 
@@ -218,6 +222,7 @@ pub(crate) const fn shape(ret: Ret, args: &'static [Arg]) -> Form {
         variadic: false,
         lane: None,
         bytes: None,
+        num: None,
     }
 }
 
@@ -234,6 +239,15 @@ impl Form {
     pub(crate) const fn many(self) -> Form {
         Form {
             variadic: true,
+            ..self
+        }
+    }
+
+    /// The lane function computes through `f`, which calls of numbers run
+    /// directly.
+    pub(crate) const fn num(self, f: NumFn) -> Form {
+        Form {
+            num: Some(f),
             ..self
         }
     }

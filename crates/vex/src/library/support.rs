@@ -6,7 +6,7 @@
 
 use geode_geo::glam::{EulerRot, Mat3, Mat4, Quat, Vec3};
 
-use crate::program::Stop;
+use crate::program::{Lane, Stop};
 use crate::ty::{Elem, Ty};
 use crate::value::Val;
 
@@ -280,4 +280,41 @@ impl crate::program::Host for NoHost {
     fn query(&mut self, _: i32) -> Option<&mut crate::program::PointQuery> {
         None
     }
+}
+
+/// A lane function computing through its function of numbers (`NumFn`):
+/// the arguments' floats in order (ints as floats), the result as many
+/// floats as the call's type holds. Calls of numbers run `num` directly;
+/// both ways give the same bits.
+pub fn through_numbers(l: &Lane, a: &[Val], num: crate::program::NumFn) -> Val {
+    let mut buf = [0.0f32; 64];
+    let mut heap = Vec::new();
+    let mut len = 0;
+    for v in a {
+        let one = [v.f()];
+        let xs = match v {
+            Val::I(_) => &one[..],
+            v => v.floats(),
+        };
+        for &x in xs {
+            if len < buf.len() {
+                buf[len] = x;
+            } else {
+                if heap.is_empty() {
+                    heap.extend_from_slice(&buf);
+                }
+                heap.push(x);
+            }
+            len += 1;
+        }
+    }
+    let args = if heap.is_empty() {
+        &buf[..len]
+    } else {
+        &heap[..]
+    };
+    let n = l.out.floats().clamp(1, 16);
+    let mut out = [0.0f32; 16];
+    num(args, &mut out[..n]);
+    Val::F(out, n as u8)
 }

@@ -109,6 +109,10 @@ pub fn write(fr: &mut Frame, loc: Loc, l: usize, v: Val) {
 /// Runs call site `call` of `p` over the lanes its mask selects.
 pub fn call(p: &Program, call: usize, fr: &mut Frame, world: &mut World) -> Result<(), RunError> {
     let site = &p.calls[call];
+    if let Some(num) = site.num {
+        call_numbers(site, num, fr);
+        return Ok(());
+    }
     // The site's argument list is the frame's, kept call after call (a
     // detail loop makes millions of calls): a literal is copied in again
     // only when a lane function changed it.
@@ -129,6 +133,38 @@ pub fn call(p: &Program, call: usize, fr: &mut Frame, world: &mut World) -> Resu
     let result = call_lanes(site, &site.modes, &mut args, fr, world);
     fr.args[call] = args;
     result
+}
+
+/// A call of numbers (`NumFn`) over the lanes its mask selects: each
+/// lane's argument floats gathered from the registers (ints as floats),
+/// the function run, its result's floats stored. No value is built.
+fn call_numbers(site: &CallSite, num: crate::program::NumFn, fr: &mut Frame) {
+    let mut ins = [0.0f32; crate::program::NUM_ARGS];
+    let mut out = [0.0f32; 16];
+    let width = site.out.ty.floats().clamp(1, 16);
+    let o = site.out.reg as usize;
+    for l in 0..fr.n {
+        if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {
+            continue;
+        }
+        let mut k = 0;
+        for a in &site.args {
+            let r = a.reg as usize;
+            if a.ty == Ty::Int {
+                ins[k] = fr.i[r * LANES + l] as f32;
+                k += 1;
+            } else {
+                for c in 0..a.ty.floats() {
+                    ins[k] = fr.f[(r + c) * LANES + l];
+                    k += 1;
+                }
+            }
+        }
+        num(&ins[..k], &mut out[..width]);
+        for (c, x) in out[..width].iter().enumerate() {
+            fr.f[(o + c) * LANES + l] = *x;
+        }
+    }
 }
 
 fn call_lanes(

@@ -327,6 +327,9 @@ impl<'a> Lower<'a> {
             bytes: form.bytes,
         };
         let result = self.call_site_outs(callee, converted.clone(), outs, out, pos);
+        if let Some(num) = form.num {
+            self.runs_on_numbers(num);
+        }
         // Registers of a variable, binding or component were written in
         // place; an array element is stored back.
         for (k, (t, v)) in targets.into_iter().zip(converted).enumerate() {

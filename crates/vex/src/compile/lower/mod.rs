@@ -385,6 +385,7 @@ impl<'a> Lower<'a> {
                         out: fresh,
                         mask: None,
                         counted: false,
+                        num: None,
                         pos: Pos::default(),
                     });
                     self.emit(Op::AMov {
@@ -574,10 +575,29 @@ impl<'a> Lower<'a> {
             out,
             mask: self.mask(),
             counted,
+            num: None,
             pos,
         });
         self.emit(Op::Call { call });
         out
+    }
+
+    /// The last call site runs `num` when its arguments and result are all
+    /// numbers and it writes no argument.
+    pub fn runs_on_numbers(&mut self, num: crate::program::NumFn) {
+        let Some(site) = self.calls.last_mut() else {
+            return;
+        };
+        let number = |t: Ty| t == Ty::Int || t.is_floaty();
+        let plain = site.modes.iter().all(|m| *m != ArgMode::Move);
+        let floats: usize = site.args.iter().map(|a| a.ty.floats().max(1)).sum();
+        if plain
+            && floats <= crate::program::NUM_ARGS
+            && site.out.ty.is_floaty()
+            && site.args.iter().all(|a| number(a.ty))
+        {
+            site.num = Some(num);
+        }
     }
 
     /// The instructions, each one's statement position, the call sites,
