@@ -321,6 +321,10 @@ impl<'a> Lower<'a> {
             }
             "avg" => {
                 let v = self.eval_args(args)?;
+                if v.is_empty() {
+                    // Found by fuzzing: `avg()` indexed an empty list.
+                    return Err(self.no_form(name, &v, pos));
+                }
                 if v.len() == 1 && v[0].ty.is_vector() {
                     let n = self.fconst(v[0].ty.floats() as f32);
                     let one = self.fconst(1.0);
