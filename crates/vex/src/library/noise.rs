@@ -71,11 +71,7 @@ fn rand(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 fn pos3(x: &[f32]) -> [f32; 3] {
     match x {
         [a] => [*a; 3],
-        _ => [
-            x.first().copied().unwrap_or(0.0),
-            x.get(1).copied().unwrap_or(0.0),
-            x.get(2).copied().unwrap_or(0.0),
-        ],
+        _ => pos3_plain(x),
     }
 }
 

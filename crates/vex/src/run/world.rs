@@ -164,10 +164,10 @@ impl<'s, 'a> World<'s, 'a> {
         let elem = self.elem_of(lane);
         self.queued += 1;
         let pos = self.pos;
-        if let Some(b) = self.built.as_mut().filter(|_| kind.builds()) {
+        let growth = self.built.as_ref().filter(|_| kind.builds());
+        if let Some(bytes) = growth.map(|b| b.growth(elem, pos, &kind)) {
             // Built as it comes: the budget is asked for what the lists
             // grow by before they grow.
-            let bytes = b.growth(elem, pos, &kind);
             self.charge(bytes)?;
             if let Some(b) = self.built.as_mut() {
                 b.take(elem, pos, &kind)?;
