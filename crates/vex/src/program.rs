@@ -195,11 +195,16 @@ pub trait Host {
     /// is empty) within `radius` of `q`, nearest first.
     fn nearest(&self, i: i32, group: &str, q: [f32; 3], radius: f32, count: usize) -> Vec<u32>;
     /// Queues a geometry change of this lane's element; `Err` is the
-    /// budget's refusal.
-    fn queue(&mut self, kind: EffectKind) -> Result<(), String>;
-    /// Provisional numbers for a new point and a new primitive.
-    fn new_point(&mut self) -> i32;
-    fn new_prim(&mut self) -> i32;
+    /// budget's refusal (or the change's own error where it is made at
+    /// once).
+    fn queue(&mut self, kind: EffectKind) -> Result<(), Stop>;
+    /// Makes a point for this lane's element (a copy of point `from` with
+    /// its attributes, or at `at`); its provisional number. `Err` is the
+    /// budget's refusal or a missing source point.
+    fn add_point(&mut self, from: Option<i32>, at: [f32; 3]) -> Result<i32, Stop>;
+    /// Makes a polygon (or a polyline) through `points`; its provisional
+    /// number.
+    fn add_prim(&mut self, polyline: bool, points: &[i32]) -> Result<i32, Stop>;
     fn cancelled(&self) -> bool;
     /// The element this lane runs (for messages).
     fn elem(&self) -> u32;
@@ -245,6 +250,22 @@ pub type NumFn = fn(&[f32], &mut [f32]);
 /// The most argument floats a call of numbers gathers per lane.
 pub const NUM_ARGS: usize = 64;
 
+/// One lane's arguments to a function of edits (`EditFn`): the ints and
+/// the floats of its arguments, each in order (an int array spread into
+/// the ints), and the string argument (empty if none).
+pub struct Numbers<'a> {
+    pub ints: &'a [i32],
+    pub floats: &'a [f32],
+    pub text: &'a str,
+}
+
+/// A function that changes geometry through the host from numbers
+/// (`addpoint`, `addprim`, `addvertex`) and returns an int. A call site
+/// whose arguments are numbers and string literals runs it without
+/// building a value per lane (a detail loop makes millions of these
+/// calls); the form's lane function goes through it too.
+pub type EditFn = fn(&mut dyn Host, &Numbers) -> Result<i32, Stop>;
+
 /// What a call's result will hold on the heap before it is made, where
 /// that can exceed what its arguments hold, with the request a refusal
 /// names.
@@ -284,6 +305,9 @@ pub struct CallSite {
     /// The form's function of numbers, where every argument and the result
     /// are numbers (see `NumFn`).
     pub num: Option<NumFn>,
+    /// The form's function of edits, where every argument is a number or a
+    /// string literal (see `EditFn`).
+    pub edit: Option<EditFn>,
     /// Where in the snippet, for runtime errors.
     pub pos: Pos,
 }

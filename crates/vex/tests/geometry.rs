@@ -123,6 +123,37 @@ fn addprim_then_addvertex_builds_a_polygon() {
     assert_eq!(copy.positions()[4].to_array(), [9.0, 9.0, 9.0]);
 }
 
+/// `addpoint`/`addprim` with literal arguments run as calls of numbers;
+/// a string variable or an array of points takes the general path. Both
+/// make the same geometry, over the detail and over points.
+#[test]
+fn calls_of_edits_and_of_values_make_the_same_geometry() {
+    let direct = "int a = addpoint(0, set(@P.x, 2, 0)); int b = addpoint(0, 1); addprim(0, \"polyline\", a, b); addprim(0, \"poly\", a, b, 0);";
+    let values = "string t = \"polyline\"; string u = \"poly\"; int a = addpoint(0, set(@P.x, 2, 0)); int b = addpoint(0, 1); addprim(0, t, array(a, b)); addprim(0, u, a, b, 0);";
+    for class in [AttribClass::Detail, AttribClass::Point] {
+        let one = wrangle(direct, class, &four_points());
+        let two = wrangle(values, class, &four_points());
+        let n = if class == AttribClass::Detail { 1 } else { 4 };
+        assert_eq!(one.num_points(), 4 + 2 * n);
+        assert_eq!(one.num_prims(), 2 * n);
+        assert_eq!(one.positions(), two.positions());
+        for k in 0..one.num_prims() {
+            assert_eq!(one.prim_points(k), two.prim_points(k), "{class:?} prim {k}");
+            assert_eq!(one.prim_kinds()[k], two.prim_kinds()[k]);
+        }
+        // The copy of point 1 sits where point 1 is.
+        assert_eq!(one.positions()[5], one.positions()[1]);
+    }
+    for bad in [
+        "addprim(0, \"curve\", 0, 1);",
+        "string t = \"curve\"; addprim(0, t, 0, 1);",
+    ] {
+        let msg = wrangle_with(bad, AttribClass::Detail, &four_points(), &[])
+            .expect_err("an unknown type is refused");
+        assert!(msg.contains("unknown type \"curve\""), "{msg}");
+    }
+}
+
 /// addvertex on the input's primitives from every element: each gets its
 /// vertices in element order, then call order, on any thread count.
 #[test]

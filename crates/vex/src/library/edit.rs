@@ -5,9 +5,10 @@
 
 use geode_geo::{AttribClass, PrimKind};
 
+use super::support::through_edits;
 use super::{a, form, lane, Category, Function, Ret, I, IA, S, T, V};
-use crate::effect::{EffectKind, Mode, Points, SetAttr};
-use crate::program::{Lane, Stop};
+use crate::effect::{EffectKind, Mode, SetAttr};
+use crate::program::{Host, Lane, Numbers, Stop};
 use crate::ty::Ty;
 use crate::value::Val;
 
@@ -32,15 +33,15 @@ pub const FUNCTIONS: &[Function] = &[
         form(INT, &[a(I, "geo"), a(S, "attribclass"), a(S, "attrib"), a(I, "elemnum"), a(I, "vertex"), a(T::Any, "value"), a(S, "mode")], set_any).opt(1),
     ]),
     lane("addpoint", C, "Adds a point at a position, or a copy of a point with its attributes; the number is valid for calls in this element.", &[
-        form(INT, &[a(I, "geo"), a(V, "pos")], addpoint),
-        form(INT, &[a(I, "geo"), a(I, "ptnum")], addpoint),
+        form(INT, &[a(I, "geo"), a(V, "pos")], |l, a| through_edits(l, a, addpoint_at)).edit(addpoint_at),
+        form(INT, &[a(I, "geo"), a(I, "ptnum")], |l, a| through_edits(l, a, addpoint_from)).edit(addpoint_from),
     ]),
     lane("addprim", C, "Adds a \"poly\" or \"polyline\" through the given points.", &[
-        form(INT, &[a(I, "geo"), a(S, "type"), a(I, "pt")], addprim).opt(1).many(),
-        form(INT, &[a(I, "geo"), a(S, "type"), a(IA, "points")], addprim),
+        form(INT, &[a(I, "geo"), a(S, "type"), a(I, "pt")], |l, a| through_edits(l, a, addprim)).opt(1).many().edit(addprim),
+        form(INT, &[a(I, "geo"), a(S, "type"), a(IA, "points")], |l, a| through_edits(l, a, addprim)),
     ]),
     lane("addvertex", C, "Appends a vertex on a point to a primitive: a new one, or a polygon or polyline of the input (after the new primitives are added; its new vertex's attributes start at their defaults).", &[
-        form(INT, &[a(I, "geo"), a(I, "primnum"), a(I, "ptnum")], addvertex),
+        form(INT, &[a(I, "geo"), a(I, "primnum"), a(I, "ptnum")], |l, a| through_edits(l, a, addvertex)).edit(addvertex),
     ]),
     lane("removepoint", C, "Removes a point and its vertices; primitives left degenerate are removed (unless and_prims is 0).", &[
         form(INT, &[a(I, "geo"), a(I, "ptnum"), a(I, "and_prims")], removepoint).opt(1),
@@ -73,7 +74,7 @@ fn mode_of(m: Option<&Val>) -> Result<Mode, Stop> {
 }
 
 fn queue(l: &mut Lane, kind: EffectKind) -> Result<(), Stop> {
-    l.host.queue(kind).map_err(Stop::OverBudget)
+    l.host.queue(kind)
 }
 
 fn write(
@@ -134,25 +135,21 @@ fn set_any(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     write(l, class, &name, target, vtx, v, mode)
 }
 
-fn addpoint(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let from = match &a[1] {
-        Val::I(pt) => Some(*pt),
-        _ => None,
-    };
-    let handle = l.host.new_point();
-    queue(
-        l,
-        EffectKind::AddPoint {
-            handle,
-            from,
-            pos: a[1].v3(),
-        },
-    )?;
-    Ok(Val::I(handle))
+/// `addpoint(geo, pos)`.
+fn addpoint_at(h: &mut dyn Host, n: &Numbers) -> Result<i32, Stop> {
+    let pos = [n.floats[0], n.floats[1], n.floats[2]];
+    h.add_point(None, pos)
 }
 
-fn addprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let polyline = match a[1].s() {
+/// `addpoint(geo, ptnum)`: a copy of the point with its attributes.
+fn addpoint_from(h: &mut dyn Host, n: &Numbers) -> Result<i32, Stop> {
+    let from = n.ints[1];
+    h.add_point(Some(from), [from as f32; 3])
+}
+
+/// `addprim(geo, type, pt...)` and `addprim(geo, type, points[])`.
+fn addprim(h: &mut dyn Host, n: &Numbers) -> Result<i32, Stop> {
+    let polyline = match n.text {
         "poly" => false,
         "polyline" => true,
         other => {
@@ -161,47 +158,25 @@ fn addprim(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
             )))
         }
     };
-    let mut points = Points::new();
-    for v in &a[2..] {
-        match v {
-            Val::AI(v) => v.iter().for_each(|p| points.push(*p)),
-            v => points.push(v.i()),
-        }
-    }
-    let handle = l.host.new_prim();
-    queue(
-        l,
-        EffectKind::AddPrim {
-            handle,
-            polyline,
-            points,
-        },
-    )?;
-    Ok(Val::I(handle))
+    h.add_prim(polyline, &n.ints[1..])
 }
 
 /// `addvertex(geo, prim, point)`: a primitive made by the wrangle, or one
 /// of the input's polygons and polylines (which take the vertex after
 /// the new primitives are added).
-fn addvertex(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
-    let prim = a[1].i();
+fn addvertex(h: &mut dyn Host, n: &Numbers) -> Result<i32, Stop> {
+    let (prim, point) = (n.ints[1], n.ints[2]);
     let kind = usize::try_from(prim)
         .ok()
-        .and_then(|p| l.host.input(0)?.prim_kinds().get(p).copied());
+        .and_then(|p| h.input(0)?.prim_kinds().get(p).copied());
     if let Some(kind) = kind.filter(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline)) {
         return Err(Stop::Msg(format!(
             "addvertex: primitive {prim} is a {} primitive: only polygons and polylines take vertices",
             kind.name()
         )));
     }
-    queue(
-        l,
-        EffectKind::AddVertex {
-            prim: a[1].i(),
-            point: a[2].i(),
-        },
-    )?;
-    Ok(Val::I(0))
+    h.queue(EffectKind::AddVertex { prim, point })?;
+    Ok(0)
 }
 
 fn removepoint(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {

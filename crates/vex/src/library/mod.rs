@@ -25,7 +25,7 @@ mod support;
 use std::collections::HashMap;
 use std::sync::LazyLock;
 
-use crate::program::{BytesFn, LaneFn, NumFn};
+use crate::program::{BytesFn, EditFn, LaneFn, NumFn};
 use crate::ty::{Elem, Ty};
 
 pub use constants::{constant, Constant, CONSTANTS};
@@ -144,6 +144,9 @@ pub struct Form {
     /// The lane function as a function of numbers, for calls whose
     /// arguments and result are all numbers.
     pub num: Option<NumFn>,
+    /// The lane function as a function of edits, for calls whose
+    /// arguments are numbers and string literals.
+    pub edit: Option<EditFn>,
 }
 
 /// How calls of a function are lowered.
@@ -210,6 +213,7 @@ pub(crate) const fn form(ret: Ret, args: &'static [Arg], lane: LaneFn) -> Form {
         lane: Some(lane),
         bytes: None,
         num: None,
+        edit: None,
     }
 }
 
@@ -223,6 +227,7 @@ pub(crate) const fn shape(ret: Ret, args: &'static [Arg]) -> Form {
         lane: None,
         bytes: None,
         num: None,
+        edit: None,
     }
 }
 
@@ -248,6 +253,15 @@ impl Form {
     pub(crate) const fn num(self, f: NumFn) -> Form {
         Form {
             num: Some(f),
+            ..self
+        }
+    }
+
+    /// The lane function goes through `f`, which calls of numbers and
+    /// string literals run directly.
+    pub(crate) const fn edit(self, f: EditFn) -> Form {
+        Form {
+            edit: Some(f),
             ..self
         }
     }

@@ -444,9 +444,7 @@ fn sprintf_lane(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
 
 fn printf(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let text = sprintf(a[0].s(), &a[1..]);
-    lane.host
-        .queue(EffectKind::Print(text))
-        .map_err(Stop::OverBudget)?;
+    lane.host.queue(EffectKind::Print(text))?;
     Ok(Val::I(0))
 }
 

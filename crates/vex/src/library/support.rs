@@ -247,14 +247,14 @@ impl crate::program::Host for NoHost {
     fn nearest(&self, _: i32, _: &str, _: [f32; 3], _: f32, _: usize) -> Vec<u32> {
         Vec::new()
     }
-    fn queue(&mut self, _: crate::effect::EffectKind) -> Result<(), String> {
+    fn queue(&mut self, _: crate::effect::EffectKind) -> Result<(), Stop> {
         Ok(())
     }
-    fn new_point(&mut self) -> i32 {
-        0
+    fn add_point(&mut self, _: Option<i32>, _: [f32; 3]) -> Result<i32, Stop> {
+        Ok(0)
     }
-    fn new_prim(&mut self) -> i32 {
-        0
+    fn add_prim(&mut self, _: bool, _: &[i32]) -> Result<i32, Stop> {
+        Ok(0)
     }
     fn cancelled(&self) -> bool {
         false
@@ -317,4 +317,27 @@ pub fn through_numbers(l: &Lane, a: &[Val], num: crate::program::NumFn) -> Val {
     let mut out = [0.0f32; 16];
     num(args, &mut out[..n]);
     Val::F(out, n as u8)
+}
+
+/// A lane function going through its function of edits (`EditFn`): the
+/// arguments' ints (int arrays spread), floats and string, each in order.
+/// Calls of numbers and string literals run `edit` directly.
+pub fn through_edits(l: &mut Lane, a: &[Val], edit: crate::program::EditFn) -> Result<Val, Stop> {
+    let mut ints = Vec::new();
+    let mut floats = Vec::new();
+    let mut text = "";
+    for v in a {
+        match v {
+            Val::I(x) => ints.push(*x),
+            Val::AI(xs) => ints.extend_from_slice(xs),
+            Val::S(s) => text = s.as_str(),
+            v => floats.extend_from_slice(v.floats()),
+        }
+    }
+    let numbers = crate::program::Numbers {
+        ints: &ints,
+        floats: &floats,
+        text,
+    };
+    edit(&mut *l.host, &numbers).map(Val::I)
 }

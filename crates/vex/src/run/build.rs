@@ -74,6 +74,15 @@ impl Handles {
     }
 }
 
+/// The bytes `v` would allocate to take `more` (it doubles).
+fn grows<T>(v: &Vec<T>, more: usize) -> u64 {
+    if v.len() + more <= v.capacity() {
+        return 0;
+    }
+    let cap = (v.capacity() * 2).max(v.len() + more).max(8);
+    (cap * std::mem::size_of::<T>()) as u64
+}
+
 /// What the batches made so far. New points are numbered `base_points +
 /// k` (k in `positions`), new primitives by their index in `shape`, until
 /// `finish` gives them their final numbers.
@@ -138,89 +147,113 @@ impl Builder {
     /// The bytes taking `kind` would allocate (the lists it grows double),
     /// so the memory budget is asked before they are.
     pub fn growth(&self, elem: u32, pos: Pos, kind: &EffectKind) -> u64 {
-        fn grows<T>(v: &Vec<T>, more: usize) -> u64 {
-            if v.len() + more <= v.capacity() {
-                return 0;
-            }
-            let cap = (v.capacity() * 2).max(v.len() + more).max(8);
-            (cap * std::mem::size_of::<T>()) as u64
-        }
         match kind {
-            EffectKind::AddPoint { from, .. } => {
-                grows(&self.positions, 1) + from.map_or(0, |_| grows(&self.copies, 1))
-            }
+            EffectKind::AddPoint { from, .. } => self.point_growth(from.is_some()),
             EffectKind::AddPrim { points, .. } => {
-                grows(&self.flat, points.as_slice().len())
-                    + grows(&self.shape, 1)
-                    + if self.new_maker(elem, pos) {
-                        grows(&self.made_by, 1)
-                    } else {
-                        0
-                    }
+                self.prim_growth(elem, pos, points.as_slice().len())
             }
             EffectKind::AddVertex { .. } => grows(&self.flat, 1) + 16,
             _ => 0,
         }
     }
 
+    /// The bytes a new point would allocate (a copy also lists its source).
+    pub fn point_growth(&self, copy: bool) -> u64 {
+        grows(&self.positions, 1) + if copy { grows(&self.copies, 1) } else { 0 }
+    }
+
+    /// The bytes a new primitive of `n` points would allocate.
+    pub fn prim_growth(&self, elem: u32, pos: Pos, n: usize) -> u64 {
+        grows(&self.flat, n)
+            + grows(&self.shape, 1)
+            + if self.new_maker(elem, pos) {
+                grows(&self.made_by, 1)
+            } else {
+                0
+            }
+    }
+
     /// Takes a construction effect of element `elem` (made by the call at
     /// `pos`); the other effects are not its own.
     pub fn take(&mut self, elem: u32, pos: Pos, kind: &EffectKind) -> Result<(), String> {
         match kind {
-            EffectKind::AddPoint { handle, from, pos } => {
-                let id = self.base_points as u32 + self.positions.len() as u32;
-                if let Some(src) = from {
-                    let s = self
-                        .point(*src)
-                        .ok_or_else(|| format!("addpoint: point {src} does not exist"))?;
-                    self.copies.push((s, id));
-                }
-                self.points().insert(*handle, id);
-                self.positions.push((*pos).into());
-            }
+            EffectKind::AddPoint { handle, from, pos } => self.add_point(*handle, *from, *pos),
             EffectKind::AddPrim {
                 handle,
                 polyline,
                 points,
-            } => {
-                let start = self.flat.len();
-                for &h in points.as_slice() {
-                    match self.point(h) {
-                        Some(p) => self.flat.push(p),
-                        None => {
-                            self.flat.truncate(start);
-                            return Err(format!("point {h} does not exist"));
-                        }
-                    }
-                }
-                let k = self.shape.len() as u32;
-                self.prims().insert(*handle, k);
-                let n = points.as_slice().len() as u32;
-                self.shape.push((!polyline, n));
-                if self.new_maker(elem, pos) {
-                    self.made_by.push((k, elem, pos));
+            } => self.add_prim(elem, pos, *handle, *polyline, points.as_slice()),
+            EffectKind::AddVertex { prim, point } => self.add_vertex(elem, pos, *prim, *point),
+            _ => Ok(()),
+        }
+    }
+
+    /// New point `handle`: a copy of point `from`, or at `at`.
+    pub fn add_point(
+        &mut self,
+        handle: i32,
+        from: Option<i32>,
+        at: [f32; 3],
+    ) -> Result<(), String> {
+        let id = self.base_points as u32 + self.positions.len() as u32;
+        if let Some(src) = from {
+            let s = self
+                .point(src)
+                .ok_or_else(|| format!("addpoint: point {src} does not exist"))?;
+            self.copies.push((s, id));
+        }
+        self.points().insert(handle, id);
+        self.positions.push(at.into());
+        Ok(())
+    }
+
+    /// New primitive `handle` through `points`, made by `elem` at `pos`.
+    pub fn add_prim(
+        &mut self,
+        elem: u32,
+        pos: Pos,
+        handle: i32,
+        polyline: bool,
+        points: &[i32],
+    ) -> Result<(), String> {
+        let start = self.flat.len();
+        for &h in points {
+            match self.point(h) {
+                Some(p) => self.flat.push(p),
+                None => {
+                    self.flat.truncate(start);
+                    return Err(format!("point {h} does not exist"));
                 }
             }
-            EffectKind::AddVertex { prim, point } => {
-                let pt = self
-                    .point(*point)
-                    .ok_or_else(|| format!("addvertex: point {point} does not exist"))?;
-                if (0..self.base_prims).contains(prim) {
-                    self.existing.push((*prim as u32, pt, elem, pos));
-                    return Ok(());
-                }
-                let Some(k) = self.prim_maps.last().and_then(|m| m.get(prim)) else {
-                    return Err(format!("addvertex: primitive {prim} does not exist"));
-                };
-                if k as usize + 1 == self.shape.len() {
-                    // The last primitive grows in place.
-                    self.flat.push(pt);
-                    self.shape[k as usize].1 += 1;
-                } else {
-                    self.late.entry(k).or_default().push(pt);
-                }
-            }
-            _ => {}
+        }
+        let k = self.shape.len() as u32;
+        self.prims().insert(handle, k);
+        self.shape.push((!polyline, points.len() as u32));
+        if self.new_maker(elem, pos) {
+            self.made_by.push((k, elem, pos));
+        }
+        Ok(())
+    }
+
+    /// A vertex on `point` appended to primitive `prim` (new or the
+    /// input's).
+    fn add_vertex(&mut self, elem: u32, pos: Pos, prim: i32, point: i32) -> Result<(), String> {
+        let pt = self
+            .point(point)
+            .ok_or_else(|| format!("addvertex: point {point} does not exist"))?;
+        if (0..self.base_prims).contains(&prim) {
+            self.existing.push((prim as u32, pt, elem, pos));
+            return Ok(());
+        }
+        let Some(k) = self.prim_maps.last().and_then(|m| m.get(&prim)) else {
+            return Err(format!("addvertex: primitive {prim} does not exist"));
+        };
+        if k as usize + 1 == self.shape.len() {
+            // The last primitive grows in place.
+            self.flat.push(pt);
+            self.shape[k as usize].1 += 1;
+        } else {
+            self.late.entry(k).or_default().push(pt);
         }
         Ok(())
     }

@@ -113,6 +113,9 @@ pub fn call(p: &Program, call: usize, fr: &mut Frame, world: &mut World) -> Resu
         call_numbers(site, num, fr);
         return Ok(());
     }
+    if let Some(edit) = site.edit {
+        return call_edits(site, edit, fr, world);
+    }
     // The site's argument list is the frame's, kept call after call (a
     // detail loop makes millions of calls): a literal is copied in again
     // only when a lane function changed it.
@@ -165,6 +168,72 @@ fn call_numbers(site: &CallSite, num: crate::program::NumFn, fr: &mut Frame) {
             fr.f[(o + c) * LANES + l] = *x;
         }
     }
+}
+
+/// The most ints and the most floats a call of edits gathers per lane.
+pub const EDIT_ARGS: usize = 16;
+
+/// A call of edits (`EditFn`) over the lanes its mask selects: each
+/// lane's ints and floats gathered from the registers, the string from the
+/// site's literal, the int result stored. No value is built.
+fn call_edits(
+    site: &CallSite,
+    edit: crate::program::EditFn,
+    fr: &mut Frame,
+    world: &mut World,
+) -> Result<(), RunError> {
+    let text = site
+        .consts
+        .iter()
+        .find_map(|c| match c {
+            Some(Val::S(s)) => Some(s.as_str()),
+            _ => None,
+        })
+        .unwrap_or("");
+    let o = site.out.reg as usize;
+    let mut ints = [0i32; EDIT_ARGS];
+    let mut floats = [0.0f32; EDIT_ARGS];
+    let mut result = Ok(());
+    for l in 0..fr.n {
+        if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {
+            continue;
+        }
+        let (mut ni, mut nf) = (0, 0);
+        for a in &site.args {
+            let r = a.reg as usize;
+            match a.ty {
+                Ty::Int => {
+                    ints[ni] = fr.i[r * LANES + l];
+                    ni += 1;
+                }
+                Ty::Str => {}
+                t => {
+                    for c in 0..t.floats() {
+                        floats[nf] = fr.f[(r + c) * LANES + l];
+                        nf += 1;
+                    }
+                }
+            }
+        }
+        let numbers = crate::program::Numbers {
+            ints: &ints[..ni],
+            floats: &floats[..nf],
+            text,
+        };
+        world.pos = site.pos;
+        let mut host = LaneHost {
+            world: &mut *world,
+            lane: l,
+        };
+        match edit(&mut host, &numbers) {
+            Ok(x) => fr.i[o * LANES + l] = x,
+            Err(stop) => {
+                result = Err(stopped(stop, world.elem_of(l), site));
+                break;
+            }
+        }
+    }
+    result
 }
 
 fn call_lanes(

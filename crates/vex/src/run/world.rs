@@ -12,7 +12,7 @@ use super::budget::Budget;
 use super::build::Builder;
 use crate::effect::{Effect, EffectKind, EffectQueue};
 use crate::kdtree::KdTree;
-use crate::program::{Host, PointQuery};
+use crate::program::{Host, PointQuery, Stop};
 
 /// A k-d tree over one point group and the point numbers of its members.
 type GroupTree = (KdTree, Vec<u32>);
@@ -160,7 +160,7 @@ impl<'s, 'a> World<'s, 'a> {
     /// Queues an effect of lane `lane`'s element, charged against the
     /// budget (in steps of `CHARGE_STEP`, so threads seldom meet on the
     /// shared account).
-    pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), String> {
+    pub fn queue(&mut self, lane: usize, kind: EffectKind) -> Result<(), Stop> {
         let elem = self.elem_of(lane);
         self.queued += 1;
         let pos = self.pos;
@@ -170,7 +170,7 @@ impl<'s, 'a> World<'s, 'a> {
             // grow by before they grow.
             self.charge(bytes)?;
             if let Some(b) = self.built.as_mut() {
-                b.take(elem, pos, &kind)?;
+                b.take(elem, pos, &kind).map_err(Stop::Msg)?;
             }
         } else {
             self.charge(std::mem::size_of::<Effect>() as u64 + kind.heap_bytes())?;
@@ -187,17 +187,17 @@ impl<'s, 'a> World<'s, 'a> {
 
     /// Charges `bytes` more of queued changes against the budget, in steps
     /// of `CHARGE_STEP` so threads seldom meet on the shared count.
-    fn charge(&mut self, bytes: u64) -> Result<(), String> {
+    fn charge(&mut self, bytes: u64) -> Result<(), Stop> {
         const CHARGE_STEP: u64 = 1 << 16;
         self.uncharged += bytes;
         if self.uncharged >= CHARGE_STEP {
             let bytes = std::mem::take(&mut self.uncharged);
             let budget = &self.shared.budget;
             if !budget.fits(bytes) {
-                return Err(budget.refusal(
+                return Err(Stop::OverBudget(budget.refusal(
                     &format!("queueing {} more geometry changes", self.queued),
                     bytes,
-                ));
+                )));
             }
             budget.charge(bytes as i64);
         }
@@ -206,14 +206,68 @@ impl<'s, 'a> World<'s, 'a> {
 
     /// A provisional number for a new point: past the input's points,
     /// counted within this batch (resolved when the batch's effects apply).
-    pub fn new_point(&mut self) -> i32 {
+    fn new_point(&mut self) -> i32 {
         self.new_points += 1;
         self.input(0).map_or(0, |g| g.num_points() as i32) + self.new_points - 1
     }
 
-    pub fn new_prim(&mut self) -> i32 {
+    fn new_prim(&mut self) -> i32 {
         self.new_prims += 1;
         self.input(0).map_or(0, |g| g.num_prims() as i32) + self.new_prims - 1
+    }
+
+    /// A new point of lane `lane`'s element (a copy of `from`, or at
+    /// `at`): made at once where the run builds as it goes, else queued.
+    pub fn add_point(&mut self, lane: usize, from: Option<i32>, at: [f32; 3]) -> Result<i32, Stop> {
+        let handle = self.new_point();
+        if let Some(bytes) = self.built.as_ref().map(|b| b.point_growth(from.is_some())) {
+            self.queued += 1;
+            self.charge(bytes)?;
+            if let Some(b) = self.built.as_mut() {
+                b.add_point(handle, from, at).map_err(Stop::Msg)?;
+            }
+        } else {
+            self.queue(
+                lane,
+                EffectKind::AddPoint {
+                    handle,
+                    from,
+                    pos: at,
+                },
+            )?;
+        }
+        Ok(handle)
+    }
+
+    /// A new polygon or polyline of lane `lane`'s element through
+    /// `points`, made at once or queued like `add_point`.
+    pub fn add_prim(&mut self, lane: usize, polyline: bool, points: &[i32]) -> Result<i32, Stop> {
+        let handle = self.new_prim();
+        let (elem, pos) = (self.elem_of(lane), self.pos);
+        if let Some(bytes) = self
+            .built
+            .as_ref()
+            .map(|b| b.prim_growth(elem, pos, points.len()))
+        {
+            self.queued += 1;
+            self.charge(bytes)?;
+            if let Some(b) = self.built.as_mut() {
+                b.add_prim(elem, pos, handle, polyline, points)
+                    .map_err(Stop::Msg)?;
+            }
+        } else {
+            let mut list = crate::effect::Points::new();
+            points.iter().for_each(|p| list.push(*p));
+            self.queue(
+                lane,
+                EffectKind::AddPrim {
+                    handle,
+                    polyline,
+                    points: list,
+                },
+            )?;
+        }
+        Ok(handle)
     }
 }
 
@@ -236,16 +290,16 @@ impl Host for LaneHost<'_, '_, '_> {
         self.world.nearest(i, group, q, radius, count)
     }
 
-    fn queue(&mut self, kind: EffectKind) -> Result<(), String> {
+    fn queue(&mut self, kind: EffectKind) -> Result<(), Stop> {
         self.world.queue(self.lane, kind)
     }
 
-    fn new_point(&mut self) -> i32 {
-        self.world.new_point()
+    fn add_point(&mut self, from: Option<i32>, at: [f32; 3]) -> Result<i32, Stop> {
+        self.world.add_point(self.lane, from, at)
     }
 
-    fn new_prim(&mut self) -> i32 {
-        self.world.new_prim()
+    fn add_prim(&mut self, polyline: bool, points: &[i32]) -> Result<i32, Stop> {
+        self.world.add_prim(self.lane, polyline, points)
     }
 
     fn cancelled(&self) -> bool {

@@ -330,6 +330,9 @@ impl<'a> Lower<'a> {
         if let Some(num) = form.num {
             self.runs_on_numbers(num);
         }
+        if let Some(edit) = form.edit {
+            self.runs_on_edits(edit);
+        }
         // Registers of a variable, binding or component were written in
         // place; an array element is stored back.
         for (k, (t, v)) in targets.into_iter().zip(converted).enumerate() {

@@ -386,6 +386,7 @@ impl<'a> Lower<'a> {
                         mask: None,
                         counted: false,
                         num: None,
+                        edit: None,
                         pos: Pos::default(),
                     });
                     self.emit(Op::AMov {
@@ -576,6 +577,7 @@ impl<'a> Lower<'a> {
             mask: self.mask(),
             counted,
             num: None,
+            edit: None,
             pos,
         });
         self.emit(Op::Call { call });
@@ -597,6 +599,28 @@ impl<'a> Lower<'a> {
             && site.args.iter().all(|a| number(a.ty))
         {
             site.num = Some(num);
+        }
+    }
+
+    /// The last call site runs `edit` when its arguments are numbers and
+    /// string literals, its result an int, and it writes no argument.
+    pub fn runs_on_edits(&mut self, edit: crate::program::EditFn) {
+        let Some(site) = self.calls.last_mut() else {
+            return;
+        };
+        let plain = site.modes.iter().all(|m| *m != ArgMode::Move);
+        let (mut ints, mut floats, mut texts) = (0, 0, 0);
+        for (a, c) in site.args.iter().zip(&site.consts) {
+            match a.ty {
+                Ty::Int => ints += 1,
+                Ty::Str if c.is_some() => texts += 1,
+                t if t.is_floaty() => floats += t.floats(),
+                _ => return,
+            }
+        }
+        let most = crate::run::EDIT_ARGS;
+        if plain && site.out.ty == Ty::Int && ints <= most && floats <= most && texts <= 1 {
+            site.edit = Some(edit);
         }
     }
 
