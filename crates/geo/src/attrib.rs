@@ -478,6 +478,62 @@ impl AttribData {
         }
     }
 
+    /// A new column of weighted sums of three elements each (barycentric
+    /// interpolation over a triangle): `w0 a + w1 b + w2 c` for numbers and
+    /// vectors, the normalized sum for quaternions (aligned to the first),
+    /// and the heaviest element for integers, matrices and strings (they do
+    /// not interpolate).
+    pub fn mix3(&self, items: &[([u32; 3], [f32; 3])]) -> AttribData {
+        fn mix<T: Copy>(
+            v: &[T],
+            items: &[([u32; 3], [f32; 3])],
+            f: impl Fn([T; 3], [f32; 3]) -> T,
+        ) -> Vec<T> {
+            items
+                .iter()
+                .map(|(k, w)| f(k.map(|i| v[i as usize]), *w))
+                .collect()
+        }
+        let heaviest: Vec<u32> = items
+            .iter()
+            .map(|(k, w)| {
+                let best = (1..3).fold(0, |b, j| if w[j] > w[b] { j } else { b });
+                k[best]
+            })
+            .collect();
+        match self {
+            AttribData::Float(v) => AttribData::Float(mix(v, items, |x, w| {
+                x[0] * w[0] + x[1] * w[1] + x[2] * w[2]
+            })),
+            AttribData::Vec2(v) => AttribData::Vec2(mix(v, items, |x, w| {
+                x[0] * w[0] + x[1] * w[1] + x[2] * w[2]
+            })),
+            AttribData::Vec3(v) => AttribData::Vec3(mix(v, items, |x, w| {
+                x[0] * w[0] + x[1] * w[1] + x[2] * w[2]
+            })),
+            AttribData::Vec4(v) => AttribData::Vec4(mix(v, items, |x, w| {
+                x[0] * w[0] + x[1] * w[1] + x[2] * w[2]
+            })),
+            AttribData::Quat(v) => AttribData::Quat(mix(v, items, |q, w| {
+                let align = |x: Quat| if x.dot(q[0]) < 0.0 { -x } else { x };
+                let sum = q[0] * w[0] + align(q[1]) * w[1] + align(q[2]) * w[2];
+                if sum.length_squared() > 0.0 {
+                    sum.normalize()
+                } else {
+                    q[0]
+                }
+            })),
+            AttribData::Int(_)
+            | AttribData::Mat4(_)
+            | AttribData::Mat3(_)
+            | AttribData::String(_)
+            | AttribData::IntArray(_)
+            | AttribData::FloatArray(_)
+            | AttribData::Vec3Array(_)
+            | AttribData::StringArray(_) => self.gather(&heaviest),
+        }
+    }
+
     /// Appends `other`'s elements; false when the types differ.
     pub(crate) fn append(&mut self, other: &AttribData) -> bool {
         match (self, other) {
@@ -693,6 +749,16 @@ impl Attribute {
             data: Shared::new(self.data.gather(indices)),
         }
     }
+
+    /// An attribute of weighted sums of three elements each (see
+    /// [`AttribData::mix3`]).
+    pub fn mix3(&self, items: &[([u32; 3], [f32; 3])]) -> Attribute {
+        Attribute {
+            type_info: self.type_info,
+            default: self.default.clone(),
+            data: Shared::new(self.data.mix3(items)),
+        }
+    }
 }
 
 /// Length-preserving mutable view of a column.
@@ -856,6 +922,20 @@ impl AttribTable {
                 .attribs
                 .iter()
                 .map(|(k, a)| (k.clone(), a.gather(indices)))
+                .collect(),
+        }
+    }
+
+    /// A table of weighted sums of three elements each (barycentric
+    /// interpolation; see [`AttribData::mix3`]).
+    pub fn mix3(&self, items: &[([u32; 3], [f32; 3])]) -> AttribTable {
+        AttribTable {
+            class: self.class,
+            len: items.len(),
+            attribs: self
+                .attribs
+                .iter()
+                .map(|(k, a)| (k.clone(), a.mix3(items)))
                 .collect(),
         }
     }

@@ -1,0 +1,2 @@
+//! The modelling kernel at realistic sizes (run: cargo bench -p geode-model).
+fn main() {}

@@ -1,0 +1,18 @@
+//! The modelling kernel's errors: what was wrong with which input.
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ModelError {
+    /// An input the operation needs closed (a solid) is not.
+    #[error("input {input} is not a closed manifold mesh: {why}")]
+    NotClosed { input: &'static str, why: String },
+    /// A parameter's value the operation cannot use.
+    #[error("{0}")]
+    Invalid(String),
+    /// The operation itself failed on these inputs.
+    #[error("{op} failed: {why}")]
+    Failed { op: &'static str, why: String },
+    #[error("cancelled")]
+    Cancelled,
+}

@@ -1,0 +1,8 @@
+//! geode's modelling kernel: operations on polygon meshes that the
+//! modelling nodes call (booleans, and the rest of the modelling family).
+//! It knows geometry only: no node, parameter or graph.
+
+pub mod boolean;
+mod error;
+
+pub use error::ModelError;
