@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test: the studio front end's (tools/studio.sh), the workspace's
 # with the external reference validators (Khronos glTF validator from npm,
-# Pixar's usd-core and trimesh from PyPI, OpenSubdiv from Debian for
+# Pixar's usd-core, trimesh, manifold3d and scipy from PyPI, OpenSubdiv from Debian for
 # tools/osd_ref) installed first and a one-machine Slurm cluster (Debian's
 # slurm-wlm and munge, tools/slurm.sh) running for the farm tests, then the
 # studio in real Chromium (tools/browser.sh), so that nothing has to be
@@ -13,10 +13,10 @@ if [ ! -d tools/node_modules/gltf-validator ]; then
   echo "installing gltf-validator (npm) into tools/node_modules" >&2
   npm install --prefix tools --no-audit --no-fund --loglevel=error >&2
 fi
-if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh" 2>/dev/null; then
-  echo "installing usd-core and trimesh (PyPI) into tools/.venv" >&2
+if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh, manifold3d, scipy" 2>/dev/null; then
+  echo "installing usd-core, trimesh, manifold3d and scipy (PyPI) into tools/.venv" >&2
   python3 -m venv tools/.venv
-  tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh >&2
+  tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh manifold3d scipy >&2
 fi
 
 # OpenSubdiv (Debian's libosd-dev) for the Catmull-Clark reference program.
