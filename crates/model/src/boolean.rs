@@ -17,6 +17,9 @@
 //! and `seam` (the points where faces of A meet faces of B: geode has no
 //! edge groups, so the seam's edges are those between two seam points).
 
+use std::sync::{mpsc, Arc};
+use std::time::Duration;
+
 use boolmesh::prelude::{compute_boolean, Manifold, OpType};
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, TypeInfo};
@@ -79,21 +82,63 @@ pub fn boolean(
     let ma = sources.manifold(Side::A)?;
     let mb = sources.manifold(Side::B)?;
     check()?;
-    let run = |op: OpType| {
-        compute_boolean(&ma, &mb, op).map_err(|why| ModelError::Failed { op: "boolean", why })
+    let (ma, mb) = (Arc::new(ma), Arc::new(mb));
+    let run = |op: OpType| apart(Arc::clone(&ma), Arc::clone(&mb), op, cancel);
+    let output = |r: Option<Manifold<f64>>, op, piece| match r {
+        Some(r) => sources.output(&r, op, piece),
+        None => Ok(Geometry::new()),
     };
     match op {
-        BooleanOp::Union => sources.output(&run(OpType::Add)?, op, None),
-        BooleanOp::Intersect => sources.output(&run(OpType::Intersect)?, op, None),
-        BooleanOp::Subtract => sources.output(&run(OpType::Subtract)?, op, None),
+        BooleanOp::Union => output(run(OpType::Add)?, op, None),
+        BooleanOp::Intersect => output(run(OpType::Intersect)?, op, None),
+        BooleanOp::Subtract => output(run(OpType::Subtract)?, op, None),
         BooleanOp::Shatter => {
-            let outside = sources.output(&run(OpType::Subtract)?, BooleanOp::Subtract, Some(0))?;
+            let outside = output(run(OpType::Subtract)?, BooleanOp::Subtract, Some(0))?;
             check()?;
-            let inside = sources.output(&run(OpType::Intersect)?, BooleanOp::Intersect, Some(1))?;
+            let inside = output(run(OpType::Intersect)?, BooleanOp::Intersect, Some(1))?;
             ops::merge(&[&outside, &inside]).map_err(|e| ModelError::Failed {
                 op: "shatter",
                 why: e.to_string(),
             })
+        }
+    }
+}
+
+/// boolmesh's boolean on a thread of its own, so that a cancelled cook
+/// returns at once (the thread finishes unobserved and its result is
+/// dropped) and a panic in it is this boolean's error, not the process's.
+/// An empty result (disjoint solids intersected), which boolmesh reports
+/// as an error about its empty position list, is `None`.
+fn apart(
+    a: Arc<Manifold<f64>>,
+    b: Arc<Manifold<f64>>,
+    op: OpType,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<Manifold<f64>>, ModelError> {
+    const POLL: Duration = Duration::from_millis(10);
+    let (tx, rx) = mpsc::channel();
+    std::thread::Builder::new()
+        .name("boolean".into())
+        .spawn(move || {
+            let _ = tx.send(compute_boolean(&a, &b, op));
+        })
+        .map_err(|e| ModelError::Failed {
+            op: "boolean",
+            why: format!("no thread for it: {e}"),
+        })?;
+    loop {
+        match rx.recv_timeout(POLL) {
+            Ok(Ok(r)) => return Ok(Some(r)),
+            Ok(Err(why)) if why.contains("empty") => return Ok(None),
+            Ok(Err(why)) => return Err(ModelError::Failed { op: "boolean", why }),
+            Err(mpsc::RecvTimeoutError::Timeout) if cancel() => return Err(ModelError::Cancelled),
+            Err(mpsc::RecvTimeoutError::Timeout) => {}
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(ModelError::Failed {
+                    op: "boolean",
+                    why: "it stopped on these inputs (a fault in boolmesh)".into(),
+                })
+            }
         }
     }
 }
@@ -111,7 +156,15 @@ struct Sources {
     /// A's triangles (B's are numbered from here).
     a_triangles: usize,
     a_points: usize,
+    /// Per triangle of the merge, the triangle across each edge `k`
+    /// (from corner k to k + 1), `NONE` at an open or shared edge.
+    across: Vec<[u32; 3]>,
 }
+
+const NONE: u32 = u32::MAX;
+
+/// Steps a point location walks before it settles for where it is.
+const MAX_WALK: usize = 4096;
 
 impl Sources {
     fn new(
@@ -126,11 +179,41 @@ impl Sources {
             op: "boolean",
             why: e.to_string(),
         })?;
+        let across = across_edges(&both);
         Ok(Sources {
             both,
             a_triangles,
             a_points,
+            across,
         })
+    }
+
+    fn corners(&self, t: usize) -> [DVec3; 3] {
+        let p = self.both.prim_points(t);
+        [0, 1, 2].map(|k| self.both.positions()[p[k] as usize].as_dvec3())
+    }
+
+    /// The source triangle holding `p` and its weights there, walking from
+    /// `hint` across edges to coplanar neighbours. boolmesh retriangulates
+    /// each flat region of the inputs as a whole, so the triangle a face
+    /// names is only somewhere in the same flat region as the face.
+    fn locate(&self, hint: usize, p: DVec3) -> (usize, [f32; 3]) {
+        let mut t = hint;
+        let mut w = barycentric(p, self.corners(t));
+        for _ in 0..MAX_WALK {
+            let j = (1..3).fold(0, |b, j| if w[j] < w[b] { j } else { b });
+            if w[j] >= -1e-9 {
+                break;
+            }
+            // Across the edge opposite the most negative corner.
+            let next = self.across[t][(j + 1) % 3];
+            if next == NONE || !coplanar(self.corners(t), self.corners(next as usize)) {
+                break;
+            }
+            t = next as usize;
+            w = barycentric(p, self.corners(t));
+        }
+        (t, clamped(w))
     }
 
     fn side_of(&self, triangle: usize) -> Side {
@@ -180,7 +263,6 @@ impl Sources {
         piece: Option<i32>,
     ) -> Result<Geometry, ModelError> {
         let failed = |why: String| ModelError::Failed { op: "boolean", why };
-        let src_pos = self.both.positions();
         let mut triangles = Vec::with_capacity(r.hs.len() / 3);
         let mut sources = Vec::with_capacity(r.hs.len() / 3);
         // Per output corner: the source triangle's points and weights.
@@ -190,16 +272,20 @@ impl Sources {
             if tri.iter().any(|&v| v >= r.ps.len()) {
                 continue;
             }
-            let s = r.vals.get(3 * t).copied().unwrap_or(-1.0).round();
-            if !(0.0..self.both.num_prims() as f64).contains(&s) {
-                return Err(failed(format!("a face lost its source ({s})")));
-            }
-            let s = s as usize;
-            let sp = self.both.prim_points(s);
-            let abc = [0, 1, 2].map(|k| src_pos[sp[k] as usize].as_dvec3());
-            for &v in &tri {
-                let w = barycentric(ours(r.ps[v]), abc);
-                corners.push(([sp[0], sp[1], sp[2]], w, s));
+            let hint = |k: usize| {
+                let s = r.vals.get(3 * t + k).copied().unwrap_or(-1.0).round();
+                if (0.0..self.both.num_prims() as f64).contains(&s) {
+                    Ok(s as usize)
+                } else {
+                    Err(failed(format!("a face lost its source ({s})")))
+                }
+            };
+            let at = tri.map(|v| ours(r.ps[v]));
+            let (s, _) = self.locate(hint(0)?, (at[0] + at[1] + at[2]) / 3.0);
+            for k in 0..3 {
+                let (c, w) = self.locate(hint(k)?, at[k]);
+                let cp = self.both.prim_points(c);
+                corners.push(([cp[0], cp[1], cp[2]], w, c));
             }
             triangles.push(tri.map(|v| v as u32));
             sources.push(s as u32);
@@ -410,9 +496,9 @@ fn ours(p: boolmesh::Vec3) -> DVec3 {
     DVec3::new(p.x, p.y, p.z)
 }
 
-/// Barycentric weights of `p` in triangle `abc`, clamped into it (a point
-/// of a cut lies on the triangle up to rounding).
-fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f32; 3] {
+/// Barycentric weights of `p` (projected into the plane of `abc`); a
+/// degenerate triangle gives its first corner.
+fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f64; 3] {
     let (v0, v1, v2) = (b - a, c - a, p - a);
     let (d00, d01, d11) = (v0.dot(v0), v0.dot(v1), v1.dot(v1));
     let (d20, d21) = (v2.dot(v0), v2.dot(v1));
@@ -422,8 +508,65 @@ fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f32; 3] {
     }
     let v = (d11 * d20 - d01 * d21) / den;
     let w = (d00 * d21 - d01 * d20) / den;
-    let mut x = [1.0 - v - w, v, w].map(|t| t.max(0.0));
+    [1.0 - v - w, v, w]
+}
+
+/// Weights clamped into the triangle (a point of a cut lies on it up to
+/// rounding) and summing to one.
+fn clamped(w: [f64; 3]) -> [f32; 3] {
+    let mut x = w.map(|t| t.max(0.0));
     let sum: f64 = x.iter().sum();
+    if sum <= 0.0 {
+        return [1.0, 0.0, 0.0];
+    }
     x.iter_mut().for_each(|t| *t /= sum);
     x.map(|t| t as f32)
+}
+
+/// Whether two triangles lie in one plane (up to the inputs' f32
+/// rounding, relative to their size).
+fn coplanar(s: [DVec3; 3], t: [DVec3; 3]) -> bool {
+    let n = (s[1] - s[0]).cross(s[2] - s[0]);
+    let m = (t[1] - t[0]).cross(t[2] - t[0]);
+    let (nl, ml) = (n.length(), m.length());
+    if nl == 0.0 || ml == 0.0 {
+        return false;
+    }
+    let size = (s[1] - s[0]).length().max((s[2] - s[0]).length());
+    n.dot(m) >= (1.0 - 1e-6) * nl * ml
+        && t.iter()
+            .all(|q| (n / nl).dot(*q - s[0]).abs() <= 1e-5 * size)
+}
+
+/// Each triangle's neighbour across each edge: edges sorted by their
+/// points (in parallel, stable, so any thread count gives the same), a
+/// pair of triangles per edge used exactly twice.
+fn across_edges(g: &Geometry) -> Vec<[u32; 3]> {
+    use rayon::prelude::*;
+    let n = g.num_prims();
+    let mut edges: Vec<(u32, u32, u32)> = (0..n)
+        .flat_map(|t| {
+            let p = g.prim_points(t);
+            (0..3).map(move |k| {
+                let (a, b) = (p[k], p[(k + 1) % 3]);
+                (a.min(b), a.max(b), (t * 3 + k) as u32)
+            })
+        })
+        .collect();
+    edges.par_sort_unstable();
+    let mut across = vec![[NONE; 3]; n];
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && (edges[j].0, edges[j].1) == (edges[i].0, edges[i].1) {
+            j += 1;
+        }
+        if j - i == 2 {
+            let (x, y) = (edges[i].2 as usize, edges[i + 1].2 as usize);
+            across[x / 3][x % 3] = (y / 3) as u32;
+            across[y / 3][y % 3] = (x / 3) as u32;
+        }
+        i = j;
+    }
+    across
 }

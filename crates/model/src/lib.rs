@@ -4,5 +4,7 @@
 
 pub mod boolean;
 mod error;
+pub mod extrude;
+pub mod rebuild;
 
 pub use error::ModelError;

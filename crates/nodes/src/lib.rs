@@ -19,6 +19,8 @@ mod growth;
 mod hspline;
 mod instancing;
 mod mesh;
+mod model_boolean;
+mod model_extrude;
 mod nurbs;
 mod param_expr;
 mod patches;
@@ -55,6 +57,8 @@ pub fn registry() -> Registry {
     attributes::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);
+    model_boolean::register(&mut r);
+    model_extrude::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);

@@ -147,3 +147,55 @@ pub fn text_file(ctx: &CookContext, param: &str, path: &str) -> Result<String, C
         )
     })
 }
+
+/// The group parameter `spec` names on `g` for elements of `class`: None
+/// when empty (every element); a group's name, or a Houdini group pattern
+/// (`0-9 !3`, `@Cd.x>0.5`, `top*`) as `expandpointgroup` reads it. A name
+/// that is no group is an error naming the parameter, with the nearest
+/// group's name.
+pub fn group_param(
+    ctx: &CookContext,
+    p: &Params,
+    spec: &geode_op::ParamSpec,
+    g: &Geometry,
+    class: AttribClass,
+) -> Result<Option<geode_geo::Group>, CookError> {
+    let name = p.string(spec)?;
+    if name.is_empty() {
+        return Ok(None);
+    }
+    let len = if class == AttribClass::Point {
+        g.num_points()
+    } else {
+        g.num_prims()
+    };
+    let plain = name.chars().all(|c| c.is_alphanumeric() || c == '_')
+        && !name.chars().all(|c| c.is_ascii_digit());
+    if !plain {
+        let members = geode_vex::pattern::expand(g, class, name);
+        return Ok(Some(geode_geo::Group::from_members(len, members)));
+    }
+    let groups = if class == AttribClass::Point {
+        g.point_groups()
+    } else {
+        g.prim_groups()
+    };
+    match groups.get(name) {
+        Some(grp) => Ok(Some(grp.clone())),
+        None => {
+            let known: Vec<&str> = groups.keys().map(String::as_str).collect();
+            Err(ctx.param_error(
+                spec.name,
+                format!(
+                    "no {} group `{name}`{}",
+                    if class == AttribClass::Point {
+                        "point"
+                    } else {
+                        "primitive"
+                    },
+                    geode_vex::suggest(name, known.into_iter())
+                ),
+            ))
+        }
+    }
+}

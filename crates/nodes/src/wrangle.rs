@@ -197,48 +197,17 @@ fn group_members(
     g: &geode_geo::Geometry,
     class: AttribClass,
 ) -> Result<Option<Vec<u32>>, CookError> {
-    let name = p.string(&GROUP)?;
-    if name.is_empty() {
+    if p.string(&GROUP)?.is_empty() {
         return Ok(None);
     }
     group_class(ctx.path, class)?;
-    let groups = if class == AttribClass::Point {
-        g.point_groups()
-    } else {
-        g.prim_groups()
-    };
-    let plain = name.chars().all(|c| c.is_alphanumeric() || c == '_')
-        && !name.chars().all(|c| c.is_ascii_digit());
-    if !plain {
-        // A pattern, as `expandpointgroup` reads it: elements in order.
-        let mut members: Vec<u32> = geode_vex::pattern::expand(g, class, name)
-            .into_iter()
-            .map(|i| i as u32)
-            .collect();
-        members.sort_unstable();
-        return Ok(Some(members));
-    }
-    let Some(grp) = groups.get(name) else {
-        let known: Vec<&str> = groups.keys().map(String::as_str).collect();
-        return Err(ctx.param_error(
-            "group",
-            format!(
-                "no {} group `{name}`{}",
-                if class == AttribClass::Point {
-                    "point"
-                } else {
-                    "primitive"
-                },
-                geode_vex::suggest(name, known.into_iter())
-            ),
-        ));
-    };
-    Ok(Some(
+    let grp = crate::util::group_param(ctx, p, &GROUP, g, class)?;
+    Ok(grp.map(|grp| {
         (0..grp.len())
             .filter(|&i| grp.contains(i))
             .map(|i| i as u32)
-            .collect(),
-    ))
+            .collect()
+    }))
 }
 
 pub fn register(r: &mut Registry) {

@@ -1,0 +1,88 @@
+//! Times geode's boolean and manifold3d's (PyPI, through tools/.venv or
+//! GEODE_PYTHON) on the same two 500k-triangle spheres in one run, best of
+//! three each: `cargo run --release -p geode-model --example
+//! boolean_vs_manifold`.
+
+use std::time::Instant;
+
+use geode_geo::glam::{Mat4, Vec3};
+use geode_geo::{ops, primitives, Geometry};
+use geode_model::boolean::{boolean, BooleanOp};
+
+const SCRIPT: &str = r#"
+import sys, time, numpy as np, manifold3d as m3
+def load(stem):
+    v = np.fromfile(stem + ".v", dtype="<f4").reshape(-1, 3)
+    f = np.fromfile(stem + ".f", dtype="<u4").reshape(-1, 3)
+    return m3.Manifold(m3.Mesh(vert_properties=v, tri_verts=f))
+a, b = load(sys.argv[1]), load(sys.argv[2])
+for name, f in [("union", lambda: a + b), ("subtract", lambda: a - b)]:
+    best = None
+    for _ in range(3):
+        t = time.perf_counter(); r = f(); n = r.num_tri(); dt = time.perf_counter() - t
+        best = dt if best is None else min(best, dt)
+    print(f"manifold3d {name}: {best * 1000:.0f} ms ({n} triangles, volume {r.volume():.6f})")
+"#;
+
+/// Writes `g`'s positions and fanned triangles as raw little-endian
+/// arrays `stem.v` (f32 x 3) and `stem.f` (u32 x 3).
+fn write_raw(g: &Geometry, stem: &std::path::Path) {
+    let v: Vec<u8> = g
+        .positions()
+        .iter()
+        .flat_map(|p| p.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let mut f = Vec::new();
+    for k in 0..g.num_prims() {
+        let q = g.prim_points(k);
+        for j in 1..q.len() - 1 {
+            for p in [q[0], q[j], q[j + 1]] {
+                f.extend_from_slice(&p.to_le_bytes());
+            }
+        }
+    }
+    std::fs::write(stem.with_extension("v"), v).unwrap();
+    std::fs::write(stem.with_extension("f"), f).unwrap();
+}
+
+fn main() {
+    let rows = (500_000f32 / 4.0).sqrt() as u32;
+    let a = primitives::uv_sphere(1.0, 2 * rows, rows);
+    let mut b = a.clone();
+    ops::transform(&mut b, Mat4::from_translation(Vec3::new(0.5, 0.3, 0.2)));
+    println!("two spheres of {} triangles", 4 * rows * rows);
+    for (name, op) in [
+        ("union", BooleanOp::Union),
+        ("subtract", BooleanOp::Subtract),
+    ] {
+        let mut best = f64::MAX;
+        let mut tris = 0;
+        for _ in 0..3 {
+            let t = Instant::now();
+            let r = boolean(&a, &b, op, &|| false).unwrap();
+            best = best.min(t.elapsed().as_secs_f64());
+            tris = r.num_prims();
+        }
+        println!("geode {name}: {:.0} ms ({tris} triangles)", best * 1000.0);
+    }
+    let dir = std::env::temp_dir().join(format!("geode-boolean-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    write_raw(&a, &dir.join("a"));
+    write_raw(&b, &dir.join("b"));
+    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../tools/.venv/bin/python").to_string()
+    });
+    let status = std::process::Command::new(python)
+        .args(["-c", SCRIPT])
+        .arg(dir.join("a").with_extension(""))
+        .arg(dir.join("b").with_extension(""))
+        .status();
+    let _ = std::fs::remove_dir_all(&dir);
+    match status {
+        Ok(s) if s.success() => {}
+        other => {
+            eprintln!("manifold3d did not run ({other:?}): install it with bash tools/test.sh")
+        }
+    }
+}

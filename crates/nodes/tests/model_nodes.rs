@@ -1,0 +1,151 @@
+//! The modelling nodes through the graph: the boolean-built part of
+//! `examples/boolean_part.json` and the extruded panel of
+//! `examples/extruded_panel.json` (volumes worked out by hand), and the
+//! errors a user meets (an open input, an unknown operation, a missing
+//! group or attribute).
+
+use std::sync::Arc;
+
+use geode_geo::Geometry;
+
+fn cook(text: &str, node: &str) -> Result<Arc<Geometry>, geode_op::CookError> {
+    let net = geode_graph::load_str(text, &geode_nodes::registry()).unwrap();
+    let cache = geode_graph::Cache::new(1 << 29);
+    let engine = geode_graph::Engine::new(net, &cache);
+    engine
+        .cook(node, &geode_graph::CookOptions::at_frame(1.0))
+        .map(|r| r.value.as_geometry().unwrap().clone())
+        .map_err(|mut errors| errors.remove(0))
+}
+
+fn volume(g: &Geometry) -> f64 {
+    let p = g.positions();
+    let mut v = 0.0;
+    for k in 0..g.num_prims() {
+        let q = g.prim_points(k);
+        for j in 1..q.len() - 1 {
+            let (a, b, c) = (
+                p[q[0] as usize].as_dvec3(),
+                p[q[j] as usize].as_dvec3(),
+                p[q[j + 1] as usize].as_dvec3(),
+            );
+            v += a.dot(b.cross(c)) / 6.0;
+        }
+    }
+    v
+}
+
+fn closed(g: &Geometry) -> bool {
+    let mut edges = std::collections::HashMap::new();
+    for k in 0..g.num_prims() {
+        let q = g.prim_points(k);
+        for j in 0..q.len() {
+            let (a, b) = (q[j], q[(j + 1) % q.len()]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    edges.values().all(|&n| n == 2)
+}
+
+#[test]
+fn the_boolean_part_is_drilled_and_bossed() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/boolean_part.json"
+    ))
+    .unwrap();
+    let drilled = cook(&text, "/drilled").unwrap();
+    // The plate less two 32-sided prisms through its 0.4 thickness.
+    let bore = 0.5 * 32.0 * 0.2f64.powi(2) * (2.0 * std::f64::consts::PI / 32.0).sin();
+    let want = 2.0 * 0.4 * 1.2 - 2.0 * 0.4 * bore;
+    assert!(
+        (volume(&drilled) - want).abs() < 1e-5,
+        "{} vs {want}",
+        volume(&drilled)
+    );
+    assert!(closed(&drilled));
+    for g in ["a_outside_b", "b_inside_a"] {
+        assert!(drilled.prim_groups()[g].count() > 0, "{g}");
+    }
+    let part = cook(&text, "/out").unwrap();
+    assert!(closed(&part));
+    // The boss adds its half above the plate's top (y = 0.2): less than
+    // a hemisphere of radius 0.35, more than nothing.
+    let added = volume(&part) - volume(&drilled);
+    let hemisphere = 2.0 / 3.0 * std::f64::consts::PI * 0.35f64.powi(3);
+    assert!(added > 0.8 * hemisphere && added < hemisphere, "{added}");
+    assert!(part.attrib(geode_geo::AttribClass::Vertex, "N").is_some());
+}
+
+#[test]
+fn an_open_input_is_an_input_error_naming_the_node() {
+    let text = r#"{"geode": "network", "version": 1, "output": "cut", "nodes": {
+        "a": {"type": "box"}, "b": {"type": "grid"},
+        "cut": {"type": "boolean", "inputs": ["a", "b"], "params": {"operation": "subtract"}}}}"#;
+    let err = cook(text, "/cut").unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("cut") && msg.contains("input B is not a closed manifold mesh"),
+        "{msg}"
+    );
+    assert_eq!(err.kind, geode_op::ErrorKind::Input);
+}
+
+#[test]
+fn an_unknown_operation_is_refused_at_load() {
+    let text = r#"{"geode": "network", "version": 1, "output": "cut", "nodes": {
+        "a": {"type": "box"}, "b": {"type": "sphere"},
+        "cut": {"type": "boolean", "inputs": ["a", "b"], "params": {"operation": "xor"}}}}"#;
+    let err = geode_graph::load_str(text, &geode_nodes::registry())
+        .map(|_| ())
+        .unwrap_err();
+    let msg = format!("{err:?}");
+    assert!(msg.contains("operation") && msg.contains("xor"), "{msg}");
+}
+
+#[test]
+fn the_extruded_panel_is_a_slab_with_raised_tiles() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/extruded_panel.json"
+    ))
+    .unwrap();
+    let slab = cook(&text, "/slab").unwrap();
+    assert!(closed(&slab));
+    assert!(
+        (volume(&slab) - 2.0 * 1.5 * 0.2).abs() < 1e-5,
+        "{}",
+        volume(&slab)
+    );
+    let out = cook(&text, "/out").unwrap();
+    assert!(closed(&out));
+    // Twelve 0.5 x 0.5 tiles, each a frustum to a 0.4 x 0.4 top 0.1 up.
+    let tile = 0.1 / 3.0 * (0.25 + 0.16 + 0.2);
+    let want = 0.6 + 12.0 * tile;
+    assert!(
+        (volume(&out) - want).abs() < 1e-5,
+        "{} vs {want}",
+        volume(&out)
+    );
+    assert_eq!(out.prim_groups()["extrudeFront"].count(), 12);
+    assert_eq!(out.prim_groups()["extrudeSide"].count(), 48);
+}
+
+#[test]
+fn a_missing_group_or_attribute_names_the_parameter() {
+    let net = |params: &str| {
+        format!(
+            r#"{{"geode": "network", "version": 1, "output": "x", "nodes": {{
+            "a": {{"type": "box"}},
+            "x": {{"type": "polyextrude", "inputs": ["a"], "params": {params}}}}}}}"#
+        )
+    };
+    let err = cook(&net(r#"{"group": "topp"}"#), "/x").unwrap_err();
+    assert_eq!(err.param.as_deref(), Some("group"), "{err}");
+    let err = cook(&net(r#"{"distance_attrib": "thick"}"#), "/x").unwrap_err();
+    assert_eq!(err.param.as_deref(), Some("distance_attrib"), "{err}");
+    assert!(err.to_string().contains("thick"), "{err}");
+    // A pattern selects by number.
+    let one = cook(&net(r#"{"group": "0", "distance": 1}"#), "/x").unwrap();
+    assert!((volume(&one) - 2.0).abs() < 1e-5, "{}", volume(&one));
+}
