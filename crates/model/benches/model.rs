@@ -2,7 +2,7 @@
 //! --bench model): the boolean of two 500k-triangle spheres (the bar:
 //! within 1.5x of manifold's time on the same machine; `cargo run
 //! --release -p geode-model --example boolean_vs_manifold` times both in
-//! one run).
+//! one run); polyextrude of a million quads.
 
 use divan::Bencher;
 use geode_geo::glam::{Mat4, Vec3};
@@ -30,4 +30,18 @@ fn sphere_pair(triangles: u32) -> (Geometry, Geometry) {
 fn boolean_of_two_500k_spheres(bencher: Bencher, op: BooleanOp) {
     let (a, b) = sphere_pair(500_000);
     bencher.bench(|| boolean(&a, &b, op, &|| false).unwrap());
+}
+
+/// A 1000 x 1000 grid of quads, every face extruded: as one connected
+/// piece, and each face on its own.
+#[divan::bench(args = [true, false], sample_count = 3)]
+fn polyextrude_a_million_quads(bencher: Bencher, connected: bool) {
+    let g = primitives::grid(geode_geo::glam::Vec2::ONE, 1000, 1000);
+    let how = geode_model::extrude::Extrude {
+        distance: 0.01,
+        inset: 0.0001,
+        connected,
+        ..Default::default()
+    };
+    bencher.bench(|| geode_model::extrude::extrude(&g, None, None, &how, &|| false).unwrap());
 }

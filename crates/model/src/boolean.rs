@@ -282,8 +282,8 @@ impl Sources {
             };
             let at = tri.map(|v| ours(r.ps[v]));
             let (s, _) = self.locate(hint(0)?, (at[0] + at[1] + at[2]) / 3.0);
-            for k in 0..3 {
-                let (c, w) = self.locate(hint(k)?, at[k]);
+            for (k, &corner) in at.iter().enumerate() {
+                let (c, w) = self.locate(hint(k)?, corner);
                 let cp = self.both.prim_points(c);
                 corners.push(([cp[0], cp[1], cp[2]], w, c));
             }

@@ -244,9 +244,9 @@ fn attributes_follow_their_sources() {
         .unwrap()
         .as_f32()
         .unwrap();
-    for k in 0..out.num_prims() {
+    for (k, &ck) in c.iter().enumerate() {
         if out.prim_groups()[SIDE].contains(k) || out.prim_groups()[FRONT].contains(k) {
-            assert_eq!(c[k], t as f32, "walls and front take the face's attributes");
+            assert_eq!(ck, t as f32, "walls and front take the face's attributes");
         }
     }
     // A front point is its source point moved up.
