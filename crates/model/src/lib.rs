@@ -3,6 +3,9 @@
 //! It knows geometry only: no node, parameter or graph.
 
 pub mod boolean;
+pub mod bound;
+pub mod deform;
 mod error;
+pub mod smooth;
 
 pub use error::ModelError;

@@ -1,0 +1,2 @@
+//! The surface kernels at realistic sizes (run: cargo bench -p geode-model --bench surface).
+fn main() {}
