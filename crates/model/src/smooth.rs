@@ -52,7 +52,7 @@ impl SmoothMethod {
 pub struct SmoothOptions<'a> {
     pub method: SmoothMethod,
     /// The fraction of the way to the neighbours' mean a point moves in a
-    /// step (Taubin's λ), in (0, 1].
+    /// step (Taubin's λ), in [0, 1] (0: no change).
     pub strength: f32,
     pub iterations: u32,
     /// Boundary points and open polyline ends stay where they are.
@@ -109,10 +109,13 @@ pub fn smooth(
 /// The factor of each step of one iteration, the options checked.
 fn step_factors(opts: &SmoothOptions) -> Result<Vec<f32>, ModelError> {
     let lambda = opts.strength;
-    if !(lambda > 0.0 && lambda <= 1.0) {
+    if !(0.0..=1.0).contains(&lambda) {
         return Err(ModelError::Invalid(format!(
-            "strength must be in (0, 1], not {lambda}"
+            "strength must be in [0, 1], not {lambda}"
         )));
+    }
+    if lambda == 0.0 {
+        return Ok(Vec::new());
     }
     Ok(match opts.method {
         SmoothMethod::Laplacian => vec![lambda],
