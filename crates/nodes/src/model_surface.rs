@@ -7,7 +7,9 @@
 
 use geode_geo::glam::{Mat3, Vec3};
 use geode_geo::ops::{self, Aabb};
-use geode_geo::{AttribClass, AttribData, AttribType, Attribute, Geometry, Group, TypeInfo};
+use geode_geo::{
+    AttribClass, AttribData, AttribType, Attribute, Geometry, Group, PrimKind, TypeInfo,
+};
 use geode_model::bound::{self, BoundingSphere, Justify, OrientedBox, ScaleMode};
 use geode_model::deform::{self, Fractal};
 use geode_model::smooth::{self, SmoothMethod, SmoothOptions};
@@ -346,7 +348,12 @@ fn displacement_normals(ctx: &CookContext, g: &Geometry) -> Result<Vec<Vec3>, Co
             "point N is {}, not a vector; remove it or make it a vector",
             other.attrib_type()
         ))),
-        None => Ok(deform::area_weighted_normals(g)),
+        None => {
+            if !g.prim_kinds().contains(&PrimKind::Polygon) {
+                ctx.warn("no point N and no polygons to take normals from: nothing moves");
+            }
+            Ok(deform::area_weighted_normals(g))
+        }
     }
 }
 
@@ -432,6 +439,9 @@ fn cook_bound(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         Some(grp) => grp.members().map(|i| g.positions()[i]).collect(),
         None => g.positions().to_vec(),
     };
+    if points.is_empty() && group.is_some() {
+        return Err(ctx.param_error(BOUND_GROUP.name, "the group has no points"));
+    }
     let padding = p.float(&BOUND_PADDING)? as f32;
     let kind = p.string(&BOUND_TYPE)?;
     if kind == "oriented" {

@@ -99,7 +99,7 @@ pub fn convex_hull(points: &[DVec3], cancel: &(dyn Fn() -> bool + Sync)) -> Resu
             continue;
         }
         eyes += 1;
-        if eyes % 1024 == 0 && cancel() {
+        if eyes.is_multiple_of(1024) && cancel() {
             return Err(NoHull::Cancelled);
         }
         let created = b.add_eye(f, eyes)?;
@@ -380,4 +380,91 @@ fn plane(p: &[DVec3], a: u32, b: u32, c: u32) -> (DVec3, f64) {
     let (pa, pb, pc) = (p[a as usize], p[b as usize], p[c as usize]);
     let normal = (pb - pa).cross(pc - pa).normalize_or_zero();
     (normal, normal.dot(pa))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geode_geo::random;
+
+    fn never() -> bool {
+        false
+    }
+
+    /// A convex hull: closed (V - E + F = 2 with every edge in two faces),
+    /// every input point on or below every face plane, every vertex an
+    /// input point that lies on its faces.
+    fn check_hull(points: &[DVec3], h: &Hull) {
+        let (v, e, f) = (h.vertices.len(), h.edges.len(), h.faces.len());
+        assert_eq!(2 * e, 3 * f, "every edge in two faces");
+        assert_eq!(v as i64 - e as i64 + f as i64, 2, "Euler characteristic");
+        let extent = points
+            .iter()
+            .map(|p| p.abs().max_element())
+            .fold(0.0, f64::max);
+        for (face, n) in h.faces.iter().zip(&h.normals) {
+            let offset = n.dot(points[face[0] as usize]);
+            for p in points {
+                assert!(
+                    n.dot(*p) - offset <= 1e-9 * extent,
+                    "a point outside a face"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_cloud_points_on_a_sphere_and_a_divided_box() {
+        let cloud: Vec<DVec3> = (0..3000u64)
+            .map(|i| {
+                DVec3::new(
+                    random::unit_f64(1, i, 0),
+                    random::unit_f64(1, i, 1),
+                    random::unit_f64(1, i, 2),
+                )
+            })
+            .collect();
+        let h = convex_hull(&cloud, &never).ok().unwrap();
+        check_hull(&cloud, &h);
+
+        // Every point of a sphere is a vertex of its hull.
+        let sphere: Vec<DVec3> = (0..2000u64)
+            .map(|i| {
+                let z = 2.0 * random::unit_f64(2, i, 0) - 1.0;
+                let phi = std::f64::consts::TAU * random::unit_f64(2, i, 1);
+                let r = (1.0 - z * z).sqrt();
+                DVec3::new(r * phi.cos(), r * phi.sin(), z)
+            })
+            .collect();
+        let h = convex_hull(&sphere, &never).ok().unwrap();
+        check_hull(&sphere, &h);
+        assert_eq!(h.vertices.len(), sphere.len());
+
+        // A box's grid of points: only the eight corners are vertices.
+        let mut grid = Vec::new();
+        for x in 0..5 {
+            for y in 0..4 {
+                for z in 0..3 {
+                    grid.push(DVec3::new(
+                        f64::from(x),
+                        f64::from(y) * 0.5,
+                        f64::from(z) * 0.25,
+                    ));
+                }
+            }
+        }
+        let h = convex_hull(&grid, &never).ok().unwrap();
+        check_hull(&grid, &h);
+        assert_eq!(h.vertices.len(), 8);
+    }
+
+    #[test]
+    fn flat_and_straight_sets_have_no_solid_hull() {
+        let flat: Vec<DVec3> = (0..50)
+            .map(|i| DVec3::new(f64::from(i % 7), f64::from(i / 7), 2.0))
+            .collect();
+        assert!(matches!(convex_hull(&flat, &never), Err(NoHull::Flat(n)) if n.z.abs() > 0.999));
+        let line: Vec<DVec3> = (0..10).map(|i| DVec3::splat(f64::from(i))).collect();
+        assert!(matches!(convex_hull(&line, &never), Err(NoHull::Line)));
+    }
 }

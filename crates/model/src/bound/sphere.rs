@@ -84,7 +84,7 @@ pub fn bounding_sphere(
 /// The points in f64, in a fixed pseudo-random order.
 fn shuffled(points: &[Vec3]) -> Vec<DVec3> {
     let mut out: Vec<DVec3> = points.par_iter().map(|p| p.as_dvec3()).collect();
-    let mut state = 0x5EED_0F_B0_0D_u64;
+    let mut state = 0x5EED_0FB0_0D5E_ED0F_u64;
     for i in (1..out.len()).rev() {
         state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = state;
