@@ -31,7 +31,6 @@ const CHUNK: usize = 1 << 14;
 /// (length twice the area), normalised; zero for points of no polygon.
 pub fn area_weighted_normals(g: &Geometry) -> Vec<Vec3> {
     let p = g.positions();
-    let topology = g.topology();
     let weighted: Vec<DVec3> = (0..g.num_prims())
         .into_par_iter()
         .map(|prim| match g.prim_kind(prim) {
@@ -39,16 +38,39 @@ pub fn area_weighted_normals(g: &Geometry) -> Vec<Vec3> {
             _ => DVec3::ZERO,
         })
         .collect();
+    let (offsets, prims) = point_prims(g);
     (0..g.num_points())
         .into_par_iter()
         .map(|point| {
             let mut n = DVec3::ZERO;
-            for &prim in topology.point_prims(point) {
+            for &prim in &prims[offsets[point] as usize..offsets[point + 1] as usize] {
                 n += weighted[prim as usize];
             }
             n.normalize_or_zero().as_vec3()
         })
         .collect()
+}
+
+/// Each point's primitives, in ascending order (a counting sort of the
+/// vertices: cheaper than the geometry's full topology, and the sums run
+/// in the same order on any thread count).
+fn point_prims(g: &Geometry) -> (Vec<u32>, Vec<u32>) {
+    let mut offsets = vec![0u32; g.num_points() + 1];
+    for &p in g.vertex_points() {
+        offsets[p as usize + 1] += 1;
+    }
+    for i in 0..g.num_points() {
+        offsets[i + 1] += offsets[i];
+    }
+    let mut fill = offsets.clone();
+    let mut prims = vec![0u32; g.num_vertices()];
+    for prim in 0..g.num_prims() {
+        for &p in g.prim_points(prim) {
+            prims[fill[p as usize] as usize] = prim as u32;
+            fill[p as usize] += 1;
+        }
+    }
+    (offsets, prims)
 }
 
 /// A polygon's Newell vector: its normal times twice its area.
@@ -172,11 +194,26 @@ impl Fractal {
 
     /// The fractal sum at `position`, in [-1, 1], over `basis` noise.
     pub fn value(&self, position: Vec3, basis: &(impl Fn([f32; 3]) -> f32 + ?Sized)) -> f32 {
+        self.value_shifted(&self.domain_shifts(), position, basis)
+    }
+
+    /// Each octave's shift of the noise domain (`domain_shift`).
+    fn domain_shifts(&self) -> Vec<Vec3> {
+        (0..self.octaves).map(|o| self.domain_shift(o)).collect()
+    }
+
+    /// The fractal sum with the octaves' shifts drawn once for all points.
+    fn value_shifted(
+        &self,
+        shifts: &[Vec3],
+        position: Vec3,
+        basis: &(impl Fn([f32; 3]) -> f32 + ?Sized),
+    ) -> f32 {
         let base = (position + self.offset) / self.element_size;
         let (mut sum, mut weights) = (0.0f32, 0.0f32);
         let (mut amplitude, mut frequency) = (1.0f32, 1.0f32);
-        for octave in 0..self.octaves {
-            let q = base * frequency + self.domain_shift(octave);
+        for &shift in shifts {
+            let q = base * frequency + shift;
             sum += amplitude * basis(q.to_array()).clamp(-1.0, 1.0);
             weights += amplitude;
             amplitude *= self.roughness;
@@ -205,11 +242,12 @@ pub fn mountain(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<(), ModelError> {
     fractal.check()?;
+    let shifts = fractal.domain_shifts();
     displace_along_normals(
         g,
         normals,
         group,
-        |_, p| fractal.height * fractal.value(p, basis),
+        |_, p| fractal.height * fractal.value_shifted(&shifts, p, basis),
         cancel,
     )
 }

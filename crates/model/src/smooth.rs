@@ -3,8 +3,7 @@
 //! keeping.
 //!
 //! Each point's neighbours are the points it shares an edge with (polygon
-//! edges and polyline segments alike, from the geometry's cached
-//! topology), weighted uniformly. One Laplacian step moves every free point
+//! edges and polyline segments alike, `graph.rs`), weighted uniformly. One Laplacian step moves every free point
 //! a fraction `f` of the way to its neighbours' mean: `p += f (mean - p)`.
 //! Repeated, it shrinks a closed surface toward its centroid (a sphere's
 //! radius drops every step). Taubin's filter (Taubin 1995, "A signal
@@ -29,10 +28,14 @@
 //! summed in f64 over fixed blocks, combined in block order.
 
 use geode_geo::glam::{DVec3, Vec3};
-use geode_geo::{Geometry, Group, PrimKind, Topology};
+use geode_geo::{Geometry, Group, PrimKind};
 use rayon::prelude::*;
 
 use crate::ModelError;
+
+mod graph;
+
+use graph::EdgeGraph;
 
 /// Which filter a step applies.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,11 +81,11 @@ pub fn smooth(
     if opts.iterations == 0 || g.num_points() == 0 {
         return Ok(());
     }
-    let topology = g.topology();
+    let graph = EdgeGraph::build(g);
     if opts.keep_volume {
-        check_closed(g, &topology)?;
+        check_closed(g, &graph)?;
     }
-    let free = free_points(g, &topology, opts)?;
+    let free = free_points(g, &graph, opts)?;
     let target_volume = if opts.keep_volume {
         Some(enclosed_volume(g, g.positions()))
     } else {
@@ -95,7 +98,7 @@ pub fn smooth(
             if cancel() {
                 return Err(ModelError::Cancelled);
             }
-            laplacian_step(&topology, &free, factor, &current, &mut next);
+            laplacian_step(&graph, &free, factor, &current, &mut next);
             std::mem::swap(&mut current, &mut next);
         }
         if let Some(volume) = target_volume {
@@ -133,7 +136,7 @@ fn step_factors(opts: &SmoothOptions) -> Result<Vec<f32>, ModelError> {
 /// Whether each point may move: not pinned by the border or the group.
 fn free_points(
     g: &Geometry,
-    topology: &Topology,
+    graph: &EdgeGraph,
     opts: &SmoothOptions,
 ) -> Result<Vec<bool>, ModelError> {
     let mut free = vec![true; g.num_points()];
@@ -150,7 +153,7 @@ fn free_points(
         }
     }
     if opts.pin_border {
-        for p in border_points(g, topology) {
+        for p in border_points(g, graph) {
             free[p as usize] = false;
         }
     }
@@ -159,12 +162,8 @@ fn free_points(
 
 /// Ends of edges one polygon uses, and ends of open polylines (a polyline
 /// whose last point is its first is a loop, with no ends).
-pub fn border_points(g: &Geometry, topology: &Topology) -> Vec<u32> {
-    let mut border: Vec<u32> = topology
-        .boundary_edges()
-        .into_iter()
-        .flat_map(|e| topology.edges()[e])
-        .collect();
+fn border_points(g: &Geometry, graph: &EdgeGraph) -> Vec<u32> {
+    let mut border = graph.boundary_points.clone();
     for prim in 0..g.num_prims() {
         if g.prim_kind(prim) != PrimKind::Polyline {
             continue;
@@ -185,7 +184,7 @@ pub fn border_points(g: &Geometry, topology: &Topology) -> Vec<u32> {
 /// One Jacobi step: every free point moves `factor` of the way from
 /// `current` to its neighbours' mean, written to `next`.
 fn laplacian_step(
-    topology: &Topology,
+    graph: &EdgeGraph,
     free: &[bool],
     factor: f32,
     current: &[Vec3],
@@ -193,7 +192,7 @@ fn laplacian_step(
 ) {
     next.par_iter_mut().enumerate().for_each(|(p, out)| {
         let here = current[p];
-        let neighbours = topology.point_neighbours(p);
+        let neighbours = graph.neighbours(p);
         if !free[p] || neighbours.is_empty() {
             *out = here;
             return;
@@ -210,7 +209,7 @@ fn laplacian_step(
 
 /// Refuses a mesh that is not closed: only polygons, every edge used by
 /// exactly two of them.
-fn check_closed(g: &Geometry, topology: &Topology) -> Result<(), ModelError> {
+fn check_closed(g: &Geometry, graph: &EdgeGraph) -> Result<(), ModelError> {
     let not_closed = |why: String| ModelError::NotClosed {
         input: "geometry",
         why,
@@ -221,10 +220,7 @@ fn check_closed(g: &Geometry, topology: &Topology) -> Result<(), ModelError> {
             g.prim_kind(prim).name()
         )));
     }
-    let open = (0..topology.edges().len())
-        .into_par_iter()
-        .filter(|&e| topology.edge_half_edges(e).count() != 2)
-        .count();
+    let open = graph.open_edges;
     if open > 0 || g.num_prims() == 0 {
         return Err(not_closed(format!(
             "{open} edges are not shared by exactly two polygons"
