@@ -3,8 +3,11 @@
 //! It knows geometry only: no node, parameter or graph.
 
 pub mod boolean;
+pub mod bound;
+pub mod deform;
 mod error;
 pub mod extrude;
 pub mod rebuild;
+pub mod smooth;
 
 pub use error::ModelError;

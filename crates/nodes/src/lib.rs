@@ -21,6 +21,7 @@ mod instancing;
 mod mesh;
 mod model_boolean;
 mod model_extrude;
+mod model_surface;
 mod nurbs;
 mod param_expr;
 mod patches;
@@ -59,6 +60,7 @@ pub fn registry() -> Registry {
     mesh::register(&mut r);
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);
+    model_surface::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);
