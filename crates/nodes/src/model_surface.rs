@@ -7,9 +7,7 @@
 
 use geode_geo::glam::{Mat3, Vec3};
 use geode_geo::ops::{self, Aabb};
-use geode_geo::{
-    AttribClass, AttribData, AttribType, Attribute, Geometry, Group, PrimKind, TypeInfo,
-};
+use geode_geo::{AttribClass, AttribData, AttribType, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_model::bound::{self, BoundingSphere, Justify, OrientedBox, ScaleMode};
 use geode_model::deform::{self, Fractal};
 use geode_model::smooth::{self, SmoothMethod, SmoothOptions};
@@ -120,7 +118,7 @@ fn cook_smooth(
         bytes,
         "smoothing's buffers and topology",
     )?;
-    let pinned = point_group(ctx, &g, &SMOOTH_PIN_GROUP, p.string(&SMOOTH_PIN_GROUP)?)?;
+    let pinned = crate::util::group_param(ctx, p, &SMOOTH_PIN_GROUP, &g, AttribClass::Point)?;
     let opts = SmoothOptions {
         method,
         strength: p.float(&SMOOTH_STRENGTH)? as f32,
@@ -167,7 +165,7 @@ static PEAK: NodeSpec = NodeSpec::new(
 
 fn cook_peak(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let group = point_group(ctx, &g, &DEFORM_GROUP, p.string(&DEFORM_GROUP)?)?;
+    let group = crate::util::group_param(ctx, p, &DEFORM_GROUP, &g, AttribClass::Point)?;
     let normals = displacement_normals(ctx, &g)?;
     let distance = p.float(&PEAK_DISTANCE)? as f32;
     deform::peak(&mut g, &normals, group.as_ref(), distance, &ctx.cancel_fn())
@@ -274,7 +272,7 @@ fn cook_mountain(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let group = point_group(ctx, &g, &DEFORM_GROUP, p.string(&DEFORM_GROUP)?)?;
+    let group = crate::util::group_param(ctx, p, &DEFORM_GROUP, &g, AttribClass::Point)?;
     let fractal = Fractal {
         height: p.float(&MOUNTAIN_HEIGHT)? as f32,
         element_size: p.float(&MOUNTAIN_ELEMENT_SIZE)? as f32,
@@ -303,36 +301,6 @@ fn cook_mountain(
     )
     .map_err(|e| ctx.kernel(e))?;
     finish_normals(ctx, g, p)
-}
-
-/// The point group `name` names (None when empty); unknown names are an
-/// error of `param` listing the groups there are.
-fn point_group(
-    ctx: &CookContext,
-    g: &Geometry,
-    param: &P,
-    name: &str,
-) -> Result<Option<Group>, CookError> {
-    if name.is_empty() {
-        return Ok(None);
-    }
-    match g.point_groups().get(name) {
-        Some(grp) => Ok(Some(grp.clone())),
-        None => {
-            let known: Vec<&str> = g.point_groups().keys().map(|k| k.as_str()).collect();
-            Err(ctx.param_error(
-                param.name,
-                format!(
-                    "no point group `{name}` (point groups: {})",
-                    if known.is_empty() {
-                        "none".to_string()
-                    } else {
-                        known.join(", ")
-                    }
-                ),
-            ))
-        }
-    }
 }
 
 /// The directions points move along: point `N`, else area-weighted.
@@ -434,7 +402,7 @@ enum Measured {
 
 fn cook_bound(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
-    let group = point_group(ctx, g, &BOUND_GROUP, p.string(&BOUND_GROUP)?)?;
+    let group = crate::util::group_param(ctx, p, &BOUND_GROUP, g, AttribClass::Point)?;
     let points: Vec<Vec3> = match &group {
         Some(grp) => grp.members().map(|i| g.positions()[i]).collect(),
         None => g.positions().to_vec(),

@@ -183,19 +183,22 @@ pub fn group_param(
     match groups.get(name) {
         Some(grp) => Ok(Some(grp.clone())),
         None => {
+            let kind = if class == AttribClass::Point {
+                "point"
+            } else {
+                "primitive"
+            };
             let known: Vec<&str> = groups.keys().map(String::as_str).collect();
-            Err(ctx.param_error(
-                spec.name,
-                format!(
-                    "no {} group `{name}`{}",
-                    if class == AttribClass::Point {
-                        "point"
-                    } else {
-                        "primitive"
-                    },
-                    geode_vex::suggest(name, known.into_iter())
-                ),
-            ))
+            let mut hint = geode_vex::suggest(name, known.iter().copied());
+            if hint.is_empty() {
+                // Nothing close: say what there is.
+                hint = match known.len() {
+                    0 => format!(" (there are no {kind} groups)"),
+                    n if n <= 12 => format!(" ({kind} groups: {})", known.join(", ")),
+                    n => format!(" ({n} {kind} groups: {}, ...)", known[..12].join(", ")),
+                };
+            }
+            Err(ctx.param_error(spec.name, format!("no {kind} group `{name}`{hint}")))
         }
     }
 }
