@@ -107,7 +107,7 @@ pub fn extrude(
         out.declare(name);
     }
     if !faces.is_empty() {
-        Faces::new(g, &faces, &is_face, how, scale).build(&mut out, cancel)?;
+        Faces::new(g, &faces, how, scale).build(&mut out, cancel)?;
     }
     for &c in &curves {
         if cancel() {
@@ -139,18 +139,23 @@ fn used_points(g: &Geometry) -> Vec<bool> {
     used
 }
 
-/// The selected faces and what their extrusion needs: for each face
-/// corner, the front point it moves to, and each piece's centre and normal.
+/// The selected faces and what their extrusion needs. A slot is a point of
+/// a piece (connected faces share their points' slots; a face extruded on
+/// its own has a slot per corner): each slot moves along its direction,
+/// insets by its outline edges, and makes one point per ring.
 struct Faces<'a> {
     g: &'a Geometry,
     faces: &'a [u32],
-    is_face: &'a [bool],
     how: &'a Extrude,
     scale: Option<&'a [f32]>,
-    /// Face normals (Newell, unit) by face index in `faces`.
-    normals: Vec<Vec3>,
-    /// Each face's piece (itself when individual).
-    piece_of: Vec<u32>,
+    /// First corner of each face in the corner lists.
+    first: Vec<u32>,
+    /// Per corner: its slot, and whether the edge from it to the next
+    /// corner is inside its piece (shared with another selected face).
+    slot_of: Vec<u32>,
+    inner: Vec<bool>,
+    /// Per slot: its source point and piece.
+    slots: Vec<(u32, u32)>,
     /// Per piece: centre and unit normal.
     pieces: Vec<(Vec3, Vec3)>,
 }
@@ -159,55 +164,94 @@ impl<'a> Faces<'a> {
     fn new(
         g: &'a Geometry,
         faces: &'a [u32],
-        is_face: &'a [bool],
         how: &'a Extrude,
         scale: Option<&'a [f32]>,
     ) -> Faces<'a> {
-        let p = g.positions();
-        let normals: Vec<Vec3> = faces
-            .iter()
-            .map(|&f| ops::polygon_normal(p, g.prim_points(f as usize)).normalize_or_zero())
-            .collect();
+        let mut first = Vec::with_capacity(faces.len() + 1);
+        let mut corners = 0u32;
+        for &f in faces {
+            first.push(corners);
+            corners += g.prim_points(f as usize).len() as u32;
+        }
+        first.push(corners);
+        // Faces on their own share no edge with each other.
+        let twins = if how.connected {
+            twin_corners(g, faces, &first)
+        } else {
+            vec![NONE; corners as usize]
+        };
         let piece_of = if how.connected {
-            connected_pieces(g, faces)
+            connected_pieces(faces.len(), &first, &twins)
         } else {
             (0..faces.len() as u32).collect()
         };
-        let count = piece_of.iter().map(|&k| k as usize + 1).max().unwrap_or(0);
-        let mut sums = vec![(Vec3::ZERO, 0usize, Vec3::ZERO); count];
-        for (i, &f) in faces.iter().enumerate() {
-            let s = &mut sums[piece_of[i] as usize];
-            for &q in g.prim_points(f as usize) {
-                s.0 += p[q as usize];
-                s.1 += 1;
-            }
-            s.2 += ops::polygon_normal(p, g.prim_points(f as usize));
-        }
-        let pieces = sums
-            .into_iter()
-            .map(|(c, n, m)| (c / n.max(1) as f32, m.normalize_or_zero()))
-            .collect();
+        let inner: Vec<bool> = twins.iter().map(|t| *t != NONE).collect();
+        let (slot_of, slots) = slots(g, faces, &first, &piece_of);
+        let pieces = piece_frames(g, faces, &piece_of);
         Faces {
             g,
             faces,
-            is_face,
             how,
             scale,
-            normals,
-            piece_of,
+            first,
+            slot_of,
+            inner,
+            slots,
             pieces,
         }
     }
 
-    /// Where corner `j` of face `i` goes at fraction `t` of the way.
-    fn place(&self, i: usize, j: usize, dir: Vec3, inset: Vec3, t: f32) -> Vec3 {
-        let f = self.faces[i] as usize;
-        let pts = self.g.prim_points(f);
-        let p = self.g.positions()[pts[j] as usize];
-        let s = self.scale.map_or(1.0, |s| s[pts[j] as usize]);
-        let moved = p + dir * (self.how.distance * s * t) + inset * t;
-        let (centre, normal) = self.pieces[self.piece_of[i] as usize];
-        let centre = centre + dir * (self.how.distance * s * t);
+    fn corners(&self, i: usize) -> std::ops::Range<usize> {
+        self.first[i] as usize..self.first[i + 1] as usize
+    }
+
+    /// Per slot: the direction (the unit sum of its faces' area-weighted
+    /// normals) and the inset offset (its outline edges' inward normals m1
+    /// + m2 make (m1 + m2) / (1 + m1·m2) · inset, keeping both edges at
+    /// the inset; a corner inside the piece does not move inward).
+    fn directions_and_insets(&self) -> (Vec<Vec3>, Vec<Vec3>) {
+        let p = self.g.positions();
+        let mut dir = vec![Vec3::ZERO; self.slots.len()];
+        let mut inward = vec![Vec3::ZERO; self.slots.len()];
+        for (i, &f) in self.faces.iter().enumerate() {
+            let pts = self.g.prim_points(f as usize);
+            let n = ops::polygon_normal(p, pts);
+            let unit = n.normalize_or_zero();
+            let c0 = self.first[i] as usize;
+            for j in 0..pts.len() {
+                let c = c0 + j;
+                dir[self.slot_of[c] as usize] += n;
+                if self.inner[c] || self.how.inset == 0.0 {
+                    continue;
+                }
+                let jn = (j + 1) % pts.len();
+                let e = (p[pts[jn] as usize] - p[pts[j] as usize]).normalize_or_zero();
+                let m = unit.cross(e);
+                inward[self.slot_of[c] as usize] += m;
+                inward[self.slot_of[c0 + jn] as usize] += m;
+            }
+        }
+        dir.iter_mut().for_each(|d| *d = d.normalize_or_zero());
+        for v in &mut inward {
+            let len2 = v.length_squared();
+            *v = if len2 > 1e-12 {
+                *v * (2.0 / len2) * self.how.inset
+            } else {
+                Vec3::ZERO
+            };
+        }
+        (dir, inward)
+    }
+
+    /// Where slot `s` goes at fraction `t` of the way.
+    fn place(&self, s: usize, dir: Vec3, inset: Vec3, t: f32) -> Vec3 {
+        let (q, piece) = self.slots[s];
+        let p = self.g.positions()[q as usize];
+        let k = self.scale.map_or(1.0, |sc| sc[q as usize]);
+        let along = dir * (self.how.distance * k * t);
+        let (centre, normal) = self.pieces[piece as usize];
+        let centre = centre + along;
+        let moved = p + along + inset * t;
         let turn = Quat::from_axis_angle(normal, (self.how.twist * t).to_radians());
         let size = 1.0 + (self.how.front_scale - 1.0) * t;
         centre + turn * ((moved - centre) * size)
@@ -218,43 +262,28 @@ impl<'a> Faces<'a> {
         out: &mut Rebuild,
         cancel: &(dyn Fn() -> bool + Sync),
     ) -> Result<(), ModelError> {
+        use rayon::prelude::*;
         let g = self.g;
         let rings = self.how.divisions as usize;
-        let dirs = self.directions();
-        let insets = self.insets();
-        // Ring points per (face corner): shared by connected faces through
-        // the source point (ring r of point q is one point per piece).
-        let mut ring_point: std::collections::HashMap<(u32, u32, usize), u32> = Default::default();
-        let mut rings_of = |i: usize, j: usize, out: &mut Rebuild| -> Vec<u32> {
-            let f = self.faces[i] as usize;
-            let q = g.prim_points(f)[j];
-            let key_piece = if self.how.connected {
-                self.piece_of[i]
+        let (dir, inset) = self.directions_and_insets();
+        // Ring r (1..=rings) of slot s is point base + s * rings + r - 1.
+        let base = out.num_points() as u32;
+        let placed: Vec<Vec3> = (0..self.slots.len() * rings)
+            .into_par_iter()
+            .map(|k| {
+                let (s, r) = (k / rings, k % rings + 1);
+                self.place(s, dir[s], inset[s], r as f32 / rings as f32)
+            })
+            .collect();
+        for (k, at) in placed.into_iter().enumerate() {
+            out.point(self.slots[k / rings].0, at);
+        }
+        let ring = |c: usize, r: usize, q: u32| {
+            if r == 0 {
+                q
             } else {
-                i as u32
-            };
-            (0..=rings)
-                .map(|r| {
-                    if r == 0 {
-                        return q;
-                    }
-                    let key = (key_piece, q, r);
-                    if let Some(&p) = ring_point.get(&key) {
-                        return p;
-                    }
-                    let (d, n) = if self.how.connected {
-                        let inset = insets.get(&(key_piece, q)).copied().unwrap_or(Vec3::ZERO);
-                        (dirs[&q], inset)
-                    } else {
-                        let n = self.normals[i];
-                        (n, corner_inset(g, f, j, n, self.how.inset))
-                    };
-                    let at = self.place(i, j, d, n, r as f32 / rings as f32);
-                    let p = out.point(q, at);
-                    ring_point.insert(key, p);
-                    p
-                })
-                .collect()
+                base + (self.slot_of[c] as usize * rings + r - 1) as u32
+            }
         };
         for (i, &f) in self.faces.iter().enumerate() {
             if i % 4096 == 0 && cancel() {
@@ -263,9 +292,13 @@ impl<'a> Faces<'a> {
             let f = f as usize;
             let pts = g.prim_points(f);
             let verts: Vec<u32> = g.prim_vertex_range(f).map(|v| v as u32).collect();
-            let corner: Vec<Vec<u32>> = (0..pts.len()).map(|j| rings_of(i, j, out)).collect();
+            let cs = self.corners(i);
             if self.how.output_front {
-                let front: Vec<u32> = corner.iter().map(|c| c[rings]).collect();
+                let front: Vec<u32> = cs
+                    .clone()
+                    .zip(pts)
+                    .map(|(c, &q)| ring(c, rings, q))
+                    .collect();
                 let k = out.prim(f as u32, PrimKind::Polygon, &front, &verts);
                 out.mark(FRONT, k);
             }
@@ -276,16 +309,17 @@ impl<'a> Faces<'a> {
                 out.mark(BACK, k);
             }
             for j in 0..pts.len() {
-                let jn = (j + 1) % pts.len();
-                if self.how.connected && self.shared_with_selection(pts[j], pts[jn], f) {
+                let (c, jn) = (cs.start + j, (j + 1) % pts.len());
+                if self.inner[c] {
                     continue;
                 }
+                let cn = cs.start + jn;
                 for r in 0..rings {
                     let quad = [
-                        corner[j][r],
-                        corner[jn][r],
-                        corner[jn][r + 1],
-                        corner[j][r + 1],
+                        ring(c, r, pts[j]),
+                        ring(cn, r, pts[jn]),
+                        ring(cn, r + 1, pts[jn]),
+                        ring(c, r + 1, pts[j]),
                     ];
                     let qv = [verts[j], verts[jn], verts[jn], verts[j]];
                     let k = out.prim(f as u32, PrimKind::Polygon, &quad, &qv);
@@ -295,132 +329,141 @@ impl<'a> Faces<'a> {
         }
         Ok(())
     }
+}
 
-    /// Whether the edge a→b of face `f` is shared with another selected
-    /// face (so it is inside a connected piece: no wall).
-    fn shared_with_selection(&self, a: u32, b: u32, f: usize) -> bool {
-        let topo = self.g.topology();
-        topo.point_prims(a as usize).iter().any(|&o| {
-            let o = o as usize;
-            o != f && self.is_face[o] && {
-                let q = self.g.prim_points(o);
-                (0..q.len()).any(|k| q[k] == b && q[(k + 1) % q.len()] == a)
-            }
+/// Per corner of the selected faces, the corner of another selected face
+/// whose edge runs the other way along this corner's edge (`NONE` where
+/// the edge is the selection's outline, or shared by more than two).
+/// Half-edges are sorted by their points, in parallel and totally, so the
+/// pairing does not depend on threads.
+fn twin_corners(g: &Geometry, faces: &[u32], first: &[u32]) -> Vec<u32> {
+    use rayon::prelude::*;
+    let mut half: Vec<(u32, u32, u32)> = faces
+        .par_iter()
+        .enumerate()
+        .flat_map_iter(|(i, &f)| {
+            let pts = g.prim_points(f as usize);
+            let c0 = first[i];
+            (0..pts.len()).map(move |j| {
+                let (a, b) = (pts[j], pts[(j + 1) % pts.len()]);
+                (a.min(b), a.max(b), c0 + j as u32)
+            })
         })
+        .collect();
+    half.par_sort_unstable();
+    let mut twin = vec![NONE; half.len()];
+    let mut k = 0;
+    while k < half.len() {
+        let mut e = k + 1;
+        while e < half.len() && (half[e].0, half[e].1) == (half[k].0, half[k].1) {
+            e += 1;
+        }
+        if e - k == 2 {
+            let (x, y) = (half[k].2, half[k + 1].2);
+            twin[x as usize] = y;
+            twin[y as usize] = x;
+        }
+        k = e;
     }
-
-    /// Connected mode: each point's direction, the area-weighted mean of
-    /// its selected faces' normals.
-    fn directions(&self) -> std::collections::HashMap<u32, Vec3> {
-        let p = self.g.positions();
-        let mut sum: std::collections::HashMap<u32, Vec3> = Default::default();
-        if !self.how.connected {
-            return sum;
-        }
-        for &f in self.faces {
-            let pts = self.g.prim_points(f as usize);
-            let n = ops::polygon_normal(p, pts);
-            for &q in pts {
-                *sum.entry(q).or_default() += n;
-            }
-        }
-        sum.values_mut().for_each(|n| *n = n.normalize_or_zero());
-        sum
-    }
-
-    /// Connected mode: the in-plane offset of each outline point of each
-    /// piece (interior points do not move inward).
-    fn insets(&self) -> std::collections::HashMap<(u32, u32), Vec3> {
-        let mut at: std::collections::HashMap<(u32, u32), Vec3> = Default::default();
-        if !self.how.connected || self.how.inset == 0.0 {
-            return at;
-        }
-        let p = self.g.positions();
-        for (i, &f) in self.faces.iter().enumerate() {
-            let pts = self.g.prim_points(f as usize);
-            let n = pts.len();
-            for j in 0..n {
-                let (a, b) = (pts[j], pts[(j + 1) % n]);
-                if self.shared_with_selection(a, b, f as usize) {
-                    continue;
-                }
-                // The outline edge a→b pushes both its ends inward.
-                let e = (p[b as usize] - p[a as usize]).normalize_or_zero();
-                let inward = self.normals[i].cross(e);
-                for q in [a, b] {
-                    let slot = at.entry((self.piece_of[i], q)).or_insert(Vec3::ZERO);
-                    *slot += inward;
-                }
-            }
-        }
-        // Two edges' inward normals m1 + m2 become the corner's offset
-        // (m1 + m2) / (1 + m1·m2) · inset, which keeps both at the inset.
-        for v in at.values_mut() {
-            let len2 = v.length_squared();
-            *v = if len2 > 1e-12 {
-                *v * (2.0 / len2) * self.how.inset
-            } else {
-                Vec3::ZERO
-            };
-        }
-        at
-    }
+    twin
 }
 
-/// The in-plane offset of corner `j` of face `f` (normal `n`) that keeps
-/// both its edges `inset` inward.
-fn corner_inset(g: &Geometry, f: usize, j: usize, n: Vec3, inset: f32) -> Vec3 {
-    if inset == 0.0 {
-        return Vec3::ZERO;
-    }
-    let p = g.positions();
-    let pts = g.prim_points(f);
-    let k = pts.len();
-    let (a, c, b) = (
-        p[pts[(j + k - 1) % k] as usize],
-        p[pts[j] as usize],
-        p[pts[(j + 1) % k] as usize],
-    );
-    let m1 = n.cross((c - a).normalize_or_zero());
-    let m2 = n.cross((b - c).normalize_or_zero());
-    let m = m1 + m2;
-    let len2 = m.length_squared();
-    if len2 < 1e-12 {
-        return Vec3::ZERO;
-    }
-    m * (2.0 / len2) * inset
-}
+const NONE: u32 = u32::MAX;
 
-/// Faces of the selection joined through shared edges, numbered in order
-/// of their first face.
-fn connected_pieces(g: &Geometry, faces: &[u32]) -> Vec<u32> {
-    let mut parent: Vec<usize> = (0..faces.len()).collect();
-    fn root(p: &mut [usize], mut x: usize) -> usize {
-        while p[x] != x {
-            p[x] = p[p[x]];
-            x = p[x];
+/// Faces joined through twin corners, numbered in order of their first
+/// face.
+fn connected_pieces(faces: usize, first: &[u32], twins: &[u32]) -> Vec<u32> {
+    let mut face_of = vec![0u32; twins.len()];
+    for i in 0..faces {
+        face_of[first[i] as usize..first[i + 1] as usize].fill(i as u32);
+    }
+    let mut parent: Vec<u32> = (0..faces as u32).collect();
+    fn root(p: &mut [u32], mut x: u32) -> u32 {
+        while p[x as usize] != x {
+            p[x as usize] = p[p[x as usize] as usize];
+            x = p[x as usize];
         }
         x
     }
-    let mut edges: std::collections::HashMap<(u32, u32), usize> = Default::default();
-    for (i, &f) in faces.iter().enumerate() {
-        let q = g.prim_points(f as usize);
-        for k in 0..q.len() {
-            let (a, b) = (q[k], q[(k + 1) % q.len()]);
-            if let Some(&o) = edges.get(&(b, a)) {
-                let (x, y) = (root(&mut parent, i), root(&mut parent, o));
-                parent[x.max(y)] = x.min(y);
-            }
-            edges.insert((a, b), i);
+    for (c, &t) in twins.iter().enumerate() {
+        if t != NONE {
+            let (x, y) = (
+                root(&mut parent, face_of[c]),
+                root(&mut parent, face_of[t as usize]),
+            );
+            parent[x.max(y) as usize] = x.min(y);
         }
     }
-    let mut number = std::collections::HashMap::new();
-    (0..faces.len())
+    let mut number = vec![NONE; faces];
+    let mut next = 0;
+    (0..faces as u32)
         .map(|i| {
-            let r = root(&mut parent, i);
-            let next = number.len() as u32;
-            *number.entry(r).or_insert(next)
+            let r = root(&mut parent, i) as usize;
+            if number[r] == NONE {
+                number[r] = next;
+                next += 1;
+            }
+            number[r]
         })
+        .collect()
+}
+
+/// Each corner's slot (one per point of a piece, numbered in order of
+/// first use) and each slot's (point, piece).
+fn slots(
+    g: &Geometry,
+    faces: &[u32],
+    first: &[u32],
+    piece_of: &[u32],
+) -> (Vec<u32>, Vec<(u32, u32)>) {
+    let corners = *first.last().unwrap_or(&0) as usize;
+    let mut slot_of = vec![NONE; corners];
+    let mut slots = Vec::new();
+    // A point is in one piece but where pieces touch at it: its first
+    // piece's slot is kept per point, others go through a map.
+    let mut first_slot = vec![NONE; g.num_points()];
+    let mut others: std::collections::BTreeMap<(u32, u32), u32> = Default::default();
+    for (i, &f) in faces.iter().enumerate() {
+        let piece = piece_of[i];
+        for (j, &q) in g.prim_points(f as usize).iter().enumerate() {
+            let fs = first_slot[q as usize];
+            let s = if fs != NONE && slots[fs as usize] == (q, piece) {
+                fs
+            } else if let Some(&s) = others.get(&(q, piece)) {
+                s
+            } else {
+                let s = slots.len() as u32;
+                slots.push((q, piece));
+                if fs == NONE {
+                    first_slot[q as usize] = s;
+                } else {
+                    others.insert((q, piece), s);
+                }
+                s
+            };
+            slot_of[first[i] as usize + j] = s;
+        }
+    }
+    (slot_of, slots)
+}
+
+/// Each piece's centre (mean of its faces' corners) and unit normal (its
+/// faces' area-weighted normals summed).
+fn piece_frames(g: &Geometry, faces: &[u32], piece_of: &[u32]) -> Vec<(Vec3, Vec3)> {
+    let p = g.positions();
+    let count = piece_of.iter().map(|&k| k as usize + 1).max().unwrap_or(0);
+    let mut sums = vec![(Vec3::ZERO, 0usize, Vec3::ZERO); count];
+    for (i, &f) in faces.iter().enumerate() {
+        let pts = g.prim_points(f as usize);
+        let s = &mut sums[piece_of[i] as usize];
+        for &q in pts {
+            s.0 += p[q as usize];
+            s.1 += 1;
+        }
+        s.2 += ops::polygon_normal(p, pts);
+    }
+    sums.into_iter()
+        .map(|(c, n, m)| (c / n.max(1) as f32, m.normalize_or_zero()))
         .collect()
 }
 
