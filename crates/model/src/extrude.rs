@@ -206,9 +206,9 @@ impl<'a> Faces<'a> {
     }
 
     /// Per slot: the direction (the unit sum of its faces' area-weighted
-    /// normals) and the inset offset (its outline edges' inward normals m1
-    /// + m2 make (m1 + m2) / (1 + m1·m2) · inset, keeping both edges at
-    /// the inset; a corner inside the piece does not move inward).
+    /// normals) and the inset offset: its outline edges' inward normals
+    /// m1 and m2 make (m1 + m2) / (1 + m1·m2) · inset, which keeps both
+    /// edges at the inset; a corner inside the piece does not move inward.
     fn directions_and_insets(&self) -> (Vec<Vec3>, Vec<Vec3>) {
         let p = self.g.positions();
         let mut dir = vec![Vec3::ZERO; self.slots.len()];
