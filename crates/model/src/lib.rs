@@ -3,6 +3,12 @@
 //! It knows geometry only: no node, parameter or graph.
 
 pub mod boolean;
+mod carry;
+pub mod clip;
 mod error;
+pub mod fill;
+pub mod hull;
+pub mod mirror;
+pub mod revolve;
 
 pub use error::ModelError;
