@@ -12,7 +12,7 @@
 
 use std::cmp::Ordering;
 
-use geode_geo::glam::Vec3;
+use geode_geo::glam::{DVec3, Vec3};
 
 /// Half an ulp of 1.0 in f64.
 const EPS: f64 = 1.0 / (1u64 << 53) as f64;
@@ -41,6 +41,56 @@ pub fn orient3d(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Ordering {
         return Ordering::Less;
     }
     orient3d_exact(a, b, c, d)
+}
+
+/// A triangle's plane prepared for many [`orient3d`] tests against it
+/// (its edges' 2x2 minors computed once): `orient(d)` is
+/// `orient3d(a, b, c, d)`, the determinant expanded along `d - a`'s row
+/// (the same products, so the same error bound).
+#[derive(Clone, Copy, Debug)]
+pub struct Plane {
+    v: [Vec3; 3],
+    a: DVec3,
+    /// `(b - a) x (c - a)`.
+    normal: DVec3,
+    /// Per component, the minor's two products' magnitudes summed.
+    magnitude: DVec3,
+}
+
+impl Plane {
+    pub fn new(a: Vec3, b: Vec3, c: Vec3) -> Plane {
+        let a64 = a.as_dvec3();
+        let (ba, ca) = (b.as_dvec3() - a64, c.as_dvec3() - a64);
+        let products = [
+            (ba.y * ca.z, ba.z * ca.y),
+            (ba.z * ca.x, ba.x * ca.z),
+            (ba.x * ca.y, ba.y * ca.x),
+        ];
+        Plane {
+            v: [a, b, c],
+            a: a64,
+            normal: DVec3::from(products.map(|(p, q)| p - q)),
+            magnitude: DVec3::from(products.map(|(p, q)| p.abs() + q.abs())),
+        }
+    }
+
+    /// `(b - a) x (c - a)` in f64 (rounded).
+    pub fn normal(&self) -> DVec3 {
+        self.normal
+    }
+
+    pub fn orient(&self, d: Vec3) -> Ordering {
+        let da = d.as_dvec3() - self.a;
+        let det = da.dot(self.normal);
+        let bound = O3D_BOUND * da.abs().dot(self.magnitude);
+        if det > bound {
+            Ordering::Greater
+        } else if -det > bound {
+            Ordering::Less
+        } else {
+            orient3d_exact(self.v[0], self.v[1], self.v[2], d)
+        }
+    }
 }
 
 /// [`orient3d`] by exact summation alone.
@@ -153,6 +203,7 @@ mod tests {
                 d = a + (b - a) * unit(2, i, 0) + (c - a) * unit(2, i, 1);
             }
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d), "{i}");
+            assert_eq!(Plane::new(a, b, c).orient(d), orient3d_exact(a, b, c, d), "{i}");
         }
         let (o, x, y, z) = (Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z);
         assert_eq!(orient3d(o, x, y, z), Ordering::Greater);

@@ -4,9 +4,10 @@
 
 use std::cmp::Ordering;
 
-use geode_geo::glam::{DVec3, Vec3};
+use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
+use super::exact::Plane;
 use super::orient3d;
 use crate::ModelError;
 
@@ -14,14 +15,23 @@ use crate::ModelError;
 const PARALLEL_POINTS: usize = 1 << 15;
 const NONE: u32 = u32::MAX;
 
+/// An outside point with its position beside its number: moving points
+/// between faces then reads memory in order (gathering positions by
+/// number was most of the time).
+#[derive(Clone, Copy)]
+struct Outside {
+    i: u32,
+    p: Vec3,
+}
+
 /// A hull triangle, wound outward: `adj[i]` is the face across the edge
 /// from `v[i]` to `v[(i + 1) % 3]`; `outside` the points strictly above
 /// it that no earlier face took.
 struct Face {
     v: [u32; 3],
     adj: [u32; 3],
-    normal: DVec3,
-    outside: Vec<u32>,
+    plane: Plane,
+    outside: Vec<Outside>,
     alive: bool,
 }
 
@@ -72,11 +82,11 @@ impl<'a> Quickhull<'a> {
     }
 
     fn push_face(&mut self, v: [u32; 3]) -> u32 {
-        let [a, b, c] = v.map(|i| self.p[i as usize].as_dvec3());
+        let [a, b, c] = v.map(|i| self.p[i as usize]);
         self.faces.push(Face {
             v,
             adj: [NONE; 3],
-            normal: (b - a).cross(c - a),
+            plane: Plane::new(a, b, c),
             outside: Vec::new(),
             alive: true,
         });
@@ -90,16 +100,14 @@ impl<'a> Quickhull<'a> {
         (0..3).find(|&i| v[i] == u && v[(i + 1) % 3] == w)
     }
 
-    /// Whether point `i` lies strictly above face `f`'s plane.
-    fn above(&self, f: u32, i: u32) -> bool {
-        let v = self.faces[f as usize].v.map(|k| self.p[k as usize]);
-        orient3d(v[0], v[1], v[2], self.p[i as usize]) == Ordering::Greater
+    /// Whether point `p` lies strictly above face `f`'s plane.
+    fn above(&self, f: u32, p: Vec3) -> bool {
+        self.faces[f as usize].plane.orient(p) == Ordering::Greater
     }
 
-    /// Whether point `i` lies above face `f`'s plane or on it.
-    fn weakly_above(&self, f: u32, i: u32) -> bool {
-        let v = self.faces[f as usize].v.map(|k| self.p[k as usize]);
-        orient3d(v[0], v[1], v[2], self.p[i as usize]) != Ordering::Less
+    /// Whether point `p` lies above face `f`'s plane or on it.
+    fn weakly_above(&self, f: u32, p: Vec3) -> bool {
+        self.faces[f as usize].plane.orient(p) != Ordering::Less
     }
 
     fn assign_initial(
@@ -110,19 +118,20 @@ impl<'a> Quickhull<'a> {
         const CHUNK: usize = 1 << 14;
         let n = self.p.len();
         let this = &*self;
-        let chunks: Option<Vec<[Vec<u32>; 4]>> = (0..n.div_ceil(CHUNK))
+        let chunks: Option<Vec<[Vec<Outside>; 4]>> = (0..n.div_ceil(CHUNK))
             .into_par_iter()
             .map(|c| {
                 if cancel() {
                     return None;
                 }
-                let mut sets: [Vec<u32>; 4] = Default::default();
+                let mut sets: [Vec<Outside>; 4] = Default::default();
                 for i in (c * CHUNK..((c + 1) * CHUNK).min(n)).map(|i| i as u32) {
+                    let p = this.p[i as usize];
                     if t.contains(&i) {
                         continue;
                     }
-                    if let Some(f) = (0..4).find(|&f| this.above(f, i)) {
-                        sets[f as usize].push(i);
+                    if let Some(f) = (0..4).find(|&f| this.above(f, p)) {
+                        sets[f as usize].push(Outside { i, p });
                     }
                 }
                 Some(sets)
@@ -158,7 +167,11 @@ impl<'a> Quickhull<'a> {
             for &v in &visible {
                 let face = &mut self.faces[v as usize];
                 face.alive = false;
-                points.extend(std::mem::take(&mut face.outside).into_iter().filter(|&i| i != eye));
+                points.extend(
+                    std::mem::take(&mut face.outside)
+                        .into_iter()
+                        .filter(|o| o.i != eye),
+                );
             }
             self.assign(&points, first_new);
             for g in (first_new..self.faces.len() as u32).rev() {
@@ -179,11 +192,12 @@ impl<'a> Quickhull<'a> {
     /// of equals).
     fn farthest(&self, f: u32) -> u32 {
         let face = &self.faces[f as usize];
+        let normal = face.plane.normal();
         let mut best = (f64::NEG_INFINITY, NONE);
-        for &i in &face.outside {
-            let d = face.normal.dot(self.p[i as usize].as_dvec3());
+        for o in &face.outside {
+            let d = normal.dot(o.p.as_dvec3());
             if d > best.0 {
-                best = (d, i);
+                best = (d, o.i);
             }
         }
         best.1
@@ -212,7 +226,7 @@ impl<'a> Quickhull<'a> {
                 let sees = if when == step {
                     seen
                 } else {
-                    let sees = self.weakly_above(nb, eye);
+                    let sees = self.weakly_above(nb, self.p[eye as usize]);
                     self.seen[nb as usize] = (step, sees);
                     if sees {
                         visible.push(nb);
@@ -263,17 +277,17 @@ impl<'a> Quickhull<'a> {
 
     /// Gives each of `points` to the first face from `first_new` on that
     /// it lies above (the others are inside the hull now).
-    fn assign(&mut self, points: &[u32], first_new: u32) {
+    fn assign(&mut self, points: &[Outside], first_new: u32) {
         let faces = first_new..self.faces.len() as u32;
-        let target = |i: u32| faces.clone().find(|&f| self.above(f, i)).unwrap_or(NONE);
+        let target = |o: &Outside| faces.clone().find(|&f| self.above(f, o.p)).unwrap_or(NONE);
         let targets: Vec<u32> = if points.len() > PARALLEL_POINTS {
-            points.par_iter().map(|&i| target(i)).collect()
+            points.par_iter().map(target).collect()
         } else {
-            points.iter().map(|&i| target(i)).collect()
+            points.iter().map(target).collect()
         };
-        for (&i, &f) in points.iter().zip(&targets) {
+        for (o, &f) in points.iter().zip(&targets) {
             if f != NONE {
-                self.faces[f as usize].outside.push(i);
+                self.faces[f as usize].outside.push(*o);
             }
         }
     }
