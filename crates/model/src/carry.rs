@@ -66,8 +66,12 @@ pub(crate) fn build(src: &Geometry, plan: Plan, op: &'static str) -> Result<Geom
         }
     }
     for (name, attr) in src.attribs(AttribClass::Primitive).iter() {
-        out.set_attrib(AttribClass::Primitive, name, attr.gather(&plan.prim_sources))
-            .map_err(|e| failed(e.to_string()))?;
+        out.set_attrib(
+            AttribClass::Primitive,
+            name,
+            attr.gather(&plan.prim_sources),
+        )
+        .map_err(|e| failed(e.to_string()))?;
     }
     for (name, attr) in src.attribs(AttribClass::Detail).iter() {
         out.set_attrib(AttribClass::Detail, name, attr.clone())
@@ -130,10 +134,7 @@ pub(crate) fn set_means(g: &mut Geometry, class: AttribClass, targets: &[(u32, V
     for name in names {
         let attr = g.attrib(class, &name).expect("listed above");
         let means = means_of(attr.data(), targets);
-        let column = g
-            .attribs_mut(class)
-            .get_mut(&name)
-            .expect("listed above");
+        let column = g.attribs_mut(class).get_mut(&name).expect("listed above");
         let mut values = column.values_mut();
         for (k, (element, _)) in targets.iter().enumerate() {
             values

@@ -171,7 +171,7 @@ pub fn clip(
         )));
     }
     let normal = options.normal.as_dvec3();
-    if !(normal.length() > 0.0) || !normal.is_finite() {
+    if !normal.is_finite() || normal.length() == 0.0 {
         return Err(ModelError::Invalid(
             "the clip plane's normal has no direction".into(),
         ));
@@ -228,7 +228,9 @@ impl Field {
             .with_min_len(CHUNK)
             .map(|x| x.abs().max_element())
             .reduce(|| 0.0, f32::max) as f64;
-        let scale = extent.max(o.abs().max_element()).max(f32::MIN_POSITIVE as f64);
+        let scale = extent
+            .max(o.abs().max_element())
+            .max(f32::MIN_POSITIVE as f64);
         let eps = 4.0 * f32::EPSILON as f64 * scale;
         let class = distance
             .par_iter()
@@ -385,4 +387,3 @@ struct Splitter<'a> {
     capping: bool,
     split_points: bool,
 }
-

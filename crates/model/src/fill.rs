@@ -21,8 +21,8 @@
 
 mod triangulate;
 
-pub(crate) use triangulate::{ear_clip, newell_normal, plane_basis, signed_area2};
 pub use triangulate::MIN_WEIGHT_MAX;
+pub(crate) use triangulate::{ear_clip, newell_normal, plane_basis, signed_area2};
 
 use geode_geo::glam::{DVec2, DVec3};
 use geode_geo::{AttribClass, Geometry, Group, HalfEdge, PrimKind};
@@ -117,6 +117,14 @@ struct LoopEdge {
     corner: u32,
 }
 
+/// Elements a fan's centre averages, set once the output is built:
+/// `(element, the elements averaged)` for points and for vertices.
+#[derive(Default)]
+struct Means {
+    points: Vec<(u32, Vec<u32>)>,
+    vertices: Vec<(u32, Vec<u32>)>,
+}
+
 /// Fills the holes of `g` (see the module doc).
 pub fn polyfill(
     g: &Geometry,
@@ -129,7 +137,7 @@ pub fn polyfill(
         |_, candidates| candidates[0],
     );
     let mut plan = copy_of(g);
-    let mut means = (Vec::new(), Vec::new());
+    let mut means = Means::default();
     let (mut filled, mut skipped) = (0, open);
     for (k, l) in loops.iter().enumerate() {
         if k % 64 == 0 && cancel() {
@@ -145,8 +153,8 @@ pub fn polyfill(
     }
     let new_faces = plan.first_new_prim..plan.prim_kinds.len();
     let mut out = carry::build(g, plan, "polyfill")?;
-    carry::set_means(&mut out, AttribClass::Point, &means.0);
-    carry::set_means(&mut out, AttribClass::Vertex, &means.1);
+    carry::set_means(&mut out, AttribClass::Point, &means.points);
+    carry::set_means(&mut out, AttribClass::Vertex, &means.vertices);
     if !options.group.is_empty() {
         let group = Group::from_flags((0..out.num_prims()).map(|p| new_faces.contains(&p)));
         out.set_prim_group(&options.group, group)
@@ -239,7 +247,9 @@ fn copy_of(g: &Geometry) -> Plan {
         point_sources: (0..g.num_points() as u32).map(copy).collect(),
         vertex_points: g.vertex_points().to_vec(),
         vertex_sources: (0..g.num_vertices() as u32).map(copy).collect(),
-        prim_counts: (0..np).map(|p| g.prim_vertex_range(p).len() as u32).collect(),
+        prim_counts: (0..np)
+            .map(|p| g.prim_vertex_range(p).len() as u32)
+            .collect(),
         prim_kinds: g.prim_kinds().to_vec(),
         prim_sources: (0..np as u32).collect(),
         first_new_prim: np,
@@ -253,7 +263,7 @@ fn fill_loop(
     ring: &[LoopEdge],
     options: &FillOptions,
     plan: &mut Plan,
-    means: &mut (Vec<(u32, Vec<u32>)>, Vec<(u32, Vec<u32>)>),
+    means: &mut Means,
 ) {
     let source = ring[0].face;
     let corner = |plan: &mut Plan, e: &LoopEdge| {
@@ -300,23 +310,16 @@ fn triangles(g: &Geometry, ring: &[LoopEdge], how: Triangulation) -> Vec<[u32; 3
 }
 
 /// A fan around a new centre point.
-fn fan(
-    g: &Geometry,
-    ring: &[LoopEdge],
-    source: u32,
-    plan: &mut Plan,
-    means: &mut (Vec<(u32, Vec<u32>)>, Vec<(u32, Vec<u32>)>),
-) {
+fn fan(g: &Geometry, ring: &[LoopEdge], source: u32, plan: &mut Plan, means: &mut Means) {
     let points: Vec<u32> = ring.iter().map(|e| e.from).collect();
     let sum: DVec3 = points
         .iter()
         .map(|&p| g.positions()[p as usize].as_dvec3())
         .sum();
     let centre = plan.positions.len() as u32;
-    plan.positions
-        .push((sum / points.len() as f64).as_vec3());
+    plan.positions.push((sum / points.len() as f64).as_vec3());
     plan.point_sources.push(copy(points[0]));
-    means.0.push((centre, points));
+    means.points.push((centre, points));
     let corners: Vec<u32> = ring.iter().map(|e| e.corner).collect();
     let n = ring.len();
     for i in 0..n {
@@ -332,7 +335,7 @@ fn fan(
         // The centre corner is averaged over the loop's corners, which
         // are source vertices: the output keeps them at the same numbers.
         means
-            .1
+            .vertices
             .push((plan.vertex_points.len() as u32 - 1, corners.clone()));
         plan.prim_counts.push(3);
         plan.prim_kinds.push(PrimKind::Polygon);

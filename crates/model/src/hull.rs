@@ -99,7 +99,9 @@ impl Simplex {
         let mut pair = (extremes[0], extremes[0], 0.0);
         for (k, &i) in extremes.iter().enumerate() {
             for &j in &extremes[k + 1..] {
-                let d = p[i as usize].as_dvec3().distance_squared(p[j as usize].as_dvec3());
+                let d = p[i as usize]
+                    .as_dvec3()
+                    .distance_squared(p[j as usize].as_dvec3());
                 if d > pair.2 {
                     pair = (i.min(j), i.max(j), d);
                 }
@@ -169,9 +171,9 @@ fn farthest(p: &[Vec3], measure: impl Fn(Vec3) -> Option<f64> + Sync) -> Option<
 /// Whether three points lie on one line (exactly: every coordinate
 /// projection is degenerate).
 fn collinear(a: Vec3, b: Vec3, c: Vec3) -> bool {
-    [(0, 1), (1, 2), (2, 0)].iter().all(|&(i, j)| {
-        orient2d([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == Ordering::Equal
-    })
+    [(0, 1), (1, 2), (2, 0)]
+        .iter()
+        .all(|&(i, j)| orient2d([a[i], a[j]], [b[i], b[j]], [c[i], c[j]]) == Ordering::Equal)
 }
 
 /// The hull of coplanar points: a ring anticlockwise about the axis the

@@ -70,7 +70,7 @@ pub fn mirror(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Mirrored, ModelError> {
     let n = options.normal.as_dvec3();
-    if !(n.length() > 0.0) || !n.is_finite() {
+    if !n.is_finite() || n.length() == 0.0 {
         return Err(ModelError::Invalid(
             "the mirror plane's normal has no direction".into(),
         ));

@@ -135,7 +135,7 @@ struct Corners {
 impl Sweep {
     fn new(o: &RevolveOptions) -> Result<Sweep, ModelError> {
         let axis = o.axis.as_dvec3();
-        if !(axis.length() > 0.0) || !axis.is_finite() {
+        if !axis.is_finite() || axis.length() == 0.0 {
             return Err(ModelError::Invalid(
                 "the revolve axis has no direction".into(),
             ));
@@ -245,7 +245,8 @@ impl Sweep {
                     (k % self.angles.len()) as u32
                 };
                 plan.vertex_points.push(rings.first[point] + step);
-                plan.vertex_sources.push(copy(first_vertex + (i % n) as u32));
+                plan.vertex_sources
+                    .push(copy(first_vertex + (i % n) as u32));
                 corners.step.push(step);
                 corners.uv.push(Vec2::new(
                     (k as f64 / d as f64) as f32,
@@ -266,9 +267,7 @@ impl Sweep {
                     (true, true) => continue,
                     (true, false) => list.extend([(i, k), (i + 1, k + 1), (i + 1, k)]),
                     (false, true) => list.extend([(i, k), (i, k + 1), (i + 1, k)]),
-                    (false, false) => {
-                        list.extend([(i, k), (i, k + 1), (i + 1, k + 1), (i + 1, k)])
-                    }
+                    (false, false) => list.extend([(i, k), (i, k + 1), (i + 1, k + 1), (i + 1, k)]),
                 }
                 face(plan, corners, &mut list);
             }

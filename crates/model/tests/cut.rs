@@ -102,7 +102,11 @@ fn a_clipped_sphere_matches_manifolds_trim_and_the_spherical_cap() {
         assert_eq!(euler_and_closed(&r.geometry), (2, true));
         let ours = volume(&r.geometry);
         // The analytic cap of the unit sphere, to mesh tolerance.
-        let h = if sign > 0.0 { 1.0 - offset } else { 1.0 + offset } as f64;
+        let h = if sign > 0.0 {
+            1.0 - offset
+        } else {
+            1.0 + offset
+        } as f64;
         let cap = std::f64::consts::PI * h * h * (3.0 - h) / 3.0;
         assert!((ours - cap).abs() / cap < 0.01, "{ours} vs {cap}");
         let mut input = mesh_json(&sphere);
@@ -148,20 +152,27 @@ fn cut_points_interpolate_attributes_and_faces_keep_theirs() {
     }
     assert!(r.positions().iter().any(|p| (p.z - 0.123).abs() < 1e-6));
     // Each piece lies inside its source triangle's z range.
-    let id = r.attrib(AttribClass::Primitive, "id").unwrap().as_i32().unwrap();
+    let id = r
+        .attrib(AttribClass::Primitive, "id")
+        .unwrap()
+        .as_i32()
+        .unwrap();
     let caps = &r.prim_groups()["cap"];
-    for prim in 0..r.num_prims() {
+    for (prim, &source) in id.iter().enumerate() {
         if caps.contains(prim) {
             continue;
         }
-        let src = g.prim_points(id[prim] as usize);
-        let lo = src.iter().map(|&p| g.positions()[p as usize].z).fold(f32::MAX, f32::min);
+        let src = g.prim_points(source as usize);
+        let lo = src
+            .iter()
+            .map(|&p| g.positions()[p as usize].z)
+            .fold(f32::MAX, f32::min);
         for &p in r.prim_points(prim) {
             assert!(r.positions()[p as usize].z >= lo - 1e-6);
         }
         assert_eq!(
             r.prim_groups()["first"].contains(prim),
-            (id[prim] as usize) < g.num_prims() / 2
+            (source as usize) < g.num_prims() / 2
         );
     }
     assert!(caps.count() == 1 && !r.prim_groups()["first"].contains(r.num_prims() - 1));
@@ -386,8 +397,14 @@ fn a_mirrored_half_sphere_is_the_sphere_with_normals_outward() {
     assert!((volume(&g) - volume(&sphere)).abs() < 1e-4);
     let reflect = |x: Vec3| x - 2.0 * x.dot(plane) * plane;
     let (n, v) = (
-        g.attrib(AttribClass::Point, "N").unwrap().as_vec3().unwrap(),
-        g.attrib(AttribClass::Point, "v").unwrap().as_vec3().unwrap(),
+        g.attrib(AttribClass::Point, "N")
+            .unwrap()
+            .as_vec3()
+            .unwrap(),
+        g.attrib(AttribClass::Point, "v")
+            .unwrap()
+            .as_vec3()
+            .unwrap(),
     );
     for (i, p) in g.positions().iter().enumerate() {
         assert!(n[i].dot(*p) > 0.9, "N points out at {p}");
@@ -409,7 +426,9 @@ fn holed_sphere() -> Geometry {
     let mut g = primitives::uv_sphere(1.0, 32, 16);
     // Two holes: a patch of quads, and the north pole's fan.
     let np = g.num_prims();
-    let hole = Group::from_flags((0..np).map(|p| (p < 32) || (100..104).contains(&p) || (132..136).contains(&p)));
+    let hole = Group::from_flags(
+        (0..np).map(|p| (p < 32) || (100..104).contains(&p) || (132..136).contains(&p)),
+    );
     ops::delete_prims(&mut g, &hole, true);
     g
 }
@@ -428,7 +447,10 @@ fn filled_holes_close_the_sphere_in_every_mode() {
             let r = polyfill(&g, &o, &never).unwrap();
             assert_eq!((r.holes_filled, r.holes_skipped), (2, 0));
             let out = &r.geometry;
-            assert!(out.topology().manifold_report(out).is_closed_manifold(), "{mode:?}");
+            assert!(
+                out.topology().manifold_report(out).is_closed_manifold(),
+                "{mode:?}"
+            );
             assert!(volume(out) > 4.0, "{mode:?}: {}", volume(out));
             let filled = &out.prim_groups()["polyfill"];
             assert_eq!(out.num_prims() - filled.count(), g.num_prims());
@@ -449,7 +471,8 @@ fn filled_holes_close_the_sphere_in_every_mode() {
 fn the_fill_of_a_square_hole_has_the_holes_area() {
     let mut g = primitives::grid(Vec2::new(6.0, 6.0), 6, 6);
     // The 2x2 block of quads in the middle (columns and rows 2 and 3).
-    let hole = Group::from_flags((0..36).map(|q| (2..4).contains(&(q % 6)) && (2..4).contains(&(q / 6))));
+    let hole =
+        Group::from_flags((0..36).map(|q| (2..4).contains(&(q % 6)) && (2..4).contains(&(q / 6))));
     ops::delete_prims(&mut g, &hole, true);
     for mode in [FillMode::Triangles, FillMode::Polygon, FillMode::Fan] {
         for how in [Triangulation::MinWeight, Triangulation::EarClip] {
@@ -472,7 +495,11 @@ fn the_fill_of_a_square_hole_has_the_holes_area() {
                     assert!(polygon_area(&r, p) > 0.1, "a sliver");
                 }
             }
-            let uv = r.attrib(AttribClass::Point, "uv").unwrap().as_vec2().unwrap();
+            let uv = r
+                .attrib(AttribClass::Point, "uv")
+                .unwrap()
+                .as_vec2()
+                .unwrap();
             if mode == FillMode::Fan {
                 // The centre's uv is the mean of the loop's.
                 assert!((uv[r.num_points() - 1] - Vec2::new(0.5, 0.5)).length() < 1e-6);
@@ -515,14 +542,20 @@ fn sorted_points(p: impl Iterator<Item = [f64; 3]>) -> Vec<[f64; 3]> {
 fn check_hull(g: &Geometry, what: &str) {
     let h = convex_hull(g, true, &never).unwrap();
     assert_eq!(euler_and_closed(&h), (2, true), "{what}");
-    assert!(h.topology().manifold_report(&h).is_closed_manifold(), "{what}");
+    assert!(
+        h.topology().manifold_report(&h).is_closed_manifold(),
+        "{what}"
+    );
     let ours = volume(&h);
     let input = json!({"p": g.positions().iter().map(|p| p.to_array()).collect::<Vec<_>>()});
     let Some(s) = oracle(SCIPY_HULL, &input) else {
         return;
     };
     let theirs = f(&s, "volume");
-    assert!(((ours - theirs) / theirs).abs() < 1e-6, "{what}: {ours} vs {theirs}");
+    assert!(
+        ((ours - theirs) / theirs).abs() < 1e-6,
+        "{what}: {ours} vs {theirs}"
+    );
     let qhull = sorted_points(
         s["vertices"]
             .as_array()
@@ -578,7 +611,9 @@ print(json.dumps({'area': float(h.volume), 'vertices': p[h.vertices].tolist()}))
 #[test]
 fn a_hull_of_coplanar_points_is_one_polygon_matching_qhull_in_2d() {
     let grid = primitives::grid(Vec2::new(3.0, 2.0), 30, 20);
-    let mut pts = cloud(500, 12, |u, _| Vec3::new(u[0] * 3.0 - 1.5, 0.0, u[1] * 2.0 - 1.0));
+    let mut pts = cloud(500, 12, |u, _| {
+        Vec3::new(u[0] * 3.0 - 1.5, 0.0, u[1] * 2.0 - 1.0)
+    });
     pts.add_points(grid.positions());
     let h = convex_hull(&pts, true, &never).unwrap();
     assert_eq!(h.num_prims(), 1);
@@ -599,9 +634,13 @@ fn a_hull_of_coplanar_points_is_one_polygon_matching_qhull_in_2d() {
     };
     let xy = |p: &Vec3| [p.x as f64, p.y as f64, 0.0];
     let mine = sorted_points(h.positions().iter().map(xy));
-    let qhull = sorted_points(s["vertices"].as_array().unwrap().iter().map(|v| {
-        [v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), 0.0]
-    }));
+    let qhull = sorted_points(
+        s["vertices"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| [v[0].as_f64().unwrap(), v[1].as_f64().unwrap(), 0.0]),
+    );
     assert_eq!(mine, qhull);
     // Projected onto XY, the polygon's area is scipy's.
     let q: Vec<[f64; 2]> = h
@@ -631,7 +670,11 @@ fn hull_point_attributes_are_carried() {
     )
     .unwrap();
     let h = convex_hull(&g, true, &never).unwrap();
-    let id = h.attrib(AttribClass::Point, "id").unwrap().as_i32().unwrap();
+    let id = h
+        .attrib(AttribClass::Point, "id")
+        .unwrap()
+        .as_i32()
+        .unwrap();
     for (p, &i) in h.positions().iter().zip(id) {
         assert_eq!(*p, g.positions()[i as usize]);
     }
@@ -669,11 +712,18 @@ fn a_revolved_segment_is_a_prism_of_the_exact_area() {
     let (r, h, d) = (0.7f64, 1.5f64, 24u32);
     let side = 2.0 * r * (std::f64::consts::PI / d as f64).sin();
     let tube = revolved(&curve(&[(0.7, 0.0), (0.7, 1.5)], false), 360.0, d);
-    assert_eq!((tube.num_points(), tube.num_prims()), (2 * d as usize, d as usize));
+    assert_eq!(
+        (tube.num_points(), tube.num_prims()),
+        (2 * d as usize, d as usize)
+    );
     let Some(t) = trimesh(&tube) else { return };
     assert!((f(&t, "area") - d as f64 * side * h).abs() < 1e-5);
     // With its ends run in to the axis: a closed prism.
-    let can = revolved(&curve(&[(0.0, 0.0), (0.7, 0.0), (0.7, 1.5), (0.0, 1.5)], false), 360.0, d);
+    let can = revolved(
+        &curve(&[(0.0, 0.0), (0.7, 0.0), (0.7, 1.5), (0.0, 1.5)], false),
+        360.0,
+        d,
+    );
     assert_eq!(can.num_points(), 2 * d as usize + 2);
     let t = trimesh(&can).unwrap();
     closed_and_wound(&t, "revolved can");
@@ -708,7 +758,11 @@ fn a_partial_revolution_of_a_closed_profile_is_capped_and_closed() {
         assert_eq!(euler_and_closed(&g), (2, true), "{end}");
         let alpha = (end as f64).abs().to_radians();
         let exact = 0.5 * d as f64 * (4.0 - 1.0) * (alpha / d as f64).sin();
-        assert!((volume(&g) - exact).abs() < 1e-5, "{end}: {} vs {exact}", volume(&g));
+        assert!(
+            (volume(&g) - exact).abs() < 1e-5,
+            "{end}: {} vs {exact}",
+            volume(&g)
+        );
         if let Some(t) = trimesh(&g) {
             closed_and_wound(&t, "capped sector");
         }
@@ -732,11 +786,22 @@ fn revolved_attributes_turn_with_their_step_and_uv_runs_along() {
         ..RevolveOptions::default()
     };
     let r = revolve(&g, &o, &never).unwrap();
-    let n = r.attrib(AttribClass::Point, "N").unwrap().as_vec3().unwrap();
+    let n = r
+        .attrib(AttribClass::Point, "N")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
     for (p, n) in r.positions().iter().zip(n) {
-        assert!((Vec3::new(p.x, 0.0, p.z) - *n).length() < 1e-5, "N follows the surface");
+        assert!(
+            (Vec3::new(p.x, 0.0, p.z) - *n).length() < 1e-5,
+            "N follows the surface"
+        );
     }
-    let uv = r.attrib(AttribClass::Vertex, "uv").unwrap().as_vec2().unwrap();
+    let uv = r
+        .attrib(AttribClass::Vertex, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
     assert_eq!(uv[0], Vec2::new(0.0, 0.0));
     assert!(uv.iter().any(|t| *t == Vec2::new(1.0, 1.0)));
 }
@@ -806,12 +871,20 @@ fn every_kernel_stops_when_cancelled() {
     let cancelled = |r: Result<(), geode_model::ModelError>| {
         matches!(r, Err(geode_model::ModelError::Cancelled))
     };
-    assert!(cancelled(clip(&g, &ClipOptions::default(), &yes).map(|_| ())));
+    assert!(cancelled(
+        clip(&g, &ClipOptions::default(), &yes).map(|_| ())
+    ));
     assert!(cancelled(convex_hull(&g, true, &yes).map(|_| ())));
-    assert!(cancelled(mirror(&g, &MirrorOptions::default(), &yes).map(|_| ())));
+    assert!(cancelled(
+        mirror(&g, &MirrorOptions::default(), &yes).map(|_| ())
+    ));
     let mut holed = g.clone();
     ops::delete_prims(&mut holed, &Group::from_members(g.num_prims(), [5]), true);
-    assert!(cancelled(polyfill(&holed, &FillOptions::default(), &yes).map(|_| ())));
+    assert!(cancelled(
+        polyfill(&holed, &FillOptions::default(), &yes).map(|_| ())
+    ));
     let line = curve(&[(1.0, 0.0), (1.0, 1.0)], false);
-    assert!(cancelled(revolve(&line, &RevolveOptions::default(), &yes).map(|_| ())));
+    assert!(cancelled(
+        revolve(&line, &RevolveOptions::default(), &yes).map(|_| ())
+    ));
 }

@@ -19,6 +19,7 @@ mod growth;
 mod hspline;
 mod instancing;
 mod mesh;
+mod model_cut;
 mod nurbs;
 mod param_expr;
 mod patches;
@@ -55,6 +56,7 @@ pub fn registry() -> Registry {
     attributes::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);
+    model_cut::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);

@@ -177,17 +177,16 @@ fn rightmost(q: &[DVec2]) -> usize {
 
 /// Outer loop `o` with its holes joined in by keyhole bridges, right to
 /// left, and the holes no bridge reached.
-fn bridged(
-    loops: &[Loop],
-    o: usize,
-    holes: &[usize],
-) -> (Vec<CapCorner>, Vec<DVec2>, Vec<usize>) {
+fn bridged(loops: &[Loop], o: usize, holes: &[usize]) -> (Vec<CapCorner>, Vec<DVec2>, Vec<usize>) {
     let mut unbridged = Vec::new();
     let mut corners = loops[o].corners.clone();
     let mut q = loops[o].q.clone();
     let mut holes = holes.to_vec();
     holes.sort_by(|&a, &b| {
-        let (xa, xb) = (loops[a].q[rightmost(&loops[a].q)], loops[b].q[rightmost(&loops[b].q)]);
+        let (xa, xb) = (
+            loops[a].q[rightmost(&loops[a].q)],
+            loops[b].q[rightmost(&loops[b].q)],
+        );
         xb.x.total_cmp(&xa.x).then(a.cmp(&b))
     });
     for h in holes {

@@ -119,7 +119,8 @@ impl Splitter<'_> {
         };
         for side in [ABOVE, BELOW] {
             let kept = self.kept(side);
-            if !kept && !(closed && self.capping) {
+            let needed = kept || (closed && self.capping);
+            if !needed {
                 continue;
             }
             let mut take = |piece: &[Entry]| {

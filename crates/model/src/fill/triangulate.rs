@@ -187,7 +187,11 @@ impl Ring {
 /// Whether `p` lies in the anticlockwise triangle `abc` (on its edges
 /// included when `closed`).
 fn inside(p: DVec2, a: DVec2, b: DVec2, c: DVec2, closed: bool) -> bool {
-    let s = [cross(b - a, p - a), cross(c - b, p - b), cross(a - c, p - c)];
+    let s = [
+        cross(b - a, p - a),
+        cross(c - b, p - b),
+        cross(a - c, p - c),
+    ];
     if closed {
         s.iter().all(|&x| x >= 0.0)
     } else {
@@ -310,7 +314,11 @@ mod tests {
         let q = [(0., -2.), (1., 0.), (0., 2.), (-1., 0.)].map(|(x, y)| DVec2::new(x, y));
         let p: Vec<DVec3> = q.iter().map(|v| v.extend(0.0)).collect();
         let t = min_weight(&p, &q).unwrap();
-        let uses = |a: u32, b: u32| t.iter().filter(|x| x.contains(&a) && x.contains(&b)).count();
+        let uses = |a: u32, b: u32| {
+            t.iter()
+                .filter(|x| x.contains(&a) && x.contains(&b))
+                .count()
+        };
         assert_eq!(uses(1, 3), 2);
         assert_eq!(uses(0, 2), 0);
     }

@@ -195,7 +195,11 @@ mod tests {
     fn the_filter_and_the_exact_sum_agree() {
         for i in 0..20000u64 {
             let p = |k: u64| {
-                Vec3::new(unit(1, i, 3 * k), unit(1, i, 3 * k + 1), unit(1, i, 3 * k + 2))
+                Vec3::new(
+                    unit(1, i, 3 * k),
+                    unit(1, i, 3 * k + 1),
+                    unit(1, i, 3 * k + 2),
+                )
             };
             let (a, b, c, mut d) = (p(0), p(1), p(2), p(3));
             if i % 2 == 0 {
@@ -203,7 +207,11 @@ mod tests {
                 d = a + (b - a) * unit(2, i, 0) + (c - a) * unit(2, i, 1);
             }
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d), "{i}");
-            assert_eq!(Plane::new(a, b, c).orient(d), orient3d_exact(a, b, c, d), "{i}");
+            assert_eq!(
+                Plane::new(a, b, c).orient(d),
+                orient3d_exact(a, b, c, d),
+                "{i}"
+            );
         }
         let (o, x, y, z) = (Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z);
         assert_eq!(orient3d(o, x, y, z), Ordering::Greater);
@@ -220,7 +228,13 @@ mod tests {
             let d = p(i as f32 * 0.375, 1.0 - i as f32 * 0.125);
             assert_eq!(orient3d(a, b, c, d), Ordering::Equal);
         }
-        assert_eq!(orient2d([0.0, 0.0], [1.0, 1.0], [3.0, 3.0]), Ordering::Equal);
-        assert_eq!(orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]), Ordering::Greater);
+        assert_eq!(
+            orient2d([0.0, 0.0], [1.0, 1.0], [3.0, 3.0]),
+            Ordering::Equal
+        );
+        assert_eq!(
+            orient2d([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]),
+            Ordering::Greater
+        );
     }
 }

@@ -157,7 +157,7 @@ impl<'a> Quickhull<'a> {
             if !face.alive || face.outside.is_empty() {
                 continue;
             }
-            if self.step % 32 == 0 && cancel() {
+            if self.step.is_multiple_of(32) && cancel() {
                 return Err(ModelError::Cancelled);
             }
             let eye = self.farthest(f);
@@ -180,12 +180,7 @@ impl<'a> Quickhull<'a> {
                 }
             }
         }
-        Ok(self
-            .faces
-            .iter()
-            .filter(|f| f.alive)
-            .map(|f| f.v)
-            .collect())
+        Ok(self.faces.iter().filter(|f| f.alive).map(|f| f.v).collect())
     }
 
     /// The outside point of face `f` farthest from its plane (the first
@@ -261,7 +256,10 @@ impl<'a> Quickhull<'a> {
         starts.sort_unstable();
         let starting_at = |x: u32| {
             let k = starts.partition_point(|s| s.0 < x);
-            debug_assert!(k < starts.len() && starts[k].0 == x, "the horizon is a cycle");
+            debug_assert!(
+                k < starts.len() && starts[k].0 == x,
+                "the horizon is a cycle"
+            );
             starts[k].1
         };
         for id in first..self.faces.len() as u32 {
