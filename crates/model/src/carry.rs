@@ -44,6 +44,22 @@ pub(crate) struct Plan {
     pub first_new_prim: usize,
 }
 
+/// Refuses a geometry with primitives other than polygons and polylines
+/// (packed primitives and patches cannot be rebuilt from a plan).
+pub(crate) fn polygons_and_polylines(g: &Geometry, op: &str) -> Result<(), ModelError> {
+    match g
+        .prim_kinds()
+        .iter()
+        .position(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline))
+    {
+        Some(k) => Err(ModelError::Invalid(format!(
+            "{op} takes polygons and polylines; primitive {k} is a {}",
+            g.prim_kinds()[k].name()
+        ))),
+        None => Ok(()),
+    }
+}
+
 /// The output geometry `plan` describes, attributes and groups carried
 /// from `src`. `op` names the operation in errors.
 pub(crate) fn build(src: &Geometry, plan: Plan, op: &'static str) -> Result<Geometry, ModelError> {

@@ -47,15 +47,15 @@
 //! here they are made in the same pass, with groups for each side and the
 //! caps.
 
-use geode_geo::glam::{DVec3, Vec3};
-use geode_geo::{Geometry, PrimKind};
-use rayon::prelude::*;
-
 mod assemble;
 mod caps;
 mod pieces;
 
-use crate::carry::Blend;
+use geode_geo::glam::{DVec3, Vec3};
+use geode_geo::{Geometry, PrimKind};
+use rayon::prelude::*;
+
+use crate::carry::{self, Blend};
 use crate::ModelError;
 
 /// What a clip keeps.
@@ -160,16 +160,7 @@ pub fn clip(
     options: &ClipOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Clipped, ModelError> {
-    if let Some(k) = g
-        .prim_kinds()
-        .iter()
-        .position(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline))
-    {
-        return Err(ModelError::Invalid(format!(
-            "clip takes polygons and polylines; primitive {k} is a {}",
-            g.prim_kinds()[k].name()
-        )));
-    }
+    carry::polygons_and_polylines(g, "clip")?;
     let normal = options.normal.as_dvec3();
     if !normal.is_finite() || normal.length() == 0.0 {
         return Err(ModelError::Invalid(

@@ -131,6 +131,7 @@ pub fn polyfill(
     options: &FillOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Filled, ModelError> {
+    carry::polygons_and_polylines(g, "polyfill")?;
     let edges = boundary_edges(g);
     let (loops, open) = chain_loops(
         &edges.iter().map(|e| (e.from, e.to)).collect::<Vec<_>>(),

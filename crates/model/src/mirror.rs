@@ -18,7 +18,7 @@
 //! seam would repeat the original's, reversed, and is not made.
 
 use geode_geo::glam::{DVec3, Mat4, Vec3, Vec4};
-use geode_geo::{ops, Geometry, Group, PrimKind};
+use geode_geo::{ops, Geometry, Group};
 use rayon::prelude::*;
 
 use crate::carry::{self, copy, Plan};
@@ -121,16 +121,7 @@ pub fn mirror(
             seam_points,
         });
     }
-    if let Some(k) = g
-        .prim_kinds()
-        .iter()
-        .position(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline))
-    {
-        return Err(ModelError::Invalid(format!(
-            "fusing a mirror's seam takes polygons and polylines; primitive {k} is a {} (turn fusing off)",
-            g.prim_kinds()[k].name()
-        )));
-    }
+    carry::polygons_and_polylines(g, "a mirror's seam fuse")?;
     let on_seam = Group::from_flags(
         (0..image.num_prims()).map(|p| image.prim_points(p).iter().all(|&q| seam[q as usize])),
     );

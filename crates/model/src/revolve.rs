@@ -69,16 +69,7 @@ pub fn revolve(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     let sweep = Sweep::new(options)?;
-    if let Some(k) = g
-        .prim_kinds()
-        .iter()
-        .position(|k| !matches!(k, PrimKind::Polygon | PrimKind::Polyline))
-    {
-        return Err(ModelError::Invalid(format!(
-            "revolve takes polylines and polygons; primitive {k} is a {}",
-            g.prim_kinds()[k].name()
-        )));
-    }
+    carry::polygons_and_polylines(g, "revolve")?;
     let mut plan = Plan::default();
     let rings = sweep.place_points(g, &mut plan);
     let mut corners = Corners::default();

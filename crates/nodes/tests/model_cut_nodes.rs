@@ -172,3 +172,36 @@ fn revolve_turns_a_line_into_a_tube_and_refuses_an_empty_sweep() {
     assert_eq!(e[0].param.as_deref(), Some("end_angle"));
     assert!(e[0].message.contains("nothing to revolve"));
 }
+
+#[test]
+fn a_long_hull_stops_soon_after_a_cancel() {
+    use geode_graph::{load_str, Cache, CookOptions, Engine};
+    use geode_op::CancelToken;
+    use std::time::{Duration, Instant};
+    // Every point of a sphere is a hull vertex: about a million steps.
+    let nodes = r#""s": {"type": "sphere", "params": {"rows": 700, "columns": 1400}},
+        "n": {"type": "convex_hull", "inputs": ["s"]}"#;
+    let net = load_str(&common::net(nodes, "n"), &geode_nodes::registry()).unwrap();
+    let cache = std::sync::Arc::new(Cache::new(4 << 30));
+    let engine = Engine::new(net, &cache);
+    engine.cook("/s", &CookOptions::at_frame(1.0)).unwrap();
+    let cancel = CancelToken::new();
+    let mut opts = CookOptions::at_frame(1.0);
+    opts.cancel = cancel.clone();
+    std::thread::scope(|s| {
+        let cook = s.spawn(|| engine.cook("/n", &opts));
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(!cook.is_finished(), "the hull ended before the cancel");
+        let t0 = Instant::now();
+        cancel.cancel();
+        let Err(e) = cook.join().unwrap() else {
+            panic!("finished despite the cancel")
+        };
+        assert_eq!(e[0].kind, ErrorKind::Cancelled);
+        assert!(
+            t0.elapsed() < Duration::from_millis(200),
+            "{:?}",
+            t0.elapsed()
+        );
+    });
+}

@@ -4,7 +4,8 @@
 //!
 //! The exact stage uses that geode's coordinates are f32: a product of
 //! two of them is exact in f64 (48 bits of 53), and a product of three is
-//! exact as two f64s (an FMA gives the rounding error). The determinant,
+//! exact as two f64s (the 48-bit product split in halves, each times the
+//! third coordinate exactly). The determinant,
 //! expanded over the raw coordinates into 24 (3D) or 6 (2D) such products,
 //! is then summed without error as a floating-point expansion (Shewchuk's
 //! Grow-Expansion, zeros eliminated); its largest component carries the
@@ -98,7 +99,7 @@ pub fn orient3d_exact(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Ordering {
     // orient = -det4 | x y z 1 | over rows a, b, c, d; det4 expands along
     // its column of ones into the 3x3 determinants of the other rows.
     let rows = [a, b, c, d].map(|p| p.to_array().map(f64::from));
-    let mut sum: Vec<f64> = Vec::with_capacity(48);
+    let mut sum = Expansion::<48>::new();
     for skip in 0..4 {
         // Cofactor sign of the 1 in row `skip`, column 3; orient is -det4.
         let sign = if (skip + 3) % 2 == 0 { -1.0 } else { 1.0 };
@@ -106,11 +107,11 @@ pub fn orient3d_exact(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Ordering {
         for (p, s) in PERMUTATIONS3 {
             let xy = r[0][p[0]] * r[1][p[1]];
             let (hi, lo) = two_product(xy, r[2][p[2]]);
-            grow(&mut sum, sign * s * hi);
-            grow(&mut sum, sign * s * lo);
+            sum.add(sign * s * hi);
+            sum.add(sign * s * lo);
         }
     }
-    sign_of(&sum)
+    sum.sign()
 }
 
 /// The permutations of three columns and their signs.
@@ -137,7 +138,7 @@ pub fn orient2d(a: [f32; 2], b: [f32; 2], c: [f32; 2]) -> Ordering {
         return Ordering::Less;
     }
     // det = ax by - ax cy - bx ay + bx cy + cx ay - cx by, each product exact.
-    let mut sum = Vec::with_capacity(6);
+    let mut sum = Expansion::<6>::new();
     for t in [
         a[0] * b[1],
         -(a[0] * c[1]),
@@ -146,9 +147,9 @@ pub fn orient2d(a: [f32; 2], b: [f32; 2], c: [f32; 2]) -> Ordering {
         c[0] * a[1],
         -(c[0] * b[1]),
     ] {
-        grow(&mut sum, t);
+        sum.add(t);
     }
-    sign_of(&sum)
+    sum.sign()
 }
 
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
@@ -158,32 +159,63 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (x, (a - av) + (b - bv))
 }
 
+/// `a b` as two f64s summing to it exactly, for `a` of at most 48
+/// significant bits and `b` an f32 (as the exact stage's products are):
+/// Veltkamp's split cuts `a` into halves of 26 and 27 bits, whose
+/// products with `b` are exact. (An FMA would do it in one step, but
+/// without `target-cpu` it is a slow library call.)
 fn two_product(a: f64, b: f64) -> (f64, f64) {
-    let p = a * b;
-    (p, a.mul_add(b, -p))
+    const SPLITTER: f64 = (1u64 << 27) as f64 + 1.0;
+    let c = SPLITTER * a;
+    let hi = c - (c - a);
+    let lo = a - hi;
+    let (p, q) = (hi * b, lo * b);
+    let (s, e) = two_sum(p, q);
+    (s, e)
 }
 
-/// Adds `b` to the nonoverlapping expansion `e` (increasing magnitude),
-/// exactly.
-fn grow(e: &mut Vec<f64>, b: f64) {
-    let mut q = b;
-    let mut k = 0;
-    for i in 0..e.len() {
-        let (s, h) = two_sum(q, e[i]);
-        q = s;
-        if h != 0.0 {
-            e[k] = h;
-            k += 1;
+/// A nonoverlapping expansion of at most `N` components, increasing in
+/// magnitude, zeros eliminated: an exact sum of up to `N` f64s, on the
+/// stack (degenerate inputs take the exact path at every test).
+struct Expansion<const N: usize> {
+    e: [f64; N],
+    len: usize,
+}
+
+impl<const N: usize> Expansion<N> {
+    fn new() -> Self {
+        Expansion {
+            e: [0.0; N],
+            len: 0,
         }
     }
-    e.truncate(k);
-    if q != 0.0 {
-        e.push(q);
-    }
-}
 
-fn sign_of(e: &[f64]) -> Ordering {
-    e.last().map_or(Ordering::Equal, |x| x.total_cmp(&0.0))
+    /// Adds `b` exactly (Shewchuk's Grow-Expansion).
+    fn add(&mut self, b: f64) {
+        let mut q = b;
+        let mut k = 0;
+        for i in 0..self.len {
+            let (s, h) = two_sum(q, self.e[i]);
+            q = s;
+            if h != 0.0 {
+                self.e[k] = h;
+                k += 1;
+            }
+        }
+        if q != 0.0 {
+            self.e[k] = q;
+            k += 1;
+        }
+        self.len = k;
+    }
+
+    /// The sum's sign: its largest component's.
+    fn sign(&self) -> Ordering {
+        match self.len {
+            0 => Ordering::Equal,
+            n => self.e[n - 1].total_cmp(&0.0),
+        }
+    }
 }
 
 #[cfg(test)]

@@ -43,6 +43,12 @@ pub(super) struct Quickhull<'a> {
     /// Per face: the step that last tested it and whether the eye saw it.
     seen: Vec<(u32, bool)>,
     step: u32,
+    /// Buffers reused by every step.
+    visible: Vec<u32>,
+    horizon: Vec<(u32, usize)>,
+    starts: Vec<(u32, u32)>,
+    moving: Vec<Outside>,
+    targets: Vec<u32>,
 }
 
 impl<'a> Quickhull<'a> {
@@ -64,6 +70,11 @@ impl<'a> Quickhull<'a> {
             pending: Vec::new(),
             seen: Vec::new(),
             step: 0,
+            visible: Vec::new(),
+            horizon: Vec::new(),
+            starts: Vec::new(),
+            moving: Vec::new(),
+            targets: Vec::new(),
         };
         for v in [[a, b, c], [a, d, b], [b, d, c], [c, d, a]] {
             hull.push_face(v);
@@ -157,23 +168,26 @@ impl<'a> Quickhull<'a> {
             if !face.alive || face.outside.is_empty() {
                 continue;
             }
-            if self.step.is_multiple_of(32) && cancel() {
+            // An iteration can move a hundred thousand points: poll each.
+            if cancel() {
                 return Err(ModelError::Cancelled);
             }
             let eye = self.farthest(f);
-            let (visible, horizon) = self.visible_from(f, eye);
-            let first_new = self.cone(&visible, &horizon, eye);
-            let mut points = Vec::new();
-            for &v in &visible {
+            self.visible_from(f, eye);
+            let first_new = self.cone(eye);
+            let mut moving = std::mem::take(&mut self.moving);
+            moving.clear();
+            for &v in &self.visible {
                 let face = &mut self.faces[v as usize];
                 face.alive = false;
-                points.extend(
+                moving.extend(
                     std::mem::take(&mut face.outside)
                         .into_iter()
                         .filter(|o| o.i != eye),
                 );
             }
-            self.assign(&points, first_new);
+            self.assign(&moving, first_new);
+            self.moving = moving;
             for g in (first_new..self.faces.len() as u32).rev() {
                 if !self.faces[g as usize].outside.is_empty() {
                     self.pending.push(g);
@@ -205,12 +219,15 @@ impl<'a> Quickhull<'a> {
     /// now a flat face of the hull drops out (no degenerate face comes of
     /// it: the eye never lies on a horizon edge's line, whose far face
     /// it would then see).
-    fn visible_from(&mut self, f: u32, eye: u32) -> (Vec<u32>, Vec<(u32, usize)>) {
+    fn visible_from(&mut self, f: u32, eye: u32) {
         self.step += 1;
         let step = self.step;
         self.seen[f as usize] = (step, true);
-        let mut visible = vec![f];
-        let mut horizon = Vec::new();
+        let mut visible = std::mem::take(&mut self.visible);
+        let mut horizon = std::mem::take(&mut self.horizon);
+        visible.clear();
+        horizon.clear();
+        visible.push(f);
         let mut k = 0;
         while k < visible.len() {
             let face = visible[k];
@@ -233,15 +250,18 @@ impl<'a> Quickhull<'a> {
                 }
             }
         }
-        (visible, horizon)
+        self.visible = visible;
+        self.horizon = horizon;
     }
 
     /// New faces from each horizon edge to `eye`, linked to the faces
     /// beyond the horizon and to each other; returns the first new face.
-    fn cone(&mut self, visible: &[u32], horizon: &[(u32, usize)], eye: u32) -> u32 {
+    fn cone(&mut self, eye: u32) -> u32 {
         let first = self.faces.len() as u32;
-        let mut starts = Vec::with_capacity(horizon.len());
-        for &(face, i) in horizon {
+        let horizon = std::mem::take(&mut self.horizon);
+        let mut starts = std::mem::take(&mut self.starts);
+        starts.clear();
+        for &(face, i) in &horizon {
             let f = &self.faces[face as usize];
             let (u, w, beyond) = (f.v[i], f.v[(i + 1) % 3], f.adj[i]);
             let id = self.push_face([u, w, eye]);
@@ -249,7 +269,7 @@ impl<'a> Quickhull<'a> {
             let j = self
                 .edge_index(beyond as usize, w, u)
                 .expect("the face beyond a horizon edge shares it");
-            debug_assert!(visible.contains(&self.faces[beyond as usize].adj[j]));
+            debug_assert!(self.visible.contains(&self.faces[beyond as usize].adj[j]));
             self.faces[beyond as usize].adj[j] = id;
             starts.push((u, id));
         }
@@ -270,23 +290,28 @@ impl<'a> Quickhull<'a> {
             self.faces[id as usize].adj[1] = next;
             self.faces[next as usize].adj[2] = id;
         }
+        self.horizon = horizon;
+        self.starts = starts;
         first
     }
 
     /// Gives each of `points` to the first face from `first_new` on that
     /// it lies above (the others are inside the hull now).
     fn assign(&mut self, points: &[Outside], first_new: u32) {
+        let mut targets = std::mem::take(&mut self.targets);
+        targets.clear();
         let faces = first_new..self.faces.len() as u32;
         let target = |o: &Outside| faces.clone().find(|&f| self.above(f, o.p)).unwrap_or(NONE);
-        let targets: Vec<u32> = if points.len() > PARALLEL_POINTS {
-            points.par_iter().map(target).collect()
+        if points.len() > PARALLEL_POINTS {
+            points.par_iter().map(target).collect_into_vec(&mut targets);
         } else {
-            points.iter().map(target).collect()
-        };
+            targets.extend(points.iter().map(target));
+        }
         for (o, &f) in points.iter().zip(&targets) {
             if f != NONE {
                 self.faces[f as usize].outside.push(*o);
             }
         }
+        self.targets = targets;
     }
 }
