@@ -387,6 +387,13 @@ fn a_mirrored_half_sphere_is_the_sphere_with_normals_outward() {
         Attribute::from_data(AttribData::Vec3(velocity), TypeInfo::Vector),
     )
     .unwrap();
+    let rest = half.positions().to_vec();
+    half.set_attrib(
+        AttribClass::Point,
+        "rest",
+        Attribute::from_data(AttribData::Vec3(rest), TypeInfo::Position),
+    )
+    .unwrap();
     let o = MirrorOptions {
         normal: plane,
         fuse_distance: 1e-5,
@@ -406,8 +413,17 @@ fn a_mirrored_half_sphere_is_the_sphere_with_normals_outward() {
             .as_vec3()
             .unwrap(),
     );
+    let rest = g
+        .attrib(AttribClass::Point, "rest")
+        .unwrap()
+        .as_vec3()
+        .unwrap();
     for (i, p) in g.positions().iter().enumerate() {
         assert!(n[i].dot(*p) > 0.9, "N points out at {p}");
+        assert!(
+            (rest[i] - *p).length() < 2e-5,
+            "rest reflects about the plane"
+        );
         // Images carry reflected vectors: v = p + X before, so after the
         // reflection v = p + reflect(X) on the image's side.
         if p.dot(plane) < -1e-4 {
@@ -596,6 +612,8 @@ fn hulls_of_degenerate_clouds_match_qhull() {
         thrice.add_points(once.positions());
     }
     check_hull(&thrice, "duplicates");
+    // A UV sphere: every point a vertex, each latitude ring coplanar.
+    check_hull(&primitives::uv_sphere(1.0, 48, 24), "uv sphere");
 }
 
 /// scipy's 2D hull of points in a plane, in coordinates of the plane.
