@@ -4,10 +4,16 @@
 
 pub mod boolean;
 pub mod bound;
+mod carry;
+pub mod clip;
 pub mod deform;
 mod error;
 pub mod extrude;
+pub mod fill;
+pub mod hull;
+pub mod mirror;
 pub mod rebuild;
+pub mod revolve;
 pub mod smooth;
 
 pub use error::ModelError;

@@ -22,6 +22,7 @@ mod mesh;
 mod model_boolean;
 mod model_extrude;
 mod model_surface;
+mod model_cut;
 mod nurbs;
 mod param_expr;
 mod patches;
@@ -61,6 +62,7 @@ pub fn registry() -> Registry {
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);
     model_surface::register(&mut r);
+    model_cut::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);

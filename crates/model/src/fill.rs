@@ -1,0 +1,345 @@
+//! Hole filling (Houdini's PolyFill): each boundary loop of a polygon mesh
+//! closed by new faces, wound to agree with the faces around it.
+//!
+//! The loops are the mesh's boundary half-edges (edges of one polygon)
+//! reversed and chained: a fill face runs along each boundary edge the
+//! other way, so its winding matches its neighbours' and a closed,
+//! consistently wound result comes out. Where two holes touch at a point
+//! the chain takes the lowest-numbered way on, deterministically.
+//!
+//! Each loop becomes one n-gon, a fan of triangles around a new centre
+//! point (the loop's mean), or triangles: the minimum-weight triangulation
+//! (summed triangle perimeters, every triangle wound as the loop in its
+//! best-fit plane; loops of up to 200 points) or ear clipping in the
+//! best-fit plane (Newell normal). Houdini's PolyFill also offers quad
+//! fills and smoothing, which geode does not.
+//!
+//! New faces take the primitive attributes of the face across their
+//! loop's first edge and, at each corner, the vertex attributes of the
+//! neighbouring face's corner at that point; a fan's centre point and
+//! corners take the loop's means. New faces join the `group` only.
+
+mod triangulate;
+
+pub use triangulate::MIN_WEIGHT_MAX;
+pub(crate) use triangulate::{ear_clip, newell_normal, plane_basis, signed_area2};
+
+use geode_geo::glam::{DVec2, DVec3};
+use geode_geo::{AttribClass, Geometry, Group, HalfEdge, PrimKind};
+
+use crate::carry::{self, copy, Blend, Plan};
+use crate::ModelError;
+
+/// How a hole is closed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FillMode {
+    /// One polygon over the loop.
+    Polygon,
+    /// Triangles around a new point at the loop's centre.
+    Fan,
+    /// Triangles over the loop's own points.
+    Triangles,
+}
+
+impl FillMode {
+    pub const NAMES: &'static [&'static str] = &["triangles", "polygon", "fan"];
+
+    pub fn from_name(name: &str) -> Option<FillMode> {
+        Some(match name {
+            "polygon" => FillMode::Polygon,
+            "fan" => FillMode::Fan,
+            "triangles" => FillMode::Triangles,
+            _ => return None,
+        })
+    }
+}
+
+/// How [`FillMode::Triangles`] triangulates a loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Triangulation {
+    /// Minimum summed perimeter (loops up to [`MIN_WEIGHT_MAX`] points;
+    /// longer ones are ear clipped).
+    MinWeight,
+    /// Ear clipping in the loop's best-fit plane.
+    EarClip,
+}
+
+impl Triangulation {
+    pub const NAMES: &'static [&'static str] = &["min_weight", "ear_clip"];
+
+    pub fn from_name(name: &str) -> Option<Triangulation> {
+        Some(match name {
+            "min_weight" => Triangulation::MinWeight,
+            "ear_clip" => Triangulation::EarClip,
+            _ => return None,
+        })
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct FillOptions {
+    pub mode: FillMode,
+    pub triangulation: Triangulation,
+    /// Holes of more points than this stay open (0: no limit).
+    pub max_points: usize,
+    /// The primitive group of the new faces (empty: none).
+    pub group: String,
+}
+
+impl Default for FillOptions {
+    fn default() -> Self {
+        FillOptions {
+            mode: FillMode::Triangles,
+            triangulation: Triangulation::MinWeight,
+            max_points: 0,
+            group: "polyfill".into(),
+        }
+    }
+}
+
+/// A filled mesh and what was filled.
+#[derive(Debug)]
+pub struct Filled {
+    pub geometry: Geometry,
+    pub holes_filled: usize,
+    /// Loops left open: over the size limit, or chains of boundary edges
+    /// that do not close (a non-manifold boundary).
+    pub holes_skipped: usize,
+}
+
+/// One edge of a hole's loop: from `from` to `to`, along a boundary edge
+/// of face `face`, whose corner at `from` is vertex `corner`.
+#[derive(Clone, Copy)]
+struct LoopEdge {
+    from: u32,
+    to: u32,
+    face: u32,
+    corner: u32,
+}
+
+/// Elements a fan's centre averages, set once the output is built:
+/// `(element, the elements averaged)` for points and for vertices.
+#[derive(Default)]
+struct Means {
+    points: Vec<(u32, Vec<u32>)>,
+    vertices: Vec<(u32, Vec<u32>)>,
+}
+
+/// Fills the holes of `g` (see the module doc).
+pub fn polyfill(
+    g: &Geometry,
+    options: &FillOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Filled, ModelError> {
+    carry::polygons_and_polylines(g, "polyfill")?;
+    let edges = boundary_edges(g);
+    let (loops, open) = chain_loops(
+        &edges.iter().map(|e| (e.from, e.to)).collect::<Vec<_>>(),
+        |_, candidates| candidates[0],
+    );
+    let mut plan = copy_of(g);
+    let mut means = Means::default();
+    let (mut filled, mut skipped) = (0, open);
+    for (k, l) in loops.iter().enumerate() {
+        if k % 64 == 0 && cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        let ring: Vec<LoopEdge> = l.iter().map(|&e| edges[e]).collect();
+        if ring.len() < 3 || (options.max_points > 0 && ring.len() > options.max_points) {
+            skipped += 1;
+            continue;
+        }
+        fill_loop(g, &ring, options, &mut plan, &mut means);
+        filled += 1;
+    }
+    let new_faces = plan.first_new_prim..plan.prim_kinds.len();
+    let mut out = carry::build(g, plan, "polyfill")?;
+    carry::set_means(&mut out, AttribClass::Point, &means.points);
+    carry::set_means(&mut out, AttribClass::Vertex, &means.vertices);
+    if !options.group.is_empty() {
+        let group = Group::from_flags((0..out.num_prims()).map(|p| new_faces.contains(&p)));
+        out.set_prim_group(&options.group, group)
+            .map_err(|e| ModelError::Failed {
+                op: "polyfill",
+                why: e.to_string(),
+            })?;
+    }
+    Ok(Filled {
+        geometry: out,
+        holes_filled: filled,
+        holes_skipped: skipped,
+    })
+}
+
+/// The boundary edges of `g`'s polygons, each reversed (the way a fill
+/// face runs along it), in edge order.
+fn boundary_edges(g: &Geometry) -> Vec<LoopEdge> {
+    let topo = g.topology();
+    topo.boundary_edges()
+        .into_iter()
+        .filter_map(|e| {
+            let h: HalfEdge = topo.edge_half_edges(e).next()?;
+            let next = topo.next(g, h);
+            Some(LoopEdge {
+                from: topo.origin(g, next),
+                to: topo.origin(g, h),
+                face: topo.prim_of(h) as u32,
+                corner: next.0,
+            })
+        })
+        .collect()
+}
+
+/// Chains directed edges `(from, to)` into closed loops of edge indices,
+/// each loop starting at its lowest-numbered edge; where several edges
+/// leave a point, `choose(incoming, candidates)` picks one. Also returns
+/// how many chains did not close (their edges are used up).
+pub(crate) fn chain_loops(
+    edges: &[(u32, u32)],
+    choose: impl Fn(usize, &[usize]) -> usize,
+) -> (Vec<Vec<usize>>, usize) {
+    let mut by_from: Vec<usize> = (0..edges.len()).collect();
+    by_from.sort_unstable_by_key(|&e| (edges[e].0, e));
+    let leaving = |p: u32| {
+        let lo = by_from.partition_point(|&e| edges[e].0 < p);
+        let hi = by_from.partition_point(|&e| edges[e].0 <= p);
+        &by_from[lo..hi]
+    };
+    let mut used = vec![false; edges.len()];
+    let (mut loops, mut open) = (Vec::new(), 0);
+    let mut candidates = Vec::new();
+    for first in 0..edges.len() {
+        if used[first] {
+            continue;
+        }
+        used[first] = true;
+        let mut chain = vec![first];
+        let mut at = first;
+        loop {
+            let to = edges[at].1;
+            if to == edges[first].0 {
+                loops.push(chain);
+                break;
+            }
+            candidates.clear();
+            candidates.extend(leaving(to).iter().copied().filter(|&e| !used[e]));
+            if candidates.is_empty() {
+                open += 1;
+                break;
+            }
+            let next = if candidates.len() == 1 {
+                candidates[0]
+            } else {
+                choose(at, &candidates)
+            };
+            used[next] = true;
+            chain.push(next);
+            at = next;
+        }
+    }
+    (loops, open)
+}
+
+/// The plan that copies `g` whole (new faces are appended to it).
+fn copy_of(g: &Geometry) -> Plan {
+    let np = g.num_prims();
+    Plan {
+        positions: g.positions().to_vec(),
+        point_sources: (0..g.num_points() as u32).map(copy).collect(),
+        vertex_points: g.vertex_points().to_vec(),
+        vertex_sources: (0..g.num_vertices() as u32).map(copy).collect(),
+        prim_counts: (0..np)
+            .map(|p| g.prim_vertex_range(p).len() as u32)
+            .collect(),
+        prim_kinds: g.prim_kinds().to_vec(),
+        prim_sources: (0..np as u32).collect(),
+        first_new_prim: np,
+    }
+}
+
+/// Appends the faces closing `ring` to `plan`; a fan's centre point and
+/// corners go to `means` (points, vertices) to be averaged once built.
+fn fill_loop(
+    g: &Geometry,
+    ring: &[LoopEdge],
+    options: &FillOptions,
+    plan: &mut Plan,
+    means: &mut Means,
+) {
+    let source = ring[0].face;
+    let corner = |plan: &mut Plan, e: &LoopEdge| {
+        plan.vertex_points.push(e.from);
+        plan.vertex_sources.push(copy(e.corner));
+    };
+    let face = |plan: &mut Plan, corners: &[usize]| {
+        for &c in corners {
+            corner(plan, &ring[c]);
+        }
+        plan.prim_counts.push(corners.len() as u32);
+        plan.prim_kinds.push(PrimKind::Polygon);
+        plan.prim_sources.push(source);
+    };
+    match options.mode {
+        FillMode::Polygon => face(plan, &(0..ring.len()).collect::<Vec<_>>()),
+        FillMode::Triangles => {
+            for t in triangles(g, ring, options.triangulation) {
+                face(plan, &t.map(|c| c as usize));
+            }
+        }
+        FillMode::Fan => fan(g, ring, source, plan, means),
+    }
+}
+
+/// Triangles over the loop's corners, wound as the loop.
+fn triangles(g: &Geometry, ring: &[LoopEdge], how: Triangulation) -> Vec<[u32; 3]> {
+    let p: Vec<DVec3> = ring
+        .iter()
+        .map(|e| g.positions()[e.from as usize].as_dvec3())
+        .collect();
+    let centre = p.iter().sum::<DVec3>() / p.len() as f64;
+    let (u, v) = plane_basis(newell_normal(&p));
+    let q: Vec<DVec2> = p
+        .iter()
+        .map(|&x| DVec2::new((x - centre).dot(u), (x - centre).dot(v)))
+        .collect();
+    if how == Triangulation::MinWeight && p.len() <= MIN_WEIGHT_MAX {
+        if let Some(t) = triangulate::min_weight(&p, &q) {
+            return t;
+        }
+    }
+    ear_clip(&q)
+}
+
+/// A fan around a new centre point.
+fn fan(g: &Geometry, ring: &[LoopEdge], source: u32, plan: &mut Plan, means: &mut Means) {
+    let points: Vec<u32> = ring.iter().map(|e| e.from).collect();
+    let sum: DVec3 = points
+        .iter()
+        .map(|&p| g.positions()[p as usize].as_dvec3())
+        .sum();
+    let centre = plan.positions.len() as u32;
+    plan.positions.push((sum / points.len() as f64).as_vec3());
+    plan.point_sources.push(copy(points[0]));
+    means.points.push((centre, points));
+    let corners: Vec<u32> = ring.iter().map(|e| e.corner).collect();
+    let n = ring.len();
+    for i in 0..n {
+        let (a, b) = (&ring[i], &ring[(i + 1) % n]);
+        for (point, blend) in [
+            (a.from, copy(a.corner)),
+            (b.from, copy(b.corner)),
+            (centre, copy(a.corner)),
+        ] {
+            plan.vertex_points.push(point);
+            plan.vertex_sources.push(blend as Blend);
+        }
+        // The centre corner is averaged over the loop's corners, which
+        // are source vertices: the output keeps them at the same numbers.
+        means
+            .vertices
+            .push((plan.vertex_points.len() as u32 - 1, corners.clone()));
+        plan.prim_counts.push(3);
+        plan.prim_kinds.push(PrimKind::Polygon);
+        plan.prim_sources.push(source);
+    }
+}
