@@ -115,10 +115,7 @@ pub fn extrude(
         }
         extrude_curve(g, c, how, scale, &mut out);
     }
-    let mut result = out.finish(g).map_err(|e| ModelError::Failed {
-        op: "extrude",
-        why: e.to_string(),
-    })?;
+    let mut result = out.finish(g, "polyextrude")?;
     // The interiors of connected pieces are left without faces.
     let used_before = used_points(g);
     let used_now = used_points(&result);

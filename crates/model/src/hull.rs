@@ -81,6 +81,30 @@ pub fn convex_hull(
     output(g, counts, vertices, kind, keep_used_only, single)
 }
 
+/// What the points span, for callers that want the solid hull's triangles
+/// alone (the oriented box's candidate directions).
+pub(crate) enum Span {
+    /// The hull's triangles over the points' indices, wound outward.
+    Solid(Vec<[u32; 3]>),
+    /// All points on one plane (its unit normal).
+    Flat(Vec3),
+    /// All on one line or one point, or none.
+    Lower,
+}
+
+/// The span of `p` and, when solid, its hull's triangles.
+pub(crate) fn span(p: &[Vec3], cancel: &(dyn Fn() -> bool + Sync)) -> Result<Span, ModelError> {
+    Ok(match Simplex::find(p) {
+        Simplex::Tetrahedron(t) => Span::Solid(Quickhull::new(p, t, cancel)?.run(cancel)?),
+        Simplex::Triangle(a, b, c) => {
+            let at = |i: u32| p[i as usize].as_dvec3();
+            let n = (at(b) - at(a)).cross(at(c) - at(a)).normalize_or_zero();
+            Span::Flat(n.as_vec3())
+        }
+        Simplex::Empty | Simplex::Point(_) | Simplex::Segment(..) => Span::Lower,
+    })
+}
+
 /// The first points spanning the hull's dimension.
 enum Simplex {
     Empty,

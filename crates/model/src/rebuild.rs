@@ -1,43 +1,45 @@
-//! A new geometry made of an old one's elements: each new point, primitive
-//! and vertex names the element of the source whose attributes and group
-//! memberships it takes, so a modelling operation only says where things
-//! go and every attribute follows without the operation knowing it.
+//! A new geometry made of an old one's elements, one by one: each new
+//! point, primitive and vertex names the element of the source whose
+//! attributes and group memberships it takes (a `carry::Plan` of copies),
+//! so a modelling operation only says where things go and every attribute
+//! follows without the operation knowing it.
 
 use geode_geo::glam::Vec3;
-use geode_geo::{AttribClass, GeoError, Geometry, Group, PrimKind};
+use geode_geo::{Geometry, Group, PrimKind};
 
-/// The output under construction: per element, its source's number.
+use crate::carry::{self, copy, Plan};
+use crate::ModelError;
+
+/// The output under construction: a `carry::Plan` whose elements each
+/// copy one source element, with groups of its own.
 #[derive(Default)]
 pub struct Rebuild {
-    positions: Vec<Vec3>,
-    point_src: Vec<u32>,
-    prim_src: Vec<u32>,
-    kinds: Vec<PrimKind>,
-    counts: Vec<u32>,
-    vertex_points: Vec<u32>,
-    vertex_src: Vec<u32>,
+    plan: Plan,
     /// Extra primitive groups: name, members by output primitive.
     groups: Vec<(String, Vec<bool>)>,
 }
 
 impl Rebuild {
     pub fn new() -> Rebuild {
-        Rebuild::default()
+        Rebuild {
+            plan: Plan {
+                // Every primitive made here keeps its source's groups.
+                first_new_prim: usize::MAX,
+                ..Plan::default()
+            },
+            groups: Vec::new(),
+        }
     }
 
     /// A point at `at` with the attributes of source point `src`.
     pub fn point(&mut self, src: u32, at: Vec3) -> u32 {
-        self.positions.push(at);
-        self.point_src.push(src);
-        self.positions.len() as u32 - 1
+        self.plan.positions.push(at);
+        self.plan.point_sources.push(copy(src));
+        self.plan.positions.len() as u32 - 1
     }
 
     pub fn num_points(&self) -> usize {
-        self.positions.len()
-    }
-
-    pub fn num_prims(&self) -> usize {
-        self.kinds.len()
+        self.plan.positions.len()
     }
 
     /// A primitive of `kind` with the attributes of source primitive `src`
@@ -45,12 +47,14 @@ impl Rebuild {
     /// `vertices` (one per point).
     pub fn prim(&mut self, src: u32, kind: PrimKind, points: &[u32], vertices: &[u32]) -> u32 {
         debug_assert_eq!(points.len(), vertices.len());
-        self.prim_src.push(src);
-        self.kinds.push(kind);
-        self.counts.push(points.len() as u32);
-        self.vertex_points.extend_from_slice(points);
-        self.vertex_src.extend_from_slice(vertices);
-        self.kinds.len() as u32 - 1
+        let plan = &mut self.plan;
+        plan.prim_sources.push(src);
+        plan.prim_kinds.push(kind);
+        plan.prim_counts.push(points.len() as u32);
+        plan.vertex_points.extend_from_slice(points);
+        plan.vertex_sources
+            .extend(vertices.iter().map(|&v| copy(v)));
+        plan.prim_kinds.len() as u32 - 1
     }
 
     /// Marks primitive `prim` as a member of group `name` (made on first
@@ -78,36 +82,18 @@ impl Rebuild {
         }
     }
 
-    /// The geometry, every attribute and group gathered from `src`
-    /// (positions are the new ones; detail attributes are copied).
-    pub fn finish(self, src: &Geometry) -> Result<Geometry, GeoError> {
-        let mut out =
-            Geometry::from_prims(self.positions, self.vertex_points, &self.counts, self.kinds)?;
-        for (class, sources) in [
-            (AttribClass::Point, &self.point_src),
-            (AttribClass::Primitive, &self.prim_src),
-            (AttribClass::Vertex, &self.vertex_src),
-        ] {
-            for (name, attr) in src.attribs(class).iter() {
-                if class == AttribClass::Point && name == "P" {
-                    continue;
-                }
-                out.set_attrib(class, name, attr.gather(sources))?;
-            }
-        }
-        for (name, attr) in src.attribs(AttribClass::Detail).iter() {
-            out.set_attrib(AttribClass::Detail, name, attr.clone())?;
-        }
-        for (name, group) in src.point_groups() {
-            out.set_point_group(name, group.gather(&self.point_src))?;
-        }
-        for (name, group) in src.prim_groups() {
-            out.set_prim_group(name, group.gather(&self.prim_src))?;
-        }
+    /// The geometry, every attribute and group carried from `src` (see
+    /// `carry::build`), with the groups marked here.
+    pub fn finish(self, src: &Geometry, op: &'static str) -> Result<Geometry, ModelError> {
+        let mut out = carry::build(src, self.plan, op)?;
         let n = out.num_prims();
         for (name, mut members) in self.groups {
             members.resize(n, false);
-            out.set_prim_group(&name, Group::from_flags(members))?;
+            out.set_prim_group(&name, Group::from_flags(members))
+                .map_err(|e| ModelError::Failed {
+                    op,
+                    why: e.to_string(),
+                })?;
         }
         Ok(out)
     }

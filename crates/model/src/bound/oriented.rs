@@ -87,7 +87,7 @@ pub fn oriented_box(
         return Ok(None);
     }
     let pts: Vec<DVec3> = points.par_iter().map(|p| p.as_dvec3()).collect();
-    let hull = convex_hull(&pts, cancel);
+    let hull = convex_hull(points, cancel);
     let (source, directions) = match &hull {
         Ok(h) => {
             let vertices: Vec<DVec3> = h.vertices.iter().map(|&i| pts[i as usize]).collect();
@@ -97,7 +97,7 @@ pub fn oriented_box(
         }
         Err(NoHull::Cancelled) => return Err(ModelError::Cancelled),
         Err(NoHull::Flat(normal)) => (Source::Points(&pts), vec![*normal]),
-        Err(NoHull::Line | NoHull::Failed) => (Source::Points(&pts), principal_axes(&pts).to_vec()),
+        Err(NoHull::Line) => (Source::Points(&pts), principal_axes(&pts).to_vec()),
     };
     if cancel() {
         return Err(ModelError::Cancelled);
