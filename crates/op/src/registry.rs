@@ -49,7 +49,9 @@ impl Registry {
         self.ops.values()
     }
 
-    /// Up to three known names closest to `name` (edit distance), for "did you mean".
+    /// Up to three known names closest to `name` (edit distance), for "did
+    /// you mean": only those as close as the closest (a near name is not
+    /// joined by far ones: `sphear` suggests `sphere`, not also `peak`).
     pub fn closest(&self, name: &str) -> Vec<&'static str> {
         let mut scored: Vec<(usize, &'static str)> = self
             .ops
@@ -58,7 +60,13 @@ impl Registry {
             .filter(|(d, k)| *d <= (k.len().max(name.len()) / 2).max(2))
             .collect();
         scored.sort();
-        scored.into_iter().take(3).map(|(_, k)| k).collect()
+        let best = scored.first().map_or(0, |s| s.0);
+        scored
+            .into_iter()
+            .take_while(|(d, _)| *d == best)
+            .take(3)
+            .map(|(_, k)| k)
+            .collect()
     }
 }
 
