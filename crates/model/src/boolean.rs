@@ -478,17 +478,20 @@ fn boundary_report(both: &Geometry, side: Side, s: &Sources) -> String {
         Side::A => 0..s.a_triangles,
         Side::B => s.a_triangles..both.num_prims(),
     };
-    let mut edges = std::collections::HashMap::new();
-    for t in prims {
-        let p = both.prim_points(t);
-        for k in 0..3 {
-            let (u, v) = (p[k], p[(k + 1) % 3]);
-            *edges.entry((u.min(v), u.max(v))).or_insert(0u32) += 1;
-        }
-    }
-    let open = edges.values().filter(|&&n| n == 1).count();
-    let shared = edges.values().filter(|&&n| n > 2).count();
-    format!("{open} open edges, {shared} edges shared by more than two faces")
+    let tris: Vec<[u32; 3]> = prims
+        .map(|t| {
+            let p = both.prim_points(t);
+            [p[0], p[1], p[2]]
+        })
+        .collect();
+    // Only on the error path: the topology's report counts the edges.
+    let report = Geometry::from_triangles(both.positions().to_vec(), &tris)
+        .map(|g| g.topology().manifold_report(&g))
+        .unwrap_or_default();
+    format!(
+        "{} open edges, {} edges shared by more than two faces",
+        report.boundary_edges, report.non_manifold_edges
+    )
 }
 
 /// A boolmesh vector (its own glam's) as ours.

@@ -250,6 +250,10 @@ pub type NumFn = fn(&[f32], &mut [f32]);
 /// The most argument floats a call of numbers gathers per lane.
 pub const NUM_ARGS: usize = 64;
 
+/// The most ints and the most floats a call of edits gathers per lane
+/// (more take the general path).
+pub const EDIT_ARGS: usize = 16;
+
 /// One lane's arguments to a function of edits (`EditFn`): the ints and
 /// the floats of its arguments, each in order (an int array spread into
 /// the ints), and the string argument (empty if none).

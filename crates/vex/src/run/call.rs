@@ -170,9 +170,6 @@ fn call_numbers(site: &CallSite, num: crate::program::NumFn, fr: &mut Frame) {
     }
 }
 
-/// The most ints and the most floats a call of edits gathers per lane.
-pub const EDIT_ARGS: usize = 16;
-
 /// A call of edits (`EditFn`) over the lanes its mask selects: each
 /// lane's ints and floats gathered from the registers, the string from the
 /// site's literal, the int result stored. No value is built.
@@ -191,8 +188,8 @@ fn call_edits(
         })
         .unwrap_or("");
     let o = site.out.reg as usize;
-    let mut ints = [0i32; EDIT_ARGS];
-    let mut floats = [0.0f32; EDIT_ARGS];
+    let mut ints = [0i32; crate::program::EDIT_ARGS];
+    let mut floats = [0.0f32; crate::program::EDIT_ARGS];
     let mut result = Ok(());
     for l in 0..fr.n {
         if site.mask.is_some_and(|m| fr.i[m as usize * LANES + l] == 0) {

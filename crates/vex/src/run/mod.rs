@@ -23,7 +23,6 @@ mod apply;
 mod budget;
 mod build;
 mod call;
-pub(crate) use call::EDIT_ARGS;
 mod exec;
 mod rules;
 mod scalar;

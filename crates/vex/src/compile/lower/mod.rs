@@ -618,7 +618,7 @@ impl<'a> Lower<'a> {
                 _ => return,
             }
         }
-        let most = crate::run::EDIT_ARGS;
+        let most = crate::program::EDIT_ARGS;
         if plain && site.out.ty == Ty::Int && ints <= most && floats <= most && texts <= 1 {
             site.edit = Some(edit);
         }
