@@ -303,3 +303,26 @@ fn zero_divisions_are_refused() {
     .unwrap_err();
     assert!(err.to_string().contains("divisions"), "{err}");
 }
+
+#[test]
+fn one_and_two_threads_give_the_same_bytes() {
+    let g = primitives::grid(Vec2::ONE, 60, 60);
+    for connected in [true, false] {
+        let how = Extrude {
+            distance: 0.1,
+            inset: 0.002,
+            divisions: 2,
+            twist: 10.0,
+            connected,
+            ..Extrude::default()
+        };
+        let in_pool = |n: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+                .install(|| run(&g, None, how.clone()).content_hash())
+        };
+        assert_eq!(in_pool(1), in_pool(2), "connected {connected}");
+    }
+}
