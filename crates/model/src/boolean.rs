@@ -1,16 +1,17 @@
 //! Booleans of closed meshes: union, intersection, subtraction and
 //! shatter (A cut into its pieces outside and inside B).
 //!
-//! The exact, robust part is `boolmesh` (a pure-Rust implementation of
-//! manifold's algorithm: symbolic perturbation, so coplanar faces and
-//! touching edges and vertices give a closed manifold result). This module
-//! is geode's side of it: the inputs are triangulated, each corner carries
-//! the number of the triangle it came from through the boolean, and the
-//! output's attributes are read back from there. A new point on a cut lies
-//! inside a source triangle, so its point and vertex attributes are that
-//! triangle's corners weighted by its barycentric coordinates (integers,
-//! strings and matrices take the nearest corner's); primitive attributes
-//! and groups are the source polygon's. The result is triangles.
+//! The exact, robust part is manifold (the C++ library, through
+//! `geode-manifold`: symbolic perturbation, so coplanar faces and touching
+//! edges and vertices give a closed manifold result). This module is
+//! geode's side of it: the inputs are triangulated, each triangle is given
+//! its number as manifold's face number, and every output triangle comes
+//! back naming the source triangle it lies in; the output's attributes are
+//! read back from there. A new point on a cut lies inside a source
+//! triangle, so its point and vertex attributes are that triangle's corners
+//! weighted by its barycentric coordinates (integers, strings and matrices
+//! take the nearest corner's); primitive attributes and groups are the
+//! source polygon's. The result is triangles.
 //!
 //! Groups mark where each face came from, as Houdini's Boolean names them:
 //! `a_inside_b`, `a_outside_b`, `b_inside_a`, `b_outside_a` (primitives),
@@ -20,9 +21,9 @@
 use std::sync::{mpsc, Arc};
 use std::time::Duration;
 
-use boolmesh::prelude::{compute_boolean, Manifold, OpType};
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, TypeInfo};
+use geode_manifold::{Mesh, Op, Solid};
 
 use crate::ModelError;
 
@@ -55,15 +56,17 @@ impl BooleanOp {
 }
 
 /// Bytes a boolean of meshes of `triangles` triangles in all is expected
-/// to hold at its peak (measured on sphere pairs: boolmesh's half-edge
-/// meshes, colliders and the output's columns), so a caller can refuse a
-/// request before it is made.
+/// to hold at its peak (measured on sphere pairs: manifold's half-edge
+/// meshes and colliders, the merged sources and the output's columns), so
+/// a caller can refuse a request before it is made.
 pub fn estimate_bytes(triangles: usize) -> f64 {
     1200.0 * triangles as f64
 }
 
 /// The boolean `op` of closed meshes `a` and `b`; `cancel` is polled
-/// between the phases (the boolean itself runs to its end).
+/// between the phases and while manifold works (which it cannot be
+/// interrupted in: a cancelled boolean returns at once and its thread
+/// finishes unobserved).
 pub fn boolean(
     a: &Geometry,
     b: &Geometry,
@@ -79,23 +82,18 @@ pub fn boolean(
         }
     };
     check()?;
-    let ma = sources.manifold(Side::A)?;
-    let mb = sources.manifold(Side::B)?;
+    let (ma, mb) = rayon::join(|| sources.solid(Side::A), || sources.solid(Side::B));
+    let (ma, mb) = (Arc::new(ma?), Arc::new(mb?));
     check()?;
-    let (ma, mb) = (Arc::new(ma), Arc::new(mb));
-    let run = |op: OpType| apart(Arc::clone(&ma), Arc::clone(&mb), op, cancel);
-    let output = |r: Option<Manifold<f64>>, op, piece| match r {
-        Some(r) => sources.output(&r, op, piece),
-        None => Ok(Geometry::new()),
-    };
+    let run = |op: Op| apart(Arc::clone(&ma), Arc::clone(&mb), op, cancel);
     match op {
-        BooleanOp::Union => output(run(OpType::Add)?, op, None),
-        BooleanOp::Intersect => output(run(OpType::Intersect)?, op, None),
-        BooleanOp::Subtract => output(run(OpType::Subtract)?, op, None),
+        BooleanOp::Union => sources.output(&run(Op::Union)?, op, None),
+        BooleanOp::Intersect => sources.output(&run(Op::Intersect)?, op, None),
+        BooleanOp::Subtract => sources.output(&run(Op::Subtract)?, op, None),
         BooleanOp::Shatter => {
-            let outside = output(run(OpType::Subtract)?, BooleanOp::Subtract, Some(0))?;
+            let outside = sources.output(&run(Op::Subtract)?, BooleanOp::Subtract, Some(0))?;
             check()?;
-            let inside = output(run(OpType::Intersect)?, BooleanOp::Intersect, Some(1))?;
+            let inside = sources.output(&run(Op::Intersect)?, BooleanOp::Intersect, Some(1))?;
             ops::merge(&[&outside, &inside]).map_err(|e| ModelError::Failed {
                 op: "shatter",
                 why: e.to_string(),
@@ -104,23 +102,21 @@ pub fn boolean(
     }
 }
 
-/// boolmesh's boolean on a thread of its own, so that a cancelled cook
-/// returns at once (the thread finishes unobserved and its result is
-/// dropped) and a panic in it is this boolean's error, not the process's.
-/// An empty result (disjoint solids intersected), which boolmesh reports
-/// as an error about its empty position list, is `None`.
+/// manifold's boolean, and its mesh, on a thread of their own, so that a
+/// cancelled cook returns at once (the thread finishes unobserved and its
+/// result is dropped) and a fault in it is this boolean's error.
 fn apart(
-    a: Arc<Manifold<f64>>,
-    b: Arc<Manifold<f64>>,
-    op: OpType,
+    a: Arc<Solid>,
+    b: Arc<Solid>,
+    op: Op,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Option<Manifold<f64>>, ModelError> {
+) -> Result<Mesh, ModelError> {
     const POLL: Duration = Duration::from_millis(10);
     let (tx, rx) = mpsc::channel();
     std::thread::Builder::new()
         .name("boolean".into())
         .spawn(move || {
-            let _ = tx.send(compute_boolean(&a, &b, op));
+            let _ = tx.send(geode_manifold::boolean(&a, &b, op).and_then(|r| r.mesh()));
         })
         .map_err(|e| ModelError::Failed {
             op: "boolean",
@@ -128,15 +124,19 @@ fn apart(
         })?;
     loop {
         match rx.recv_timeout(POLL) {
-            Ok(Ok(r)) => return Ok(Some(r)),
-            Ok(Err(why)) if why.contains("empty") => return Ok(None),
-            Ok(Err(why)) => return Err(ModelError::Failed { op: "boolean", why }),
+            Ok(Ok(mesh)) => return Ok(mesh),
+            Ok(Err(why)) => {
+                return Err(ModelError::Failed {
+                    op: "boolean",
+                    why: why.to_string(),
+                })
+            }
             Err(mpsc::RecvTimeoutError::Timeout) if cancel() => return Err(ModelError::Cancelled),
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => {
                 return Err(ModelError::Failed {
                     op: "boolean",
-                    why: "it stopped on these inputs (a fault in boolmesh)".into(),
+                    why: "it stopped on these inputs".into(),
                 })
             }
         }
@@ -150,21 +150,13 @@ enum Side {
 }
 
 /// Both inputs triangulated and merged: A's triangles first, then B's.
-/// Triangle `t` of the merge is what a corner's value names.
+/// Triangle `t` of the merge is manifold's face number `t`.
 struct Sources {
     both: Geometry,
     /// A's triangles (B's are numbered from here).
     a_triangles: usize,
     a_points: usize,
-    /// Per triangle of the merge, the triangle across each edge `k`
-    /// (from corner k to k + 1), `NONE` at an open or shared edge.
-    across: Vec<[u32; 3]>,
 }
-
-const NONE: u32 = u32::MAX;
-
-/// Steps a point location walks before it settles for where it is.
-const MAX_WALK: usize = 4096;
 
 impl Sources {
     fn new(
@@ -179,12 +171,10 @@ impl Sources {
             op: "boolean",
             why: e.to_string(),
         })?;
-        let across = across_edges(&both);
         Ok(Sources {
             both,
             a_triangles,
             a_points,
-            across,
         })
     }
 
@@ -193,27 +183,13 @@ impl Sources {
         [0, 1, 2].map(|k| self.both.positions()[p[k] as usize].as_dvec3())
     }
 
-    /// The source triangle holding `p` and its weights there, walking from
-    /// `hint` across edges to coplanar neighbours. boolmesh retriangulates
-    /// each flat region of the inputs as a whole, so the triangle a face
-    /// names is only somewhere in the same flat region as the face.
-    fn locate(&self, hint: usize, p: DVec3) -> (usize, [f32; 3]) {
-        let mut t = hint;
-        let mut w = barycentric(p, self.corners(t));
-        for _ in 0..MAX_WALK {
-            let j = (1..3).fold(0, |b, j| if w[j] < w[b] { j } else { b });
-            if w[j] >= -1e-9 {
-                break;
-            }
-            // Across the edge opposite the most negative corner.
-            let next = self.across[t][(j + 1) % 3];
-            if next == NONE || !coplanar(self.corners(t), self.corners(next as usize)) {
-                break;
-            }
-            t = next as usize;
-            w = barycentric(p, self.corners(t));
-        }
-        (t, clamped(w))
+    /// `p`'s weights in source triangle `t`: manifold keeps every output
+    /// triangle inside the input triangle it names, so `p` is in `t` up to
+    /// rounding (a few parts in a thousand of a sliver's height on a
+    /// hundred-sphere union), and the clamped weights are its nearest point
+    /// there.
+    fn weights(&self, t: usize, p: DVec3) -> [f32; 3] {
+        clamped(barycentric(p, self.corners(t)))
     }
 
     fn side_of(&self, triangle: usize) -> Side {
@@ -224,9 +200,9 @@ impl Sources {
         }
     }
 
-    /// One side as a boolmesh manifold, each corner's value its triangle's
+    /// One side as a manifold solid, each triangle's face number its
     /// number in the merge.
-    fn manifold(&self, side: Side) -> Result<Manifold<f64>, ModelError> {
+    fn solid(&self, side: Side) -> Result<Solid, ModelError> {
         let (prims, points, name) = match side {
             Side::A => (0..self.a_triangles, 0..self.a_points, "A"),
             Side::B => (
@@ -235,68 +211,55 @@ impl Sources {
                 "B",
             ),
         };
-        let base = points.start;
-        let pos: Vec<f64> = self.both.positions()[points]
+        let base = points.start as u32;
+        let positions: Vec<[f32; 3]> = self.both.positions()[points]
             .iter()
-            .flat_map(|p| p.to_array().map(f64::from))
+            .map(|p| p.to_array())
             .collect();
-        let mut idx = Vec::with_capacity(prims.len() * 3);
-        let mut vals = Vec::with_capacity(prims.len() * 3);
-        for t in prims {
-            for &p in self.both.prim_points(t) {
-                idx.push(p as usize - base);
-                vals.push(t as f64);
-            }
-        }
-        Manifold::new_with_values(&pos, &idx, &vals).map_err(|why| ModelError::NotClosed {
+        let triangles: Vec<[u32; 3]> = prims
+            .clone()
+            .map(|t| {
+                let p = self.both.prim_points(t);
+                [p[0] - base, p[1] - base, p[2] - base]
+            })
+            .collect();
+        let faces: Vec<u32> = prims.map(|t| t as u32).collect();
+        Solid::new(&positions, &triangles, &faces).map_err(|why| ModelError::NotClosed {
             input: name,
             why: format!("{why} ({})", boundary_report(&self.both, side, self)),
         })
     }
 
-    /// The geometry of boolmesh's result `r`: triangles, attributes from
+    /// The geometry of manifold's result `r`: triangles, attributes from
     /// their sources, the origin groups; `piece` numbers a shatter piece.
-    fn output(
-        &self,
-        r: &Manifold<f64>,
-        op: BooleanOp,
-        piece: Option<i32>,
-    ) -> Result<Geometry, ModelError> {
+    fn output(&self, r: &Mesh, op: BooleanOp, piece: Option<i32>) -> Result<Geometry, ModelError> {
         let failed = |why: String| ModelError::Failed { op: "boolean", why };
-        let mut triangles = Vec::with_capacity(r.hs.len() / 3);
-        let mut sources = Vec::with_capacity(r.hs.len() / 3);
-        // Per output corner: the source triangle's points and weights.
-        let mut corners = Vec::with_capacity(r.hs.len());
-        for (t, h) in r.hs.chunks_exact(3).enumerate() {
-            let tri = [h[0].tail, h[1].tail, h[2].tail];
-            if tri.iter().any(|&v| v >= r.ps.len()) {
-                continue;
-            }
-            let hint = |k: usize| {
-                let s = r.vals.get(3 * t + k).copied().unwrap_or(-1.0).round();
-                if (0.0..self.both.num_prims() as f64).contains(&s) {
-                    Ok(s as usize)
-                } else {
-                    Err(failed(format!("a face lost its source ({s})")))
-                }
-            };
-            let at = tri.map(|v| ours(r.ps[v]));
-            let (s, _) = self.locate(hint(0)?, (at[0] + at[1] + at[2]) / 3.0);
-            for (k, &corner) in at.iter().enumerate() {
-                let (c, w) = self.locate(hint(k)?, corner);
-                let cp = self.both.prim_points(c);
-                corners.push(([cp[0], cp[1], cp[2]], w, c));
-            }
-            triangles.push(tri.map(|v| v as u32));
-            sources.push(s as u32);
+        if r.triangles.is_empty() {
+            return Ok(Geometry::new());
         }
-        let positions: Vec<Vec3> = r.ps.iter().map(|p| ours(*p).as_vec3()).collect();
+        let mut sources = Vec::with_capacity(r.triangles.len());
+        // Per output corner: the source triangle's points and weights.
+        let mut corners = Vec::with_capacity(3 * r.triangles.len());
+        for (tri, &face) in r.triangles.iter().zip(&r.faces) {
+            if face as usize >= self.both.num_prims() {
+                return Err(failed(format!("a face lost its source ({face})")));
+            }
+            let face = face as usize;
+            let cp = self.both.prim_points(face);
+            for &v in tri {
+                let at = Vec3::from_array(r.positions[v as usize]).as_dvec3();
+                corners.push(([cp[0], cp[1], cp[2]], self.weights(face, at), face));
+            }
+            sources.push(face as u32);
+        }
+        let triangles = &r.triangles;
+        let positions: Vec<Vec3> = r.positions.iter().map(|p| Vec3::from_array(*p)).collect();
         let mut out =
-            Geometry::from_triangles(positions, &triangles).map_err(|e| failed(e.to_string()))?;
-        self.carry_points(&mut out, &triangles, &corners)?;
+            Geometry::from_triangles(positions, triangles).map_err(|e| failed(e.to_string()))?;
+        self.carry_points(&mut out, triangles, &corners)?;
         self.carry_vertices(&mut out, &corners)?;
         self.carry_prims(&mut out, &sources)?;
-        self.mark_origins(&mut out, &triangles, &sources, op)?;
+        self.mark_origins(&mut out, triangles, &sources, op)?;
         if let Some(piece) = piece {
             let n = out.num_prims();
             let piece_attr = Attribute::from_data(AttribData::Int(vec![piece; n]), TypeInfo::None);
@@ -494,11 +457,6 @@ fn boundary_report(both: &Geometry, side: Side, s: &Sources) -> String {
     )
 }
 
-/// A boolmesh vector (its own glam's) as ours.
-fn ours(p: boolmesh::Vec3) -> DVec3 {
-    DVec3::new(p.x, p.y, p.z)
-}
-
 /// Barycentric weights of `p` (projected into the plane of `abc`); a
 /// degenerate triangle gives its first corner.
 fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f64; 3] {
@@ -524,52 +482,4 @@ fn clamped(w: [f64; 3]) -> [f32; 3] {
     }
     x.iter_mut().for_each(|t| *t /= sum);
     x.map(|t| t as f32)
-}
-
-/// Whether two triangles lie in one plane (up to the inputs' f32
-/// rounding, relative to their size).
-fn coplanar(s: [DVec3; 3], t: [DVec3; 3]) -> bool {
-    let n = (s[1] - s[0]).cross(s[2] - s[0]);
-    let m = (t[1] - t[0]).cross(t[2] - t[0]);
-    let (nl, ml) = (n.length(), m.length());
-    if nl == 0.0 || ml == 0.0 {
-        return false;
-    }
-    let size = (s[1] - s[0]).length().max((s[2] - s[0]).length());
-    n.dot(m) >= (1.0 - 1e-6) * nl * ml
-        && t.iter()
-            .all(|q| (n / nl).dot(*q - s[0]).abs() <= 1e-5 * size)
-}
-
-/// Each triangle's neighbour across each edge: edges sorted by their
-/// points (in parallel, stable, so any thread count gives the same), a
-/// pair of triangles per edge used exactly twice.
-fn across_edges(g: &Geometry) -> Vec<[u32; 3]> {
-    use rayon::prelude::*;
-    let n = g.num_prims();
-    let mut edges: Vec<(u32, u32, u32)> = (0..n)
-        .flat_map(|t| {
-            let p = g.prim_points(t);
-            (0..3).map(move |k| {
-                let (a, b) = (p[k], p[(k + 1) % 3]);
-                (a.min(b), a.max(b), (t * 3 + k) as u32)
-            })
-        })
-        .collect();
-    edges.par_sort_unstable();
-    let mut across = vec![[NONE; 3]; n];
-    let mut i = 0;
-    while i < edges.len() {
-        let mut j = i + 1;
-        while j < edges.len() && (edges[j].0, edges[j].1) == (edges[i].0, edges[i].1) {
-            j += 1;
-        }
-        if j - i == 2 {
-            let (x, y) = (edges[i].2 as usize, edges[i + 1].2 as usize);
-            across[x / 3][x % 3] = (y / 3) as u32;
-            across[y / 3][y % 3] = (x / 3) as u32;
-        }
-        i = j;
-    }
-    across
 }

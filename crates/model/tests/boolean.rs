@@ -379,7 +379,7 @@ fn cancelled_before_the_boolean() {
     assert!(matches!(err, geode_model::ModelError::Cancelled), "{err}");
 }
 
-/// A cancel during boolmesh's own work returns at once: the boolean runs
+/// A cancel during manifold's own work returns at once: the boolean runs
 /// on a thread of its own that the cook no longer waits for.
 #[test]
 fn cancelled_during_the_boolean() {

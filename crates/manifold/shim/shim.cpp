@@ -1,0 +1,146 @@
+// geode's C face onto manifold (vendor/manifold): solids from raw arrays,
+// booleans, meshes read back with each triangle's source face. Every C++
+// exception stops here and becomes a status code, so none crosses into Rust.
+
+#include <manifold/manifold.h>
+
+#include <cstdint>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <string>
+
+using manifold::Manifold;
+using manifold::MeshGL;
+
+namespace {
+
+// Status codes: 0 is success, 1..=64 are manifold's Error values plus one,
+// these are the shim's own.
+constexpr int kOutOfMemory = 100;
+constexpr int kException = 101;
+constexpr int kBadArgument = 102;
+
+thread_local std::string last_error;
+
+int status_of(Manifold::Error e) { return e == Manifold::Error::NoError ? 0 : static_cast<int>(e) + 1; }
+
+template <typename F>
+int guarded(F&& f) {
+  try {
+    last_error.clear();
+    return f();
+  } catch (const std::bad_alloc&) {
+    last_error = "out of memory";
+    return kOutOfMemory;
+  } catch (const std::exception& e) {
+    last_error = e.what();
+    return kException;
+  } catch (...) {
+    last_error = "unknown C++ exception";
+    return kException;
+  }
+}
+
+}  // namespace
+
+struct GmSolid {
+  Manifold solid;
+};
+
+struct GmMesh {
+  MeshGL mesh;
+};
+
+extern "C" {
+
+const char* gm_last_error() { return last_error.c_str(); }
+
+// A solid from `npoints` positions (x, y, z floats) and `ntris` triangles of
+// point indices, each triangle's face number in `face_ids`.
+int gm_solid_new(const float* positions, uint64_t npoints, const uint32_t* tris, uint64_t ntris,
+                 const uint32_t* face_ids, GmSolid** out) {
+  return guarded([&]() -> int {
+    *out = nullptr;
+    if ((npoints > 0 && positions == nullptr) || (ntris > 0 && (tris == nullptr || face_ids == nullptr))) {
+      last_error = "null array";
+      return kBadArgument;
+    }
+    MeshGL mesh;
+    mesh.numProp = 3;
+    mesh.vertProperties.assign(positions, positions + 3 * npoints);
+    mesh.triVerts.assign(tris, tris + 3 * ntris);
+    mesh.faceID.assign(face_ids, face_ids + ntris);
+    auto* solid = new GmSolid{Manifold(mesh)};
+    int status = status_of(solid->solid.Status());
+    if (status != 0) {
+      delete solid;
+      return status;
+    }
+    *out = solid;
+    return 0;
+  });
+}
+
+void gm_solid_free(GmSolid* solid) { delete solid; }
+
+// The boolean `op` (0 union, 1 subtract, 2 intersect) of `a` and `b`,
+// evaluated before it returns.
+int gm_boolean(const GmSolid* a, const GmSolid* b, int op, GmSolid** out) {
+  return guarded([&]() -> int {
+    *out = nullptr;
+    if (a == nullptr || b == nullptr || op < 0 || op > 2) {
+      last_error = "bad boolean arguments";
+      return kBadArgument;
+    }
+    const manifold::OpType ops[] = {manifold::OpType::Add, manifold::OpType::Subtract,
+                                    manifold::OpType::Intersect};
+    auto* result = new GmSolid{a->solid.Boolean(b->solid, ops[op])};
+    int status = status_of(result->solid.Status());
+    if (status != 0) {
+      delete result;
+      return status;
+    }
+    *out = result;
+    return 0;
+  });
+}
+
+// The solid's triangle mesh; its sizes by `gm_mesh_sizes`, its arrays by
+// `gm_mesh_copy`.
+int gm_mesh_of(const GmSolid* solid, GmMesh** out) {
+  return guarded([&]() -> int {
+    *out = nullptr;
+    if (solid == nullptr) {
+      last_error = "null solid";
+      return kBadArgument;
+    }
+    *out = new GmMesh{solid->solid.GetMeshGL()};
+    return 0;
+  });
+}
+
+void gm_mesh_sizes(const GmMesh* mesh, uint64_t* npoints, uint64_t* ntris) {
+  *npoints = mesh->mesh.NumVert();
+  *ntris = mesh->mesh.NumTri();
+}
+
+// Copies the positions (3 floats a point), triangles (3 indices each) and
+// each triangle's source face number into arrays of the sizes given.
+void gm_mesh_copy(const GmMesh* mesh, float* positions, uint32_t* tris, uint32_t* face_ids) {
+  const MeshGL& m = mesh->mesh;
+  const uint64_t n = m.NumVert();
+  for (uint64_t v = 0; v < n; ++v) {
+    for (int k = 0; k < 3; ++k) positions[3 * v + k] = m.vertProperties[v * m.numProp + k];
+  }
+  std::memcpy(tris, m.triVerts.data(), m.triVerts.size() * sizeof(uint32_t));
+  if (m.faceID.size() == m.NumTri()) {
+    std::memcpy(face_ids, m.faceID.data(), m.faceID.size() * sizeof(uint32_t));
+  } else {
+    std::memset(face_ids, 0xff, m.NumTri() * sizeof(uint32_t));
+  }
+}
+
+void gm_mesh_free(GmMesh* mesh) { delete mesh; }
+
+}  // extern "C"

@@ -1,0 +1,306 @@
+//! manifold's exact, robust mesh booleans (the C++ library vendored in
+//! vendor/manifold, built by build.rs with a small C shim) behind a safe
+//! face: a [`Solid`] from positions and triangles, each triangle carrying a
+//! face number; [`boolean`] of two solids; the result's [`Mesh`], where
+//! every triangle names the input face it lies in.
+//!
+//! It knows meshes only: nothing of geode's geometry, nodes or graphs.
+
+use std::ffi::CStr;
+use std::ptr::NonNull;
+
+use thiserror::Error;
+
+mod ffi {
+    #[repr(C)]
+    pub struct GmSolid {
+        _opaque: [u8; 0],
+    }
+    #[repr(C)]
+    pub struct GmMesh {
+        _opaque: [u8; 0],
+    }
+    extern "C" {
+        pub fn gm_last_error() -> *const std::ffi::c_char;
+        pub fn gm_solid_new(
+            positions: *const f32,
+            npoints: u64,
+            tris: *const u32,
+            ntris: u64,
+            face_ids: *const u32,
+            out: *mut *mut GmSolid,
+        ) -> i32;
+        pub fn gm_solid_free(solid: *mut GmSolid);
+        pub fn gm_boolean(
+            a: *const GmSolid,
+            b: *const GmSolid,
+            op: i32,
+            out: *mut *mut GmSolid,
+        ) -> i32;
+        pub fn gm_mesh_of(solid: *const GmSolid, out: *mut *mut GmMesh) -> i32;
+        pub fn gm_mesh_sizes(mesh: *const GmMesh, npoints: *mut u64, ntris: *mut u64);
+        pub fn gm_mesh_copy(
+            mesh: *const GmMesh,
+            positions: *mut f32,
+            tris: *mut u32,
+            face_ids: *mut u32,
+        );
+        pub fn gm_mesh_free(mesh: *mut GmMesh);
+    }
+}
+
+/// What manifold refused, or why it stopped.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum ManifoldError {
+    /// Every edge must join exactly two triangles, in opposite directions.
+    #[error("the mesh is not a closed manifold (an edge without exactly one opposite)")]
+    NotManifold,
+    #[error("a point's position is not finite")]
+    NonFinite,
+    #[error("a triangle names a point that does not exist")]
+    PointOutOfRange,
+    #[error("the result would be too large for manifold's 32-bit indices")]
+    TooLarge,
+    #[error("{0} face numbers for {1} triangles")]
+    FaceCount(usize, usize),
+    #[error("out of memory")]
+    OutOfMemory,
+    /// Anything else manifold reported (its status or its exception's text).
+    #[error("{0}")]
+    Other(String),
+}
+
+impl ManifoldError {
+    fn from_status(status: i32) -> ManifoldError {
+        // SAFETY: the shim's last error is a NUL-terminated thread-local
+        // string, valid until the next shim call on this thread.
+        let text = || {
+            unsafe { CStr::from_ptr(ffi::gm_last_error()) }
+                .to_string_lossy()
+                .into_owned()
+        };
+        // manifold's Error values plus one (see shim/shim.cpp).
+        match status {
+            2 => ManifoldError::NonFinite,
+            3 => ManifoldError::NotManifold,
+            4 => ManifoldError::PointOutOfRange,
+            13 => ManifoldError::TooLarge,
+            100 => ManifoldError::OutOfMemory,
+            101 | 102 => ManifoldError::Other(text()),
+            s => ManifoldError::Other(format!("manifold status {}", s - 1)),
+        }
+    }
+}
+
+fn check(status: i32) -> Result<(), ManifoldError> {
+    if status == 0 {
+        Ok(())
+    } else {
+        Err(ManifoldError::from_status(status))
+    }
+}
+
+/// A closed manifold solid, owned by manifold.
+pub struct Solid(NonNull<ffi::GmSolid>);
+
+// SAFETY: a manifold solid is immutable once built (its evaluation is
+// finished before `Solid::new` and `boolean` return), and manifold reads
+// shared solids from several threads itself.
+unsafe impl Send for Solid {}
+// SAFETY: as above; no method takes `&mut`.
+unsafe impl Sync for Solid {}
+
+impl Drop for Solid {
+    fn drop(&mut self) {
+        // SAFETY: the pointer came from the shim and is freed once, here.
+        unsafe { ffi::gm_solid_free(self.0.as_ptr()) }
+    }
+}
+
+/// A triangle mesh: positions, triangles over them and, per triangle, the
+/// face number of the input triangle it lies in (`u32::MAX` if manifold
+/// lost it).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    pub triangles: Vec<[u32; 3]>,
+    pub faces: Vec<u32>,
+}
+
+impl Solid {
+    /// The solid bounded by `triangles` (counter-clockwise seen from
+    /// outside), `faces[t]` the number triangle `t` will be known by in a
+    /// boolean's result.
+    pub fn new(
+        positions: &[[f32; 3]],
+        triangles: &[[u32; 3]],
+        faces: &[u32],
+    ) -> Result<Solid, ManifoldError> {
+        if faces.len() != triangles.len() {
+            return Err(ManifoldError::FaceCount(faces.len(), triangles.len()));
+        }
+        if triangles
+            .iter()
+            .flatten()
+            .any(|&p| p as usize >= positions.len())
+        {
+            return Err(ManifoldError::PointOutOfRange);
+        }
+        let mut out = std::ptr::null_mut();
+        // SAFETY: the arrays are the lengths passed; the shim copies them.
+        let status = unsafe {
+            ffi::gm_solid_new(
+                positions.as_ptr().cast(),
+                positions.len() as u64,
+                triangles.as_ptr().cast(),
+                triangles.len() as u64,
+                faces.as_ptr(),
+                &mut out,
+            )
+        };
+        check(status)?;
+        NonNull::new(out)
+            .map(Solid)
+            .ok_or_else(|| ManifoldError::Other("no solid".into()))
+    }
+
+    /// The solid's triangles, each with the face number it came from.
+    pub fn mesh(&self) -> Result<Mesh, ManifoldError> {
+        let mut raw = std::ptr::null_mut();
+        // SAFETY: self.0 is a live solid.
+        check(unsafe { ffi::gm_mesh_of(self.0.as_ptr(), &mut raw) })?;
+        let raw = NonNull::new(raw).ok_or_else(|| ManifoldError::Other("no mesh".into()))?;
+        let (mut npoints, mut ntris) = (0u64, 0u64);
+        // SAFETY: raw is a live mesh; the arrays are allocated to the sizes
+        // it reports before it writes them; it is freed once.
+        unsafe {
+            ffi::gm_mesh_sizes(raw.as_ptr(), &mut npoints, &mut ntris);
+            let mut mesh = Mesh {
+                positions: vec![[0.0; 3]; npoints as usize],
+                triangles: vec![[0; 3]; ntris as usize],
+                faces: vec![0; ntris as usize],
+            };
+            ffi::gm_mesh_copy(
+                raw.as_ptr(),
+                mesh.positions.as_mut_ptr().cast(),
+                mesh.triangles.as_mut_ptr().cast(),
+                mesh.faces.as_mut_ptr(),
+            );
+            ffi::gm_mesh_free(raw.as_ptr());
+            Ok(mesh)
+        }
+    }
+}
+
+/// What a boolean keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Op {
+    Union,
+    Subtract,
+    Intersect,
+}
+
+/// The boolean `op` of `a` and `b`, evaluated before it returns (manifold
+/// itself cannot be interrupted inside one boolean).
+pub fn boolean(a: &Solid, b: &Solid, op: Op) -> Result<Solid, ManifoldError> {
+    let code = match op {
+        Op::Union => 0,
+        Op::Subtract => 1,
+        Op::Intersect => 2,
+    };
+    let mut out = std::ptr::null_mut();
+    // SAFETY: a and b are live solids.
+    check(unsafe { ffi::gm_boolean(a.0.as_ptr(), b.0.as_ptr(), code, &mut out) })?;
+    NonNull::new(out)
+        .map(Solid)
+        .ok_or_else(|| ManifoldError::Other("no solid".into()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An axis-aligned cube from `lo` to `lo + size`, faces numbered from
+    /// `first`.
+    fn cube(lo: [f32; 3], size: f32, first: u32) -> Solid {
+        let p: Vec<[f32; 3]> = (0..8)
+            .map(|i| {
+                let bit = |b: u32| if i & (1 << b) != 0 { size } else { 0.0 };
+                [lo[0] + bit(0), lo[1] + bit(1), lo[2] + bit(2)]
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let tris: Vec<[u32; 3]> = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        let faces: Vec<u32> = (first..first + 12).collect();
+        Solid::new(&p, &tris, &faces).unwrap()
+    }
+
+    fn volume(m: &Mesh) -> f64 {
+        m.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| m.positions[i as usize].map(f64::from));
+                let cross = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                (cross[0] * c[0] + cross[1] * c[1] + cross[2] * c[2]) / 6.0
+            })
+            .sum()
+    }
+
+    #[test]
+    fn overlapping_cubes_give_the_volumes_of_their_union_difference_and_intersection() {
+        let a = cube([0.0; 3], 2.0, 0);
+        let b = cube([1.0; 3], 2.0, 100);
+        let v = |op| volume(&boolean(&a, &b, op).unwrap().mesh().unwrap());
+        assert!((v(Op::Union) - 15.0).abs() < 1e-5);
+        assert!((v(Op::Subtract) - 7.0).abs() < 1e-5);
+        assert!((v(Op::Intersect) - 1.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn every_result_triangle_names_an_input_face_of_its_side() {
+        let a = cube([0.0; 3], 2.0, 0);
+        let b = cube([1.0; 3], 2.0, 100);
+        let m = boolean(&a, &b, Op::Union).unwrap().mesh().unwrap();
+        assert!(m.faces.iter().all(|&f| f < 12 || (100..112).contains(&f)));
+        assert!(m.faces.iter().any(|&f| f < 12) && m.faces.iter().any(|&f| f >= 100));
+    }
+
+    #[test]
+    fn an_open_mesh_is_refused_by_name() {
+        let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(
+            Solid::new(&p, &[[0, 1, 2]], &[0]).err(),
+            Some(ManifoldError::NotManifold)
+        );
+        assert_eq!(
+            Solid::new(&p, &[[0, 1, 2]], &[]).err(),
+            Some(ManifoldError::FaceCount(0, 1))
+        );
+        assert_eq!(
+            Solid::new(&p, &[[0, 1, 7], [0, 7, 1]], &[0, 1]).err(),
+            Some(ManifoldError::PointOutOfRange)
+        );
+    }
+
+    #[test]
+    fn disjoint_solids_intersect_in_nothing() {
+        let a = cube([0.0; 3], 1.0, 0);
+        let b = cube([5.0; 3], 1.0, 12);
+        let m = boolean(&a, &b, Op::Intersect).unwrap().mesh().unwrap();
+        assert!(m.triangles.is_empty());
+    }
+}
