@@ -80,7 +80,10 @@ print(json.dumps({"watertight": bool(m.is_watertight), "consistent": bool(m.is_w
             r["watertight"].as_bool().unwrap() && r["consistent"].as_bool().unwrap(),
             "{r}"
         );
-        assert!((r["volume"].as_f64().unwrap() - volume(g)).abs() < 1e-5, "{r}");
+        assert!(
+            (r["volume"].as_f64().unwrap() - volume(g)).abs() < 1e-5,
+            "{r}"
+        );
     }
 }
 
@@ -89,10 +92,21 @@ fn a_chamfered_box_has_the_closed_form_volume_and_area() {
     for d in [0.05f32, 0.1, 0.25] {
         let out = run(&primitives::cube(1.0), None, edges(d, 1));
         let d = d as f64;
-        assert!((volume(&out) - chamfer_volume(d)).abs() < 1e-5, "{d}: {}", volume(&out));
-        assert!((area(&out) - chamfer_area(d)).abs() < 1e-5, "{d}: {}", area(&out));
+        assert!(
+            (volume(&out) - chamfer_volume(d)).abs() < 1e-5,
+            "{d}: {}",
+            volume(&out)
+        );
+        assert!(
+            (area(&out) - chamfer_area(d)).abs() < 1e-5,
+            "{d}: {}",
+            area(&out)
+        );
         assert_eq!(euler_and_closed(&out), (2, true));
-        assert_eq!((count(&out, EDGE_GROUP), count(&out, CORNER_GROUP)), (12, 8));
+        assert_eq!(
+            (count(&out, EDGE_GROUP), count(&out, CORNER_GROUP)),
+            (12, 8)
+        );
         assert_eq!((out.num_points(), out.num_prims()), (24, 26));
     }
     trimesh_closed(&run(&primitives::cube(1.0), None, edges(0.1, 1)));
@@ -113,16 +127,25 @@ fn many_circular_segments_converge_to_the_rounded_box() {
         // sphere loses at most its area times the sagitta of a cell
         // (angular size at most pi / 2n), twice over for the grid's
         // uneven cells.
-        let edge_loss = 12.0 * (1.0 - 2.0 * r) * r * r
+        let edge_loss = 12.0
+            * (1.0 - 2.0 * r)
+            * r
+            * r
             * (PI / 4.0 - n as f64 / 2.0 * (PI / (2.0 * n as f64)).sin());
         let sagitta = r * (1.0 - (PI / (2.0 * n as f64)).cos());
         let corner_loss = 8.0 * (PI * r * r / 2.0) * sagitta * 2.0;
         assert!(v <= want + 1e-5, "{n}: {v} > {want}");
-        assert!(want - v <= edge_loss + corner_loss + 1e-5, "{n}: {v} vs {want}");
+        assert!(
+            want - v <= edge_loss + corner_loss + 1e-5,
+            "{n}: {v} vs {want}"
+        );
         errors.push(want - v);
     }
     // Second order: halving the segments' angle quarters the error.
-    assert!(errors[2] < errors[1] / 3.0 && errors[1] < errors[0] / 3.0, "{errors:?}");
+    assert!(
+        errors[2] < errors[1] / 3.0 && errors[1] < errors[0] / 3.0,
+        "{errors:?}"
+    );
     trimesh_closed(&run(&primitives::cube(1.0), None, edges(0.2, 5)));
 }
 
@@ -170,7 +193,11 @@ fn a_prism_with_its_long_edges_bevelled_loses_its_corners() {
     );
     let d = d as f64;
     let want = 2.0 * 3f64.sqrt() / 4.0 * (1.0 - 3.0 * d * d);
-    assert!((volume(&out) - want).abs() < 1e-5, "{} vs {want}", volume(&out));
+    assert!(
+        (volume(&out) - want).abs() < 1e-5,
+        "{} vs {want}",
+        volume(&out)
+    );
     assert_eq!(euler_and_closed(&out), (2, true));
     assert_eq!((count(&out, EDGE_GROUP), count(&out, CORNER_GROUP)), (3, 0));
     // Every edge, rounded: still closed, between the all-chamfered prism
@@ -178,7 +205,11 @@ fn a_prism_with_its_long_edges_bevelled_loses_its_corners() {
     let chamfered = volume(&run(&g, None, edges(0.1, 1)));
     let all = run(&g, None, edges(0.1, 4));
     assert_eq!(euler_and_closed(&all), (2, true));
-    assert!(chamfered < volume(&all) && volume(&all) < base, "{}", volume(&all));
+    assert!(
+        chamfered < volume(&all) && volume(&all) < base,
+        "{}",
+        volume(&all)
+    );
     trimesh_closed(&all);
 }
 
@@ -268,7 +299,7 @@ fn an_offset_past_half_an_edge_is_clamped_and_nothing_inverts() {
     for n in [1u32, 3] {
         let (out, report) = bevel(&long, None, &edges(1.0, n), &|| false).unwrap();
         assert!((report.offset - 0.2).abs() < 1e-6, "{report:?}");
-        assert_eq!(euler_and_closed(&out).1, true);
+        assert_eq!(euler_and_closed(&out), (2, true));
         let p = out.positions();
         for k in 0..out.num_prims() {
             let q = out.prim_points(k);
@@ -332,20 +363,37 @@ fn groups_and_attributes_follow_their_sources() {
     // The input's face 0 is still face 0 and alone in its group.
     assert_eq!(count(&out, "first"), 1);
     assert!(out.prim_groups()["first"].contains(0));
-    let c = out.attrib(AttribClass::Primitive, "c").unwrap().as_f32().unwrap();
+    let c = out
+        .attrib(AttribClass::Primitive, "c")
+        .unwrap()
+        .as_f32()
+        .unwrap();
     for (k, &ck) in c.iter().enumerate().take(6) {
         assert_eq!(ck, k as f32);
     }
-    assert!(c.iter().all(|&x| (0.0..6.0).contains(&x) && x.fract() == 0.0));
+    assert!(c
+        .iter()
+        .all(|&x| (0.0..6.0).contains(&x) && x.fract() == 0.0));
     // Each new point is its source corner's.
-    let id = out.attrib(AttribClass::Point, "id").unwrap().as_i32().unwrap();
+    let id = out
+        .attrib(AttribClass::Point, "id")
+        .unwrap()
+        .as_i32()
+        .unwrap();
     for (p, &i) in out.positions().iter().zip(id) {
         let src = cube.positions()[i as usize];
-        assert!((*p - src).length() < 0.1 * 3f32.sqrt() + 1e-5, "{p} from {src}");
+        assert!(
+            (*p - src).length() < 0.1 * 3f32.sqrt() + 1e-5,
+            "{p} from {src}"
+        );
     }
     // Face corners keep their vertex values (the corner of a face sits
     // where its source corner was cut).
-    let w = out.attrib(AttribClass::Vertex, "w").unwrap().as_f32().unwrap();
+    let w = out
+        .attrib(AttribClass::Vertex, "w")
+        .unwrap()
+        .as_f32()
+        .unwrap();
     assert!(w.iter().all(|&x| (0.0..24.0).contains(&x)));
 }
 
@@ -371,7 +419,11 @@ fn an_open_grid_stays_manifold_and_keeps_its_outline() {
         }
         assert!(uses.values().all(|&u| u <= 2), "{affect:?}");
         // Flat: the area is the grid's less the corners points cut off.
-        assert!(area(&out) <= 4.0 + 1e-5 && area(&out) > 3.5, "{affect:?} {}", area(&out));
+        assert!(
+            area(&out) <= 4.0 + 1e-5 && area(&out) > 3.5,
+            "{affect:?} {}",
+            area(&out)
+        );
     }
 }
 

@@ -105,7 +105,10 @@ fn cook_polybevel(
     let group = group_param(ctx, p, &GROUP, g, AttribClass::Point)?;
     let offset = p.float(&OFFSET)?;
     if !offset.is_finite() || offset < 0.0 {
-        return Err(ctx.param_error(OFFSET.name, format!("offset must be zero or more, not {offset}")));
+        return Err(ctx.param_error(
+            OFFSET.name,
+            format!("offset must be zero or more, not {offset}"),
+        ));
     }
     let segments = p.int(&SEGMENTS)?;
     if !(1..=1024).contains(&segments) {
@@ -132,7 +135,9 @@ fn cook_polybevel(
     if !edge_group.is_empty() && edge_group == corner_group {
         return Err(ctx.param_error(
             CORNER_GROUP_PARAM.name,
-            format!("the corner group needs a name of its own (the edge group is `{edge_group}` too)"),
+            format!(
+                "the corner group needs a name of its own (the edge group is `{edge_group}` too)"
+            ),
         ));
     }
     let how = Bevel {

@@ -50,7 +50,11 @@ fn rounded_corners_points_and_named_groups() {
         "v",
     );
     assert!(closed(&p));
-    assert!((volume(&p) - (1.0 - 0.027 / 6.0)).abs() < 1e-5, "{}", volume(&p));
+    assert!(
+        (volume(&p) - (1.0 - 0.027 / 6.0)).abs() < 1e-5,
+        "{}",
+        volume(&p)
+    );
 }
 
 #[test]

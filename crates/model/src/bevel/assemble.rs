@@ -58,8 +58,7 @@ pub(super) fn assemble(
             add_prim(
                 &mut plan,
                 *src,
-                poly.iter()
-                    .map(|&(k, v)| (base[c] + k, copy(v))),
+                poly.iter().map(|&(k, v)| (base[c] + k, copy(v))),
             );
         }
     }

@@ -15,6 +15,7 @@
 //! - points mode: every spoke gets a point at the offset along it; each
 //!   corner is cut between its two, along an arc in the face when there
 //!   are several segments.
+//!
 //! Each bevelled spoke gets a profile from its side point in the face
 //! before to the one in the face after. Going round the fan, chains and
 //! profiles close a loop; where it is more than an edge, a patch fills it
@@ -397,8 +398,8 @@ impl Layout {
         }
         let src = m.he.face[self.fan[0] as usize];
         let n = n as usize;
-        let three = self.fan.len() == 3
-            && (m.points_mode || self.spokes.iter().all(|s| s.bevelled));
+        let three =
+            self.fan.len() == 3 && (m.points_mode || self.spokes.iter().all(|s| s.bevelled));
         if !(three && n >= 2 && cycle.len() == 3 * n) {
             cycle.reverse();
             return vec![(src, cycle)];

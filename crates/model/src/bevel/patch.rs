@@ -40,13 +40,13 @@ pub(crate) fn centre(l: Vec3, r: Vec3, c: Vec3) -> Vec3 {
 }
 
 /// The inside points of a triangular grid of `n` segments a side whose
-/// sides are `s0` (K0 to K1), `s1` (K1 to K2) and `s2` (K2 to K0), each n
-/// + 1 points. Grid point (i, j), i + j <= n, is K0 + i toward K1 + j
-/// toward K2; the inside ones (i, j, n - i - j all positive) are listed
-/// by i then j. Each is the mean of the three straight lines through it
-/// between opposite sides; when every side point lies on one sphere about
-/// `centre` (a rounded corner with a circular profile) they are pushed
-/// onto it.
+/// sides are `s0` (K0 to K1), `s1` (K1 to K2) and `s2` (K2 to K0), of
+/// n + 1 points each. Grid point (i, j), i + j <= n, is K0 moved i
+/// steps toward K1 and j toward K2; the inside ones (i, j, n - i - j all positive) are
+/// listed by i then j. Each is the mean of the three straight lines
+/// through it between opposite sides; when every side point lies on one
+/// sphere about `centre` (a rounded corner with a circular profile) they
+/// are pushed onto it.
 pub(crate) fn tri_inside(s: [&[Vec3]; 3], n: usize, centre: Option<Vec3>) -> Vec<Vec3> {
     let at = |i: usize, j: usize| -> Vec3 {
         if j == 0 {
@@ -59,7 +59,10 @@ pub(crate) fn tri_inside(s: [&[Vec3]; 3], n: usize, centre: Option<Vec3>) -> Vec
         }
     };
     let sphere = centre.and_then(|c| {
-        let d: Vec<f32> = s.iter().flat_map(|x| x.iter().map(|p| (*p - c).length())).collect();
+        let d: Vec<f32> = s
+            .iter()
+            .flat_map(|x| x.iter().map(|p| (*p - c).length()))
+            .collect();
         let r = d.iter().sum::<f32>() / d.len() as f32;
         let fits = r > 0.0 && d.iter().all(|x| (x - r).abs() <= 1e-3 * r);
         fits.then_some((c, r))
