@@ -2,7 +2,8 @@
 //! (volume and area), a triangular prism, a cube corner cut by a point
 //! bevel; closedness and winding checked by trimesh (PyPI) as well as by
 //! edge counts and the Euler characteristic; clamping, groups,
-//! attributes, determinism, cancellation and refusals.
+//! attributes, determinism, cancellation and refusals; no face crossing
+//! another, checked by pymeshlab (PyPI).
 
 mod common;
 use common::*;
@@ -496,4 +497,42 @@ fn bad_parameters_and_inputs_are_refused_clearly() {
     line.add_polyline(&[0, 1]).unwrap();
     let err = bevel(&line, None, &Bevel::default(), &|| false).unwrap_err();
     assert!(err.to_string().contains("polygons"), "{err}");
+}
+
+/// Faces of `g` that cross another face, by pymeshlab (PyPI).
+fn self_intersections(g: &Geometry) -> Option<u64> {
+    let script = r#"
+import json, sys, numpy as np, pymeshlab
+d = json.load(sys.stdin)
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(vertex_matrix=np.array(d["v"], dtype=float), face_matrix=np.array(d["f"], dtype=np.int32)))
+ms.compute_selection_by_self_intersections_per_face()
+print(json.dumps({"crossing": int(ms.current_mesh().selected_face_number())}))
+"#;
+    oracle(script, &mesh_json(g)).map(|r| r["crossing"].as_u64().unwrap())
+}
+
+#[test]
+fn bevels_do_not_cross_themselves_pymeshlab_agrees() {
+    let long = primitives::box_mesh(Vec3::new(1.0, 0.4, 2.0), [2, 1, 3]);
+    let cases = [
+        run(&primitives::cube(1.0), None, edges(0.3, 5)),
+        run(&long, None, edges(0.15, 3)),
+        // Clamped to just under the short edges' half.
+        run(&long, None, edges(0.199, 2)),
+        run(
+            &long,
+            None,
+            Bevel {
+                affect: Affect::Points,
+                ..edges(0.3, 4)
+            },
+        ),
+    ];
+    for (k, out) in cases.iter().enumerate() {
+        assert_eq!(euler_and_closed(out), (2, true), "case {k}");
+        if let Some(n) = self_intersections(out) {
+            assert_eq!(n, 0, "case {k}");
+        }
+    }
 }
