@@ -536,3 +536,31 @@ fn bevels_do_not_cross_themselves_pymeshlab_agrees() {
         }
     }
 }
+
+#[test]
+fn a_straight_profile_in_segments_is_the_chamfer_and_a_square_one_the_box() {
+    let cube = primitives::cube(1.0);
+    let d = 0.2f32;
+    let straight = run(
+        &cube,
+        None,
+        Bevel {
+            profile: 0.25,
+            ..edges(d, 3)
+        },
+    );
+    assert!((volume(&straight) - chamfer_volume(d as f64)).abs() < 1e-5);
+    assert!((area(&straight) - chamfer_area(d as f64)).abs() < 1e-4);
+    // Toward 1 the profile hugs the sharp edge: nearly the whole cube.
+    let square = run(
+        &cube,
+        None,
+        Bevel {
+            profile: 1.0,
+            ..edges(d, 4)
+        },
+    );
+    assert_eq!(euler_and_closed(&square), (2, true));
+    let v = volume(&square);
+    assert!(v > rounded_volume(1.0, d as f64) && v <= 1.0 + 1e-6, "{v}");
+}
