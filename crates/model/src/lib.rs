@@ -2,6 +2,7 @@
 //! modelling nodes call (booleans, and the rest of the modelling family).
 //! It knows geometry only: no node, parameter or graph.
 
+pub mod bevel;
 pub mod boolean;
 pub mod bound;
 mod carry;

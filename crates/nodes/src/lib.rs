@@ -19,6 +19,7 @@ mod growth;
 mod hspline;
 mod instancing;
 mod mesh;
+mod model_bevel;
 mod model_boolean;
 mod model_cut;
 mod model_extrude;
@@ -59,6 +60,7 @@ pub fn registry() -> Registry {
     attributes::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);
+    model_bevel::register(&mut r);
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);
     model_surface::register(&mut r);
