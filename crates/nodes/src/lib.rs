@@ -22,6 +22,7 @@ mod mesh;
 mod model_boolean;
 mod model_cut;
 mod model_extrude;
+mod model_reduce;
 mod model_surface;
 mod nurbs;
 mod param_expr;
@@ -61,6 +62,7 @@ pub fn registry() -> Registry {
     mesh::register(&mut r);
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);
+    model_reduce::register(&mut r);
     model_surface::register(&mut r);
     model_cut::register(&mut r);
     bundles::register(&mut r);
