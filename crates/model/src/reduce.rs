@@ -14,10 +14,11 @@
 //! the surviving element, primitive attributes and groups from the source
 //! polygon of the surviving triangle (`carry::build`).
 //!
-//! `mesh` builds the working mesh, `collapse` runs the heap, `quadric`
-//! holds the error measure.
+//! `mesh` builds the working mesh, `collapse` runs the loop over `heap`,
+//! `quadric` holds the error measure.
 
 mod collapse;
+mod heap;
 mod mesh;
 mod quadric;
 

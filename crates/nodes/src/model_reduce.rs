@@ -78,7 +78,7 @@ fn cook_polyreduce(
         return Err(ctx.param_error(PERCENT.name, format!("{percent} is not between 0 and 100")));
     }
     let bound = p.float(&MAX_ERROR)?;
-    if !(bound >= 0.0) {
+    if bound.is_nan() || bound < 0.0 {
         return Err(ctx.param_error(MAX_ERROR.name, format!("{bound} is below 0")));
     }
     let target = match p.string(&TARGET)? {

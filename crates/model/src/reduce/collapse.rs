@@ -7,12 +7,10 @@
 //! is allocated per collapse: the neighbour lists and wedge maps live in
 //! scratch buffers.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use geode_geo::glam::DVec3;
 use rayon::prelude::*;
 
+use super::heap::Heap;
 use super::mesh::{Kind, Mesh, NONE};
 use super::quadric::Quadric;
 use crate::ModelError;
@@ -51,15 +49,12 @@ impl Rows {
     }
 }
 
-/// A heap entry: the edge `a b` at a cost (the f32 bits of a non-negative
-/// cost order as the cost does), valid while the points' stamps sum to
-/// `stamps`. Ties break by point indices, so the order is total.
-#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
-struct Entry {
-    key: u64,
-    b: u32,
-    stamps: u32,
-}
+/// A heap entry, packed in a `u128` from the top: the cost's f32 bits
+/// (a non-negative cost's bits order as the cost does), the edge's points
+/// `a` and `b`, and the sum of their stamps when it was costed (it is
+/// stale once that changes). Ties break by point indices, so the order is
+/// total.
+type Entry = u128;
 
 /// One collapse: point `r` goes, `k` stays and moves to `p`.
 #[derive(Clone, Copy)]
@@ -113,19 +108,18 @@ pub(crate) fn run(
         }
         let before = out.collapses;
         let mut heap = first_heap(mesh);
-        while let Some(Reverse(e)) = heap.pop() {
+        while let Some(e) = heap.pop() {
             if mesh.live <= limits.target {
                 break;
             }
             pops += 1;
-            if pops % 4096 == 0 && cancel() {
+            if pops.is_multiple_of(4096) && cancel() {
                 return Err(ModelError::Cancelled);
             }
-            let a = (e.key & 0xffff_ffff) as u32;
-            let b = e.b;
+            let (a, b) = ((e >> 64) as u32, (e >> 32) as u32);
             if mesh.removed[a as usize]
                 || mesh.removed[b as usize]
-                || stamps(mesh, a, b) != e.stamps
+                || stamps(mesh, a, b) != e as u32
             {
                 continue;
             }
@@ -154,16 +148,15 @@ fn stamps(mesh: &Mesh, a: u32, b: u32) -> u32 {
 
 fn entry(mesh: &Mesh, c: &Choice, a: u32, b: u32) -> Entry {
     let cost = (c.cost as f32).max(0.0);
-    Entry {
-        key: (u64::from(cost.to_bits()) << 32) | u64::from(a),
-        b,
-        stamps: stamps(mesh, a, b),
-    }
+    (u128::from(cost.to_bits()) << 96)
+        | (u128::from(a) << 64)
+        | (u128::from(b) << 32)
+        | u128::from(stamps(mesh, a, b))
 }
 
 /// Every live edge's best collapse, costed in parallel, as a heap.
-fn first_heap(mesh: &Mesh) -> BinaryHeap<Reverse<Entry>> {
-    let entries: Vec<Reverse<Entry>> = (0..mesh.pos.len() as u32)
+fn first_heap(mesh: &Mesh) -> Heap {
+    let entries: Vec<Entry> = (0..mesh.pos.len() as u32)
         .into_par_iter()
         .with_min_len(1024)
         .map_init(Vec::new, |nbs, a| {
@@ -173,12 +166,12 @@ fn first_heap(mesh: &Mesh) -> BinaryHeap<Reverse<Entry>> {
             neighbours(mesh, a, nbs);
             nbs.iter()
                 .filter(|&&b| b > a)
-                .filter_map(|&b| choose(mesh, a, b).map(|c| Reverse(entry(mesh, &c, a, b))))
+                .filter_map(|&b| choose(mesh, a, b).map(|c| entry(mesh, &c, a, b)))
                 .collect::<Vec<_>>()
         })
         .flatten_iter()
         .collect();
-    BinaryHeap::from(entries)
+    Heap::from_vec(entries)
 }
 
 /// The distinct points sharing a live triangle with `a`, sorted.
@@ -367,7 +360,8 @@ fn turns_ok(mesh: &Mesh, v: u32, other: u32, p: DVec3, min_cos: f64) -> bool {
         if l0 == 0.0 {
             continue;
         }
-        if !(l1 > 1e-12 * l0) || n0.dot(n1) < min_cos * l0 * l1 {
+        let degenerate = l1.is_nan() || l1 <= 1e-12 * l0;
+        if degenerate || n0.dot(n1) < min_cos * l0 * l1 {
             return false;
         }
     }
@@ -440,13 +434,13 @@ fn prune(mesh: &mut Mesh, v: u32) {
 }
 
 /// Pushes the edges around `k`, which just changed.
-fn push_around(mesh: &Mesh, k: u32, heap: &mut BinaryHeap<Reverse<Entry>>, s: &mut Scratch) {
+fn push_around(mesh: &Mesh, k: u32, heap: &mut Heap, s: &mut Scratch) {
     let mut nbs = std::mem::take(&mut s.neighbours);
     neighbours(mesh, k, &mut nbs);
     for &w in &nbs {
         let (a, b) = (k.min(w), k.max(w));
         if let Some(c) = choose(mesh, a, b) {
-            heap.push(Reverse(entry(mesh, &c, a, b)));
+            heap.push(entry(mesh, &c, a, b));
         }
     }
     s.neighbours = nbs;

@@ -86,7 +86,7 @@ impl Quadric {
         let c02 = xy * yz - xz * yy;
         let det = xx * c00 + xy * c01 + xz * c02;
         let scale = xx + yy + zz;
-        if !(det.abs() > 1e-9 * scale * scale * scale) {
+        if det.is_nan() || det.abs() <= 1e-9 * scale * scale * scale {
             return None;
         }
         let c11 = xx * zz - xz * xz;
