@@ -486,3 +486,33 @@ fn bad_parameters_are_clear_errors() {
         .to_string();
     assert!(e.contains("takes polygons"), "{e}");
 }
+
+#[test]
+fn empty_non_manifold_and_degenerate_inputs_do_not_panic() {
+    let empty = Geometry::from_prims(Vec::new(), Vec::new(), &[], Vec::new()).unwrap();
+    assert_eq!(run(&empty, percent(10.0)).geometry.num_prims(), 0);
+    // A fin: three triangles on one edge, plus a repeated-point triangle
+    // and a zero-area one; its points are locked, the rest reduces.
+    let mut g = ridged_sphere(2_000);
+    let extra = Geometry::from_prims(
+        vec![
+            Vec3::new(0.0, 3.0, 0.0),
+            Vec3::new(0.0, 4.0, 0.0),
+            Vec3::new(1.0, 3.5, 0.0),
+            Vec3::new(-1.0, 3.5, 0.0),
+            Vec3::new(0.0, 3.5, 1.0),
+        ],
+        vec![0, 1, 2, 1, 0, 3, 0, 1, 4, 0, 0, 2, 0, 1, 1],
+        &[3, 3, 3, 3, 3],
+        vec![PrimKind::Polygon; 5],
+    )
+    .unwrap();
+    g = ops::merge(&[&g, &extra]).unwrap();
+    let r = run(&g, percent(10.0));
+    assert!(r.triangles_out < g.num_prims() / 5);
+    let out = &r.geometry;
+    let fin: Vec<Vec3> = (0..3).map(|k| extra.positions()[k]).collect();
+    for p in &fin[..2] {
+        assert!(out.positions().contains(p), "the fin's edge stays");
+    }
+}
