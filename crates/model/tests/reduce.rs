@@ -96,6 +96,21 @@ fn a_ridged_sphere_is_as_close_as_pymeshlabs_at_equal_counts_and_stays_closed() 
         let r = run(&g, percent(p));
         let out = &r.geometry;
         assert_eq!(euler_and_closed(out), (2, true), "{p}%: closed sphere");
+        // No triangle flipped: the bumpy sphere is star-shaped about its
+        // centre, so every face still faces away from it.
+        let at = out.positions();
+        for k in 0..out.num_prims() {
+            let t = out
+                .prim_points(k)
+                .iter()
+                .map(|&q| at[q as usize])
+                .collect::<Vec<_>>();
+            let n = (t[1] - t[0]).cross(t[2] - t[0]);
+            assert!(
+                n.dot(t[0] + t[1] + t[2]) > 0.0,
+                "{p}%: triangle {k} faces in"
+            );
+        }
         let Some(o) = oracle(
             MESHLAB,
             &serde_json::json!({"orig": mesh_json(&g), "ours": mesh_json(out), "target": out.num_prims()}),
