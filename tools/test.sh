@@ -14,7 +14,7 @@ if [ ! -d tools/node_modules/gltf-validator ]; then
   npm install --prefix tools --no-audit --no-fund --loglevel=error >&2
 fi
 if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh, manifold3d, scipy, pymeshlab" 2>/dev/null; then
-  echo "installing usd-core, trimesh, manifold3d and scipy (PyPI) into tools/.venv" >&2
+  echo "installing usd-core, trimesh, manifold3d, scipy and pymeshlab (PyPI) into tools/.venv" >&2
   python3 -m venv tools/.venv
   tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh manifold3d scipy pymeshlab >&2
 fi

@@ -14,6 +14,7 @@ pub mod fill;
 pub mod hull;
 pub mod mirror;
 mod rebuild;
+pub mod reduce;
 pub mod revolve;
 pub mod smooth;
 

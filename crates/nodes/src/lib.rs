@@ -23,6 +23,7 @@ mod model_bevel;
 mod model_boolean;
 mod model_cut;
 mod model_extrude;
+mod model_reduce;
 mod model_surface;
 mod nurbs;
 mod param_expr;
@@ -63,6 +64,7 @@ pub fn registry() -> Registry {
     model_bevel::register(&mut r);
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);
+    model_reduce::register(&mut r);
     model_surface::register(&mut r);
     model_cut::register(&mut r);
     bundles::register(&mut r);

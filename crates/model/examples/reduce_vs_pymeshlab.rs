@@ -1,0 +1,97 @@
+//! Times geode's polyreduce and pymeshlab's quadric edge collapse
+//! (`meshing_decimation_quadric_edge_collapse`, single-threaded; PyPI,
+//! through tools/.venv or GEODE_PYTHON) reducing the same 2M-triangle
+//! ridged sphere to 10%, best of two each: `cargo run --release -p
+//! geode-model --example reduce_vs_pymeshlab [triangles]`. geode's time is
+//! from its geometry (as a cook is), with triangulation and the attribute
+//! carry; pymeshlab's is the filter alone on a mesh it already holds.
+
+use std::time::Instant;
+
+use geode_geo::{ops, primitives, Geometry};
+use geode_model::reduce::{reduce, Reduce, Target};
+
+const SCRIPT: &str = r#"
+import sys, time, numpy as np, pymeshlab
+v = np.fromfile(sys.argv[1] + ".v", dtype="<f4").reshape(-1, 3).astype(np.float64)
+f = np.fromfile(sys.argv[1] + ".f", dtype="<u4").reshape(-1, 3).astype(np.int32)
+target = int(sys.argv[2])
+best = None
+for _ in range(2):
+    ms = pymeshlab.MeshSet()
+    ms.add_mesh(pymeshlab.Mesh(vertex_matrix=v, face_matrix=f))
+    t = time.perf_counter()
+    ms.meshing_decimation_quadric_edge_collapse(targetfacenum=target)
+    dt = time.perf_counter() - t
+    best = dt if best is None else min(best, dt)
+print(f"pymeshlab: {best * 1000:.0f} ms ({ms.current_mesh().face_number()} triangles)")
+"#;
+
+/// A UV sphere of about `triangles` triangles with creased ridges (the
+/// absolute value of a product of sines), triangulated.
+fn ridged_sphere(triangles: u32) -> Geometry {
+    let rows = ((triangles / 4) as f32).sqrt() as u32;
+    let mut g = ops::triangulate(&primitives::uv_sphere(1.0, 2 * rows, rows), None);
+    for p in g.positions_mut() {
+        let n = p.normalize();
+        let bump = ((5.0 * n.x).sin() * (5.0 * n.y).sin() * (5.0 * n.z).cos()).abs();
+        *p = n * (1.0 + 0.08 * bump);
+    }
+    g
+}
+
+/// Writes `g`'s positions and triangles as raw little-endian arrays
+/// `stem.v` (f32 x 3) and `stem.f` (u32 x 3).
+fn write_raw(g: &Geometry, stem: &std::path::Path) {
+    let v: Vec<u8> = g
+        .positions()
+        .iter()
+        .flat_map(|p| p.to_array())
+        .flat_map(f32::to_le_bytes)
+        .collect();
+    let f: Vec<u8> = g
+        .vertex_points()
+        .iter()
+        .flat_map(|p| p.to_le_bytes())
+        .collect();
+    std::fs::write(stem.with_extension("v"), v).unwrap();
+    std::fs::write(stem.with_extension("f"), f).unwrap();
+}
+
+fn main() {
+    let triangles: u32 = std::env::args()
+        .nth(1)
+        .map(|a| a.parse().expect("a triangle count"))
+        .unwrap_or(2_000_000);
+    let g = ridged_sphere(triangles);
+    println!("ridged sphere of {} triangles, to 10%", g.num_prims());
+    let how = Reduce {
+        target: Target::Percent(10.0),
+        ..Reduce::default()
+    };
+    let mut best = f64::MAX;
+    let mut out = 0;
+    for _ in 0..2 {
+        let t = Instant::now();
+        let r = reduce(&g, &how, &|| false).unwrap();
+        best = best.min(t.elapsed().as_secs_f64());
+        out = r.triangles_out;
+    }
+    println!("geode: {:.0} ms ({out} triangles)", best * 1000.0);
+    let dir = std::env::temp_dir().join(format!("geode-reduce-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    write_raw(&g, &dir.join("m"));
+    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| {
+        concat!(env!("CARGO_MANIFEST_DIR"), "/../../tools/.venv/bin/python").to_string()
+    });
+    let status = std::process::Command::new(python)
+        .args(["-c", SCRIPT])
+        .arg(dir.join("m"))
+        .arg(out.to_string())
+        .status();
+    let _ = std::fs::remove_dir_all(&dir);
+    match status {
+        Ok(s) if s.success() => {}
+        other => eprintln!("pymeshlab did not run ({other:?}): install it with bash tools/test.sh"),
+    }
+}
