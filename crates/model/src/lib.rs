@@ -12,6 +12,7 @@ pub mod extrude;
 pub mod fill;
 pub mod hull;
 pub mod mirror;
+pub mod polywire;
 mod rebuild;
 pub mod revolve;
 pub mod smooth;
