@@ -15,7 +15,7 @@
 
 use std::collections::HashSet;
 
-use geode_geo::glam::Vec3;
+use geode_geo::glam::{DVec3, Vec3};
 
 use super::tube::{Ring, Shape};
 use crate::hull::{span, Span};
@@ -39,9 +39,6 @@ pub(super) struct Joint {
     pub prim: u32,
 }
 
-/// Narrowing factors tried in turn when no distance joins the rings.
-const SCALES: [f64; 8] = [1.0, 0.6, 0.35, 0.2, 0.1, 0.05, 0.02, 0.005];
-
 /// The rings of a joint at `point` for `ends` (see the module doc).
 pub(super) fn solve(
     point: u32,
@@ -64,56 +61,115 @@ pub(super) fn solve(
             }
         })
         .collect();
-    let r_joint = ends
+    // Each tube's direction leaving the joint, and its widest radius near
+    // it (at the joint or as far out as its ring may go).
+    let (dirs, radii): (Vec<DVec3>, Vec<f64>) = ends
         .iter()
-        .map(|e| {
+        .zip(&avail)
+        .map(|(e, &a)| {
             let sh = &shapes[e.chain as usize];
+            let far = ring(sh, *e, a, 1.0, 3);
+            let far_r = (far.pts[0].as_dvec3() - centre(&far)).length();
             if e.at_start {
-                sh.radius[0]
+                (sh.dir[0], sh.radius[0].max(far_r))
             } else {
-                *sh.radius.last().expect("a chain has points")
+                let last = sh.dir.len() - 1;
+                (-sh.dir[last], sh.radius[last + 1].max(far_r))
             }
         })
-        .fold(0.0, f64::max);
-    let longest = avail.iter().cloned().fold(0.0, f64::max);
-    for scale in SCALES {
-        let mut t = 0.25 * r_joint * scale;
-        if t <= 0.0 {
-            t = 1e-3 * longest;
-        }
-        for _ in 0..40 {
-            if cancel() {
-                return Err(ModelError::Cancelled);
-            }
-            let distance: Vec<f64> = avail.iter().map(|&a| t.min(a)).collect();
-            let rings: Vec<Ring> = ends
-                .iter()
-                .zip(&distance)
-                .map(|(e, &d)| ring(&shapes[e.chain as usize], *e, d, scale, n))
-                .collect();
-            if let Some(triangles) = bridge(&ends, &rings, n, cancel)? {
-                let prim = rings[0].prim;
-                return Ok(Joint {
-                    prim,
-                    ends,
-                    distance,
-                    scale,
-                    triangles,
-                });
-            }
-            if t >= longest {
-                break;
-            }
-            t *= 1.3;
-        }
-    }
-    Err(ModelError::Failed {
+        .unzip();
+    let failed = || ModelError::Failed {
         op: "polywire",
         why: format!(
             "the {} edges meeting at point {point} could not be joined (do two of them overlap?)",
             ends.len()
         ),
-    })
+    };
+    let mut distance = distances(&dirs, &radii).ok_or_else(failed)?;
+    // Rings beyond what a chain allows: all come in and narrow together
+    // (the constraints scale with the radii).
+    let fit = distance
+        .iter()
+        .zip(&avail)
+        .map(|(&t, &a)| a / t)
+        .fold(1.0, f64::min);
+    distance.iter_mut().for_each(|t| *t *= fit);
+    let mut scale = fit;
+    for _ in 0..24 {
+        if cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        let rings: Vec<Ring> = ends
+            .iter()
+            .zip(&distance)
+            .map(|(e, &d)| ring(&shapes[e.chain as usize], *e, d, scale, n))
+            .collect();
+        if let Some(triangles) = bridge(&ends, &rings, n, cancel)? {
+            return Ok(Joint {
+                prim: rings[0].prim,
+                ends,
+                distance,
+                scale,
+                triangles,
+            });
+        }
+        // Bent chains or rounding: narrower rings at the same places.
+        scale *= 0.7;
+    }
+    Err(failed())
+}
+
+/// The centre of a ring (the mean of its points).
+fn centre(r: &Ring) -> DVec3 {
+    r.pts.iter().map(|p| p.as_dvec3()).sum::<DVec3>() / r.pts.len() as f64
+}
+
+/// Distances from the joint that make every ring a hull face when tubes
+/// run straight along `dirs` with radii `radii`: ring `i`'s plane must
+/// clear every other ring `j`, `t_i > t_j cos a + r_j sin a` (`a` the
+/// angle between them), solved by raising each `t_i` to what the others
+/// need until none moves (the least solution), from each pair's
+/// symmetric answer `r cot(a / 2)`, or else the largest of those for all.
+/// None when two directions coincide.
+fn distances(dirs: &[DVec3], radii: &[f64]) -> Option<Vec<f64>> {
+    let k = dirs.len();
+    let mut t: Vec<f64> = radii.iter().map(|r| 0.05 * r).collect();
+    let mut need = vec![vec![(0.0, 0.0); k]; k];
+    for i in 0..k {
+        for j in 0..k {
+            if i == j {
+                continue;
+            }
+            let c = dirs[i].dot(dirs[j]).clamp(-1.0, 1.0);
+            let s = dirs[i].cross(dirs[j]).length();
+            if 1.0 - c < 1e-12 {
+                return None;
+            }
+            need[i][j] = (c, s);
+            let r = radii[i].max(radii[j]);
+            t[i] = t[i].max((r * s + 1e-2 * radii[i]) / (1.0 - c));
+        }
+    }
+    for _ in 0..64 {
+        let mut moved = false;
+        for i in 0..k {
+            let want = (0..k)
+                .filter(|&j| j != i)
+                .map(|j| t[j] * need[i][j].0 + radii[j] * need[i][j].1 + 1e-2 * radii[i])
+                .fold(0.0, f64::max);
+            if want > t[i] {
+                t[i] = want;
+                moved = true;
+            }
+        }
+        if !moved {
+            return Some(t);
+        }
+    }
+    // Near-parallel tubes converge slowly (by cos a a round): one distance
+    // for all, each pair's symmetric answer, satisfies every constraint.
+    let all = t.iter().cloned().fold(0.0, f64::max);
+    Some(vec![all; k])
 }
 
 /// The ring of chain end `e` at distance `d` from the joint.
@@ -135,7 +191,23 @@ fn bridge(
     n: usize,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Option<Vec<[(u32, u32); 3]>>, ModelError> {
-    let pts: Vec<Vec3> = rings.iter().flat_map(|r| r.pts.iter().copied()).collect();
+    // The hull's combinatorics in coordinates centred on the joint and
+    // scaled to it: far from the origin f32 would round rings a few ulps
+    // wide into each other.
+    let world: Vec<DVec3> = rings
+        .iter()
+        .flat_map(|r| r.pts.iter().map(|p| p.as_dvec3()))
+        .collect();
+    let mid = world.iter().sum::<DVec3>() / world.len() as f64;
+    let size = world
+        .iter()
+        .map(|p| (*p - mid).length())
+        .fold(0.0, f64::max)
+        .max(1e-300);
+    let pts: Vec<Vec3> = world
+        .iter()
+        .map(|p| ((*p - mid) / size).as_vec3())
+        .collect();
     let Span::Solid(tris) = span(&pts, cancel)? else {
         return Ok(None);
     };
