@@ -94,8 +94,25 @@ pub(super) fn solve(
         .map(|(&t, &a)| a / t)
         .fold(1.0, f64::min);
     distance.iter_mut().for_each(|t| *t *= fit);
-    let mut scale = fit;
-    for _ in 0..24 {
+    let mut attempts = vec![(distance, fit)];
+    // Failing that (bent chains, or rings so narrow that rounding tilts
+    // them): every ring at one distance, the nearest any chain allows,
+    // narrowed to half what clears each pair there, then narrower.
+    let t = avail.iter().cloned().fold(f64::INFINITY, f64::min);
+    let mut scale: f64 = 1.0;
+    for i in 0..dirs.len() {
+        for j in 0..dirs.len() {
+            let (c, s) = (dirs[i].dot(dirs[j]), dirs[i].cross(dirs[j]).length());
+            if i != j && s > 0.0 && c > -1.0 {
+                scale = scale.min(t * (1.0 - c) / (2.0 * radii[j] * s));
+            }
+        }
+    }
+    for _ in 0..12 {
+        attempts.push((vec![t; dirs.len()], scale));
+        scale *= 0.6;
+    }
+    for (distance, scale) in attempts {
         if cancel() {
             return Err(ModelError::Cancelled);
         }
@@ -113,8 +130,6 @@ pub(super) fn solve(
                 triangles,
             });
         }
-        // Bent chains or rounding: narrower rings at the same places.
-        scale *= 0.7;
     }
     Err(failed())
 }
