@@ -272,3 +272,95 @@ fn one_and_two_threads_give_the_same_bytes() {
     let (_, closed) = euler_and_closed(&out);
     assert!(closed);
 }
+
+// ----- edge_divide -----
+
+use geode_model::edge_divide::{edge_divide, EdgeDivideOptions};
+
+fn divide_edges(g: &Geometry, group: Option<&geode_geo::Group>, n: u32) -> Geometry {
+    let o = EdgeDivideOptions {
+        divisions: n,
+        group_name: Some("new".into()),
+    };
+    edge_divide(g, group, &o, &never).unwrap()
+}
+
+#[test]
+fn edge_divide_keeps_area_counts_and_closure() {
+    let sphere = geode_geo::ops::triangulate(&geode_geo::primitives::uv_sphere(1.0, 24, 12), None);
+    let (e0, closed0) = euler_and_closed(&sphere);
+    assert!(closed0);
+    let edges = sphere.num_vertices() / 2;
+    for n in [1u32, 3] {
+        let out = divide_edges(&sphere, None, n);
+        assert_eq!(out.num_points(), sphere.num_points() + edges * n as usize);
+        assert_eq!(out.num_vertices(), sphere.num_vertices() * (1 + n as usize));
+        assert_eq!(out.num_prims(), sphere.num_prims());
+        assert!((area(&out) - area(&sphere)).abs() < 1e-9 * area(&sphere).max(1.0) + 1e-5);
+        assert!((volume(&out) - volume(&sphere)).abs() < 1e-5);
+        // geode's own edge count (trimesh's fans of a polygon with points
+        // along its sides are degenerate triangles it does not pair up).
+        assert_eq!(euler_and_closed(&out), (e0, true), "divided sphere");
+        assert_eq!(out.point_groups()["new"].count(), edges * n as usize);
+    }
+}
+
+#[test]
+fn edge_divide_blends_attributes_and_follows_the_point_group() {
+    let mut g = geode_geo::primitives::cube(2.0);
+    let h: Vec<f32> = g.positions().iter().map(|p| p.x + 2.0 * p.y).collect();
+    g.set_attrib(
+        AttribClass::Point,
+        "h",
+        Attribute::from_data(AttribData::Float(h), TypeInfo::None),
+    )
+    .unwrap();
+    let out = divide_edges(&g, None, 2);
+    let AttribData::Float(h) = out.attrib(AttribClass::Point, "h").unwrap().data() else {
+        panic!()
+    };
+    for (p, h) in out.positions().iter().zip(h) {
+        assert!((p.x + 2.0 * p.y - h).abs() < 1e-5, "h follows the blend");
+    }
+    // Only the top face's edges (points with y > 0): its 4 edges.
+    let top = geode_geo::Group::from_flags(g.positions().iter().map(|p| p.y > 0.0));
+    let out = divide_edges(&g, Some(&top), 1);
+    assert_eq!(out.num_points(), g.num_points() + 4);
+    assert!(euler_and_closed(&out).1);
+    let one = || {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| divide_edges(&g, None, 3).content_hash())
+    };
+    let two = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .build()
+        .unwrap()
+        .install(|| divide_edges(&g, None, 3).content_hash());
+    assert_eq!(one(), two);
+    let err = edge_divide(
+        &g,
+        None,
+        &EdgeDivideOptions {
+            divisions: 0,
+            group_name: None,
+        },
+        &never,
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("division"), "{err}");
+    assert!(matches!(
+        edge_divide(
+            &g,
+            None,
+            &EdgeDivideOptions {
+                divisions: 1,
+                group_name: None
+            },
+            &|| true
+        ),
+        Err(ModelError::Cancelled)
+    ));
+}

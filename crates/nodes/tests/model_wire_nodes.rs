@@ -73,3 +73,25 @@ fn polywire_names_its_bad_parameters() {
     assert!(closed(&g));
     assert_eq!(g.num_points(), 6 * 7);
 }
+
+#[test]
+fn edge_divide_keeps_a_sphere_closed_and_groups_new_points() {
+    let g = geo(
+        r#""s": {"type": "sphere", "params": {"rows": 8, "columns": 16}},
+           "d": {"type": "edge_divide", "inputs": ["s"], "params": {"divisions": 2}}"#,
+        "d",
+    );
+    let s = geo(
+        r#""s": {"type": "sphere", "params": {"rows": 8, "columns": 16}}"#,
+        "s",
+    );
+    assert!(closed(&g));
+    let new = g.point_groups()["divided"].count();
+    assert_eq!(g.num_points(), s.num_points() + new);
+    assert_eq!(new, 2 * s.num_vertices() / 2);
+    let e = err(
+        r#""s": {"type": "sphere"}, "d": {"type": "edge_divide", "inputs": ["s"], "params": {"group": "nosuch"}}"#,
+        "d",
+    );
+    assert!(e.contains("nosuch"), "{e}");
+}
