@@ -7,6 +7,7 @@ pub mod bound;
 mod carry;
 pub mod clip;
 pub mod deform;
+pub mod divide;
 pub mod edge_divide;
 mod error;
 pub mod extrude;

@@ -364,3 +364,98 @@ fn edge_divide_blends_attributes_and_follows_the_point_group() {
         Err(ModelError::Cancelled)
     ));
 }
+
+// ----- divide -----
+
+use geode_model::divide::{convex_polygons, DivideOptions};
+
+/// Whether every polygon of `g` turns one way at every corner in its
+/// Newell plane.
+fn all_convex(g: &Geometry) -> bool {
+    let p = g.positions();
+    (0..g.num_prims()).all(|k| {
+        let q: Vec<geode_geo::glam::DVec3> = g
+            .prim_points(k)
+            .iter()
+            .map(|&i| p[i as usize].as_dvec3())
+            .collect();
+        let n: geode_geo::glam::DVec3 =
+            (0..q.len()).map(|i| q[i].cross(q[(i + 1) % q.len()])).sum();
+        (0..q.len()).all(|i| {
+            let (a, b, c) = (q[i], q[(i + 1) % q.len()], q[(i + 2) % q.len()]);
+            (b - a).cross(c - b).dot(n) >= -1e-9
+        })
+    })
+}
+
+/// An L-shaped prism: 2 x 2 less a 1 x 1 corner, height 1 (closed; its
+/// caps are non-convex hexagons).
+fn l_prism() -> Geometry {
+    let ring = [
+        (0.0, 0.0),
+        (2.0, 0.0),
+        (2.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 2.0),
+        (0.0, 2.0),
+    ];
+    let mut pts = Vec::new();
+    for z in [0.0, 1.0] {
+        pts.extend(ring.iter().map(|&(x, y)| Vec3::new(x, y, z)));
+    }
+    let mut verts: Vec<u32> = (0..6).rev().collect();
+    verts.extend(6..12);
+    let mut counts = vec![6, 6];
+    for i in 0..6u32 {
+        let j = (i + 1) % 6;
+        verts.extend([i, j, j + 6, i + 6]);
+        counts.push(4);
+    }
+    Geometry::from_prims(pts, verts, &counts, vec![PrimKind::Polygon; 8]).unwrap()
+}
+
+#[test]
+fn convex_pieces_keep_area_and_closure() {
+    let g = l_prism();
+    assert!(!all_convex(&g));
+    let out = convex_polygons(&g, &DivideOptions::default(), &never).unwrap();
+    assert!(all_convex(&out));
+    // Each L cap splits into two convex pieces (Hertel-Mehlhorn's best here).
+    assert_eq!(out.num_prims(), 6 + 2 * 2);
+    assert!((area(&out) - (2.0 * 3.0 + 8.0)).abs() < 1e-9);
+    assert!((volume(&out) - 3.0).abs() < 1e-9);
+    let (e, closed) = euler_and_closed(&out);
+    assert!(closed && e == 2);
+    // A regular 12-gon with at most 4 sides a piece.
+    let pts: Vec<Vec3> = (0..12)
+        .map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / 12.0;
+            Vec3::new(a.cos(), 0.3, a.sin())
+        })
+        .collect();
+    let disc =
+        Geometry::from_prims(pts, (0..12).collect(), &[12], vec![PrimKind::Polygon]).unwrap();
+    let out = convex_polygons(&disc, &DivideOptions { max_edges: 4 }, &never).unwrap();
+    assert!(out.num_prims() >= 5 && (0..out.num_prims()).all(|k| out.prim_points(k).len() <= 4));
+    assert!((area(&out) - area(&disc)).abs() < 1e-6);
+    assert!(all_convex(&out));
+    // A star: ten corners, five reflex.
+    let star: Vec<Vec3> = (0..10)
+        .map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / 10.0;
+            let r = if k % 2 == 0 { 1.0 } else { 0.4 };
+            Vec3::new(r * a.cos(), r * a.sin(), 0.0)
+        })
+        .collect();
+    let g = Geometry::from_prims(star, (0..10).collect(), &[10], vec![PrimKind::Polygon]).unwrap();
+    let out = convex_polygons(&g, &DivideOptions::default(), &never).unwrap();
+    assert!(
+        all_convex(&out) && out.num_prims() <= 6,
+        "{} pieces",
+        out.num_prims()
+    );
+    // Ten triangles from the centre (sides 1 and 0.4, 36 degrees apart).
+    let want = 10.0 * 0.5 * 0.4 * (PI / 5.0).sin();
+    assert!((area(&out) - want).abs() < 1e-6, "{} vs {want}", area(&out));
+    assert!(convex_polygons(&g, &DivideOptions { max_edges: 2 }, &never).is_err());
+}

@@ -1,0 +1,186 @@
+//! Houdini's Divide SOP, convex polygons: every polygon that is not convex
+//! (or has more than `max_edges` sides) becomes convex polygons over its
+//! own corners, by Hertel and Mehlhorn's method: ear-clip the polygon in
+//! its best-fit plane (its Newell normal), then remove diagonals, in the
+//! order the ears were cut, wherever the two pieces beside one stay convex
+//! at both its ends and within `max_edges` sides. Hertel-Mehlhorn gives at
+//! most four times the fewest convex pieces; a triangle fan would give
+//! n - 2. No point moves or is added, so area is unchanged and a closed
+//! mesh stays closed (a diagonal is interior to its polygon). Pieces copy
+//! their polygon's primitive attributes and groups, corners their vertex
+//! attributes; polylines pass through.
+
+use geode_geo::glam::{DVec2, DVec3};
+use geode_geo::{Geometry, PrimKind};
+use rayon::prelude::*;
+
+use crate::carry::{self, copy, Plan};
+use crate::fill::triangulate::{ear_clip, newell_normal, plane_basis};
+use crate::ModelError;
+
+#[derive(Clone, Debug)]
+pub struct DivideOptions {
+    /// Most sides a piece may have (at least 3).
+    pub max_edges: u32,
+}
+
+impl Default for DivideOptions {
+    fn default() -> Self {
+        DivideOptions { max_edges: 64 }
+    }
+}
+
+/// Convex pieces of `g`'s polygons (see the module doc).
+pub fn convex_polygons(
+    g: &Geometry,
+    options: &DivideOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Geometry, ModelError> {
+    carry::polygons_and_polylines(g, "divide")?;
+    if options.max_edges < 3 {
+        return Err(ModelError::Invalid(format!(
+            "a convex piece needs at least 3 edges (max_edges is {})",
+            options.max_edges
+        )));
+    }
+    let max = options.max_edges as usize;
+    let offsets = g.prim_offsets();
+    let p = g.positions();
+    let vp = g.vertex_points();
+    // Per primitive: its pieces as corner lists (local corner numbers).
+    let pieces: Vec<Vec<Vec<u32>>> = (0..g.num_prims())
+        .into_par_iter()
+        .map(|prim| {
+            if prim % 4096 == 0 && cancel() {
+                return Err(ModelError::Cancelled);
+            }
+            let (lo, hi) = (offsets[prim] as usize, offsets[prim + 1] as usize);
+            let n = hi - lo;
+            if g.prim_kinds()[prim] != PrimKind::Polygon || n <= 3 {
+                return Ok(vec![(0..n as u32).collect()]);
+            }
+            let world: Vec<DVec3> = vp[lo..hi]
+                .iter()
+                .map(|&i| p[i as usize].as_dvec3())
+                .collect();
+            Ok(split(&world, max))
+        })
+        .collect::<Result<_, _>>()?;
+    let mut plan = Plan {
+        first_new_prim: usize::MAX,
+        positions: p.to_vec(),
+        point_sources: (0..p.len() as u32).map(copy).collect(),
+        ..Plan::default()
+    };
+    for (prim, list) in pieces.iter().enumerate() {
+        let lo = offsets[prim];
+        for piece in list {
+            for &c in piece {
+                plan.vertex_points.push(vp[(lo + c) as usize]);
+                plan.vertex_sources.push(copy(lo + c));
+            }
+            plan.prim_counts.push(piece.len() as u32);
+            plan.prim_kinds.push(g.prim_kinds()[prim]);
+            plan.prim_sources.push(prim as u32);
+        }
+    }
+    carry::build(g, plan, "divide")
+}
+
+/// The convex pieces of one polygon (corner numbers, wound as it is).
+fn split(world: &[DVec3], max: usize) -> Vec<Vec<u32>> {
+    let n = world.len();
+    let normal = newell_normal(world);
+    let (u, v) = plane_basis(normal);
+    let q: Vec<DVec2> = world
+        .iter()
+        .map(|x| DVec2::new(x.dot(u), x.dot(v)))
+        .collect();
+    let whole: Vec<u32> = (0..n as u32).collect();
+    if normal.length() > 0.0 && n <= max && convex(&q, &whole) {
+        return vec![whole];
+    }
+    let mut pieces: Vec<Option<Vec<u32>>> =
+        ear_clip(&q).into_iter().map(|t| Some(t.to_vec())).collect();
+    // Which piece holds each triangle (pieces merge into the lower).
+    let mut owner: Vec<usize> = (0..pieces.len()).collect();
+    let find = |owner: &Vec<usize>, mut k: usize| {
+        while owner[k] != k {
+            k = owner[k];
+        }
+        k
+    };
+    // Diagonals: the sides two triangles share, in ear order.
+    let mut sides = std::collections::HashMap::new();
+    let mut diagonals = Vec::new();
+    for (t, tri) in pieces.iter().enumerate() {
+        let tri = tri.as_ref().expect("all triangles to start");
+        for j in 0..3 {
+            let (a, b) = (tri[j], tri[(j + 1) % 3]);
+            let key = (a.min(b), a.max(b));
+            if let Some(other) = sides.insert(key, t) {
+                diagonals.push((key, other, t));
+            }
+        }
+    }
+    for ((a, b), t0, t1) in diagonals {
+        let (x, y) = (find(&owner, t0), find(&owner, t1));
+        if x == y {
+            continue;
+        }
+        let merged = merge(
+            pieces[x].as_ref().expect("live"),
+            pieces[y].as_ref().expect("live"),
+            a,
+            b,
+        );
+        if let Some(m) = merged.filter(|m| m.len() <= max && convex(&q, m)) {
+            let (keep, gone) = (x.min(y), x.max(y));
+            pieces[keep] = Some(m);
+            pieces[gone] = None;
+            owner[gone] = keep;
+        }
+    }
+    pieces.into_iter().flatten().collect()
+}
+
+/// The polygon of pieces `x` and `y` joined along their shared side
+/// `a`-`b` (None when they do not share it as one side each).
+fn merge(x: &[u32], y: &[u32], a: u32, b: u32) -> Option<Vec<u32>> {
+    // Rotate x to end ... -> a -> b? Find the side a-b (either way) in x.
+    let nx = x.len();
+    let i = (0..nx).find(|&i| {
+        let (p, q) = (x[i], x[(i + 1) % nx]);
+        (p == a && q == b) || (p == b && q == a)
+    })?;
+    let (from, to) = (x[i], x[(i + 1) % nx]);
+    // In y the side runs to -> from; walk y from `from` round to `to`.
+    let ny = y.len();
+    let j = (0..ny).find(|&j| y[j] == to && y[(j + 1) % ny] == from)?;
+    let mut out = Vec::with_capacity(nx + ny - 2);
+    // x from `to` round to `from`, then y's corners strictly between.
+    for k in 0..nx {
+        out.push(x[(i + 1 + k) % nx]);
+    }
+    for k in 2..ny {
+        out.push(y[(j + k) % ny]);
+    }
+    Some(out)
+}
+
+/// Whether the piece `corners` of ring `q` turns left (or straight) at
+/// every corner.
+fn convex(q: &[DVec2], corners: &[u32]) -> bool {
+    let n = corners.len();
+    let scale: f64 = corners
+        .iter()
+        .map(|&c| q[c as usize].abs().max_element())
+        .fold(0.0, f64::max);
+    let eps = 1e-12 * scale * scale;
+    (0..n).all(|k| {
+        let a = q[corners[k] as usize];
+        let b = q[corners[(k + 1) % n] as usize];
+        let c = q[corners[(k + 2) % n] as usize];
+        (b - a).perp_dot(c - b) >= -eps
+    })
+}
