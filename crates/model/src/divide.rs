@@ -14,7 +14,7 @@ use geode_geo::glam::{DVec2, DVec3};
 use geode_geo::{Geometry, PrimKind};
 use rayon::prelude::*;
 
-use crate::carry::{self, copy, Plan};
+use crate::carry::{self, copy, Blend, Plan};
 use crate::fill::triangulate::{ear_clip, newell_normal, plane_basis};
 use crate::ModelError;
 
@@ -183,4 +183,189 @@ fn convex(q: &[DVec2], corners: &[u32]) -> bool {
         let c = q[corners[(k + 2) % n] as usize];
         (b - a).perp_dot(c - b) >= -eps
     })
+}
+
+/// Houdini's Divide "brick polygons": every polygon cut by the planes
+/// `offset + k size` across each axis (x, then y, then z), so each piece
+/// lies in one cell of the grid. Polygons are first made convex (as
+/// above, without a side limit), so every cut splits one convex piece
+/// into two. A cut point is made once per edge and plane (keyed by the
+/// edge's two points and the plane), so neighbours share it and a closed
+/// mesh stays closed; it is placed on its plane exactly. It blends its
+/// edge's two points; where an end is itself a cut point, the source
+/// point nearer that end stands for it (interior attributes are so
+/// approximate, unlike Houdini's, which interpolates within the face).
+pub fn bricker(
+    g: &Geometry,
+    size: geode_geo::glam::Vec3,
+    offset: geode_geo::glam::Vec3,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Geometry, ModelError> {
+    carry::polygons_and_polylines(g, "divide")?;
+    if !(size.is_finite() && size.min_element() > 0.0) || !offset.is_finite() {
+        return Err(ModelError::Invalid(format!(
+            "brick size must be positive on every axis (got {size})"
+        )));
+    }
+    let convex = convex_polygons(
+        g,
+        &DivideOptions {
+            max_edges: u32::MAX,
+        },
+        cancel,
+    )?;
+    let mut bricks = Bricks {
+        plan: Plan {
+            first_new_prim: usize::MAX,
+            positions: convex.positions().to_vec(),
+            point_sources: (0..convex.num_points() as u32).map(copy).collect(),
+            ..Plan::default()
+        },
+        cuts: std::collections::HashMap::new(),
+        size: size.as_dvec3(),
+        offset: offset.as_dvec3(),
+    };
+    let offsets = convex.prim_offsets();
+    let vp = convex.vertex_points();
+    for prim in 0..convex.num_prims() {
+        if prim % 4096 == 0 && cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        let (lo, hi) = (offsets[prim] as usize, offsets[prim + 1] as usize);
+        let corners: Vec<(u32, Blend)> = (lo..hi).map(|v| (vp[v], copy(v as u32))).collect();
+        if convex.prim_kinds()[prim] != PrimKind::Polygon {
+            bricks.emit(&corners, PrimKind::Polyline, prim as u32);
+            continue;
+        }
+        let mut pieces = vec![corners];
+        for axis in 0..3 {
+            pieces = pieces
+                .into_iter()
+                .flat_map(|piece| bricks.slice(piece, axis))
+                .collect();
+        }
+        for piece in &pieces {
+            bricks.emit(piece, PrimKind::Polygon, prim as u32);
+        }
+    }
+    // The convex pieces carry every attribute of g: they are the source.
+    carry::build(&convex, bricks.plan, "divide")
+}
+
+/// The bricker's output under construction.
+struct Bricks {
+    plan: Plan,
+    /// Cut points by (low point, high point, axis, plane).
+    cuts: std::collections::HashMap<(u32, u32, usize, i64), u32>,
+    size: DVec3,
+    offset: DVec3,
+}
+
+impl Bricks {
+    fn emit(&mut self, corners: &[(u32, Blend)], kind: PrimKind, prim: u32) {
+        for &(p, b) in corners {
+            self.plan.vertex_points.push(p);
+            self.plan.vertex_sources.push(b);
+        }
+        self.plan.prim_counts.push(corners.len() as u32);
+        self.plan.prim_kinds.push(kind);
+        self.plan.prim_sources.push(prim);
+    }
+
+    fn coord(&self, p: u32, axis: usize) -> f64 {
+        self.plan.positions[p as usize][axis] as f64
+    }
+
+    /// A convex piece cut by every plane across `axis` it spans.
+    fn slice(&mut self, piece: Vec<(u32, Blend)>, axis: usize) -> Vec<Vec<(u32, Blend)>> {
+        let (lo, hi) = piece.iter().fold((f64::MAX, f64::MIN), |(l, h), &(p, _)| {
+            let x = self.coord(p, axis);
+            (l.min(x), h.max(x))
+        });
+        let (s, o) = (self.size[axis], self.offset[axis]);
+        let first = ((lo - o) / s).floor() as i64 + 1;
+        let mut out = Vec::new();
+        let mut rest = piece;
+        let mut k = first;
+        while o + k as f64 * s < hi {
+            let plane = o + k as f64 * s;
+            if plane > lo {
+                let (below, above) = self.cut(&rest, axis, k, plane);
+                if below.len() >= 3 {
+                    out.push(below);
+                }
+                rest = above;
+                if rest.len() < 3 {
+                    return out;
+                }
+            }
+            k += 1;
+        }
+        out.push(rest);
+        out
+    }
+
+    /// A convex piece's parts below and above a plane.
+    fn cut(
+        &mut self,
+        piece: &[(u32, Blend)],
+        axis: usize,
+        k: i64,
+        plane: f64,
+    ) -> (Vec<(u32, Blend)>, Vec<(u32, Blend)>) {
+        let (mut below, mut above) = (Vec::new(), Vec::new());
+        let n = piece.len();
+        for j in 0..n {
+            let (a, va) = piece[j];
+            let (b, vb) = piece[(j + 1) % n];
+            let (sa, sb) = (self.coord(a, axis) - plane, self.coord(b, axis) - plane);
+            if sa <= 0.0 {
+                below.push((a, va));
+            }
+            if sa >= 0.0 {
+                above.push((a, va));
+            }
+            if (sa < 0.0 && sb > 0.0) || (sa > 0.0 && sb < 0.0) {
+                let t = sa / (sa - sb);
+                let m = self.cut_point(a, b, axis, k, plane);
+                let vm = blend_of(va, vb, t as f32);
+                below.push((m, vm));
+                above.push((m, vm));
+            }
+        }
+        (below, above)
+    }
+
+    /// The cut point of edge `a`-`b` on plane `k` of `axis`, made once.
+    fn cut_point(&mut self, a: u32, b: u32, axis: usize, k: i64, plane: f64) -> u32 {
+        let (lo, hi) = (a.min(b), a.max(b));
+        if let Some(&m) = self.cuts.get(&(lo, hi, axis, k)) {
+            return m;
+        }
+        // From the lower point, so both neighbours compute the same point.
+        let (x, y) = (
+            self.plan.positions[lo as usize].as_dvec3(),
+            self.plan.positions[hi as usize].as_dvec3(),
+        );
+        let t = (plane - x[axis]) / (y[axis] - x[axis]);
+        let mut at = x.lerp(y, t);
+        at[axis] = plane;
+        let src = blend_of(
+            self.plan.point_sources[lo as usize],
+            self.plan.point_sources[hi as usize],
+            t as f32,
+        );
+        let m = self.plan.positions.len() as u32;
+        self.plan.positions.push(at.as_vec3());
+        self.plan.point_sources.push(src);
+        self.cuts.insert((lo, hi, axis, k), m);
+        m
+    }
+}
+
+/// The blend `t` of the way from blend `a` to blend `b`, each end stood
+/// for by its nearer source element when it is itself a blend.
+fn blend_of(a: Blend, b: Blend, t: f32) -> Blend {
+    let near = |(x, y, s): Blend| if s < 0.5 { x } else { y };
+    (near(a), near(b), t)
 }

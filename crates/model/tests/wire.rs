@@ -459,3 +459,53 @@ fn convex_pieces_keep_area_and_closure() {
     assert!((area(&out) - want).abs() < 1e-6, "{} vs {want}", area(&out));
     assert!(convex_polygons(&g, &DivideOptions { max_edges: 2 }, &never).is_err());
 }
+
+#[test]
+fn bricks_keep_area_closure_and_lie_in_one_cell() {
+    use geode_model::divide::bricker;
+    let sphere = geode_geo::primitives::uv_sphere(1.0, 20, 10);
+    let (size, offset) = (Vec3::new(0.3, 0.45, 0.25), Vec3::new(0.05, -0.1, 0.0));
+    let out = bricker(&sphere, size, offset, &never).unwrap();
+    assert!(out.num_prims() > 3 * sphere.num_prims());
+    assert!(
+        (area(&out) - area(&sphere)).abs() < 1e-4,
+        "{} vs {}",
+        area(&out),
+        area(&sphere)
+    );
+    assert!((volume(&out) - volume(&sphere)).abs() < 1e-4);
+    let (e, closed) = euler_and_closed(&out);
+    assert!(closed && e == 2, "closed {closed}, euler {e}");
+    assert!(all_convex(&out));
+    let p = out.positions();
+    for k in 0..out.num_prims() {
+        let q = out.prim_points(k);
+        let centre = q.iter().map(|&i| p[i as usize]).sum::<Vec3>() / q.len() as f32;
+        let cell = ((centre - offset) / size).floor();
+        let (lo, hi) = (offset + cell * size, offset + (cell + Vec3::ONE) * size);
+        for &i in q {
+            let x = p[i as usize];
+            assert!(
+                x.cmpge(lo - 1e-5).all() && x.cmple(hi + 1e-5).all(),
+                "piece {k}: {x} outside cell {lo}..{hi}"
+            );
+        }
+    }
+    let in_pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| {
+                bricker(&sphere, size, offset, &never)
+                    .unwrap()
+                    .content_hash()
+            })
+    };
+    assert_eq!(in_pool(1), in_pool(2));
+    assert!(bricker(&sphere, Vec3::new(0.0, 1.0, 1.0), offset, &never).is_err());
+    assert!(matches!(
+        bricker(&sphere, size, offset, &|| true),
+        Err(ModelError::Cancelled)
+    ));
+}
