@@ -3,6 +3,7 @@
 //! kernel in geode-model.
 
 use geode_geo::AttribClass;
+use geode_model::divide::{self, DivideOptions};
 use geode_model::edge_divide::{self, EdgeDivideOptions};
 use geode_model::polywire::{self, PolywireOptions};
 use geode_op::{
@@ -10,7 +11,7 @@ use geode_op::{
     ParamType as T, Params, Registry, Value,
 };
 
-use crate::util::{geometry, group_param, input, reserve_mesh};
+use crate::util::{geometry, group_param, input, reserve_mesh, vec3};
 
 /// An int parameter in `lo..=hi`, refused (naming it) outside.
 fn int_in(ctx: &CookContext, p: &Params, spec: &P, lo: i64, hi: i64) -> Result<u32, CookError> {
@@ -200,7 +201,96 @@ fn cook_edge_divide(
     geometry(out)
 }
 
+// ----- divide -----
+
+const DIVIDE_MODES: &[&str] = &["convex", "bricker"];
+const DIVIDE_MODE: P = P::new(
+    "mode",
+    "Mode",
+    T::Menu(DIVIDE_MODES),
+    D::Str("convex"),
+    "convex: non-convex polygons (and those over max_edges sides) split into convex ones; bricker: every polygon cut by a grid of planes into pieces one cell each.",
+);
+const DIVIDE_MAX_EDGES: P = P::new(
+    "max_edges",
+    "Maximum Edges",
+    T::Int,
+    D::Int(64),
+    "convex: the most sides a piece may have (3: triangles).",
+)
+.at_least(3.0);
+const DIVIDE_SIZE: P = P::new(
+    "size",
+    "Brick Size",
+    T::Vec3,
+    D::Vec3([1.0, 1.0, 1.0]),
+    "bricker: the grid's cell size on each axis.",
+);
+const DIVIDE_OFFSET: P = P::new(
+    "offset",
+    "Brick Offset",
+    T::Vec3,
+    D::Vec3([0.0, 0.0, 0.0]),
+    "bricker: where the grid's planes start (planes at offset + k x size).",
+);
+
+static DIVIDE: NodeSpec = NodeSpec::new(
+    "divide",
+    "Divide",
+    "model",
+    "Houdini's Divide: convex polygons (ear clipping, then Hertel-Mehlhorn removes diagonals while both pieces stay convex and within Maximum Edges: no new points, area unchanged, closed stays closed) or brick polygons (every polygon cut by axis planes at offset + k x size, one piece per cell, cut points shared by neighbours so closed stays closed). Pieces keep their polygon's attributes and groups. Unlike Houdini, Remove Shared Edges and Compute Dual are not offered, and a cut point with a cut point at an end of its edge blends the nearer source points (Houdini interpolates within the face).",
+    &[geometry_input("geometry")],
+    &[DIVIDE_MODE, DIVIDE_MAX_EDGES, DIVIDE_SIZE, DIVIDE_OFFSET],
+);
+
+fn cook_divide(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = input(ctx, inputs, 0)?;
+    let out = if p.string(&DIVIDE_MODE)? == "bricker" {
+        let size = vec3(p, &DIVIDE_SIZE)?;
+        if !(size.is_finite() && size.min_element() > 0.0) {
+            return Err(ctx.param_error(
+                DIVIDE_SIZE.name,
+                format!("brick size must be positive on every axis (got {size})"),
+            ));
+        }
+        // A rough count: each polygon crosses its bounds' cells.
+        let bounds = geode_geo::ops::bounds(g);
+        let cells = bounds.map_or(1.0, |b| {
+            ((b.max - b.min) / size)
+                .as_dvec3()
+                .max(geode_geo::glam::DVec3::ONE)
+                .element_product()
+        });
+        let pieces = (g.num_prims() as f64 * 4.0).max(cells.powf(2.0 / 3.0) * 2.0);
+        reserve_mesh(
+            ctx,
+            DIVIDE_SIZE.name,
+            g.num_points() as f64 + pieces * 2.0,
+            g.num_vertices() as f64 + pieces * 5.0,
+            pieces,
+        )?;
+        divide::bricker(g, size, vec3(p, &DIVIDE_OFFSET)?, &ctx.cancel_fn())
+    } else {
+        let max_edges = int_in(ctx, p, &DIVIDE_MAX_EDGES, 3, u32::MAX as i64)?;
+        reserve_mesh(
+            ctx,
+            DIVIDE_MAX_EDGES.name,
+            g.num_points() as f64,
+            3.0 * g.num_vertices() as f64,
+            g.num_vertices() as f64,
+        )?;
+        divide::convex_polygons(g, &DivideOptions { max_edges }, &ctx.cancel_fn())
+    }
+    .map_err(|e| ctx.kernel(e))?;
+    geometry(out)
+}
+
 pub fn register(r: &mut Registry) {
+    r.node(&DIVIDE, cook_divide);
     r.node(&POLYWIRE, cook_polywire);
     r.node(&EDGE_DIVIDE, cook_edge_divide);
 }

@@ -95,3 +95,30 @@ fn edge_divide_keeps_a_sphere_closed_and_groups_new_points() {
     );
     assert!(e.contains("nosuch"), "{e}");
 }
+
+#[test]
+fn divide_makes_convex_pieces_and_bricks() {
+    let box_ = r#""b": {"type": "box", "params": {"size": [1, 1, 1]}}"#;
+    let g = geo(
+        &format!(
+            r#"{box_}, "d": {{"type": "divide", "inputs": ["b"], "params": {{"mode": "bricker", "size": [0.3, 0.3, 0.3]}}}}"#
+        ),
+        "d",
+    );
+    assert!(closed(&g) && g.num_prims() > 6 * 9);
+    assert!((geode_geo::ops::signed_volume(&g) - 1.0).abs() < 1e-4);
+    let g = geo(
+        &format!(
+            r#"{box_}, "d": {{"type": "divide", "inputs": ["b"], "params": {{"max_edges": 3}}}}"#
+        ),
+        "d",
+    );
+    assert!(closed(&g) && g.num_prims() == 12);
+    let e = err(
+        &format!(
+            r#"{box_}, "d": {{"type": "divide", "inputs": ["b"], "params": {{"mode": "bricker", "size": [0, 1, 1]}}}}"#
+        ),
+        "d",
+    );
+    assert!(e.contains("size"), "{e}");
+}
