@@ -202,7 +202,7 @@ pub fn bricker(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     carry::polygons_and_polylines(g, "divide")?;
-    if !(size.is_finite() && size.min_element() > 0.0) || !offset.is_finite() {
+    if !(size.is_finite() && size.min_element() > 0.0 && offset.is_finite()) {
         return Err(ModelError::Invalid(format!(
             "brick size must be positive on every axis (got {size})"
         )));
@@ -252,6 +252,9 @@ pub fn bricker(
     carry::build(&convex, bricks.plan, "divide")
 }
 
+/// A convex piece's corners: output point and vertex blend.
+type Piece = Vec<(u32, Blend)>;
+
 /// The bricker's output under construction.
 struct Bricks {
     plan: Plan,
@@ -277,7 +280,7 @@ impl Bricks {
     }
 
     /// A convex piece cut by every plane across `axis` it spans.
-    fn slice(&mut self, piece: Vec<(u32, Blend)>, axis: usize) -> Vec<Vec<(u32, Blend)>> {
+    fn slice(&mut self, piece: Piece, axis: usize) -> Vec<Piece> {
         let (lo, hi) = piece.iter().fold((f64::MAX, f64::MIN), |(l, h), &(p, _)| {
             let x = self.coord(p, axis);
             (l.min(x), h.max(x))
@@ -306,13 +309,7 @@ impl Bricks {
     }
 
     /// A convex piece's parts below and above a plane.
-    fn cut(
-        &mut self,
-        piece: &[(u32, Blend)],
-        axis: usize,
-        k: i64,
-        plane: f64,
-    ) -> (Vec<(u32, Blend)>, Vec<(u32, Blend)>) {
+    fn cut(&mut self, piece: &[(u32, Blend)], axis: usize, k: i64, plane: f64) -> (Piece, Piece) {
         let (mut below, mut above) = (Vec::new(), Vec::new());
         let n = piece.len();
         for j in 0..n {

@@ -18,6 +18,9 @@ use rayon::prelude::*;
 use crate::carry::{self, copy, Plan};
 use crate::ModelError;
 
+/// An edge: its lower and higher point.
+type Edge = (u32, u32);
+
 #[derive(Clone, Debug)]
 pub struct EdgeDivideOptions {
     /// New points per edge (at least 1).
@@ -67,7 +70,7 @@ fn edges(
     g: &Geometry,
     points: Option<&Group>,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<(Vec<u32>, Vec<(u32, u32)>), ModelError> {
+) -> Result<(Vec<u32>, Vec<Edge>), ModelError> {
     let vp = g.vertex_points();
     let offsets = g.prim_offsets();
     let kinds = g.prim_kinds();

@@ -21,6 +21,9 @@ use super::tube::{Ring, Shape};
 use crate::hull::{span, Span};
 use crate::ModelError;
 
+/// A joint triangle's corners: (end, ring point).
+pub(super) type Triangle = [(u32, u32); 3];
+
 /// One chain end at a joint.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct End {
@@ -34,7 +37,7 @@ pub(super) struct Joint {
     pub ends: Vec<End>,
     pub distance: Vec<f64>,
     pub scale: f64,
-    pub triangles: Vec<[(u32, u32); 3]>,
+    pub triangles: Vec<Triangle>,
     /// The source primitive of the first end's ring (the triangles').
     pub prim: u32,
 }
@@ -205,7 +208,7 @@ fn bridge(
     rings: &[Ring],
     n: usize,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Option<Vec<[(u32, u32); 3]>>, ModelError> {
+) -> Result<Option<Vec<Triangle>>, ModelError> {
     // The hull's combinatorics in coordinates centred on the joint and
     // scaled to it: far from the origin f32 would round rings a few ulps
     // wide into each other.
@@ -227,7 +230,7 @@ fn bridge(
         return Ok(None);
     };
     let at = |i: u32| (i / n as u32, i % n as u32);
-    let kept: Vec<[(u32, u32); 3]> = tris
+    let kept: Vec<Triangle> = tris
         .iter()
         .map(|t| t.map(at))
         .filter(|t| !(t[0].0 == t[1].0 && t[1].0 == t[2].0))
