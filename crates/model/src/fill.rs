@@ -19,7 +19,7 @@
 //! neighbouring face's corner at that point; a fan's centre point and
 //! corners take the loop's means. New faces join the `group` only.
 
-mod triangulate;
+pub(crate) mod triangulate;
 
 pub use triangulate::MIN_WEIGHT_MAX;
 pub(crate) use triangulate::{ear_clip, newell_normal, plane_basis, signed_area2};

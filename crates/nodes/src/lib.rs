@@ -25,6 +25,7 @@ mod model_cut;
 mod model_extrude;
 mod model_reduce;
 mod model_surface;
+mod model_wire;
 mod nurbs;
 mod param_expr;
 mod patches;
@@ -67,6 +68,7 @@ pub fn registry() -> Registry {
     model_reduce::register(&mut r);
     model_surface::register(&mut r);
     model_cut::register(&mut r);
+    model_wire::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);
