@@ -13,6 +13,7 @@ pub mod fill;
 pub mod hull;
 pub mod mirror;
 mod rebuild;
+pub mod remesh;
 pub mod revolve;
 pub mod smooth;
 

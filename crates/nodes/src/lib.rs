@@ -22,6 +22,7 @@ mod mesh;
 mod model_boolean;
 mod model_cut;
 mod model_extrude;
+mod model_remesh;
 mod model_surface;
 mod nurbs;
 mod param_expr;
@@ -63,6 +64,7 @@ pub fn registry() -> Registry {
     model_extrude::register(&mut r);
     model_surface::register(&mut r);
     model_cut::register(&mut r);
+    model_remesh::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);
