@@ -147,7 +147,13 @@ pub fn expected_triangles(g: &Geometry, opts: &RemeshOptions) -> Result<f64, Mod
 /// The sizing in absolute lengths, the options checked.
 fn absolute_sizing(g: &Geometry, opts: &RemeshOptions) -> Result<Sizing, ModelError> {
     let bad = |what: &str, v: f32| ModelError::Invalid(format!("{what} must be positive, not {v}"));
-    let positive = |what: &str, v: f32| if v > 0.0 && v.is_finite() { Ok(v) } else { Err(bad(what, v)) };
+    let positive = |what: &str, v: f32| {
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(bad(what, v))
+        }
+    };
     if !(0.0..=180.0).contains(&opts.crease_angle) {
         return Err(ModelError::Invalid(format!(
             "crease angle must be in [0, 180] degrees, not {}",
@@ -178,7 +184,10 @@ fn absolute_sizing(g: &Geometry, opts: &RemeshOptions) -> Result<Sizing, ModelEr
             tolerance,
             gradation,
         } => {
-            let (min, max) = (positive("minimum length", min)?, positive("maximum length", max)?);
+            let (min, max) = (
+                positive("minimum length", min)?,
+                positive("maximum length", max)?,
+            );
             if min > max {
                 return Err(ModelError::Invalid(format!(
                     "minimum length {min} exceeds maximum length {max}"
@@ -233,7 +242,13 @@ fn working_mesh(g: &Geometry) -> Result<(Mesh, output::Origin), ModelError> {
     }
     let pos: Vec<Vec3> = point.iter().map(|&p| g.positions()[p as usize]).collect();
     let n = pos.len();
-    let mut proj = vec![Proj { tri: 0, w: [1.0, 0.0, 0.0] }; n];
+    let mut proj = vec![
+        Proj {
+            tri: 0,
+            w: [1.0, 0.0, 0.0]
+        };
+        n
+    ];
     for (f, t) in faces.iter().enumerate().rev() {
         for (k, &v) in t.iter().enumerate() {
             let mut w = [0.0; 3];
@@ -249,7 +264,14 @@ fn working_mesh(g: &Geometry) -> Result<(Mesh, output::Origin), ModelError> {
         mask: vec![0; faces.len()],
         faces,
     };
-    Ok((mesh, output::Origin { prim, vertices, point }))
+    Ok((
+        mesh,
+        output::Origin {
+            prim,
+            vertices,
+            point,
+        },
+    ))
 }
 
 /// Refuses what the half-edge phases cannot take: an edge of more than

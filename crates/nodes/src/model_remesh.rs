@@ -95,7 +95,11 @@ static REMESH: NodeSpec = NodeSpec::new(
     &[SIZING, RELATIVE, TARGET_LENGTH, MIN_LENGTH, MAX_LENGTH, TOLERANCE, GRADATION, ITERATIONS, CREASE_ANGLE, FEATURE_GROUP],
 );
 
-fn cook_remesh(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
+fn cook_remesh(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let features = group_param(ctx, p, &FEATURE_GROUP, g, AttribClass::Point)?;
     let sizing = match p.string(&SIZING)? {

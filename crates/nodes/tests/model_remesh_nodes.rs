@@ -45,7 +45,10 @@ fn remesh_carries_attributes_and_groups_on_a_sphere() {
     );
     assert!(g.num_prims() > 1000);
     assert!((0..g.num_prims()).all(|k| g.prim_points(k).len() == 3));
-    assert_eq!(g.attrib(AttribClass::Point, "Cd").map(|a| a.len()), Some(g.num_points()));
+    assert_eq!(
+        g.attrib(AttribClass::Point, "Cd").map(|a| a.len()),
+        Some(g.num_points())
+    );
     let top = &g.point_groups()["top"];
     for (i, p) in g.positions().iter().enumerate() {
         // Away from the group's edge, membership follows the position.
@@ -66,7 +69,10 @@ fn remesh_keeps_the_corners_of_a_box_and_is_deterministic() {
     for x in [-1.0f32, 1.0] {
         for y in [-0.5f32, 0.5] {
             for z in [-0.5f32, 0.5] {
-                assert!(one.positions().contains(&Vec3::new(x, y, z)), "corner {x} {y} {z}");
+                assert!(
+                    one.positions().contains(&Vec3::new(x, y, z)),
+                    "corner {x} {y} {z}"
+                );
             }
         }
     }
@@ -76,7 +82,10 @@ fn remesh_keeps_the_corners_of_a_box_and_is_deterministic() {
 fn remesh_names_the_parameter_at_fault() {
     for (params, param) in [
         (r#""target_length": 0"#, "target_length"),
-        (r#""sizing": "adaptive", "min_length": 0.2, "max_length": 0.1"#, "min_length"),
+        (
+            r#""sizing": "adaptive", "min_length": 0.2, "max_length": 0.1"#,
+            "min_length",
+        ),
         (r#""sizing": "adaptive", "tolerance": -1"#, "tolerance"),
         (r#""feature_group": "nothing""#, "feature_group"),
     ] {

@@ -24,6 +24,9 @@ pub(super) fn collapse_short_edges(
 ) -> Result<(), ModelError> {
     let mut scratch = Scratch::default();
     for _ in 0..MAX_PASSES {
+        scratch.stamp.clear();
+        scratch.stamp.resize(m.pos.len(), 0);
+        scratch.epoch = 0;
         if cancel() {
             return Err(ModelError::Cancelled);
         }
@@ -76,10 +79,15 @@ pub(super) fn collapse_short_edges(
     Ok(())
 }
 
+/// Reused by every candidate: no allocation per collapse. A vertex is in
+/// the current ring when its stamp is the current epoch, so a ring is
+/// gathered and tested in time linear in its size (a UV sphere's pole
+/// has a thousand neighbours).
 #[derive(Default)]
 struct Scratch {
     gone: Vec<u32>,
-    kept: Vec<u32>,
+    stamp: Vec<u32>,
+    epoch: u32,
 }
 
 /// Whether `gone` may merge into `kept` along half-edge `h` (either way
@@ -98,13 +106,29 @@ fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch)
     let o = topo.opp[h as usize];
     let c = m.from(prev(h));
     let d = if o == NONE { NONE } else { m.from(prev(o)) };
-    topo.neighbours(m, gone, &mut s.gone);
-    topo.neighbours(m, kept, &mut s.kept);
-    let common = s.gone.iter().filter(|x| s.kept.contains(x)).count();
-    if common != if d == NONE { 1 } else { 2 } || !s.kept.contains(&c) {
-        return false;
+    s.epoch += 2;
+    let (ring, seen) = (s.epoch, s.epoch + 1);
+    s.gone.clear();
+    for &f in topo.faces_of(gone) {
+        for &x in &m.faces[f as usize] {
+            if x != gone && s.stamp[x as usize] != ring {
+                s.stamp[x as usize] = ring;
+                s.gone.push(x);
+            }
+        }
     }
-    if d != NONE && !s.kept.contains(&d) {
+    // c and d are always common; any other is a pinch.
+    let mut common = 0;
+    for &f in topo.faces_of(kept) {
+        for &x in &m.faces[f as usize] {
+            if x != kept && s.stamp[x as usize] == ring {
+                s.stamp[x as usize] = seen;
+                common += 1;
+            }
+        }
+    }
+    s.epoch += 1;
+    if common != if d == NONE { 1 } else { 2 } {
         return false;
     }
     // A corner of three edges would be left with two (a fold).
@@ -149,7 +173,10 @@ fn apply(m: &mut Mesh, topo: &Topo, gone: u32, kept: u32, dead: &mut [bool], dir
         if t.contains(&kept) {
             dead[f as usize] = true;
             // The two edges other than gone-kept become one.
-            let k = t.iter().position(|&v| v != gone && v != kept).expect("a third corner");
+            let k = t
+                .iter()
+                .position(|&v| v != gone && v != kept)
+                .expect("a third corner");
             let h1 = 3 * f + k as u32;
             let h0 = prev(h1);
             debug_assert_eq!(next(h0), h1);

@@ -86,15 +86,23 @@ fn better(topo: &Topo, a: u32, b: u32, c: u32, d: u32) -> bool {
 /// angle: the valence rule cannot mend a cap between fixed corners.
 fn opens_a_cap(m: &Mesh, topo: &Topo, a: u32, b: u32, c: u32, d: u32) -> bool {
     let least = |v: u32| if topo.border[v as usize] { 2 } else { 3 };
-    if topo.valence[a as usize] as i32 - 1 < least(a) || topo.valence[b as usize] as i32 - 1 < least(b) {
+    if topo.valence[a as usize] as i32 - 1 < least(a)
+        || topo.valence[b as usize] as i32 - 1 < least(b)
+    {
         return false;
     }
     let p = |v: u32| m.pos[v as usize];
-    let angle = |x: u32, y: u32, z: u32| (p(y) - p(x)).angle_between(p(z) - p(x));
-    let wide = 150f32.to_radians();
-    if angle(c, a, b) < wide && angle(d, a, b) < wide {
+    let cos = |x: u32, y: u32, z: u32| {
+        (p(y) - p(x))
+            .normalize_or_zero()
+            .dot((p(z) - p(x)).normalize_or_zero())
+    };
+    // cos 150°: anything narrower is left to the valence rule.
+    let wide = -0.866;
+    if cos(c, a, b) > wide && cos(d, a, b) > wide {
         return false;
     }
+    let angle = |x: u32, y: u32, z: u32| (p(y) - p(x)).angle_between(p(z) - p(x));
     let min3 = |x: u32, y: u32, z: u32| angle(x, y, z).min(angle(y, z, x)).min(angle(z, x, y));
     min3(a, d, c).min(min3(b, c, d)) > min3(a, b, c).min(min3(b, a, d))
 }

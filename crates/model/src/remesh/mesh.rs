@@ -44,7 +44,7 @@ pub(super) fn next(h: u32) -> u32 {
 }
 
 pub(super) fn prev(h: u32) -> u32 {
-    if h % 3 == 0 {
+    if h.is_multiple_of(3) {
         h + 2
     } else {
         h - 1
@@ -79,8 +79,8 @@ impl Mesh {
     /// keeping the order of what stays.
     pub fn compact(&mut self, dead: &[bool]) {
         let mut keep_face = 0;
-        for f in 0..self.faces.len() {
-            if !dead[f] {
+        for (f, &gone) in dead.iter().enumerate() {
+            if !gone {
                 self.faces[keep_face] = self.faces[f];
                 self.mask[keep_face] = self.mask[f];
                 keep_face += 1;
@@ -95,9 +95,9 @@ impl Mesh {
             }
         }
         let mut n = 0u32;
-        for v in 0..self.pos.len() {
-            if map[v] == 0 {
-                map[v] = n;
+        for (v, slot) in map.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = n;
                 self.pos[n as usize] = self.pos[v];
                 self.size[n as usize] = self.size[v];
                 self.proj[n as usize] = self.proj[v];
@@ -231,15 +231,13 @@ impl Topo {
         (found == 2).then_some(ends)
     }
 
-    /// The neighbours of `v` into `out` (cleared first), each once.
+    /// The neighbours of `v` into `out` (cleared first), each once or
+    /// twice (once per face they share with `v`): for maxima, in time
+    /// linear in the valence.
     pub fn neighbours(&self, m: &Mesh, v: u32, out: &mut Vec<u32>) {
         out.clear();
         for &f in self.faces_of(v) {
-            for &x in &m.faces[f as usize] {
-                if x != v && !out.contains(&x) {
-                    out.push(x);
-                }
-            }
+            out.extend(m.faces[f as usize].iter().filter(|&&x| x != v));
         }
     }
 }

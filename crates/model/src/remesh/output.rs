@@ -29,11 +29,19 @@ pub(super) fn build(
     s: &Surface,
     origin: &Origin,
 ) -> Result<Geometry, ModelError> {
-    let failed = |e: String| ModelError::Failed { op: "remesh", why: e };
+    let failed = |e: String| ModelError::Failed {
+        op: "remesh",
+        why: e,
+    };
     let points: Vec<([u32; 3], [f32; 3])> = m
         .proj
         .iter()
-        .map(|p| (s.tris[p.tri as usize].map(|v| origin.point[v as usize]), p.w))
+        .map(|p| {
+            (
+                s.tris[p.tri as usize].map(|v| origin.point[v as usize]),
+                p.w,
+            )
+        })
         .collect();
     let sources = face_sources(&m, s);
     // A corner whose point lies on a triangle of the face's own source
@@ -49,7 +57,10 @@ pub(super) fn build(
                 if origin.prim[p.tri as usize] == origin.prim[tri as usize] {
                     (origin.vertices[p.tri as usize], p.w)
                 } else {
-                    (origin.vertices[tri as usize], s.weights_on(tri, m.pos[v as usize]).0)
+                    (
+                        origin.vertices[tri as usize],
+                        s.weights_on(tri, m.pos[v as usize]).0,
+                    )
                 }
             })
         })

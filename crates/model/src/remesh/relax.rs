@@ -85,12 +85,9 @@ pub(super) fn project(m: &mut Mesh, topo: &Topo, s: &Surface) {
     }
     if let Some(sizes) = &s.sizes {
         let tris = &s.tris;
-        m.size
-            .par_iter_mut()
-            .zip(&m.proj)
-            .for_each(|(size, proj)| {
-                let t = tris[proj.tri as usize];
-                *size = (0..3).map(|k| proj.w[k] * sizes[t[k] as usize]).sum();
-            });
+        m.size.par_iter_mut().zip(&m.proj).for_each(|(size, proj)| {
+            let t = tris[proj.tri as usize];
+            *size = (0..3).map(|k| proj.w[k] * sizes[t[k] as usize]).sum();
+        });
     }
 }

@@ -82,7 +82,11 @@ pub(super) fn adaptive_sizes(
     let mut sizes: Vec<f32> = curvature
         .iter()
         .map(|&k| {
-            let l2 = if k > 0.0 { 6.0 * e / k - 3.0 * e * e } else { f32::INFINITY };
+            let l2 = if k > 0.0 {
+                6.0 * e / k - 3.0 * e * e
+            } else {
+                f32::INFINITY
+            };
             if l2 > 0.0 { l2.sqrt() } else { min }.clamp(min, max)
         })
         .collect();

@@ -72,7 +72,10 @@ impl Surface {
     /// The closest point of the original feature edges to `p`, searched
     /// first within a few target lengths.
     pub fn onto_features(&self, p: Vec3, size: f32) -> (Vec3, Proj) {
-        let tree = self.features.as_ref().expect("a feature vertex has features");
+        let tree = self
+            .features
+            .as_ref()
+            .expect("a feature vertex has features");
         let hit = tree
             .closest(p, 4.0 * size)
             .or_else(|| tree.closest(p, f32::INFINITY))
