@@ -18,6 +18,7 @@ pub mod mirror;
 pub mod polywire;
 mod rebuild;
 pub mod reduce;
+pub mod remesh;
 pub mod revolve;
 pub mod smooth;
 

@@ -24,6 +24,7 @@ mod model_boolean;
 mod model_cut;
 mod model_extrude;
 mod model_reduce;
+mod model_remesh;
 mod model_surface;
 mod model_wire;
 mod nurbs;
@@ -69,6 +70,7 @@ pub fn registry() -> Registry {
     model_surface::register(&mut r);
     model_cut::register(&mut r);
     model_wire::register(&mut r);
+    model_remesh::register(&mut r);
     bundles::register(&mut r);
     curves::register(&mut r);
     curve_ops::register(&mut r);

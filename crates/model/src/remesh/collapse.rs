@@ -1,0 +1,199 @@
+//! The collapse phase: edges shorter than 4/5 of their target length are
+//! collapsed, one endpoint merged into the other (which does not move),
+//! when the link condition holds (the mesh keeps its topology), no edge of
+//! the result is longer than 4/3 of its target, no face turns over, and
+//! features allow it: a vertex on a feature line only slides along it, a
+//! corner never goes.
+//!
+//! Candidates are taken shortest first (ties by half-edge) in one
+//! sequential sweep; a collapse marks every vertex of the faces it touched
+//! so the adjacency built at the start of the pass stays true for every
+//! later candidate (which must touch none of them). Passes repeat on a
+//! rebuilt adjacency until none collapses.
+
+use rayon::prelude::*;
+
+use super::mesh::{next, prev, Mesh, Topo, NONE};
+use crate::ModelError;
+
+const MAX_PASSES: usize = 12;
+
+pub(super) fn collapse_short_edges(
+    m: &mut Mesh,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<(), ModelError> {
+    let mut scratch = Scratch::default();
+    for _ in 0..MAX_PASSES {
+        scratch.stamp.clear();
+        scratch.stamp.resize(m.pos.len(), 0);
+        scratch.epoch = 0;
+        if cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        let topo = Topo::build(m);
+        let mesh = &*m;
+        let mut short: Vec<(f32, u32)> = (0..3 * mesh.faces.len() as u32)
+            .into_par_iter()
+            .filter_map(|h| {
+                let o = topo.opp[h as usize];
+                if o != NONE && o < h {
+                    return None;
+                }
+                let (a, b) = (mesh.from(h), mesh.to(h));
+                let len = (mesh.pos[a as usize] - mesh.pos[b as usize]).length();
+                (len < 0.8 * mesh.edge_size(a, b)).then_some((len, h))
+            })
+            .collect();
+        if short.is_empty() {
+            return Ok(());
+        }
+        short.par_sort_unstable_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+        let mut dirty = vec![false; m.pos.len()];
+        let mut dead = vec![false; m.faces.len()];
+        let mut done = 0usize;
+        for (i, &(_, h)) in short.iter().enumerate() {
+            if i % 4096 == 0 && cancel() {
+                return Err(ModelError::Cancelled);
+            }
+            let (a, b) = (m.from(h), m.to(h));
+            if dirty[a as usize] || dirty[b as usize] {
+                continue;
+            }
+            let ab = allowed(m, &topo, h, b, a, &mut scratch);
+            let ba = allowed(m, &topo, h, a, b, &mut scratch);
+            // Both ways: the vertex of lower valence goes.
+            let (gone, kept) = match (ab, ba) {
+                (true, true) if topo.valence[a as usize] < topo.valence[b as usize] => (a, b),
+                (true, _) => (b, a),
+                (false, true) => (a, b),
+                (false, false) => continue,
+            };
+            apply(m, &topo, gone, kept, &mut dead, &mut dirty);
+            done += 1;
+        }
+        if done == 0 {
+            return Ok(());
+        }
+        m.compact(&dead);
+    }
+    Ok(())
+}
+
+/// Reused by every candidate: no allocation per collapse. A vertex is in
+/// the current ring when its stamp is the current epoch, so a ring is
+/// gathered and tested in time linear in its size (a UV sphere's pole
+/// has a thousand neighbours).
+#[derive(Default)]
+struct Scratch {
+    gone: Vec<u32>,
+    stamp: Vec<u32>,
+    epoch: u32,
+}
+
+/// Whether `gone` may merge into `kept` along half-edge `h` (either way
+/// round between them).
+fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch) -> bool {
+    let on_feature = m.is_feature(h);
+    if m.fixed[gone as usize] {
+        return false;
+    }
+    match topo.feature[gone as usize] {
+        0 => {}
+        2 if on_feature && topo.feature[kept as usize] > 0 => {}
+        _ => return false,
+    }
+    // Link condition: the common neighbours are the edge's opposite corners.
+    let o = topo.opp[h as usize];
+    let c = m.from(prev(h));
+    let d = if o == NONE { NONE } else { m.from(prev(o)) };
+    s.epoch += 2;
+    let (ring, seen) = (s.epoch, s.epoch + 1);
+    s.gone.clear();
+    for &f in topo.faces_of(gone) {
+        for &x in &m.faces[f as usize] {
+            if x != gone && s.stamp[x as usize] != ring {
+                s.stamp[x as usize] = ring;
+                s.gone.push(x);
+            }
+        }
+    }
+    // c and d are always common; any other is a pinch.
+    let mut common = 0;
+    for &f in topo.faces_of(kept) {
+        for &x in &m.faces[f as usize] {
+            if x != kept && s.stamp[x as usize] == ring {
+                s.stamp[x as usize] = seen;
+                common += 1;
+            }
+        }
+    }
+    s.epoch += 1;
+    if common != if d == NONE { 1 } else { 2 } {
+        return false;
+    }
+    // A corner of three edges would be left with two (a fold).
+    let thin = |v: u32| v != NONE && !topo.border[v as usize] && topo.valence[v as usize] <= 3;
+    if thin(c) || thin(d) {
+        return false;
+    }
+    let pk = m.pos[kept as usize];
+    for &x in &s.gone {
+        if x != kept && (m.pos[x as usize] - pk).length() > 4.0 / 3.0 * m.edge_size(kept, x) {
+            return false;
+        }
+    }
+    // No face around `gone` turns over.
+    for &f in topo.faces_of(gone) {
+        let t = m.faces[f as usize];
+        if t.contains(&kept) {
+            continue;
+        }
+        let p = t.map(|v| m.pos[v as usize]);
+        let q = t.map(|v| if v == gone { pk } else { m.pos[v as usize] });
+        let before = (p[1] - p[0]).cross(p[2] - p[0]);
+        let after = (q[1] - q[0]).cross(q[2] - q[0]);
+        if before.dot(after) <= 0.0 {
+            return false;
+        }
+    }
+    true
+}
+
+/// Merges `gone` into `kept`: the two faces of their edge die (their
+/// other edges fuse, feature bits joined), the rest of `gone`'s faces
+/// take `kept`.
+fn apply(m: &mut Mesh, topo: &Topo, gone: u32, kept: u32, dead: &mut [bool], dirty: &mut [bool]) {
+    for &f in topo.faces_of(gone).iter().chain(topo.faces_of(kept)) {
+        for &v in &m.faces[f as usize] {
+            dirty[v as usize] = true;
+        }
+    }
+    for &f in topo.faces_of(gone) {
+        let t = m.faces[f as usize];
+        if t.contains(&kept) {
+            dead[f as usize] = true;
+            // The two edges other than gone-kept become one.
+            let k = t
+                .iter()
+                .position(|&v| v != gone && v != kept)
+                .expect("a third corner");
+            let h1 = 3 * f + k as u32;
+            let h0 = prev(h1);
+            debug_assert_eq!(next(h0), h1);
+            let (o0, o1) = (topo.opp[h0 as usize], topo.opp[h1 as usize]);
+            let any = [h0, h1, o0, o1]
+                .iter()
+                .any(|&h| h != NONE && m.is_feature(h));
+            if any {
+                for o in [o0, o1] {
+                    if o != NONE {
+                        m.set_feature(o);
+                    }
+                }
+            }
+        } else {
+            let k = t.iter().position(|&v| v == gone).expect("a face of gone");
+            m.faces[f as usize][k] = kept;
+        }
+    }
+}

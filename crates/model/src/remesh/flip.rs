@@ -1,0 +1,116 @@
+//! The flip phase: an edge is flipped when that brings its four vertices'
+//! valences closer to their targets (6 inside, 4 on a border), summed in
+//! squares, as Botsch and Kobbelt do. Feature and border edges never flip;
+//! a flip that would fold the quad, join two already joined vertices, or
+//! leave a vertex with fewer than three edges is refused.
+//!
+//! One sweep in half-edge order over the adjacency built at its start; a
+//! flip marks its four vertices so every later candidate reads true
+//! adjacency. Sweeps repeat (at most eight) until none flips.
+
+use super::mesh::{next, prev, Mesh, Topo, NONE};
+use crate::ModelError;
+
+const PASSES: usize = 8;
+
+pub(super) fn flip_edges(
+    m: &mut Mesh,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<(), ModelError> {
+    for _ in 0..PASSES {
+        let topo = Topo::build(m);
+        let mut dirty = vec![false; m.pos.len()];
+        let mut done = 0usize;
+        for h in 0..3 * m.faces.len() as u32 {
+            if h % 8192 == 0 && cancel() {
+                return Err(ModelError::Cancelled);
+            }
+            let o = topo.opp[h as usize];
+            if o == NONE || o < h || m.is_feature(h) || m.is_feature(o) {
+                continue;
+            }
+            let (a, b) = (m.from(h), m.to(h));
+            let (c, d) = (m.from(prev(h)), m.from(prev(o)));
+            if [a, b, c, d].iter().any(|&v| dirty[v as usize]) {
+                continue;
+            }
+            if c == d
+                || !(better(&topo, a, b, c, d) || opens_a_cap(m, &topo, a, b, c, d))
+                || topo.adjacent(m, c, d)
+                || folds(m, a, b, c, d)
+            {
+                continue;
+            }
+            let (f, g) = ((h / 3) as usize, (o / 3) as usize);
+            // Faces a b c and b a d become a d c and b c d; each keeps
+            // the bits of its two outer edges.
+            let bit = |e: u32| m.is_feature(e) as u8;
+            let (bc, ca) = (bit(next(h)), bit(prev(h)));
+            let (ad, db) = (bit(next(o)), bit(prev(o)));
+            m.faces[f] = [a, d, c];
+            m.mask[f] = ad | (ca << 2);
+            m.faces[g] = [b, c, d];
+            m.mask[g] = bc | (db << 2);
+            for v in [a, b, c, d] {
+                dirty[v as usize] = true;
+            }
+            done += 1;
+        }
+        if done == 0 {
+            break;
+        }
+    }
+    Ok(())
+}
+
+/// Whether flipping edge a b (opposite corners c, d) lowers the squared
+/// deviation of the four valences from their targets.
+fn better(topo: &Topo, a: u32, b: u32, c: u32, d: u32) -> bool {
+    let target = |v: u32| if topo.border[v as usize] { 4 } else { 6 };
+    let val = |v: u32| topo.valence[v as usize] as i32;
+    let least = |v: u32| if topo.border[v as usize] { 2 } else { 3 };
+    if val(a) - 1 < least(a) || val(b) - 1 < least(b) {
+        return false;
+    }
+    let dev = |v: u32, delta: i32| {
+        let e = val(v) + delta - target(v);
+        e * e
+    };
+    let before = dev(a, 0) + dev(b, 0) + dev(c, 0) + dev(d, 0);
+    let after = dev(a, -1) + dev(b, -1) + dev(c, 1) + dev(d, 1);
+    after < before
+}
+
+/// Whether edge a b faces an angle so wide (at c or d) that its faces are
+/// near-degenerate caps, and flipping it widens the faces' smallest
+/// angle: the valence rule cannot mend a cap between fixed corners.
+fn opens_a_cap(m: &Mesh, topo: &Topo, a: u32, b: u32, c: u32, d: u32) -> bool {
+    let least = |v: u32| if topo.border[v as usize] { 2 } else { 3 };
+    if topo.valence[a as usize] as i32 - 1 < least(a)
+        || topo.valence[b as usize] as i32 - 1 < least(b)
+    {
+        return false;
+    }
+    let p = |v: u32| m.pos[v as usize];
+    let cos = |x: u32, y: u32, z: u32| {
+        (p(y) - p(x))
+            .normalize_or_zero()
+            .dot((p(z) - p(x)).normalize_or_zero())
+    };
+    // cos 150°: anything narrower is left to the valence rule.
+    let wide = -0.866;
+    if cos(c, a, b) > wide && cos(d, a, b) > wide {
+        return false;
+    }
+    let angle = |x: u32, y: u32, z: u32| (p(y) - p(x)).angle_between(p(z) - p(x));
+    let min3 = |x: u32, y: u32, z: u32| angle(x, y, z).min(angle(y, z, x)).min(angle(z, x, y));
+    min3(a, d, c).min(min3(b, c, d)) > min3(a, b, c).min(min3(b, a, d))
+}
+
+/// Whether the flipped faces would turn against the old ones.
+fn folds(m: &Mesh, a: u32, b: u32, c: u32, d: u32) -> bool {
+    let p = |v: u32| m.pos[v as usize];
+    let normal = |x: u32, y: u32, z: u32| (p(y) - p(x)).cross(p(z) - p(x));
+    let old = normal(a, b, c) + normal(b, a, d);
+    normal(a, d, c).dot(old) <= 0.0 || normal(b, c, d).dot(old) <= 0.0
+}
