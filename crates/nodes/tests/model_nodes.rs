@@ -1,6 +1,7 @@
 //! The modelling nodes through the graph: the boolean-built part of
-//! `examples/boolean_part.json` and the extruded panel of
-//! `examples/extruded_panel.json` (volumes worked out by hand), and the
+//! `examples/boolean_part.json`, the bevelled extruded panel of
+//! `examples/extruded_panel.json` (volumes worked out by hand), the
+//! reduced and remeshed scan of `examples/scan_cleanup.json`, and the
 //! errors a user meets (an open input, an unknown operation, a missing
 //! group or attribute).
 
@@ -141,6 +142,62 @@ fn the_extruded_panel_is_a_slab_with_raised_tiles_and_rounded_edges() {
     assert!(removed > 0.0 && removed < bound, "{removed} vs {bound}");
     assert!(out.prim_groups()["bevelEdges"].count() > 0);
     assert!(out.prim_groups()["bevelCorners"].count() > 0);
+}
+
+/// The smallest corner angle of any triangle, in degrees.
+fn min_angle(g: &Geometry) -> f64 {
+    let p = g.positions();
+    (0..g.num_prims())
+        .flat_map(|k| {
+            let q = g.prim_points(k);
+            let at = |i: usize| p[q[i % 3] as usize].as_dvec3();
+            (0..3).map(move |i| (at(i + 1) - at(i)).angle_between(at(i + 2) - at(i)).to_degrees())
+        })
+        .fold(f64::MAX, f64::min)
+}
+
+/// Mean length of the triangles' edges (each counted once per side).
+fn mean_edge(g: &Geometry) -> f64 {
+    let p = g.positions();
+    let mut sum = 0.0;
+    for k in 0..g.num_prims() {
+        let q = g.prim_points(k);
+        for j in 0..3 {
+            sum += p[q[j] as usize].distance(p[q[(j + 1) % 3] as usize]) as f64;
+        }
+    }
+    sum / (3 * g.num_prims()) as f64
+}
+
+#[test]
+fn the_scan_is_reduced_to_a_tenth_and_remeshed_evenly() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/scan_cleanup.json"
+    ))
+    .unwrap();
+    // The "scan": a blended solid polygonised densely, with seeded noise
+    // the size of a scanner's along the normals.
+    let scan = cook(&text, "/noisy").unwrap();
+    assert!(closed(&scan) && scan.num_prims() > 50_000, "{}", scan.num_prims());
+    let reduced = cook(&text, "/reduced").unwrap();
+    assert!(closed(&reduced));
+    let tenth = scan.num_prims() as f64 / 10.0;
+    assert!((reduced.num_prims() as f64 - tenth).abs() <= 2.0, "{}", reduced.num_prims());
+    let remeshed = cook(&text, "/remeshed").unwrap();
+    assert!(closed(&remeshed));
+    // Volume kept to a fraction of a percent through both.
+    for g in [&reduced, &remeshed] {
+        let change = (volume(g) / volume(&scan) - 1.0).abs();
+        assert!(change < 0.005, "{change}");
+    }
+    // Even triangles at the asked length: 0.02 of the box diagonal.
+    let b = geode_geo::ops::bounds(&scan).unwrap();
+    let target = 0.02 * b.size().length() as f64;
+    let mean = mean_edge(&remeshed);
+    assert!((mean / target - 1.0).abs() < 0.1, "{mean} vs {target}");
+    assert!(min_angle(&remeshed) > 15.0, "{}", min_angle(&remeshed));
+    assert!(min_angle(&reduced) < min_angle(&remeshed));
 }
 
 #[test]
