@@ -151,7 +151,11 @@ fn min_angle(g: &Geometry) -> f64 {
         .flat_map(|k| {
             let q = g.prim_points(k);
             let at = |i: usize| p[q[i % 3] as usize].as_dvec3();
-            (0..3).map(move |i| (at(i + 1) - at(i)).angle_between(at(i + 2) - at(i)).to_degrees())
+            (0..3).map(move |i| {
+                (at(i + 1) - at(i))
+                    .angle_between(at(i + 2) - at(i))
+                    .to_degrees()
+            })
         })
         .fold(f64::MAX, f64::min)
 }
@@ -179,11 +183,19 @@ fn the_scan_is_reduced_to_a_tenth_and_remeshed_evenly() {
     // The "scan": a blended solid polygonised densely, with seeded noise
     // the size of a scanner's along the normals.
     let scan = cook(&text, "/noisy").unwrap();
-    assert!(closed(&scan) && scan.num_prims() > 50_000, "{}", scan.num_prims());
+    assert!(
+        closed(&scan) && scan.num_prims() > 50_000,
+        "{}",
+        scan.num_prims()
+    );
     let reduced = cook(&text, "/reduced").unwrap();
     assert!(closed(&reduced));
     let tenth = scan.num_prims() as f64 / 10.0;
-    assert!((reduced.num_prims() as f64 - tenth).abs() <= 2.0, "{}", reduced.num_prims());
+    assert!(
+        (reduced.num_prims() as f64 - tenth).abs() <= 2.0,
+        "{}",
+        reduced.num_prims()
+    );
     let remeshed = cook(&text, "/remeshed").unwrap();
     assert!(closed(&remeshed));
     // Volume kept to a fraction of a percent through both.
