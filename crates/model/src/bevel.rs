@@ -167,6 +167,7 @@ pub fn bevel(
         &corners,
         &affected,
         (&how.edge_group, &how.corner_group),
+        cancel,
     )?;
     Ok((out, Report { offset }))
 }

@@ -61,9 +61,23 @@ pub(crate) fn polygons_and_polylines(g: &Geometry, op: &str) -> Result<(), Model
 }
 
 /// The output geometry `plan` describes, attributes and groups carried
-/// from `src`. `op` names the operation in errors.
-pub(crate) fn build(src: &Geometry, plan: Plan, op: &'static str) -> Result<Geometry, ModelError> {
+/// from `src`. `op` names the operation in errors; `cancel` is polled
+/// between the columns.
+pub(crate) fn build(
+    src: &Geometry,
+    plan: Plan,
+    op: &'static str,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Geometry, ModelError> {
     let failed = |why: String| ModelError::Failed { op, why };
+    let check = || {
+        if cancel() {
+            Err(ModelError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
+    check()?;
     let mut out = Geometry::from_prims(
         plan.positions,
         plan.vertex_points,
@@ -76,6 +90,7 @@ pub(crate) fn build(src: &Geometry, plan: Plan, op: &'static str) -> Result<Geom
         (AttribClass::Vertex, &plan.vertex_sources),
     ];
     for (class, sources) in columns {
+        check()?;
         for (name, attr) in blended(src, class, sources) {
             out.set_attrib(class, &name, attr)
                 .map_err(|e| failed(e.to_string()))?;
@@ -93,6 +108,7 @@ pub(crate) fn build(src: &Geometry, plan: Plan, op: &'static str) -> Result<Geom
         out.set_attrib(AttribClass::Detail, name, attr.clone())
             .map_err(|e| failed(e.to_string()))?;
     }
+    check()?;
     for (name, group) in src.point_groups() {
         let members = plan
             .point_sources

@@ -188,7 +188,7 @@ pub fn clip(
         }
     }
     let caps = parts.pieces.len() - first_cap;
-    let out = split.assemble(parts, first_cap, options)?;
+    let out = split.assemble(parts, first_cap, options, cancel)?;
     Ok(Clipped {
         geometry: out,
         caps,

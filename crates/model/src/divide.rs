@@ -84,7 +84,7 @@ pub fn convex_polygons(
             plan.prim_sources.push(prim as u32);
         }
     }
-    carry::build(g, plan, "divide")
+    carry::build(g, plan, "divide", cancel)
 }
 
 /// The convex pieces of one polygon (corner numbers, wound as it is).
@@ -249,7 +249,7 @@ pub fn bricker(
         }
     }
     // The convex pieces carry every attribute of g: they are the source.
-    carry::build(&convex, bricks.plan, "divide")
+    carry::build(&convex, bricks.plan, "divide", cancel)
 }
 
 /// A convex piece's corners: output point and vertex blend.

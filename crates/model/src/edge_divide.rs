@@ -52,7 +52,7 @@ pub fn edge_divide(
     };
     new_points(g, &edges, n, &mut plan);
     faces(g, &side_edge, &edges, n, &mut plan, cancel)?;
-    let mut out = carry::build(g, plan, "edge_divide")?;
+    let mut out = carry::build(g, plan, "edge_divide", cancel)?;
     if let Some(name) = options.group_name.as_deref().filter(|s| !s.is_empty()) {
         let total = out.num_points();
         out.set_point_group(name, Group::from_members(total, np..total))

@@ -107,7 +107,11 @@ pub fn extrude(
         out.declare(name);
     }
     if !faces.is_empty() {
-        Faces::new(g, &faces, how, scale).build(&mut out, cancel)?;
+        let plan = Faces::new(g, &faces, how, scale);
+        if cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        plan.build(&mut out, cancel)?;
     }
     for &c in &curves {
         if cancel() {
@@ -115,7 +119,10 @@ pub fn extrude(
         }
         extrude_curve(g, c, how, scale, &mut out);
     }
-    let mut result = out.finish(g, "polyextrude")?;
+    let mut result = out.finish(g, "polyextrude", cancel)?;
+    if cancel() {
+        return Err(ModelError::Cancelled);
+    }
     // The interiors of connected pieces are left without faces.
     let used_before = used_points(g);
     let used_now = used_points(&result);

@@ -153,7 +153,7 @@ pub fn polyfill(
         filled += 1;
     }
     let new_faces = plan.first_new_prim..plan.prim_kinds.len();
-    let mut out = carry::build(g, plan, "polyfill")?;
+    let mut out = carry::build(g, plan, "polyfill", cancel)?;
     carry::set_means(&mut out, AttribClass::Point, &means.points);
     carry::set_means(&mut out, AttribClass::Vertex, &means.vertices);
     if !options.group.is_empty() {

@@ -130,7 +130,7 @@ pub fn mirror(
     if cancel() {
         return Err(ModelError::Cancelled);
     }
-    let geometry = carry::build(&both, fused(&both, &seam, o, n), "mirror")?;
+    let geometry = carry::build(&both, fused(&both, &seam, o, n), "mirror", cancel)?;
     Ok(Mirrored {
         geometry,
         seam_points,

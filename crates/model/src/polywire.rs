@@ -134,7 +134,7 @@ pub fn polywire(
     for j in &joints {
         out.joint(j, &first_ring);
     }
-    out.finish(g, options.uv)
+    out.finish(g, options.uv, cancel)
 }
 
 /// Each point's radius: the option times the attribute when named.
@@ -336,9 +336,14 @@ impl Output {
         }
     }
 
-    fn finish(mut self, g: &Geometry, uv: bool) -> Result<Geometry, ModelError> {
+    fn finish(
+        mut self,
+        g: &Geometry,
+        uv: bool,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Geometry, ModelError> {
         self.plan.first_new_prim = usize::MAX;
-        let mut out = carry::build(g, self.plan, "polywire")?;
+        let mut out = carry::build(g, self.plan, "polywire", cancel)?;
         if uv {
             let column = Attribute::from_data(AttribData::Vec2(self.vertex_uv), TypeInfo::TexCoord);
             out.set_attrib(AttribClass::Vertex, "uv", column)

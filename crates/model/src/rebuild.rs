@@ -84,8 +84,13 @@ impl Rebuild {
 
     /// The geometry, every attribute and group carried from `src` (see
     /// `carry::build`), with the groups marked here.
-    pub fn finish(self, src: &Geometry, op: &'static str) -> Result<Geometry, ModelError> {
-        let mut out = carry::build(src, self.plan, op)?;
+    pub fn finish(
+        self,
+        src: &Geometry,
+        op: &'static str,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Geometry, ModelError> {
+        let mut out = carry::build(src, self.plan, op, cancel)?;
         let n = out.num_prims();
         for (name, mut members) in self.groups {
             members.resize(n, false);

@@ -113,10 +113,9 @@ pub fn reduce(
         same_vertex: has_vertex.then_some(&same as &(dyn Fn(u32, u32) -> bool + Sync)),
         lock_borders: how.lock_borders,
         lock_seams: how.lock_seams,
-    });
-    if cancel() {
-        return Err(ModelError::Cancelled);
-    }
+        cancel,
+    })
+    .ok_or(ModelError::Cancelled)?;
     let triangles_in = mesh.live;
     let target = match how.target {
         Target::Percent(p) => (triangles_in as f64 * p / 100.0).round() as usize,
@@ -133,7 +132,7 @@ pub fn reduce(
     };
     let outcome = collapse::run(&mut mesh, &mut point_rows, &mut wedge_rows, &limits, cancel)?;
     let triangles_out = mesh.live;
-    let mut out = output(&tri, &mesh)?;
+    let mut out = output(&tri, &mesh, cancel)?;
     point.write(&mut out.0, AttribClass::Point, &point_rows, &out.1);
     vertex.write(&mut out.0, AttribClass::Vertex, &wedge_rows, &out.2);
     Ok(Reduced {
@@ -177,7 +176,11 @@ fn check(g: &Geometry, how: &Reduce) -> Result<(), ModelError> {
 /// The surviving triangles as a geometry (points renumbered in their old
 /// order), every attribute and group carried from `tri`; also each output
 /// point's old point and each output vertex's wedge.
-fn output(tri: &Geometry, mesh: &Mesh) -> Result<(Geometry, Vec<u32>, Vec<u32>), ModelError> {
+fn output(
+    tri: &Geometry,
+    mesh: &Mesh,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<(Geometry, Vec<u32>, Vec<u32>), ModelError> {
     let live: Vec<usize> = (0..mesh.tris.len())
         .filter(|&t| mesh.tris[t][0] != NONE)
         .collect();
@@ -202,7 +205,7 @@ fn output(tri: &Geometry, mesh: &Mesh) -> Result<(Geometry, Vec<u32>, Vec<u32>),
         prim_sources: live.iter().map(|&t| t as u32).collect(),
         first_new_prim: usize::MAX,
     };
-    let g = carry::build(tri, plan, "polyreduce")?;
+    let g = carry::build(tri, plan, "polyreduce", cancel)?;
     Ok((g, kept, corners))
 }
 

@@ -80,7 +80,7 @@ pub fn revolve(
         sweep.faces(g, prim, &rings, options.caps, &mut plan, &mut corners);
     }
     plan.first_new_prim = plan.prim_kinds.len();
-    let mut out = carry::build(g, plan, "revolve")?;
+    let mut out = carry::build(g, plan, "revolve", cancel)?;
     sweep.turn_attributes(&mut out, AttribClass::Point, &rings.point_step);
     sweep.turn_attributes(&mut out, AttribClass::Vertex, &corners.step);
     if options.uv {

@@ -166,6 +166,47 @@ fn unpacking_for_a_writer_stops_promptly() {
     );
 }
 
+/// The modelling family, each on an input big enough to take seconds.
+fn modelling_nodes_stop_promptly() {
+    check(
+        "boolean",
+        r#""a": {"type": "sphere", "params": {"rows": 700, "columns": 1400}},
+           "b": {"type": "sphere", "params": {"rows": 700, "columns": 1400, "center": [0.5, 0.3, 0.2]}},
+           "n": {"type": "boolean", "params": {"operation": "union"}, "inputs": ["a", "b"]}"#,
+        &["/a", "/b"],
+    );
+    check(
+        "polyreduce",
+        r#""s": {"type": "sphere", "params": {"rows": 700, "columns": 1400}},
+           "n": {"type": "polyreduce", "params": {"percent": 1}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+    check(
+        "remesh",
+        r#""s": {"type": "sphere", "params": {"rows": 300, "columns": 600}},
+           "n": {"type": "remesh", "params": {"target_length": 0.002}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+    check(
+        "polybevel",
+        r#""s": {"type": "box", "params": {"divisions": [300, 300, 300]}},
+           "n": {"type": "polybevel", "params": {"offset": 0.001, "segments": 4, "ignore_flat": false}, "inputs": ["s"]}"#,
+        &["/s"],
+    );
+    check(
+        "polywire",
+        r#""g": {"type": "grid", "params": {"rows": 400, "columns": 400}},
+           "n": {"type": "polywire", "params": {"radius": 0.005}, "inputs": ["g"]}"#,
+        &["/g"],
+    );
+    check(
+        "polyextrude",
+        r#""g": {"type": "grid", "params": {"rows": 500, "columns": 500}},
+           "n": {"type": "polyextrude", "params": {"distance": 0.1, "connected": false, "divisions": 40}, "inputs": ["g"]}"#,
+        &["/g"],
+    );
+}
+
 #[test]
 fn every_long_running_node_type_stops_within_200_ms_of_a_cancel() {
     scatter_with_relax_stops_promptly();
@@ -178,4 +219,5 @@ fn every_long_running_node_type_stops_within_200_ms_of_a_cancel() {
     real_copies_stop_promptly();
     every_writer_stops_promptly_and_writes_nothing();
     unpacking_for_a_writer_stops_promptly();
+    modelling_nodes_stop_promptly();
 }

@@ -19,6 +19,7 @@ pub(super) fn assemble(
     corners: &[Corner],
     affected: &[bool],
     groups: (&str, &str),
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     let mut plan = Plan::default();
     // Points not bevelled keep their place in order; each corner's new
@@ -63,7 +64,7 @@ pub(super) fn assemble(
         }
     }
     let total = plan.prim_counts.len();
-    let mut out = carry::build(g, plan, "polybevel")?;
+    let mut out = carry::build(g, plan, "polybevel", cancel)?;
     let (edge_group, corner_group) = groups;
     for (name, range) in [
         (edge_group, first_strip..first_patch),

@@ -13,6 +13,7 @@ impl Splitter<'_> {
         parts: Parts,
         first_cap: usize,
         options: &ClipOptions,
+        cancel: &(dyn Fn() -> bool + Sync),
     ) -> Result<Geometry, ModelError> {
         let index = self.number_points(&parts);
         let mut plan = Plan {
@@ -52,7 +53,7 @@ impl Splitter<'_> {
             })
             .collect();
         plan.prim_sources = parts.pieces.iter().map(|p| p.source).collect();
-        let mut out = carry::build(self.g, plan, "clip")?;
+        let mut out = carry::build(self.g, plan, "clip", cancel)?;
         let sides: Vec<u8> = parts.pieces.iter().map(|p| p.side).collect();
         self.mark_groups(&mut out, &sides, first_cap, options)?;
         self.face_caps_out(&mut out, &sides, first_cap);

@@ -107,7 +107,7 @@ pub(crate) fn run(
             break;
         }
         let before = out.collapses;
-        let mut heap = first_heap(mesh);
+        let mut heap = first_heap(mesh, cancel).ok_or(ModelError::Cancelled)?;
         while let Some(e) = heap.pop() {
             if mesh.live <= limits.target {
                 break;
@@ -154,13 +154,14 @@ fn entry(mesh: &Mesh, c: &Choice, a: u32, b: u32) -> Entry {
         | u128::from(stamps(mesh, a, b))
 }
 
-/// Every live edge's best collapse, costed in parallel, as a heap.
-fn first_heap(mesh: &Mesh) -> Heap {
+/// Every live edge's best collapse, costed in parallel, as a heap; None
+/// if cancelled meanwhile.
+fn first_heap(mesh: &Mesh, cancel: &(dyn Fn() -> bool + Sync)) -> Option<Heap> {
     let entries: Vec<Entry> = (0..mesh.pos.len() as u32)
         .into_par_iter()
         .with_min_len(1024)
         .map_init(Vec::new, |nbs, a| {
-            if mesh.removed[a as usize] {
+            if mesh.removed[a as usize] || (a % 4096 == 0 && cancel()) {
                 return Vec::new();
             }
             neighbours(mesh, a, nbs);
@@ -171,7 +172,7 @@ fn first_heap(mesh: &Mesh) -> Heap {
         })
         .flatten_iter()
         .collect();
-    Heap::from_vec(entries)
+    (!cancel()).then(|| Heap::from_vec(entries))
 }
 
 /// The distinct points sharing a live triangle with `a`, sorted.

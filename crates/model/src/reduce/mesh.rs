@@ -38,6 +38,7 @@ pub(crate) struct Setup<'a> {
     pub same_vertex: Option<&'a (dyn Fn(u32, u32) -> bool + Sync)>,
     pub lock_borders: bool,
     pub lock_seams: bool,
+    pub cancel: &'a (dyn Fn() -> bool + Sync),
 }
 
 pub(crate) struct Mesh {
@@ -64,7 +65,8 @@ pub(crate) struct Mesh {
 const CONSTRAINT_WEIGHT: f64 = 10.0;
 
 impl Mesh {
-    pub fn new(s: Setup) -> Mesh {
+    /// The working mesh, or None if cancelled while it was set up.
+    pub fn new(s: Setup) -> Option<Mesh> {
         let n = s.positions.len();
         let mut tris = s.triangles;
         // Triangles repeating a point are no triangles.
@@ -89,6 +91,9 @@ impl Mesh {
         }
         let pos: Vec<DVec3> = s.positions.iter().map(|p| p.as_dvec3()).collect();
         let wedge = wedges(&tris, &head, &next, s.same_vertex);
+        if (s.cancel)() {
+            return None;
+        }
         let mut mesh = Mesh {
             pos,
             tris,
@@ -104,12 +109,15 @@ impl Mesh {
         let (quadric, kind) = (0..n)
             .into_par_iter()
             .map_init(Vec::new, |scratch, v| {
+                if v % 4096 == 0 && (s.cancel)() {
+                    return (Quadric::default(), Kind::Locked);
+                }
                 mesh.classify(v as u32, scratch, s.lock_borders, s.lock_seams)
             })
             .unzip();
         mesh.quadric = quadric;
         mesh.kind = kind;
-        mesh
+        (!(s.cancel)()).then_some(mesh)
     }
 
     /// The corners of point `v` (live and dead), in list order.
