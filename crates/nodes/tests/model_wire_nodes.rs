@@ -3,7 +3,6 @@
 //! parameters named in their errors.
 
 mod common;
-#[allow(dead_code)]
 #[path = "../../model/tests/common/mod.rs"]
 mod oracles;
 
@@ -52,12 +51,18 @@ fn polywire_closes_the_coral_skeleton_in_one_node() {
         let g = geo(&nodes, "wire");
         let skeleton = geo(&nodes, "grow");
         assert!(skeleton.num_prims() > 0 && g.num_prims() > 100);
-        assert!(closed(&g), "the coral's wire ({iterations} steps) is a closed manifold");
+        assert!(
+            closed(&g),
+            "the coral's wire ({iterations} steps) is a closed manifold"
+        );
         assert!(geode_geo::ops::signed_volume(&g) > 0.0);
         assert!(g.attrib(AttribClass::Vertex, "uv").is_some());
         assert!(g.attrib(AttribClass::Point, "pscale").is_some());
         if let Some(t) = oracles::oracle(TRIMESH, &oracles::mesh_json(&g)) {
-            assert_eq!(t["watertight"], true, "{iterations} steps: trimesh watertight");
+            assert_eq!(
+                t["watertight"], true,
+                "{iterations} steps: trimesh watertight"
+            );
             assert_eq!(t["winding"], true, "{iterations} steps: trimesh winding");
             assert!(t["volume"].as_f64().unwrap() > 0.0);
         }

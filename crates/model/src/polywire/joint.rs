@@ -135,6 +135,10 @@ pub(super) fn solve(
             .then(lb.total_cmp(&la))
             .then(a.cmp(&b))
     });
+    // The first subset whose rings keep a third of their radius, else the
+    // one that narrows them least (a pinch of the trunk is worse than a
+    // twig more left out).
+    let mut best: Option<Joint> = None;
     let mut angle: f64 = 0.05;
     loop {
         let mut kept: Vec<usize> = Vec::new();
@@ -145,6 +149,9 @@ pub(super) fn solve(
         }
         kept.sort_unstable();
         if kept.len() < 2 {
+            if let Some(j) = best {
+                return Ok(j);
+            }
             // Every tube capped, short of the joint point.
             let capped = all
                 .iter()
@@ -160,7 +167,12 @@ pub(super) fn solve(
             });
         }
         if let Some(j) = joined(&kept)? {
-            return Ok(j);
+            if j.scale >= 1.0 / 3.0 {
+                return Ok(j);
+            }
+            if best.as_ref().is_none_or(|b| j.scale > b.scale) {
+                best = Some(j);
+            }
         }
         angle *= 2.0;
     }
