@@ -219,6 +219,15 @@ fn a_brush_of_near_parallel_twigs_and_overlapping_edges_close() {
         ..PolywireOptions::default()
     };
     closed_spheres(&polywire(&g, None, &o, &never).unwrap(), "brush");
+    // Which twigs are left out does not depend on the threads.
+    let in_pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| polywire(&g, None, &o, &never).unwrap().content_hash())
+    };
+    assert_eq!(in_pool(1), in_pool(2));
     let same = lines(
         &[Vec3::ZERO, Vec3::X, Vec3::X * 2.0, Vec3::Y, Vec3::NEG_Y],
         &[&[0, 1], &[0, 2], &[0, 3], &[0, 4]],
