@@ -9,7 +9,8 @@
 //! ring on the plane bisecting the bend, shared by both. Where three or
 //! more edges meet, each tube stops at a ring some way out and the convex
 //! hull of those rings closes the joint (`joint`, which also says how far
-//! out and when rings are narrowed). Free ends are capped with their ring
+//! out and when rings are narrowed, and which nearly parallel twigs it
+//! leaves out of the hull, capped inside a kept tube). Free ends are capped with their ring
 //! as one polygon when asked. A tree or graph skeleton so gives one closed
 //! manifold: every edge of the output in exactly two faces, wound outward.
 //!
@@ -99,11 +100,15 @@ pub fn polywire(
         .map(|c| Shape::new(c, &skeleton.edges, p, &|i| radius[i as usize]))
         .collect();
     let joints = joints(&skeleton, &shapes, n, cancel)?;
-    // Per chain end: its distance and scale at a joint.
-    let mut ends = vec![[(0.0, 1.0); 2]; shapes.len()];
+    // Per chain end: its distance and scale at a joint, and whether the
+    // joint leaves it out of its hull (capped there).
+    let mut ends = vec![[(0.0, 1.0, false); 2]; shapes.len()];
     for j in &joints {
         for (e, &d) in j.ends.iter().zip(&j.distance) {
-            ends[e.chain as usize][usize::from(!e.at_start)] = (d, j.scale);
+            ends[e.chain as usize][usize::from(!e.at_start)] = (d, j.scale, false);
+        }
+        for &(e, d) in &j.capped {
+            ends[e.chain as usize][usize::from(!e.at_start)] = (d, 1.0, true);
         }
     }
     if cancel() {
@@ -113,11 +118,11 @@ pub fn polywire(
         .par_iter()
         .zip(&skeleton.chains)
         .zip(&ends)
-        .map(|((shape, chain), &[(d0, s0), (d1, s1)])| {
+        .map(|((shape, chain), &[(d0, s0, c0), (d1, s1, c1)])| {
             let free = |p: u32| skeleton.valence(p) == 1;
             let caps = [
-                options.caps && !chain.closed && free(chain.points[0]),
-                options.caps && !chain.closed && free(*chain.points.last().expect("points")),
+                c0 || options.caps && !chain.closed && free(chain.points[0]),
+                c1 || options.caps && !chain.closed && free(*chain.points.last().expect("points")),
             ];
             let rings = shape.rings(d0, shape.length() - d1, [s0, s1], n, segments);
             Piece::tube(rings, shape.closed, caps, n)
@@ -205,9 +210,8 @@ fn joints(
         skeleton.valence(a) == 1 || skeleton.valence(b) == 1
     };
     at.into_par_iter()
-        .enumerate()
-        .filter(|(_, ends)| ends.len() >= 3)
-        .map(|(p, ends)| joint::solve(p as u32, ends, shapes, &free_far_end, n, cancel))
+        .filter(|ends| ends.len() >= 3)
+        .map(|ends| joint::solve(ends, shapes, &free_far_end, n, cancel))
         .collect()
 }
 

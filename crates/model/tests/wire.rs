@@ -169,6 +169,72 @@ fn y_and_star_junctions_are_closed_spheres() {
     closed_with_euler(&wire(&lines(&pts, &star_refs), 0.08, 10, 1), 2, "star");
 }
 
+/// Closed, wound outward, watertight for trimesh, one or more spheres
+/// (left-out twigs' tubes are closed pieces of their own).
+fn closed_spheres(g: &Geometry, what: &str) {
+    let (e, closed) = euler_and_closed(g);
+    assert!(closed, "{what}: an edge is not in exactly two faces");
+    assert!(e >= 2 && e % 2 == 0, "{what}: Euler characteristic {e}");
+    assert!(volume(g) > 0.0, "{what}: faces inward");
+    if let Some(t) = oracle(TRIMESH, &mesh_json(g)) {
+        let t: Value = t;
+        assert_eq!(t["watertight"], true, "{what}: trimesh says not watertight");
+        assert_eq!(t["winding"], true, "{what}: trimesh winding");
+        assert_eq!(t["euler"].as_i64().unwrap(), e, "{what}: trimesh Euler");
+    }
+}
+
+// Space colonization can leave a point with dozens of short twigs a
+// degree or two apart (the coral at full growth): no hull of their rings
+// shows every ring, so the joint leaves the nearest twigs out and caps
+// them. Two edges along the same direction are the limit case.
+#[test]
+fn a_brush_of_near_parallel_twigs_and_overlapping_edges_close() {
+    let c = Vec3::new(0.3, 1.2, -0.4);
+    let mut pts = vec![c, c - Vec3::Y * 0.2];
+    let edges: Vec<[u32; 2]> = vec![[1, 0]];
+    let mut twigs: Vec<[u32; 3]> = Vec::new();
+    for k in 0..32 {
+        // A fan 1.6 degrees apart in three rows, each twig bending after
+        // a short first edge (rings out on the bent part).
+        let a = ((k / 3) as f32 - 5.0) * 1.6f32.to_radians();
+        let b = ((k % 3) as f32 - 1.0) * 1.6f32.to_radians();
+        let d = Vec3::new(a.sin(), a.cos() * b.cos(), b.sin()).normalize();
+        let bend = Vec3::new(
+            0.3 * ((k * 7 % 5) as f32 - 2.0),
+            1.0,
+            0.2 * ((k % 4) as f32 - 1.5),
+        );
+        let mid = c + d * 0.012;
+        pts.push(mid);
+        pts.push(mid + bend.normalize() * (0.03 + 0.003 * (k % 5) as f32));
+        let n = pts.len() as u32;
+        twigs.push([0, n - 2, n - 1]);
+    }
+    let mut refs: Vec<&[u32]> = edges.iter().map(|e| &e[..]).collect();
+    refs.extend(twigs.iter().map(|t| &t[..]));
+    let g = lines(&pts, &refs);
+    let o = PolywireOptions {
+        radius: 0.012,
+        ..PolywireOptions::default()
+    };
+    closed_spheres(&polywire(&g, None, &o, &never).unwrap(), "brush");
+    // Which twigs are left out does not depend on the threads.
+    let in_pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+            .install(|| polywire(&g, None, &o, &never).unwrap().content_hash())
+    };
+    assert_eq!(in_pool(1), in_pool(2));
+    let same = lines(
+        &[Vec3::ZERO, Vec3::X, Vec3::X * 2.0, Vec3::Y, Vec3::NEG_Y],
+        &[&[0, 1], &[0, 2], &[0, 3], &[0, 4]],
+    );
+    closed_spheres(&wire(&same, 0.1, 8, 1), "overlapping edges");
+}
+
 #[test]
 fn a_closed_loop_is_a_torus_and_a_cube_frame_has_genus_five() {
     let square = Geometry::from_prims(

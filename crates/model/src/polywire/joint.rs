@@ -11,7 +11,9 @@
 //! until the exact hull shows every ring whole. A chain too short for the
 //! distance needed keeps its ring within its own length, and when no
 //! distance works the joint's rings are narrowed (a pinch where edges are
-//! short for the radius) until one does.
+//! short for the radius) until one does. Where none does (dozens of twigs
+//! a degree or two apart), the twigs nearest in angle to a kept tube are
+//! left out of the hull and capped (see `solve`).
 
 use std::collections::HashSet;
 
@@ -40,11 +42,19 @@ pub(super) struct Joint {
     pub triangles: Vec<Triangle>,
     /// The source primitive of the first end's ring (the triangles').
     pub prim: u32,
+    /// Ends left out of the hull, capped at these distances (see solve).
+    pub capped: Vec<(End, f64)>,
 }
 
-/// The rings of a joint at `point` for `ends` (see the module doc).
+/// The rings of a joint for `ends` (see the module doc). Never fails but
+/// for cancellation: where no hull joins every ring (many nearly parallel
+/// twigs, as space colonization leaves, or overlapping edges), twigs
+/// closer in angle than a threshold to a thicker or longer kept tube are
+/// left out of the hull and capped (their tubes start inside the kept
+/// ones), the threshold doubling until the rest join; with fewer than two
+/// left every tube is capped. Each tube so stays closed: watertight by
+/// construction, in a fixed order (deterministic).
 pub(super) fn solve(
-    point: u32,
     ends: Vec<End>,
     shapes: &[Shape],
     free_far_end: &dyn Fn(u32) -> bool,
@@ -81,14 +91,110 @@ pub(super) fn solve(
             }
         })
         .unzip();
-    let failed = || ModelError::Failed {
-        op: "polywire",
-        why: format!(
-            "the {} edges meeting at point {point} could not be joined (do two of them overlap?)",
-            ends.len()
-        ),
+    let all: Vec<usize> = (0..ends.len()).collect();
+    let joined = |kept: &[usize]| -> Result<Option<Joint>, ModelError> {
+        let pick = |i: &usize| (ends[*i], avail[*i], dirs[*i], radii[*i]);
+        let sub: Vec<_> = kept.iter().map(pick).collect();
+        let found = attempt(&sub, shapes, n, cancel)?;
+        Ok(found.map(|(distance, scale, triangles, prim)| {
+            // A left-out twig's cap sits as far out as the kept tube
+            // nearest its direction has its ring (inside that tube for a
+            // twig nearly parallel to it), within its own chain.
+            let capped = (0..ends.len())
+                .filter(|i| !kept.contains(i))
+                .map(|i| {
+                    let near = (0..kept.len())
+                        .max_by(|&a, &b| {
+                            let (da, db) = (dirs[kept[a]].dot(dirs[i]), dirs[kept[b]].dot(dirs[i]));
+                            da.total_cmp(&db).then(b.cmp(&a))
+                        })
+                        .expect("two kept ends");
+                    (ends[i], distance[near].min(avail[i]))
+                })
+                .collect();
+            Joint {
+                ends: kept.iter().map(|&i| ends[i]).collect(),
+                distance,
+                scale,
+                triangles,
+                prim,
+                capped,
+            }
+        }))
     };
-    let mut distance = distances(&dirs, &radii).ok_or_else(failed)?;
+    if let Some(j) = joined(&all)? {
+        return Ok(j);
+    }
+    // Thicker, then longer tubes first.
+    let mut order = all.clone();
+    order.sort_by(|&a, &b| {
+        let la = shapes[ends[a].chain as usize].length();
+        let lb = shapes[ends[b].chain as usize].length();
+        radii[b]
+            .total_cmp(&radii[a])
+            .then(lb.total_cmp(&la))
+            .then(a.cmp(&b))
+    });
+    // The first subset whose rings keep a third of their radius, else the
+    // one that narrows them least (a pinch of the trunk is worse than a
+    // twig more left out).
+    let mut best: Option<Joint> = None;
+    let mut angle: f64 = 0.05;
+    loop {
+        let mut kept: Vec<usize> = Vec::new();
+        for &i in &order {
+            if kept.iter().all(|&k| dirs[i].angle_between(dirs[k]) > angle) {
+                kept.push(i);
+            }
+        }
+        kept.sort_unstable();
+        if kept.len() < 2 {
+            if let Some(j) = best {
+                return Ok(j);
+            }
+            // Every tube capped, short of the joint point.
+            let capped = all
+                .iter()
+                .map(|&i| (ends[i], (0.5 * radii[i]).min(avail[i])))
+                .collect();
+            return Ok(Joint {
+                ends: Vec::new(),
+                distance: Vec::new(),
+                scale: 1.0,
+                triangles: Vec::new(),
+                prim: 0,
+                capped,
+            });
+        }
+        if let Some(j) = joined(&kept)? {
+            if j.scale >= 1.0 / 3.0 {
+                return Ok(j);
+            }
+            if best.as_ref().is_none_or(|b| j.scale > b.scale) {
+                best = Some(j);
+            }
+        }
+        angle *= 2.0;
+    }
+}
+
+/// A hull joining every one of `sub`'s ends (end, available length,
+/// direction, radius): the rings' distances, scale, the bridging
+/// triangles and their primitive; None when no attempt joins them.
+#[allow(clippy::type_complexity)]
+fn attempt(
+    sub: &[(End, f64, DVec3, f64)],
+    shapes: &[Shape],
+    n: usize,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<(Vec<f64>, f64, Vec<Triangle>, u32)>, ModelError> {
+    let ends: Vec<End> = sub.iter().map(|s| s.0).collect();
+    let avail: Vec<f64> = sub.iter().map(|s| s.1).collect();
+    let dirs: Vec<DVec3> = sub.iter().map(|s| s.2).collect();
+    let radii: Vec<f64> = sub.iter().map(|s| s.3).collect();
+    let Some(mut distance) = distances(&dirs, &radii) else {
+        return Ok(None);
+    };
     // Rings beyond what a chain allows: all come in and narrow together
     // (the constraints scale with the radii).
     let fit = distance
@@ -125,16 +231,10 @@ pub(super) fn solve(
             .map(|(e, &d)| ring(&shapes[e.chain as usize], *e, d, scale, n))
             .collect();
         if let Some(triangles) = bridge(&ends, &rings, n, cancel)? {
-            return Ok(Joint {
-                prim: rings[0].prim,
-                ends,
-                distance,
-                scale,
-                triangles,
-            });
+            return Ok(Some((distance, scale, triangles, rings[0].prim)));
         }
     }
-    Err(failed())
+    Ok(None)
 }
 
 /// The centre of a ring (the mean of its points).
