@@ -115,15 +115,14 @@ pub fn remesh(
             Some(sizes)
         }
     };
-    let surface = surface::Surface::new(&m, &topo, sizes);
+    let surface = surface::Surface::new(&m, topo, sizes);
     for _ in 0..opts.iterations {
         split::split_long_edges(&mut m, cancel)?;
         collapse::collapse_short_edges(&mut m, cancel)?;
-        flip::flip_edges(&mut m, cancel)?;
+        let topo = flip::flip_edges(&mut m, cancel)?;
         if cancel() {
             return Err(ModelError::Cancelled);
         }
-        let topo = Topo::build(&m);
         relax::relax(&mut m, &topo);
         relax::project(&mut m, &topo, &surface);
     }
