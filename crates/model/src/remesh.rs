@@ -41,6 +41,9 @@ mod surface;
 
 use mesh::{Mesh, Proj, Topo, NONE};
 
+/// Relaxation and projection rounds per iteration.
+const RELAX_ROUNDS: usize = 3;
+
 /// How long the edges should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Sizing {
@@ -123,8 +126,13 @@ pub fn remesh(
         if cancel() {
             return Err(ModelError::Cancelled);
         }
-        relax::relax(&mut m, &topo);
-        relax::project(&mut m, &topo, &surface);
+        // Three rounds of relaxation per iteration: one left the spread
+        // of edge lengths 1.1 to 1.4 times pymeshlab's, three bring it
+        // below (sphere, torus, car).
+        for _ in 0..RELAX_ROUNDS {
+            relax::relax(&mut m, &topo);
+            relax::project(&mut m, &topo, &surface);
+        }
     }
     if cancel() {
         return Err(ModelError::Cancelled);
