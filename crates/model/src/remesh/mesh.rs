@@ -165,10 +165,31 @@ impl Topo {
             feature: Vec::new(),
             border: Vec::new(),
         };
-        topo.opp = (0..3 * m.faces.len() as u32)
-            .into_par_iter()
-            .map(|h| topo.half_edge(m, m.to(h), m.from(h)))
-            .collect();
+        // Per face, its three opposites at once: one scan of each
+        // corner's faces, each face's corner found by position.
+        let mut opp = vec![NONE; 3 * m.faces.len()];
+        opp.par_chunks_mut(3)
+            .zip(m.faces.par_iter())
+            .for_each(|(out, t)| {
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    for &f in topo.faces_of(b) {
+                        let u = m.faces[f as usize];
+                        let j = if u[0] == b {
+                            0
+                        } else if u[1] == b {
+                            1
+                        } else {
+                            2
+                        };
+                        if u[(j + 1) % 3] == a {
+                            out[k] = 3 * f + j as u32;
+                            break;
+                        }
+                    }
+                }
+            });
+        topo.opp = opp;
         let mut border = vec![false; n];
         let mut feature = vec![0u8; n];
         for h in 0..topo.opp.len() as u32 {
