@@ -1,9 +1,11 @@
 //! Isotropic remeshing (Botsch and Kobbelt 2004, "A remeshing approach to
 //! multiresolution modeling"): every iteration splits edges longer than
-//! 4/3 of the target length, collapses those shorter than 4/5, flips
+//! 4/3 of the target length, collapses those shorter than 4/5 (both aimed
+//! 4% long, `mesh::AIM`, so the mean lands on the target), flips
 //! edges to bring valences toward 6 (4 on borders), moves each vertex to
-//! its neighbours' centroid in its tangent plane, and projects it back
-//! onto the original surface (closest point), so the result converges to
+//! its neighbours' centroid in its tangent plane and projects it back
+//! onto the original surface (closest point, walked to from where it was
+//! last), three rounds of these, so the result converges to
 //! near-equilateral triangles of the target size on the input's shape.
 //!
 //! The target length is one number (absolute or a fraction of the bounding
