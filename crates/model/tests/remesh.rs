@@ -136,23 +136,23 @@ fn beside_pymeshlab(name: &str, g: &Geometry, length: f32, bounds: Bounds) {
         "{name}: hausdorff {r}"
     );
     assert!(
-        (f(o, "mean") - length as f64).abs() < 0.1 * length as f64,
+        (f(o, "mean") - length as f64).abs() < 0.05 * length as f64,
         "{name}: mean {r}"
     );
     assert_eq!(o["watertight"], t["watertight"], "{name}: {r}");
     assert_eq!(o["euler"], t["euler"], "{name}: {r}");
 }
 
-// Measured (sphere, torus): our minimum angle is 34° against pymeshlab's
-// 27° and 29°, our Hausdorff distance within 5% of theirs, but our spread
-// of edge lengths is 1.1 and 1.4 times theirs and our mean edge 5% and 9%
-// short of the target (theirs 2% to 4% long): short of the issue's "at
-// least as good on spread", which these bounds record rather than hide.
+// Measured (sphere, torus, car): our minimum angle is 34° and 33°
+// against pymeshlab's 27° and 29°; our spread of edge lengths 0.124,
+// 0.104, 0.187 against their 0.132, 0.105, 0.187; our mean edge +1%,
+// -3%, -4% of the target (theirs +4%, +2%, 0%); our Hausdorff distance
+// 1.1, 0.9 and 1.9 times theirs.
 
 #[test]
 fn a_sphere_beside_pymeshlab() {
     let bounds = Bounds {
-        spread: 1.2,
+        spread: 1.0,
         hausdorff: 1.2,
         min_angle: true,
     };
@@ -162,8 +162,8 @@ fn a_sphere_beside_pymeshlab() {
 #[test]
 fn a_torus_beside_pymeshlab() {
     let bounds = Bounds {
-        spread: 1.5,
-        hausdorff: 1.2,
+        spread: 1.0,
+        hausdorff: 1.0,
         min_angle: true,
     };
     beside_pymeshlab("torus", &primitives::torus(1.0, 0.35, 64, 24), 0.04, bounds);
@@ -172,7 +172,7 @@ fn a_torus_beside_pymeshlab() {
 /// The car cage: open, creased, with near-degenerate quads. Ours keeps a
 /// zero-area triangle where two feature-line points and a corner end up on
 /// one straight crease (pymeshlab's worst is 3°), and its Hausdorff
-/// distance is twice pymeshlab's: known weaknesses, recorded here.
+/// distance is 1.9 times pymeshlab's: known weaknesses, recorded here.
 #[test]
 fn the_opensubdiv_car_beside_pymeshlab() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/catmark_car.obj");
@@ -181,7 +181,7 @@ fn the_opensubdiv_car_beside_pymeshlab() {
     let diag = geode_geo::ops::bounds(&car).unwrap().size().length();
     let bounds = Bounds {
         spread: 1.0,
-        hausdorff: 2.5,
+        hausdorff: 2.0,
         min_angle: false,
     };
     beside_pymeshlab("car", &car, 0.01 * diag, bounds);

@@ -30,6 +30,14 @@ pub(super) fn collapse_short_edges(
         if cancel() {
             return Err(ModelError::Cancelled);
         }
+        // Most passes at convergence find nothing: no adjacency then.
+        let any = (0..3 * m.faces.len() as u32).into_par_iter().any(|h| {
+            let (a, b) = (m.from(h), m.to(h));
+            (m.pos[a as usize] - m.pos[b as usize]).length() < 0.8 * m.edge_size(a, b)
+        });
+        if !any {
+            return Ok(());
+        }
         let topo = Topo::build(m);
         let mesh = &*m;
         let mut short: Vec<(f32, u32)> = (0..3 * mesh.faces.len() as u32)
@@ -59,14 +67,20 @@ pub(super) fn collapse_short_edges(
             if dirty[a as usize] || dirty[b as usize] {
                 continue;
             }
-            let ab = allowed(m, &topo, h, b, a, &mut scratch);
-            let ba = allowed(m, &topo, h, a, b, &mut scratch);
-            // Both ways: the vertex of lower valence goes.
-            let (gone, kept) = match (ab, ba) {
-                (true, true) if topo.valence[a as usize] < topo.valence[b as usize] => (a, b),
-                (true, _) => (b, a),
-                (false, true) => (a, b),
-                (false, false) => continue,
+            // Both ways allowed, the vertex of lower valence goes: tried
+            // first, the other way only when it may not (a pole's
+            // thousand-face ring is rarely gathered).
+            let (first, second) = if topo.valence[a as usize] < topo.valence[b as usize] {
+                ((a, b), (b, a))
+            } else {
+                ((b, a), (a, b))
+            };
+            let (gone, kept) = if allowed(m, &topo, h, first.0, first.1, &mut scratch) {
+                first
+            } else if allowed(m, &topo, h, second.0, second.1, &mut scratch) {
+                second
+            } else {
+                continue;
             };
             apply(m, &topo, gone, kept, &mut dead, &mut dirty);
             done += 1;
@@ -85,7 +99,6 @@ pub(super) fn collapse_short_edges(
 /// has a thousand neighbours).
 #[derive(Default)]
 struct Scratch {
-    gone: Vec<u32>,
     stamp: Vec<u32>,
     epoch: u32,
 }
@@ -102,49 +115,27 @@ fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch)
         2 if on_feature && topo.feature[kept as usize] > 0 => {}
         _ => return false,
     }
-    // Link condition: the common neighbours are the edge's opposite corners.
     let o = topo.opp[h as usize];
     let c = m.from(prev(h));
     let d = if o == NONE { NONE } else { m.from(prev(o)) };
-    s.epoch += 2;
-    let (ring, seen) = (s.epoch, s.epoch + 1);
-    s.gone.clear();
-    for &f in topo.faces_of(gone) {
-        for &x in &m.faces[f as usize] {
-            if x != gone && s.stamp[x as usize] != ring {
-                s.stamp[x as usize] = ring;
-                s.gone.push(x);
-            }
-        }
-    }
-    // c and d are always common; any other is a pinch.
-    let mut common = 0;
-    for &f in topo.faces_of(kept) {
-        for &x in &m.faces[f as usize] {
-            if x != kept && s.stamp[x as usize] == ring {
-                s.stamp[x as usize] = seen;
-                common += 1;
-            }
-        }
-    }
-    s.epoch += 1;
-    if common != if d == NONE { 1 } else { 2 } {
-        return false;
-    }
     // A corner of three edges would be left with two (a fold).
     let thin = |v: u32| v != NONE && !topo.border[v as usize] && topo.valence[v as usize] <= 3;
     if thin(c) || thin(d) {
         return false;
     }
+    // No edge of the result too long, no face around `gone` turned over:
+    // checked before the link condition, as they fail early and cheaply.
     let pk = m.pos[kept as usize];
-    for &x in &s.gone {
-        if x != kept && (m.pos[x as usize] - pk).length() > 4.0 / 3.0 * m.edge_size(kept, x) {
-            return false;
-        }
-    }
-    // No face around `gone` turns over.
     for &f in topo.faces_of(gone) {
         let t = m.faces[f as usize];
+        for &x in &t {
+            if x != gone
+                && x != kept
+                && (m.pos[x as usize] - pk).length() > 4.0 / 3.0 * m.edge_size(kept, x)
+            {
+                return false;
+            }
+        }
         if t.contains(&kept) {
             continue;
         }
@@ -156,7 +147,28 @@ fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch)
             return false;
         }
     }
-    true
+    // Link condition: the common neighbours are the edge's opposite
+    // corners (c and d are always common; any other is a pinch). Each of
+    // `gone`'s neighbours is tested from the smaller of its ring and
+    // `kept`'s, so a pole's ring is not walked per neighbour.
+    s.epoch += 1;
+    let ring = s.epoch;
+    let mut common = 0;
+    for &f in topo.faces_of(gone) {
+        for &x in &m.faces[f as usize] {
+            if x == gone || x == kept || s.stamp[x as usize] == ring {
+                continue;
+            }
+            s.stamp[x as usize] = ring;
+            let joined = if topo.faces_of(x).len() <= topo.faces_of(kept).len() {
+                topo.adjacent(m, x, kept)
+            } else {
+                topo.adjacent(m, kept, x)
+            };
+            common += joined as u32;
+        }
+    }
+    common == if d == NONE { 1 } else { 2 }
 }
 
 /// Merges `gone` into `kept`: the two faces of their edge die (their

@@ -6,7 +6,11 @@
 //!
 //! One sweep in half-edge order over the adjacency built at its start; a
 //! flip marks its four vertices so every later candidate reads true
-//! adjacency. Sweeps repeat (at most eight) until none flips.
+//! adjacency. Sweeps repeat (at most eight) until none flips; the last
+//! adjacency, true of the mesh when nothing flipped, goes on to the
+//! relaxation.
+
+use rayon::prelude::*;
 
 use super::mesh::{next, prev, Mesh, Topo, NONE};
 use crate::ModelError;
@@ -16,29 +20,39 @@ const PASSES: usize = 8;
 pub(super) fn flip_edges(
     m: &mut Mesh,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<(), ModelError> {
+) -> Result<Topo, ModelError> {
     for _ in 0..PASSES {
         let topo = Topo::build(m);
+        // Whether an edge should flip reads only its two faces, which a
+        // flip earlier in the sweep rewrites only with vertices it marks:
+        // so the tests run in parallel beforehand and the sweep skips the
+        // marked.
+        let mesh = &*m;
+        let candidates: Vec<u32> = (0..3 * mesh.faces.len() as u32)
+            .into_par_iter()
+            .filter(|&h| {
+                let o = topo.opp[h as usize];
+                if o == NONE || o < h || mesh.is_feature(h) || mesh.is_feature(o) {
+                    return false;
+                }
+                let (a, b) = (mesh.from(h), mesh.to(h));
+                let (c, d) = (mesh.from(prev(h)), mesh.from(prev(o)));
+                c != d
+                    && (better(&topo, a, b, c, d) || opens_a_cap(mesh, &topo, a, b, c, d))
+                    && !topo.adjacent(mesh, c, d)
+                    && !folds(mesh, a, b, c, d)
+            })
+            .collect();
         let mut dirty = vec![false; m.pos.len()];
         let mut done = 0usize;
-        for h in 0..3 * m.faces.len() as u32 {
-            if h % 8192 == 0 && cancel() {
+        for (i, &h) in candidates.iter().enumerate() {
+            if i % 8192 == 0 && cancel() {
                 return Err(ModelError::Cancelled);
             }
             let o = topo.opp[h as usize];
-            if o == NONE || o < h || m.is_feature(h) || m.is_feature(o) {
-                continue;
-            }
             let (a, b) = (m.from(h), m.to(h));
             let (c, d) = (m.from(prev(h)), m.from(prev(o)));
             if [a, b, c, d].iter().any(|&v| dirty[v as usize]) {
-                continue;
-            }
-            if c == d
-                || !(better(&topo, a, b, c, d) || opens_a_cap(m, &topo, a, b, c, d))
-                || topo.adjacent(m, c, d)
-                || folds(m, a, b, c, d)
-            {
                 continue;
             }
             let (f, g) = ((h / 3) as usize, (o / 3) as usize);
@@ -57,10 +71,10 @@ pub(super) fn flip_edges(
             done += 1;
         }
         if done == 0 {
-            break;
+            return Ok(topo);
         }
     }
-    Ok(())
+    Ok(Topo::build(m))
 }
 
 /// Whether flipping edge a b (opposite corners c, d) lowers the squared
@@ -92,14 +106,14 @@ fn opens_a_cap(m: &Mesh, topo: &Topo, a: u32, b: u32, c: u32, d: u32) -> bool {
         return false;
     }
     let p = |v: u32| m.pos[v as usize];
-    let cos = |x: u32, y: u32, z: u32| {
-        (p(y) - p(x))
-            .normalize_or_zero()
-            .dot((p(z) - p(x)).normalize_or_zero())
+    // Wider than 150° (cos² > 3/4 with a negative cos), without roots:
+    // anything narrower is left to the valence rule.
+    let wide = |x: u32, y: u32, z: u32| {
+        let (u, v) = (p(y) - p(x), p(z) - p(x));
+        let dot = u.dot(v);
+        dot < 0.0 && dot * dot > 0.75 * u.length_squared() * v.length_squared()
     };
-    // cos 150°: anything narrower is left to the valence rule.
-    let wide = -0.866;
-    if cos(c, a, b) > wide && cos(d, a, b) > wide {
+    if !wide(c, a, b) && !wide(d, a, b) {
         return false;
     }
     let angle = |x: u32, y: u32, z: u32| (p(y) - p(x)).angle_between(p(z) - p(x));

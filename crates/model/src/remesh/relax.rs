@@ -73,7 +73,7 @@ pub(super) fn project(m: &mut Mesh, topo: &Topo, s: &Surface) {
             let (p, proj) = (mesh.pos[v], mesh.proj[v]);
             match topo.feature[v] {
                 _ if mesh.fixed[v] => (p, proj),
-                0 => s.onto_surface(p, proj),
+                0 => s.onto_surface(p, proj, mesh.size[v]),
                 2 => s.onto_features(p, mesh.size[v]),
                 _ => (p, proj),
             }

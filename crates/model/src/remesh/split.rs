@@ -23,7 +23,6 @@ pub(super) fn split_long_edges(
         if cancel() {
             return Err(ModelError::Cancelled);
         }
-        let topo = Topo::build(m);
         let mesh = &*m;
         let long: Vec<bool> = (0..3 * mesh.faces.len() as u32)
             .into_par_iter()
@@ -36,6 +35,7 @@ pub(super) fn split_long_edges(
         if !long.iter().any(|&l| l) {
             return Ok(());
         }
+        let topo = Topo::build(m);
         let mids = midpoints(m, &topo, &long);
         cut_faces(m, &mids);
     }
