@@ -18,7 +18,7 @@
 //! and `seam` (the points where faces of A meet faces of B: geode has no
 //! edge groups, so the seam's edges are those between two seam points).
 
-use std::sync::{mpsc, Arc};
+use std::sync::mpsc;
 use std::time::Duration;
 
 use geode_geo::glam::{DVec3, Vec3};
@@ -82,62 +82,96 @@ pub fn boolean(
         }
     };
     check()?;
-    let (ma, mb) = rayon::join(|| sources.solid(Side::A), || sources.solid(Side::B));
-    let (ma, mb) = (Arc::new(ma?), Arc::new(mb?));
+    let (ia, ib) = (sources.solid_input(Side::A), sources.solid_input(Side::B));
     check()?;
-    let run = |op: Op| apart(Arc::clone(&ma), Arc::clone(&mb), op, cancel);
+    let ops = match op {
+        BooleanOp::Union => vec![Op::Union],
+        BooleanOp::Intersect => vec![Op::Intersect],
+        BooleanOp::Subtract => vec![Op::Subtract],
+        BooleanOp::Shatter => vec![Op::Subtract, Op::Intersect],
+    };
+    let meshes = apart(ia, ib, ops, cancel).map_err(|e| match e {
+        Apart::NotClosed(side, why) => ModelError::NotClosed {
+            input: if side == Side::A { "A" } else { "B" },
+            why: format!("{why} ({})", boundary_report(&sources.both, side, &sources)),
+        },
+        Apart::Model(e) => e,
+    })?;
     match op {
-        BooleanOp::Union => sources.output(&run(Op::Union)?, op, None),
-        BooleanOp::Intersect => sources.output(&run(Op::Intersect)?, op, None),
-        BooleanOp::Subtract => sources.output(&run(Op::Subtract)?, op, None),
         BooleanOp::Shatter => {
-            let outside = sources.output(&run(Op::Subtract)?, BooleanOp::Subtract, Some(0))?;
+            let outside = sources.output(&meshes[0], BooleanOp::Subtract, Some(0))?;
             check()?;
-            let inside = sources.output(&run(Op::Intersect)?, BooleanOp::Intersect, Some(1))?;
+            let inside = sources.output(&meshes[1], BooleanOp::Intersect, Some(1))?;
             ops::merge(&[&outside, &inside]).map_err(|e| ModelError::Failed {
                 op: "shatter",
                 why: e.to_string(),
             })
         }
+        _ => sources.output(&meshes[0], op, None),
     }
 }
 
-/// manifold's boolean, and its mesh, on a thread of their own, so that a
-/// cancelled cook returns at once (the thread finishes unobserved and its
-/// result is dropped) and a fault in it is this boolean's error.
+/// One side's solid as arrays (owned, to cross to the boolean's thread).
+struct SolidInput {
+    positions: Vec<[f32; 3]>,
+    triangles: Vec<[u32; 3]>,
+    faces: Vec<u32>,
+}
+
+/// Why the boolean's thread stopped short.
+enum Apart {
+    /// A side manifold refused as a solid.
+    NotClosed(Side, geode_manifold::ManifoldError),
+    Model(ModelError),
+}
+
+/// manifold's work (both solids built at once, then each boolean of
+/// `ops` and its mesh) on a thread of its own, so that a cancelled cook
+/// returns at once (manifold cannot be interrupted: the thread finishes
+/// unobserved and its result is dropped) and a fault in it is this
+/// boolean's error.
 fn apart(
-    a: Arc<Solid>,
-    b: Arc<Solid>,
-    op: Op,
+    a: SolidInput,
+    b: SolidInput,
+    ops: Vec<Op>,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Mesh, ModelError> {
+) -> Result<Vec<Mesh>, Apart> {
     const POLL: Duration = Duration::from_millis(10);
+    let failed = |why: String| Apart::Model(ModelError::Failed { op: "boolean", why });
     let (tx, rx) = mpsc::channel();
+    let work = move || -> Result<Vec<Mesh>, Apart> {
+        let build = |i: &SolidInput| Solid::new(&i.positions, &i.triangles, &i.faces);
+        let (sa, sb) = rayon::join(|| build(&a), || build(&b));
+        let sa = sa.map_err(|e| Apart::NotClosed(Side::A, e))?;
+        let sb = sb.map_err(|e| Apart::NotClosed(Side::B, e))?;
+        ops.iter()
+            .map(|&op| {
+                geode_manifold::boolean(&sa, &sb, op)
+                    .and_then(|r| r.mesh())
+                    .map_err(|e| {
+                        Apart::Model(ModelError::Failed {
+                            op: "boolean",
+                            why: e.to_string(),
+                        })
+                    })
+            })
+            .collect()
+    };
     std::thread::Builder::new()
         .name("boolean".into())
         .spawn(move || {
-            let _ = tx.send(geode_manifold::boolean(&a, &b, op).and_then(|r| r.mesh()));
+            let _ = tx.send(work());
         })
-        .map_err(|e| ModelError::Failed {
-            op: "boolean",
-            why: format!("no thread for it: {e}"),
-        })?;
+        .map_err(|e| failed(format!("no thread for it: {e}")))?;
     loop {
         match rx.recv_timeout(POLL) {
-            Ok(Ok(mesh)) => return Ok(mesh),
-            Ok(Err(why)) => {
-                return Err(ModelError::Failed {
-                    op: "boolean",
-                    why: why.to_string(),
-                })
+            Ok(result) => return result,
+            Err(mpsc::RecvTimeoutError::Timeout) if cancel() => {
+                return Err(Apart::Model(ModelError::Cancelled))
             }
-            Err(mpsc::RecvTimeoutError::Timeout) if cancel() => return Err(ModelError::Cancelled),
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => {
-                return Err(ModelError::Failed {
-                    op: "boolean",
-                    why: "it stopped on these inputs".into(),
-                })
+                return Err(failed("it stopped on these inputs".into()))
             }
         }
     }
@@ -200,15 +234,14 @@ impl Sources {
         }
     }
 
-    /// One side as a manifold solid, each triangle's face number its
+    /// One side's solid as arrays, each triangle's face number its
     /// number in the merge.
-    fn solid(&self, side: Side) -> Result<Solid, ModelError> {
-        let (prims, points, name) = match side {
-            Side::A => (0..self.a_triangles, 0..self.a_points, "A"),
+    fn solid_input(&self, side: Side) -> SolidInput {
+        let (prims, points) = match side {
+            Side::A => (0..self.a_triangles, 0..self.a_points),
             Side::B => (
                 self.a_triangles..self.both.num_prims(),
                 self.a_points..self.both.num_points(),
-                "B",
             ),
         };
         let base = points.start as u32;
@@ -224,10 +257,11 @@ impl Sources {
             })
             .collect();
         let faces: Vec<u32> = prims.map(|t| t as u32).collect();
-        Solid::new(&positions, &triangles, &faces).map_err(|why| ModelError::NotClosed {
-            input: name,
-            why: format!("{why} ({})", boundary_report(&self.both, side, self)),
-        })
+        SolidInput {
+            positions,
+            triangles,
+            faces,
+        }
     }
 
     /// The geometry of manifold's result `r`: triangles, attributes from

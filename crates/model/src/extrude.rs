@@ -275,11 +275,17 @@ impl<'a> Faces<'a> {
         let placed: Vec<Vec3> = (0..self.slots.len() * rings)
             .into_par_iter()
             .map(|k| {
+                if k % POLL_EVERY == 0 && cancel() {
+                    return Vec3::ZERO;
+                }
                 let (s, r) = (k / rings, k % rings + 1);
                 self.place(s, dir[s], inset[s], r as f32 / rings as f32)
             })
             .collect();
         for (k, at) in placed.into_iter().enumerate() {
+            if k % POLL_EVERY == 0 && cancel() {
+                return Err(ModelError::Cancelled);
+            }
             out.point(self.slots[k / rings].0, at);
         }
         let ring = |c: usize, r: usize, q: u32| {
@@ -289,8 +295,11 @@ impl<'a> Faces<'a> {
                 base + (self.slot_of[c] as usize * rings + r - 1) as u32
             }
         };
+        // Poll about as often in new primitives however many rings a face
+        // makes.
+        let faces_per_poll = (POLL_EVERY / (4 * (rings + 1))).max(1);
         for (i, &f) in self.faces.iter().enumerate() {
-            if i % 4096 == 0 && cancel() {
+            if i % faces_per_poll == 0 && cancel() {
                 return Err(ModelError::Cancelled);
             }
             let f = f as usize;
@@ -373,6 +382,9 @@ fn twin_corners(g: &Geometry, faces: &[u32], first: &[u32]) -> Vec<u32> {
 }
 
 const NONE: u32 = u32::MAX;
+
+/// Points or primitives made between two polls of the cancel.
+const POLL_EVERY: usize = 1 << 16;
 
 /// Faces joined through twin corners, numbered in order of their first
 /// face.
