@@ -110,7 +110,15 @@ pub fn bevel(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<(Geometry, Report), ModelError> {
     check(how)?;
+    let stop = || {
+        if cancel() {
+            Err(ModelError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
     let he = HalfEdges::new(g)?;
+    stop()?;
     let normals: Vec<Vec3> = (0..g.num_prims())
         .into_par_iter()
         .map(|k| ops::polygon_normal(g.positions(), g.prim_points(k)).normalize_or_zero())
@@ -122,6 +130,7 @@ pub fn bevel(
     } else {
         select_edges(g, &he, &normals, &in_group, how.flat_angle)
     };
+    stop()?;
     let mut affected = vec![false; g.num_points()];
     for h in 0..g.num_vertices() {
         let p = g.vertex_points()[h] as usize;
@@ -153,13 +162,12 @@ pub fn bevel(
     } else {
         how.offset
     };
+    stop()?;
     let e = patch::exponent(how.profile);
     let corners = in_chunks(&layouts, cancel, |l| {
         Ok(l.build(&mesh, offset, how.segments, e))
     })?;
-    if cancel() {
-        return Err(ModelError::Cancelled);
-    }
+    stop()?;
     let out = assemble::assemble(
         g,
         &he,
@@ -260,24 +268,25 @@ fn limit(layouts: &[Layout]) -> f32 {
     best
 }
 
-/// `f` over `items` in parallel, in order, cancellable every 4096 items.
+/// `f` over `items` in parallel, in order, cancellable every 512 items
+/// (the first error ends the collect).
 fn in_chunks<T: Sync, R: Send>(
     items: &[T],
     cancel: &(dyn Fn() -> bool + Sync),
     f: impl Fn(&T) -> Result<R, ModelError> + Sync,
 ) -> Result<Vec<R>, ModelError> {
-    let parts: Vec<Result<Vec<R>, ModelError>> = items
-        .par_chunks(4096)
+    let parts: Vec<Vec<R>> = items
+        .par_chunks(512)
         .map(|chunk| {
             if cancel() {
                 return Err(ModelError::Cancelled);
             }
             chunk.iter().map(&f).collect()
         })
-        .collect();
+        .collect::<Result<_, _>>()?;
     let mut out = Vec::with_capacity(items.len());
     for part in parts {
-        out.extend(part?);
+        out.extend(part);
     }
     Ok(out)
 }

@@ -272,16 +272,19 @@ impl<'a> Faces<'a> {
         let (dir, inset) = self.directions_and_insets();
         // Ring r (1..=rings) of slot s is point base + s * rings + r - 1.
         let base = out.num_points() as u32;
+        // Every item asks (an atomic load), and the first None ends the
+        // collect: a cancel stops the whole parallel map at once.
         let placed: Vec<Vec3> = (0..self.slots.len() * rings)
             .into_par_iter()
             .map(|k| {
-                if k % POLL_EVERY == 0 && cancel() {
-                    return Vec3::ZERO;
+                if cancel() {
+                    return None;
                 }
                 let (s, r) = (k / rings, k % rings + 1);
-                self.place(s, dir[s], inset[s], r as f32 / rings as f32)
+                Some(self.place(s, dir[s], inset[s], r as f32 / rings as f32))
             })
-            .collect();
+            .collect::<Option<_>>()
+            .ok_or(ModelError::Cancelled)?;
         for (k, at) in placed.into_iter().enumerate() {
             if k % POLL_EVERY == 0 && cancel() {
                 return Err(ModelError::Cancelled);

@@ -49,10 +49,20 @@ pub(super) fn assemble(
             profile_of[h as usize] = (c as u32, k as u32);
         }
     }
+    let stop = || {
+        if cancel() {
+            Err(ModelError::Cancelled)
+        } else {
+            Ok(())
+        }
+    };
+    stop()?;
     faces(g, he, corners, &base, &slot, &map, &mut plan);
+    stop()?;
     plan.first_new_prim = plan.prim_counts.len();
     let first_strip = plan.prim_counts.len();
     strips(g, he, bevelled, corners, &base, &profile_of, &mut plan);
+    stop()?;
     let first_patch = plan.prim_counts.len();
     for (c, corner) in corners.iter().enumerate() {
         for (src, poly) in &corner.patches {

@@ -109,7 +109,9 @@ impl Mesh {
         let (quadric, kind) = (0..n)
             .into_par_iter()
             .map_init(Vec::new, |scratch, v| {
-                if v % 4096 == 0 && (s.cancel)() {
+                // Every point asks: in a parallel map only the items that
+                // ask are skipped once it says stop.
+                if (s.cancel)() {
                     return (Quadric::default(), Kind::Locked);
                 }
                 mesh.classify(v as u32, scratch, s.lock_borders, s.lock_seams)
