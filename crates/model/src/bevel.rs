@@ -110,13 +110,7 @@ pub fn bevel(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<(Geometry, Report), ModelError> {
     check(how)?;
-    let stop = || {
-        if cancel() {
-            Err(ModelError::Cancelled)
-        } else {
-            Ok(())
-        }
-    };
+    let stop = || ModelError::unless_cancelled(cancel);
     let he = HalfEdges::new(g)?;
     stop()?;
     let normals: Vec<Vec3> = (0..g.num_prims())

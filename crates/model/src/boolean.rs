@@ -74,13 +74,7 @@ pub fn boolean(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     let sources = Sources::new(a, b, cancel)?;
-    let check = || {
-        if cancel() {
-            Err(ModelError::Cancelled)
-        } else {
-            Ok(())
-        }
-    };
+    let check = || ModelError::unless_cancelled(cancel);
     check()?;
     let (ia, ib) = (sources.solid_input(Side::A), sources.solid_input(Side::B));
     check()?;

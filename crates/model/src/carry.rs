@@ -70,13 +70,7 @@ pub(crate) fn build(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     let failed = |why: String| ModelError::Failed { op, why };
-    let check = || {
-        if cancel() {
-            Err(ModelError::Cancelled)
-        } else {
-            Ok(())
-        }
-    };
+    let check = || ModelError::unless_cancelled(cancel);
     check()?;
     let mut out = Geometry::from_prims(
         plan.positions,

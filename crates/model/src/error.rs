@@ -16,3 +16,14 @@ pub enum ModelError {
     #[error("cancelled")]
     Cancelled,
 }
+
+impl ModelError {
+    /// `Err(Cancelled)` once `cancel` says stop: the poll between phases.
+    pub(crate) fn unless_cancelled(cancel: &(dyn Fn() -> bool + Sync)) -> Result<(), ModelError> {
+        if cancel() {
+            Err(ModelError::Cancelled)
+        } else {
+            Ok(())
+        }
+    }
+}

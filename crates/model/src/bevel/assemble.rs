@@ -49,13 +49,7 @@ pub(super) fn assemble(
             profile_of[h as usize] = (c as u32, k as u32);
         }
     }
-    let stop = || {
-        if cancel() {
-            Err(ModelError::Cancelled)
-        } else {
-            Ok(())
-        }
-    };
+    let stop = || ModelError::unless_cancelled(cancel);
     stop()?;
     faces(g, he, corners, &base, &slot, &map, &mut plan);
     stop()?;
