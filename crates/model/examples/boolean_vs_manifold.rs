@@ -8,8 +8,10 @@
 use std::time::Instant;
 
 use geode_geo::glam::{Mat4, Vec3};
-use geode_geo::{ops, primitives, Geometry};
+use geode_geo::{ops, primitives};
 use geode_model::boolean::{boolean, BooleanOp};
+
+mod common;
 
 const SCRIPT: &str = r#"
 import sys, time, numpy as np, manifold3d as m3
@@ -28,28 +30,6 @@ for name, op in [("union", lambda x, y: x + y), ("subtract", lambda x, y: x - y)
         whole = dt if whole is None else min(whole, dt)
     print(f"manifold3d {name}: {best * 1000:.0f} ms on built solids, {whole * 1000:.0f} ms from the meshes ({n} triangles, volume {r.volume():.6f})")
 "#;
-
-/// Writes `g`'s positions and fanned triangles as raw little-endian
-/// arrays `stem.v` (f32 x 3) and `stem.f` (u32 x 3).
-fn write_raw(g: &Geometry, stem: &std::path::Path) {
-    let v: Vec<u8> = g
-        .positions()
-        .iter()
-        .flat_map(|p| p.to_array())
-        .flat_map(f32::to_le_bytes)
-        .collect();
-    let mut f = Vec::new();
-    for k in 0..g.num_prims() {
-        let q = g.prim_points(k);
-        for j in 1..q.len() - 1 {
-            for p in [q[0], q[j], q[j + 1]] {
-                f.extend_from_slice(&p.to_le_bytes());
-            }
-        }
-    }
-    std::fs::write(stem.with_extension("v"), v).unwrap();
-    std::fs::write(stem.with_extension("f"), f).unwrap();
-}
 
 fn main() {
     let rows = (500_000f32 / 4.0).sqrt() as u32;
@@ -71,23 +51,5 @@ fn main() {
         }
         println!("geode {name}: {:.0} ms ({tris} triangles)", best * 1000.0);
     }
-    let dir = std::env::temp_dir().join(format!("geode-boolean-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    write_raw(&a, &dir.join("a"));
-    write_raw(&b, &dir.join("b"));
-    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| {
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../../tools/.venv/bin/python").to_string()
-    });
-    let status = std::process::Command::new(python)
-        .args(["-c", SCRIPT])
-        .arg(dir.join("a").with_extension(""))
-        .arg(dir.join("b").with_extension(""))
-        .status();
-    let _ = std::fs::remove_dir_all(&dir);
-    match status {
-        Ok(s) if s.success() => {}
-        other => {
-            eprintln!("manifold3d did not run ({other:?}): install it with bash tools/test.sh")
-        }
-    }
+    common::run_reference("manifold3d", SCRIPT, &[&a, &b], &[]);
 }

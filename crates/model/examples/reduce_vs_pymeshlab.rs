@@ -11,6 +11,8 @@ use std::time::Instant;
 use geode_geo::{ops, primitives, Geometry};
 use geode_model::reduce::{reduce, Reduce, Target};
 
+mod common;
+
 const SCRIPT: &str = r#"
 import sys, time, numpy as np, pymeshlab
 v = np.fromfile(sys.argv[1] + ".v", dtype="<f4").reshape(-1, 3).astype(np.float64)
@@ -40,24 +42,6 @@ fn ridged_sphere(triangles: u32) -> Geometry {
     g
 }
 
-/// Writes `g`'s positions and triangles as raw little-endian arrays
-/// `stem.v` (f32 x 3) and `stem.f` (u32 x 3).
-fn write_raw(g: &Geometry, stem: &std::path::Path) {
-    let v: Vec<u8> = g
-        .positions()
-        .iter()
-        .flat_map(|p| p.to_array())
-        .flat_map(f32::to_le_bytes)
-        .collect();
-    let f: Vec<u8> = g
-        .vertex_points()
-        .iter()
-        .flat_map(|p| p.to_le_bytes())
-        .collect();
-    std::fs::write(stem.with_extension("v"), v).unwrap();
-    std::fs::write(stem.with_extension("f"), f).unwrap();
-}
-
 fn main() {
     let triangles: u32 = std::env::args()
         .nth(1)
@@ -78,20 +62,5 @@ fn main() {
         out = r.triangles_out;
     }
     println!("geode: {:.0} ms ({out} triangles)", best * 1000.0);
-    let dir = std::env::temp_dir().join(format!("geode-reduce-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    write_raw(&g, &dir.join("m"));
-    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| {
-        concat!(env!("CARGO_MANIFEST_DIR"), "/../../tools/.venv/bin/python").to_string()
-    });
-    let status = std::process::Command::new(python)
-        .args(["-c", SCRIPT])
-        .arg(dir.join("m"))
-        .arg(out.to_string())
-        .status();
-    let _ = std::fs::remove_dir_all(&dir);
-    match status {
-        Ok(s) if s.success() => {}
-        other => eprintln!("pymeshlab did not run ({other:?}): install it with bash tools/test.sh"),
-    }
+    common::run_reference("pymeshlab", SCRIPT, &[&g], &[out.to_string()]);
 }

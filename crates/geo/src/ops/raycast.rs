@@ -3,11 +3,12 @@
 //! and shared by every ray of a query.
 
 use glam::Vec3;
+use rayon::prelude::*;
 
 /// Triangles per leaf.
 const LEAF: usize = 4;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Node {
     pub(super) lo: Vec3,
     pub(super) hi: Vec3,
@@ -55,14 +56,30 @@ impl TriangleBvh {
     /// The hierarchy over `triangles` (indices into `positions`).
     pub fn new(positions: &[Vec3], triangles: &[[u32; 3]]) -> TriangleBvh {
         let corners: Vec<[Vec3; 3]> = triangles
-            .iter()
+            .par_iter()
             .map(|t| t.map(|i| positions[i as usize]))
             .collect();
-        let centroids: Vec<Vec3> = corners.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect();
+        let centroids: Vec<Vec3> = corners
+            .par_iter()
+            .map(|c| (c[0] + c[1] + c[2]) / 3.0)
+            .collect();
         let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
-        let mut nodes = Vec::with_capacity(2 * triangles.len() / LEAF + 1);
-        build(&corners, &centroids, &mut order, 0, &mut nodes);
-        let corners = order.iter().map(|&t| corners[t as usize]).collect();
+        let empty = Node {
+            lo: Vec3::INFINITY,
+            hi: Vec3::NEG_INFINITY,
+            start: 0,
+            end: 0,
+            second: 0,
+        };
+        let mut counts = Vec::new();
+        let mut nodes = vec![empty; node_count(triangles.len(), &mut counts)];
+        let tree = Subtree {
+            corners: &corners,
+            centroids: &centroids,
+            counts: &counts,
+        };
+        tree.build(&mut order, 0, 0, &mut nodes);
+        let corners = order.par_iter().map(|&t| corners[t as usize]).collect();
         TriangleBvh {
             corners,
             order,
@@ -129,42 +146,99 @@ impl TriangleBvh {
     }
 }
 
-fn build(
-    corners: &[[Vec3; 3]],
-    centroids: &[Vec3],
-    order: &mut [u32],
-    offset: u32,
-    nodes: &mut Vec<Node>,
-) {
-    let (lo, hi) = bounds_of(corners, order);
-    let me = nodes.len();
-    nodes.push(Node {
-        lo,
-        hi,
-        start: offset,
-        end: offset + order.len() as u32,
-        second: 0,
-    });
-    if order.len() <= LEAF {
-        return;
+/// Subtrees of at least this many triangles build their halves on two
+/// threads.
+const PARALLEL: usize = 1 << 14;
+
+/// The nodes a median-split hierarchy over `n` triangles has; `memo`
+/// gathers every subtree size of more than a leaf with its count (a level
+/// has at most two sizes, `k` and `k + 1`, so it stays short).
+fn node_count(n: usize, memo: &mut Vec<(usize, usize)>) -> usize {
+    if n <= LEAF {
+        return 1;
     }
-    let (clo, chi) = order
-        .iter()
-        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &t| {
-            (l.min(centroids[t as usize]), h.max(centroids[t as usize]))
+    if let Some(&(_, count)) = memo.iter().find(|(m, _)| *m == n) {
+        return count;
+    }
+    let count = 1 + node_count(n / 2, memo) + node_count(n - n / 2, memo);
+    memo.push((n, count));
+    count
+}
+
+/// What every subtree's build reads.
+struct Subtree<'a> {
+    corners: &'a [[Vec3; 3]],
+    centroids: &'a [Vec3],
+    /// Every subtree size of more than a leaf, with its node count.
+    counts: &'a [(usize, usize)],
+}
+
+impl Subtree<'_> {
+    /// Builds the hierarchy over `order` (triangles `offset..` in the
+    /// final order) into `nodes`, exactly the slice its nodes take, in
+    /// depth-first order: a node's first child follows it, its second is
+    /// at `second`, `base` the index of `nodes[0]`. Node counts are known
+    /// before the build, so the halves write disjoint slices and the
+    /// layout is the same on any number of threads.
+    fn build(&self, order: &mut [u32], offset: u32, base: u32, nodes: &mut [Node]) {
+        let end = offset + order.len() as u32;
+        if order.len() <= LEAF {
+            let (lo, hi) = bounds_of(self.corners, order);
+            nodes[0] = Node {
+                lo,
+                hi,
+                start: offset,
+                end,
+                second: 0,
+            };
+            return;
+        }
+        let (clo, chi) = order
+            .iter()
+            .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(l, h), &t| {
+                (
+                    l.min(self.centroids[t as usize]),
+                    h.max(self.centroids[t as usize]),
+                )
+            });
+        let axis = (chi - clo).max_position();
+        let mid = order.len() / 2;
+        order.select_nth_unstable_by(mid, |&a, &b| {
+            self.centroids[a as usize][axis]
+                .total_cmp(&self.centroids[b as usize][axis])
+                .then(a.cmp(&b))
         });
-    let axis = (chi - clo).max_position();
-    let mid = order.len() / 2;
-    order.select_nth_unstable_by(mid, |&a, &b| {
-        centroids[a as usize][axis]
-            .total_cmp(&centroids[b as usize][axis])
-            .then(a.cmp(&b))
-    });
-    nodes[me].end = offset;
-    let (left, right) = order.split_at_mut(mid);
-    build(corners, centroids, left, offset, nodes);
-    nodes[me].second = nodes.len() as u32;
-    build(corners, centroids, right, offset + mid as u32, nodes);
+        let (left, right) = order.split_at_mut(mid);
+        let (me, below) = nodes.split_first_mut().expect("a node for the subtree");
+        let left_count = match mid {
+            0..=LEAF => 1,
+            _ => {
+                self.counts
+                    .iter()
+                    .find(|(n, _)| *n == mid)
+                    .expect("counted")
+                    .1
+            }
+        };
+        let (left_nodes, right_nodes) = below.split_at_mut(left_count);
+        let second = base + 1 + left_nodes.len() as u32;
+        let mut build_left = move || self.build(left, offset, base + 1, left_nodes);
+        let mut build_right = move || self.build(right, offset + mid as u32, second, right_nodes);
+        if mid >= PARALLEL {
+            rayon::join(build_left, build_right);
+        } else {
+            build_left();
+            build_right();
+        }
+        let (a, b) = (&below[0], &below[left_count]);
+        *me = Node {
+            lo: a.lo.min(b.lo),
+            hi: a.hi.max(b.hi),
+            start: offset,
+            end: offset,
+            second,
+        };
+    }
 }
 
 /// Whether the ray meets the box within `(t_min, t_max)` (slab test).
@@ -259,6 +333,43 @@ mod tests {
                 .fold(None, |m: Option<f32>, s| Some(m.map_or(s, |m| m.min(s))));
             assert_eq!(got, want, "ray {o} {d}");
         }
+    }
+
+    /// Big enough that the top levels build on two threads: the same
+    /// nodes in the same places, and each node's box the union of its
+    /// triangles'.
+    #[test]
+    fn the_hierarchy_is_the_same_on_any_number_of_threads() {
+        let (mut p, mut t) = (Vec::new(), Vec::new());
+        grid(130, 0.0, &mut p, &mut t);
+        for q in p.iter_mut() {
+            q.z = (q.x * 0.37).sin() * (q.y * 0.21).cos();
+        }
+        let in_pool = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| TriangleBvh::new(&p, &t))
+        };
+        let (one, four) = (in_pool(1), in_pool(4));
+        assert!(t.len() / 2 >= PARALLEL);
+        assert_eq!(one.order, four.order);
+        assert_eq!(one.nodes, four.nodes);
+        assert_eq!(one.nodes.len(), node_count(t.len(), &mut Vec::new()));
+        for node in one.nodes.iter().filter(|n| n.end > n.start) {
+            let (lo, hi) = bounds_of(
+                &t.iter()
+                    .map(|x| x.map(|i| p[i as usize]))
+                    .collect::<Vec<_>>(),
+                &one.order[node.start as usize..node.end as usize],
+            );
+            assert_eq!((node.lo, node.hi), (lo, hi));
+        }
+        assert_eq!(
+            (one.nodes[0].lo, one.nodes[0].hi),
+            bounds_of(&one.corners, &(0..t.len() as u32).collect::<Vec<_>>())
+        );
     }
 
     #[test]

@@ -8,7 +8,10 @@
 //! flip marks its four vertices so every later candidate reads true
 //! adjacency. Sweeps repeat (at most eight) until none flips; the last
 //! adjacency, true of the mesh when nothing flipped, goes on to the
-//! relaxation.
+//! relaxation. Whether an edge should flip reads only its four vertices'
+//! valences, places and joins, which only a flip marking one of them
+//! changes: after the first sweep only edges with a marked vertex are
+//! tested again.
 
 use rayon::prelude::*;
 
@@ -19,10 +22,13 @@ const PASSES: usize = 8;
 
 pub(super) fn flip_edges(
     m: &mut Mesh,
+    topo: &mut Topo,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Topo, ModelError> {
-    for _ in 0..PASSES {
-        let topo = Topo::build(m);
+) -> Result<(), ModelError> {
+    let mut dirty: Vec<bool> = Vec::new();
+    for pass in 0..PASSES {
+        topo.rebuild(m);
+        let topo = &*topo;
         // Whether an edge should flip reads only its two faces, which a
         // flip earlier in the sweep rewrites only with vertices it marks:
         // so the tests run in parallel beforehand and the sweep skips the
@@ -37,13 +43,17 @@ pub(super) fn flip_edges(
                 }
                 let (a, b) = (mesh.from(h), mesh.to(h));
                 let (c, d) = (mesh.from(prev(h)), mesh.from(prev(o)));
-                c != d
-                    && (better(&topo, a, b, c, d) || opens_a_cap(mesh, &topo, a, b, c, d))
+                let marked = |v: u32| dirty[v as usize];
+                let again = pass == 0 || marked(a) || marked(b) || marked(c) || marked(d);
+                again
+                    && c != d
+                    && (better(topo, a, b, c, d) || opens_a_cap(mesh, topo, a, b, c, d))
                     && !topo.adjacent(mesh, c, d)
                     && !folds(mesh, a, b, c, d)
             })
             .collect();
-        let mut dirty = vec![false; m.pos.len()];
+        dirty.clear();
+        dirty.resize(m.pos.len(), false);
         let mut done = 0usize;
         for (i, &h) in candidates.iter().enumerate() {
             if i % 8192 == 0 && cancel() {
@@ -71,10 +81,11 @@ pub(super) fn flip_edges(
             done += 1;
         }
         if done == 0 {
-            return Ok(topo);
+            return Ok(());
         }
     }
-    Ok(Topo::build(m))
+    topo.rebuild(m);
+    Ok(())
 }
 
 /// Whether flipping edge a b (opposite corners c, d) lowers the squared

@@ -83,8 +83,9 @@ impl Mesh {
     }
 
     /// Drops the faces marked in `dead` and the vertices no face uses,
-    /// keeping the order of what stays.
-    pub fn compact(&mut self, dead: &[bool]) {
+    /// keeping the order of what stays; returns each old vertex's new
+    /// number (NONE if gone).
+    pub fn compact(&mut self, dead: &[bool]) -> Vec<u32> {
         let mut keep_face = 0;
         for (f, &gone) in dead.iter().enumerate() {
             if !gone {
@@ -119,14 +120,23 @@ impl Mesh {
         self.faces
             .par_iter_mut()
             .for_each(|f| *f = f.map(|v| map[v as usize]));
+        map
     }
 }
 
-/// Adjacency of a mesh as it was when built.
+/// Adjacency of a mesh as it was when last built. Rebuilt in place, so
+/// its arrays keep their memory from one phase to the next (fresh ones
+/// cost page faults of the same order as the build itself).
+#[derive(Default)]
 pub(super) struct Topo {
     /// Faces of vertex `v`: `vf[off[v]..off[v + 1]]`, in increasing order.
     off: Vec<u32>,
     vf: Vec<u32>,
+    /// Beside `vf`: the half-edge leaving the vertex in that face and the
+    /// face's other two corners in order (the opposites and the
+    /// relaxation read these contiguous lists rather than the faces).
+    leaving: Vec<Leaving>,
+    fill: Vec<u32>,
     /// Per half-edge: the opposite half-edge, or NONE on a border.
     pub opp: Vec<u32>,
     /// Per vertex: the number of neighbouring vertices.
@@ -137,78 +147,99 @@ pub(super) struct Topo {
     pub border: Vec<bool>,
 }
 
+/// A half-edge leaving a vertex: the face's other corners in order, `to`
+/// where it ends.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Leaving {
+    pub edge: u32,
+    pub to: u32,
+    pub third: u32,
+}
+
+/// `v` cleared and refilled with `len` copies of `x`, its memory kept.
+fn refill<T: Clone>(v: &mut Vec<T>, len: usize, x: T) {
+    v.clear();
+    v.resize(len, x);
+}
+
 impl Topo {
     pub fn build(m: &Mesh) -> Topo {
+        let mut topo = Topo::default();
+        topo.rebuild(m);
+        topo
+    }
+
+    /// The adjacency of `m` as it is now.
+    pub fn rebuild(&mut self, m: &Mesh) {
         let n = m.pos.len();
-        let mut off = vec![0u32; n + 1];
+        let corners = 3 * m.faces.len();
+        refill(&mut self.off, n + 1, 0);
         for f in &m.faces {
             for &v in f {
-                off[v as usize + 1] += 1;
+                self.off[v as usize + 1] += 1;
             }
         }
         for v in 0..n {
-            off[v + 1] += off[v];
+            self.off[v + 1] += self.off[v];
         }
-        let mut fill = off.clone();
-        let mut vf = vec![0u32; 3 * m.faces.len()];
+        self.fill.clear();
+        self.fill.extend_from_slice(&self.off[..n]);
+        refill(&mut self.leaving, corners, Leaving::default());
         for (fi, f) in m.faces.iter().enumerate() {
-            for &v in f {
-                vf[fill[v as usize] as usize] = fi as u32;
-                fill[v as usize] += 1;
+            for (k, &v) in f.iter().enumerate() {
+                let slot = &mut self.fill[v as usize];
+                self.leaving[*slot as usize] = Leaving {
+                    edge: 3 * fi as u32 + k as u32,
+                    to: f[(k + 1) % 3],
+                    third: f[(k + 2) % 3],
+                };
+                *slot += 1;
             }
         }
-        let mut topo = Topo {
-            off,
-            vf,
-            opp: Vec::new(),
-            valence: Vec::new(),
-            feature: Vec::new(),
-            border: Vec::new(),
-        };
-        // Per face, its three opposites at once: one scan of each
-        // corner's faces, each face's corner found by position.
-        let mut opp = vec![NONE; 3 * m.faces.len()];
-        opp.par_chunks_mut(3)
+        refill(&mut self.vf, corners, 0);
+        self.vf
+            .par_iter_mut()
+            .zip(self.leaving.par_iter())
+            .for_each(|(f, l)| *f = l.edge / 3);
+        // The opposite of a to b is the half-edge leaving b for a.
+        refill(&mut self.opp, corners, NONE);
+        let (off, leaving) = (&self.off, &self.leaving);
+        self.opp
+            .par_chunks_mut(3)
             .zip(m.faces.par_iter())
             .for_each(|(out, t)| {
                 for k in 0..3 {
                     let (a, b) = (t[k], t[(k + 1) % 3]);
-                    for &f in topo.faces_of(b) {
-                        let u = m.faces[f as usize];
-                        let j = if u[0] == b {
-                            0
-                        } else if u[1] == b {
-                            1
-                        } else {
-                            2
-                        };
-                        if u[(j + 1) % 3] == a {
-                            out[k] = 3 * f + j as u32;
-                            break;
-                        }
+                    let slots = off[b as usize] as usize..off[b as usize + 1] as usize;
+                    if let Some(l) = leaving[slots].iter().find(|l| l.to == a) {
+                        out[k] = l.edge;
                     }
                 }
             });
-        topo.opp = opp;
-        let mut border = vec![false; n];
-        let mut feature = vec![0u8; n];
-        for h in 0..topo.opp.len() as u32 {
-            let o = topo.opp[h as usize];
+        refill(&mut self.border, n, false);
+        refill(&mut self.feature, n, 0);
+        for h in 0..corners as u32 {
+            let o = self.opp[h as usize];
             if o == NONE {
-                border[m.from(h) as usize] = true;
+                self.border[m.from(h) as usize] = true;
             }
             if m.is_feature(h) && (o == NONE || h < o) {
                 for v in [m.from(h), m.to(h)] {
-                    feature[v as usize] = feature[v as usize].saturating_add(1);
+                    self.feature[v as usize] = self.feature[v as usize].saturating_add(1);
                 }
             }
         }
-        topo.valence = (0..n)
-            .map(|v| topo.faces_of(v as u32).len() as u32 + border[v] as u32)
-            .collect();
-        topo.feature = feature;
-        topo.border = border;
-        topo
+        refill(&mut self.valence, n, 0);
+        let (off, border) = (&self.off, &self.border);
+        self.valence
+            .par_iter_mut()
+            .enumerate()
+            .for_each(|(v, val)| *val = off[v + 1] - off[v] + border[v] as u32);
+    }
+
+    /// The half-edges leaving `v`, one per face, as `faces_of` orders them.
+    pub fn leaving(&self, v: u32) -> &[Leaving] {
+        &self.leaving[self.off[v as usize] as usize..self.off[v as usize + 1] as usize]
     }
 
     pub fn faces_of(&self, v: u32) -> &[u32] {

@@ -33,38 +33,55 @@ pub(super) fn build(
         op: "remesh",
         why: e,
     };
-    let points: Vec<([u32; 3], [f32; 3])> = m
-        .proj
-        .iter()
-        .map(|p| {
-            (
-                s.tris[p.tri as usize].map(|v| origin.point[v as usize]),
-                p.w,
-            )
-        })
-        .collect();
-    let sources = face_sources(&m, s);
+    // Each table is made only when an attribute or group reads it (a bare
+    // mesh's output is its positions and faces).
+    let point_attribs = src.attribs(AttribClass::Point).iter().any(|(n, _)| n != P);
+    let wants_points = point_attribs || !src.point_groups().is_empty();
+    let wants_corners = src.attribs(AttribClass::Vertex).iter().next().is_some();
+    let wants_prims = src.attribs(AttribClass::Primitive).iter().next().is_some()
+        || !src.prim_groups().is_empty();
+    let points: Vec<([u32; 3], [f32; 3])> = if !wants_points {
+        Vec::new()
+    } else {
+        m.proj
+            .par_iter()
+            .map(|p| {
+                (
+                    s.tris[p.tri as usize].map(|v| origin.point[v as usize]),
+                    p.w,
+                )
+            })
+            .collect()
+    };
+    let sources = if wants_corners || wants_prims {
+        face_sources(&m, s)
+    } else {
+        Vec::new()
+    };
     // A corner whose point lies on a triangle of the face's own source
     // polygon interpolates there; across a seam it takes the face's
     // triangle, clamped, so vertex attributes stay on their side.
-    let corners: Vec<([u32; 3], [f32; 3])> = m
-        .faces
-        .par_iter()
-        .zip(&sources)
-        .flat_map_iter(|(t, &tri)| {
-            t.map(|v| {
-                let p = m.proj[v as usize];
-                if origin.prim[p.tri as usize] == origin.prim[tri as usize] {
-                    (origin.vertices[p.tri as usize], p.w)
-                } else {
-                    (
-                        origin.vertices[tri as usize],
-                        s.weights_on(tri, m.pos[v as usize]).0,
-                    )
-                }
+    let corners: Vec<([u32; 3], [f32; 3])> = if !wants_corners {
+        Vec::new()
+    } else {
+        m.faces
+            .par_iter()
+            .zip(&sources)
+            .flat_map_iter(|(t, &tri)| {
+                t.map(|v| {
+                    let p = m.proj[v as usize];
+                    if origin.prim[p.tri as usize] == origin.prim[tri as usize] {
+                        (origin.vertices[p.tri as usize], p.w)
+                    } else {
+                        (
+                            origin.vertices[tri as usize],
+                            s.weights_on(tri, m.pos[v as usize]).0,
+                        )
+                    }
+                })
             })
-        })
-        .collect();
+            .collect()
+    };
     let prims: Vec<u32> = sources.iter().map(|&t| origin.prim[t as usize]).collect();
     let mut out = Geometry::from_triangles(m.pos, &m.faces).map_err(|e| failed(e.to_string()))?;
     let set = |out: &mut Geometry, class, name: &str, attr: Attribute| {

@@ -12,21 +12,31 @@
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
-use super::mesh::{Mesh, Proj, Topo};
+use super::mesh::{Mesh, Topo};
 use super::surface::Surface;
 
-pub(super) fn relax(m: &mut Mesh, topo: &Topo) {
+/// Every vertex relaxed; `scratch` takes the old positions (kept from
+/// call to call: no fresh memory per round).
+pub(super) fn relax(m: &mut Mesh, topo: &Topo, scratch: &mut Vec<Vec3>) {
+    scratch.resize(m.pos.len(), Vec3::ZERO);
     let mesh = &*m;
-    let moved: Vec<Vec3> = (0..mesh.pos.len() as u32)
-        .into_par_iter()
-        .map(|v| match topo.feature[v as usize] {
+    scratch.par_iter_mut().enumerate().for_each(|(v, out)| {
+        let v = v as u32;
+        *out = match topo.feature[v as usize] {
             _ if mesh.fixed[v as usize] => mesh.pos[v as usize],
             0 => tangential(mesh, topo, v),
             2 => along_feature(mesh, topo, v),
             _ => mesh.pos[v as usize],
-        })
-        .collect();
-    m.pos = moved;
+        }
+    });
+    std::mem::swap(&mut m.pos, scratch);
+}
+
+/// Which vertices a projection moves.
+#[derive(Clone, Copy, PartialEq)]
+pub(super) enum Onto {
+    All,
+    Features,
 }
 
 /// The centroid of `v`'s neighbours, less its offset along the normal.
@@ -34,22 +44,17 @@ fn tangential(m: &Mesh, topo: &Topo, v: u32) -> Vec3 {
     let p = m.pos[v as usize];
     let mut sum = Vec3::ZERO;
     let mut normal = Vec3::ZERO;
-    let faces = topo.faces_of(v);
-    if faces.is_empty() {
+    let around = topo.leaving(v);
+    if around.is_empty() {
         return p;
     }
-    for &f in faces {
-        let t = m.faces[f as usize];
-        let q = t.map(|x| m.pos[x as usize]);
-        normal += (q[1] - q[0]).cross(q[2] - q[0]);
+    for l in around {
+        let (a, b) = (m.pos[l.to as usize], m.pos[l.third as usize]);
+        normal += (a - p).cross(b - p);
         // Inside, each neighbour is in two faces: half from each.
-        for (k, &x) in t.iter().enumerate() {
-            if x != v {
-                sum += 0.5 * q[k];
-            }
-        }
+        sum += 0.5 * (a + b);
     }
-    let c = sum / faces.len() as f32;
+    let c = sum / around.len() as f32;
     let n = normal.normalize_or_zero();
     let d = c - p;
     p + d - n * n.dot(d)
@@ -63,26 +68,25 @@ fn along_feature(m: &Mesh, topo: &Topo, v: u32) -> Vec3 {
     }
 }
 
-/// Every vertex back onto the original (corners stay), its place there
-/// and its target length updated.
-pub(super) fn project(m: &mut Mesh, topo: &Topo, s: &Surface) {
-    let mesh = &*m;
-    let placed: Vec<(Vec3, Proj)> = (0..mesh.pos.len())
-        .into_par_iter()
-        .map(|v| {
-            let (p, proj) = (mesh.pos[v], mesh.proj[v]);
-            match topo.feature[v] {
-                _ if mesh.fixed[v] => (p, proj),
-                0 => s.onto_surface(p, proj, mesh.size[v]),
-                2 => s.onto_features(p, mesh.size[v]),
-                _ => (p, proj),
-            }
-        })
-        .collect();
-    for (v, (p, proj)) in placed.into_iter().enumerate() {
-        m.pos[v] = p;
-        m.proj[v] = proj;
-    }
+/// Vertices back onto the original (corners stay), their places there
+/// and target lengths updated. Each reads and writes only its own, so in
+/// place.
+pub(super) fn project(m: &mut Mesh, topo: &Topo, s: &Surface, which: Onto) {
+    let (fixed, size) = (&m.fixed, &m.size);
+    m.pos
+        .par_iter_mut()
+        .zip(m.proj.par_iter_mut())
+        .enumerate()
+        .for_each(|(v, (p, proj))| {
+            let (to, at) = match topo.feature[v] {
+                _ if fixed[v] => return,
+                0 if which == Onto::All => s.onto_surface(*p, *proj, size[v]),
+                2 => s.onto_features(*p, size[v]),
+                _ => return,
+            };
+            *p = to;
+            *proj = at;
+        });
     if let Some(sizes) = &s.sizes {
         let tris = &s.tris;
         m.size.par_iter_mut().zip(&m.proj).for_each(|(size, proj)| {

@@ -17,6 +17,7 @@ const MAX_PASSES: usize = 24;
 
 pub(super) fn split_long_edges(
     m: &mut Mesh,
+    topo: &mut Topo,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<(), ModelError> {
     for _ in 0..MAX_PASSES {
@@ -35,8 +36,8 @@ pub(super) fn split_long_edges(
         if !long.iter().any(|&l| l) {
             return Ok(());
         }
-        let topo = Topo::build(m);
-        let mids = midpoints(m, &topo, &long);
+        topo.rebuild(m);
+        let mids = midpoints(m, topo, &long);
         cut_faces(m, &mids);
     }
     Ok(())
