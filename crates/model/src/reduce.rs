@@ -14,13 +14,13 @@
 //! the surviving element, primitive attributes and groups from the source
 //! polygon of the surviving triangle (`carry::build`).
 //!
-//! `mesh` builds the working mesh, `collapse` runs the loop over `heap`,
-//! `quadric` holds the error measure.
+//! `mesh` builds the working mesh, `collapse` runs the loop over `heap`;
+//! the error measure is `geode_geo::ops::Quadric`, the one the viewport's
+//! bounded reduction uses too.
 
 mod collapse;
 mod heap;
 mod mesh;
-mod quadric;
 
 use geode_geo::ops::{renumber_used, triangulate_with};
 use geode_geo::{AttribClass, AttribData, Geometry, PrimKind, P};

@@ -97,15 +97,20 @@ pub fn remesh(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
     let sizing = absolute_sizing(g, opts)?;
-    let (mut m, origin) = working_mesh(g)?;
+    let (mut m, origin) = working_mesh(g, cancel)?;
     if m.faces.is_empty() {
         return Ok(Geometry::default());
     }
+    // Setup phases take tens of milliseconds each on a million triangles:
+    // a cancel is answered between them.
     let mut topo = Topo::build(&m);
+    ModelError::unless_cancelled(cancel)?;
     check_manifold(&m, &topo)?;
     mark_features(&mut m, &topo, opts, &origin);
+    ModelError::unless_cancelled(cancel)?;
     topo.rebuild(&m);
     mark_corners(&mut m, &topo, opts.crease_angle);
+    ModelError::unless_cancelled(cancel)?;
     let sizes = match sizing {
         Sizing::Uniform { length } => {
             m.size.iter_mut().for_each(|s| *s = length);
@@ -122,15 +127,14 @@ pub fn remesh(
             Some(sizes)
         }
     };
-    let surface = surface::Surface::new(&m, Topo::build(&m), sizes);
+    ModelError::unless_cancelled(cancel)?;
+    let surface =
+        surface::Surface::new(&m, Topo::build(&m), sizes, cancel).ok_or(ModelError::Cancelled)?;
     let mut scratch = Vec::new();
     for _ in 0..opts.iterations {
         split::split_long_edges(&mut m, &mut topo, cancel)?;
         collapse::collapse_short_edges(&mut m, &mut topo, cancel)?;
         flip::flip_edges(&mut m, &mut topo, cancel)?;
-        if cancel() {
-            return Err(ModelError::Cancelled);
-        }
         // Three rounds of relaxation per iteration: one left the spread
         // of edge lengths 1.1 to 1.4 times pymeshlab's, three bring it
         // below (sphere, torus, car). Free vertices go back onto the
@@ -140,6 +144,7 @@ pub fn remesh(
         // million triangles for the same sphere, torus and car to the
         // digit; feature vertices, relaxed along chords, after each.
         for round in 1..=RELAX_ROUNDS {
+            ModelError::unless_cancelled(cancel)?;
             relax::relax(&mut m, &topo, &mut scratch);
             let which = if round == RELAX_ROUNDS {
                 relax::Onto::All
@@ -149,9 +154,7 @@ pub fn remesh(
             relax::project(&mut m, &topo, &surface, which);
         }
     }
-    if cancel() {
-        return Err(ModelError::Cancelled);
-    }
+    ModelError::unless_cancelled(cancel)?;
     output::build(g, m, &surface, &origin)
 }
 
@@ -232,7 +235,10 @@ fn absolute_sizing(g: &Geometry, opts: &RemeshOptions) -> Result<Sizing, ModelEr
 
 /// The source's polygons as triangles (fans) over the points they use,
 /// with where each came from.
-fn working_mesh(g: &Geometry) -> Result<(Mesh, output::Origin), ModelError> {
+fn working_mesh(
+    g: &Geometry,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<(Mesh, output::Origin), ModelError> {
     if let Some(k) = g.prim_kinds().iter().position(|k| *k != PrimKind::Polygon) {
         return Err(ModelError::Invalid(format!(
             "remesh takes polygons; primitive {k} is a {}",
@@ -245,6 +251,9 @@ fn working_mesh(g: &Geometry) -> Result<(Mesh, output::Origin), ModelError> {
     let mut prim = Vec::new();
     let mut vertices = Vec::new();
     for k in 0..g.num_prims() {
+        if k % 8192 == 0 {
+            ModelError::unless_cancelled(cancel)?;
+        }
         let pts = g.prim_points(k);
         let first = g.prim_vertex_range(k).start as u32;
         for j in 1..pts.len().saturating_sub(1) {

@@ -55,6 +55,16 @@ fn bounds_of(corners: &[[Vec3; 3]], tris: &[u32]) -> (Vec3, Vec3) {
 impl TriangleBvh {
     /// The hierarchy over `triangles` (indices into `positions`).
     pub fn new(positions: &[Vec3], triangles: &[[u32; 3]]) -> TriangleBvh {
+        Self::new_cancellable(positions, triangles, &|| false).expect("never cancelled")
+    }
+
+    /// [`TriangleBvh::new`], polling `cancel` once per subtree of more
+    /// than 4096 triangles: `None` once it answers true.
+    pub fn new_cancellable(
+        positions: &[Vec3],
+        triangles: &[[u32; 3]],
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Option<TriangleBvh> {
         let corners: Vec<[Vec3; 3]> = triangles
             .par_iter()
             .map(|t| t.map(|i| positions[i as usize]))
@@ -77,14 +87,18 @@ impl TriangleBvh {
             corners: &corners,
             centroids: &centroids,
             counts: &counts,
+            cancel,
         };
         tree.build(&mut order, 0, 0, &mut nodes);
+        if cancel() {
+            return None;
+        }
         let corners = order.par_iter().map(|&t| corners[t as usize]).collect();
-        TriangleBvh {
+        Some(TriangleBvh {
             corners,
             order,
             nodes,
-        }
+        })
     }
 
     /// The nearest hit with `t` in `(t_min, t_max)` of the ray `origin + t dir`,
@@ -150,6 +164,9 @@ impl TriangleBvh {
 /// threads.
 const PARALLEL: usize = 1 << 14;
 
+/// Subtrees of more than this many triangles poll the cancel first.
+const POLL: usize = 1 << 12;
+
 /// The nodes a median-split hierarchy over `n` triangles has; `memo`
 /// gathers every subtree size of more than a leaf with its count (a level
 /// has at most two sizes, `k` and `k + 1`, so it stays short).
@@ -171,6 +188,7 @@ struct Subtree<'a> {
     centroids: &'a [Vec3],
     /// Every subtree size of more than a leaf, with its node count.
     counts: &'a [(usize, usize)],
+    cancel: &'a (dyn Fn() -> bool + Sync),
 }
 
 impl Subtree<'_> {
@@ -182,6 +200,10 @@ impl Subtree<'_> {
     /// layout is the same on any number of threads.
     fn build(&self, order: &mut [u32], offset: u32, base: u32, nodes: &mut [Node]) {
         let end = offset + order.len() as u32;
+        // A cancelled build stops; its caller drops the half-made tree.
+        if order.len() > POLL && (self.cancel)() {
+            return;
+        }
         if order.len() <= LEAF {
             let (lo, hi) = bounds_of(self.corners, order);
             nodes[0] = Node {

@@ -12,8 +12,8 @@ use rayon::prelude::*;
 
 use super::heap::Heap;
 use super::mesh::{Kind, Mesh, NONE};
-use super::quadric::Quadric;
 use crate::ModelError;
+use geode_geo::ops::Quadric;
 
 /// When to stop and what may not happen.
 pub(crate) struct Limits {
@@ -126,7 +126,7 @@ pub(crate) fn run(
             let Some(c) = choose(mesh, a, b) else {
                 continue;
             };
-            let error = (c.cost / c.quadric.weight.max(f64::MIN_POSITIVE)).sqrt();
+            let error = (c.cost / c.quadric.weight().max(f64::MIN_POSITIVE)).sqrt();
             if error > limits.max_error || !allowed(mesh, &c, limits, &mut s) {
                 continue;
             }

@@ -9,7 +9,7 @@
 use geode_geo::glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
-use super::quadric::Quadric;
+use geode_geo::ops::Quadric;
 
 /// No corner, no triangle.
 pub(crate) const NONE: u32 = u32::MAX;
@@ -220,9 +220,7 @@ impl Mesh {
         if !(len > 0.0 && len.is_finite()) {
             return Quadric::default();
         }
-        let mut q = Quadric::plane(n / len, a, CONSTRAINT_WEIGHT * edge.length_squared());
-        q.weight = 0.0;
-        q
+        Quadric::plane(n / len, a, CONSTRAINT_WEIGHT * edge.length_squared()).uncounted()
     }
 }
 

@@ -25,8 +25,14 @@ pub(super) struct Surface {
 }
 
 impl Surface {
-    /// The surface of `m` as it is before remeshing, features as marked.
-    pub fn new(m: &Mesh, topo: Topo, sizes: Option<Vec<f32>>) -> Surface {
+    /// The surface of `m` as it is before remeshing, features as marked;
+    /// `None` once `cancel` answers true.
+    pub fn new(
+        m: &Mesh,
+        topo: Topo,
+        sizes: Option<Vec<f32>>,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Option<Surface> {
         let mut segments = Vec::new();
         let mut feature_edges = Vec::new();
         for h in 0..3 * m.faces.len() as u32 {
@@ -37,16 +43,19 @@ impl Surface {
                 feature_edges.push(h);
             }
         }
-        let features = (!segments.is_empty()).then(|| TriangleBvh::new(&m.pos, &segments));
-        Surface {
-            bvh: TriangleBvh::new(&m.pos, &m.faces),
+        let features = match segments.is_empty() {
+            true => None,
+            false => Some(TriangleBvh::new_cancellable(&m.pos, &segments, cancel)?),
+        };
+        Some(Surface {
+            bvh: TriangleBvh::new_cancellable(&m.pos, &m.faces, cancel)?,
             topo,
             pos: m.pos.clone(),
             tris: m.faces.clone(),
             features,
             feature_edges,
             sizes,
-        }
+        })
     }
 
     fn corners(&self, tri: u32) -> [Vec3; 3] {
