@@ -8,11 +8,14 @@
 
 use divan::counter::ItemsCount;
 use divan::Bencher;
-use geode_geo::{ops, primitives, Geometry};
 use geode_model::remesh::{remesh, RemeshOptions, Sizing};
 
 #[global_allocator]
 static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
+
+#[path = "../tests/common/meshes.rs"]
+mod meshes;
+use meshes::{equilateral_length, million_triangles};
 
 fn main() {
     divan::main();
@@ -22,23 +25,6 @@ fn never() -> bool {
     false
 }
 
-fn million_triangles(shape: &str) -> Geometry {
-    match shape {
-        "box" => ops::triangulate(
-            &primitives::box_mesh(geode_geo::glam::Vec3::ONE, [290, 290, 290]),
-            None,
-        ),
-        _ => ops::triangulate(&primitives::uv_sphere(1.0, 1000, 501), None),
-    }
-}
-
-/// The length of an equilateral triangle a million of which cover the
-/// shape (area 6 for the box, 4π for the sphere).
-fn length(shape: &str) -> f32 {
-    let area: f32 = if shape == "box" { 6.0 } else { 12.566 };
-    (area / (3f32.sqrt() / 4.0 * 1e6)).sqrt()
-}
-
 #[divan::bench(
     args = ["box uniform", "box adaptive", "sphere uniform", "sphere adaptive"],
     sample_count = 1,
@@ -46,8 +32,8 @@ fn length(shape: &str) -> f32 {
 )]
 fn remesh_1m_triangles(bencher: Bencher, case: &str) {
     let (shape, sizing) = case.split_once(' ').expect("shape and sizing");
-    let g = million_triangles(shape);
-    let l = length(shape);
+    let (g, area) = million_triangles(shape);
+    let l = equilateral_length(area, 1e6);
     let sizing = match sizing {
         "uniform" => Sizing::Uniform { length: l },
         _ => Sizing::Adaptive {

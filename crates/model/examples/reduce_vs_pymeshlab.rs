@@ -8,10 +8,12 @@
 
 use std::time::Instant;
 
-use geode_geo::{ops, primitives, Geometry};
 use geode_model::reduce::{reduce, Reduce, Target};
 
 mod common;
+#[path = "../tests/common/meshes.rs"]
+mod meshes;
+use meshes::ridged_sphere;
 
 const SCRIPT: &str = r#"
 import sys, time, numpy as np, pymeshlab
@@ -28,19 +30,6 @@ for _ in range(2):
     best = dt if best is None else min(best, dt)
 print(f"pymeshlab: {best * 1000:.0f} ms ({ms.current_mesh().face_number()} triangles)")
 "#;
-
-/// A UV sphere of about `triangles` triangles with creased ridges (the
-/// absolute value of a product of sines), triangulated.
-fn ridged_sphere(triangles: u32) -> Geometry {
-    let rows = ((triangles / 4) as f32).sqrt() as u32;
-    let mut g = ops::triangulate(&primitives::uv_sphere(1.0, 2 * rows, rows), None);
-    for p in g.positions_mut() {
-        let n = p.normalize();
-        let bump = ((5.0 * n.x).sin() * (5.0 * n.y).sin() * (5.0 * n.z).cos()).abs();
-        *p = n * (1.0 + 0.08 * bump);
-    }
-    g
-}
 
 fn main() {
     let triangles: u32 = std::env::args()

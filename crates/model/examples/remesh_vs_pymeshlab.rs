@@ -11,10 +11,12 @@
 
 use std::time::Instant;
 
-use geode_geo::{ops, primitives, Geometry};
 use geode_model::remesh::{remesh, RemeshOptions, Sizing};
 
 mod common;
+#[path = "../tests/common/meshes.rs"]
+mod meshes;
+use meshes::{equilateral_length, million_triangles};
 
 #[global_allocator]
 static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
@@ -35,29 +37,11 @@ for _ in range(2):
 print(f"pymeshlab: {best * 1000:.0f} ms ({ms.current_mesh().face_number()} triangles)")
 "#;
 
-/// The shape and the area it covers.
-fn million_triangles(shape: &str) -> (Geometry, f32) {
-    match shape {
-        "box" => (
-            ops::triangulate(
-                &primitives::box_mesh(geode_geo::glam::Vec3::ONE, [290, 290, 290]),
-                None,
-            ),
-            6.0,
-        ),
-        _ => (
-            ops::triangulate(&primitives::uv_sphere(1.0, 1000, 501), None),
-            4.0 * std::f32::consts::PI,
-        ),
-    }
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let shape = args.get(1).map_or("box", |s| s.as_str());
     let (g, area) = million_triangles(shape);
-    // An equilateral triangle's area is sqrt(3)/4 l^2.
-    let length = (area / (3f32.sqrt() / 4.0 * 1e6)).sqrt();
+    let length = equilateral_length(area, 1e6);
     let opts = RemeshOptions {
         sizing: Sizing::Uniform { length },
         relative: false,

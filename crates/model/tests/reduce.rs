@@ -6,6 +6,7 @@
 //! bad parameters.
 
 mod common;
+use common::meshes::ridged_sphere;
 use common::*;
 
 use geode_geo::glam::{Vec2, Vec3};
@@ -23,18 +24,6 @@ fn percent(p: f64) -> Reduce {
         target: Target::Percent(p),
         ..Reduce::default()
     }
-}
-
-/// A UV sphere of about `triangles` triangles with creased ridges.
-fn ridged_sphere(triangles: u32) -> Geometry {
-    let rows = ((triangles / 4) as f32).sqrt() as u32;
-    let mut g = ops::triangulate(&primitives::uv_sphere(1.0, 2 * rows, rows), None);
-    for p in g.positions_mut() {
-        let n = p.normalize();
-        let bump = ((5.0 * n.x).sin() * (5.0 * n.y).sin() * (5.0 * n.z).cos()).abs();
-        *p = n * (1.0 + 0.08 * bump);
-    }
-    g
 }
 
 /// A grid of quads bent by a wave, so its borders are curves.

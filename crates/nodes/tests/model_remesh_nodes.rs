@@ -5,35 +5,14 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use common::{cook_errors, geo};
 use geode_geo::glam::Vec3;
-use geode_geo::{AttribClass, Geometry};
-use geode_graph::{load_str, Cache, CookOptions, Engine};
+use geode_geo::AttribClass;
 
 const DECORATED_SPHERE: &str = r#"
     "s": {"type": "sphere", "params": {"rows": 24, "columns": 48}},
     "c": {"type": "attribute_randomize", "inputs": ["s"]},
     "top": {"type": "group_bbox", "inputs": ["c"], "params": {"group": "top", "min": [-2, 0.5, -2], "max": [2, 2, 2]}}"#;
-
-fn cook_on(threads: usize, nodes: &str, output: &str) -> Arc<Geometry> {
-    let net = load_str(&common::net(nodes, output), &geode_nodes::registry()).unwrap();
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| {
-            let cache = Cache::disabled();
-            Engine::new(net, &cache)
-                .cook_output(&CookOptions::at_frame(1.0))
-                .unwrap()
-                .value
-                .as_geometry()
-                .unwrap()
-                .clone()
-        })
-}
 
 #[test]
 fn remesh_carries_attributes_and_groups_on_a_sphere() {
@@ -63,8 +42,8 @@ fn remesh_carries_attributes_and_groups_on_a_sphere() {
 fn remesh_keeps_the_corners_of_a_box_and_is_deterministic() {
     let nodes = r#""b": {"type": "box", "params": {"size": [2, 1, 1]}},
         "r": {"type": "remesh", "inputs": ["b"], "params": {"relative": false, "target_length": 0.1}}"#;
-    let one = cook_on(1, nodes, "r");
-    let two = cook_on(2, nodes, "r");
+    let one = common::cook_on(1, nodes, "r");
+    let two = common::cook_on(2, nodes, "r");
     assert_eq!(one.content_hash(), two.content_hash());
     for x in [-1.0f32, 1.0] {
         for y in [-0.5f32, 0.5] {

@@ -5,12 +5,9 @@
 
 mod common;
 
-use std::sync::Arc;
-
 use common::{cook_errors, geo};
 use geode_geo::glam::{Mat3, Vec3};
 use geode_geo::{ops, AttribClass, AttribData, Geometry};
-use geode_graph::{load_str, Cache, CookOptions, Engine};
 
 fn vec3s(g: &Geometry, class: AttribClass, name: &str) -> Vec<Vec3> {
     match g.attrib(class, name).map(|a| a.data()) {
@@ -153,24 +150,6 @@ fn mountain(noise: &str, seed: i64) -> String {
     )
 }
 
-fn cook_on(threads: usize, nodes: &str, output: &str) -> Arc<Geometry> {
-    let net = load_str(&common::net(nodes, output), &geode_nodes::registry()).unwrap();
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .unwrap()
-        .install(|| {
-            let cache = Cache::disabled();
-            Engine::new(net, &cache)
-                .cook_output(&CookOptions::at_frame(1.0))
-                .unwrap()
-                .value
-                .as_geometry()
-                .unwrap()
-                .clone()
-        })
-}
-
 #[test]
 fn mountain_is_deterministic_bounded_and_along_the_normals() {
     let sphere = geo(
@@ -179,8 +158,8 @@ fn mountain_is_deterministic_bounded_and_along_the_normals() {
     );
     let normals = geode_model::deform::area_weighted_normals(&sphere);
     for noise in ["perlin", "simplex", "worley"] {
-        let one = cook_on(1, &mountain(noise, 4), "m");
-        let two = cook_on(2, &mountain(noise, 4), "m");
+        let one = common::cook_on(1, &mountain(noise, 4), "m");
+        let two = common::cook_on(2, &mountain(noise, 4), "m");
         assert_eq!(bits(&one), bits(&two), "{noise}: thread counts");
         assert_eq!(
             bits(&one),

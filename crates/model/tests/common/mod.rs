@@ -8,6 +8,8 @@ use std::process::{Command, Stdio};
 
 use geode_geo::Geometry;
 
+pub mod meshes;
+
 /// True when the run must use the outside oracles (CI sets it).
 pub fn oracles_required() -> bool {
     std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some_and(|v| v == "1")

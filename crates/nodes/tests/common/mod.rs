@@ -54,3 +54,22 @@ pub fn cook_errors(nodes: &str, output: &str) -> Vec<geode_op::CookError> {
         Err(e) => e,
     }
 }
+
+/// The geometry of `output` cooked with `threads` worker threads, no cache.
+pub fn cook_on(threads: usize, nodes: &str, output: &str) -> Arc<Geometry> {
+    let net = load_str(&net(nodes, output), &geode_nodes::registry()).unwrap();
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| {
+            let cache = Cache::disabled();
+            Engine::new(net, &cache)
+                .cook_output(&CookOptions::at_frame(1.0))
+                .unwrap()
+                .value
+                .as_geometry()
+                .unwrap()
+                .clone()
+        })
+}
