@@ -46,18 +46,25 @@ fn spread(g: &Geometry) -> (f32, f32) {
     (mean, var.sqrt() / mean)
 }
 
+/// Each triangle's smallest angle, degrees.
+fn smallest_angles(g: &Geometry) -> Vec<f32> {
+    (0..g.num_prims())
+        .map(|k| {
+            let p = g.prim_points(k);
+            let q: Vec<Vec3> = p.iter().map(|&i| g.positions()[i as usize]).collect();
+            (0..3)
+                .map(|j| {
+                    let (a, b, c) = (q[j], q[(j + 1) % 3], q[(j + 2) % 3]);
+                    (b - a).angle_between(c - a).to_degrees()
+                })
+                .fold(180.0f32, f32::min)
+        })
+        .collect()
+}
+
 /// The smallest angle of any triangle, degrees.
 fn min_angle(g: &Geometry) -> f32 {
-    let mut best = 180.0f32;
-    for k in 0..g.num_prims() {
-        let p = g.prim_points(k);
-        let q: Vec<Vec3> = p.iter().map(|&i| g.positions()[i as usize]).collect();
-        for j in 0..3 {
-            let (a, b, c) = (q[j], q[(j + 1) % 3], q[(j + 2) % 3]);
-            best = best.min((b - a).angle_between(c - a).to_degrees());
-        }
-    }
-    best
+    smallest_angles(g).into_iter().fold(180.0, f32::min)
 }
 
 /// pymeshlab's isotropic explicit remeshing of `orig` at `length` (10
@@ -145,9 +152,9 @@ fn beside_pymeshlab(name: &str, g: &Geometry, length: f32, bounds: Bounds) {
 
 // Measured (sphere, torus, car): our minimum angle is 34° and 33°
 // against pymeshlab's 27° and 29°; our spread of edge lengths 0.124,
-// 0.104, 0.187 against their 0.132, 0.105, 0.187; our mean edge +1%,
+// 0.103, 0.185 against their 0.132, 0.105, 0.187; our mean edge +1%,
 // -3%, -4% of the target (theirs +4%, +2%, 0%); our Hausdorff distance
-// 1.1, 0.9 and 1.9 times theirs.
+// 1.1, 0.9 and 1.55 times theirs.
 
 #[test]
 fn a_sphere_beside_pymeshlab() {
@@ -169,22 +176,39 @@ fn a_torus_beside_pymeshlab() {
     beside_pymeshlab("torus", &primitives::torus(1.0, 0.35, 64, 24), 0.04, bounds);
 }
 
-/// The car cage: open, creased, with near-degenerate quads. Ours keeps a
-/// zero-area triangle where two feature-line points and a corner end up on
-/// one straight crease (pymeshlab's worst is 3°), and its Hausdorff
-/// distance is 1.9 times pymeshlab's: known weaknesses, recorded here.
-#[test]
-fn the_opensubdiv_car_beside_pymeshlab() {
+fn the_car() -> (Geometry, f32) {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/catmark_car.obj");
     let car =
         geode_io::read(std::path::Path::new(path), &geode_io::NoProgress).expect("the car reads");
     let diag = geode_geo::ops::bounds(&car).unwrap().size().length();
+    (car, diag)
+}
+
+/// The car cage: open, creased, with near-degenerate quads. Ours keeps
+/// one zero-area triangle of 30,000 where two crease lines of the input
+/// run a thousandth of the target apart (pymeshlab's worst is 3°), and
+/// its Hausdorff distance is 1.55 times pymeshlab's: known weaknesses,
+/// recorded here.
+#[test]
+fn the_opensubdiv_car_beside_pymeshlab() {
+    let (car, diag) = the_car();
     let bounds = Bounds {
         spread: 1.0,
-        hausdorff: 2.0,
+        hausdorff: 1.7,
         min_angle: false,
     };
     beside_pymeshlab("car", &car, 0.01 * diag, bounds);
+}
+
+/// Crease lines closer than a tenth of the target join instead of
+/// pinching triangles between them: under 1° the car had 24 triangles
+/// (9 of no area) before they did, 6 (1) after.
+#[test]
+fn near_creases_join_instead_of_pinching_slivers() {
+    let (car, diag) = the_car();
+    let out = remesh(&car, &uniform(0.01 * diag), &|| false).unwrap();
+    let slivers = smallest_angles(&out).iter().filter(|&&a| a < 1.0).count();
+    assert!(slivers <= 8, "{slivers} triangles under 1 degree");
 }
 
 #[test]

@@ -123,6 +123,15 @@ struct Scratch {
     epoch: u32,
 }
 
+/// Whether edge `a b` is shorter than a tenth of its target.
+fn tiny(m: &Mesh, a: u32, b: u32) -> bool {
+    (m.pos[a as usize] - m.pos[b as usize]).length() < TINY * m.edge_size(a, b)
+}
+
+/// Below this fraction of the target an edge between two feature lines
+/// collapses though it is on neither.
+const TINY: f32 = 0.1;
+
 /// Whether `gone` may merge into `kept` along half-edge `h` (either way
 /// round between them).
 fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch) -> bool {
@@ -133,6 +142,12 @@ fn allowed(m: &Mesh, topo: &Topo, h: u32, gone: u32, kept: u32, s: &mut Scratch)
     match topo.feature[gone as usize] {
         0 => {}
         2 if on_feature && topo.feature[kept as usize] > 0 => {}
+        // Two feature lines closer than a tenth of the target (creases
+        // meeting at a sliver of the input, a line folding back past a
+        // corner) cannot both be drawn with edges of the target's length:
+        // left apart, they pinched triangles to no area on the OpenSubdiv
+        // car. A line point that near another line's point joins it.
+        2 if tiny(m, gone, kept) => {}
         _ => return false,
     }
     let o = topo.opp[h as usize];
