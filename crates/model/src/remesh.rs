@@ -5,7 +5,8 @@
 //! edges to bring valences toward 6 (4 on borders), moves each vertex to
 //! its neighbours' centroid in its tangent plane and projects it back
 //! onto the original surface (closest point, walked to from where it was
-//! last), three rounds of these, so the result converges to
+//! last; vertices on feature lines after each of three relaxation rounds,
+//! the others after the third), so the result converges to
 //! near-equilateral triangles of the target size on the input's shape.
 //!
 //! The target length is one number (absolute or a fraction of the bounding
@@ -20,9 +21,11 @@
 //! than two feature edges) never move.
 //!
 //! The working mesh is flat arrays (`remesh/mesh.rs`) whose adjacency is
-//! rebuilt per phase; splits are a parallel pattern refinement, collapses
-//! and flips sequential sweeps in a fixed order, relaxation and projection
-//! parallel per vertex: the output is the same bytes on any thread count.
+//! rebuilt in place per pass; splits are a parallel pattern refinement,
+//! collapses and flips sequential sweeps in a fixed order (a pass after
+//! the first retests only edges at a vertex the last one touched),
+//! relaxation and projection parallel per vertex: the output is the same
+//! bytes on any thread count.
 //! Attributes come from the original at each point's projection
 //! (`remesh/output.rs`). The output is triangles.
 
