@@ -210,6 +210,14 @@ fn the_scan_is_reduced_to_a_tenth_and_remeshed_evenly() {
     assert!((mean / target - 1.0).abs() < 0.1, "{mean} vs {target}");
     assert!(min_angle(&remeshed) > 15.0, "{}", min_angle(&remeshed));
     assert!(min_angle(&reduced) < min_angle(&remeshed));
+    // At the default crease angle the noise makes small triangles whose
+    // three edges are all creases: their corners must not be relaxed onto
+    // the opposite edge (a triangle of no area, 0.00003 degrees, before).
+    let creased = text.replace(r#""crease_angle": 60"#, r#""crease_angle": 30"#);
+    assert_ne!(creased, text);
+    let at_30 = cook(&creased, "/remeshed").unwrap();
+    assert!(closed(&at_30));
+    assert!(min_angle(&at_30) > 1.0, "{}", min_angle(&at_30));
 }
 
 #[test]

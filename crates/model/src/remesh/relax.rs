@@ -12,7 +12,7 @@
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
-use super::mesh::{Mesh, Topo};
+use super::mesh::{next, Mesh, Topo};
 use super::surface::Surface;
 
 /// Every vertex relaxed; `scratch` takes the old positions (kept from
@@ -60,11 +60,21 @@ fn tangential(m: &Mesh, topo: &Topo, v: u32) -> Vec3 {
     p + d - n * n.dot(d)
 }
 
-/// The middle of `v`'s two feature neighbours.
+/// The middle of `v`'s two feature neighbours, unless they and `v` are
+/// the corners of a face whose three edges are all on feature lines (a
+/// scan's noise makes such small crease triangles): there the middle is
+/// on the face's third edge, and the face would lose its area.
 fn along_feature(m: &Mesh, topo: &Topo, v: u32) -> Vec3 {
+    let closes_a_crease_triangle = |a: u32, b: u32| {
+        topo.leaving(v).iter().any(|l| {
+            (l.to == a && l.third == b || l.to == b && l.third == a) && m.is_feature(next(l.edge))
+        })
+    };
     match topo.feature_ends(m, v) {
-        Some([a, b]) => 0.5 * (m.pos[a as usize] + m.pos[b as usize]),
-        None => m.pos[v as usize],
+        Some([a, b]) if !closes_a_crease_triangle(a, b) => {
+            0.5 * (m.pos[a as usize] + m.pos[b as usize])
+        }
+        _ => m.pos[v as usize],
     }
 }
 
