@@ -21,11 +21,15 @@ pub(super) fn assemble(
     groups: (&str, &str),
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
+    let stop = || ModelError::unless_cancelled(cancel);
     let mut plan = Plan::default();
     // Points not bevelled keep their place in order; each corner's new
     // points follow, corner by corner.
     let mut map = vec![NONE; g.num_points()];
     for p in 0..g.num_points() {
+        if p % 8192 == 0 {
+            stop()?;
+        }
         if !affected[p] {
             map[p] = plan.positions.len() as u32;
             plan.positions.push(g.positions()[p]);
@@ -37,6 +41,9 @@ pub(super) fn assemble(
     let mut slot = vec![(NONE, NONE); g.num_vertices()];
     let mut profile_of = vec![(NONE, NONE); g.num_vertices()];
     for (c, corner) in corners.iter().enumerate() {
+        if c % 2048 == 0 {
+            stop()?;
+        }
         base.push(plan.positions.len() as u32);
         for &(at, src) in &corner.points {
             plan.positions.push(at);
@@ -49,7 +56,6 @@ pub(super) fn assemble(
             profile_of[h as usize] = (c as u32, k as u32);
         }
     }
-    let stop = || ModelError::unless_cancelled(cancel);
     stop()?;
     faces(g, he, corners, &base, &slot, &map, &mut plan);
     stop()?;
