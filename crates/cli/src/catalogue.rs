@@ -19,12 +19,12 @@ pub fn list(node_type: Option<&str>) -> Result<()> {
                     }
                 )
             })?;
-            print!("{}", geode_op::markdown(spec));
+            crate::write_stdout(format_args!("{}", geode_op::markdown(spec)));
         }
         None => {
             for s in geode_graph::node_specs(&reg) {
                 let first = s.summary();
-                println!("{:<22} {:<10} {}", s.name, s.category, first);
+                say!("{:<22} {:<10} {}", s.name, s.category, first);
             }
         }
     }

@@ -306,7 +306,7 @@ pub fn check(path: &Path) -> Result<()> {
     if !found.is_empty() {
         return Err(problems(path, &found));
     }
-    println!(
+    say!(
         "{}: ok ({} nodes, output {})",
         path.display(),
         net.paths().count(),

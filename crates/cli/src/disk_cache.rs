@@ -61,13 +61,13 @@ pub fn stats(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<()> {
     let s = cache
         .stats()
         .with_context(|| format!("{}: cannot list the disk cache", cache.dir().display()))?;
-    println!("disk cache:  {}", cache.dir().display());
-    println!("entries:     {}", s.entries);
-    println!(
+    say!("disk cache:  {}", cache.dir().display());
+    say!("entries:     {}", s.entries);
+    say!(
         "sources:     {} (packed sources, shared by entries)",
         s.sources
     );
-    println!(
+    say!(
         "size:        {:.1} MB of {:.1} MB",
         s.bytes as f64 / 1e6,
         s.budget as f64 / 1e6
@@ -80,7 +80,7 @@ pub fn gc(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<()> {
     let r = cache
         .gc()
         .with_context(|| format!("{}: cannot collect the disk cache", cache.dir().display()))?;
-    println!(
+    say!(
         "removed {} files ({:.1} MB), least recently used first, down to {:.1} MB when over {:.1} MB; {:.1} MB left",
         r.removed,
         r.freed as f64 / 1e6,

@@ -1,5 +1,14 @@
 //! The `geode` command: inspect and convert geometry files.
 
+/// `println!` that ends the process quietly when standard output is a
+/// closed pipe (`geode nodes | head`), as a Unix tool does, instead of
+/// panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::write_stdout(format_args!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 mod catalogue;
 mod cook;
 mod disk_cache;
@@ -234,9 +243,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             let g = read_geometry(&file, &progress::Bar::new())?;
             let report = info::Report::new(&file, &g);
             if json {
-                println!("{}", report.to_json());
+                say!("{}", report.to_json());
             } else {
-                print!("{}", report.to_text());
+                write_stdout(format_args!("{}", report.to_text()));
             }
         }
         Command::Convert { input, output } => {
@@ -286,7 +295,7 @@ fn serve(
         cache: Some(std::sync::Arc::new(disk_cache::new_cache()?)),
         allow,
     })?;
-    println!("geode studio: {}", running.url);
+    say!("geode studio: {}", running.url);
     if bind.is_some_and(|ip| ip.is_unspecified()) {
         eprintln!(
             "from another machine: http://<this machine's address>:{}/?token={}",
@@ -308,6 +317,19 @@ fn serve(
     }
     running.wait();
     Ok(())
+}
+
+/// Writes `args` to standard output (see `say!`).
+fn write_stdout(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.flush()) {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: writing to standard output: {e}");
+        std::process::exit(1);
+    }
 }
 
 fn main() -> ExitCode {

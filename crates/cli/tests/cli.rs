@@ -179,3 +179,20 @@ fn only_regular_files_within_the_budget_are_read() {
         )
     );
 }
+
+/// `geode nodes | head -0`: standard output is closed before the first
+/// line; the command ends quietly instead of panicking on the broken pipe.
+#[test]
+fn a_closed_pipe_ends_output_quietly() {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_geode"))
+        .arg("nodes")
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{:?} {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

@@ -119,7 +119,7 @@ pub fn bevel(
         .collect();
     let in_group = |p: u32| group.is_none_or(|s| s.contains(p as usize));
     let points_mode = how.affect == Affect::Points;
-    let bevelled = if points_mode {
+    let mut bevelled = if points_mode {
         vec![false; g.num_vertices()]
     } else {
         select_edges(g, &he, &normals, &in_group, how.flat_angle)
@@ -134,8 +134,11 @@ pub fn bevel(
             bevelled[h] || bevelled[he.prev(g, h as u32) as usize]
         };
     }
+    // No width, no bevel: the input's faces come back as they were (with
+    // the new faces' groups, empty), as Houdini's PolyBevel at distance 0.
     if how.offset == 0.0 {
         affected.iter_mut().for_each(|a| *a = false);
+        bevelled.iter_mut().for_each(|b| *b = false);
     }
     let list: Vec<u32> = (0..g.num_points() as u32)
         .filter(|&p| affected[p as usize])

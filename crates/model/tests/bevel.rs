@@ -564,3 +564,23 @@ fn a_straight_profile_in_segments_is_the_chamfer_and_a_square_one_the_box() {
     let v = volume(&square);
     assert!(v > rounded_volume(1.0, d as f64) && v <= 1.0 + 1e-6, "{v}");
 }
+
+/// Zero width (where an animated offset starts) gives the input's faces
+/// back, edges and points mode alike, with the groups there and empty.
+#[test]
+fn a_zero_offset_changes_nothing() {
+    let g = primitives::box_mesh(geode_geo::glam::Vec3::ONE, [2, 2, 2]);
+    for affect in [Affect::Edges, Affect::Points] {
+        let how = Bevel {
+            affect,
+            ..edges(0.0, 3)
+        };
+        let out = run(&g, None, how);
+        assert_eq!(out.num_prims(), g.num_prims());
+        assert_eq!(out.num_points(), g.num_points());
+        assert!((area(&out) - 6.0).abs() < 1e-5, "{}", area(&out));
+        if affect == Affect::Edges {
+            assert_eq!(count(&out, EDGE_GROUP), 0);
+        }
+    }
+}
