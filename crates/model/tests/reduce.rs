@@ -520,3 +520,34 @@ fn empty_non_manifold_and_degenerate_inputs_do_not_panic() {
         assert!(out.positions().contains(p), "the fin's edge stays");
     }
 }
+
+/// Asked for nothing (a count of 0, or an error bound larger than the
+/// model), a closed mesh stops at a tetrahedron inside its bounds: never
+/// two triangles back to back with no volume.
+#[test]
+fn a_closed_mesh_reduces_to_a_solid_at_least() {
+    let g = ridged_sphere(4_000);
+    let b = geode_geo::ops::bounds(&g).unwrap();
+    for (target, max_error) in [(Target::Count(0), 0.0), (Target::Error, 1e9)] {
+        let out = run(
+            &g,
+            Reduce {
+                target,
+                max_error,
+                ..Reduce::default()
+            },
+        )
+        .geometry;
+        assert!(out.num_prims() >= 4, "{}", out.num_prims());
+        let (euler, closed) = euler_and_closed(&out);
+        assert_eq!((euler, closed), (2, true));
+        assert!(volume(&out) > 1e-3, "{}", volume(&out));
+        let slack = 1e-3 * b.size().length();
+        for p in out.positions() {
+            assert!(
+                p.cmpge(b.min - slack).all() && p.cmple(b.max + slack).all(),
+                "{p} outside the input's bounds"
+            );
+        }
+    }
+}

@@ -8,12 +8,12 @@
 //! scratch buffers.
 
 use geode_geo::glam::DVec3;
+use geode_geo::ops::Quadric;
 use rayon::prelude::*;
 
 use super::heap::Heap;
 use super::mesh::{Kind, Mesh, NONE};
 use crate::ModelError;
-use geode_geo::ops::Quadric;
 
 /// When to stop and what may not happen.
 pub(crate) struct Limits {
@@ -226,7 +226,15 @@ fn choose(mesh: &Mesh, a: u32, b: u32) -> Option<Choice> {
     if ka == Kind::Interior && kb == Kind::Interior {
         let mid = 0.5 * (pa + pb);
         let p = match q.minimizer() {
-            Some(p) if (p - mid).length_squared() <= 4.0 * pa.distance_squared(pb) => p,
+            // Near the edge and inside the input's box: the last few
+            // planes of a coarse mesh can place a point far outside.
+            Some(p)
+                if (p - mid).length_squared() <= 4.0 * pa.distance_squared(pb)
+                    && p.cmpge(mesh.bounds[0]).all()
+                    && p.cmple(mesh.bounds[1]).all() =>
+            {
+                p
+            }
             _ => {
                 let mut best = (q.eval(pa), pa);
                 for p in [pb, mid] {
@@ -333,6 +341,19 @@ fn allowed(mesh: &Mesh, c: &Choice, limits: &Limits, s: &mut Scratch) -> bool {
     if shared == 0 || common != shared {
         return false;
     }
+    // A closed fan of three would be left with two triangles back to
+    // back (a tetrahedron collapses to a flat pair): its corner goes no
+    // lower.
+    for corner in mesh.corners(r) {
+        let tri = mesh.tris[corner as usize / 3];
+        if tri[0] == NONE || !tri.contains(&k) {
+            continue;
+        }
+        let third = tri.into_iter().find(|&p| p != r && p != k);
+        if third.is_some_and(|x| thin_fan(mesh, x)) {
+            return false;
+        }
+    }
     // Every corner of r must know its wedge at k.
     for corner in mesh.corners(r) {
         let tri = mesh.tris[corner as usize / 3];
@@ -343,6 +364,18 @@ fn allowed(mesh: &Mesh, c: &Choice, limits: &Limits, s: &mut Scratch) -> bool {
     let moves_k = c.p != mesh.pos[k as usize];
     turns_ok(mesh, r, k, c.p, limits.min_cos)
         && (!moves_k || turns_ok(mesh, k, r, c.p, limits.min_cos))
+}
+
+/// Whether `x` is a closed fan (interior or seam) of three triangles.
+fn thin_fan(mesh: &Mesh, x: u32) -> bool {
+    let closed = matches!(mesh.kind[x as usize], Kind::Interior | Kind::Seam);
+    closed
+        && mesh
+            .corners(x)
+            .filter(|&c| mesh.tris[c as usize / 3][0] != NONE)
+            .take(4)
+            .count()
+            <= 3
 }
 
 /// Whether moving point `v` to `p` keeps every triangle of `v` without

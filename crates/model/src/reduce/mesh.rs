@@ -43,6 +43,8 @@ pub(crate) struct Setup<'a> {
 
 pub(crate) struct Mesh {
     pub pos: Vec<DVec3>,
+    /// The input's bounding box: no placement goes outside it.
+    pub bounds: [DVec3; 2],
     /// Point indices per triangle; `[NONE; 3]` once collapsed away.
     pub tris: Vec<[u32; 3]>,
     /// Per point: its first corner (NONE: none).
@@ -94,8 +96,14 @@ impl Mesh {
         if (s.cancel)() {
             return None;
         }
+        let bounds = pos
+            .iter()
+            .fold([DVec3::INFINITY, DVec3::NEG_INFINITY], |[lo, hi], &p| {
+                [lo.min(p), hi.max(p)]
+            });
         let mut mesh = Mesh {
             pos,
+            bounds,
             tris,
             head,
             next,
