@@ -51,6 +51,10 @@ use mesh::{Mesh, Proj, Topo, NONE};
 /// Relaxation and projection rounds per iteration.
 const RELAX_ROUNDS: usize = 3;
 
+/// The target length is at most that of equilateral triangles this many
+/// of which cover the surface.
+const FEWEST_TRIANGLES: f32 = 100.0;
+
 /// How long the edges should be.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Sizing {
@@ -202,9 +206,15 @@ fn absolute_sizing(g: &Geometry, opts: &RemeshOptions) -> Result<Sizing, ModelEr
     } else {
         1.0
     };
+    // No edge longer than leaves the surface about a hundred triangles: a
+    // longer target (a slider dragged past the model's size) collapsed a
+    // sphere to a speck of four.
+    let area = geode_geo::ops::surface_area(g);
+    let longest = (area / (3f32.sqrt() / 4.0 * FEWEST_TRIANGLES)).sqrt();
+    let cap = |l: f32| if longest > 0.0 { l.min(longest) } else { l };
     Ok(match opts.sizing {
         Sizing::Uniform { length } => Sizing::Uniform {
-            length: positive("target length", length)? * scale,
+            length: cap(positive("target length", length)? * scale),
         },
         Sizing::Adaptive {
             min,
@@ -227,8 +237,8 @@ fn absolute_sizing(g: &Geometry, opts: &RemeshOptions) -> Result<Sizing, ModelEr
                 )));
             }
             Sizing::Adaptive {
-                min: min * scale,
-                max: max * scale,
+                min: cap(min * scale),
+                max: cap(max * scale),
                 tolerance: positive("tolerance", tolerance)? * scale,
                 gradation,
             }

@@ -561,3 +561,18 @@ fn bad_parameters_and_inputs_are_clear_errors() {
         0
     );
 }
+
+/// A target longer than the model (a slider dragged too far) leaves a
+/// coarse closed solid on the shape, not a speck.
+#[test]
+fn a_target_longer_than_the_model_leaves_a_coarse_solid() {
+    let g = geode_geo::ops::triangulate(&primitives::uv_sphere(1.0, 32, 16), None);
+    for length in [3.0, 1e3] {
+        let out = remesh(&g, &uniform(length), &|| false).unwrap();
+        assert_eq!(euler_and_closed(&out), (2, true));
+        let v = volume(&out);
+        assert!(v > 0.1 * volume(&g), "volume {v} of {}", out.num_prims());
+        let b = geode_geo::ops::bounds(&out).unwrap();
+        assert!(b.size().min_element() > 0.5, "{:?}", b.size());
+    }
+}

@@ -31,7 +31,7 @@ const TARGET_LENGTH: P = P::new(
     "Target edge length",
     T::Float,
     D::Float(0.02),
-    "Uniform sizing: the edge length aimed at (edges end between 4/5 and 4/3 of it, their mean within a few percent of it).",
+    "Uniform sizing: the edge length aimed at (edges end between 4/5 and 4/3 of it, their mean within a few percent of it). At most the length that leaves about a hundred triangles on the surface, so a target past the model's size gives a coarse solid, not a speck.",
 );
 const MIN_LENGTH: P = P::new(
     "min_length",
