@@ -24,6 +24,7 @@ use std::time::Duration;
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, TypeInfo};
 use geode_manifold::{Mesh, Op, Solid};
+use rayon::prelude::*;
 
 use crate::ModelError;
 
@@ -73,6 +74,9 @@ pub fn boolean(
     op: BooleanOp,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Geometry, ModelError> {
+    if let Some(g) = with_an_empty_side(a, b, op) {
+        return Ok(g);
+    }
     let sources = Sources::new(a, b, cancel)?;
     let check = || ModelError::unless_cancelled(cancel);
     check()?;
@@ -439,6 +443,21 @@ fn set(
         })
 }
 
+/// The result when an input has no primitives, as Houdini's Boolean
+/// gives it: the other side for a union, A less nothing is A, nothing
+/// less B or met with anything is nothing, A shattered by nothing is A.
+fn with_an_empty_side(a: &Geometry, b: &Geometry, op: BooleanOp) -> Option<Geometry> {
+    let (a_empty, b_empty) = (a.num_prims() == 0, b.num_prims() == 0);
+    if !a_empty && !b_empty {
+        return None;
+    }
+    Some(match op {
+        BooleanOp::Union if a_empty => b.clone(),
+        BooleanOp::Union | BooleanOp::Subtract | BooleanOp::Shatter if b_empty => a.clone(),
+        _ => Geometry::default(),
+    })
+}
+
 /// Input `name` as triangles: polygons only (a boolean needs solids).
 fn triangles_of(
     g: &Geometry,
@@ -454,13 +473,30 @@ fn triangles_of(
             ),
         });
     }
-    if g.num_prims() == 0 {
-        return Err(ModelError::NotClosed {
+    let t = ops::triangulate_with(g, None, cancel).ok_or(ModelError::Cancelled)?;
+    // manifold takes a solid's winding as given: inside out, A's shell
+    // came back as two coincident copies of B's.
+    let volume = signed_volume(&t);
+    if volume < 0.0 {
+        return Err(ModelError::InsideOut {
             input: name,
-            why: "it has no polygons".into(),
+            volume,
         });
     }
-    ops::triangulate_with(g, None, cancel).ok_or(ModelError::Cancelled)
+    Ok(t)
+}
+
+/// The volume the triangles enclose, negative when they face inward.
+fn signed_volume(t: &Geometry) -> f64 {
+    let p = t.positions();
+    (0..t.num_prims())
+        .into_par_iter()
+        .map(|k| {
+            let q = t.prim_points(k);
+            let [a, b, c] = [q[0], q[1], q[2]].map(|i| p[i as usize].as_dvec3());
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
 }
 
 /// Why a side is not a closed manifold: its open and over-shared edges.

@@ -7,6 +7,11 @@ pub enum ModelError {
     /// An input the operation needs closed (a solid) is not.
     #[error("input {input} is not a closed manifold mesh: {why}")]
     NotClosed { input: &'static str, why: String },
+    /// A closed input whose faces point inward (negative volume).
+    #[error(
+        "input {input} is inside out: its faces point inward (volume {volume}); reverse it first"
+    )]
+    InsideOut { input: &'static str, volume: f64 },
     /// A parameter's value the operation cannot use.
     #[error("{0}")]
     Invalid(String),

@@ -372,6 +372,38 @@ fn an_open_input_is_refused_by_name() {
     assert!(err.contains("input A") && err.contains("polyline"), "{err}");
 }
 
+/// An inside-out solid is named, not cut as given (manifold would return
+/// two coincident copies of the other shell).
+#[test]
+fn an_inside_out_input_is_refused_by_name() {
+    let a = primitives::cube(1.0);
+    let mut b = moved(
+        primitives::cube(1.0),
+        Mat4::from_translation(Vec3::splat(0.5)),
+    );
+    ops::reverse_prims(&mut b, None);
+    let err = boolean(&a, &b, BooleanOp::Union, &|| false)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("input B is inside out"), "{err}");
+}
+
+/// With nothing on one side the result is Houdini's: the other side for a
+/// union, A less nothing is A, anything met with nothing is nothing.
+#[test]
+fn an_empty_side_gives_houdinis_answers() {
+    let a = primitives::cube(1.0);
+    let none = Geometry::new();
+    let prims = |x: &Geometry, y: &Geometry, op| run(x, y, op).num_prims();
+    assert_eq!(prims(&a, &none, BooleanOp::Union), a.num_prims());
+    assert_eq!(prims(&none, &a, BooleanOp::Union), a.num_prims());
+    assert_eq!(prims(&a, &none, BooleanOp::Subtract), a.num_prims());
+    assert_eq!(prims(&a, &none, BooleanOp::Shatter), a.num_prims());
+    assert_eq!(prims(&none, &a, BooleanOp::Subtract), 0);
+    assert_eq!(prims(&a, &none, BooleanOp::Intersect), 0);
+    assert_eq!(prims(&none, &none, BooleanOp::Union), 0);
+}
+
 #[test]
 fn cancelled_before_the_boolean() {
     let a = primitives::cube(1.0);

@@ -22,7 +22,7 @@ static BOOLEAN: NodeSpec = NodeSpec::new(
     "boolean",
     "Boolean",
     "model",
-    "Union, intersection, subtraction or shatter of two closed polygon meshes, exact and robust as manifold is (coplanar faces, touching edges and vertices give a closed result). Point and vertex attributes of the new points on the cut are their source face's corners weighted by position; primitive attributes and groups come from the source face. Groups: a_inside_b, a_outside_b, b_inside_a, b_outside_a (primitives) and seam (points where A's and B's faces meet). Unlike Houdini, the result is triangles (Houdini keeps n-gons), the seam is a point group (geode has no edge groups), and an open input is an error rather than treated as a surface.",
+    "Union, intersection, subtraction or shatter of two closed polygon meshes, exact and robust as manifold is (coplanar faces, touching edges and vertices give a closed result). Point and vertex attributes of the new points on the cut are their source face's corners weighted by position; primitive attributes and groups come from the source face. Groups: a_inside_b, a_outside_b, b_inside_a, b_outside_a (primitives) and seam (points where A's and B's faces meet). Unlike Houdini, the result is triangles (Houdini keeps n-gons), the seam is a point group (geode has no edge groups), and an open or inside-out input is an error rather than treated as a surface. As in Houdini, an empty input gives the other side for a union, A for A less nothing, nothing for an intersection.",
     &[geometry_input("a"), geometry_input("b")],
     &[OPERATION],
 );
@@ -57,7 +57,9 @@ fn cook_boolean(
     match boolean::boolean(a, b, op, &ctx.cancel_fn()) {
         Ok(g) => geometry(g),
         Err(ModelError::Cancelled) => Err(CookError::cancelled(ctx.path)),
-        Err(e @ ModelError::NotClosed { .. }) => Err(ctx.input_error(e.to_string()).with_source(e)),
+        Err(e @ (ModelError::NotClosed { .. } | ModelError::InsideOut { .. })) => {
+            Err(ctx.input_error(e.to_string()).with_source(e))
+        }
         Err(e) => Err(ctx.kernel(e)),
     }
 }
