@@ -157,37 +157,68 @@ pub struct Fractal {
     pub seed: u64,
 }
 
+/// A field of [`Fractal`], to name in an error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FractalField {
+    ElementSize,
+    Octaves,
+    Roughness,
+    Lacunarity,
+    Height,
+    Offset,
+}
+
 impl Fractal {
     /// Refuses values that give no field (or an infinite one).
     pub fn check(&self) -> Result<(), ModelError> {
+        self.check_field().map_err(|(_, e)| e)
+    }
+
+    /// [`Fractal::check`], saying which field is wrong.
+    pub fn check_field(&self) -> Result<(), (FractalField, ModelError)> {
+        let bad = |field, why: String| Err((field, ModelError::Invalid(why)));
         if !(self.element_size > 0.0 && self.element_size.is_finite()) {
-            return Err(ModelError::Invalid(format!(
-                "element size must be positive, not {}",
-                self.element_size
-            )));
+            return bad(
+                FractalField::ElementSize,
+                format!("element size must be positive, not {}", self.element_size),
+            );
         }
         if self.octaves == 0 || self.octaves > 32 {
-            return Err(ModelError::Invalid(format!(
-                "octaves must be 1 to 32, not {}",
-                self.octaves
-            )));
+            return bad(
+                FractalField::Octaves,
+                format!("octaves must be 1 to 32, not {}", self.octaves),
+            );
         }
         if !(0.0..=1.0).contains(&self.roughness) {
-            return Err(ModelError::Invalid(format!(
-                "roughness must be in [0, 1], not {}",
-                self.roughness
-            )));
+            return bad(
+                FractalField::Roughness,
+                format!("roughness must be in [0, 1], not {}", self.roughness),
+            );
         }
         if !(self.lacunarity >= 1.0 && self.lacunarity <= 16.0) {
-            return Err(ModelError::Invalid(format!(
-                "lacunarity must be in [1, 16], not {}",
-                self.lacunarity
-            )));
+            return bad(
+                FractalField::Lacunarity,
+                format!("lacunarity must be in [1, 16], not {}", self.lacunarity),
+            );
         }
-        if !self.height.is_finite() || !self.offset.is_finite() {
-            return Err(ModelError::Invalid(
-                "height and offset must be finite".into(),
-            ));
+        // Single precision: past 3.4e38 a value is infinite.
+        if !self.height.is_finite() {
+            return bad(
+                FractalField::Height,
+                format!(
+                    "height must be finite (at most 3.4e38 in size), not {}",
+                    self.height
+                ),
+            );
+        }
+        if !self.offset.is_finite() {
+            return bad(
+                FractalField::Offset,
+                format!(
+                    "offset must be finite (at most 3.4e38 in size), not {}",
+                    self.offset
+                ),
+            );
         }
         Ok(())
     }

@@ -9,7 +9,7 @@ use geode_geo::glam::{Mat3, Vec3};
 use geode_geo::ops::{self, Aabb};
 use geode_geo::{AttribClass, AttribData, AttribType, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_model::bound::{self, BoundingSphere, Justify, OrientedBox, ScaleMode};
-use geode_model::deform::{self, Fractal};
+use geode_model::deform::{self, Fractal, FractalField};
 use geode_model::smooth::{self, SmoothMethod, SmoothOptions};
 use geode_model::ModelError;
 use geode_op::{
@@ -282,9 +282,17 @@ fn cook_mountain(
         lacunarity: p.float(&MOUNTAIN_LACUNARITY)? as f32,
         seed: p.int(&MOUNTAIN_SEED)? as u64,
     };
-    fractal
-        .check()
-        .map_err(|e| ctx.kernel_at(MOUNTAIN_ELEMENT_SIZE.name, e))?;
+    fractal.check_field().map_err(|(field, e)| {
+        let param = match field {
+            FractalField::ElementSize => &MOUNTAIN_ELEMENT_SIZE,
+            FractalField::Octaves => &MOUNTAIN_OCTAVES,
+            FractalField::Roughness => &MOUNTAIN_ROUGHNESS,
+            FractalField::Lacunarity => &MOUNTAIN_LACUNARITY,
+            FractalField::Height => &MOUNTAIN_HEIGHT,
+            FractalField::Offset => &MOUNTAIN_OFFSET,
+        };
+        ctx.kernel_at(param.name, e)
+    })?;
     let basis: fn([f32; 3]) -> f32 = match p.string(&MOUNTAIN_NOISE)? {
         "simplex" => simplex_basis,
         "worley" => worley_basis,

@@ -191,6 +191,13 @@ fn mountain_is_deterministic_bounded_and_along_the_normals() {
         "m",
     );
     assert_eq!(param.as_deref(), Some("element_size"), "{text}");
+    // A height past single precision names the height.
+    let (param, text) = blamed(
+        r#""s": {"type": "sphere"}, "m": {"type": "mountain", "inputs": ["s"], "params": {"height": 1e39}}"#,
+        "m",
+    );
+    assert_eq!(param.as_deref(), Some("height"), "{text}");
+    assert!(text.contains("height must be finite"), "{text}");
 }
 
 const TILTED_BOX: &str = r#"
