@@ -190,6 +190,23 @@ fn boundary_edges(g: &Geometry) -> Vec<LoopEdge> {
         .collect()
 }
 
+/// How many open chains the edges `stray` make: the points where one
+/// starts (a tail no stray edge ends at), at least one if any edge is
+/// left.
+fn open_chains(edges: &[(u32, u32)], stray: &[usize]) -> usize {
+    let mut ends: Vec<u32> = stray.iter().map(|&e| edges[e].1).collect();
+    ends.sort_unstable();
+    let starts = stray
+        .iter()
+        .filter(|&&e| ends.binary_search(&edges[e].0).is_err())
+        .count();
+    if stray.is_empty() {
+        0
+    } else {
+        starts.max(1)
+    }
+}
+
 /// Chains directed edges `(from, to)` into closed loops of edge indices,
 /// each loop starting at its lowest-numbered edge; where several edges
 /// leave a point, `choose(incoming, candidates)` picks one. Also returns
@@ -206,7 +223,10 @@ pub(crate) fn chain_loops(
         &by_from[lo..hi]
     };
     let mut used = vec![false; edges.len()];
-    let (mut loops, mut open) = (Vec::new(), 0);
+    let mut loops = Vec::new();
+    // Edges of chains that did not close: counted as chains at the end (a
+    // walk can start in the middle of an open chain and meet it in parts).
+    let mut stray: Vec<usize> = Vec::new();
     let mut candidates = Vec::new();
     for first in 0..edges.len() {
         if used[first] {
@@ -224,7 +244,7 @@ pub(crate) fn chain_loops(
             candidates.clear();
             candidates.extend(leaving(to).iter().copied().filter(|&e| !used[e]));
             if candidates.is_empty() {
-                open += 1;
+                stray.extend(chain.iter().copied());
                 break;
             }
             let next = if candidates.len() == 1 {
@@ -237,7 +257,7 @@ pub(crate) fn chain_loops(
             at = next;
         }
     }
-    (loops, open)
+    (loops, open_chains(edges, &stray))
 }
 
 /// The plan that copies `g` whole (new faces are appended to it).

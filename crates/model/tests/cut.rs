@@ -906,3 +906,24 @@ fn every_kernel_stops_when_cancelled() {
         revolve(&line, &RevolveOptions::default(), &yes).map(|_| ())
     ));
 }
+
+/// One plane across an open grid makes one open cut, whatever order its
+/// edges are met in (a bumpy quad grid's was counted as eleven).
+#[test]
+fn one_open_cut_is_counted_once() {
+    let mut grid = primitives::grid(Vec2::splat(10.0), 10, 10);
+    for p in grid.positions_mut() {
+        p.y = 0.3 * (1.7 * p.x).sin() * (1.3 * p.z).cos();
+    }
+    for keep in [Keep::Above, Keep::Below] {
+        let o = ClipOptions {
+            normal: Vec3::X,
+            distance: 0.5,
+            keep,
+            cap: Cap::Polygon,
+            ..ClipOptions::default()
+        };
+        let r = clip(&grid, &o, &never).unwrap();
+        assert_eq!(r.open_loops, 1, "{keep:?}");
+    }
+}

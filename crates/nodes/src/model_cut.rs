@@ -152,7 +152,7 @@ fn cook_clip(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     let r = clip::clip(g, &options, &ctx.cancel_fn()).map_err(|e| ctx.kernel(e))?;
     if r.open_loops > 0 {
         ctx.warn(format!(
-            "{} cut loop{} did not close (an open or non-manifold mesh) and {} not capped",
+            "{} cut line{} did not close (the mesh is open or non-manifold where the plane crosses it) and {} not capped",
             r.open_loops,
             if r.open_loops == 1 { "" } else { "s" },
             if r.open_loops == 1 { "was" } else { "were" }
