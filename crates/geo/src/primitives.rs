@@ -1,8 +1,7 @@
 //! Polygon mesh primitives (box, grid, sphere, torus, tube), outward-facing, counter-clockwise.
 
-use std::f32::consts::TAU;
-
 use glam::{Vec2, Vec3};
+use std::f64::consts::TAU;
 
 use crate::attrib::{AttribClass, AttribData, Attribute, TypeInfo};
 use crate::geometry::Geometry;
@@ -102,21 +101,26 @@ pub fn grid(size: Vec2, cols: u32, rows: u32) -> Geometry {
 
 /// A UV sphere: `rows` latitude bands, `cols` longitude segments, triangle
 /// fans at the poles, quads elsewhere. Closed.
+/// The cosine and sine of `i / n` of a full turn, worked in double
+/// precision and rounded once, with the quarter turns exact: single
+/// precision put a sphere's equator at y = -4.4e-8 (cos of a rounded
+/// pi/2), which exact booleans and cuts then met as slivers.
+fn turn(i: u32, n: u32) -> (f32, f32) {
+    let (s, c) = (TAU * i as f64 / n as f64).sin_cos();
+    let snap = |v: f64| if v.abs() < 1e-12 { 0.0 } else { v as f32 };
+    (snap(c), snap(s))
+}
+
 pub fn uv_sphere(radius: f32, cols: u32, rows: u32) -> Geometry {
     let (cols, rows) = (cols.max(3), rows.max(2));
     let mut positions = vec![Vec3::new(0.0, radius, 0.0)];
     for j in 1..rows {
-        let theta = std::f32::consts::PI * j as f32 / rows as f32;
+        // Half a turn from pole to pole.
+        let (cos_theta, sin_theta) = turn(j, 2 * rows);
         for i in 0..cols {
-            let phi = TAU * i as f32 / cols as f32;
-            positions.push(
-                radius
-                    * Vec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.cos(),
-                        -theta.sin() * phi.sin(),
-                    ),
-            );
+            let (cos_phi, sin_phi) = turn(i, cols);
+            positions
+                .push(radius * Vec3::new(sin_theta * cos_phi, cos_theta, -sin_theta * sin_phi));
         }
     }
     positions.push(Vec3::new(0.0, -radius, 0.0));
@@ -150,15 +154,11 @@ pub fn torus(major: f32, minor: f32, cols: u32, rows: u32) -> Geometry {
     let (cols, rows) = (cols.max(3), rows.max(3));
     let mut positions = Vec::with_capacity((cols * rows) as usize);
     for i in 0..cols {
-        let phi = TAU * i as f32 / cols as f32;
+        let (cos_phi, sin_phi) = turn(i, cols);
         for j in 0..rows {
-            let theta = TAU * j as f32 / rows as f32;
-            let r = major + minor * theta.cos();
-            positions.push(Vec3::new(
-                r * phi.cos(),
-                minor * theta.sin(),
-                -r * phi.sin(),
-            ));
+            let (cos_theta, sin_theta) = turn(j, rows);
+            let r = major + minor * cos_theta;
+            positions.push(Vec3::new(r * cos_phi, minor * sin_theta, -r * sin_phi));
         }
     }
     let id = |i: u32, j: u32| (i % cols) * rows + j % rows;
@@ -178,8 +178,8 @@ pub fn tube(radius: f32, height: f32, cols: u32, rows: u32, caps: bool) -> Geome
     for j in 0..=rows {
         let y = height * j as f32 / rows as f32;
         for i in 0..cols {
-            let phi = TAU * i as f32 / cols as f32;
-            positions.push(Vec3::new(radius * phi.cos(), y, -radius * phi.sin()));
+            let (cos_phi, sin_phi) = turn(i, cols);
+            positions.push(Vec3::new(radius * cos_phi, y, -radius * sin_phi));
         }
     }
     let id = |j: u32, i: u32| j * cols + i % cols;
@@ -203,6 +203,25 @@ pub fn tube(radius: f32, height: f32, cols: u32, rows: u32, caps: bool) -> Geome
 mod tests {
     use super::*;
     use crate::ops::signed_volume;
+
+    /// The equator, the axis planes and the poles exactly where they
+    /// belong, so exact operations meet no rounding slivers there.
+    #[test]
+    fn quarter_turns_are_exact() {
+        let s = uv_sphere(1.0, 32, 16);
+        let on = |f: fn(&Vec3) -> f32| s.positions().iter().filter(|p| f(p) == 0.0).count();
+        assert_eq!(on(|p| p.y), 32, "the equator at y = 0");
+        // The x = 0 and z = 0 meridians: two columns each, rows - 1 points.
+        assert_eq!(on(|p| p.x), 2 * 15 + 2);
+        assert_eq!(on(|p| p.z), 2 * 15 + 2);
+        assert!(s.positions().iter().all(|p| p.length() <= 1.0 + 1e-6));
+        let t = torus(2.0, 0.5, 8, 4);
+        assert!(t.positions().iter().any(|p| *p == Vec3::new(2.5, 0.0, 0.0)));
+        assert!(t
+            .positions()
+            .iter()
+            .any(|p| *p == Vec3::new(0.0, 0.5, -2.0)));
+    }
 
     #[test]
     fn primitives_are_closed_and_outward() {

@@ -5,7 +5,12 @@
 //! along themselves (constraint planes hold their shape) or are locked;
 //! seams (a vertex attribute that differs across an edge) likewise; a
 //! collapse never flips, folds or degenerates a triangle and keeps a
-//! closed manifold closed (the link condition).
+//! closed manifold closed (the link condition, and no closed fan below
+//! three triangles, so a closed mesh ends at a tetrahedron at the least).
+//! Collapses are taken in MeshLab's order: the quadric cost (floored at
+//! a trace of the model's scale) over the worst shape of the triangles
+//! it leaves, below a quality threshold; the error bound reads the cost
+//! alone.
 //!
 //! Attributes: float point attributes are blended at every collapse by
 //! where the new position lies along the edge (so a point that absorbed

@@ -78,6 +78,11 @@ print(json.dumps({"ours": hausdorff(1), "theirs": hausdorff(2), "faces": theirs.
   "theirs_v": theirs.vertex_matrix().tolist(), "theirs_f": theirs.face_matrix().tolist()}))
 "#;
 
+/// Measured: at 10%, Hausdorff 0.00367 (pymeshlab 0.00375), smallest
+/// angle 8.84 deg (8.84), edge spread 13.1 (19.4); at 2%, 0.01316
+/// (0.01717), 14.0 deg (12.8), 4.4 (6.1). Before collapses were keyed by
+/// the shape they leave, as MeshLab keys them, the smallest angle at 10%
+/// was 3.6 deg.
 #[test]
 fn a_ridged_sphere_is_as_close_as_pymeshlabs_at_equal_counts_and_stays_closed() {
     let g = ridged_sphere(40_000);
@@ -128,14 +133,14 @@ fn a_ridged_sphere_is_as_close_as_pymeshlabs_at_equal_counts_and_stays_closed() 
         );
         assert!(o["watertight"].as_bool().unwrap(), "trimesh: watertight");
         assert!(
-            ours <= 1.5 * theirs,
+            ours <= 1.1 * theirs,
             "{p}%: Hausdorff {ours} vs pymeshlab's {theirs}"
         );
         assert!(
-            a >= 0.5 * ta,
+            a >= 0.9 * ta,
             "{p}%: smallest angle {a} vs pymeshlab's {ta}"
         );
-        assert!(s <= 2.0 * ts, "{p}%: edge spread {s} vs pymeshlab's {ts}");
+        assert!(s <= ts, "{p}%: edge spread {s} vs pymeshlab's {ts}");
     }
 }
 

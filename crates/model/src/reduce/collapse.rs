@@ -63,6 +63,8 @@ struct Choice {
     k: u32,
     p: DVec3,
     cost: f64,
+    /// The heap's key: the cost over the worst shape it leaves.
+    priority: f64,
     quadric: Quadric,
 }
 
@@ -147,7 +149,7 @@ fn stamps(mesh: &Mesh, a: u32, b: u32) -> u32 {
 }
 
 fn entry(mesh: &Mesh, c: &Choice, a: u32, b: u32) -> Entry {
-    let cost = (c.cost as f32).max(0.0);
+    let cost = (c.priority as f32).max(0.0);
     (u128::from(cost.to_bits()) << 96)
         | (u128::from(a) << 64)
         | (u128::from(b) << 32)
@@ -252,11 +254,13 @@ fn choose(mesh: &Mesh, a: u32, b: u32) -> Option<Choice> {
         } else {
             (a, b)
         };
+        let cost = q.eval(p);
         return Some(Choice {
             r,
             k,
             p,
-            cost: q.eval(p),
+            cost,
+            priority: priority(mesh, r, k, p, cost),
             quadric: q,
         });
     }
@@ -288,8 +292,47 @@ fn choose(mesh: &Mesh, a: u32, b: u32) -> Option<Choice> {
         k,
         p,
         cost,
+        priority: priority(mesh, r, k, p, cost),
         quadric: q,
     })
+}
+
+/// Below this shape quality (twice the area over the longest edge
+/// squared: 0.87 equilateral) a collapse's cost grows as its worst
+/// triangle thins: MeshLab's quality threshold, whose default is this.
+const QUALITY: f64 = 0.3;
+
+/// The order collapses are taken in, as MeshLab's quadric decimation
+/// keys them: the cost (at least a trace of the mesh's scale, so flat
+/// regions go best shapes first) over the worst quality among the
+/// triangles left around `r` and `k` with both at `p`, capped at
+/// [`QUALITY`]; a collapse leaving a triangle of no area comes last.
+fn priority(mesh: &Mesh, r: u32, k: u32, p: DVec3, cost: f64) -> f64 {
+    let mut worst = QUALITY;
+    for v in [r, k] {
+        for corner in mesh.corners(v) {
+            let tri = mesh.tris[corner as usize / 3];
+            if tri[0] == NONE || (tri.contains(&r) && tri.contains(&k)) {
+                continue;
+            }
+            let at = tri.map(|q| {
+                if q == r || q == k {
+                    p
+                } else {
+                    mesh.pos[q as usize]
+                }
+            });
+            let longest = (at[1] - at[0])
+                .length_squared()
+                .max((at[2] - at[1]).length_squared())
+                .max((at[0] - at[2]).length_squared());
+            let twice_area = (at[1] - at[0]).cross(at[2] - at[0]).length();
+            if longest > 0.0 {
+                worst = worst.min(twice_area / longest);
+            }
+        }
+    }
+    cost.max(mesh.cost_floor) / worst.max(f64::MIN_POSITIVE)
 }
 
 /// Whether collapse `c` keeps the mesh sound: the link condition (the

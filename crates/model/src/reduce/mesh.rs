@@ -45,6 +45,9 @@ pub(crate) struct Mesh {
     pub pos: Vec<DVec3>,
     /// The input's bounding box: no placement goes outside it.
     pub bounds: [DVec3; 2],
+    /// The least cost a collapse is keyed with (a trace of the box's
+    /// diagonal to the fourth: costs are area times squared distance).
+    pub cost_floor: f64,
     /// Point indices per triangle; `[NONE; 3]` once collapsed away.
     pub tris: Vec<[u32; 3]>,
     /// Per point: its first corner (NONE: none).
@@ -101,9 +104,11 @@ impl Mesh {
             .fold([DVec3::INFINITY, DVec3::NEG_INFINITY], |[lo, hi], &p| {
                 [lo.min(p), hi.max(p)]
             });
+        let diagonal = (bounds[1] - bounds[0]).length();
         let mut mesh = Mesh {
             pos,
             bounds,
+            cost_floor: 1e-14 * diagonal.powi(4),
             tris,
             head,
             next,
