@@ -33,7 +33,7 @@ const SMOOTH_METHOD: P = P::new(
     "Method",
     T::Menu(SmoothMethod::NAMES),
     D::Str("taubin"),
-    "laplacian: each pass moves points toward their neighbours' mean (closed surfaces shrink). taubin: a pass forward and one back (Taubin's λ|μ), which smooths without shrinking.",
+    "laplacian: each pass moves points toward their neighbours' mean (closed surfaces shrink). taubin: a pass forward and one back (Taubin's λ|μ), which smooths without shrinking; like every Taubin filter it slightly amplifies the broadest bends (by at most (λ+μ)²/(4|λμ|) a pass: 0.07% at the defaults), so hundreds of passes inflate the shape: turn on Keep Volume for long runs.",
 );
 const SMOOTH_STRENGTH: P = P::new(
     "strength",
