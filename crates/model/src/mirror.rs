@@ -15,7 +15,10 @@
 //! using the original points instead (a correspondence, not a search: two
 //! distinct points of the original near each other are never fused, as a
 //! general fuse would). A mirrored face or polyline lying wholly on the
-//! seam would repeat the original's, reversed, and is not made.
+//! seam would repeat the original's, reversed, and is not made; an
+//! original face on the seam closed in by other faces on all its edges
+//! (a capped half model's cap) would be a wall inside the whole and goes
+//! too.
 
 use geode_geo::glam::{DVec3, Mat4, Vec3, Vec4};
 use geode_geo::{ops, Geometry, Group};
@@ -109,9 +112,20 @@ pub fn mirror(
     };
     let seam_points = seam.iter().filter(|&&s| s).count();
     let mut original = g.clone();
+    // A polygon of the original wholly on the seam whose every edge has
+    // another polygon (a capped half model's cap) would be a wall inside
+    // the mirrored whole, its image the same face reversed: both go, and
+    // the whole is closed. A sheet lying on the plane (its edges borders)
+    // stays, once.
+    if options.fuse {
+        let walls = seam_walls(g, &seam);
+        if walls.count() > 0 {
+            ops::delete_prims(&mut original, &walls, false);
+        }
+    }
     if !options.group.is_empty() {
         original
-            .set_prim_group(&options.group, Group::new(g.num_prims()))
+            .set_prim_group(&options.group, Group::new(original.num_prims()))
             .map_err(failed)?;
     }
     if seam_points == 0 {
@@ -135,6 +149,38 @@ pub fn mirror(
         geometry,
         seam_points,
     })
+}
+
+/// The polygons of `g` wholly on the seam with another polygon on each
+/// of their edges.
+fn seam_walls(g: &Geometry, seam: &[bool]) -> Group {
+    let on_seam = |k: usize| {
+        g.prim_kinds()[k] == geode_geo::PrimKind::Polygon
+            && g.prim_points(k).iter().all(|&q| seam[q as usize])
+    };
+    let candidates: Vec<usize> = (0..g.num_prims()).filter(|&k| on_seam(k)).collect();
+    if candidates.is_empty() {
+        return Group::new(g.num_prims());
+    }
+    let edge = |a: u32, b: u32| (a.min(b), a.max(b));
+    let mut uses: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
+    for k in 0..g.num_prims() {
+        if g.prim_kinds()[k] != geode_geo::PrimKind::Polygon {
+            continue;
+        }
+        let pts = g.prim_points(k);
+        for j in 0..pts.len() {
+            *uses
+                .entry(edge(pts[j], pts[(j + 1) % pts.len()]))
+                .or_default() += 1;
+        }
+    }
+    let mut walls = vec![false; g.num_prims()];
+    for k in candidates {
+        let pts = g.prim_points(k);
+        walls[k] = (0..pts.len()).all(|j| uses[&edge(pts[j], pts[(j + 1) % pts.len()])] >= 2);
+    }
+    Group::from_flags(walls)
 }
 
 /// The reflection across the plane through `o` with unit normal `n`.

@@ -357,6 +357,30 @@ fn half_a_box_mirrored_with_fuse_is_the_closed_box() {
     .geometry;
     assert!((volume(&capped) - 0.5).abs() < 1e-6);
     assert!((f(&t, "volume") - 2.0 * volume(&capped)).abs() < 1e-5);
+    // The capped half mirrored: its cap would be a wall inside the whole
+    // (each of its edges in three faces); it goes, and the box is closed.
+    let whole = mirror(&capped, &MirrorOptions::default(), &never)
+        .unwrap()
+        .geometry;
+    assert_eq!(euler_and_closed(&whole), (2, true));
+    assert!(whole
+        .topology()
+        .manifold_report(&whole)
+        .is_closed_manifold());
+    assert!((volume(&whole) - 1.0).abs() < 1e-6);
+    // A sheet lying on the plane stays, once.
+    let sheet = primitives::grid(Vec2::ONE, 2, 2);
+    let on_plane = mirror(
+        &sheet,
+        &MirrorOptions {
+            normal: Vec3::Y,
+            ..MirrorOptions::default()
+        },
+        &never,
+    )
+    .unwrap()
+    .geometry;
+    assert_eq!(on_plane.num_prims(), sheet.num_prims());
 }
 
 #[test]

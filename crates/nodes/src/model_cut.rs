@@ -218,7 +218,7 @@ static MIRROR: NodeSpec = NodeSpec::new(
     "mirror",
     "Mirror",
     "model",
-    "Reflects the geometry across a plane, keeping the original beside the image, reversing the image's winding and fusing the seam, as Houdini's Mirror does. Attributes follow their type: positions reflect about the plane, vectors and normals (N, v, any vector or normal attribute) reflect; quaternions keep their rotation part (a reflection is no rotation). Faces of the original lying on the plane are not mirrored onto themselves.",
+    "Reflects the geometry across a plane, keeping the original beside the image, reversing the image's winding and fusing the seam, as Houdini's Mirror does. Attributes follow their type: positions reflect about the plane, vectors and normals (N, v, any vector or normal attribute) reflect; quaternions keep their rotation part (a reflection is no rotation). Faces of the original lying on the plane are not mirrored onto themselves, and one closed in by faces on all its edges (a capped half model's cap) is dropped, as it would be a wall inside the whole (Houdini and Blender keep both copies).",
     &[geometry_input("geometry")],
     &[
         MIRROR_ORIGIN,
