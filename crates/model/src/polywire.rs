@@ -349,12 +349,18 @@ impl Output {
         self.plan.first_new_prim = usize::MAX;
         let mut out = carry::build(g, self.plan, "polywire", cancel)?;
         if uv {
+            // The tubes' uv replaces a carried one of another class (a
+            // grid's point uv): one `uv`, as Houdini keeps one per name.
+            let failed = |e: geode_geo::GeoError| ModelError::Failed {
+                op: "polywire",
+                why: e.to_string(),
+            };
+            for class in [AttribClass::Point, AttribClass::Primitive] {
+                out.remove_attrib(class, "uv").map_err(failed)?;
+            }
             let column = Attribute::from_data(AttribData::Vec2(self.vertex_uv), TypeInfo::TexCoord);
             out.set_attrib(AttribClass::Vertex, "uv", column)
-                .map_err(|e| ModelError::Failed {
-                    op: "polywire",
-                    why: e.to_string(),
-                })?;
+                .map_err(failed)?;
         }
         Ok(out)
     }

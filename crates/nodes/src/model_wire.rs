@@ -77,7 +77,7 @@ const WIRE_UV: P = P::new(
     "UVs",
     T::Toggle,
     D::Toggle(false),
-    "Write vertex uv: u around each tube, v by arc length along each run of edges between joints and ends.",
+    "Write vertex uv: u around each tube, v by arc length along each run of edges between joints and ends (it replaces a point or primitive uv carried from the input).",
 );
 
 static POLYWIRE: NodeSpec = NodeSpec::new(

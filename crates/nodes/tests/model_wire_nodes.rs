@@ -69,6 +69,26 @@ fn polywire_closes_the_coral_skeleton_in_one_node() {
     }
 }
 
+/// A grid carries a point uv; the tubes' own uv replaces it (one `uv`).
+#[test]
+fn polywire_uv_replaces_a_carried_one() {
+    let g = common::geo(
+        r#""g": {"type": "grid", "params": {"rows": 3, "columns": 3}},
+           "w": {"type": "polywire", "inputs": ["g"], "params": {"radius": 0.05, "uv": true}}"#,
+        "w",
+    );
+    let input = common::geo(
+        r#""g": {"type": "grid", "params": {"rows": 3, "columns": 3}}"#,
+        "g",
+    );
+    assert!(
+        input.attrib(AttribClass::Point, "uv").is_some(),
+        "the test needs a point uv in"
+    );
+    assert!(g.attrib(AttribClass::Vertex, "uv").is_some());
+    assert!(g.attrib(AttribClass::Point, "uv").is_none());
+}
+
 #[test]
 fn polywire_names_its_bad_parameters() {
     let line = r#""l": {"type": "curve_line", "params": {"points": 4}}"#;
