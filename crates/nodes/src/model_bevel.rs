@@ -159,7 +159,17 @@ fn cook_polybevel(
     let bytes = vertices * 48.0 + g.num_points() as f64 * (1.0 + n) * 32.0;
     ctx.reserve(SEGMENTS.name, bytes, "the bevel")?;
     match bevel(g, group.as_ref(), &how, &ctx.cancel_fn()) {
-        Ok((out, _)) => geometry(out),
+        Ok((out, report)) => {
+            // A clamp far below the asked offset is worth saying: one
+            // short edge (a boolean's sliver) lowers it for the whole mesh.
+            if how.clamp && report.offset < 0.5 * how.offset {
+                ctx.warn(format!(
+                    "the clamp lowered the offset from {} to {:.3e} for the whole mesh: its shortest bevelled edges allow no more (turn Clamp off, or clean the mesh's short edges first)",
+                    how.offset, report.offset
+                ));
+            }
+            geometry(out)
+        }
         Err(ModelError::Cancelled) => Err(CookError::cancelled(ctx.path)),
         Err(e) => Err(ctx.kernel(e)),
     }

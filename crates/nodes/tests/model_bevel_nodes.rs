@@ -95,3 +95,27 @@ fn bad_parameters_name_themselves() {
     );
     assert!(e[0].message.contains("polygons"), "{}", e[0].message);
 }
+
+/// One short edge lowers the clamped offset for the whole mesh: the user
+/// is told, with the offset it came to.
+#[test]
+fn a_clamp_far_below_the_offset_is_a_warning() {
+    let text = common::net(
+        r#""b": {"type": "box", "params": {"size": [1, 1, 0.001]}},
+           "v": {"type": "polybevel", "inputs": ["b"], "params": {"offset": 0.1}}"#,
+        "v",
+    );
+    let net = geode_graph::load_str(&text, &geode_nodes::registry()).unwrap();
+    let cache = geode_graph::Cache::new(1 << 26);
+    let r = geode_graph::Engine::new(net, &cache)
+        .cook("/v", &geode_graph::CookOptions::at_frame(1.0))
+        .unwrap();
+    let v = r.events.iter().find(|e| e.path == "/v").unwrap();
+    assert!(
+        v.warnings
+            .iter()
+            .any(|w| w.contains("the clamp lowered the offset from 0.1")),
+        "{:?}",
+        v.warnings
+    );
+}
