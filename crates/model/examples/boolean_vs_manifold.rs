@@ -14,12 +14,11 @@ use geode_model::boolean::{boolean, BooleanOp};
 mod common;
 
 const SCRIPT: &str = r#"
-import sys, time, numpy as np, manifold3d as m3
-def load(stem):
-    v = np.fromfile(stem + ".v", dtype="<f4").reshape(-1, 3)
-    f = np.fromfile(stem + ".f", dtype="<u4").reshape(-1, 3)
+import manifold3d as m3
+def solid_mesh(stem):
+    v, f = load(stem)
     return m3.Mesh(vert_properties=v, tri_verts=f)
-ma, mb = load(sys.argv[1]), load(sys.argv[2])
+ma, mb = solid_mesh(sys.argv[1]), solid_mesh(sys.argv[2])
 a, b = m3.Manifold(ma), m3.Manifold(mb)
 for name, op in [("union", lambda x, y: x + y), ("subtract", lambda x, y: x - y)]:
     best, whole = None, None

@@ -16,9 +16,9 @@ mod meshes;
 use meshes::ridged_sphere;
 
 const SCRIPT: &str = r#"
-import sys, time, numpy as np, pymeshlab
-v = np.fromfile(sys.argv[1] + ".v", dtype="<f4").reshape(-1, 3).astype(np.float64)
-f = np.fromfile(sys.argv[1] + ".f", dtype="<u4").reshape(-1, 3).astype(np.int32)
+import pymeshlab
+v, f = load(sys.argv[1])
+v, f = v.astype(np.float64), f.astype(np.int32)
 target = int(sys.argv[2])
 best = None
 for _ in range(2):

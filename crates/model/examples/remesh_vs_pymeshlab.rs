@@ -22,9 +22,9 @@ use meshes::{equilateral_length, million_triangles};
 static ALLOC: geode_alloc::HugePages = geode_alloc::HugePages;
 
 const SCRIPT: &str = r#"
-import sys, time, numpy as np, pymeshlab as ml
-v = np.fromfile(sys.argv[1] + ".v", dtype="<f4").reshape(-1, 3).astype(np.float64)
-f = np.fromfile(sys.argv[1] + ".f", dtype="<u4").reshape(-1, 3).astype(np.int32)
+import pymeshlab as ml
+v, f = load(sys.argv[1])
+v, f = v.astype(np.float64), f.astype(np.int32)
 length = float(sys.argv[2])
 best = None
 for _ in range(2):

@@ -25,9 +25,20 @@ pub fn write_raw(g: &Geometry, stem: &Path) {
     std::fs::write(stem.with_extension("f"), f).unwrap();
 }
 
-/// Runs `script` with the stems of `meshes` (written as by `write_raw`)
-/// and then `args` as its arguments; says how to install the reference
-/// (`package`) when it cannot run.
+/// What every reference script starts with: `load(stem)` gives a mesh
+/// written by `write_raw` back as numpy arrays (positions as f32 x 3,
+/// triangles as u32 x 3).
+const PRELUDE: &str = r#"
+import sys, time, numpy as np
+def load(stem):
+    v = np.fromfile(stem + ".v", dtype="<f4").reshape(-1, 3)
+    f = np.fromfile(stem + ".f", dtype="<u4").reshape(-1, 3)
+    return v, f
+"#;
+
+/// Runs `script` (after [`PRELUDE`]) with the stems of `meshes` (written
+/// as by `write_raw`) and then `args` as its arguments; says how to
+/// install the reference (`package`) when it cannot run.
 pub fn run_reference(package: &str, script: &str, meshes: &[&Geometry], args: &[String]) {
     let dir = std::env::temp_dir().join(format!("geode-{package}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -41,7 +52,7 @@ pub fn run_reference(package: &str, script: &str, meshes: &[&Geometry], args: &[
         concat!(env!("CARGO_MANIFEST_DIR"), "/../../tools/.venv/bin/python").to_string()
     });
     let status = std::process::Command::new(python)
-        .args(["-c", script])
+        .args(["-c", &format!("{PRELUDE}{script}")])
         .args(&stems)
         .args(args)
         .status();
