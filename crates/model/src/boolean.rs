@@ -24,7 +24,6 @@ use std::time::Duration;
 use geode_geo::glam::{DVec3, Vec3};
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, TypeInfo};
 use geode_manifold::{Mesh, Op, Solid};
-use rayon::prelude::*;
 
 use crate::ModelError;
 
@@ -476,7 +475,7 @@ fn triangles_of(
     let t = ops::triangulate_with(g, None, cancel).ok_or(ModelError::Cancelled)?;
     // manifold takes a solid's winding as given: inside out, A's shell
     // came back as two coincident copies of B's.
-    let volume = signed_volume(&t);
+    let volume = f64::from(ops::signed_volume(&t));
     if volume < 0.0 {
         return Err(ModelError::InsideOut {
             input: name,
@@ -484,19 +483,6 @@ fn triangles_of(
         });
     }
     Ok(t)
-}
-
-/// The volume the triangles enclose, negative when they face inward.
-fn signed_volume(t: &Geometry) -> f64 {
-    let p = t.positions();
-    (0..t.num_prims())
-        .into_par_iter()
-        .map(|k| {
-            let q = t.prim_points(k);
-            let [a, b, c] = [q[0], q[1], q[2]].map(|i| p[i as usize].as_dvec3());
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
 }
 
 /// Why a side is not a closed manifold: its open and over-shared edges.

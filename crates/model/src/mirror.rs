@@ -158,29 +158,17 @@ fn seam_walls(g: &Geometry, seam: &[bool]) -> Group {
         g.prim_kinds()[k] == geode_geo::PrimKind::Polygon
             && g.prim_points(k).iter().all(|&q| seam[q as usize])
     };
-    let candidates: Vec<usize> = (0..g.num_prims()).filter(|&k| on_seam(k)).collect();
-    if candidates.is_empty() {
+    if !(0..g.num_prims()).any(on_seam) {
         return Group::new(g.num_prims());
     }
-    let edge = |a: u32, b: u32| (a.min(b), a.max(b));
-    let mut uses: std::collections::HashMap<(u32, u32), u32> = std::collections::HashMap::new();
-    for k in 0..g.num_prims() {
-        if g.prim_kinds()[k] != geode_geo::PrimKind::Polygon {
-            continue;
-        }
-        let pts = g.prim_points(k);
-        for j in 0..pts.len() {
-            *uses
-                .entry(edge(pts[j], pts[(j + 1) % pts.len()]))
-                .or_default() += 1;
-        }
-    }
-    let mut walls = vec![false; g.num_prims()];
-    for k in candidates {
-        let pts = g.prim_points(k);
-        walls[k] = (0..pts.len()).all(|j| uses[&edge(pts[j], pts[(j + 1) % pts.len()])] >= 2);
-    }
-    Group::from_flags(walls)
+    let topo = g.topology();
+    let closed_in = |k: usize| {
+        g.prim_vertex_range(k).all(|v| {
+            let e = topo.edge_of(geode_geo::HalfEdge(v as u32));
+            topo.edge_half_edges(e).nth(1).is_some()
+        })
+    };
+    Group::from_flags((0..g.num_prims()).map(|k| on_seam(k) && closed_in(k)))
 }
 
 /// The reflection across the plane through `o` with unit normal `n`.
