@@ -57,9 +57,13 @@ extern "C" {
 const char* gm_last_error() { return last_error.c_str(); }
 
 // A solid from `npoints` positions (x, y, z floats) and `ntris` triangles of
-// point indices, each triangle's face number in `face_ids`.
+// point indices, each triangle's face number in `face_ids`. `source` is the
+// solid's original ID: a result's triangles are sorted by it, so giving it
+// here (rather than letting manifold draw the next ID from its global
+// counter) keeps the output's order independent of which solid another
+// thread happened to build first.
 int gm_solid_new(const float* positions, uint64_t npoints, const uint32_t* tris, uint64_t ntris,
-                 const uint32_t* face_ids, GmSolid** out) {
+                 const uint32_t* face_ids, uint32_t source, GmSolid** out) {
   return guarded([&]() -> int {
     *out = nullptr;
     if ((npoints > 0 && positions == nullptr) || (ntris > 0 && (tris == nullptr || face_ids == nullptr))) {
@@ -71,6 +75,8 @@ int gm_solid_new(const float* positions, uint64_t npoints, const uint32_t* tris,
     mesh.vertProperties.assign(positions, positions + 3 * npoints);
     mesh.triVerts.assign(tris, tris + 3 * ntris);
     mesh.faceID.assign(face_ids, face_ids + ntris);
+    mesh.runIndex = {0, static_cast<uint32_t>(3 * ntris)};
+    mesh.runOriginalID = {source};
     auto* solid = new GmSolid{Manifold(mesh)};
     int status = status_of(solid->solid.Status());
     if (status != 0) {

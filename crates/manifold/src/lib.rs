@@ -28,6 +28,7 @@ mod ffi {
             tris: *const u32,
             ntris: u64,
             face_ids: *const u32,
+            source: u32,
             out: *mut *mut GmSolid,
         ) -> i32;
         pub fn gm_solid_free(solid: *mut GmSolid);
@@ -130,11 +131,14 @@ pub struct Mesh {
 impl Solid {
     /// The solid bounded by `triangles` (counter-clockwise seen from
     /// outside), `faces[t]` the number triangle `t` will be known by in a
-    /// boolean's result.
+    /// boolean's result. A result lists its triangles by their solids'
+    /// `source` numbers, lowest first, whatever order the solids were
+    /// built in (so give each solid of a boolean its own number).
     pub fn new(
         positions: &[[f32; 3]],
         triangles: &[[u32; 3]],
         faces: &[u32],
+        source: u32,
     ) -> Result<Solid, ManifoldError> {
         if faces.len() != triangles.len() {
             return Err(ManifoldError::FaceCount(faces.len(), triangles.len()));
@@ -155,6 +159,7 @@ impl Solid {
                 triangles.as_ptr().cast(),
                 triangles.len() as u64,
                 faces.as_ptr(),
+                source,
                 &mut out,
             )
         };
@@ -242,7 +247,7 @@ mod tests {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect();
         let faces: Vec<u32> = (first..first + 12).collect();
-        Solid::new(&p, &tris, &faces).unwrap()
+        Solid::new(&p, &tris, &faces, first).unwrap()
     }
 
     fn volume(m: &Mesh) -> f64 {
@@ -283,17 +288,36 @@ mod tests {
     fn an_open_mesh_is_refused_by_name() {
         let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 2]], &[0]).err(),
+            Solid::new(&p, &[[0, 1, 2]], &[0], 0).err(),
             Some(ManifoldError::NotManifold)
         );
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 2]], &[]).err(),
+            Solid::new(&p, &[[0, 1, 2]], &[], 0).err(),
             Some(ManifoldError::FaceCount(0, 1))
         );
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 7], [0, 7, 1]], &[0, 1]).err(),
+            Solid::new(&p, &[[0, 1, 7], [0, 7, 1]], &[0, 1], 0).err(),
             Some(ManifoldError::PointOutOfRange)
         );
+    }
+
+    #[test]
+    fn a_result_does_not_depend_on_which_solid_was_built_first() {
+        // manifold numbers every new solid from a global counter and sorts
+        // a result's triangles by those numbers: two identical boxes
+        // (every face coplanar with one of the other's) built in either
+        // order must give the same mesh.
+        let a_first = {
+            let a = cube([0.0; 3], 1.0, 0);
+            let b = cube([0.0; 3], 1.0, 100);
+            boolean(&a, &b, Op::Union).unwrap().mesh().unwrap()
+        };
+        let b_first = {
+            let b = cube([0.0; 3], 1.0, 100);
+            let a = cube([0.0; 3], 1.0, 0);
+            boolean(&a, &b, Op::Union).unwrap().mesh().unwrap()
+        };
+        assert_eq!(a_first, b_first);
     }
 
     #[test]

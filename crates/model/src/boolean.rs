@@ -137,8 +137,11 @@ fn apart(
     let failed = |why: String| Apart::Model(ModelError::Failed { op: "boolean", why });
     let (tx, rx) = mpsc::channel();
     let work = move || -> Result<Vec<Mesh>, Apart> {
-        let build = |i: &SolidInput| Solid::new(&i.positions, &i.triangles, &i.faces);
-        let (sa, sb) = rayon::join(|| build(&a), || build(&b));
+        // Each side's source number orders the result's triangles (A's
+        // first), whichever thread builds its solid first.
+        let build =
+            |i: &SolidInput, source| Solid::new(&i.positions, &i.triangles, &i.faces, source);
+        let (sa, sb) = rayon::join(|| build(&a, 1), || build(&b, 2));
         let sa = sa.map_err(|e| Apart::NotClosed(Side::A, e))?;
         let sb = sb.map_err(|e| Apart::NotClosed(Side::B, e))?;
         ops.iter()
