@@ -2,7 +2,7 @@
 # Runs every test: the studio front end's (tools/studio.sh), the workspace's
 # with the external reference validators (Khronos glTF validator from npm,
 # Pixar's usd-core, trimesh, manifold3d and scipy from PyPI, OpenSubdiv from Debian for
-# tools/osd_ref) installed first and a one-machine Slurm cluster (Debian's
+# tools/osd_ref, oneTBB from Debian for manifold: tools/debian.sh) installed first and a one-machine Slurm cluster (Debian's
 # slurm-wlm and munge, tools/slurm.sh) running for the farm tests, then the
 # studio in real Chromium (tools/browser.sh), so that nothing has to be
 # installed or started by hand. The cluster is stopped on exit.
@@ -19,13 +19,9 @@ if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, t
   tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh manifold3d scipy pymeshlab >&2
 fi
 
-# OpenSubdiv (Debian's libosd-dev) for the Catmull-Clark reference program.
-if [ ! -f /usr/include/opensubdiv/far/topologyRefiner.h ]; then
-  echo "installing libosd-dev (Debian) for tools/osd_ref" >&2
-  if [ "$(id -u)" = 0 ]; then apt_get=apt-get; else apt_get="sudo apt-get"; fi
-  DEBIAN_FRONTEND=noninteractive $apt_get install -y -q libosd-dev >&2 \
-    || { DEBIAN_FRONTEND=noninteractive $apt_get update -q >&2 && DEBIAN_FRONTEND=noninteractive $apt_get install -y -q libosd-dev >&2; }
-fi
+# OpenSubdiv for the Catmull-Clark reference program and TBB for manifold's
+# parallel booleans (Debian's libosd-dev and libtbb-dev).
+bash tools/debian.sh
 if [ ! -x tools/osd_ref/osd_ref ] || [ tools/osd_ref/osd_ref.cpp -nt tools/osd_ref/osd_ref ]; then
   echo "building tools/osd_ref against OpenSubdiv" >&2
   g++ -O2 -o tools/osd_ref/osd_ref tools/osd_ref/osd_ref.cpp -losdCPU >&2

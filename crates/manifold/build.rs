@@ -1,11 +1,14 @@
-//! Builds manifold's C++ sources (vendor/manifold, serial) and geode's C
-//! shim over them into one static library.
+//! Builds manifold's C++ sources (vendor/manifold) and geode's C shim over
+//! them into one static library: on TBB, manifold's parallel backend, where
+//! its headers and library are installed (Debian's libtbb-dev), serially
+//! otherwise or when GEODE_MANIFOLD_SERIAL is set.
 
 use std::path::Path;
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let vendor = root.join("../../vendor/manifold");
+    let tbb = tbb_installed();
     let mut build = cc::Build::new();
     build
         .cpp(true)
@@ -15,7 +18,7 @@ fn main() {
         .opt_level(2)
         .debug(false)
         .warnings(false)
-        .define("MANIFOLD_PAR", "-1")
+        .define("MANIFOLD_PAR", if tbb { "1" } else { "-1" })
         .define("NDEBUG", None)
         .include(vendor.join("include"))
         .include(vendor.join("src"))
@@ -28,6 +31,40 @@ fn main() {
     files.sort();
     build.files(&files);
     build.compile("geode_manifold");
+    if tbb {
+        println!("cargo:rustc-link-lib=tbb");
+    }
     println!("cargo:rerun-if-changed=shim/shim.cpp");
     println!("cargo:rerun-if-changed=../../vendor/manifold");
+    println!("cargo:rerun-if-env-changed=GEODE_MANIFOLD_SERIAL");
+}
+
+/// Where a system package puts TBB's headers and library.
+const INCLUDE_DIRS: &[&str] = &["/usr/include", "/usr/local/include"];
+const LIB_DIRS: &[&str] = &[
+    "/usr/lib/x86_64-linux-gnu",
+    "/usr/lib/aarch64-linux-gnu",
+    "/usr/lib",
+    "/usr/local/lib",
+];
+
+/// Whether oneTBB can be compiled against and linked here.
+fn tbb_installed() -> bool {
+    if std::env::var_os("GEODE_MANIFOLD_SERIAL").is_some() {
+        return false;
+    }
+    let header = INCLUDE_DIRS
+        .iter()
+        .map(|d| Path::new(d).join("tbb/task_arena.h"))
+        .find(|h| h.exists());
+    // Rebuilt if the headers go (watching a file that is not there would
+    // rebuild manifold every time; installing TBB later needs `cargo clean
+    // -p geode-manifold`).
+    if let Some(h) = &header {
+        println!("cargo:rerun-if-changed={}", h.display());
+    }
+    let library = LIB_DIRS
+        .iter()
+        .any(|d| Path::new(d).join("libtbb.so").exists());
+    header.is_some() && library
 }

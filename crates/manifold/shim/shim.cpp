@@ -4,6 +4,10 @@
 
 #include <manifold/manifold.h>
 
+#if MANIFOLD_PAR == 1
+#include <tbb/task_arena.h>
+#endif
+
 #include <cstdint>
 #include <cstring>
 #include <exception>
@@ -25,11 +29,28 @@ thread_local std::string last_error;
 
 int status_of(Manifold::Error e) { return e == Manifold::Error::NoError ? 0 : static_cast<int>(e) + 1; }
 
+// `f` on at most `threads` of TBB's threads (all of them for 0) when
+// manifold is built parallel: each call is given its caller's share, so a
+// cook on one thread stays on one, and the same inputs give the same
+// result on any count (manifold sorts what its threads find).
 template <typename F>
-int guarded(F&& f) {
+int in_arena(uint32_t threads, F&& f) {
+#if MANIFOLD_PAR == 1
+  if (threads > 0) {
+    tbb::task_arena arena(static_cast<int>(threads));
+    return arena.execute(f);
+  }
+#else
+  (void)threads;
+#endif
+  return f();
+}
+
+template <typename F>
+int guarded(uint32_t threads, F&& f) {
   try {
     last_error.clear();
-    return f();
+    return in_arena(threads, f);
   } catch (const std::bad_alloc&) {
     last_error = "out of memory";
     return kOutOfMemory;
@@ -56,6 +77,9 @@ extern "C" {
 
 const char* gm_last_error() { return last_error.c_str(); }
 
+// Whether manifold was built on TBB (its parallel backend).
+int gm_parallel() { return MANIFOLD_PAR == 1; }
+
 // A solid from `npoints` positions (x, y, z floats) and `ntris` triangles of
 // point indices, each triangle's face number in `face_ids`. `source` is the
 // solid's original ID: a result's triangles are sorted by it, so giving it
@@ -63,8 +87,8 @@ const char* gm_last_error() { return last_error.c_str(); }
 // counter) keeps the output's order independent of which solid another
 // thread happened to build first.
 int gm_solid_new(const float* positions, uint64_t npoints, const uint32_t* tris, uint64_t ntris,
-                 const uint32_t* face_ids, uint32_t source, GmSolid** out) {
-  return guarded([&]() -> int {
+                 const uint32_t* face_ids, uint32_t source, uint32_t threads, GmSolid** out) {
+  return guarded(threads, [&]() -> int {
     *out = nullptr;
     if ((npoints > 0 && positions == nullptr) || (ntris > 0 && (tris == nullptr || face_ids == nullptr))) {
       last_error = "null array";
@@ -92,8 +116,8 @@ void gm_solid_free(GmSolid* solid) { delete solid; }
 
 // The boolean `op` (0 union, 1 subtract, 2 intersect) of `a` and `b`,
 // evaluated before it returns.
-int gm_boolean(const GmSolid* a, const GmSolid* b, int op, GmSolid** out) {
-  return guarded([&]() -> int {
+int gm_boolean(const GmSolid* a, const GmSolid* b, int op, uint32_t threads, GmSolid** out) {
+  return guarded(threads, [&]() -> int {
     *out = nullptr;
     if (a == nullptr || b == nullptr || op < 0 || op > 2) {
       last_error = "bad boolean arguments";
@@ -114,8 +138,8 @@ int gm_boolean(const GmSolid* a, const GmSolid* b, int op, GmSolid** out) {
 
 // The solid's triangle mesh; its sizes by `gm_mesh_sizes`, its arrays by
 // `gm_mesh_copy`.
-int gm_mesh_of(const GmSolid* solid, GmMesh** out) {
-  return guarded([&]() -> int {
+int gm_mesh_of(const GmSolid* solid, uint32_t threads, GmMesh** out) {
+  return guarded(threads, [&]() -> int {
     *out = nullptr;
     if (solid == nullptr) {
       last_error = "null solid";

@@ -29,6 +29,7 @@ mod ffi {
             ntris: u64,
             face_ids: *const u32,
             source: u32,
+            threads: u32,
             out: *mut *mut GmSolid,
         ) -> i32;
         pub fn gm_solid_free(solid: *mut GmSolid);
@@ -36,9 +37,11 @@ mod ffi {
             a: *const GmSolid,
             b: *const GmSolid,
             op: i32,
+            threads: u32,
             out: *mut *mut GmSolid,
         ) -> i32;
-        pub fn gm_mesh_of(solid: *const GmSolid, out: *mut *mut GmMesh) -> i32;
+        pub fn gm_mesh_of(solid: *const GmSolid, threads: u32, out: *mut *mut GmMesh) -> i32;
+        pub fn gm_parallel() -> i32;
         pub fn gm_mesh_sizes(mesh: *const GmMesh, npoints: *mut u64, ntris: *mut u64);
         pub fn gm_mesh_copy(
             mesh: *const GmMesh,
@@ -101,6 +104,19 @@ fn check(status: i32) -> Result<(), ManifoldError> {
     }
 }
 
+/// Whether manifold was built on TBB, its parallel backend (build.rs uses
+/// it where its headers are installed). Built serially, every call runs on
+/// its caller's thread whatever `threads` it is given.
+pub fn parallel() -> bool {
+    // SAFETY: a constant of the build.
+    unsafe { ffi::gm_parallel() != 0 }
+}
+
+/// `threads` for the shim: at least one (0 would mean all of TBB's).
+fn thread_count(threads: usize) -> u32 {
+    threads.clamp(1, u32::MAX as usize) as u32
+}
+
 /// A closed manifold solid, owned by manifold.
 pub struct Solid(NonNull<ffi::GmSolid>);
 
@@ -133,12 +149,14 @@ impl Solid {
     /// outside), `faces[t]` the number triangle `t` will be known by in a
     /// boolean's result. A result lists its triangles by their solids'
     /// `source` numbers, lowest first, whatever order the solids were
-    /// built in (so give each solid of a boolean its own number).
+    /// built in (so give each solid of a boolean its own number). It is
+    /// built on at most `threads` threads (see [`parallel`]).
     pub fn new(
         positions: &[[f32; 3]],
         triangles: &[[u32; 3]],
         faces: &[u32],
         source: u32,
+        threads: usize,
     ) -> Result<Solid, ManifoldError> {
         if faces.len() != triangles.len() {
             return Err(ManifoldError::FaceCount(faces.len(), triangles.len()));
@@ -160,6 +178,7 @@ impl Solid {
                 triangles.len() as u64,
                 faces.as_ptr(),
                 source,
+                thread_count(threads),
                 &mut out,
             )
         };
@@ -169,11 +188,12 @@ impl Solid {
             .ok_or_else(|| ManifoldError::Other("no solid".into()))
     }
 
-    /// The solid's triangles, each with the face number it came from.
-    pub fn mesh(&self) -> Result<Mesh, ManifoldError> {
+    /// The solid's triangles, each with the face number it came from, on
+    /// at most `threads` threads.
+    pub fn mesh(&self, threads: usize) -> Result<Mesh, ManifoldError> {
         let mut raw = std::ptr::null_mut();
         // SAFETY: self.0 is a live solid.
-        check(unsafe { ffi::gm_mesh_of(self.0.as_ptr(), &mut raw) })?;
+        check(unsafe { ffi::gm_mesh_of(self.0.as_ptr(), thread_count(threads), &mut raw) })?;
         let raw = NonNull::new(raw).ok_or_else(|| ManifoldError::Other("no mesh".into()))?;
         let (mut npoints, mut ntris) = (0u64, 0u64);
         // SAFETY: raw is a live mesh; the arrays are allocated to the sizes
@@ -205,9 +225,10 @@ pub enum Op {
     Intersect,
 }
 
-/// The boolean `op` of `a` and `b`, evaluated before it returns (manifold
-/// itself cannot be interrupted inside one boolean).
-pub fn boolean(a: &Solid, b: &Solid, op: Op) -> Result<Solid, ManifoldError> {
+/// The boolean `op` of `a` and `b`, evaluated on at most `threads` threads
+/// before it returns (manifold itself cannot be interrupted inside one
+/// boolean).
+pub fn boolean(a: &Solid, b: &Solid, op: Op, threads: usize) -> Result<Solid, ManifoldError> {
     let code = match op {
         Op::Union => 0,
         Op::Subtract => 1,
@@ -215,7 +236,15 @@ pub fn boolean(a: &Solid, b: &Solid, op: Op) -> Result<Solid, ManifoldError> {
     };
     let mut out = std::ptr::null_mut();
     // SAFETY: a and b are live solids.
-    check(unsafe { ffi::gm_boolean(a.0.as_ptr(), b.0.as_ptr(), code, &mut out) })?;
+    check(unsafe {
+        ffi::gm_boolean(
+            a.0.as_ptr(),
+            b.0.as_ptr(),
+            code,
+            thread_count(threads),
+            &mut out,
+        )
+    })?;
     NonNull::new(out)
         .map(Solid)
         .ok_or_else(|| ManifoldError::Other("no solid".into()))
@@ -247,7 +276,7 @@ mod tests {
             .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
             .collect();
         let faces: Vec<u32> = (first..first + 12).collect();
-        Solid::new(&p, &tris, &faces, first).unwrap()
+        Solid::new(&p, &tris, &faces, first, 2).unwrap()
     }
 
     fn volume(m: &Mesh) -> f64 {
@@ -269,7 +298,7 @@ mod tests {
     fn overlapping_cubes_give_the_volumes_of_their_union_difference_and_intersection() {
         let a = cube([0.0; 3], 2.0, 0);
         let b = cube([1.0; 3], 2.0, 100);
-        let v = |op| volume(&boolean(&a, &b, op).unwrap().mesh().unwrap());
+        let v = |op| volume(&boolean(&a, &b, op, 2).unwrap().mesh(2).unwrap());
         assert!((v(Op::Union) - 15.0).abs() < 1e-5);
         assert!((v(Op::Subtract) - 7.0).abs() < 1e-5);
         assert!((v(Op::Intersect) - 1.0).abs() < 1e-5);
@@ -279,7 +308,7 @@ mod tests {
     fn every_result_triangle_names_an_input_face_of_its_side() {
         let a = cube([0.0; 3], 2.0, 0);
         let b = cube([1.0; 3], 2.0, 100);
-        let m = boolean(&a, &b, Op::Union).unwrap().mesh().unwrap();
+        let m = boolean(&a, &b, Op::Union, 2).unwrap().mesh(2).unwrap();
         assert!(m.faces.iter().all(|&f| f < 12 || (100..112).contains(&f)));
         assert!(m.faces.iter().any(|&f| f < 12) && m.faces.iter().any(|&f| f >= 100));
     }
@@ -288,15 +317,15 @@ mod tests {
     fn an_open_mesh_is_refused_by_name() {
         let p = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 2]], &[0], 0).err(),
+            Solid::new(&p, &[[0, 1, 2]], &[0], 0, 1).err(),
             Some(ManifoldError::NotManifold)
         );
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 2]], &[], 0).err(),
+            Solid::new(&p, &[[0, 1, 2]], &[], 0, 1).err(),
             Some(ManifoldError::FaceCount(0, 1))
         );
         assert_eq!(
-            Solid::new(&p, &[[0, 1, 7], [0, 7, 1]], &[0, 1], 0).err(),
+            Solid::new(&p, &[[0, 1, 7], [0, 7, 1]], &[0, 1], 0, 1).err(),
             Some(ManifoldError::PointOutOfRange)
         );
     }
@@ -310,21 +339,82 @@ mod tests {
         let a_first = {
             let a = cube([0.0; 3], 1.0, 0);
             let b = cube([0.0; 3], 1.0, 100);
-            boolean(&a, &b, Op::Union).unwrap().mesh().unwrap()
+            boolean(&a, &b, Op::Union, 2).unwrap().mesh(2).unwrap()
         };
         let b_first = {
             let b = cube([0.0; 3], 1.0, 100);
             let a = cube([0.0; 3], 1.0, 0);
-            boolean(&a, &b, Op::Union).unwrap().mesh().unwrap()
+            boolean(&a, &b, Op::Union, 2).unwrap().mesh(2).unwrap()
         };
         assert_eq!(a_first, b_first);
+    }
+
+    /// A UV sphere of radius `r` at `c`: `rows` bands of `2 rows` segments,
+    /// faces numbered from `first`.
+    fn sphere(c: [f32; 3], r: f32, rows: u32, first: u32) -> Solid {
+        let cols = 2 * rows;
+        let mut p = vec![[c[0], c[1], c[2] + r], [c[0], c[1], c[2] - r]];
+        for i in 1..rows {
+            let theta = std::f32::consts::PI * i as f32 / rows as f32;
+            for j in 0..cols {
+                let phi = std::f32::consts::TAU * j as f32 / cols as f32;
+                let (st, ct) = theta.sin_cos();
+                let (sp, cp) = phi.sin_cos();
+                p.push([c[0] + r * st * cp, c[1] + r * st * sp, c[2] + r * ct]);
+            }
+        }
+        let at = |i: u32, j: u32| 2 + (i - 1) * cols + j % cols;
+        let mut tris = Vec::new();
+        for j in 0..cols {
+            tris.push([0, at(1, j), at(1, j + 1)]);
+            tris.push([1, at(rows - 1, j + 1), at(rows - 1, j)]);
+            for i in 1..rows - 1 {
+                let (a, b) = (at(i, j), at(i, j + 1));
+                let (c, d) = (at(i + 1, j), at(i + 1, j + 1));
+                tris.push([a, c, d]);
+                tris.push([a, d, b]);
+            }
+        }
+        let faces: Vec<u32> = (first..first + tris.len() as u32).collect();
+        Solid::new(&p, &tris, &faces, first, 2).unwrap()
+    }
+
+    #[test]
+    fn a_result_is_the_same_on_one_thread_as_on_several() {
+        // Above manifold's parallel thresholds (1e5 elements): two spheres
+        // of 180k triangles. Serially built, this holds trivially; on TBB
+        // it checks that manifold orders what its threads find.
+        let a = sphere([0.0; 3], 1.0, 300, 0);
+        let b = sphere([0.5, 0.3, 0.2], 1.0, 300, 1_000_000);
+        for op in [Op::Union, Op::Subtract] {
+            let one = boolean(&a, &b, op, 1).unwrap().mesh(1).unwrap();
+            let four = boolean(&a, &b, op, 4).unwrap().mesh(4).unwrap();
+            assert!(one.triangles.len() > 100_000);
+            assert!(one == four, "{op:?} differs between 1 and 4 threads");
+        }
+    }
+
+    #[test]
+    fn built_on_tbb_where_the_test_run_installed_it() {
+        // tools/test.sh installs libtbb-dev (tools/debian.sh) and sets
+        // GEODE_REQUIRE_VALIDATORS: the booleans it times must be parallel.
+        let required = std::env::var_os("GEODE_REQUIRE_VALIDATORS").is_some()
+            && std::env::var_os("GEODE_MANIFOLD_SERIAL").is_none();
+        if required {
+            assert!(
+                parallel(),
+                "manifold was built serially though TBB is required"
+            );
+        } else if !parallel() {
+            eprintln!("skipped: manifold is built serially (no libtbb-dev)");
+        }
     }
 
     #[test]
     fn disjoint_solids_intersect_in_nothing() {
         let a = cube([0.0; 3], 1.0, 0);
         let b = cube([5.0; 3], 1.0, 12);
-        let m = boolean(&a, &b, Op::Intersect).unwrap().mesh().unwrap();
+        let m = boolean(&a, &b, Op::Intersect, 2).unwrap().mesh(2).unwrap();
         assert!(m.triangles.is_empty());
     }
 }

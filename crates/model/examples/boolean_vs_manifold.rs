@@ -35,7 +35,15 @@ fn main() {
     let a = primitives::uv_sphere(1.0, 2 * rows, rows);
     let mut b = a.clone();
     ops::transform(&mut b, Mat4::from_translation(Vec3::new(0.5, 0.3, 0.2)));
-    println!("two spheres of {} triangles", 4 * rows * rows);
+    println!(
+        "two spheres of {} triangles; manifold built {}",
+        4 * rows * rows,
+        if geode_manifold::parallel() {
+            "on TBB"
+        } else {
+            "serially (no libtbb-dev)"
+        }
+    );
     for (name, op) in [
         ("union", BooleanOp::Union),
         ("subtract", BooleanOp::Subtract),

@@ -19,6 +19,8 @@
 //! edge groups, so the seam's edges are those between two seam points).
 
 use std::sync::mpsc;
+
+use rayon::prelude::*;
 use std::time::Duration;
 
 use geode_geo::glam::{DVec3, Vec3};
@@ -136,31 +138,63 @@ fn apart(
     const POLL: Duration = Duration::from_millis(10);
     let failed = |why: String| Apart::Model(ModelError::Failed { op: "boolean", why });
     let (tx, rx) = mpsc::channel();
-    let work = move || -> Result<Vec<Mesh>, Apart> {
+    // manifold's own threads (where it is built on TBB) are as many as
+    // the cook's pool has.
+    let threads = rayon::current_num_threads();
+    // The solids are returned beside the meshes and dropped after the
+    // meshes are sent, so the cook does not wait for manifold to free them.
+    let work = move || -> (Result<Vec<Mesh>, Apart>, Vec<Solid>) {
         // Each side's source number orders the result's triangles (A's
         // first), whichever thread builds its solid first.
-        let build =
-            |i: &SolidInput, source| Solid::new(&i.positions, &i.triangles, &i.faces, source);
-        let (sa, sb) = rayon::join(|| build(&a, 1), || build(&b, 2));
-        let sa = sa.map_err(|e| Apart::NotClosed(Side::A, e))?;
-        let sb = sb.map_err(|e| Apart::NotClosed(Side::B, e))?;
-        ops.iter()
-            .map(|&op| {
-                geode_manifold::boolean(&sa, &sb, op)
-                    .and_then(|r| r.mesh())
-                    .map_err(|e| {
-                        Apart::Model(ModelError::Failed {
-                            op: "boolean",
-                            why: e.to_string(),
-                        })
-                    })
+        let build = |i: &SolidInput, source| {
+            Solid::new(&i.positions, &i.triangles, &i.faces, source, threads)
+        };
+        let (sa, sb) = if threads > 1 && !geode_manifold::parallel() {
+            // Built serially, manifold is given a thread per side here.
+            std::thread::scope(|s| {
+                let sb = s.spawn(|| build(&b, 2));
+                let sa = build(&a, 1);
+                let sb = sb.join().unwrap_or_else(|_| {
+                    Err(geode_manifold::ManifoldError::Other(
+                        "it stopped on B".into(),
+                    ))
+                });
+                (sa, sb)
             })
-            .collect()
+        } else {
+            (build(&a, 1), build(&b, 2))
+        };
+        drop((a, b));
+        let (sa, sb) = match (sa, sb) {
+            (Ok(sa), Ok(sb)) => (sa, sb),
+            (Err(e), _) => return (Err(Apart::NotClosed(Side::A, e)), vec![]),
+            (_, Err(e)) => return (Err(Apart::NotClosed(Side::B, e)), vec![]),
+        };
+        let mut results = Vec::with_capacity(ops.len());
+        let meshes = ops
+            .iter()
+            .map(|&op| {
+                let r = geode_manifold::boolean(&sa, &sb, op, threads)?;
+                let mesh = r.mesh(threads);
+                results.push(r);
+                mesh
+            })
+            .collect::<Result<Vec<Mesh>, _>>()
+            .map_err(|e| {
+                Apart::Model(ModelError::Failed {
+                    op: "boolean",
+                    why: e.to_string(),
+                })
+            });
+        results.extend([sa, sb]);
+        (meshes, results)
     };
     std::thread::Builder::new()
         .name("boolean".into())
         .spawn(move || {
-            let _ = tx.send(work());
+            let (meshes, solids) = work();
+            let _ = tx.send(meshes);
+            drop(solids);
         })
         .map_err(|e| failed(format!("no thread for it: {e}")))?;
     loop {
@@ -198,8 +232,11 @@ impl Sources {
         b: &Geometry,
         cancel: &(dyn Fn() -> bool + Sync),
     ) -> Result<Sources, ModelError> {
-        let ta = triangles_of(a, "A", cancel)?;
-        let tb = triangles_of(b, "B", cancel)?;
+        let (ta, tb) = rayon::join(
+            || triangles_of(a, "A", cancel),
+            || triangles_of(b, "B", cancel),
+        );
+        let (ta, tb) = (ta?, tb?);
         let (a_triangles, a_points) = (ta.num_prims(), ta.num_points());
         let both = ops::merge(&[&ta, &tb]).map_err(|e| ModelError::Failed {
             op: "boolean",
@@ -212,18 +249,11 @@ impl Sources {
         })
     }
 
-    fn corners(&self, t: usize) -> [DVec3; 3] {
+    /// Source triangle `t`'s points and their positions.
+    fn corners(&self, positions: &[Vec3], t: usize) -> ([u32; 3], [DVec3; 3]) {
         let p = self.both.prim_points(t);
-        [0, 1, 2].map(|k| self.both.positions()[p[k] as usize].as_dvec3())
-    }
-
-    /// `p`'s weights in source triangle `t`: manifold keeps every output
-    /// triangle inside the input triangle it names, so `p` is in `t` up to
-    /// rounding (a few parts in a thousand of a sliver's height on a
-    /// hundred-sphere union), and the clamped weights are its nearest point
-    /// there.
-    fn weights(&self, t: usize, p: DVec3) -> [f32; 3] {
-        clamped(barycentric(p, self.corners(t)))
+        let points = [p[0], p[1], p[2]];
+        (points, points.map(|k| positions[k as usize].as_dvec3()))
     }
 
     fn side_of(&self, triangle: usize) -> Side {
@@ -271,29 +301,41 @@ impl Sources {
         if r.triangles.is_empty() {
             return Ok(Geometry::new());
         }
-        let mut sources = Vec::with_capacity(r.triangles.len());
-        // Per output corner: the source triangle's points and weights.
-        let mut corners = Vec::with_capacity(3 * r.triangles.len());
-        for (tri, &face) in r.triangles.iter().zip(&r.faces) {
-            if face as usize >= self.both.num_prims() {
-                return Err(failed(format!("a face lost its source ({face})")));
-            }
-            let face = face as usize;
-            let cp = self.both.prim_points(face);
-            for &v in tri {
-                let at = Vec3::from_array(r.positions[v as usize]).as_dvec3();
-                corners.push(([cp[0], cp[1], cp[2]], self.weights(face, at), face));
-            }
-            sources.push(face as u32);
+        if let Some(&face) = r
+            .faces
+            .iter()
+            .find(|&&f| f as usize >= self.both.num_prims())
+        {
+            return Err(failed(format!("a face lost its source ({face})")));
         }
+        let sources = &r.faces;
+        // Per output corner: the source triangle's points, the corner's
+        // weights there (manifold keeps every output triangle inside the
+        // source triangle it names, so a corner is in it up to rounding: a
+        // few parts in a thousand of a sliver's height on a hundred-sphere
+        // union, and the clamped weights are its nearest point there) and
+        // the source triangle.
+        let source_positions = self.both.positions();
+        let mut corners = vec![([0u32; 3], [0f32; 3], 0usize); 3 * r.triangles.len()];
+        corners
+            .par_chunks_mut(3)
+            .zip(r.triangles.par_iter().zip(sources.par_iter()))
+            .for_each(|(out, (tri, &face))| {
+                let face = face as usize;
+                let (points, at) = self.corners(source_positions, face);
+                for (slot, &v) in out.iter_mut().zip(tri) {
+                    let p = Vec3::from_array(r.positions[v as usize]).as_dvec3();
+                    *slot = (points, clamped(barycentric(p, at)), face);
+                }
+            });
         let triangles = &r.triangles;
         let positions: Vec<Vec3> = r.positions.iter().map(|p| Vec3::from_array(*p)).collect();
         let mut out =
             Geometry::from_triangles(positions, triangles).map_err(|e| failed(e.to_string()))?;
         self.carry_points(&mut out, triangles, &corners)?;
         self.carry_vertices(&mut out, &corners)?;
-        self.carry_prims(&mut out, &sources)?;
-        self.mark_origins(&mut out, triangles, &sources, op)?;
+        self.carry_prims(&mut out, sources)?;
+        self.mark_origins(&mut out, triangles, sources, op)?;
         if let Some(piece) = piece {
             let n = out.num_prims();
             let piece_attr = Attribute::from_data(AttribData::Int(vec![piece; n]), TypeInfo::None);
