@@ -7,6 +7,12 @@
 //! consistently wound result comes out. Where two holes touch at a point
 //! the chain takes the lowest-numbered way on, deterministically.
 //!
+//! Loops in one plane, one inside another and wound the other way (the
+//! two circles a cut leaves in a torus), are filled as one face with holes
+//! (`planes` finds them, `nest` bridges the holes in), unless a face along
+//! them lies in that plane (a sheet's hole and its border) or the fill is a
+//! fan. Houdini's PolyFill fills every loop on its own.
+//!
 //! Each loop becomes one n-gon, a fan of triangles around a new centre
 //! point (the loop's mean), or triangles: the minimum-weight triangulation
 //! (summed triangle perimeters, every triangle wound as the loop in its
@@ -19,6 +25,8 @@
 //! neighbouring face's corner at that point; a fan's centre point and
 //! corners take the loop's means. New faces join the `group` only.
 
+pub(crate) mod nest;
+mod planes;
 pub(crate) mod triangulate;
 
 pub use triangulate::MIN_WEIGHT_MAX;
@@ -29,6 +37,7 @@ use geode_geo::{AttribClass, Geometry, Group, HalfEdge, PrimKind};
 
 use crate::carry::{self, copy, Blend, Plan};
 use crate::ModelError;
+use nest::{nest, Ring};
 
 /// How a hole is closed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,6 +93,10 @@ pub struct FillOptions {
     pub max_points: usize,
     /// The primitive group of the new faces (empty: none).
     pub group: String,
+    /// Loops in one plane inside another, wound the other way (the two
+    /// circles a cut leaves in a torus), become holes in its fill (not
+    /// with [`FillMode::Fan`]).
+    pub holes: bool,
 }
 
 impl Default for FillOptions {
@@ -93,6 +106,7 @@ impl Default for FillOptions {
             triangulation: Triangulation::MinWeight,
             max_points: 0,
             group: "polyfill".into(),
+            holes: true,
         }
     }
 }
@@ -139,19 +153,54 @@ pub fn polyfill(
     );
     let mut plan = copy_of(g);
     let mut means = Means::default();
-    let (mut filled, mut skipped) = (0, open);
-    for (k, l) in loops.iter().enumerate() {
+    let mut skipped = open;
+    let rings: Vec<Vec<LoopEdge>> = loops
+        .iter()
+        .filter_map(|l| {
+            let fits = l.len() >= 3 && (options.max_points == 0 || l.len() <= options.max_points);
+            if !fits {
+                skipped += 1;
+            }
+            fits.then(|| l.iter().map(|&e| edges[e]).collect())
+        })
+        .collect();
+    if cancel() {
+        return Err(ModelError::Cancelled);
+    }
+    let groups = if options.holes && options.mode != FillMode::Fan {
+        let outlines: Vec<(Vec<u32>, Vec<u32>)> = rings
+            .iter()
+            .map(|r| {
+                (
+                    r.iter().map(|e| e.from).collect(),
+                    r.iter().map(|e| e.face).collect(),
+                )
+            })
+            .collect();
+        planes::coplanar_groups(g, &outlines)
+    } else {
+        Vec::new()
+    };
+    let mut grouped = vec![false; rings.len()];
+    for (k, group) in groups.iter().enumerate() {
         if k % 64 == 0 && cancel() {
             return Err(ModelError::Cancelled);
         }
-        let ring: Vec<LoopEdge> = l.iter().map(|&e| edges[e]).collect();
-        if ring.len() < 3 || (options.max_points > 0 && ring.len() > options.max_points) {
-            skipped += 1;
-            continue;
+        let members: Vec<&[LoopEdge]> = group.iter().map(|&r| rings[r].as_slice()).collect();
+        fill_nested(g, &members, options, &mut plan, &mut means);
+        for &r in group {
+            grouped[r] = true;
         }
-        fill_loop(g, &ring, options, &mut plan, &mut means);
-        filled += 1;
     }
+    for (k, ring) in rings.iter().enumerate() {
+        if k % 64 == 0 && cancel() {
+            return Err(ModelError::Cancelled);
+        }
+        if !grouped[k] {
+            fill_loop(g, ring, None, options, &mut plan, &mut means);
+        }
+    }
+    let filled = rings.len();
     let new_faces = plan.first_new_prim..plan.prim_kinds.len();
     let mut out = carry::build(g, plan, "polyfill", cancel)?;
     carry::set_means(&mut out, AttribClass::Point, &means.points);
@@ -277,11 +326,51 @@ fn copy_of(g: &Geometry) -> Plan {
     }
 }
 
-/// Appends the faces closing `ring` to `plan`; a fan's centre point and
+/// Loops of one plane (the first the largest) filled as faces with holes:
+/// nested in the first loop's frame (see [`nest`]).
+fn fill_nested(
+    g: &Geometry,
+    members: &[&[LoopEdge]],
+    options: &FillOptions,
+    plan: &mut Plan,
+    means: &mut Means,
+) {
+    let point = |e: &LoopEdge| g.positions()[e.from as usize].as_dvec3();
+    let lead: Vec<DVec3> = members[0].iter().map(point).collect();
+    let centre = lead.iter().sum::<DVec3>() / lead.len() as f64;
+    let (u, v) = plane_basis(newell_normal(&lead));
+    let rings: Vec<Ring<LoopEdge>> = members
+        .iter()
+        .map(|m| {
+            let q = m
+                .iter()
+                .map(|e| {
+                    let d = point(e) - centre;
+                    DVec2::new(d.dot(u), d.dot(v))
+                })
+                .collect();
+            Ring::new(m.to_vec(), q)
+        })
+        .collect();
+    let nested = nest(&rings);
+    for ring in &nested.bridged {
+        fill_loop(g, &ring.corners, Some(&ring.q), options, plan, means);
+    }
+    // Holes in no loop, loops no bridge reached and loops with no area in
+    // the plane are filled on their own.
+    let flat = rings.iter().enumerate().filter(|(_, r)| r.area2 == 0.0);
+    for k in nested.alone.into_iter().chain(flat.map(|(k, _)| k)) {
+        fill_loop(g, members[k], None, options, plan, means);
+    }
+}
+
+/// Appends the faces closing `ring` to `plan` (`q`: its corners in the
+/// plane, given for a ring with holes bridged in); a fan's centre point and
 /// corners go to `means` (points, vertices) to be averaged once built.
 fn fill_loop(
     g: &Geometry,
     ring: &[LoopEdge],
+    q: Option<&[DVec2]>,
     options: &FillOptions,
     plan: &mut Plan,
     means: &mut Means,
@@ -302,7 +391,11 @@ fn fill_loop(
     match options.mode {
         FillMode::Polygon => face(plan, &(0..ring.len()).collect::<Vec<_>>()),
         FillMode::Triangles => {
-            for t in triangles(g, ring, options.triangulation) {
+            let tris = match q {
+                Some(q) => ear_clip(q),
+                None => triangles(g, ring, options.triangulation),
+            };
+            for t in tris {
                 face(plan, &t.map(|c| c as usize));
             }
         }

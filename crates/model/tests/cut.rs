@@ -508,6 +508,84 @@ fn filled_holes_close_the_sphere_in_every_mode() {
 }
 
 #[test]
+fn a_cut_torus_fills_with_ring_shaped_faces_as_clips_cap() {
+    // Cut through its middle plane (the torus lies in the XZ plane): the
+    // cut leaves an outer and an inner circle in one plane, and their fill
+    // is a ring.
+    let torus = primitives::torus(1.0, 0.4, 48, 24);
+    let half = |cap| {
+        let o = ClipOptions {
+            normal: Vec3::Y,
+            keep: Keep::Above,
+            cap,
+            ..ClipOptions::default()
+        };
+        clip(&torus, &o, &never).unwrap().geometry
+    };
+    let open = half(Cap::None);
+    let capped = half(Cap::Triangles);
+    for mode in [FillMode::Triangles, FillMode::Polygon] {
+        let o = FillOptions {
+            mode,
+            ..FillOptions::default()
+        };
+        let r = polyfill(&open, &o, &never).unwrap();
+        assert_eq!((r.holes_filled, r.holes_skipped), (2, 0));
+        let out = &r.geometry;
+        // The same solid as clip's own cap closes.
+        assert!(
+            (volume(out) - volume(&capped)).abs() < 1e-5,
+            "{mode:?}: {} against {}",
+            volume(out),
+            volume(&capped)
+        );
+        let filled = &out.prim_groups()["polyfill"];
+        let area: f32 = filled.members().map(|p| polygon_area(out, p)).sum();
+        // A ring between radii 0.6 and 1.4 (polygons of 48 sides).
+        let ring = |r: f32| 24.0 * r * r * (std::f32::consts::TAU / 48.0).sin();
+        let want = ring(1.4) - ring(0.6);
+        assert!(
+            (area - want).abs() < 1e-3 * want,
+            "{mode:?}: {area} against {want}"
+        );
+        if mode == FillMode::Triangles {
+            // Half a torus along its middle plane is still a ring:
+            // closed, Euler characteristic 0.
+            assert_eq!(euler_and_closed(out), (0, true));
+            if let Some(t) = trimesh(out) {
+                closed_and_wound(&t, "filled half torus");
+            }
+        }
+    }
+    // Off, as Houdini's PolyFill: each circle gets its own disc.
+    let separate = FillOptions {
+        holes: false,
+        ..FillOptions::default()
+    };
+    let out = polyfill(&open, &separate, &never).unwrap().geometry;
+    let filled = &out.prim_groups()["polyfill"];
+    let area: f32 = filled.members().map(|p| polygon_area(&out, p)).sum();
+    let disc = |r: f32| 24.0 * r * r * (std::f32::consts::TAU / 48.0).sin();
+    assert!((area - (disc(1.4) + disc(0.6))).abs() < 1e-2, "{area}");
+}
+
+#[test]
+fn a_sheets_hole_and_border_fill_on_their_own() {
+    // The hole and the grid's outline share a plane, but the grid already
+    // covers the ring between them: both are filled whole.
+    let mut g = primitives::grid(Vec2::new(6.0, 6.0), 6, 6);
+    let hole =
+        Group::from_flags((0..36).map(|q| (2..4).contains(&(q % 6)) && (2..4).contains(&(q / 6))));
+    ops::delete_prims(&mut g, &hole, true);
+    let r = polyfill(&g, &FillOptions::default(), &never).unwrap();
+    assert_eq!(r.holes_filled, 2);
+    let out = &r.geometry;
+    let filled = &out.prim_groups()["polyfill"];
+    let area: f32 = filled.members().map(|p| polygon_area(out, p)).sum();
+    assert!((area - 40.0).abs() < 1e-4, "{area}");
+}
+
+#[test]
 fn the_fill_of_a_square_hole_has_the_holes_area() {
     let mut g = primitives::grid(Vec2::new(6.0, 6.0), 6, 6);
     // The 2x2 block of quads in the middle (columns and rows 2 and 3).

@@ -277,6 +277,13 @@ const FILL_MAX_POINTS: P = P::new(
     "Holes with more points than this stay open (0: fill every hole, a grid's outline included).",
 )
 .at_least(0.0);
+const FILL_HOLES: P = P::new(
+    "holes",
+    "Nested Loops Make Holes",
+    T::Toggle,
+    D::Toggle(true),
+    "A loop in the same plane inside another, wound the other way, becomes a hole in that loop's fill: a torus cut in half gets a ring-shaped face over each cut, as clip's cap gives, not two overlapping discs. Loops along faces lying in their plane (a hole in a flat sheet and the sheet's border) are filled on their own. Houdini's PolyFill fills every loop on its own (this off). Not with fan.",
+);
 const FILL_GROUP: P = P::new(
     "group",
     "Group",
@@ -291,7 +298,7 @@ static POLYFILL: NodeSpec = NodeSpec::new(
     "model",
     "Fills the holes of a polygon mesh (its boundary loops), each new face wound against the faces around it so a mesh with holes becomes closed and consistently oriented, as Houdini's PolyFill does. New faces take the primitive attributes of a neighbouring face and, per corner, the vertex attributes of the neighbouring corner; a fan's centre takes the loop's means.",
     &[geometry_input("geometry")],
-    &[FILL_MODE, FILL_TRIANGULATION, FILL_MAX_POINTS, FILL_GROUP],
+    &[FILL_MODE, FILL_TRIANGULATION, FILL_MAX_POINTS, FILL_HOLES, FILL_GROUP],
 );
 
 fn cook_polyfill(
@@ -306,6 +313,7 @@ fn cook_polyfill(
             .unwrap_or(Triangulation::MinWeight),
         max_points: p.int(&FILL_MAX_POINTS)?.max(0) as usize,
         group: p.string(&FILL_GROUP)?.to_string(),
+        holes: p.toggle(&FILL_HOLES)?,
     };
     // The copy plus a fill at most as large as the boundary.
     reserve_scaled(ctx, g, FILL_MODE.name, 2.0)?;

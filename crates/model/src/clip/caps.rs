@@ -6,7 +6,8 @@ use geode_geo::glam::DVec2;
 
 use super::{Cap, Corner, Parts, Piece, PlaneEdge, Splitter, ABOVE};
 use crate::carry::Blend;
-use crate::fill::{chain_loops, ear_clip, plane_basis, signed_area2};
+use crate::fill::nest::{nest, Ring};
+use crate::fill::{chain_loops, ear_clip, plane_basis};
 use crate::ModelError;
 
 /// A directed edge of a cap, and what its corner at `from` copies.
@@ -16,13 +17,6 @@ struct CapCorner {
     to: u32,
     vb: Blend,
     face: u32,
-}
-
-/// A loop of a cap with its corners' positions in the cap's frame.
-struct Loop {
-    corners: Vec<CapCorner>,
-    q: Vec<DVec2>,
-    area2: f64,
 }
 
 impl Splitter<'_> {
@@ -62,33 +56,22 @@ impl Splitter<'_> {
         if cancel() {
             return Err(ModelError::Cancelled);
         }
-        let loops: Vec<Loop> = chains
+        let loops: Vec<Ring<CapCorner>> = chains
             .into_iter()
             .map(|c| {
                 let corners: Vec<CapCorner> = c.into_iter().map(|e| edges[e]).collect();
                 let q: Vec<DVec2> = corners.iter().map(|c| q(c.from)).collect();
-                let area2 = signed_area2(&q);
-                Loop { corners, q, area2 }
+                Ring::new(corners, q)
             })
             .collect();
-        open += loops.iter().filter(|l| l.area2 == 0.0).count();
-        let (outers, holes): (Vec<usize>, Vec<usize>) = (0..loops.len())
-            .filter(|&k| loops[k].area2 != 0.0)
-            .partition(|&k| loops[k].area2 > 0.0);
-        let mut held: Vec<Vec<usize>> = vec![Vec::new(); outers.len()];
-        for &h in &holes {
-            match holder(&loops, &outers, h) {
-                Some(k) => held[k].push(h),
-                // A hole in nothing: capped on its own, wound as it is.
-                None => self.cap(parts, side, style, &loops[h].corners, &loops[h].q),
-            }
+        let nested = nest(&loops);
+        open += nested.flat;
+        for ring in &nested.bridged {
+            self.cap(parts, side, style, &ring.corners, &ring.q);
         }
-        for (k, &o) in outers.iter().enumerate() {
-            let (corners, q, unbridged) = bridged(&loops, o, &held[k]);
-            self.cap(parts, side, style, &corners, &q);
-            for h in unbridged {
-                self.cap(parts, side, style, &loops[h].corners, &loops[h].q);
-            }
+        // A hole in nothing is capped on its own, wound as it is.
+        for h in nested.alone {
+            self.cap(parts, side, style, &loops[h].corners, &loops[h].q);
         }
         Ok(open)
     }
@@ -141,131 +124,4 @@ fn cap_edges(plane_edges: &[PlaneEdge], side: u8) -> Vec<CapCorner> {
         }
     }
     out
-}
-
-/// The smallest outer loop (index into `outers`) holding hole `h`.
-fn holder(loops: &[Loop], outers: &[usize], h: usize) -> Option<usize> {
-    let probe = loops[h].q[rightmost(&loops[h].q)];
-    (0..outers.len())
-        .filter(|&k| contains(&loops[outers[k]].q, probe))
-        .min_by(|&a, &b| {
-            loops[outers[a]]
-                .area2
-                .total_cmp(&loops[outers[b]].area2)
-                .then(a.cmp(&b))
-        })
-}
-
-/// Even-odd point in polygon.
-fn contains(ring: &[DVec2], p: DVec2) -> bool {
-    let n = ring.len();
-    let mut inside = false;
-    for i in 0..n {
-        let (a, b) = (ring[i], ring[(i + 1) % n]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) * (b.x - a.x) / (b.y - a.y) {
-            inside = !inside;
-        }
-    }
-    inside
-}
-
-fn rightmost(q: &[DVec2]) -> usize {
-    (0..q.len())
-        .max_by(|&a, &b| q[a].x.total_cmp(&q[b].x).then(q[a].y.total_cmp(&q[b].y)))
-        .expect("a loop has corners")
-}
-
-/// Outer loop `o` with its holes joined in by keyhole bridges, right to
-/// left, and the holes no bridge reached.
-fn bridged(loops: &[Loop], o: usize, holes: &[usize]) -> (Vec<CapCorner>, Vec<DVec2>, Vec<usize>) {
-    let mut unbridged = Vec::new();
-    let mut corners = loops[o].corners.clone();
-    let mut q = loops[o].q.clone();
-    let mut holes = holes.to_vec();
-    holes.sort_by(|&a, &b| {
-        let (xa, xb) = (
-            loops[a].q[rightmost(&loops[a].q)],
-            loops[b].q[rightmost(&loops[b].q)],
-        );
-        xb.x.total_cmp(&xa.x).then(a.cmp(&b))
-    });
-    for h in holes {
-        let hole = &loops[h];
-        let m = rightmost(&hole.q);
-        let Some(p) = bridge_point(&q, hole.q[m]) else {
-            unbridged.push(h);
-            continue;
-        };
-        let n = hole.q.len();
-        let around = (0..=n).map(|k| (m + k) % n);
-        let mut nc = corners[..=p].to_vec();
-        let mut nq = q[..=p].to_vec();
-        for k in around {
-            nc.push(hole.corners[k]);
-            nq.push(hole.q[k]);
-        }
-        nc.push(corners[p]);
-        nq.push(q[p]);
-        nc.extend_from_slice(&corners[p + 1..]);
-        nq.extend_from_slice(&q[p + 1..]);
-        corners = nc;
-        q = nq;
-    }
-    (corners, q, unbridged)
-}
-
-/// The corner of `ring` a hole's rightmost point `m` bridges to: the
-/// corner the ray from `m` along +x meets first, or the corner inside the
-/// triangle that ray spans that is closest to the ray's direction.
-fn bridge_point(ring: &[DVec2], m: DVec2) -> Option<usize> {
-    let n = ring.len();
-    let mut hit = f64::INFINITY;
-    let mut best = None;
-    for i in 0..n {
-        let j = (i + 1) % n;
-        let (a, b) = (ring[i], ring[j]);
-        if a.y == b.y || (a.y - m.y) * (b.y - m.y) > 0.0 {
-            continue;
-        }
-        let x = a.x + (m.y - a.y) * (b.x - a.x) / (b.y - a.y);
-        if x >= m.x && x < hit {
-            hit = x;
-            best = Some(if a.x > b.x { i } else { j });
-            if a.y == m.y && a.x == x {
-                best = Some(i);
-            } else if b.y == m.y && b.x == x {
-                best = Some(j);
-            }
-        }
-    }
-    let p = best?;
-    let hit = DVec2::new(hit, m.y);
-    if ring[p] == hit {
-        return Some(p);
-    }
-    let tri = [m, hit, ring[p]];
-    let mut choice = (p, tangent(m, ring[p]), (ring[p] - m).length_squared());
-    for (i, &r) in ring.iter().enumerate() {
-        if i == p || r.x <= m.x || !in_triangle(r, tri) {
-            continue;
-        }
-        let key = (tangent(m, r), (r - m).length_squared());
-        if key.0 < choice.1 || key.0 == choice.1 && key.1 < choice.2 {
-            choice = (i, key.0, key.1);
-        }
-    }
-    Some(choice.0)
-}
-
-fn tangent(m: DVec2, r: DVec2) -> f64 {
-    (r.y - m.y).abs() / (r.x - m.x)
-}
-
-fn in_triangle(p: DVec2, [a, b, c]: [DVec2; 3]) -> bool {
-    let s = [
-        (b - a).perp_dot(p - a),
-        (c - b).perp_dot(p - b),
-        (a - c).perp_dot(p - c),
-    ];
-    s.iter().all(|&x| x >= 0.0) || s.iter().all(|&x| x <= 0.0)
 }
