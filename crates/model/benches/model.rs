@@ -43,5 +43,9 @@ fn polyextrude_a_million_quads(bencher: Bencher, connected: bool) {
         connected,
         ..Default::default()
     };
-    bencher.bench(|| geode_model::extrude::extrude(&g, None, None, &how, &|| false).unwrap());
+    bencher.bench(|| {
+        geode_model::extrude::extrude(&g, None, None, &how, &|| false)
+            .unwrap()
+            .geometry
+    });
 }

@@ -99,6 +99,9 @@ impl Default for Bevel {
 pub struct Report {
     /// The offset used (lower than asked where clamping lowered it).
     pub offset: f32,
+    /// The largest offset at which no two bevels overlap (the clamp's
+    /// limit, reported with clamping off too).
+    pub limit: f32,
 }
 
 /// Bevels `g`: in edges mode the edges between two points of `group`
@@ -154,8 +157,9 @@ pub fn bevel(
         let (fan, closed) = he.fan(g, p)?;
         Ok(Layout::new(&mesh, p, fan, closed))
     })?;
+    let most = limit(&layouts);
     let offset = if how.clamp {
-        how.offset.min(limit(&layouts))
+        how.offset.min(most)
     } else {
         how.offset
     };
@@ -174,7 +178,13 @@ pub fn bevel(
         (&how.edge_group, &how.corner_group),
         cancel,
     )?;
-    Ok((out, Report { offset }))
+    Ok((
+        out,
+        Report {
+            offset,
+            limit: most,
+        },
+    ))
 }
 
 fn check(how: &Bevel) -> Result<(), ModelError> {

@@ -67,6 +67,16 @@ pub const FRONT: &str = "extrudeFront";
 pub const SIDE: &str = "extrudeSide";
 pub const BACK: &str = "extrudeBack";
 
+/// An extrusion and what went wrong in it short of an error.
+#[derive(Debug)]
+pub struct Extruded {
+    pub geometry: Geometry,
+    /// Fronts the inset took past where their edges meet: an outline edge
+    /// came out pointing the other way, so the front turned inside out
+    /// (Blender's Clamp Overlap would have stopped the inset there).
+    pub overrun_fronts: usize,
+}
+
 /// Extrudes the polygons and polylines of `g` in `group` (all when
 /// `None`); `scale` multiplies each point's distance (a point attribute's
 /// values). Other primitives are kept as they are.
@@ -76,7 +86,7 @@ pub fn extrude(
     scale: Option<&[f32]>,
     how: &Extrude,
     cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Geometry, ModelError> {
+) -> Result<Extruded, ModelError> {
     if how.divisions == 0 {
         return Err(ModelError::Invalid("divisions must be at least 1".into()));
     }
@@ -106,12 +116,13 @@ pub fn extrude(
     for name in [FRONT, SIDE, BACK] {
         out.declare(name);
     }
+    let mut overrun_fronts = 0;
     if !faces.is_empty() {
         let plan = Faces::new(g, &faces, how, scale);
         if cancel() {
             return Err(ModelError::Cancelled);
         }
-        plan.build(&mut out, cancel)?;
+        overrun_fronts = plan.build(&mut out, cancel)?;
     }
     for &c in &curves {
         if cancel() {
@@ -132,7 +143,10 @@ pub fn extrude(
     if orphan.count() > 0 {
         ops::delete_points(&mut result, &orphan);
     }
-    Ok(result)
+    Ok(Extruded {
+        geometry: result,
+        overrun_fronts,
+    })
 }
 
 fn used_points(g: &Geometry) -> Vec<bool> {
@@ -261,11 +275,41 @@ impl<'a> Faces<'a> {
         centre + turn * ((moved - centre) * size)
     }
 
+    /// Faces whose front the inset overran: an outline edge of the front
+    /// points against the same edge placed without the inset (twist and
+    /// scale turn both alike, so only the inset can reverse it).
+    fn overrun(&self, dir: &[Vec3], inset: &[Vec3]) -> usize {
+        use rayon::prelude::*;
+        if self.how.inset == 0.0 {
+            return 0;
+        }
+        (0..self.faces.len())
+            .into_par_iter()
+            .filter(|&i| {
+                let cs = self.corners(i);
+                let n = cs.len();
+                cs.clone().any(|c| {
+                    let cn = cs.start + (c - cs.start + 1) % n;
+                    if self.inner[c] {
+                        return false;
+                    }
+                    let (s, sn) = (self.slot_of[c] as usize, self.slot_of[cn] as usize);
+                    let edge = |a: Vec3, b: Vec3| {
+                        self.place(sn, dir[sn], b, 1.0) - self.place(s, dir[s], a, 1.0)
+                    };
+                    edge(inset[s], inset[sn]).dot(edge(Vec3::ZERO, Vec3::ZERO)) < 0.0
+                })
+            })
+            .count()
+    }
+
+    /// Adds the fronts, backs and walls; returns how many fronts the inset
+    /// overran.
     fn build(
         &self,
         out: &mut Rebuild,
         cancel: &(dyn Fn() -> bool + Sync),
-    ) -> Result<(), ModelError> {
+    ) -> Result<usize, ModelError> {
         use rayon::prelude::*;
         let g = self.g;
         let rings = self.how.divisions as usize;
@@ -343,7 +387,7 @@ impl<'a> Faces<'a> {
                 }
             }
         }
-        Ok(())
+        Ok(self.overrun(&dir, &inset))
     }
 }
 

@@ -322,6 +322,8 @@ fn an_offset_past_half_an_edge_is_clamped_and_nothing_inverts() {
     )
     .unwrap();
     assert_eq!(report.offset, 0.8);
+    // ... and the limit it passed is reported (the node warns with it).
+    assert!((report.limit - 0.5).abs() < 1e-6, "{report:?}");
 }
 
 #[test]

@@ -18,7 +18,7 @@ fn above(g: &Geometry, y: f32) -> Group {
 }
 
 fn run(g: &Geometry, group: Option<&Group>, how: Extrude) -> Geometry {
-    extrude(g, group, None, &how, &|| false).unwrap()
+    extrude(g, group, None, &how, &|| false).unwrap().geometry
 }
 
 fn count(g: &Geometry, group: &str) -> usize {
@@ -325,4 +325,41 @@ fn one_and_two_threads_give_the_same_bytes() {
         };
         assert_eq!(in_pool(1), in_pool(2), "connected {connected}");
     }
+}
+
+#[test]
+fn an_inset_past_where_a_fronts_edges_meet_is_reported() {
+    // A unit cube's faces on their own: an inset of 0.5 shrinks each front
+    // to a point; past it every front turns inside out.
+    let cube = primitives::cube(1.0);
+    let overrun = |inset: f32, twist: f32| {
+        let how = Extrude {
+            distance: 0.2,
+            inset,
+            twist,
+            connected: false,
+            ..Extrude::default()
+        };
+        extrude(&cube, None, None, &how, &|| false)
+            .unwrap()
+            .overrun_fronts
+    };
+    assert_eq!(overrun(0.0, 0.0), 0);
+    assert_eq!(overrun(0.4, 0.0), 0);
+    assert_eq!(overrun(0.6, 0.0), 6);
+    assert_eq!(overrun(5.0, 0.0), 6);
+    // A half turn reverses every edge, inset or not: not an overrun.
+    assert_eq!(overrun(0.4, 180.0), 0);
+    assert_eq!(overrun(0.6, 180.0), 6);
+    // Connected, the cube's faces have no outline: nothing insets.
+    let how = Extrude {
+        inset: 5.0,
+        ..Extrude::default()
+    };
+    assert_eq!(
+        extrude(&cube, None, None, &how, &|| false)
+            .unwrap()
+            .overrun_fronts,
+        0
+    );
 }

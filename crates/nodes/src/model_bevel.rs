@@ -10,7 +10,7 @@ use geode_op::{
     ParamType as T, Params, Registry, Value,
 };
 
-use crate::util::{geometry, group_param, input};
+use crate::util::{geometry, group_param, input, length_text};
 
 const AFFECT: P = P::new(
     "affect",
@@ -164,8 +164,16 @@ fn cook_polybevel(
             // short edge (a boolean's sliver) lowers it for the whole mesh.
             if how.clamp && report.offset < 0.5 * how.offset {
                 ctx.warn(format!(
-                    "the clamp lowered the offset from {} to {:.3e} for the whole mesh: its shortest bevelled edges allow no more (turn Clamp off, or clean the mesh's short edges first)",
-                    how.offset, report.offset
+                    "the clamp lowered the offset from {} to {} for the whole mesh: its shortest bevelled edges allow no more (turn Clamp off, or clean the mesh's short edges first)",
+                    how.offset,
+                    length_text(report.offset)
+                ));
+            }
+            if !how.clamp && how.offset > report.limit {
+                ctx.warn(format!(
+                    "offset {} passes {}, where bevels meet: the result overlaps itself (turn Clamp on to stop there)",
+                    how.offset,
+                    length_text(report.limit)
                 ));
             }
             geometry(out)

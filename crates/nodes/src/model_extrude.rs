@@ -139,7 +139,15 @@ fn cook_polyextrude(
     let corners = g.num_vertices() as f64 * how.divisions as f64;
     ctx.reserve(DIVISIONS.name, corners * 64.0, "the extrusion")?;
     match extrude(g, group.as_ref(), scale, &how, &ctx.cancel_fn()) {
-        Ok(out) => geometry(out),
+        Ok(out) => {
+            if out.overrun_fronts > 0 {
+                ctx.warn(format!(
+                    "inset {} is past where the edges of {} front(s) meet: they turn inside out and the result overlaps itself (lower the inset)",
+                    how.inset, out.overrun_fronts
+                ));
+            }
+            geometry(out.geometry)
+        }
         Err(ModelError::Cancelled) => Err(CookError::cancelled(ctx.path)),
         Err(e) => Err(ctx.kernel(e)),
     }

@@ -94,6 +94,13 @@ pub fn reserve_mesh(
 }
 
 /// `4.3 billion`, `12.5 million`, `512`: counts in error messages.
+/// A length for a message: four significant digits, written plainly
+/// (0.5, 0.1235, 1.235e-8).
+pub fn length_text(x: f32) -> String {
+    let rounded: f32 = format!("{x:.3e}").parse().unwrap_or(x);
+    format!("{rounded:?}")
+}
+
 pub fn count_text(n: f64) -> String {
     if n >= 1e9 {
         format!("{:.1} billion", n / 1e9)

@@ -100,22 +100,50 @@ fn bad_parameters_name_themselves() {
 /// is told, with the offset it came to.
 #[test]
 fn a_clamp_far_below_the_offset_is_a_warning() {
-    let text = common::net(
+    let w = common::warnings(
         r#""b": {"type": "box", "params": {"size": [1, 1, 0.001]}},
            "v": {"type": "polybevel", "inputs": ["b"], "params": {"offset": 0.1}}"#,
-        "v",
+        "/v",
     );
-    let net = geode_graph::load_str(&text, &geode_nodes::registry()).unwrap();
-    let cache = geode_graph::Cache::new(1 << 26);
-    let r = geode_graph::Engine::new(net, &cache)
-        .cook("/v", &geode_graph::CookOptions::at_frame(1.0))
-        .unwrap();
-    let v = r.events.iter().find(|e| e.path == "/v").unwrap();
     assert!(
-        v.warnings
-            .iter()
-            .any(|w| w.contains("the clamp lowered the offset from 0.1")),
-        "{:?}",
-        v.warnings
+        w.iter()
+            .any(|w| w.contains("the clamp lowered the offset from 0.1 to 0.0005")),
+        "{w:?}"
     );
+}
+
+/// With the clamp off, an offset past where bevels meet overlaps: said,
+/// with the limit.
+#[test]
+fn an_unclamped_offset_past_the_limit_is_a_warning() {
+    let bevel = |offset: f32| {
+        common::warnings(
+            &format!(
+                r#""b": {{"type": "box"}},
+                   "v": {{"type": "polybevel", "inputs": ["b"], "params": {{"offset": {offset}, "clamp": false}}}}"#
+            ),
+            "/v",
+        )
+    };
+    let w = bevel(0.8);
+    assert!(w.iter().any(|w| w.contains("passes 0.5")), "{w:?}");
+    assert!(bevel(0.3).is_empty());
+}
+
+/// An inset past where a front's edges meet turns it inside out: said,
+/// with how many.
+#[test]
+fn an_inset_that_overruns_the_fronts_is_a_warning() {
+    let extrude = |inset: f32| {
+        common::warnings(
+            &format!(
+                r#""b": {{"type": "box"}},
+                   "v": {{"type": "polyextrude", "inputs": ["b"], "params": {{"distance": 0.2, "inset": {inset}, "connected": false}}}}"#
+            ),
+            "/v",
+        )
+    };
+    let w = extrude(5.0);
+    assert!(w.iter().any(|w| w.contains("6 front(s)")), "{w:?}");
+    assert!(extrude(0.3).is_empty());
 }

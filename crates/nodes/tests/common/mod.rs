@@ -73,3 +73,18 @@ pub fn cook_on(threads: usize, nodes: &str, output: &str) -> Arc<Geometry> {
                 .clone()
         })
 }
+
+/// The warnings node `output` (a path like "/v") gave at frame 1.
+pub fn warnings(nodes: &str, output: &str) -> Vec<String> {
+    let name = output.trim_start_matches('/');
+    let net = load_str(&net(nodes, name), &geode_nodes::registry()).unwrap();
+    let cache = Cache::disabled();
+    let r = Engine::new(net, &cache)
+        .cook(output, &CookOptions::at_frame(1.0))
+        .unwrap();
+    r.events
+        .iter()
+        .find(|e| e.path == output)
+        .map(|e| e.warnings.to_vec())
+        .unwrap_or_default()
+}
