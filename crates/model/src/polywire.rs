@@ -6,7 +6,8 @@
 //! `divisions` points every `1 / segments` of each edge, frames carried
 //! along the chain by parallel transport (no twist; a loop spreads its
 //! leftover turn evenly), and at a point where two edges meet one mitred
-//! ring on the plane bisecting the bend, shared by both. Where three or
+//! ring on the plane bisecting the bend, shared by both (narrowed where its
+//! inner side would reach past half of either edge). Where three or
 //! more edges meet, each tube stops at a ring some way out and the convex
 //! hull of those rings closes the joint (`joint`, which also says how far
 //! out and when rings are narrowed, and which nearly parallel twigs it

@@ -252,6 +252,36 @@ fn a_closed_loop_is_a_torus_and_a_cube_frame_has_genus_five() {
     closed_with_euler(&out, 2 - 2 * 5, "cube frame");
 }
 
+const SELF_INTERSECTIONS: &str = r#"
+import sys, json, numpy as np, pymeshlab
+d = json.load(sys.stdin)
+ms = pymeshlab.MeshSet()
+ms.add_mesh(pymeshlab.Mesh(np.array(d['v'], dtype=float).reshape(-1, 3), np.array(d['f'], dtype=np.int32).reshape(-1, 3)))
+ms.compute_selection_by_self_intersections_per_face()
+print(json.dumps({'crossing': int(ms.current_mesh().selected_face_number())}))
+"#;
+
+#[test]
+fn a_radius_past_the_edges_pinches_the_bends_and_joints() {
+    // A 3 by 3 grid of 2/3 edges: its corners bend, its other points are
+    // joints. A radius of 2 (or 1e9) is narrowed at both until the tubes
+    // fit: nothing reaches past a third beyond the grid, and nothing
+    // crosses itself (pymeshlab's self-intersection test).
+    let grid = geode_geo::primitives::grid(geode_geo::glam::Vec2::new(2.0, 2.0), 3, 3);
+    for radius in [2.0, 1e9] {
+        let out = wire(&grid, radius, 8, 1);
+        // 16 points and 24 edges: 9 independent loops.
+        closed_with_euler(&out, 2 - 2 * 9, "fat grid");
+        for p in out.positions() {
+            assert!(p.abs().max_element() <= 4.0 / 3.0 + 1e-4, "{radius}: {p}");
+        }
+        if let Some(t) = oracle(SELF_INTERSECTIONS, &mesh_json(&out)) {
+            let t: Value = t;
+            assert_eq!(t["crossing"], 0, "{radius}: faces cross");
+        }
+    }
+}
+
 #[test]
 fn the_radius_comes_from_a_point_attribute() {
     let mut g = lines(&[Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0)], &[&[0, 1]]);

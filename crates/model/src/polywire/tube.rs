@@ -127,7 +127,7 @@ impl Shape {
         let along = a.dot(normal).max(0.25);
         let (u, v) = self.frame[before];
         let c = self.pos[k];
-        let r = self.radius[k];
+        let r = self.radius[k].min(self.miter_room(before, k % m, a.dot(b)));
         let (pa, va, prim) = self.src[k % m];
         Ring {
             pts: circle(n)
@@ -140,6 +140,23 @@ impl Shape {
             vertex_blend: (va[0], va[0], 0.0),
             prim,
             v: (self.s[k] / self.length()) as f32,
+        }
+    }
+
+    /// The widest radius a mitre between edges `before` and `after` (whose
+    /// directions' dot product is `cos`) may have: its inner side reaches
+    /// back `r tan(bend / 2)` along both edges, which must stay within half
+    /// of each (the other half is the next ring's: a joint's rings keep
+    /// within 0.45 of an edge) or the tube folds through itself. Narrower
+    /// than the radius, the bend is pinched, as a joint's rings are.
+    fn miter_room(&self, before: usize, after: usize, cos: f64) -> f64 {
+        let cos = cos.clamp(-1.0, 1.0);
+        let half_bend_tan = (1.0 - cos).max(0.0).sqrt() / (1.0 + cos).max(1e-12).sqrt();
+        let room = 0.5 * self.len[before].min(self.len[after]);
+        if half_bend_tan <= 1e-12 {
+            f64::INFINITY
+        } else {
+            room / half_bend_tan
         }
     }
 
