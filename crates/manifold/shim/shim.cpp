@@ -136,6 +136,27 @@ int gm_boolean(const GmSolid* a, const GmSolid* b, int op, uint32_t threads, GmS
   });
 }
 
+// `solid`'s connected pieces unioned: where closed pieces overlap (each
+// closed, together one valid mesh), the overlap goes and one boundary is
+// left.
+int gm_union_pieces(const GmSolid* solid, uint32_t threads, GmSolid** out) {
+  return guarded(threads, [&]() -> int {
+    *out = nullptr;
+    if (solid == nullptr) {
+      last_error = "null solid";
+      return kBadArgument;
+    }
+    auto* result = new GmSolid{Manifold::BatchBoolean(solid->solid.Decompose(), manifold::OpType::Add)};
+    int status = status_of(result->solid.Status());
+    if (status != 0) {
+      delete result;
+      return status;
+    }
+    *out = result;
+    return 0;
+  });
+}
+
 // The solid's triangle mesh; its sizes by `gm_mesh_sizes`, its arrays by
 // `gm_mesh_copy`.
 int gm_mesh_of(const GmSolid* solid, uint32_t threads, GmMesh** out) {

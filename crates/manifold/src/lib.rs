@@ -40,6 +40,7 @@ mod ffi {
             threads: u32,
             out: *mut *mut GmSolid,
         ) -> i32;
+        pub fn gm_union_pieces(solid: *const GmSolid, threads: u32, out: *mut *mut GmSolid) -> i32;
         pub fn gm_mesh_of(solid: *const GmSolid, threads: u32, out: *mut *mut GmMesh) -> i32;
         pub fn gm_parallel() -> i32;
         pub fn gm_mesh_sizes(mesh: *const GmMesh, npoints: *mut u64, ntris: *mut u64);
@@ -250,6 +251,18 @@ pub fn boolean(a: &Solid, b: &Solid, op: Op, threads: usize) -> Result<Solid, Ma
         .ok_or_else(|| ManifoldError::Other("no solid".into()))
 }
 
+/// `solid`'s connected pieces unioned (manifold's batch union of its
+/// components): where closed pieces overlap, the overlap goes. On at most
+/// `threads` threads.
+pub fn union_pieces(solid: &Solid, threads: usize) -> Result<Solid, ManifoldError> {
+    let mut out = std::ptr::null_mut();
+    // SAFETY: solid is live.
+    check(unsafe { ffi::gm_union_pieces(solid.0.as_ptr(), thread_count(threads), &mut out) })?;
+    NonNull::new(out)
+        .map(Solid)
+        .ok_or_else(|| ManifoldError::Other("no solid".into()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -408,6 +421,26 @@ mod tests {
         } else if !parallel() {
             eprintln!("skipped: manifold is built serially (no libtbb-dev)");
         }
+    }
+
+    #[test]
+    fn overlapping_pieces_of_one_solid_union() {
+        // Two unit cubes overlapping by half, as one mesh: 1.5 in volume
+        // once unioned (2 counted twice before).
+        let a = cube([0.0; 3], 1.0, 0).mesh(1).unwrap();
+        let b = cube([0.5, 0.0, 0.0], 1.0, 100).mesh(1).unwrap();
+        let mut positions = a.positions.clone();
+        positions.extend(&b.positions);
+        let off = a.positions.len() as u32;
+        let mut triangles = a.triangles.clone();
+        triangles.extend(b.triangles.iter().map(|t| t.map(|i| i + off)));
+        let mut faces = a.faces.clone();
+        faces.extend(&b.faces);
+        let both = Solid::new(&positions, &triangles, &faces, 1, 2).unwrap();
+        assert!((volume(&both.mesh(1).unwrap()) - 2.0).abs() < 1e-5);
+        let one = union_pieces(&both, 2).unwrap().mesh(2).unwrap();
+        assert!((volume(&one) - 1.5).abs() < 1e-5, "{}", volume(&one));
+        assert!(one.faces.iter().all(|&f| f < 12 || (100..112).contains(&f)));
     }
 
     #[test]

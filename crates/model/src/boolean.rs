@@ -98,16 +98,66 @@ pub fn boolean(
     })?;
     match op {
         BooleanOp::Shatter => {
-            let outside = sources.output(&meshes[0], BooleanOp::Subtract, Some(0))?;
+            let outside = sources.output(&meshes[0], Some(BooleanOp::Subtract), Some(0))?;
             check()?;
-            let inside = sources.output(&meshes[1], BooleanOp::Intersect, Some(1))?;
+            let inside = sources.output(&meshes[1], Some(BooleanOp::Intersect), Some(1))?;
             ops::merge(&[&outside, &inside]).map_err(|e| ModelError::Failed {
                 op: "shatter",
                 why: e.to_string(),
             })
         }
-        _ => sources.output(&meshes[0], op, None),
+        _ => sources.output(&meshes[0], Some(op), None),
     }
+}
+
+/// `g`'s connected pieces (closed meshes, wound outward) joined where
+/// they overlap: manifold's union of its pieces, so overlapping closed
+/// shells become one boundary. Attributes carry as a boolean's do (no
+/// origin groups); the result is triangles.
+pub fn union_pieces(
+    g: &Geometry,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Geometry, ModelError> {
+    if g.num_prims() == 0 {
+        return Ok(g.clone());
+    }
+    let t = triangles_of(g, "input", cancel)?;
+    let sources = Sources {
+        a_triangles: t.num_prims(),
+        a_points: t.num_points(),
+        both: t,
+    };
+    let input = sources.solid_input(Side::A);
+    let threads = rayon::current_num_threads();
+    let work = move || {
+        let solid = match Solid::new(&input.positions, &input.triangles, &input.faces, 1, threads) {
+            Ok(s) => s,
+            Err(e) => return (Err(Apart::NotClosed(Side::A, e)), vec![]),
+        };
+        let one = geode_manifold::union_pieces(&solid, threads);
+        let mesh = one
+            .as_ref()
+            .map_err(Clone::clone)
+            .and_then(|s| s.mesh(threads));
+        let keep: Vec<Solid> = std::iter::once(solid).chain(one.ok()).collect();
+        (
+            mesh.map_err(|e| {
+                Apart::Model(ModelError::Failed {
+                    op: "union pieces",
+                    why: e.to_string(),
+                })
+            }),
+            keep,
+        )
+    };
+    let mesh = on_own_thread(cancel, work)?.map_err(|e| match e {
+        Apart::NotClosed(side, why) => ModelError::NotClosed {
+            input: "input",
+            why: format!("{why} ({})", boundary_report(&sources.both, side, &sources)),
+        },
+        Apart::Model(e) => e,
+    })?;
+    sources.output(&mesh, None, None)
 }
 
 /// One side's solid as arrays (owned, to cross to the boolean's thread).
@@ -135,9 +185,6 @@ fn apart(
     ops: Vec<Op>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Vec<Mesh>, Apart> {
-    const POLL: Duration = Duration::from_millis(10);
-    let failed = |why: String| Apart::Model(ModelError::Failed { op: "boolean", why });
-    let (tx, rx) = mpsc::channel();
     // manifold's own threads (where it is built on TBB) are as many as
     // the cook's pool has.
     let threads = rayon::current_num_threads();
@@ -189,20 +236,33 @@ fn apart(
         results.extend([sa, sb]);
         (meshes, results)
     };
+    on_own_thread(cancel, work).map_err(Apart::Model)?
+}
+
+/// `work` on a thread of its own, polling `cancel` while it runs: a
+/// cancelled wait returns at once and the thread finishes unobserved (what
+/// it returns is dropped there); a thread that dies is this operation's
+/// error. A result is returned as a pair so that the second part (big
+/// solids) is freed on that thread after the first is handed over.
+fn on_own_thread<T: Send + 'static, K: Send + 'static>(
+    cancel: &(dyn Fn() -> bool + Sync),
+    work: impl FnOnce() -> (T, K) + Send + 'static,
+) -> Result<T, ModelError> {
+    const POLL: Duration = Duration::from_millis(10);
+    let failed = |why: String| ModelError::Failed { op: "boolean", why };
+    let (tx, rx) = mpsc::channel();
     std::thread::Builder::new()
         .name("boolean".into())
         .spawn(move || {
-            let (meshes, solids) = work();
-            let _ = tx.send(meshes);
-            drop(solids);
+            let (result, keep) = work();
+            let _ = tx.send(result);
+            drop(keep);
         })
         .map_err(|e| failed(format!("no thread for it: {e}")))?;
     loop {
         match rx.recv_timeout(POLL) {
-            Ok(result) => return result,
-            Err(mpsc::RecvTimeoutError::Timeout) if cancel() => {
-                return Err(Apart::Model(ModelError::Cancelled))
-            }
+            Ok(result) => return Ok(result),
+            Err(mpsc::RecvTimeoutError::Timeout) if cancel() => return Err(ModelError::Cancelled),
             Err(mpsc::RecvTimeoutError::Timeout) => {}
             Err(mpsc::RecvTimeoutError::Disconnected) => {
                 return Err(failed("it stopped on these inputs".into()))
@@ -295,8 +355,14 @@ impl Sources {
     }
 
     /// The geometry of manifold's result `r`: triangles, attributes from
-    /// their sources, the origin groups; `piece` numbers a shatter piece.
-    fn output(&self, r: &Mesh, op: BooleanOp, piece: Option<i32>) -> Result<Geometry, ModelError> {
+    /// their sources, the origin groups of `op` when given; `piece` numbers
+    /// a shatter piece.
+    fn output(
+        &self,
+        r: &Mesh,
+        op: Option<BooleanOp>,
+        piece: Option<i32>,
+    ) -> Result<Geometry, ModelError> {
         let failed = |why: String| ModelError::Failed { op: "boolean", why };
         if r.triangles.is_empty() {
             return Ok(Geometry::new());
@@ -335,7 +401,9 @@ impl Sources {
         self.carry_points(&mut out, triangles, &corners)?;
         self.carry_vertices(&mut out, &corners)?;
         self.carry_prims(&mut out, sources)?;
-        self.mark_origins(&mut out, triangles, sources, op)?;
+        if let Some(op) = op {
+            self.mark_origins(&mut out, triangles, sources, op)?;
+        }
         if let Some(piece) = piece {
             let n = out.num_prims();
             let piece_attr = Attribute::from_data(AttribData::Int(vec![piece; n]), TypeInfo::None);

@@ -24,6 +24,10 @@
 //! each tube (0 to 1, a seam at the frame's u axis), v by arc length along
 //! its chain; a joint's triangles take their points' uv.
 //!
+//! Twigs a crowded joint leaves out are closed pieces overlapping the kept
+//! tubes; with `union` (the default) the pieces are then unioned through
+//! the boolean (`boolean::union_pieces`) into one solid of triangles.
+//!
 //! Unlike Houdini, whose joints are separate tubes overlapping at shared
 //! points (not closed), the joints here are closed hulls; a mitre's
 //! stretch is bounded at sharp bends (Houdini's is too, differently).
@@ -56,6 +60,10 @@ pub struct PolywireOptions {
     pub caps: bool,
     /// Write vertex `uv`.
     pub uv: bool,
+    /// Where a crowded joint left twigs out (capped inside a kept tube),
+    /// union the overlapping closed pieces into one solid (through the
+    /// boolean; the result is then triangles).
+    pub union: bool,
 }
 
 impl Default for PolywireOptions {
@@ -67,6 +75,7 @@ impl Default for PolywireOptions {
             segments: 1,
             caps: true,
             uv: false,
+            union: true,
         }
     }
 }
@@ -140,7 +149,12 @@ pub fn polywire(
     for j in &joints {
         out.joint(j, &first_ring);
     }
-    out.finish(g, options.uv, cancel)
+    let wire = out.finish(g, options.uv, cancel)?;
+    if options.union && joints.iter().any(|j| !j.capped.is_empty()) {
+        crate::boolean::union_pieces(&wire, cancel)
+    } else {
+        Ok(wire)
+    }
 }
 
 /// Each point's radius: the option times the attribute when named.

@@ -80,11 +80,19 @@ const WIRE_UV: P = P::new(
     "Write vertex uv: u around each tube, v by arc length along each run of edges between joints and ends (it replaces a point or primitive uv carried from the input).",
 );
 
+const WIRE_UNION: P = P::new(
+    "union",
+    "Union Crowded Twigs",
+    T::Toggle,
+    D::Toggle(true),
+    "Where a crowded joint leaves twigs out (capped inside a kept tube), union the overlapping closed pieces into one solid through the boolean, so the result does not pass through itself there (it is then triangles). Off: the pieces stay separate, overlapping, and quads.",
+);
+
 static POLYWIRE: NodeSpec = NodeSpec::new(
     "polywire",
     "PolyWire",
     "model",
-    "Tubes around every edge of polylines and polygons, as Houdini's PolyWire, joined into one closed surface: each run of edges between ends and branch points is one tube (frames carried without twist), a point where two edges meet is one mitred ring, and where three or more meet the tubes stop short and the convex hull of their end rings closes the joint. A tree or graph skeleton gives a closed manifold with outward faces. Ring points blend their edge's points' attributes; faces copy their edge's primitive. Unlike Houdini (separate tubes overlapping at shared points, not closed), joints here are watertight; where edges are too short for the radius a joint's rings, and a bend's mitre, are narrowed until they fit (a pinch: a radius far past the edges gives a pinched lattice, not tubes through each other); where dozens of twigs leave a point a degree or two apart (as space colonization grows them) the twigs nearest in angle to a kept tube are left out of the joint and capped inside it (closed pieces of their own), and a very sharp bend's mitre is stretched at most four times.",
+    "Tubes around every edge of polylines and polygons, as Houdini's PolyWire, joined into one closed surface: each run of edges between ends and branch points is one tube (frames carried without twist), a point where two edges meet is one mitred ring, and where three or more meet the tubes stop short and the convex hull of their end rings closes the joint. A tree or graph skeleton gives a closed manifold with outward faces. Ring points blend their edge's points' attributes; faces copy their edge's primitive. Unlike Houdini (separate tubes overlapping at shared points, not closed), joints here are watertight; where edges are too short for the radius a joint's rings, and a bend's mitre, are narrowed until they fit (a pinch: a radius far past the edges gives a pinched lattice, not tubes through each other); where dozens of twigs leave a point a degree or two apart (as space colonization grows them) the twigs nearest in angle to a kept tube are left out of the joint and capped inside it, then unioned with it (see Union Crowded Twigs), and a very sharp bend's mitre is stretched at most four times.",
     &[geometry_input("skeleton")],
     &[
         WIRE_GROUP,
@@ -94,6 +102,7 @@ static POLYWIRE: NodeSpec = NodeSpec::new(
         WIRE_SEGMENTS,
         WIRE_CAPS,
         WIRE_UV,
+        WIRE_UNION,
     ],
 );
 
@@ -125,6 +134,7 @@ fn cook_polywire(
         segments: int_in(ctx, p, &WIRE_SEGMENTS, 1, 4096)?,
         caps: p.toggle(&WIRE_CAPS)?,
         uv: p.toggle(&WIRE_UV)?,
+        union: p.toggle(&WIRE_UNION)?,
     };
     // At most one edge per vertex; each edge makes segments + 1 rings.
     let rings = g.num_vertices() as f64 * (options.segments as f64 + 1.0);
