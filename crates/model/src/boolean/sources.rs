@@ -1,0 +1,368 @@
+//! The boolean's sources: both inputs triangulated and merged, the faces
+//! manifold is given (one per planar source polygon, so it can lay a cut
+//! polygon's triangles out afresh), and the result read back: attributes
+//! by barycentric weights in the source triangle each corner lies in,
+//! primitive attributes and groups from the source polygon, origin groups.
+
+use geode_geo::glam::{DVec3, Vec3};
+use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, Group, PrimKind, TypeInfo};
+use geode_manifold::Mesh;
+use rayon::prelude::*;
+
+use super::{BooleanOp, Side, SolidInput};
+use crate::ModelError;
+
+/// Both inputs triangulated and merged: A's triangles first, then B's.
+/// Triangle `t` of the merge is manifold's face number `t`.
+pub(super) struct Sources {
+    pub(super) both: Geometry,
+    /// A's triangles (B's are numbered from here).
+    pub(super) a_triangles: usize,
+    pub(super) a_points: usize,
+}
+
+impl Sources {
+    pub(super) fn new(
+        a: &Geometry,
+        b: &Geometry,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Sources, ModelError> {
+        let (ta, tb) = rayon::join(
+            || triangles_of(a, "A", cancel),
+            || triangles_of(b, "B", cancel),
+        );
+        let (ta, tb) = (ta?, tb?);
+        let (a_triangles, a_points) = (ta.num_prims(), ta.num_points());
+        let both = ops::merge(&[&ta, &tb]).map_err(|e| ModelError::Failed {
+            op: "boolean",
+            why: e.to_string(),
+        })?;
+        Ok(Sources {
+            both,
+            a_triangles,
+            a_points,
+        })
+    }
+
+    /// Source triangle `t`'s points and their positions.
+    fn corners(&self, positions: &[Vec3], t: usize) -> ([u32; 3], [DVec3; 3]) {
+        let p = self.both.prim_points(t);
+        let points = [p[0], p[1], p[2]];
+        (points, points.map(|k| positions[k as usize].as_dvec3()))
+    }
+
+    fn side_of(&self, triangle: usize) -> Side {
+        if triangle < self.a_triangles {
+            Side::A
+        } else {
+            Side::B
+        }
+    }
+
+    /// One side's solid as arrays, each triangle's face number its
+    /// number in the merge.
+    pub(super) fn solid_input(&self, side: Side) -> SolidInput {
+        let (prims, points) = match side {
+            Side::A => (0..self.a_triangles, 0..self.a_points),
+            Side::B => (
+                self.a_triangles..self.both.num_prims(),
+                self.a_points..self.both.num_points(),
+            ),
+        };
+        let base = points.start as u32;
+        let positions: Vec<[f32; 3]> = self.both.positions()[points]
+            .iter()
+            .map(|p| p.to_array())
+            .collect();
+        let triangles: Vec<[u32; 3]> = prims
+            .clone()
+            .map(|t| {
+                let p = self.both.prim_points(t);
+                [p[0] - base, p[1] - base, p[2] - base]
+            })
+            .collect();
+        let faces: Vec<u32> = prims.map(|t| t as u32).collect();
+        SolidInput {
+            positions,
+            triangles,
+            faces,
+        }
+    }
+
+    /// The geometry of manifold's result `r`: triangles, attributes from
+    /// their sources, the origin groups of `op` when given; `piece` numbers
+    /// a shatter piece.
+    pub(super) fn output(
+        &self,
+        r: &Mesh,
+        op: Option<BooleanOp>,
+        piece: Option<i32>,
+    ) -> Result<Geometry, ModelError> {
+        let failed = |why: String| ModelError::Failed { op: "boolean", why };
+        if r.triangles.is_empty() {
+            return Ok(Geometry::new());
+        }
+        if let Some(&face) = r
+            .faces
+            .iter()
+            .find(|&&f| f as usize >= self.both.num_prims())
+        {
+            return Err(failed(format!("a face lost its source ({face})")));
+        }
+        let sources = &r.faces;
+        // Per output corner: the source triangle's points, the corner's
+        // weights there (manifold keeps every output triangle inside the
+        // source triangle it names, so a corner is in it up to rounding: a
+        // few parts in a thousand of a sliver's height on a hundred-sphere
+        // union, and the clamped weights are its nearest point there) and
+        // the source triangle.
+        let source_positions = self.both.positions();
+        let mut corners = vec![([0u32; 3], [0f32; 3], 0usize); 3 * r.triangles.len()];
+        corners
+            .par_chunks_mut(3)
+            .zip(r.triangles.par_iter().zip(sources.par_iter()))
+            .for_each(|(out, (tri, &face))| {
+                let face = face as usize;
+                let (points, at) = self.corners(source_positions, face);
+                for (slot, &v) in out.iter_mut().zip(tri) {
+                    let p = Vec3::from_array(r.positions[v as usize]).as_dvec3();
+                    *slot = (points, clamped(barycentric(p, at)), face);
+                }
+            });
+        let triangles = &r.triangles;
+        let positions: Vec<Vec3> = r.positions.iter().map(|p| Vec3::from_array(*p)).collect();
+        let mut out =
+            Geometry::from_triangles(positions, triangles).map_err(|e| failed(e.to_string()))?;
+        self.carry_points(&mut out, triangles, &corners)?;
+        self.carry_vertices(&mut out, &corners)?;
+        self.carry_prims(&mut out, sources)?;
+        if let Some(op) = op {
+            self.mark_origins(&mut out, triangles, sources, op)?;
+        }
+        if let Some(piece) = piece {
+            let n = out.num_prims();
+            let piece_attr = Attribute::from_data(AttribData::Int(vec![piece; n]), TypeInfo::None);
+            out.set_attrib(AttribClass::Primitive, "piece", piece_attr)
+                .map_err(|e| failed(e.to_string()))?;
+        }
+        Ok(out)
+    }
+
+    /// Point attributes (P aside: the output's own) from the first corner
+    /// that uses each point, in triangle order.
+    fn carry_points(
+        &self,
+        out: &mut Geometry,
+        triangles: &[[u32; 3]],
+        corners: &[([u32; 3], [f32; 3], usize)],
+    ) -> Result<(), ModelError> {
+        let mut first = vec![u32::MAX; out.num_points()];
+        for (k, &p) in triangles.iter().flatten().enumerate() {
+            if first[p as usize] == u32::MAX {
+                first[p as usize] = k as u32;
+            }
+        }
+        let items: Vec<([u32; 3], [f32; 3])> = first
+            .iter()
+            .map(|&k| match corners.get(k as usize) {
+                Some((pts, w, _)) => (*pts, *w),
+                None => ([0; 3], [1.0, 0.0, 0.0]),
+            })
+            .collect();
+        for (name, attr) in self.both.attribs(AttribClass::Point).iter() {
+            if name == "P" {
+                continue;
+            }
+            set(out, AttribClass::Point, name, attr.mix3(&items))?;
+        }
+        for (name, group) in self.both.point_groups() {
+            let members = items.iter().map(|(pts, w)| {
+                let best = (1..3).fold(0, |b, j| if w[j] > w[b] { j } else { b });
+                group.contains(pts[best] as usize)
+            });
+            out.set_point_group(name, Group::from_flags(members))
+                .map_err(|e| ModelError::Failed {
+                    op: "boolean",
+                    why: e.to_string(),
+                })?;
+        }
+        Ok(())
+    }
+
+    /// Vertex attributes: each corner weighted over its source triangle's
+    /// three vertices.
+    fn carry_vertices(
+        &self,
+        out: &mut Geometry,
+        corners: &[([u32; 3], [f32; 3], usize)],
+    ) -> Result<(), ModelError> {
+        let table = self.both.attribs(AttribClass::Vertex);
+        if table.num_attribs() == 0 {
+            return Ok(());
+        }
+        let items: Vec<([u32; 3], [f32; 3])> = corners
+            .iter()
+            .map(|(_, w, s)| {
+                let r = self.both.prim_vertex_range(*s);
+                ([r.start as u32, r.start as u32 + 1, r.start as u32 + 2], *w)
+            })
+            .collect();
+        for (name, attr) in table.iter() {
+            set(out, AttribClass::Vertex, name, attr.mix3(&items))?;
+        }
+        Ok(())
+    }
+
+    /// Primitive attributes and groups of each face's source polygon.
+    fn carry_prims(&self, out: &mut Geometry, sources: &[u32]) -> Result<(), ModelError> {
+        for (name, attr) in self.both.attribs(AttribClass::Primitive).iter() {
+            set(out, AttribClass::Primitive, name, attr.gather(sources))?;
+        }
+        for (name, group) in self.both.prim_groups() {
+            let members = sources.iter().map(|&s| group.contains(s as usize));
+            out.set_prim_group(name, Group::from_flags(members))
+                .map_err(|e| ModelError::Failed {
+                    op: "boolean",
+                    why: e.to_string(),
+                })?;
+        }
+        for (name, attr) in self.both.attribs(AttribClass::Detail).iter() {
+            set(out, AttribClass::Detail, name, attr.clone())?;
+        }
+        Ok(())
+    }
+
+    /// The origin groups (which side each face came from and where it
+    /// lies relative to the other) and the seam's points.
+    fn mark_origins(
+        &self,
+        out: &mut Geometry,
+        triangles: &[[u32; 3]],
+        sources: &[u32],
+        op: BooleanOp,
+    ) -> Result<(), ModelError> {
+        // A face of A kept by a union or a subtraction lies outside B; by
+        // an intersection, inside. B's faces: outside A in a union, inside
+        // it otherwise (a subtraction keeps B's faces inside A, reversed).
+        let (a_group, b_group) = match op {
+            BooleanOp::Union => ("a_outside_b", "b_outside_a"),
+            BooleanOp::Intersect => ("a_inside_b", "b_inside_a"),
+            BooleanOp::Subtract | BooleanOp::Shatter => ("a_outside_b", "b_inside_a"),
+        };
+        let from_a: Vec<bool> = sources
+            .iter()
+            .map(|&s| self.side_of(s as usize) == Side::A)
+            .collect();
+        for name in ["a_inside_b", "a_outside_b", "b_inside_a", "b_outside_a"] {
+            let members = from_a
+                .iter()
+                .map(|&a| if a { name == a_group } else { name == b_group });
+            out.set_prim_group(name, Group::from_flags(members))
+                .map_err(|e| ModelError::Failed {
+                    op: "boolean",
+                    why: e.to_string(),
+                })?;
+        }
+        let mut touched = vec![0u8; out.num_points()];
+        for (tri, &a) in triangles.iter().zip(&from_a) {
+            for &p in tri {
+                touched[p as usize] |= if a { 1 } else { 2 };
+            }
+        }
+        out.set_point_group("seam", Group::from_flags(touched.iter().map(|&t| t == 3)))
+            .map_err(|e| ModelError::Failed {
+                op: "boolean",
+                why: e.to_string(),
+            })
+    }
+}
+
+fn set(
+    out: &mut Geometry,
+    class: AttribClass,
+    name: &str,
+    attr: Attribute,
+) -> Result<(), ModelError> {
+    out.set_attrib(class, name, attr)
+        .map_err(|e| ModelError::Failed {
+            op: "boolean",
+            why: e.to_string(),
+        })
+}
+
+/// Input `name` as triangles: polygons only (a boolean needs solids).
+pub(super) fn triangles_of(
+    g: &Geometry,
+    name: &'static str,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Geometry, ModelError> {
+    if let Some(k) = g.prim_kinds().iter().position(|k| *k != PrimKind::Polygon) {
+        return Err(ModelError::NotClosed {
+            input: name,
+            why: format!(
+                "primitive {k} is a {}: a boolean takes closed polygon meshes",
+                g.prim_kinds()[k].name()
+            ),
+        });
+    }
+    let t = ops::triangulate_with(g, None, cancel).ok_or(ModelError::Cancelled)?;
+    // manifold takes a solid's winding as given: inside out, A's shell
+    // came back as two coincident copies of B's.
+    let volume = f64::from(ops::signed_volume(&t));
+    if volume < 0.0 {
+        return Err(ModelError::InsideOut {
+            input: name,
+            volume,
+        });
+    }
+    Ok(t)
+}
+
+/// Why a side is not a closed manifold: its open and over-shared edges.
+pub(super) fn boundary_report(both: &Geometry, side: Side, s: &Sources) -> String {
+    let prims = match side {
+        Side::A => 0..s.a_triangles,
+        Side::B => s.a_triangles..both.num_prims(),
+    };
+    let tris: Vec<[u32; 3]> = prims
+        .map(|t| {
+            let p = both.prim_points(t);
+            [p[0], p[1], p[2]]
+        })
+        .collect();
+    // Only on the error path: the topology's report counts the edges.
+    let report = Geometry::from_triangles(both.positions().to_vec(), &tris)
+        .map(|g| g.topology().manifold_report(&g))
+        .unwrap_or_default();
+    format!(
+        "{} open edges, {} edges shared by more than two faces",
+        report.boundary_edges, report.non_manifold_edges
+    )
+}
+
+/// Barycentric weights of `p` (projected into the plane of `abc`); a
+/// degenerate triangle gives its first corner.
+fn barycentric(p: DVec3, [a, b, c]: [DVec3; 3]) -> [f64; 3] {
+    let (v0, v1, v2) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (v0.dot(v0), v0.dot(v1), v1.dot(v1));
+    let (d20, d21) = (v2.dot(v0), v2.dot(v1));
+    let den = d00 * d11 - d01 * d01;
+    if den.abs() <= f64::EPSILON * d00 * d11 {
+        return [1.0, 0.0, 0.0];
+    }
+    let v = (d11 * d20 - d01 * d21) / den;
+    let w = (d00 * d21 - d01 * d20) / den;
+    [1.0 - v - w, v, w]
+}
+
+/// Weights clamped into the triangle (a point of a cut lies on it up to
+/// rounding) and summing to one.
+fn clamped(w: [f64; 3]) -> [f32; 3] {
+    let mut x = w.map(|t| t.max(0.0));
+    let sum: f64 = x.iter().sum();
+    if sum <= 0.0 {
+        return [1.0, 0.0, 0.0];
+    }
+    x.iter_mut().for_each(|t| *t /= sum);
+    x.map(|t| t as f32)
+}
