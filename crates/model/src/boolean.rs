@@ -26,7 +26,7 @@ use geode_geo::{ops, Geometry};
 use geode_manifold::{Mesh, Op, Solid};
 
 use crate::ModelError;
-use sources::{boundary_report, triangles_of, Sources};
+use sources::{boundary_report, Sources};
 
 mod sources;
 
@@ -122,12 +122,7 @@ pub fn union_pieces(
     if g.num_prims() == 0 {
         return Ok(g.clone());
     }
-    let t = triangles_of(g, "input", cancel)?;
-    let sources = Sources {
-        a_triangles: t.num_prims(),
-        a_points: t.num_points(),
-        both: t,
-    };
+    let sources = Sources::one(g, cancel)?;
     let input = sources.solid_input(Side::A);
     let threads = rayon::current_num_threads();
     let work = move || {

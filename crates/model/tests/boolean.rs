@@ -316,6 +316,63 @@ fn attributes_carry_by_source_and_barycentric_weights() {
 }
 
 #[test]
+fn a_uv_seam_inside_a_flat_face_stays_an_edge() {
+    // A box whose top is four quads, with a uv seam down its middle (the
+    // quads left of x = 0 have u = x, those right of it u = x + 10), drilled
+    // through the seam. Coplanar triangles are one face for manifold only
+    // where their uvs meet, so no output triangle spans the seam: every
+    // triangle's corners come from one side.
+    let mut a = primitives::box_mesh(Vec3::splat(2.0), [2, 1, 2]);
+    let uv: Vec<geode_geo::glam::Vec2> = (0..a.num_prims())
+        .flat_map(|k| {
+            let q = a.prim_points(k);
+            let centre_x: f32 = q.iter().map(|&i| a.positions()[i as usize].x).sum::<f32>();
+            let shift = if centre_x > 0.0 { 10.0 } else { 0.0 };
+            q.iter()
+                .map(|&i| {
+                    let p = a.positions()[i as usize];
+                    geode_geo::glam::Vec2::new(p.x + shift, p.z)
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    a.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec2(uv), TypeInfo::None),
+    )
+    .unwrap();
+    let drill = primitives::tube(0.5, 3.0, 24, 1, true);
+    let out = run(&a, &drill, BooleanOp::Subtract);
+    let uv = out
+        .attrib(AttribClass::Vertex, "uv")
+        .unwrap()
+        .as_vec2()
+        .unwrap();
+    let mut top = 0;
+    for k in 0..out.num_prims() {
+        let q = out.prim_points(k);
+        let p: Vec<Vec3> = q.iter().map(|&i| out.positions()[i as usize]).collect();
+        if p.iter().any(|p| (p.y - 1.0).abs() > 1e-5) {
+            continue;
+        }
+        top += 1;
+        let shifts: Vec<f32> = out
+            .prim_vertex_range(k)
+            .zip(&p)
+            .map(|(v, p)| uv[v].x - p.x)
+            .collect();
+        for s in &shifts {
+            assert!(
+                (s - shifts[0]).abs() < 1e-4 && (s.abs() < 1e-4 || (s - 10.0).abs() < 1e-4),
+                "triangle {k} spans the seam: u - x = {shifts:?}"
+            );
+        }
+    }
+    assert!(top > 0);
+}
+
+#[test]
 fn shatter_gives_the_pieces_outside_and_inside() {
     let a = primitives::cube(1.0);
     let b = moved(

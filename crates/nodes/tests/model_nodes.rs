@@ -76,6 +76,32 @@ fn the_boolean_part_is_drilled_and_bossed() {
     let hemisphere = 2.0 / 3.0 * std::f64::consts::PI * 0.35f64.powi(3);
     assert!(added > 0.8 * hemisphere && added < hemisphere, "{added}");
     assert!(part.attrib(geode_geo::AttribClass::Vertex, "N").is_some());
+    // Cut faces are laid out afresh as manifold lays out its own (the
+    // plate's cut top is one face, not its two triangles and the first
+    // boolean's): manifold3d on the same solids, never written out between
+    // the booleans, gives 1430 triangles, 6 under 0.1 degrees and 30
+    // under 1 (per-triangle faces gave 1930, 34 and 217).
+    let angles: Vec<f64> = (0..part.num_prims())
+        .map(|k| min_angle_of(&part, k))
+        .collect();
+    assert!(part.num_prims() < 1500, "{} triangles", part.num_prims());
+    assert!(angles.iter().filter(|&&a| a < 0.1).count() <= 10);
+    assert!(angles.iter().filter(|&&a| a < 1.0).count() <= 40);
+}
+
+/// The smallest corner angle of triangle `k`, in degrees.
+fn min_angle_of(g: &Geometry, k: usize) -> f64 {
+    let p: Vec<_> = g
+        .prim_points(k)
+        .iter()
+        .map(|&i| g.positions()[i as usize].as_dvec3())
+        .collect();
+    (0..3)
+        .map(|i| {
+            let (a, b, c) = (p[i], p[(i + 1) % 3], p[(i + 2) % 3]);
+            (b - a).angle_between(c - a).to_degrees()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 #[test]

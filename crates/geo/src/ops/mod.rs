@@ -37,6 +37,6 @@ pub use raycast::{RayHit, TriangleBvh};
 pub use reduce::{compact_vertices, renumber_used, Deviation, ReduceOptions, Reduced};
 pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, transformed, trs};
-pub use triangulate::{triangulate, triangulate_polygon, triangulate_sourced, triangulate_with};
+pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};
 pub use unpack::{unpack, unpack_with, unpacked_bytes};
 pub use validate::{validate, ValidationIssue};

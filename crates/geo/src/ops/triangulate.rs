@@ -99,16 +99,6 @@ pub fn triangulate_with(
     group: Option<&Group>,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Option<Geometry> {
-    triangulate_sourced(g, group, cancel).map(|(t, _)| t)
-}
-
-/// [`triangulate_with`], also giving each output primitive's source
-/// primitive (a polygon's triangles are consecutive, in its order).
-pub fn triangulate_sourced(
-    g: &Geometry,
-    group: Option<&Group>,
-    cancel: &(dyn Fn() -> bool + Sync),
-) -> Option<(Geometry, Vec<u32>)> {
     const CHUNK: usize = 1 << 14;
     let p = g.positions();
     let nprims = g.num_prims();
@@ -173,7 +163,7 @@ pub fn triangulate_sourced(
         *grp = grp.gather(&prim_src);
     }
     out.invalidate_topology();
-    Some((out, prim_src))
+    Some(out)
 }
 
 #[cfg(test)]
