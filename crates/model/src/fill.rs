@@ -30,7 +30,9 @@ mod planes;
 pub(crate) mod triangulate;
 
 pub use triangulate::MIN_WEIGHT_MAX;
-pub(crate) use triangulate::{ear_clip, newell_normal, plane_basis, signed_area2};
+pub(crate) use triangulate::{
+    ear_clip, ear_clip_avoiding, newell_normal, plane_basis, signed_area2,
+};
 
 use geode_geo::glam::{DVec2, DVec3};
 use geode_geo::{AttribClass, Geometry, Group, HalfEdge, PrimKind};
@@ -391,9 +393,19 @@ fn fill_loop(
     match options.mode {
         FillMode::Polygon => face(plan, &(0..ring.len()).collect::<Vec<_>>()),
         FillMode::Triangles => {
+            // A fill triangle over three points of one face of the mesh
+            // would lie on it, folded back (a loop turning a sharp corner
+            // around a face's corner): avoided.
+            let topo = g.topology();
+            let avoid = |t: [u32; 3]| {
+                let [a, b, c] = t.map(|i| ring[i as usize].from as usize);
+                topo.point_prims(a)
+                    .iter()
+                    .any(|f| topo.point_prims(b).contains(f) && topo.point_prims(c).contains(f))
+            };
             let tris = match q {
-                Some(q) => ear_clip(q),
-                None => triangles(g, ring, options.triangulation),
+                Some(q) => ear_clip_avoiding(q, &avoid),
+                None => triangles(g, ring, options.triangulation, &avoid),
             };
             for t in tris {
                 face(plan, &t.map(|c| c as usize));
@@ -403,8 +415,14 @@ fn fill_loop(
     }
 }
 
-/// Triangles over the loop's corners, wound as the loop.
-fn triangles(g: &Geometry, ring: &[LoopEdge], how: Triangulation) -> Vec<[u32; 3]> {
+/// Triangles over the loop's corners, wound as the loop, none that
+/// `avoid` names where there is another way.
+fn triangles(
+    g: &Geometry,
+    ring: &[LoopEdge],
+    how: Triangulation,
+    avoid: &dyn Fn([u32; 3]) -> bool,
+) -> Vec<[u32; 3]> {
     let p: Vec<DVec3> = ring
         .iter()
         .map(|e| g.positions()[e.from as usize].as_dvec3())
@@ -416,11 +434,11 @@ fn triangles(g: &Geometry, ring: &[LoopEdge], how: Triangulation) -> Vec<[u32; 3
         .map(|&x| DVec2::new((x - centre).dot(u), (x - centre).dot(v)))
         .collect();
     if how == Triangulation::MinWeight && p.len() <= MIN_WEIGHT_MAX {
-        if let Some(t) = triangulate::min_weight(&p, &q) {
+        if let Some(t) = triangulate::min_weight(&p, &q, avoid) {
             return t;
         }
     }
-    ear_clip(&q)
+    ear_clip_avoiding(&q, avoid)
 }
 
 /// A fan around a new centre point.

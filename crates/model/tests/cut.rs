@@ -570,6 +570,42 @@ fn a_cut_torus_fills_with_ring_shaped_faces_as_clips_cap() {
 }
 
 #[test]
+fn a_fill_never_folds_back_onto_a_face_of_the_mesh() {
+    // A quarter sphere: its one loop turns a right angle at the pole,
+    // around the corner of one face, whose three points are consecutive on
+    // the loop. An ear there would be that face again, wound the other way.
+    let sphere = primitives::uv_sphere(1.0, 32, 16);
+    let cut = |g: &Geometry, normal: Vec3| {
+        let o = ClipOptions {
+            normal,
+            cap: Cap::None,
+            ..ClipOptions::default()
+        };
+        clip(g, &o, &never).unwrap().geometry
+    };
+    let quarter = cut(&cut(&sphere, Vec3::Y), Vec3::X);
+    for how in [Triangulation::MinWeight, Triangulation::EarClip] {
+        let o = FillOptions {
+            triangulation: how,
+            ..FillOptions::default()
+        };
+        let out = polyfill(&quarter, &o, &never).unwrap().geometry;
+        let filled = &out.prim_groups()["polyfill"];
+        let topo = quarter.topology();
+        for f in filled.members() {
+            let q = out.prim_points(f);
+            let shared = topo.point_prims(q[0] as usize).iter().any(|p| {
+                topo.point_prims(q[1] as usize).contains(p)
+                    && topo.point_prims(q[2] as usize).contains(p)
+            });
+            assert!(!shared, "{how:?}: fill triangle {f} lies on a face");
+        }
+        let t = ops::triangulate(&out, None);
+        assert_eq!(euler_and_closed(&t), (2, true), "{how:?}");
+    }
+}
+
+#[test]
 fn a_sheets_hole_and_border_fill_on_their_own() {
     // The hole and the grid's outline share a plane, but the grid already
     // covers the ring between them: both are filled whole.

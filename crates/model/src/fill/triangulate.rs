@@ -56,6 +56,12 @@ pub(crate) fn newell_normal(p: &[DVec3]) -> DVec3 {
 
 /// Triangles of the ring `q` as corner indices, wound as the ring is.
 pub(crate) fn ear_clip(q: &[DVec2]) -> Vec<[u32; 3]> {
+    ear_clip_avoiding(q, &|_| false)
+}
+
+/// [`ear_clip`], cutting an ear that `avoid` names (corner indices) only
+/// when nothing else is left to cut.
+pub(crate) fn ear_clip_avoiding(q: &[DVec2], avoid: &dyn Fn([u32; 3]) -> bool) -> Vec<[u32; 3]> {
     let n = q.len();
     let mut out = Vec::with_capacity(n.saturating_sub(2));
     if n < 3 {
@@ -78,7 +84,11 @@ pub(crate) fn ear_clip(q: &[DVec2]) -> Vec<[u32; 3]> {
     let mut misses = 0;
     let mut relax = 0;
     while ring.remaining > 3 {
-        if ring.is_ear(k, relax) {
+        let avoided = || {
+            let t = [ring.prev[k], k, ring.next[k]].map(|i| order[i]);
+            avoid(t)
+        };
+        if ring.is_ear(k, relax) && (relax >= 3 || !avoided()) {
             let (a, c) = (ring.prev[k], ring.next[k]);
             emit(&mut out, [a, k, c]);
             ring.unlink(k);
@@ -200,9 +210,13 @@ fn inside(p: DVec2, a: DVec2, b: DVec2, c: DVec2, closed: bool) -> bool {
 }
 
 /// The minimum-weight triangulation of the loop `p` (3D) whose projection
-/// `q` is anticlockwise; None when no triangulation keeps every triangle
-/// anticlockwise in `q`.
-pub(crate) fn min_weight(p: &[DVec3], q: &[DVec2]) -> Option<Vec<[u32; 3]>> {
+/// `q` is anticlockwise, with no triangle `avoid` names; None when no
+/// triangulation keeps every triangle anticlockwise in `q`.
+pub(crate) fn min_weight(
+    p: &[DVec3],
+    q: &[DVec2],
+    avoid: &dyn Fn([u32; 3]) -> bool,
+) -> Option<Vec<[u32; 3]>> {
     let n = p.len();
     if n < 3 {
         return Some(Vec::new());
@@ -224,7 +238,7 @@ pub(crate) fn min_weight(p: &[DVec3], q: &[DVec2]) -> Option<Vec<[u32; 3]>> {
                 if !left.is_finite() || !right.is_finite() {
                     continue;
                 }
-                if cross(q[k] - q[i], q[j] - q[k]) <= 0.0 {
+                if cross(q[k] - q[i], q[j] - q[k]) <= 0.0 || avoid([i, k, j].map(|x| x as u32)) {
                     continue;
                 }
                 let c = left + right + len(i, k) + len(k, j) + len(i, j);
@@ -299,7 +313,7 @@ mod tests {
         assert_eq!(t.len(), 6);
         assert!((area(&q, &t) - 4.0).abs() < 1e-12);
         let p: Vec<DVec3> = q.iter().map(|v| v.extend(0.0)).collect();
-        let t = min_weight(&p, &q).unwrap();
+        let t = min_weight(&p, &q, &|_| false).unwrap();
         assert_eq!(t.len(), 6);
         assert!((area(&q, &t) - 4.0).abs() < 1e-12);
         assert!(t.iter().all(|&[a, b, c]| {
@@ -313,7 +327,7 @@ mod tests {
         // A kite: the short diagonal (length 2) beats the long one (4).
         let q = [(0., -2.), (1., 0.), (0., 2.), (-1., 0.)].map(|(x, y)| DVec2::new(x, y));
         let p: Vec<DVec3> = q.iter().map(|v| v.extend(0.0)).collect();
-        let t = min_weight(&p, &q).unwrap();
+        let t = min_weight(&p, &q, &|_| false).unwrap();
         let uses = |a: u32, b: u32| {
             t.iter()
                 .filter(|x| x.contains(&a) && x.contains(&b))
