@@ -160,9 +160,10 @@ fn cook_polybevel(
     ctx.reserve(SEGMENTS.name, bytes, "the bevel")?;
     match bevel(g, group.as_ref(), &how, &ctx.cancel_fn()) {
         Ok((out, report)) => {
-            // A clamp far below the asked offset is worth saying: one
-            // short edge (a boolean's sliver) lowers it for the whole mesh.
-            if how.clamp && report.offset < 0.5 * how.offset {
+            // A clamp below the asked offset is worth saying: one short
+            // edge (a boolean's sliver) lowers it for the whole mesh, and
+            // at the limit bevels meet in points (faces with no area).
+            if how.clamp && report.offset < 0.999 * how.offset {
                 ctx.warn(format!(
                     "the clamp lowered the offset from {} to {} for the whole mesh: its shortest bevelled edges allow no more (turn Clamp off, or clean the mesh's short edges first)",
                     how.offset,

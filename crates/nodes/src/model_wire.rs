@@ -39,7 +39,7 @@ const WIRE_RADIUS: P = P::new(
     "Wire Radius",
     T::Float,
     D::Float(0.1),
-    "The tubes' radius (times the radius attribute when one is named).",
+    "The tubes' radius, above 0 (times the radius attribute when one is named). Where edges are too short for it, bends and joints are narrowed to fit.",
 )
 .at_least(0.0);
 const WIRE_RADIUS_ATTRIBUTE: P = P::new(
@@ -56,7 +56,7 @@ const WIRE_DIVISIONS: P = P::new(
     D::Int(8),
     "Points around each ring.",
 )
-.at_least(3.0);
+.range(3.0, 4096.0);
 const WIRE_SEGMENTS: P = P::new(
     "segments",
     "Segments",
@@ -64,7 +64,7 @@ const WIRE_SEGMENTS: P = P::new(
     D::Int(1),
     "Rings across each edge (1: rings at its ends only).",
 )
-.at_least(1.0);
+.range(1.0, 4096.0);
 const WIRE_CAPS: P = P::new(
     "caps",
     "End Caps",

@@ -110,6 +110,20 @@ fn a_clamp_far_below_the_offset_is_a_warning() {
             .any(|w| w.contains("the clamp lowered the offset from 0.1 to 0.0005")),
         "{w:?}"
     );
+    // Any lowering is said (a unit box's edges allow 0.5); none at all is
+    // not.
+    let bevel = |offset: f32| {
+        common::warnings(
+            &format!(
+                r#""b": {{"type": "box"}},
+                   "v": {{"type": "polybevel", "inputs": ["b"], "params": {{"offset": {offset}}}}}"#
+            ),
+            "/v",
+        )
+    };
+    let w = bevel(0.6);
+    assert!(w.iter().any(|w| w.contains("from 0.6 to 0.5")), "{w:?}");
+    assert!(bevel(0.4).is_empty());
 }
 
 /// With the clamp off, an offset past where bevels meet overlaps: said,
