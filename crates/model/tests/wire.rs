@@ -258,6 +258,35 @@ fn a_brush_of_near_parallel_twigs_and_overlapping_edges_close() {
 }
 
 #[test]
+fn a_broom_of_edges_leaving_one_side_reaches_its_joint_point() {
+    // Three unit edges from the origin, all a few degrees off -Y: a hull
+    // of their rings would close far down the edges, leaving the joint
+    // point and most of every edge bare. The tubes run to the point and
+    // are unioned there instead: one closed solid up to the origin.
+    for degrees in [2.0f32, 5.0, 20.0] {
+        let a = degrees.to_radians();
+        let mut pts = vec![Vec3::ZERO];
+        for k in 0..3 {
+            let phi = std::f32::consts::TAU * k as f32 / 3.0;
+            pts.push(Vec3::new(
+                a.sin() * phi.cos(),
+                -a.cos(),
+                a.sin() * phi.sin(),
+            ));
+        }
+        let g = lines(&pts, &[&[0, 1], &[0, 2], &[0, 3]]);
+        let out = wire(&g, 0.05, 8, 1);
+        closed_with_euler(&out, 2, &format!("broom of {degrees} degrees"));
+        let top = out.positions().iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        assert!(top > -0.01, "{degrees}: the solid ends at y = {top}");
+        if let Some(t) = oracle(SELF_INTERSECTIONS, &mesh_json(&out)) {
+            let t: Value = t;
+            assert_eq!(t["crossing"], 0, "{degrees}: faces cross");
+        }
+    }
+}
+
+#[test]
 fn a_closed_loop_is_a_torus_and_a_cube_frame_has_genus_five() {
     let square = Geometry::from_prims(
         vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],

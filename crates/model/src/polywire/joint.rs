@@ -13,7 +13,10 @@
 //! distance works the joint's rings are narrowed (a pinch where edges are
 //! short for the radius) until one does. Where none does (dozens of twigs
 //! a degree or two apart), the twigs nearest in angle to a kept tube are
-//! left out of the hull and capped (see `solve`).
+//! left out of the hull and capped (see `solve`). Where every tube leaves
+//! on one side (a broom of near-parallel edges), a hull of the rings stays
+//! far from the joint point, so the tubes instead run to the point, capped
+//! there, overlapping (polywire's union joins them).
 
 use std::collections::HashSet;
 
@@ -122,8 +125,30 @@ pub(super) fn solve(
             }
         }))
     };
+    // Every tube capped at the joint point: they overlap there (and
+    // polywire's union joins them).
+    let at_the_point = || Joint {
+        ends: Vec::new(),
+        distance: Vec::new(),
+        scale: 1.0,
+        triangles: Vec::new(),
+        prim: 0,
+        capped: all.iter().map(|&i| (ends[i], 0.0)).collect(),
+    };
+    let apart = |j: &Joint| {
+        let kept: Vec<usize> = j
+            .ends
+            .iter()
+            .map(|e| {
+                ends.iter()
+                    .position(|x| x.chain == e.chain && x.at_start == e.at_start)
+                    .expect("a kept end is an end")
+            })
+            .collect();
+        far_from_the_point(&kept, &dirs, &radii, &j.distance, j.scale)
+    };
     if let Some(j) = joined(&all)? {
-        return Ok(j);
+        return Ok(if apart(&j) { at_the_point() } else { j });
     }
     // Thicker, then longer tubes first.
     let mut order = all.clone();
@@ -167,6 +192,9 @@ pub(super) fn solve(
             });
         }
         if let Some(j) = joined(&kept)? {
+            if apart(&j) {
+                return Ok(at_the_point());
+            }
             if j.scale >= 1.0 / 3.0 {
                 return Ok(j);
             }
@@ -176,6 +204,34 @@ pub(super) fn solve(
         }
         angle *= 2.0;
     }
+}
+
+/// Whether a hull of the rings of ends `kept` (at `distance`, radii times
+/// `scale`) stays further than the widest radius from the joint point: the
+/// tubes all leave on one side (a broom of near-parallel twigs), and the
+/// hull would join them far out, leaving the joint point and most of every
+/// edge bare. Measured along the mean direction: the nearest ring point's
+/// height there.
+fn far_from_the_point(
+    kept: &[usize],
+    dirs: &[DVec3],
+    radii: &[f64],
+    distance: &[f64],
+    scale: f64,
+) -> bool {
+    let Some(mean) = kept.iter().map(|&i| dirs[i]).sum::<DVec3>().try_normalize() else {
+        return false;
+    };
+    let widest = kept.iter().map(|&i| radii[i] * scale).fold(0.0, f64::max);
+    let nearest = kept
+        .iter()
+        .zip(distance)
+        .map(|(&i, &d)| {
+            let c = mean.dot(dirs[i]);
+            d * c - radii[i] * scale * (1.0 - c * c).max(0.0).sqrt()
+        })
+        .fold(f64::INFINITY, f64::min);
+    nearest > widest
 }
 
 /// A hull joining every one of `sub`'s ends (end, available length,
