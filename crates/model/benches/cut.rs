@@ -1,7 +1,8 @@
 //! The cut family at realistic sizes: a capped clip of a 1M-triangle
 //! sphere, the convex hull of 1M random points (in a ball: about 10^4
 //! hull vertices; in a cube: a few hundred), mirror with seam fuse of a
-//! 500k-triangle half sphere, polyfill of its open side.
+//! 500k-triangle half sphere, polyfill of its open side and of a cut
+//! torus's two 65k-point loops.
 //! Run: cargo bench -p geode-model --bench cut
 
 use std::sync::OnceLock;
@@ -109,4 +110,26 @@ fn polyfill_half_sphere_500k_triangles(bencher: Bencher) {
     bencher
         .counter(ItemsCount::new(g.num_prims()))
         .bench(|| polyfill(g, &FillOptions::default(), &never).unwrap());
+}
+
+/// A torus of 65,536 columns cut through its middle plane: two circles of
+/// 65,536 points each, filled as one ring (holes on) or as two discs. In
+/// f32 such a circle has thousands of flat corners, which the ear test
+/// finds through its grid.
+#[divan::bench(sample_count = 3, args = [true, false])]
+fn polyfill_cut_torus_two_65k_point_loops(bencher: Bencher, holes: bool) {
+    static G: OnceLock<Geometry> = OnceLock::new();
+    let g = G.get_or_init(|| {
+        let torus = primitives::torus(1.0, 0.25, 65_536, 4);
+        clip(&torus, &ClipOptions::default(), &never)
+            .unwrap()
+            .geometry
+    });
+    let o = FillOptions {
+        holes,
+        ..FillOptions::default()
+    };
+    bencher
+        .counter(ItemsCount::new(2 * 65_536usize))
+        .bench(|| polyfill(g, &o, &never).unwrap());
 }

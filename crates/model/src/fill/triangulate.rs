@@ -115,10 +115,76 @@ struct Ring {
     next: Vec<usize>,
     removed: Vec<bool>,
     /// Corners that are reflex or flat (`concave`), the only ones that
-    /// can block an ear; the list keeps stale entries, skipped by flag.
+    /// can block an ear, binned in a grid over the ring's bounds so an ear
+    /// test looks only near the ear (a 65k-point circle in f32 has
+    /// thousands of flat corners); bins keep stale entries, skipped by
+    /// flag.
     concave: Vec<bool>,
-    concave_list: Vec<usize>,
+    bins: ConcaveBins,
+    /// Corners clipped since the bins were last pruned.
+    stale: usize,
     remaining: usize,
+}
+
+/// A uniform grid of corner indices over the ring's bounding box, about
+/// one bin per corner.
+struct ConcaveBins {
+    lo: DVec2,
+    cell: f64,
+    side: usize,
+    bins: Vec<Vec<usize>>,
+}
+
+impl ConcaveBins {
+    fn new(q: &[DVec2]) -> ConcaveBins {
+        let lo = q.iter().fold(DVec2::splat(f64::INFINITY), |a, &b| a.min(b));
+        let hi = q
+            .iter()
+            .fold(DVec2::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
+        let side = ((q.len() as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let extent = (hi - lo).max_element();
+        let cell = if extent > 0.0 && extent.is_finite() {
+            extent / side as f64
+        } else {
+            1.0
+        };
+        ConcaveBins {
+            lo,
+            cell,
+            side,
+            bins: vec![Vec::new(); side * side],
+        }
+    }
+
+    fn coord(&self, x: f64) -> usize {
+        let c = (x / self.cell).floor();
+        if c.is_finite() {
+            (c.max(0.0) as usize).min(self.side - 1)
+        } else {
+            0
+        }
+    }
+
+    fn insert(&mut self, i: usize, p: DVec2) {
+        let (x, y) = (self.coord(p.x - self.lo.x), self.coord(p.y - self.lo.y));
+        self.bins[y * self.side + x].push(i);
+    }
+
+    /// The entries of the bins meeting the box `lo..hi`.
+    fn near(&self, lo: DVec2, hi: DVec2) -> impl Iterator<Item = usize> + '_ {
+        let (x0, x1) = (self.coord(lo.x - self.lo.x), self.coord(hi.x - self.lo.x));
+        let (y0, y1) = (self.coord(lo.y - self.lo.y), self.coord(hi.y - self.lo.y));
+        (y0..=y1).flat_map(move |y| {
+            (x0..=x1).flat_map(move |x| self.bins[y * self.side + x].iter().copied())
+        })
+    }
+
+    /// Drops the entries `keep` refuses (stale ones), bin by bin.
+    fn prune(&mut self, keep: impl Fn(usize) -> bool) {
+        for b in &mut self.bins {
+            b.retain(|&j| keep(j));
+        }
+    }
 }
 
 impl Ring {
@@ -126,13 +192,15 @@ impl Ring {
         let n = q.len();
         let prev: Vec<usize> = (0..n).map(|i| (i + n - 1) % n).collect();
         let next: Vec<usize> = (0..n).map(|i| (i + 1) % n).collect();
+        let bins = ConcaveBins::new(&q);
         let mut ring = Ring {
             q,
             prev,
             next,
             removed: vec![false; n],
             concave: vec![false; n],
-            concave_list: Vec::new(),
+            bins,
+            stale: 0,
             remaining: n,
         };
         for i in 0..n {
@@ -149,7 +217,7 @@ impl Ring {
     fn update(&mut self, i: usize) {
         let concave = self.turn(i) <= 0.0;
         if concave && !self.concave[i] {
-            self.concave_list.push(i);
+            self.bins.insert(i, self.q[i]);
         }
         self.concave[i] = concave;
     }
@@ -162,9 +230,11 @@ impl Ring {
         self.remaining -= 1;
         self.update(a);
         self.update(c);
-        if self.concave_list.len() > 64 && self.concave_list.len() > 2 * self.remaining {
+        self.stale += 1;
+        if self.stale > 64 && self.stale > self.remaining {
             let (removed, concave) = (&self.removed, &self.concave);
-            self.concave_list.retain(|&j| !removed[j] && concave[j]);
+            self.bins.prune(|j| !removed[j] && concave[j]);
+            self.stale = 0;
         }
     }
 
@@ -184,7 +254,8 @@ impl Ring {
         let (ia, ic) = (self.prev[k], self.next[k]);
         let (a, b, c) = (self.q[ia], self.q[k], self.q[ic]);
         let strict = relax == 0;
-        !self.concave_list.iter().any(|&j| {
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        !self.bins.near(lo, hi).any(|j| {
             if self.removed[j] || !self.concave[j] || j == ia || j == k || j == ic {
                 return false;
             }
