@@ -13,6 +13,7 @@
 #include <exception>
 #include <new>
 #include <string>
+#include <utility>
 
 using manifold::Manifold;
 using manifold::MeshGL;
@@ -73,6 +74,19 @@ struct GmMesh {
   MeshGL mesh;
 };
 
+namespace {
+
+// `solid` evaluated (its status read forces manifold's lazy work) and
+// handed to the caller in `out`, or its error status.
+int hand_out(Manifold solid, GmSolid** out) {
+  int status = status_of(solid.Status());
+  if (status != 0) return status;
+  *out = new GmSolid{std::move(solid)};
+  return 0;
+}
+
+}  // namespace
+
 extern "C" {
 
 const char* gm_last_error() { return last_error.c_str(); }
@@ -101,14 +115,7 @@ int gm_solid_new(const float* positions, uint64_t npoints, const uint32_t* tris,
     mesh.faceID.assign(face_ids, face_ids + ntris);
     mesh.runIndex = {0, static_cast<uint32_t>(3 * ntris)};
     mesh.runOriginalID = {source};
-    auto* solid = new GmSolid{Manifold(mesh)};
-    int status = status_of(solid->solid.Status());
-    if (status != 0) {
-      delete solid;
-      return status;
-    }
-    *out = solid;
-    return 0;
+    return hand_out(Manifold(mesh), out);
   });
 }
 
@@ -125,14 +132,7 @@ int gm_boolean(const GmSolid* a, const GmSolid* b, int op, uint32_t threads, GmS
     }
     const manifold::OpType ops[] = {manifold::OpType::Add, manifold::OpType::Subtract,
                                     manifold::OpType::Intersect};
-    auto* result = new GmSolid{a->solid.Boolean(b->solid, ops[op])};
-    int status = status_of(result->solid.Status());
-    if (status != 0) {
-      delete result;
-      return status;
-    }
-    *out = result;
-    return 0;
+    return hand_out(a->solid.Boolean(b->solid, ops[op]), out);
   });
 }
 
@@ -146,14 +146,7 @@ int gm_union_pieces(const GmSolid* solid, uint32_t threads, GmSolid** out) {
       last_error = "null solid";
       return kBadArgument;
     }
-    auto* result = new GmSolid{Manifold::BatchBoolean(solid->solid.Decompose(), manifold::OpType::Add)};
-    int status = status_of(result->solid.Status());
-    if (status != 0) {
-      delete result;
-      return status;
-    }
-    *out = result;
-    return 0;
+    return hand_out(Manifold::BatchBoolean(solid->solid.Decompose(), manifold::OpType::Add), out);
   });
 }
 
