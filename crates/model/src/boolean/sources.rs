@@ -55,11 +55,21 @@ impl Sources {
         );
         let (ta, tb) = (ta?, tb?);
         let (a_triangles, a_points) = (ta.num_prims(), ta.num_points());
-        let both = ops::merge(&[&ta, &tb]).map_err(|e| ModelError::Failed {
+        // Each side's faces (a face never spans the two) beside the merge.
+        let ((fa, fb), both) = rayon::join(
+            || rayon::join(|| Faces::grow(&ta), || Faces::grow(&tb)),
+            || ops::merge(&[&ta, &tb]),
+        );
+        let both = both.map_err(|e| ModelError::Failed {
             op: "boolean",
             why: e.to_string(),
         })?;
-        Ok(Sources::with_faces(both, a_triangles, a_points))
+        Ok(Sources::with_faces(
+            both,
+            a_triangles,
+            a_points,
+            fa.followed_by(fb, a_triangles),
+        ))
     }
 
     /// One mesh as side A (for [`super::union_pieces`]).
@@ -69,11 +79,11 @@ impl Sources {
     ) -> Result<Sources, ModelError> {
         let t = triangles_of(g, "input", cancel)?;
         let (n, points) = (t.num_prims(), t.num_points());
-        Ok(Sources::with_faces(t, n, points))
+        let faces = Faces::grow(&t);
+        Ok(Sources::with_faces(t, n, points, faces))
     }
 
-    fn with_faces(both: Geometry, a_triangles: usize, a_points: usize) -> Sources {
-        let faces = Faces::grow(&both, a_triangles);
+    fn with_faces(both: Geometry, a_triangles: usize, a_points: usize, faces: Faces) -> Sources {
         Sources {
             both,
             a_triangles,
@@ -389,7 +399,17 @@ struct Faces {
 }
 
 impl Faces {
-    fn grow(both: &Geometry, a_triangles: usize) -> Faces {
+    /// `b`'s faces after `self`'s, `b`'s triangles numbered from `first`.
+    fn followed_by(mut self, b: Faces, first: usize) -> Faces {
+        let (shift, at) = (first as u32, self.members.len() as u32);
+        self.face.extend(b.face.iter().map(|f| f + shift));
+        self.start.extend(b.start.iter().map(|s| s + at));
+        self.size.extend(b.size);
+        self.members.extend(b.members.iter().map(|m| m + shift));
+        self
+    }
+
+    fn grow(both: &Geometry) -> Faces {
         let n = both.num_prims();
         let twin = twins(both);
         let p = both.positions();
@@ -400,19 +420,19 @@ impl Faces {
         };
         // Edges between two triangles in one plane, found in parallel: most
         // triangles of a curved mesh have none and are faces of their own.
-        let planes: Vec<Option<(DVec3, DVec3, f64)>> = (0..n)
+        let flat: Vec<[bool; 3]> = (0..n)
             .into_par_iter()
-            .map(|t| plane_of(corners(t)))
-            .collect();
-        let flat: Vec<bool> = (0..twin.len())
-            .into_par_iter()
-            .map(|h| {
-                let tw = twin[h] as usize;
-                tw != u32::MAX as usize
-                    && planes[h / 3].is_some_and(|(a, normal, tol)| {
+            .map(|t| {
+                let Some((a, normal, tol)) = plane_of(corners(t)) else {
+                    return [false; 3];
+                };
+                [0, 1, 2].map(|k| {
+                    let tw = twin[3 * t + k] as usize;
+                    tw != u32::MAX as usize && {
                         let far = p[vp[tw - tw % 3 + (tw + 2) % 3] as usize].as_dvec3();
                         (far - a).dot(normal).abs() <= tol
-                    })
+                    }
+                })
             })
             .collect();
         let alike = Alike::new(both);
@@ -429,26 +449,28 @@ impl Faces {
             let first = faces.members.len();
             faces.face[seed] = seed as u32;
             faces.members.push(seed as u32);
-            let any_flat = (0..3).any(|k| flat[3 * seed + k]);
-            let plane = if any_flat { planes[seed] } else { None };
-            let side = seed < a_triangles;
+            let any_flat = flat[seed].iter().any(|&f| f);
+            let plane = if any_flat {
+                plane_of(corners(seed))
+            } else {
+                None
+            };
             let mut next = first;
             while let (Some((a, normal, tol)), true) = (plane, next < faces.members.len()) {
                 let t = faces.members[next] as usize;
                 next += 1;
-                for k in 0..3 {
+                for (k, &is_flat) in flat[t].iter().enumerate() {
                     if faces.members.len() - first >= FACE_MAX {
                         break;
                     }
                     let h = 3 * t + k;
                     let tw = twin[h];
-                    if !flat[h] {
+                    if !is_flat {
                         continue;
                     }
                     let (tw, u) = (tw as usize, tw as usize / 3);
                     let next = |x: usize| x - x % 3 + (x + 1) % 3;
                     let joins = faces.face[u] == u32::MAX
-                        && (u < a_triangles) == side
                         && corners(u).iter().all(|&q| (q - a).dot(normal).abs() <= tol)
                         && alike.prims(seed, u)
                         && alike.across(h, next(h), tw, next(tw));
