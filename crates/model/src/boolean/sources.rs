@@ -516,16 +516,17 @@ fn twins(both: &Geometry) -> Vec<u32> {
     let mut twin = vec![u32::MAX; vp.len()];
     for w in start.windows(2) {
         let bucket = &bucketed[w[0] as usize..w[1] as usize];
-        for (i, &x) in bucket.iter().enumerate() {
+        for &x in bucket {
+            if twin[x as usize] != u32::MAX {
+                continue;
+            }
             let hi = ends(x as usize).1;
-            let mut same = bucket.iter().filter(|&&y| ends(y as usize).1 == hi);
-            if let (Some(&y0), Some(&y1), None) = (same.next(), same.next(), same.next()) {
-                let other = if y0 == x { y1 } else { y0 };
-                if bucket[..i].contains(&other) || other == x {
-                    continue;
-                }
-                twin[x as usize] = other;
-                twin[other as usize] = x;
+            let mut same = bucket
+                .iter()
+                .filter(|&&y| y != x && ends(y as usize).1 == hi);
+            if let (Some(&y), None) = (same.next(), same.next()) {
+                twin[x as usize] = y;
+                twin[y as usize] = x;
             }
         }
     }

@@ -37,15 +37,16 @@ struct Plane {
 /// along it.
 pub(crate) fn coplanar_groups(g: &Geometry, loops: &[(Vec<u32>, Vec<u32>)]) -> Vec<Vec<usize>> {
     let positions = g.positions();
-    let points = |k: usize| -> Vec<DVec3> {
-        loops[k]
-            .0
-            .iter()
-            .map(|&p| positions[p as usize].as_dvec3())
-            .collect()
-    };
+    let points: Vec<Vec<DVec3>> = loops
+        .iter()
+        .map(|(l, _)| {
+            l.iter()
+                .map(|&p| positions[p as usize].as_dvec3())
+                .collect()
+        })
+        .collect();
     let planes: Vec<Option<Plane>> = (0..loops.len())
-        .map(|k| plane_of(g, &points(k), &loops[k].1))
+        .map(|k| plane_of(g, &points[k], &loops[k].1))
         .collect();
     let mut by_offset: Vec<usize> = (0..loops.len()).filter(|&k| planes[k].is_some()).collect();
     let plane = |k: usize| planes[k].as_ref().expect("filtered");
@@ -68,7 +69,7 @@ pub(crate) fn coplanar_groups(g: &Geometry, loops: &[(Vec<u32>, Vec<u32>)]) -> V
             if taken[k] || !parallel {
                 continue;
             }
-            let in_plane = points(k)
+            let in_plane = points[k]
                 .iter()
                 .all(|&p| (p - l.centre).dot(l.normal).abs() <= l.tolerance);
             if in_plane {
