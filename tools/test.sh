@@ -16,7 +16,7 @@ fi
 if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh, manifold3d, scipy, pymeshlab" 2>/dev/null; then
   echo "installing usd-core, trimesh, manifold3d, scipy and pymeshlab (PyPI) into tools/.venv" >&2
   python3 -m venv tools/.venv
-  tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh manifold3d scipy pymeshlab >&2
+  tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh rtree manifold3d scipy pymeshlab libigl >&2
 fi
 
 # OpenSubdiv for the Catmull-Clark reference program and TBB for manifold's

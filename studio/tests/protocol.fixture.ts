@@ -350,10 +350,35 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
-    "name": "loop",
+    "name": "for_each",
     "network": true,
     "output": "",
     "params": [
+      {
+        "affects": null,
+        "animatable": false,
+        "default": "",
+        "help": "",
+        "items": [
+          ""
+        ],
+        "label": "",
+        "max": null,
+        "min": null,
+        "name": "method",
+        "type": "menu"
+      },
+      {
+        "affects": null,
+        "animatable": false,
+        "default": "",
+        "help": "",
+        "label": "",
+        "max": null,
+        "min": null,
+        "name": "attribute",
+        "type": "string"
+      },
       {
         "affects": null,
         "animatable": false,
@@ -393,7 +418,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
-    "name": "attribute_create",
+    "name": "attribute_blur",
     "network": false,
     "output": "",
     "params": [
@@ -422,7 +447,21 @@ export const nodeTypes: NodeType[] = [
         "label": "",
         "max": null,
         "min": null,
-        "name": "type",
+        "name": "method",
+        "type": "menu"
+      },
+      {
+        "affects": null,
+        "animatable": false,
+        "default": "",
+        "help": "",
+        "items": [
+          ""
+        ],
+        "label": "",
+        "max": null,
+        "min": null,
+        "name": "mode",
         "type": "menu"
       },
       {
@@ -438,19 +477,69 @@ export const nodeTypes: NodeType[] = [
       },
       {
         "affects": null,
-        "animatable": true,
-        "default": [
-          0,
-          0,
-          0,
-          0
-        ],
+        "animatable": false,
+        "default": "",
         "help": "",
         "label": "",
         "max": null,
         "min": null,
-        "name": "value",
-        "type": "vec4"
+        "name": "pinned",
+        "type": "string"
+      },
+      {
+        "affects": null,
+        "animatable": true,
+        "default": 0,
+        "help": "",
+        "label": "",
+        "max": 0,
+        "min": 0,
+        "name": "iterations",
+        "type": "int"
+      },
+      {
+        "affects": null,
+        "animatable": true,
+        "default": 0,
+        "help": "",
+        "label": "",
+        "max": 0,
+        "min": 0,
+        "name": "max_neighbours",
+        "type": "int"
+      },
+      {
+        "affects": null,
+        "animatable": true,
+        "default": 0,
+        "help": "",
+        "label": "",
+        "max": 0,
+        "min": 0,
+        "name": "step",
+        "type": "float"
+      },
+      {
+        "affects": null,
+        "animatable": true,
+        "default": 0,
+        "help": "",
+        "label": "",
+        "max": null,
+        "min": 0,
+        "name": "radius",
+        "type": "float"
+      },
+      {
+        "affects": null,
+        "animatable": true,
+        "default": false,
+        "help": "",
+        "label": "",
+        "max": null,
+        "min": null,
+        "name": "pin_border",
+        "type": "toggle"
       }
     ],
     "spare": false,
@@ -469,7 +558,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
-    "name": "skin",
+    "name": "attribute_rename",
     "network": false,
     "output": "",
     "params": [
@@ -484,23 +573,12 @@ export const nodeTypes: NodeType[] = [
         "label": "",
         "max": null,
         "min": null,
-        "name": "method",
+        "name": "class",
         "type": "menu"
       },
       {
         "affects": null,
         "animatable": false,
-        "default": "",
-        "help": "",
-        "label": "",
-        "max": null,
-        "min": null,
-        "name": "bend_joint",
-        "type": "string"
-      },
-      {
-        "affects": null,
-        "animatable": false,
         "default": [],
         "fields": [
           {
@@ -511,46 +589,7 @@ export const nodeTypes: NodeType[] = [
             "label": "",
             "max": null,
             "min": null,
-            "name": "joint",
-            "type": "string"
-          },
-          {
-            "affects": null,
-            "animatable": true,
-            "default": [
-              0,
-              0,
-              0
-            ],
-            "help": "",
-            "label": "",
-            "max": null,
-            "min": null,
-            "name": "rotate",
-            "type": "vec3"
-          }
-        ],
-        "help": "",
-        "label": "",
-        "max": null,
-        "min": null,
-        "name": "pose",
-        "type": "list"
-      },
-      {
-        "affects": null,
-        "animatable": false,
-        "default": [],
-        "fields": [
-          {
-            "affects": null,
-            "animatable": false,
-            "default": "",
-            "help": "",
-            "label": "",
-            "max": null,
-            "min": null,
-            "name": "name",
+            "name": "from",
             "type": "string"
           },
           {
@@ -561,46 +600,16 @@ export const nodeTypes: NodeType[] = [
             "label": "",
             "max": null,
             "min": null,
-            "name": "parent",
+            "name": "to",
             "type": "string"
-          },
-          {
-            "affects": null,
-            "animatable": true,
-            "default": [
-              0,
-              0,
-              0
-            ],
-            "help": "",
-            "label": "",
-            "max": null,
-            "min": null,
-            "name": "rest",
-            "type": "vec3"
           }
         ],
         "help": "",
         "label": "",
         "max": null,
         "min": null,
-        "name": "skeleton",
+        "name": "renames",
         "type": "list"
-      },
-      {
-        "affects": null,
-        "animatable": true,
-        "default": [
-          0,
-          0,
-          0
-        ],
-        "help": "",
-        "label": "",
-        "max": null,
-        "min": null,
-        "name": "bend",
-        "type": "vec3"
       }
     ],
     "spare": false,

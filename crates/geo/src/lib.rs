@@ -13,6 +13,7 @@ mod hash;
 pub mod hint;
 pub mod ops;
 mod patch;
+pub mod pattern;
 mod payload;
 pub mod primitives;
 pub mod ramp;

@@ -19,6 +19,9 @@ use crate::compile::CompiledParam;
 pub enum BlockKind {
     Loop,
     Solver,
+    ForEach,
+    /// Not a network: its input cooked at another frame.
+    TimeShift,
 }
 
 const ITERATIONS: P = P::new(
@@ -41,18 +44,209 @@ const START_FRAME: P = P::new("start_frame", "Start frame", T::Float, D::Float(1
 pub(crate) static LOOP_PARAMS: [P; 2] = [ITERATIONS, STOP];
 pub(crate) static SOLVER_PARAMS: [P; 1] = [START_FRAME];
 
+const FOR_EACH_METHOD: P = P::new(
+    "method",
+    "Iterate over",
+    T::Menu(&["pieces", "attribute", "count"]),
+    D::Str("pieces"),
+    "Connected pieces (primitives sharing points: Houdini's For-Each Connected Piece), the values of a primitive attribute (For-Each Named Primitive), or a count of passes each on the previous pass's result (a loop with feedback).",
+);
+const FOR_EACH_ATTRIBUTE: P = P::new(
+    "attribute",
+    "Piece attribute",
+    T::String,
+    D::Str("name"),
+    "Iterating over an attribute: the primitive attribute (string or integer, e.g. `name` or `class`) whose values make the pieces, in order of first appearance.",
+);
+const FOR_EACH_ITERATIONS: P = P::new(
+    "iterations",
+    "Iterations",
+    T::Int,
+    D::Int(1),
+    "Iterating by count: the passes, each on the previous pass's result.",
+)
+.at_least(0.0);
+
+pub(crate) static FOR_EACH_PARAMS: [P; 4] = [
+    FOR_EACH_METHOD,
+    FOR_EACH_ATTRIBUTE,
+    FOR_EACH_ITERATIONS,
+    STOP,
+];
+
+const SHIFT_METHOD: P = P::new(
+    "method",
+    "Method",
+    T::Menu(&["offset", "frame"]),
+    D::Str("offset"),
+    "Shift the frame by an offset, or cook at the frame given (which may be an expression of $F, e.g. `$F * 2` or `floor($F / 4) * 4`).",
+);
+const SHIFT_OFFSET: P = P::new(
+    "offset",
+    "Offset",
+    T::Float,
+    D::Float(0.0),
+    "Frames added to the current one (-1: the previous frame).",
+);
+const SHIFT_FRAME: P = P::new(
+    "frame",
+    "Frame",
+    T::Float,
+    D::Float(1.0),
+    "The frame to cook the input at.",
+);
+const SHIFT_CLAMP: P = P::new(
+    "clamp",
+    "Clamp",
+    T::Toggle,
+    D::Toggle(false),
+    "Keep the frame within the range.",
+);
+const SHIFT_RANGE: P = P::new(
+    "range",
+    "Range",
+    T::Vec2,
+    D::Vec2([1.0, 240.0]),
+    "The first and last frame the input is cooked at, when clamped.",
+);
+
+pub(crate) static TIME_SHIFT_PARAMS: [P; 5] = [
+    SHIFT_METHOD,
+    SHIFT_OFFSET,
+    SHIFT_FRAME,
+    SHIFT_CLAMP,
+    SHIFT_RANGE,
+];
+
+/// The frame a time shift cooks its input at, from the current `frame`.
+pub fn shifted_frame(p: &Params, frame: f64) -> Result<f64, CookError> {
+    let mut f = match p.string(&SHIFT_METHOD)? {
+        "frame" => p.float(&SHIFT_FRAME)?,
+        _ => frame + p.float(&SHIFT_OFFSET)?,
+    };
+    if p.toggle(&SHIFT_CLAMP)? {
+        let r = p.vector::<2>(&SHIFT_RANGE)?;
+        f = f.clamp(r[0].min(r[1]), r[0].max(r[1]));
+    }
+    Ok(f)
+}
+
+/// What a for-each iterates over.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ForEach {
+    /// Connected pieces.
+    Pieces,
+    /// The values of a primitive attribute.
+    Attribute(String),
+    /// Passes with feedback, and the stop attribute.
+    Count(usize, String),
+}
+
+/// The for-each's settings.
+pub fn for_each_settings(p: &Params) -> Result<ForEach, CookError> {
+    Ok(match p.string(&FOR_EACH_METHOD)? {
+        "attribute" => ForEach::Attribute(p.string(&FOR_EACH_ATTRIBUTE)?.to_owned()),
+        "count" => ForEach::Count(
+            p.int(&FOR_EACH_ITERATIONS)?.max(0) as usize,
+            p.string(&STOP)?.to_owned(),
+        ),
+        _ => ForEach::Pieces,
+    })
+}
+
+/// The geometry's pieces for a for-each (in order: by first primitive, or
+/// by first appearance of the attribute's value), each with its value for
+/// `@meta` (the piece number, or the attribute's value).
+/// `Ok(None)` when `cancel` says stop.
+pub fn pieces_of(
+    g: &Geometry,
+    how: &ForEach,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Option<Vec<(Geometry, MetaValue)>>, String> {
+    use geode_geo::ops;
+    match how {
+        ForEach::Attribute(name) => {
+            let Some(a) = g.attrib(AttribClass::Primitive, name) else {
+                let known: Vec<&str> = g.attribs(AttribClass::Primitive).names().collect();
+                return Err(format!(
+                    "parameter `attribute`: no primitive attribute `{name}` (there are: {})",
+                    if known.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        known.join(", ")
+                    }
+                ));
+            };
+            let (of_prim, firsts) = ops::value_classes(a.data());
+            let mut lists: Vec<Vec<u32>> = vec![Vec::new(); firsts.len()];
+            for (prim, &k) in of_prim.iter().enumerate() {
+                lists[k as usize].push(prim as u32);
+            }
+            use rayon::prelude::*;
+            if cancel() {
+                return Ok(None);
+            }
+            Ok(Some(
+                lists
+                    .par_iter()
+                    .zip(firsts.par_iter())
+                    .map(|(prims, &first)| {
+                        let value = match a.data().get(first as usize) {
+                            AttribValue::String(s) => MetaValue::Text(s),
+                            AttribValue::Int(i) => MetaValue::Int(i),
+                            other => MetaValue::Text(format!("{other:?}")),
+                        };
+                        (ops::extract(g, prims, &[]), value)
+                    })
+                    .collect(),
+            ))
+        }
+        _ => {
+            let Some(pieces) =
+                ops::connectivity_cancellable(g, ops::Connect::SharedPoint, None, cancel)
+            else {
+                return Ok(None);
+            };
+            let Some(parts) = ops::split_pieces_cancellable(g, &pieces, cancel) else {
+                return Ok(None);
+            };
+            Ok(Some(
+                parts
+                    .into_iter()
+                    .enumerate()
+                    .map(|(k, piece)| (piece, MetaValue::Int(k as i32)))
+                    .collect(),
+            ))
+        }
+    }
+}
+
+/// A piece's value in `@meta`.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MetaValue {
+    Int(i32),
+    Text(String),
+}
+
 impl BlockKind {
     pub fn from_type(ty: &str) -> Option<BlockKind> {
         BlockKind::ALL.into_iter().find(|k| k.name() == ty)
     }
 
-    pub const ALL: [BlockKind; 2] = [BlockKind::Loop, BlockKind::Solver];
+    pub const ALL: [BlockKind; 4] = [
+        BlockKind::Loop,
+        BlockKind::Solver,
+        BlockKind::ForEach,
+        BlockKind::TimeShift,
+    ];
 
     /// The block's declaration ([`crate::container`]).
     pub fn spec(self) -> &'static geode_op::NodeSpec {
         match self {
             BlockKind::Loop => &crate::container::LOOP,
             BlockKind::Solver => &crate::container::SOLVER,
+            BlockKind::ForEach => &crate::container::FOR_EACH,
+            BlockKind::TimeShift => &crate::container::TIME_SHIFT,
         }
     }
 
@@ -96,18 +290,43 @@ pub enum FeedSlot {
     Meta,
 }
 
-/// The `@meta` geometry of a pass: detail attributes by name.
-pub fn meta(values: &[(&str, i32)]) -> Value {
-    let mut g = Geometry::new();
-    for (name, v) in values {
-        let a = Attribute::new(AttribValue::Int(0), TypeInfo::None, 1);
-        g.set_attrib(AttribClass::Detail, name, a)
+/// The `@meta` geometry of a for-each pass: iteration, numiterations and
+/// the piece's value (`value`, an integer or a string).
+pub fn piece_meta(iteration: usize, count: usize, value: &MetaValue) -> Value {
+    let mut g = meta_geometry(&[
+        ("iteration", iteration as i32),
+        ("numiterations", count as i32),
+    ]);
+    {
+        let a = match value {
+            MetaValue::Int(i) => Attribute::from_data(AttribData::Int(vec![*i]), TypeInfo::None),
+            MetaValue::Text(t) => Attribute::from_data(
+                AttribData::String(geode_geo::StringColumn {
+                    table: vec![t.clone()],
+                    indices: vec![0],
+                }),
+                TypeInfo::None,
+            ),
+        };
+        g.set_attrib(AttribClass::Detail, "value", a)
             .expect("one detail element");
-        if let Some(x) = g.attribs_mut(AttribClass::Detail).get_mut(name) {
-            let _ = x.values_mut().set(0, &AttribValue::Int(*v));
-        }
     }
     Value::geometry(g)
+}
+
+/// The `@meta` geometry of a pass: detail attributes by name.
+pub fn meta(values: &[(&str, i32)]) -> Value {
+    Value::geometry(meta_geometry(values))
+}
+
+fn meta_geometry(values: &[(&str, i32)]) -> Geometry {
+    let mut g = Geometry::new();
+    for (name, v) in values {
+        let a = Attribute::from_data(AttribData::Int(vec![*v]), TypeInfo::None);
+        g.set_attrib(AttribClass::Detail, name, a)
+            .expect("one detail element");
+    }
+    g
 }
 
 /// Whether a pass's result asks the loop to stop.

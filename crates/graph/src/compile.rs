@@ -587,7 +587,7 @@ impl Builder<'_> {
             }
             let block = crate::block::BlockKind::from_type(&doc.ty);
             let kind = if crate::container_spec(&doc.ty).is_some() {
-                if doc.network.is_none() {
+                if doc.network.is_none() && crate::container::holds_network(&doc.ty) {
                     self.errors.push(LoadError::node(
                         &path,
                         format!("a {} needs a \"network\"", doc.ty),
@@ -621,7 +621,7 @@ impl Builder<'_> {
                     }
                 }
             };
-            if crate::container_spec(&doc.ty).is_none()
+            if !crate::container::holds_network(&doc.ty)
                 && (doc.network.is_some() || !doc.promote.is_empty())
             {
                 self.errors.push(LoadError::node(
@@ -797,8 +797,66 @@ impl Builder<'_> {
                 };
                 inputs.push(resolved);
             }
+            if let NodeKind::Op { op, .. } = &self.nodes[i].kind {
+                let spec = op.spec();
+                if !spec.references.is_empty() {
+                    inputs.resize(inputs.len().max(spec.inputs.len()), None);
+                    let refs = self.references(i, spec.references);
+                    inputs.extend(refs.into_iter().map(Some));
+                }
+            }
             self.nodes[i].inputs = inputs;
         }
+    }
+
+    /// The nodes node `i`'s parameter `param` names: paths separated by
+    /// spaces, absolute (`/a/b`) or from the node's own network (`b`,
+    /// `sub/b`, `../b`). The value must be plain text: what a node reads
+    /// is fixed when the network loads.
+    fn references(&mut self, i: usize, param: &str) -> Vec<usize> {
+        let path = self.nodes[i].path.clone();
+        let text = match self.docs[i].params.get(param) {
+            None => return Vec::new(),
+            Some(Json::String(t)) => t.clone(),
+            Some(other) => {
+                self.errors.push(LoadError::param(&path, param, format!("expected node paths as plain text (read when the network loads), found {other}")));
+                return Vec::new();
+            }
+        };
+        let mut out = Vec::new();
+        for name in text.split_whitespace() {
+            let mut at: Vec<&str> = if name.starts_with('/') {
+                Vec::new()
+            } else {
+                path.split('/').filter(|s| !s.is_empty()).collect()
+            };
+            if !name.starts_with('/') {
+                at.pop(); // the node itself: names are from its network
+            }
+            let mut ok = true;
+            for part in name.split('/').filter(|s| !s.is_empty() && *s != ".") {
+                if part == ".." {
+                    ok &= at.pop().is_some();
+                } else {
+                    at.push(part);
+                }
+            }
+            let full = format!("/{}", at.join("/"));
+            match self.by_path.get(&full) {
+                Some(&j) if ok && j != i => out.push(j),
+                Some(_) if ok => self.errors.push(LoadError::param(
+                    &path,
+                    param,
+                    format!("`{name}` is this node itself"),
+                )),
+                _ => self.errors.push(LoadError::param(
+                    &path,
+                    param,
+                    format!("`{name}` ({full}) is not a node of this network"),
+                )),
+            }
+        }
+        out
     }
 
     fn parse_param(

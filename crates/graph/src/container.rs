@@ -4,7 +4,7 @@
 
 use geode_op::{InputSpec, NodeSpec, PortType, Registry};
 
-use crate::block::{LOOP_PARAMS, SOLVER_PARAMS};
+use crate::block::{FOR_EACH_PARAMS, LOOP_PARAMS, SOLVER_PARAMS, TIME_SHIFT_PARAMS};
 
 const fn input(name: &'static str, required: bool) -> InputSpec {
     InputSpec {
@@ -63,9 +63,40 @@ pub static SOLVER: NodeSpec = NodeSpec {
     .spare_params()
 };
 
+pub static FOR_EACH: NodeSpec = NodeSpec::new(
+    "for_each",
+    "For-Each",
+    "flow",
+    "Cooks its network once per piece of its input (connected pieces, or the values of a primitive attribute) and merges the results in piece order; or, by count, a number of passes each on the previous pass's result. Pieces cook in parallel and the merge is the same at any thread count. Inside, @0 is the piece (or the feedback), @1.. the block's other inputs, and @meta a geometry whose detail attributes iteration, numiterations and value (the piece's number or attribute value) give the pass.",
+    &BLOCK_INPUTS,
+    &FOR_EACH_PARAMS,
+)
+.spare_params();
+
+/// One input, required.
+static SHIFT_INPUT: [InputSpec; 1] = [input("input 1", true)];
+
+pub static TIME_SHIFT: NodeSpec = NodeSpec {
+    time_dependent: true,
+    ..NodeSpec::new(
+        "time_shift",
+        "Time Shift",
+        "flow",
+        "Its input as it cooks at another frame: the current one plus an offset, or a frame given (an expression of $F), optionally clamped to a range (Houdini's Time Shift). Nothing upstream cooks at the current frame.",
+        &SHIFT_INPUT,
+        &TIME_SHIFT_PARAMS,
+    )
+};
+
 /// The engine's own node types.
-pub fn containers() -> [&'static NodeSpec; 3] {
-    [&SUBNET, &LOOP, &SOLVER]
+pub fn containers() -> [&'static NodeSpec; 5] {
+    [&SUBNET, &LOOP, &SOLVER, &FOR_EACH, &TIME_SHIFT]
+}
+
+/// Whether node type `ty` holds a network (the engine's own types but
+/// time_shift, which only reads its input at another frame).
+pub fn holds_network(ty: &str) -> bool {
+    container_spec(ty).is_some() && ty != TIME_SHIFT.name
 }
 
 /// The declaration of one of the engine's own node types (nodes that hold

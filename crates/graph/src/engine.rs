@@ -11,7 +11,7 @@ use geode_op::{
 use rayon::prelude::*;
 use xxhash_rust::xxh3::Xxh3;
 
-use crate::block::{self, BlockKind, FeedSlot};
+use crate::block::{self, BlockKind, FeedSlot, ForEach};
 use crate::cache::{Cache, Cached};
 use crate::compile::{Network, NodeKind};
 
@@ -210,6 +210,10 @@ impl Run<'_, '_> {
             // Fails without reading anything (a node on a cycle included).
             return Vec::new();
         }
+        if Self::shifts_time(n) {
+            // Its input cooks in a pass of its own, at another frame.
+            return Vec::new();
+        }
         let mut reads: Vec<usize> = n.inputs.iter().flatten().copied().collect();
         if n.bypass {
             return reads;
@@ -280,6 +284,9 @@ impl Run<'_, '_> {
         }
         if !n.problems.is_empty() {
             return Err(n.problems.iter().map(load_problem).collect());
+        }
+        if Self::shifts_time(n) {
+            return self.time_shift(i);
         }
         // Cooked already (`prepare`); every error is reported.
         let results: Vec<Result<Option<Cooked>, Vec<CookError>>> = n
@@ -563,27 +570,16 @@ impl Run<'_, '_> {
         match kind {
             BlockKind::Loop => {
                 let (n, stop) = block::loop_settings(&params).map_err(|e| vec![e])?;
-                for k in 0..n {
-                    if self.opts.cancel.is_cancelled() {
-                        return Err(vec![CookError::cancelled(&path)]);
-                    }
-                    let meta = Cooked::of(block::meta(&[
-                        ("iteration", k as i32),
-                        ("numiterations", n as i32),
-                    ]));
-                    let feeds = self.feeds_of(i, &value, &inputs, &meta);
-                    value = self
-                        .pass(self.opts.frame, feeds, |r| r.node(out))
-                        .map_err(|e| {
-                            e.into_iter()
-                                .map(|x| block::in_pass(x, &path, &format!("iteration {k}")))
-                                .collect::<Vec<_>>()
-                        })?;
-                    if block::stops(&value.value, &stop) {
-                        break;
-                    }
-                }
+                value = self.feedback(i, out, n, &stop, value, &inputs)?;
             }
+            // Cooked before its inputs are (`cook_node`); never reaches here.
+            BlockKind::TimeShift => return self.time_shift(i),
+            BlockKind::ForEach => match block::for_each_settings(&params).map_err(|e| vec![e])? {
+                ForEach::Count(n, stop) => {
+                    value = self.feedback(i, out, n, &stop, value, &inputs)?
+                }
+                how => value = self.each_piece(i, out, &how, value, &inputs)?,
+            },
             BlockKind::Solver => {
                 let start = block::start_frame(&params).map_err(|e| vec![e])?;
                 let frame = self.opts.frame;
@@ -629,6 +625,137 @@ impl Run<'_, '_> {
             }
         }
         Ok(value)
+    }
+
+    /// Whether `n` is a time shift (not bypassed).
+    fn shifts_time(n: &crate::compile::Node) -> bool {
+        !n.bypass
+            && matches!(&n.kind, NodeKind::Subnet { block: Some(b), .. } if b.kind == BlockKind::TimeShift)
+    }
+
+    /// A time shift: its input cooked at the frame its parameters give,
+    /// in a pass of its own (a block's feeds carried in).
+    fn time_shift(&self, i: usize) -> Result<Cooked, Vec<CookError>> {
+        let net = &self.engine.net;
+        let n = &net.nodes[i];
+        let params = net
+            .params_at(i, self.opts.frame, &self.opts.env)
+            .map_err(|e| vec![load_problem(&e)])?;
+        let frame = block::shifted_frame(&params, self.opts.frame).map_err(|e| vec![e])?;
+        let Some(input) = n.inputs.first().copied().flatten() else {
+            return Err(vec![CookError::new(
+                &n.path,
+                ErrorKind::Input,
+                "input 1 is not connected",
+            )]);
+        };
+        if frame == self.opts.frame {
+            return self.node(input);
+        }
+        self.pass(frame, self.feeds.clone(), |r| r.node(input))
+    }
+
+    /// `n` passes of block `i`'s network, each on the previous one's
+    /// result, until a pass's `stop` detail attribute says so.
+    fn feedback(
+        &self,
+        i: usize,
+        out: usize,
+        n: usize,
+        stop: &str,
+        mut value: Cooked,
+        inputs: &[Option<Cooked>],
+    ) -> Result<Cooked, Vec<CookError>> {
+        let path = &self.engine.net.nodes[i].path;
+        for k in 0..n {
+            if self.opts.cancel.is_cancelled() {
+                return Err(vec![CookError::cancelled(path)]);
+            }
+            let meta = Cooked::of(block::meta(&[
+                ("iteration", k as i32),
+                ("numiterations", n as i32),
+            ]));
+            let feeds = self.feeds_of(i, &value, inputs, &meta);
+            value = self
+                .pass(self.opts.frame, feeds, |r| r.node(out))
+                .map_err(|e| {
+                    e.into_iter()
+                        .map(|x| block::in_pass(x, path, &format!("iteration {k}")))
+                        .collect::<Vec<_>>()
+                })?;
+            if block::stops(&value.value, stop) {
+                break;
+            }
+        }
+        Ok(value)
+    }
+
+    /// Block `i`'s network once per piece of `first` (in parallel), the
+    /// results merged in piece order.
+    fn each_piece(
+        &self,
+        i: usize,
+        out: usize,
+        how: &ForEach,
+        first: Cooked,
+        inputs: &[Option<Cooked>],
+    ) -> Result<Cooked, Vec<CookError>> {
+        use rayon::prelude::*;
+        let path = &self.engine.net.nodes[i].path;
+        let fail = |kind, m: String| vec![CookError::new(path, kind, m)];
+        let Some(g) = first.value.as_geometry() else {
+            return Err(fail(
+                ErrorKind::Input,
+                "input 1 is not a geometry: a for-each over pieces splits geometry".into(),
+            ));
+        };
+        let cancel = || self.opts.cancel.is_cancelled();
+        let pieces = block::pieces_of(g, how, &cancel)
+            .map_err(|m| fail(ErrorKind::Parameter, m))?
+            .ok_or_else(|| vec![CookError::cancelled(path)])?;
+        let count = pieces.len();
+        // A cancel stops the passes not yet begun; otherwise every piece
+        // cooks, so the error reported is the first in piece order
+        // whatever the threads did.
+        let results: Vec<Result<Cooked, Vec<CookError>>> = pieces
+            .into_par_iter()
+            .enumerate()
+            .map(|(k, (piece, value))| {
+                if self.opts.cancel.is_cancelled() {
+                    return Err(vec![CookError::cancelled(path)]);
+                }
+                let meta = Cooked::of(block::piece_meta(k, count, &value));
+                let feeds = self.feeds_of(i, &Cooked::of(Value::geometry(piece)), inputs, &meta);
+                self.pass(self.opts.frame, feeds, |r| r.node(out))
+                    .map_err(|e| {
+                        e.into_iter()
+                            .map(|x| block::in_pass(x, path, &format!("piece {k}")))
+                            .collect::<Vec<_>>()
+                    })
+            })
+            .collect();
+        if self.opts.cancel.is_cancelled() {
+            return Err(vec![CookError::cancelled(path)]);
+        }
+        let mut cooked = Vec::with_capacity(count);
+        for r in results {
+            cooked.push(r?);
+        }
+        let geometries: Vec<&geode_geo::Geometry> = cooked
+            .iter()
+            .filter_map(|c| c.value.as_geometry().map(|g| &**g))
+            .collect();
+        if geometries.len() != cooked.len() {
+            return Err(fail(
+                ErrorKind::Network,
+                "a piece's pass gave no geometry to merge".into(),
+            ));
+        }
+        let merged =
+            geode_geo::ops::merge_cancellable(&geometries, &|| self.opts.cancel.is_cancelled())
+                .map_err(|e| fail(ErrorKind::Resource, e.to_string()))?
+                .ok_or_else(|| vec![CookError::cancelled(path)])?;
+        Ok(Cooked::of(Value::geometry(merged)))
     }
 
     fn record(&self, e: CookEvent) {

@@ -220,20 +220,16 @@ impl Builder<'_> {
         if (self.cancelled)() {
             return None;
         }
-        let uv_v = tri
-            .attrib(AttribClass::Vertex, "uv")
-            .and_then(|a| a.as_vec2());
-        let uv_p = tri
-            .attrib(AttribClass::Point, "uv")
-            .and_then(|a| a.as_vec2());
+        let uv_v = crate::texcoords(&tri, AttribClass::Vertex);
+        let uv_p = crate::texcoords(&tri, AttribClass::Point);
         if uv_v.is_some() || uv_p.is_some() {
             // glTF's texture origin is the top left: v is flipped.
             let uv: Vec<Vec2> = vertex_source
                 .iter()
                 .map(|&(pt, vx)| {
-                    let t = match (uv_v, vx) {
+                    let t = match (&uv_v, vx) {
                         (Some(v), Some(i)) => v[i as usize],
-                        _ => uv_p.map_or(Vec2::ZERO, |p| p[pt as usize]),
+                        _ => uv_p.as_ref().map_or(Vec2::ZERO, |p| p[pt as usize]),
                     };
                     Vec2::new(t.x, 1.0 - t.y)
                 })

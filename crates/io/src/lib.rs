@@ -340,3 +340,19 @@ pub fn write_limited(
         r => r,
     }
 }
+
+/// The texture coordinates of class `class` (`uv`), as pairs: a `uv` of
+/// two floats, or Houdini's three (z dropped). None for anything else.
+pub(crate) fn texcoords(
+    g: &Geometry,
+    class: geode_geo::AttribClass,
+) -> Option<std::borrow::Cow<'_, [geode_geo::glam::Vec2]>> {
+    use geode_geo::AttribData;
+    match g.attrib(class, "uv").map(|a| a.data()) {
+        Some(AttribData::Vec2(v)) => Some(std::borrow::Cow::Borrowed(v.as_slice())),
+        Some(AttribData::Vec3(v)) => Some(std::borrow::Cow::Owned(
+            v.iter().map(|t| t.truncate()).collect(),
+        )),
+        _ => None,
+    }
+}

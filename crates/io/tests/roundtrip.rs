@@ -418,3 +418,44 @@ fn stl_names_everything_it_drops() {
     write(&plain, &dir.path().join("t.stl"), &quiet).unwrap();
     assert!(quiet.0.lock().unwrap().is_empty());
 }
+
+/// Houdini's uv is three floats (z = 0): OBJ and glTF write its first two
+/// as their texture coordinates (glTF's v flipped), read back as pairs.
+#[test]
+fn a_three_float_uv_is_written_as_texture_coordinates() {
+    use geode_geo::{AttribData, Attribute, TypeInfo};
+    let mut g = geode_geo::primitives::grid(geode_geo::glam::Vec2::ONE, 2, 2);
+    let uv: Vec<Vec3> = (0..g.num_vertices())
+        .map(|v| Vec3::new(v as f32 * 0.01, 0.5 - v as f32 * 0.02, 0.0))
+        .collect();
+    g.set_attrib(
+        AttribClass::Vertex,
+        "uv",
+        Attribute::from_data(AttribData::Vec3(uv.clone()), TypeInfo::TexCoord),
+    )
+    .unwrap();
+    for ext in ["obj", "glb"] {
+        let back = round_trip(&g, ext);
+        let got: Vec<geode_geo::glam::Vec2> =
+            match back.attrib(AttribClass::Vertex, "uv").map(|a| a.data()) {
+                Some(AttribData::Vec2(v)) => v.clone(),
+                Some(AttribData::Vec3(v)) => v.iter().map(|t| t.truncate()).collect(),
+                other => panic!("{ext}: no uv read back: {other:?}"),
+            };
+        // Corners may come back in another order and count (glTF
+        // triangulates); compare as sets.
+        let mut a: Vec<(i32, i32)> = got
+            .iter()
+            .map(|t| ((t.x * 1e4).round() as i32, (t.y * 1e4).round() as i32))
+            .collect();
+        let mut b: Vec<(i32, i32)> = uv
+            .iter()
+            .map(|t| ((t.x * 1e4).round() as i32, (t.y * 1e4).round() as i32))
+            .collect();
+        a.sort();
+        a.dedup();
+        b.sort();
+        b.dedup();
+        assert_eq!(a, b, "{ext}");
+    }
+}

@@ -229,12 +229,12 @@ impl Fractal {
     }
 
     /// Each octave's shift of the noise domain (`domain_shift`).
-    fn domain_shifts(&self) -> Vec<Vec3> {
+    pub fn domain_shifts(&self) -> Vec<Vec3> {
         (0..self.octaves).map(|o| self.domain_shift(o)).collect()
     }
 
     /// The fractal sum with the octaves' shifts drawn once for all points.
-    fn value_shifted(
+    pub fn value_shifted(
         &self,
         shifts: &[Vec3],
         position: Vec3,

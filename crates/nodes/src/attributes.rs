@@ -16,13 +16,7 @@ const TYPES: &[&str] = &[
 ];
 
 fn check_name(ctx: &CookContext, name: &str) -> Result<(), CookError> {
-    if name.is_empty()
-        || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        || name.starts_with(|c: char| c.is_ascii_digit())
-    {
-        return Err(ctx.param_error("name", format!("`{name}` is not a valid attribute name (letters, digits and _, not starting with a digit)")));
-    }
-    Ok(())
+    crate::util::attribute_name(ctx, "name", name)
 }
 
 const CREATE_NAME: P = P::new("name", "Name", T::String, D::Str("attr"), "Attribute name.");

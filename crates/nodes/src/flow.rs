@@ -1,4 +1,4 @@
-//! Wiring nodes: merge, switch, null.
+//! Wiring nodes: merge, switch, null, object_merge.
 
 use geode_geo::{ops, Geometry};
 use geode_op::{
@@ -87,7 +87,55 @@ fn cook_null(ctx: &CookContext, inputs: &[Option<Value>], _: &Params) -> Result<
         .ok_or_else(|| ctx.input_error("input 1 is not connected"))
 }
 
+const OBJECT_MERGE_OBJECTS: P = P::new(
+    "objects",
+    "Objects",
+    T::String,
+    D::Str(""),
+    "The nodes of this network to merge, by path, separated by spaces: absolute (`/box1`, `/sub/box1`) or from this node's network (`box1`, `../box1`). Read when the network loads (plain text, not an expression).",
+)
+.not_animatable();
+
+static OBJECT_MERGE: NodeSpec = NodeSpec::new(
+    "object_merge",
+    "Object Merge",
+    "flow",
+    "Merges other nodes of the network by path, without wires (Houdini's Object Merge), then transforms the result (scale, rotate, translate about a pivot, as transform does). The nodes named are read as inputs: their results key this node's cache, and a loop that names itself is refused when the network loads.",
+    &[],
+    &[
+        OBJECT_MERGE_OBJECTS,
+        crate::transform::TRANSFORM_TRANSLATE,
+        crate::transform::TRANSFORM_ROTATE,
+        crate::transform::TRANSFORM_SCALE,
+        crate::transform::TRANSFORM_UNIFORM_SCALE,
+        crate::transform::TRANSFORM_PIVOT,
+    ],
+)
+.references("objects");
+
+fn cook_object_merge(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let mut parts: Vec<&Geometry> = Vec::with_capacity(inputs.len());
+    for (k, v) in inputs.iter().enumerate() {
+        match v.as_ref().map(|v| v.as_geometry()) {
+            Some(Some(g)) => parts.push(g),
+            _ => {
+                return Err(ctx.param_error(
+                    OBJECT_MERGE_OBJECTS.name,
+                    format!("object {} is not a geometry", k + 1),
+                ))
+            }
+        }
+    }
+    let merged = ops::merge(&parts).map_err(|e| ctx.kernel(e))?;
+    geometry(ops::transformed(&merged, crate::transform::matrix(p)?))
+}
+
 pub fn register(r: &mut Registry) {
+    r.node(&OBJECT_MERGE, cook_object_merge);
     r.node(&MERGE, cook_merge);
     r.node(&SWITCH, cook_switch);
     r.node(&NULL, cook_null);

@@ -1,7 +1,6 @@
 //! Group nodes: by bounding box, or by an expression on position.
 
-use geode_geo::glam::Vec3;
-use geode_geo::{AttribClass, Geometry, Group, PrimKind};
+use geode_geo::{AttribClass, Geometry, Group};
 use geode_op::{
     geometry_input, CookContext, CookError, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, Registry, Value,
@@ -9,26 +8,7 @@ use geode_op::{
 use rayon::prelude::*;
 
 use crate::expr::Expr;
-use crate::util::{class, geometry, input_owned, vec3, ELEMENT_CLASSES};
-
-/// Positions of the elements of a class: points, or primitive centroids.
-fn element_positions(g: &Geometry, c: AttribClass) -> Vec<Vec3> {
-    let p = g.positions();
-    match c {
-        AttribClass::Primitive => (0..g.num_prims())
-            .map(|i| {
-                if let (PrimKind::Packed(_), Some(m)) =
-                    (g.prim_kind(i), g.packed_world_transform(i))
-                {
-                    return m.w_axis.truncate();
-                }
-                let pts = g.prim_points(i);
-                pts.iter().map(|&k| p[k as usize]).sum::<Vec3>() / pts.len().max(1) as f32
-            })
-            .collect(),
-        _ => p.to_vec(),
-    }
-}
+use crate::util::{class, element_positions, geometry, input_owned, vec3, ELEMENT_CLASSES};
 
 fn store(
     ctx: &CookContext,

@@ -2,6 +2,9 @@
 //! its parameters once (`NodeSpec`) for the cook, the docs and the CLI.
 
 mod attach;
+mod attribute_move;
+mod attribute_noise;
+mod attribute_spread;
 mod attributes;
 mod bundles;
 mod curve_ops;
@@ -18,6 +21,7 @@ mod groups;
 mod growth;
 mod hspline;
 mod instancing;
+mod measure;
 mod mesh;
 mod model_bevel;
 mod model_boolean;
@@ -27,16 +31,20 @@ mod model_reduce;
 mod model_remesh;
 mod model_surface;
 mod model_wire;
+mod noise_params;
 mod nurbs;
 mod param_expr;
 mod patches;
+mod pieces;
 mod primitives;
 mod scatter;
 mod skin;
+mod sort;
 mod subd;
 mod thickness;
 mod transform;
 mod util;
+mod uv;
 mod wrangle;
 mod wrangle_check;
 
@@ -61,8 +69,15 @@ pub fn registry() -> Registry {
     frep_mesh::register(&mut r);
     frep_offset::register(&mut r);
     attributes::register(&mut r);
+    attribute_move::register(&mut r);
+    attribute_noise::register(&mut r);
+    attribute_spread::register(&mut r);
     groups::register(&mut r);
     mesh::register(&mut r);
+    pieces::register(&mut r);
+    measure::register(&mut r);
+    sort::register(&mut r);
+    uv::register(&mut r);
     model_bevel::register(&mut r);
     model_boolean::register(&mut r);
     model_extrude::register(&mut r);

@@ -13,7 +13,7 @@ const DELETE_GROUP: P = P::new(
     "Group",
     T::String,
     D::Str(""),
-    "The group to delete.",
+    "What to delete: a group pattern (`top`, `0-9:2 ^3`, `@P.y>0`, `!keep*`); empty selects everything.",
 );
 const DELETE_CLASS: P = P::new(
     "class",
@@ -41,14 +41,26 @@ static DELETE: NodeSpec = NodeSpec::new(
     "delete",
     "Delete",
     "mesh",
-    "Deletes the points or primitives of a group (or all but them). Deleting points deletes the primitives that use them.",
+    "Deletes the points or primitives a group pattern selects, or all but them (Houdini's Blast). Deleting points deletes the primitives that use them.",
     &[geometry_input("geometry")],
-    &[
-        DELETE_GROUP,
-        DELETE_CLASS,
-        DELETE_INVERT,
-        DELETE_KEEP_POINTS,
-    ],
+    &DELETE_PARAMS,
+);
+
+static DELETE_PARAMS: [P; 4] = [
+    DELETE_GROUP,
+    DELETE_CLASS,
+    DELETE_INVERT,
+    DELETE_KEEP_POINTS,
+];
+
+/// Houdini's name for the same node.
+static BLAST: NodeSpec = NodeSpec::new(
+    "blast",
+    "Blast",
+    "mesh",
+    "Deletes the points or primitives a group pattern selects, or all but them: the same node as `delete`, under Houdini's name.",
+    &[geometry_input("geometry")],
+    &DELETE_PARAMS,
 );
 
 fn cook_delete(
@@ -57,33 +69,11 @@ fn cook_delete(
     p: &Params,
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
-    let name = p.string(&DELETE_GROUP)?;
     let c = class(p, &DELETE_CLASS)?;
-    let groups = if c == AttribClass::Primitive {
-        g.prim_groups()
-    } else {
-        g.point_groups()
+    let mut sel = match crate::util::group_param(ctx, p, &DELETE_GROUP, &g, c)? {
+        Some(grp) => grp,
+        None => Group::from_flags((0..crate::util::count(&g, c)).map(|_| true)),
     };
-    let Some(grp) = groups.get(name) else {
-        let known: Vec<&str> = groups.keys().map(|k| k.as_str()).collect();
-        return Err(ctx.param_error(
-            "group",
-            format!(
-                "no {} group `{name}` (groups: {})",
-                if c == AttribClass::Primitive {
-                    "primitive"
-                } else {
-                    "point"
-                },
-                if known.is_empty() {
-                    "none".into()
-                } else {
-                    known.join(", ")
-                }
-            ),
-        ));
-    };
-    let mut sel = grp.clone();
     if p.toggle(&DELETE_INVERT)? {
         sel = Group::from_flags((0..sel.len()).map(|i| !sel.contains(i)));
     }
@@ -193,6 +183,7 @@ fn cook_triangulate(
 
 pub fn register(r: &mut Registry) {
     r.node(&DELETE, cook_delete);
+    r.node(&BLAST, cook_delete);
     r.node(&NORMALS, cook_normals);
     r.node(&FUSE, cook_fuse);
     r.node(&TRIANGULATE, cook_triangulate);

@@ -1,22 +1,22 @@
 //! Surface modelling nodes: smooth, peak, mountain, bound, match_size
 //! (kernels in `geode_model::{smooth, deform, bound}`).
 //!
-//! Mountain's noise comes from geode-vex (the wrangle's `noise`, `xnoise`
-//! and `wnoise`), passed to the kernel as a closure: the modelling kernel
-//! knows no noise function.
+//! Mountain's noise comes from geode-vex through `noise_params` (shared
+//! with attribute_noise), passed to the kernel as a closure: the modelling
+//! kernel knows no noise function.
 
+use crate::noise_params;
 use geode_geo::glam::{Mat3, Vec3};
 use geode_geo::ops::{self, Aabb};
 use geode_geo::{AttribClass, AttribData, AttribType, Attribute, Geometry, PrimKind, TypeInfo};
 use geode_model::bound::{self, BoundingSphere, Justify, OrientedBox, ScaleMode};
-use geode_model::deform::{self, Fractal, FractalField};
+use geode_model::deform;
 use geode_model::smooth::{self, SmoothMethod, SmoothOptions};
 use geode_model::ModelError;
 use geode_op::{
     geometry_input, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, PortType, Registry, Value,
 };
-use geode_vex::noise;
 
 use crate::util::{geometry, input, input_owned, vec3};
 
@@ -187,53 +187,6 @@ const MOUNTAIN_HEIGHT: P = P::new(
     D::Float(1.0),
     "The largest displacement: the fractal sum is normalised to [-1, 1] and scaled by it.",
 );
-const MOUNTAIN_ELEMENT_SIZE: P = P::new(
-    "element_size",
-    "Element size",
-    T::Float,
-    D::Float(1.0),
-    "The size of the first octave's features (1 / frequency).",
-)
-.at_least(0.0);
-const MOUNTAIN_OFFSET: P = P::new(
-    "offset",
-    "Offset",
-    T::Vec3,
-    D::Vec3([0.0; 3]),
-    "Shift of the noise domain; animate it to slide the noise through the surface.",
-);
-const MOUNTAIN_OCTAVES: P = P::new(
-    "octaves",
-    "Octaves",
-    T::Int,
-    D::Int(8),
-    "Layers of noise summed, each finer than the last.",
-)
-.range(1.0, 32.0);
-const MOUNTAIN_ROUGHNESS: P = P::new(
-    "roughness",
-    "Roughness",
-    T::Float,
-    D::Float(0.5),
-    "Each octave's amplitude over the previous one's.",
-)
-.range(0.0, 1.0);
-const MOUNTAIN_LACUNARITY: P = P::new(
-    "lacunarity",
-    "Lacunarity",
-    T::Float,
-    D::Float(2.0),
-    "Each octave's frequency over the previous one's.",
-)
-.range(1.0, 16.0);
-const MOUNTAIN_SEED: P = P::new(
-    "seed",
-    "Seed",
-    T::Int,
-    D::Int(0),
-    "Picks another, independent noise field.",
-);
-
 static MOUNTAIN: NodeSpec = NodeSpec::new(
     "mountain",
     "Mountain",
@@ -244,27 +197,15 @@ static MOUNTAIN: NodeSpec = NodeSpec::new(
         DEFORM_GROUP,
         MOUNTAIN_NOISE,
         MOUNTAIN_HEIGHT,
-        MOUNTAIN_ELEMENT_SIZE,
-        MOUNTAIN_OFFSET,
-        MOUNTAIN_OCTAVES,
-        MOUNTAIN_ROUGHNESS,
-        MOUNTAIN_LACUNARITY,
-        MOUNTAIN_SEED,
+        noise_params::ELEMENT_SIZE,
+        noise_params::OFFSET,
+        noise_params::OCTAVES,
+        noise_params::ROUGHNESS,
+        noise_params::LACUNARITY,
+        noise_params::SEED,
         UPDATE_NORMALS,
     ],
 );
-
-fn perlin_basis(q: [f32; 3]) -> f32 {
-    noise::perlin(q, 0)
-}
-
-fn simplex_basis(q: [f32; 3]) -> f32 {
-    noise::simplex(q, 0)
-}
-
-fn worley_basis(q: [f32; 3]) -> f32 {
-    1.0 - 2.0 * noise::worley(q, 1.0).f1.min(1.0)
-}
 
 fn cook_mountain(
     ctx: &CookContext,
@@ -273,31 +214,9 @@ fn cook_mountain(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let group = crate::util::group_param(ctx, p, &DEFORM_GROUP, &g, AttribClass::Point)?;
-    let fractal = Fractal {
-        height: p.float(&MOUNTAIN_HEIGHT)? as f32,
-        element_size: p.float(&MOUNTAIN_ELEMENT_SIZE)? as f32,
-        offset: vec3(p, &MOUNTAIN_OFFSET)?,
-        octaves: p.int(&MOUNTAIN_OCTAVES)? as u32,
-        roughness: p.float(&MOUNTAIN_ROUGHNESS)? as f32,
-        lacunarity: p.float(&MOUNTAIN_LACUNARITY)? as f32,
-        seed: p.int(&MOUNTAIN_SEED)? as u64,
-    };
-    fractal.check_field().map_err(|(field, e)| {
-        let param = match field {
-            FractalField::ElementSize => &MOUNTAIN_ELEMENT_SIZE,
-            FractalField::Octaves => &MOUNTAIN_OCTAVES,
-            FractalField::Roughness => &MOUNTAIN_ROUGHNESS,
-            FractalField::Lacunarity => &MOUNTAIN_LACUNARITY,
-            FractalField::Height => &MOUNTAIN_HEIGHT,
-            FractalField::Offset => &MOUNTAIN_OFFSET,
-        };
-        ctx.kernel_at(param.name, e)
-    })?;
-    let basis: fn([f32; 3]) -> f32 = match p.string(&MOUNTAIN_NOISE)? {
-        "simplex" => simplex_basis,
-        "worley" => worley_basis,
-        _ => perlin_basis,
-    };
+    let height = p.float(&MOUNTAIN_HEIGHT)? as f32;
+    let fractal = noise_params::fractal(ctx, p, height, &MOUNTAIN_HEIGHT)?;
+    let basis = noise_params::basis(p.string(&MOUNTAIN_NOISE)?);
     let normals = displacement_normals(ctx, &g)?;
     deform::mountain(
         &mut g,

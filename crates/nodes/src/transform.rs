@@ -16,28 +16,28 @@ pub(crate) const TRANSFORM_TRANSLATE: P = P::new(
     D::Vec3([0.0; 3]),
     "Offset applied last.",
 );
-const TRANSFORM_ROTATE: P = P::new(
+pub(crate) const TRANSFORM_ROTATE: P = P::new(
     "rotate",
     "Rotate",
     T::Vec3,
     D::Vec3([0.0; 3]),
     "Rotation in degrees about X, Y and Z (applied in that order).",
 );
-const TRANSFORM_SCALE: P = P::new(
+pub(crate) const TRANSFORM_SCALE: P = P::new(
     "scale",
     "Scale",
     T::Vec3,
     D::Vec3([1.0; 3]),
     "Per-axis scale.",
 );
-const TRANSFORM_UNIFORM_SCALE: P = P::new(
+pub(crate) const TRANSFORM_UNIFORM_SCALE: P = P::new(
     "uniform_scale",
     "Uniform scale",
     T::Float,
     D::Float(1.0),
     "Multiplies the per-axis scale.",
 );
-const TRANSFORM_PIVOT: P = P::new(
+pub(crate) const TRANSFORM_PIVOT: P = P::new(
     "pivot",
     "Pivot",
     T::Vec3,

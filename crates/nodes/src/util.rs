@@ -3,6 +3,7 @@
 use std::sync::Arc;
 
 use geode_geo::glam::{Vec2, Vec3};
+use geode_geo::pattern::GroupPattern;
 use geode_geo::{AttribClass, Geometry};
 use geode_op::{CookContext, CookError, ParamName, ParamValue, Params, Value};
 
@@ -156,10 +157,11 @@ pub fn text_file(ctx: &CookContext, param: &str, path: &str) -> Result<String, C
 }
 
 /// The group parameter `spec` names on `g` for elements of `class`: None
-/// when empty (every element); a group's name, or a Houdini group pattern
-/// (`0-9 !3`, `@Cd.x>0.5`, `top*`) as `expandpointgroup` reads it. A name
-/// that is no group is an error naming the parameter, with the nearest
-/// group's name.
+/// when it selects everything (empty, or `*`); otherwise a Houdini group
+/// pattern (`0-9:2 ^3`, `@Cd.x>0.5`, `top*`, geode-geo's one parser). A
+/// pattern that does not parse or apply is an error naming the parameter
+/// and the column; a plain name that is no group says which groups there
+/// are, or the nearest one's name.
 pub fn group_param(
     ctx: &CookContext,
     p: &Params,
@@ -167,45 +169,122 @@ pub fn group_param(
     g: &Geometry,
     class: AttribClass,
 ) -> Result<Option<geode_geo::Group>, CookError> {
-    let name = p.string(spec)?;
-    if name.is_empty() {
+    let text = p.string(spec)?;
+    let pattern = GroupPattern::parse(text)
+        .map_err(|e| ctx.param_error(spec.name, format!("group pattern `{text}`: {e}")))?;
+    if pattern.is_everything() {
         return Ok(None);
     }
-    let len = if class == AttribClass::Point {
-        g.num_points()
-    } else {
-        g.num_prims()
-    };
-    let plain = name.chars().all(|c| c.is_alphanumeric() || c == '_')
-        && !name.chars().all(|c| c.is_ascii_digit());
-    if !plain {
-        let members = geode_vex::pattern::expand(g, class, name);
-        return Ok(Some(geode_geo::Group::from_members(len, members)));
+    if let Some(name) = pattern.single_name() {
+        missing_group(ctx, spec, g, class, name)?;
     }
-    let groups = if class == AttribClass::Point {
-        g.point_groups()
-    } else {
-        g.prim_groups()
+    pattern
+        .group(g, class)
+        .map(Some)
+        .map_err(|e| ctx.param_error(spec.name, format!("group pattern `{text}`: {e}")))
+}
+
+/// An error when `name` is no group of `class` on `g`.
+fn missing_group(
+    ctx: &CookContext,
+    spec: &geode_op::ParamSpec,
+    g: &Geometry,
+    class: AttribClass,
+    name: &str,
+) -> Result<(), CookError> {
+    let (groups, kind) = match class {
+        AttribClass::Point => (g.point_groups(), "point"),
+        AttribClass::Primitive => (g.prim_groups(), "primitive"),
+        _ => return Ok(()),
     };
-    match groups.get(name) {
-        Some(grp) => Ok(Some(grp.clone())),
-        None => {
-            let kind = if class == AttribClass::Point {
-                "point"
-            } else {
-                "primitive"
-            };
-            let known: Vec<&str> = groups.keys().map(String::as_str).collect();
-            let mut hint = geode_vex::suggest(name, known.iter().copied());
-            if hint.is_empty() {
-                // Nothing close: say what there is.
-                hint = match known.len() {
-                    0 => format!(" (there are no {kind} groups)"),
-                    n if n <= 12 => format!(" ({kind} groups: {})", known.join(", ")),
-                    n => format!(" ({n} {kind} groups: {}, ...)", known[..12].join(", ")),
-                };
-            }
-            Err(ctx.param_error(spec.name, format!("no {kind} group `{name}`{hint}")))
-        }
+    if groups.contains_key(name) {
+        return Ok(());
+    }
+    let known: Vec<&str> = groups.keys().map(String::as_str).collect();
+    let mut hint = geode_vex::suggest(name, known.iter().copied());
+    if hint.is_empty() {
+        // Nothing close: say what there is.
+        hint = match known.len() {
+            0 => format!(" (there are no {kind} groups)"),
+            n if n <= 12 => format!(" ({kind} groups: {})", known.join(", ")),
+            n => format!(" ({n} {kind} groups: {}, ...)", known[..12].join(", ")),
+        };
+    }
+    Err(ctx.param_error(spec.name, format!("no {kind} group `{name}`{hint}")))
+}
+
+/// Refuses `name` for parameter `param` unless it is a valid attribute
+/// name (letters, digits and `_`, not starting with a digit).
+pub fn attribute_name(ctx: &CookContext, param: &str, name: &str) -> Result<(), CookError> {
+    if name.is_empty()
+        || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        || name.starts_with(|c: char| c.is_ascii_digit())
+    {
+        return Err(ctx.param_error(
+            param,
+            format!("`{name}` is not a valid attribute name (letters, digits and _, not starting with a digit)"),
+        ));
+    }
+    Ok(())
+}
+
+/// The attribute `name` of class `c`, or an error naming the parameter
+/// and the attributes there are (the nearest first when one is close).
+pub fn attribute_of<'g>(
+    ctx: &CookContext,
+    param: &str,
+    g: &'g Geometry,
+    c: AttribClass,
+    name: &str,
+) -> Result<&'g geode_geo::Attribute, CookError> {
+    if let Some(a) = g.attrib(c, name) {
+        return Ok(a);
+    }
+    let known: Vec<&str> = g.attribs(c).names().collect();
+    let mut hint = geode_vex::suggest(name, known.iter().copied());
+    if hint.is_empty() {
+        hint = if known.is_empty() {
+            " (there are none)".to_owned()
+        } else {
+            format!(" (there are: {})", known.join(", "))
+        };
+    }
+    Err(ctx.param_error(
+        param,
+        format!("no {} attribute `{name}`{hint}", class_name(c)),
+    ))
+}
+
+/// The class as the nodes' menus spell it.
+pub fn class_name(c: AttribClass) -> &'static str {
+    match c {
+        AttribClass::Point => "point",
+        AttribClass::Vertex => "vertex",
+        AttribClass::Primitive => "primitive",
+        AttribClass::Detail => "detail",
+    }
+}
+
+/// Where each element of a class is: a point's position, a vertex's
+/// point's, a primitive's centroid (a packed primitive's origin), the
+/// detail at the points' mean.
+pub fn element_positions(g: &Geometry, c: AttribClass) -> Vec<Vec3> {
+    let p = g.positions();
+    let mean = |pts: &mut dyn Iterator<Item = Vec3>, n: usize| pts.sum::<Vec3>() / n.max(1) as f32;
+    match c {
+        AttribClass::Primitive => (0..g.num_prims())
+            .map(|i| {
+                if let (geode_geo::PrimKind::Packed(_), Some(m)) =
+                    (g.prim_kind(i), g.packed_world_transform(i))
+                {
+                    return m.w_axis.truncate();
+                }
+                let pts = g.prim_points(i);
+                mean(&mut pts.iter().map(|&k| p[k as usize]), pts.len())
+            })
+            .collect(),
+        AttribClass::Vertex => g.vertex_points().iter().map(|&k| p[k as usize]).collect(),
+        AttribClass::Detail => vec![mean(&mut p.iter().copied(), p.len())],
+        AttribClass::Point => p.to_vec(),
     }
 }

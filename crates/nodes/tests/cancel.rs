@@ -216,6 +216,49 @@ fn modelling_nodes_stop_promptly() {
     }
 }
 
+fn attribute_nodes_stop_promptly() {
+    let cases = [
+        (
+            "attribute_transfer",
+            r#""s": {"type": "sphere", "params": {"rows": 1000, "columns": 2000}},
+               "w": {"type": "wrangle", "inputs": ["s"], "params": {"snippet": "f@w = @ptnum;"}},
+               "d": {"type": "sphere", "params": {"rows": 1001, "columns": 2001, "radius": 0.9}},
+               "n": {"type": "attribute_transfer", "params": {"points": "w", "samples": 16}, "inputs": ["d", "w"]}"#,
+            &["/w", "/d"][..],
+        ),
+        (
+            "attribute_blur",
+            r#""s": {"type": "sphere", "params": {"rows": 500, "columns": 1000}},
+               "n": {"type": "attribute_blur", "params": {"iterations": 100000}, "inputs": ["s"]}"#,
+            &["/s"][..],
+        ),
+        (
+            "measure curvature",
+            r#""s": {"type": "sphere", "params": {"rows": 1500, "columns": 3000}},
+               "n": {"type": "measure", "params": {"measure": "mean_curvature"}, "inputs": ["s"]}"#,
+            &["/s"][..],
+        ),
+        (
+            "uv_flatten",
+            r#""s": {"type": "sphere", "params": {"rows": 400, "columns": 800}},
+               "n": {"type": "uv_flatten", "params": {"seams": "@P.z==0"}, "inputs": ["s"]}"#,
+            &["/s"][..],
+        ),
+        (
+            "for_each",
+            r#""g": {"type": "grid", "params": {"rows": 199, "columns": 199}},
+               "b": {"type": "box"},
+               "c": {"type": "copy_to_points", "inputs": ["b", "g"], "params": {"pack": false}},
+               "n": {"type": "for_each", "inputs": ["c"], "network": {"output": "m", "nodes": {
+                   "m": {"type": "subdivide", "inputs": ["@0"], "params": {"levels": 3}}}}}"#,
+            &["/c"][..],
+        ),
+    ];
+    for (name, nodes, inputs) in cases {
+        check(name, nodes, inputs);
+    }
+}
+
 #[test]
 fn every_long_running_node_type_stops_within_200_ms_of_a_cancel() {
     scatter_with_relax_stops_promptly();
@@ -229,4 +272,5 @@ fn every_long_running_node_type_stops_within_200_ms_of_a_cancel() {
     every_writer_stops_promptly_and_writes_nothing();
     unpacking_for_a_writer_stops_promptly();
     modelling_nodes_stop_promptly();
+    attribute_nodes_stop_promptly();
 }

@@ -190,7 +190,7 @@ fn groups_and_delete() {
     assert_eq!((d.num_points(), d.num_prims()), (112, 84));
     assert_eq!(
         err(nodes, "typo"),
-        "/typo (parameter `group`): no primitive group `west` (groups: east)"
+        "/typo (parameter `group`): no primitive group `west` (primitive groups: east)"
     );
     assert_eq!(
         err(nodes, "badex"),

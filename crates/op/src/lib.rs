@@ -64,6 +64,11 @@ pub struct NodeSpec {
     /// Whether a network may declare spare parameters on the node (read by
     /// its cook by name: a wrangle's `ch()`).
     pub spare: bool,
+    /// A string parameter naming other nodes of the network (paths,
+    /// space-separated): the loader wires them in as inputs after the
+    /// declared ones, so the cook reads them as inputs and the cache keys
+    /// on them ("" for none; object_merge's `objects`).
+    pub references: &'static str,
 }
 
 /// A required geometry input.
@@ -98,7 +103,14 @@ impl NodeSpec {
             time_dependent: false,
             writes: &[],
             spare: false,
+            references: "",
         }
+    }
+
+    /// The node reads the nodes parameter `param` names, as extra inputs.
+    pub const fn references(mut self, param: &'static str) -> NodeSpec {
+        self.references = param;
+        self
     }
 
     /// The node takes spare parameters declared in the network.

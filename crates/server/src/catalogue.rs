@@ -95,7 +95,7 @@ pub fn spec_json(s: &NodeSpec) -> Json {
         "output": s.output.to_string(),
         "params": s.params.iter().map(param_json).collect::<Vec<_>>(),
         "timeDependent": s.time_dependent,
-        "network": geode_graph::container_spec(s.name).is_some(),
+        "network": geode_graph::holds_network(s.name),
         "spare": s.spare,
     })
 }
@@ -115,7 +115,7 @@ mod tests {
     fn the_engine_s_own_types_are_served_from_their_declarations() {
         let cat = catalogue(&geode_nodes::registry());
         let nodes = cat["nodes"].as_array().unwrap();
-        for ty in ["subnet", "loop", "solver"] {
+        for ty in ["subnet", "loop", "solver", "for_each"] {
             let spec = geode_graph::container_spec(ty).unwrap();
             let node = nodes.iter().find(|n| n["name"] == ty).expect(ty);
             assert_eq!(node["network"], true, "{ty}");
@@ -138,6 +138,6 @@ mod tests {
         assert_eq!(lp["inputs"][0]["required"], true);
         // Nothing else holds a network.
         let holders = nodes.iter().filter(|n| n["network"] == true).count();
-        assert_eq!(holders, 3);
+        assert_eq!(holders, 4);
     }
 }

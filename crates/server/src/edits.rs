@@ -370,7 +370,7 @@ fn add_node(
         bypass: false,
         display: false,
         template: false,
-        network: geode_graph::container_spec(ty).map(|_| Box::new(NetworkDoc::default())),
+        network: geode_graph::holds_network(ty).then(|| Box::new(NetworkDoc::default())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),

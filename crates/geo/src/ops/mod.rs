@@ -9,9 +9,12 @@ mod fuse;
 mod instance;
 mod merge;
 mod normals;
+mod pieces;
+pub mod prim_surface;
 mod quadric;
 mod raycast;
 mod reduce;
+mod reorder;
 mod thickness;
 mod transform;
 mod triangulate;
@@ -32,9 +35,14 @@ pub use instance::{
 };
 pub use merge::{merge, merge_cancellable};
 pub use normals::{point_normals, polygon_normal, prim_normals, vertex_normals};
+pub use pieces::{
+    connectivity, connectivity_cancellable, extract, same_value, split_by_group, split_pieces,
+    split_pieces_cancellable, value_classes, Connect, Pieces,
+};
 pub use quadric::Quadric;
 pub use raycast::{RayHit, TriangleBvh};
 pub use reduce::{compact_vertices, renumber_used, Deviation, ReduceOptions, Reduced};
+pub use reorder::{reorder_points, reorder_prims};
 pub use thickness::{wall_thickness, Cancelled, NO_OPPOSITE_WALL};
 pub use transform::{transform, transformed, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};

@@ -37,7 +37,7 @@ pub fn write_obj(
         }
     }
     // Per-vertex indices into the vt/vn lists (point attributes are written per point).
-    let uv_of = |class: AttribClass| g.attrib(class, "uv").and_then(|a| a.as_vec2());
+    let uv_of = |class: AttribClass| crate::texcoords(g, class);
     let (uv, uv_by_point) = match (uv_of(AttribClass::Vertex), uv_of(AttribClass::Point)) {
         (Some(v), _) => (Some(v), false),
         (None, Some(p)) => (Some(p), true),
@@ -103,7 +103,9 @@ pub fn write_obj(
         buf.push_str(kw);
         for v in g.prim_vertex_range(prim) {
             let p = vp[v] + 1;
-            let t = uv.map(|_| if uv_by_point { p } else { v as u32 + 1 });
+            let t = uv
+                .as_ref()
+                .map(|_| if uv_by_point { p } else { v as u32 + 1 });
             let n = nrm.map(|_| if n_by_point { p } else { v as u32 + 1 });
             let _ = match (t, n) {
                 (None, None) => write!(buf, " {p}"),
@@ -135,8 +137,12 @@ fn dropped(g: &Geometry) -> Vec<String> {
     let written = |class: AttribClass, name: &str, ty: T| match (class, name, ty) {
         (AttribClass::Point, geode_geo::P, _) | (AttribClass::Point, "Cd", T::Vec3) => true,
         // A vertex uv or N is written in preference to a point one.
-        (AttribClass::Vertex, "uv", T::Vec2) | (AttribClass::Vertex, "N", T::Vec3) => true,
-        (AttribClass::Point, "uv", T::Vec2) => g.attrib(AttribClass::Vertex, "uv").is_none(),
+        (AttribClass::Vertex, "uv", T::Vec2 | T::Vec3) | (AttribClass::Vertex, "N", T::Vec3) => {
+            true
+        }
+        (AttribClass::Point, "uv", T::Vec2 | T::Vec3) => {
+            crate::texcoords(g, AttribClass::Vertex).is_none()
+        }
         (AttribClass::Point, "N", T::Vec3) => g.attrib(AttribClass::Vertex, "N").is_none(),
         (AttribClass::Primitive, "material", T::String) => true,
         (AttribClass::Vertex, CREASE, _)

@@ -18,7 +18,7 @@ use std::any::Any;
 use std::sync::Arc;
 
 use geode_geo::glam::Vec3;
-use geode_geo::ops::TriangleBvh;
+use geode_geo::ops::prim_surface::{corners, weights, PrimSurface};
 use geode_geo::{AttribClass, Geometry, PrimKind};
 
 use super::{a, form, lane, out, Category, Function, Ret, F, I, S, T, V};
@@ -156,14 +156,6 @@ fn relbbox(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     Ok(Val::vec(&r.to_array()))
 }
 
-/// The polygon's corners, in vertex order.
-fn corners(g: &Geometry, prim: usize) -> Vec<Vec3> {
-    g.prim_points(prim)
-        .iter()
-        .map(|&p| g.positions()[p as usize])
-        .collect()
-}
-
 /// Twice the area vector of a closed polygon (Newell).
 fn newell(c: &[Vec3]) -> Vec3 {
     let mut n = Vec3::ZERO;
@@ -253,31 +245,6 @@ fn detailintrinsic(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     })
 }
 
-/// What a triangle of the searched surface is part of.
-#[derive(Clone, Copy, Debug)]
-enum Piece {
-    Triangle,
-    /// Quad triangle (0, 1, 2) or (0, 2, 3).
-    QuadFirst,
-    QuadSecond,
-    /// n-gon: the fan triangle (centre, k, k + 1) of `sides` edges.
-    Sector {
-        k: u32,
-        sides: u32,
-    },
-    /// Polyline segment k of `segments`, as the triangle (k, k+1, k+1).
-    Segment {
-        k: u32,
-        segments: u32,
-    },
-}
-
-/// Input geometry's primitives as triangles in a hierarchy.
-struct Surface {
-    bvh: TriangleBvh,
-    owner: Vec<(u32, Piece)>,
-}
-
 /// The surface of the primitives a group pattern names (every primitive
 /// for an empty one, as SOP groups read it), in primitive order so ties
 /// go to the lower primitive as over the whole input.
@@ -289,75 +256,15 @@ fn surface_of(g: &Geometry, group: &str) -> Arc<dyn Any + Send + Sync> {
         members.sort_unstable();
         members
     };
-    let (positions, tris, owner) = pieces(g, &prims);
-    Arc::new(Surface {
-        bvh: TriangleBvh::new(&positions, &tris),
-        owner,
-    })
-}
-
-/// Primitives as triangles: the positions they use (the input's and each
-/// n-gon's centre), the triangles, and what each is part of.
-type Pieces = (Vec<Vec3>, Vec<[u32; 3]>, Vec<(u32, Piece)>);
-
-/// The primitives' pieces (see `Pieces`).
-fn pieces(g: &Geometry, prims: &[usize]) -> Pieces {
-    let mut positions: Vec<Vec3> = g.positions().to_vec();
-    let mut tris: Vec<[u32; 3]> = Vec::new();
-    let mut owner = Vec::new();
-    for &prim in prims {
-        let pts = g.prim_points(prim);
-        let p = prim as u32;
-        match (g.prim_kind(prim), pts.len()) {
-            (PrimKind::Polygon, 3) => {
-                tris.push([pts[0], pts[1], pts[2]]);
-                owner.push((p, Piece::Triangle));
-            }
-            (PrimKind::Polygon, 4) => {
-                tris.push([pts[0], pts[1], pts[2]]);
-                owner.push((p, Piece::QuadFirst));
-                tris.push([pts[0], pts[2], pts[3]]);
-                owner.push((p, Piece::QuadSecond));
-            }
-            (PrimKind::Polygon, n) if n > 4 => {
-                let centre = pts.iter().map(|&i| positions[i as usize]).sum::<Vec3>() / n as f32;
-                let c = positions.len() as u32;
-                positions.push(centre);
-                for k in 0..n {
-                    tris.push([c, pts[k], pts[(k + 1) % n]]);
-                    owner.push((
-                        p,
-                        Piece::Sector {
-                            k: k as u32,
-                            sides: n as u32,
-                        },
-                    ));
-                }
-            }
-            (PrimKind::Polyline, n) if n >= 2 => {
-                for k in 0..n - 1 {
-                    tris.push([pts[k], pts[k + 1], pts[k + 1]]);
-                    owner.push((
-                        p,
-                        Piece::Segment {
-                            k: k as u32,
-                            segments: (n - 1) as u32,
-                        },
-                    ));
-                }
-            }
-            _ => {}
-        }
-    }
-    (positions, tris, owner)
+    Arc::new(PrimSurface::new(g, &prims))
 }
 
 /// Input `geo`'s surface over the primitives of `group` (all for ""),
 /// built once per run and group.
-fn surface(l: &Lane, geo: i32, group: &str) -> Option<Arc<Surface>> {
+fn surface(l: &Lane, geo: i32, group: &str) -> Option<Arc<PrimSurface>> {
     l.host
         .cached(geo, "surface", group, &|g| surface_of(g, group))
-        .and_then(|s| s.downcast::<Surface>().ok())
+        .and_then(|s| s.downcast::<PrimSurface>().ok())
 }
 
 /// The primitive group pattern of a call's group form (its second
@@ -366,56 +273,6 @@ fn group_arg(a: &[Val]) -> (String, usize) {
     match a.get(1) {
         Some(Val::S(group)) => (group.clone(), 2),
         _ => (String::new(), 1),
-    }
-}
-
-/// The bilinear patch's point at (u, v).
-fn bilinear(c: &[Vec3], u: f32, v: f32) -> Vec3 {
-    c[0] * (1.0 - u) * (1.0 - v) + c[1] * (1.0 - u) * v + c[2] * u * v + c[3] * u * (1.0 - v)
-}
-
-/// The (u, v) of a quad's patch nearest `p`, by Gauss-Newton from a guess.
-fn invert_bilinear(c: &[Vec3], p: Vec3, mut u: f32, mut v: f32) -> (f32, f32) {
-    for _ in 0..8 {
-        let r = bilinear(c, u, v) - p;
-        let du = (c[3] - c[0]) * (1.0 - v) + (c[2] - c[1]) * v;
-        let dv = (c[1] - c[0]) * (1.0 - u) + (c[2] - c[3]) * u;
-        let (a, b, d) = (du.dot(du), du.dot(dv), dv.dot(dv));
-        let det = a * d - b * b;
-        if det.abs() < 1e-20 {
-            break;
-        }
-        let (gu, gv) = (du.dot(r), dv.dot(r));
-        u -= (d * gu - b * gv) / det;
-        v -= (a * gv - b * gu) / det;
-    }
-    (u.clamp(0.0, 1.0), v.clamp(0.0, 1.0))
-}
-
-/// The primitive's parametric (u, v) of a point found on its piece, from
-/// the piece triangle's barycentric weights of corners 1 and 2.
-fn prim_uv(g: &Geometry, prim: u32, piece: Piece, point: Vec3, b1: f32, b2: f32) -> (f32, f32) {
-    match piece {
-        Piece::Triangle => (b1, b2),
-        Piece::QuadFirst | Piece::QuadSecond => {
-            // On triangle (0,1,2) the guess from its weights: vertex 1 is
-            // (0,1) and 2 is (1,1); on (0,2,3): 2 is (1,1) and 3 is (1,0).
-            let (u, v) = match piece {
-                Piece::QuadFirst => (b2, b1 + b2),
-                _ => (b1 + b2, b1),
-            };
-            invert_bilinear(&corners(g, prim as usize), point, u, v)
-        }
-        Piece::Sector { k, sides } => {
-            let rim = b1 + b2;
-            let t = if rim > 0.0 { b2 / rim } else { 0.0 };
-            ((k as f32 + t) / sides as f32, rim)
-        }
-        Piece::Segment { k, segments } => {
-            // The segment triangle's corners 1 and 2 are both its end.
-            let t = b1 + b2;
-            ((k as f32 + t) / segments as f32, 0.0)
-        }
     }
 }
 
@@ -438,8 +295,7 @@ fn xyzdist(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
         set_out(a, at + 1, Val::I(-1));
         return Ok(Val::float(-1.0));
     };
-    let (prim, piece) = s.owner[hit.triangle as usize];
-    let (u, v) = prim_uv(g, prim, piece, hit.point, hit.u, hit.v);
+    let (prim, u, v) = s.locate(g, hit.triangle, hit.point, hit.u, hit.v);
     set_out(a, at + 1, Val::I(prim as i32));
     set_out(a, at + 2, Val::vec(&[u, v, 0.0]));
     Ok(Val::float(hit.dist2.sqrt()))
@@ -450,37 +306,6 @@ fn set_out(a: &mut [Val], k: usize, v: Val) {
     if let Some(slot) = a.get_mut(k) {
         *slot = v;
     }
-}
-
-/// The weights of a primitive's vertices at (u, v); `None` outside the
-/// shapes parametrised.
-fn weights(g: &Geometry, prim: usize, u: f32, v: f32) -> Option<Vec<f32>> {
-    let n = g.prim_vertex_range(prim).len();
-    Some(match (g.prim_kind(prim), n) {
-        (_, 1) => vec![1.0],
-        (PrimKind::Polygon, 3) => vec![1.0 - u - v, u, v],
-        (PrimKind::Polygon, 4) => vec![(1.0 - u) * (1.0 - v), (1.0 - u) * v, u * v, u * (1.0 - v)],
-        (PrimKind::Polygon, n) if n > 4 => {
-            // Centre (the average) times (1 - v), the rim point times v.
-            let x = u.clamp(0.0, 1.0) * n as f32;
-            let k = (x.floor() as usize).min(n - 1);
-            let t = x - k as f32;
-            let mut w = vec![(1.0 - v) / n as f32; n];
-            w[k] += v * (1.0 - t);
-            w[(k + 1) % n] += v * t;
-            w
-        }
-        (PrimKind::Polyline, n) if n >= 2 => {
-            let x = u.clamp(0.0, 1.0) * (n - 1) as f32;
-            let k = (x.floor() as usize).min(n - 2);
-            let t = x - k as f32;
-            let mut w = vec![0.0; n];
-            w[k] = 1.0 - t;
-            w[k + 1] = t;
-            w
-        }
-        _ => return None,
-    })
 }
 
 fn primuv(l: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
@@ -567,21 +392,9 @@ struct Hit {
 /// t in (0, 1], on input `geo`'s primitives of `group`.
 fn ray_hit(l: &Lane, geo: i32, group: &str, orig: Vec3, dir: Vec3, farthest: bool) -> Option<Hit> {
     let (g, s) = (l.host.input(geo)?, surface(l, geo, group)?);
-    let (hit, point) = if farthest {
-        // The last hit is the first of the ray run backwards from the
-        // end: t' = 1 - t in [0, 1).
-        let end = orig + dir;
-        let below_one = f32::from_bits(1.0f32.to_bits() - 1);
-        let hit = s
-            .bvh
-            .first_hit(end, -dir, -f32::MIN_POSITIVE, below_one, |_| false)?;
-        (hit, end - dir * hit.t)
-    } else {
-        let hit = s.bvh.first_hit(orig, dir, 0.0, 1.0, |_| false)?;
-        (hit, orig + dir * hit.t)
-    };
-    let (prim, piece) = s.owner[hit.triangle as usize];
-    let (u, v) = prim_uv(g, prim, piece, point, hit.u, hit.v);
+    // t in (0, 1]: the farthest search runs back from just past the end.
+    let (hit, point) = s.hit(orig, dir, 0.0, 1.0, farthest)?;
+    let (prim, u, v) = s.locate(g, hit.triangle, point, hit.u, hit.v);
     Some(Hit { prim, point, u, v })
 }
 

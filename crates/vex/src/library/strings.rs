@@ -84,6 +84,9 @@ pub const FUNCTIONS: &[Function] = &[
     lane("printf", O, "Prints formatted values to the cook's log, in element order.", &[
         form(Ret::Is(Ty::Void), &[a(S, "format"), a(T::Any, "value")], printf).opt(1).many().bytes(format_bytes),
     ]),
+    lane("error", O, "Stops the cook with the formatted message as its error (SideFX: \"reports a custom runtime VEX error\").", &[
+        form(Ret::Is(Ty::Void), &[a(S, "format"), a(T::Any, "value")], error).opt(1).many().bytes(format_bytes),
+    ]),
     lane("itoa", O, "The int as decimal text.", &[
         form(Ret::Is(Ty::Str), &[a(I, "value")], itoa),
     ]),
@@ -446,6 +449,10 @@ fn printf(lane: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
     let text = sprintf(a[0].s(), &a[1..]);
     lane.host.queue(EffectKind::Print(text))?;
     Ok(Val::I(0))
+}
+
+fn error(_: &mut Lane, a: &mut [Val]) -> Result<Val, Stop> {
+    Err(Stop::Msg(sprintf(a[0].s(), &a[1..])))
 }
 
 fn format_bytes(a: &[Val], _: &dyn Host) -> Option<(Request, u64)> {

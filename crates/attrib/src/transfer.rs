@@ -1,0 +1,227 @@
+//! Attribute transfer between geometries (Houdini's Attribute Transfer):
+//! each destination element finds its sources (the nearest source points
+//! by a k-d tree, or the nearest point of the source surface by a triangle
+//! hierarchy) and takes their values, blended with its own by distance.
+//!
+//! A destination within `threshold` of its nearest source takes the
+//! transferred value whole; from `threshold` to `threshold + blend_width`
+//! the transferred value fades (smoothstep) into the destination's own (or
+//! the attribute's default when it had none); beyond, it keeps its own.
+//! With several samples, numbers are averaged by inverse squared distance
+//! (Shepard's weights; a source at the same place wins outright); integers,
+//! strings and arrays take the nearest source's value where the blend is
+//! at least one half.
+
+use geode_geo::glam::Vec3;
+use geode_geo::ops::TriangleBvh;
+use geode_geo::{AttribData, Attribute};
+use rayon::prelude::*;
+
+use crate::error::unless_cancelled;
+use crate::kdtree::{KdTree, Neighbour};
+use crate::AttribError;
+
+/// How far, and from how many sources.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reach {
+    /// Full transfer within this distance (infinite: everywhere).
+    pub threshold: f32,
+    /// The distance past the threshold over which the transfer fades out.
+    pub blend_width: f32,
+    /// Source points each destination averages (1: the nearest's value).
+    pub samples: usize,
+}
+
+impl Reach {
+    fn check(&self) -> Result<(), AttribError> {
+        let threshold_ok = self.threshold >= 0.0; // false for NaN too
+        let width_ok = self.blend_width >= 0.0 && self.blend_width.is_finite();
+        if !threshold_ok || !width_ok {
+            return Err(AttribError::Invalid(format!(
+                "the distance threshold ({}) and blend width ({}) must not be negative",
+                self.threshold, self.blend_width
+            )));
+        }
+        if self.samples == 0 || self.samples > MAX_SAMPLES {
+            return Err(AttribError::Invalid(format!(
+                "the sample count must be 1 to {MAX_SAMPLES}, not {}",
+                self.samples
+            )));
+        }
+        Ok(())
+    }
+
+    fn reach(&self) -> f32 {
+        self.threshold + self.blend_width
+    }
+
+    /// The share of the transferred value at distance `d`.
+    fn blend(&self, d: f32) -> f32 {
+        if d <= self.threshold {
+            1.0
+        } else if d >= self.reach() {
+            0.0
+        } else {
+            let t = 1.0 - (d - self.threshold) / self.blend_width;
+            t * t * (3.0 - 2.0 * t)
+        }
+    }
+}
+
+/// The most sources one destination may average.
+pub const MAX_SAMPLES: usize = 256;
+
+/// Destinations per cancellation poll.
+const CHUNK: usize = 4096;
+
+/// For each destination, its sources with weights (summing to one), and the
+/// share of the transferred value.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stencil {
+    pub offsets: Vec<u32>,
+    pub sources: Vec<u32>,
+    pub weights: Vec<f32>,
+    pub blend: Vec<f32>,
+}
+
+/// One destination's part of a stencil.
+struct Part {
+    sources: Vec<u32>,
+    weights: Vec<f32>,
+    blend: f32,
+}
+
+/// The stencil from the nearest source points of `tree`.
+pub fn from_points(
+    tree: &KdTree,
+    targets: &[Vec3],
+    reach: &Reach,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Stencil, AttribError> {
+    reach.check()?;
+    stencil(targets, cancel, |q, found: &mut Vec<Neighbour>| {
+        tree.k_nearest(q, reach.samples, reach.reach(), found);
+        let Some(nearest) = found.first() else {
+            return Part {
+                sources: Vec::new(),
+                weights: Vec::new(),
+                blend: 0.0,
+            };
+        };
+        let blend = reach.blend(nearest.dist2.sqrt());
+        if nearest.dist2 == 0.0 || found.len() == 1 {
+            return Part {
+                sources: vec![nearest.index],
+                weights: vec![1.0],
+                blend,
+            };
+        }
+        let w: Vec<f32> = found.iter().map(|n| 1.0 / n.dist2).collect();
+        let total: f32 = w.iter().sum();
+        Part {
+            sources: found.iter().map(|n| n.index).collect(),
+            weights: w.iter().map(|x| x / total).collect(),
+            blend,
+        }
+    })
+}
+
+/// The stencil from the nearest point of the triangles of `bvh`: each
+/// destination's source is the triangle's primitive (`prim_of_triangle`).
+pub fn from_surface(
+    bvh: &TriangleBvh,
+    prim_of_triangle: &[u32],
+    targets: &[Vec3],
+    reach: &Reach,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Result<Stencil, AttribError> {
+    reach.check()?;
+    stencil(targets, cancel, |q, _: &mut Vec<Neighbour>| {
+        match bvh.closest(q, reach.reach()) {
+            Some(c) => Part {
+                sources: vec![prim_of_triangle[c.triangle as usize]],
+                weights: vec![1.0],
+                blend: reach.blend(c.dist2.sqrt()),
+            },
+            None => Part {
+                sources: Vec::new(),
+                weights: Vec::new(),
+                blend: 0.0,
+            },
+        }
+    })
+}
+
+/// Each destination's part, in parallel chunks, joined in order.
+fn stencil(
+    targets: &[Vec3],
+    cancel: &(dyn Fn() -> bool + Sync),
+    find: impl Fn(Vec3, &mut Vec<Neighbour>) -> Part + Sync,
+) -> Result<Stencil, AttribError> {
+    let chunks: Vec<Result<Vec<Part>, AttribError>> = targets
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            unless_cancelled(cancel)?;
+            let mut found = Vec::new();
+            Ok(chunk.iter().map(|&q| find(q, &mut found)).collect())
+        })
+        .collect();
+    let mut out = Stencil {
+        offsets: vec![0],
+        ..Stencil::default()
+    };
+    for chunk in chunks {
+        for part in chunk? {
+            out.sources.extend(part.sources);
+            out.weights.extend(part.weights);
+            out.offsets.push(out.sources.len() as u32);
+            out.blend.push(part.blend);
+        }
+    }
+    Ok(out)
+}
+
+/// `source` carried through the stencil onto the destinations, mixed with
+/// `own` (the destination's attribute of that name, if it has one of the
+/// same type).
+pub fn apply(stencil: &Stencil, source: &Attribute, own: Option<&Attribute>) -> Attribute {
+    let n = stencil.blend.len();
+    let own = own.filter(|a| a.attrib_type() == source.attrib_type() && a.len() == n);
+    let mut out = match own {
+        Some(a) => a.clone(),
+        None => Attribute::new(source.default_value().clone(), source.type_info, n),
+    };
+    let row = |i: usize| stencil.offsets[i] as usize..stencil.offsets[i + 1] as usize;
+    if let (Some((src, w)), true) = (source.data().as_floats(), out.data().as_floats().is_some()) {
+        let (dst, _) = out.floats_mut().expect("a float column");
+        dst.par_chunks_mut(w).enumerate().for_each(|(i, d)| {
+            let b = stencil.blend[i];
+            if b <= 0.0 {
+                return;
+            }
+            for (k, x) in d.iter_mut().enumerate() {
+                let moved: f32 = row(i)
+                    .map(|j| stencil.weights[j] * src[stencil.sources[j] as usize * w + k])
+                    .sum();
+                *x = if b >= 1.0 {
+                    moved
+                } else {
+                    *x + (moved - *x) * b
+                };
+            }
+        });
+        return out;
+    }
+    // Whole values: the nearest source's, where the blend is at least half.
+    let picked: Vec<(usize, u32)> = (0..n)
+        .filter(|&i| stencil.blend[i] >= 0.5 && !row(i).is_empty())
+        .map(|i| (i, stencil.sources[row(i).start]))
+        .collect();
+    let values = source.gather(&picked.iter().map(|p| p.1).collect::<Vec<_>>());
+    let data: &AttribData = values.data();
+    let mut writer = out.values_mut();
+    for (k, &(i, _)) in picked.iter().enumerate() {
+        let _ = writer.set(i, &data.get(k));
+    }
+    out
+}

@@ -1,0 +1,3 @@
+//! Shared by the UV kernel's integration tests.
+
+pub mod meshes;
