@@ -81,7 +81,7 @@ pub fn proximity_neighbours(
     max: usize,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Rows, AttribError> {
-    let tree = KdTree::new(positions);
+    let tree = KdTree::new_cancellable(positions, cancel).ok_or(AttribError::Cancelled)?;
     let rows: Vec<Result<Vec<Vec<u32>>, AttribError>> = positions
         .par_chunks(CHUNK)
         .enumerate()

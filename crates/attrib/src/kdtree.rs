@@ -30,7 +30,9 @@ struct Node {
 /// The tree; it borrows nothing, so it can outlive the points' slice.
 #[derive(Clone, Debug)]
 pub struct KdTree {
-    points: Vec<Vec3>,
+    /// The points in tree order: a leaf's points are contiguous, so a
+    /// query reads memory it just touched (`order` maps back).
+    sorted: Vec<Vec3>,
     order: Vec<u32>,
     nodes: Vec<Node>,
 }
@@ -51,19 +53,26 @@ impl Neighbour {
 impl KdTree {
     /// The tree over `points` (non-finite points are never found).
     pub fn new(points: &[Vec3]) -> KdTree {
+        Self::new_cancellable(points, &|| false).expect("never cancelled")
+    }
+
+    /// [`KdTree::new`], polling `cancel` once per subtree of 16,384 points
+    /// or more: `None` once it answers true.
+    pub fn new_cancellable(points: &[Vec3], cancel: &(dyn Fn() -> bool + Sync)) -> Option<KdTree> {
         let mut order: Vec<u32> = (0..points.len() as u32)
             .filter(|&i| points[i as usize].is_finite())
             .collect();
         let nodes = if order.is_empty() {
             Vec::new()
         } else {
-            build(points, &mut order, 0)
+            build(points, &mut order, 0, cancel)?
         };
-        KdTree {
-            points: points.to_vec(),
+        let sorted = order.iter().map(|&i| points[i as usize]).collect();
+        Some(KdTree {
+            sorted,
             order,
             nodes,
-        }
+        })
     }
 
     pub fn len(&self) -> usize {
@@ -114,8 +123,9 @@ impl KdTree {
             return;
         }
         if n.left == u32::MAX {
-            for &i in &self.order[n.start as usize..n.end as usize] {
-                let d = self.points[i as usize].distance_squared(q);
+            let range = n.start as usize..n.end as usize;
+            for (&i, p) in self.order[range.clone()].iter().zip(&self.sorted[range]) {
+                let d = p.distance_squared(q);
                 if d > limit {
                     continue;
                 }
@@ -149,7 +159,15 @@ fn box_dist2(n: &Node, q: Vec3) -> f32 {
 
 /// The nodes of the subtree over `order` (its first node is its root),
 /// point ranges offset by `base`.
-fn build(points: &[Vec3], order: &mut [u32], base: u32) -> Vec<Node> {
+fn build(
+    points: &[Vec3],
+    order: &mut [u32],
+    base: u32,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Option<Vec<Node>> {
+    if order.len() >= PARALLEL_BUILD && cancel() {
+        return None;
+    }
     let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
     for &i in order.iter() {
         lo = lo.min(points[i as usize]);
@@ -164,7 +182,7 @@ fn build(points: &[Vec3], order: &mut [u32], base: u32) -> Vec<Node> {
         right: u32::MAX,
     };
     if order.len() <= LEAF {
-        return vec![root];
+        return Some(vec![root]);
     }
     let ext = hi - lo;
     let axis = if ext.x >= ext.y && ext.x >= ext.z {
@@ -182,15 +200,16 @@ fn build(points: &[Vec3], order: &mut [u32], base: u32) -> Vec<Node> {
     let (left_order, right_order) = order.split_at_mut(mid);
     let (left, right) = if left_order.len() + right_order.len() >= PARALLEL_BUILD {
         rayon::join(
-            || build(points, left_order, base),
-            || build(points, right_order, base + mid as u32),
+            || build(points, left_order, base, cancel),
+            || build(points, right_order, base + mid as u32, cancel),
         )
     } else {
         (
-            build(points, left_order, base),
-            build(points, right_order, base + mid as u32),
+            build(points, left_order, base, cancel),
+            build(points, right_order, base + mid as u32, cancel),
         )
     };
+    let (left, right) = (left?, right?);
     root.left = 1;
     root.right = 1 + left.len() as u32;
     let mut nodes = Vec::with_capacity(1 + left.len() + right.len());
@@ -205,7 +224,7 @@ fn build(points: &[Vec3], order: &mut [u32], base: u32) -> Vec<Node> {
     nodes.extend(left.into_iter().map(|n| shift(n, 1)));
     let offset = root.right;
     nodes.extend(right.into_iter().map(|n| shift(n, offset)));
-    nodes
+    Some(nodes)
 }
 
 #[cfg(test)]

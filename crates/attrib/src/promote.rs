@@ -190,7 +190,7 @@ fn numbers(
             Some((f, w)) => (Some(f), None, w),
             None => {
                 return Err(AttribError::Invalid(format!(
-                    "a {} attribute cannot be combined by {}: use first, last or mode",
+                    "a {} attribute cannot be combined by {}: use first, last, mode, min or max",
                     data.attrib_type(),
                     Combine::NAMES[how as usize]
                 )))

@@ -69,7 +69,7 @@ impl Reach {
 }
 
 /// The most sources one destination may average.
-pub const MAX_SAMPLES: usize = 256;
+pub const MAX_SAMPLES: usize = 64;
 
 /// Destinations per cancellation poll.
 const CHUNK: usize = 4096;
@@ -152,26 +152,40 @@ pub fn from_surface(
     })
 }
 
-/// Each destination's part, in parallel chunks, joined in order.
+/// Each destination's part, in parallel chunks, joined in order. The
+/// destinations are visited in Morton order (near ones one after another,
+/// so a query finds the tree where the last one left it warm in cache).
 fn stencil(
     targets: &[Vec3],
     cancel: &(dyn Fn() -> bool + Sync),
     find: impl Fn(Vec3, &mut Vec<Neighbour>) -> Part + Sync,
 ) -> Result<Stencil, AttribError> {
-    let chunks: Vec<Result<Vec<Part>, AttribError>> = targets
+    let visit = morton_order(targets);
+    unless_cancelled(cancel)?;
+    let chunks: Vec<Result<Vec<Part>, AttribError>> = visit
         .par_chunks(CHUNK)
         .map(|chunk| {
             unless_cancelled(cancel)?;
             let mut found = Vec::new();
-            Ok(chunk.iter().map(|&q| find(q, &mut found)).collect())
+            Ok(chunk
+                .iter()
+                .map(|&i| find(targets[i as usize], &mut found))
+                .collect())
         })
         .collect();
+    let mut parts: Vec<Option<Part>> = (0..targets.len()).map(|_| None).collect();
+    let mut at = visit.iter();
+    for chunk in chunks {
+        for part in chunk? {
+            parts[*at.next().expect("one part per destination") as usize] = Some(part);
+        }
+    }
     let mut out = Stencil {
         offsets: vec![0],
         ..Stencil::default()
     };
-    for chunk in chunks {
-        for part in chunk? {
+    {
+        for part in parts.into_iter().flatten() {
             out.sources.extend(part.sources);
             out.weights.extend(part.weights);
             out.offsets.push(out.sources.len() as u32);
@@ -179,6 +193,40 @@ fn stencil(
         }
     }
     Ok(out)
+}
+
+/// The indices of `points` in Morton (Z-curve) order over their bounds,
+/// ties by index: a fixed order, whatever the threads.
+fn morton_order(points: &[Vec3]) -> Vec<u32> {
+    let (lo, hi) = points
+        .iter()
+        .filter(|p| p.is_finite())
+        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let scale = (hi - lo).max_element();
+    let spread = |x: u32| {
+        // 10 bits to every third of 30.
+        let mut x = u64::from(x) & 0x3ff;
+        x = (x | (x << 16)) & 0x0300_00ff;
+        x = (x | (x << 8)) & 0x0300_f00f;
+        x = (x | (x << 4)) & 0x030c_30c3;
+        (x | (x << 2)) & 0x0924_9249
+    };
+    let code = |p: Vec3| -> u64 {
+        if scale.is_nan() || scale <= 0.0 || !p.is_finite() {
+            return 0;
+        }
+        let q = ((p - lo) / scale * 1023.0).clamp(Vec3::ZERO, Vec3::splat(1023.0));
+        spread(q.x as u32) | spread(q.y as u32) << 1 | spread(q.z as u32) << 2
+    };
+    let mut keyed: Vec<(u64, u32)> = points
+        .par_iter()
+        .enumerate()
+        .map(|(i, &p)| (code(p), i as u32))
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_iter().map(|(_, i)| i).collect()
 }
 
 /// `source` carried through the stencil onto the destinations, mixed with

@@ -4,7 +4,9 @@
 //! `:keep,step` (`0-30:2,3` keeps 2 of every 3), a group name or a glob over
 //! group names (`*`, `?`, `[chars]`), or an attribute test `@name op value`
 //! (`@P.y>0`, `@Cd[2]<=0.5`, `@name="piece*"`; `@ptnum`, `@primnum`,
-//! `@vtxnum` and `@elemnum` are the element numbers). `!term` adds every
+//! `@vtxnum` and `@elemnum` are the element numbers; a point attribute
+//! tested on primitives reads each primitive's points' average, so
+//! `@P.y>0` selects primitives by centroid). `!term` adds every
 //! element the term does not select, `^term` removes what it selects from
 //! the result so far. Elements come in the order the pattern names them
 //! (Houdini's ordered selection), each once; a range written high to low
@@ -270,6 +272,25 @@ impl AttributeTest<'_> {
         if element_number {
             let v = self.number()?;
             return Ok((0..n).filter(|&i| self.passes(i as f64, v)).collect());
+        }
+        if class == AttribClass::Primitive && g.attrib(class, self.name).is_none() {
+            if let Some((f, w)) = g
+                .attrib(AttribClass::Point, self.name)
+                .and_then(|a| a.data().as_floats())
+            {
+                // A point attribute read on primitives: each primitive's
+                // points' average (`@P.y>0` selects by centroid).
+                self.component_in(w)?;
+                let v = self.number()?;
+                let k = self.component;
+                return Ok((0..n)
+                    .filter(|&prim| {
+                        let pts = g.prim_points(prim);
+                        let sum: f64 = pts.iter().map(|&q| f64::from(f[q as usize * w + k])).sum();
+                        !pts.is_empty() && self.passes(sum / pts.len() as f64, v)
+                    })
+                    .collect());
+            }
         }
         let Some(a) = g.attrib(class, self.name) else {
             let what = match class {

@@ -79,7 +79,7 @@ const SHIFT_METHOD: P = P::new(
     "Method",
     T::Menu(&["offset", "frame"]),
     D::Str("offset"),
-    "Shift the frame by an offset, or cook at the frame given (which may be an expression of $F, e.g. `$F * 2` or `floor($F / 4) * 4`).",
+    "Shift the frame by an offset, or cook at the frame given (an expression of $F like any number: `{\"expr\": \"$F * 2\"}` or `{\"expr\": \"floor($F / 4) * 4\"}` in a network file).",
 );
 const SHIFT_OFFSET: P = P::new(
     "offset",

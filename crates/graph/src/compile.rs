@@ -842,6 +842,14 @@ impl Builder<'_> {
                 }
             }
             let full = format!("/{}", at.join("/"));
+            if !ok {
+                self.errors.push(LoadError::param(
+                    &path,
+                    param,
+                    format!("`{name}` goes above the network's top level"),
+                ));
+                continue;
+            }
             match self.by_path.get(&full) {
                 Some(&j) if ok && j != i => out.push(j),
                 Some(_) if ok => self.errors.push(LoadError::param(

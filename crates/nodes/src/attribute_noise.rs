@@ -44,7 +44,7 @@ const NOISE: P = P::new(
     "Noise",
     T::Menu(&["perlin", "simplex", "worley", "curl"]),
     D::Str("perlin"),
-    "The basis: Perlin's improved gradient noise, simplex, Worley's cellular (1 - 2 F1), or curl (the curl of a three-channel Perlin fractal: divergence-free, for advecting points).",
+    "The basis: Perlin's improved gradient noise, simplex, Worley's cellular (1 - 2 F1), or curl (the curl of a three-channel Perlin fractal: divergence-free, for advecting points; its length varies, typically 1 to 5 times the amplitude, and the range does not apply). Positions past about 1e6 lose the noise to single precision.",
 );
 const OPERATION: P = P::new(
     "operation",
@@ -65,7 +65,7 @@ const RANGE: P = P::new(
     "Range",
     T::Menu(&["positive", "zero_centered"]),
     D::Str("positive"),
-    "Values from 0 to the amplitude, or from minus to plus the amplitude.",
+    "Values from 0 to the amplitude, or from minus to plus the amplitude (not for curl noise).",
 );
 const POSITION: P = P::new("position", "Position attribute", T::String, D::Str("P"), "The point attribute whose values place the noise (`rest` keeps the noise stuck to a deforming surface).");
 const ANIMATE: P = P::new(

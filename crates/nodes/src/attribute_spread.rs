@@ -108,7 +108,8 @@ fn cook_transfer(
             g.num_points() as f64 * reach.samples as f64 * 8.0,
             "transfer weights",
         )?;
-        let tree = KdTree::new(source.positions());
+        let tree = KdTree::new_cancellable(source.positions(), &cancel)
+            .ok_or_else(|| CookError::cancelled(ctx.path))?;
         let stencil = transfer::from_points(&tree, g.positions(), &reach, &cancel)
             .map_err(|e| attrib_error(ctx, TRANSFER_THRESHOLD.name, "P", e))?;
         carry(

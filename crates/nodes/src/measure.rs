@@ -31,7 +31,7 @@ const MEASURE_PIECE: P = P::new(
     "Piece attribute",
     T::String,
     D::Str(""),
-    "Pieces by this primitive attribute's values (e.g. `name`, `class`); empty: by connectivity (shared edges).",
+    "Pieces by this primitive attribute's values (e.g. `name`, `class`); empty: by connectivity (primitives sharing points, as connectivity and for_each have them).",
 );
 const MEASURE_NAME: P = P::new(
     "name",
@@ -78,7 +78,10 @@ fn cook_measure(
             .into_iter()
             .map(f64::from)
             .collect(),
-        "volume" => measure::prim_volumes(&g),
+        "volume" => {
+            warn_open(ctx, &g);
+            measure::prim_volumes(&g)
+        }
         _ => measure::prim_areas(&g).into_iter().map(f64::from).collect(),
     };
     ctx.check()?;
@@ -108,10 +111,29 @@ fn cook_measure(
 fn pieces(ctx: &CookContext, p: &Params, g: &Geometry) -> Result<Vec<u32>, CookError> {
     let by = p.string(&MEASURE_PIECE)?;
     if by.is_empty() {
-        return Ok(ops::connectivity(g, Connect::SharedEdge, None).of_prim);
+        return Ok(ops::connectivity(g, Connect::SharedPoint, None).of_prim);
     }
     let attr = crate::util::attribute_of(ctx, MEASURE_PIECE.name, g, AttribClass::Primitive, by)?;
     Ok(ops::value_classes(attr.data()).0)
+}
+
+/// Warns when polygons have open edges: the volume of an open piece is its
+/// polygons' cones from the origin, not an enclosed volume.
+fn warn_open(ctx: &CookContext, g: &Geometry) {
+    let open = g.topology().boundary_edges().len();
+    if open > 0 {
+        ctx.warn(format!(
+            "{open} open edges: the geometry is not closed, so its volume is not an enclosed one (close it, e.g. with polyfill)"
+        ));
+    }
+    let packed = (0..g.num_prims())
+        .filter(|&i| Geometry::is_packed(g.prim_kind(i)))
+        .count();
+    if packed > 0 {
+        ctx.warn(format!(
+            "{packed} packed primitives measure 0: unpack them first"
+        ));
+    }
 }
 
 fn store(
@@ -277,7 +299,14 @@ fn cook_ray(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<V
     let farthest = p.string(&RAY_HIT)? == "farthest";
     let sign = if p.toggle(&RAY_REVERSE)? { -1.0 } else { 1.0 };
     let directions: Vec<Vec3> = if p.string(&RAY_DIRECTION)? == "vector" {
-        vec![crate::util::vec3(p, &RAY_VECTOR)?.normalize_or_zero() * sign; g.num_points()]
+        let d = crate::util::vec3(p, &RAY_VECTOR)?.normalize_or_zero();
+        if d == Vec3::ZERO && !minimum {
+            return Err(ctx.param_error(
+                RAY_VECTOR.name,
+                "the direction is zero (or not finite): rays need a direction",
+            ));
+        }
+        vec![d * sign; g.num_points()]
     } else {
         let n = match g.attrib(AttribClass::Point, "N").map(|a| a.data()) {
             Some(AttribData::Vec3(n)) => n.clone(),

@@ -89,7 +89,16 @@ fn cook_sort(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
         "x" => Some(along(Vec3::X)),
         "y" => Some(along(Vec3::Y)),
         "z" => Some(along(Vec3::Z)),
-        "vector" => Some(along(vec3(p, &VECTOR)?)),
+        "vector" => {
+            let d = vec3(p, &VECTOR)?;
+            if d == Vec3::ZERO || !d.is_finite() {
+                return Err(ctx.param_error(
+                    VECTOR.name,
+                    "the vector is zero (or not finite): nothing to sort along",
+                ));
+            }
+            Some(along(d))
+        }
         "proximity" => {
             let o = vec3(p, &POINT)?;
             Some(Keys::Numbers(

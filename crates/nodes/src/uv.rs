@@ -162,7 +162,7 @@ fn cook_project(
             offset: vec2(p, &PROJECT_UV_OFFSET)?,
         },
     };
-    let mut uv = project(&g, &options).map_err(|e| uv_error(ctx, PROJECT_TYPE.name, e))?;
+    let mut uv = project(&g, &options).map_err(|e| uv_error(ctx, PROJECT_SIZE.name, e))?;
     if let Some(group) = group_param(ctx, p, &PROJECT_GROUP, &g, AttribClass::Primitive)? {
         let old = existing_uv(&g, name);
         for prim in (0..g.num_prims()).filter(|&i| !group.contains(i)) {
@@ -218,7 +218,7 @@ static UV_FLATTEN: NodeSpec = NodeSpec::new(
     "uv_flatten",
     "UV Flatten",
     "uv",
-    "Unwraps the mesh into texture space (Houdini's UV Flatten and Layout): islands cut along the seams and the open edges, each flattened by least-squares conformal maps (angles kept, sized to its area) and packed into the unit square with a margin.",
+    "Unwraps the mesh into texture space (Houdini's UV Flatten and Layout): islands cut along the seams and the open edges, each flattened by least-squares conformal maps (angles kept, sized to its area) and packed into the unit square with a margin. Each island must be a disc: a closed mesh or a tube needs seams (the node warns of islands that are not discs). A long island far from developable (a torus cut into one strip) keeps its angles but may curl with its texel density varying widely: cut it into shorter islands.",
     &[geometry_input("geometry")],
     &[FLATTEN_SEAMS, NAME, FLATTEN_MARGIN, FLATTEN_ROTATE, FLATTEN_ISLAND],
 );
@@ -262,12 +262,55 @@ fn cook_flatten(
             flat.island_count, options.pack.margin, flat.margin
         ));
     }
+    warn_not_discs(ctx, &g, &flat.uv, &flat.prim_island, flat.island_count);
     write_uv(&mut g, name, flat.uv).map_err(|e| uv_error(ctx, NAME.name, e))?;
     if !island.is_empty() {
         write_islands(&mut g, island, flat.prim_island)
             .map_err(|e| uv_error(ctx, FLATTEN_ISLAND.name, e))?;
     }
     geometry(g)
+}
+
+/// Warns of islands that are not discs (Euler characteristic other than
+/// 1: closed, or a tube with two rims): a least-squares conformal map
+/// flattens a disc; anything else folds or collapses. Counted on the
+/// flattened result, where a seam has split its points.
+fn warn_not_discs(ctx: &CookContext, g: &Geometry, uv: &[Vec3], island: &[i32], count: usize) {
+    use std::collections::HashSet;
+    type Corner = (u32, u32, u32);
+    let key = |v: usize| (g.vertex_points()[v], uv[v].x.to_bits(), uv[v].y.to_bits());
+    let mut verts: Vec<HashSet<Corner>> = vec![HashSet::new(); count];
+    let mut edges: Vec<HashSet<[Corner; 2]>> = vec![HashSet::new(); count];
+    let mut faces = vec![0i64; count];
+    for (prim, &own) in island.iter().enumerate().take(g.num_prims()) {
+        let Some(k) = usize::try_from(own).ok().filter(|&k| k < count) else {
+            continue;
+        };
+        faces[k] += 1;
+        let r = g.prim_vertex_range(prim);
+        let n = r.len();
+        for j in 0..n {
+            let (a, b) = (key(r.start + j), key(r.start + (j + 1) % n));
+            verts[k].insert(a);
+            edges[k].insert(if a < b { [a, b] } else { [b, a] });
+        }
+    }
+    let odd: Vec<String> = (0..count)
+        .filter_map(|k| {
+            let chi = verts[k].len() as i64 - edges[k].len() as i64 + faces[k];
+            (chi != 1).then(|| match chi {
+                2 => format!("island {k} is closed"),
+                0 => format!("island {k} is a tube or ring"),
+                c => format!("island {k} has Euler characteristic {c}"),
+            })
+        })
+        .collect();
+    if !odd.is_empty() {
+        ctx.warn(format!(
+            "{}: only a disc flattens without folding or collapsing; add seams to open it",
+            odd.iter().take(4).cloned().collect::<Vec<_>>().join(", ")
+        ));
+    }
 }
 
 /// The seam edges a seams parameter names: `pA-B[-C...]` paths, and the
@@ -292,6 +335,16 @@ fn seams(ctx: &CookContext, text: &str, g: &Geometry) -> Result<Vec<[u32; 2]>, C
                             "`{token}`: there is no point {bad} ({} points)",
                             g.num_points()
                         ),
+                    ));
+                }
+                let topo = g.topology();
+                if let Some(w) = pts
+                    .windows(2)
+                    .find(|w| topo.find_edge(w[0], w[1]).is_none())
+                {
+                    return Err(ctx.param_error(
+                        FLATTEN_SEAMS.name,
+                        format!("`{token}`: points {} and {} share no edge", w[0], w[1]),
                     ));
                 }
                 edges.extend(pts.windows(2).map(|w| [w[0], w[1]]));

@@ -19,16 +19,16 @@ pub(super) fn terms(text: &str) -> Result<Vec<Term>, PatternError> {
             continue;
         }
         let start = i;
-        let mut quoted = false;
-        while i < chars.len() && (quoted || !chars[i].is_whitespace()) {
+        let mut open_quote: Option<usize> = None;
+        while i < chars.len() && (open_quote.is_some() || !chars[i].is_whitespace()) {
             if chars[i] == '"' {
-                quoted = !quoted;
+                open_quote = if open_quote.is_some() { None } else { Some(i) };
             }
             i += 1;
         }
-        if quoted {
+        if let Some(at) = open_quote {
             return Err(PatternError::at(
-                start,
+                at,
                 "a quoted string is not closed (expected `\"`)",
             ));
         }
@@ -121,18 +121,22 @@ fn range(body: &str, at: usize) -> Result<Selector, PatternError> {
         None => (1, 1),
         Some(f) => {
             let col = at + span.chars().count() + 1;
-            let (keep, step) = match f.split_once(',') {
-                Some((k, s)) => (
-                    number(k, col, "how many to keep")?,
-                    number(s, col + k.chars().count() + 1, "the step")?,
-                ),
-                None => (1, number(f, col, "the step")?),
+            let (keep, step, step_col) = match f.split_once(',') {
+                Some((k, s)) => {
+                    let step_col = col + k.chars().count() + 1;
+                    (
+                        number(k, col, "how many to keep")?,
+                        number(s, step_col, "the step")?,
+                        step_col,
+                    )
+                }
+                None => (1, number(f, col, "the step")?, col),
             };
-            if step == 0 || keep == 0 {
-                return Err(PatternError::at(
-                    col,
-                    "the step and the count kept must be at least 1",
-                ));
+            if keep == 0 {
+                return Err(PatternError::at(col, "the count kept must be at least 1"));
+            }
+            if step == 0 {
+                return Err(PatternError::at(step_col, "the step must be at least 1"));
             }
             (keep.min(step), step)
         }

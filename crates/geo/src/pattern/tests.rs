@@ -157,7 +157,12 @@ fn errors_point_at_the_column() {
         "strings compare with = or != only"
     );
     assert_eq!(error("@P[5]>0").column, 2, "P has three components");
-    assert_eq!(error("@name=\"a b").column, 1, "an open quote");
+    assert_eq!(
+        error("@name=\"a b").column,
+        7,
+        "an open quote, at the quote"
+    );
+    assert_eq!(error("0-10:2,0").column, 8, "a zero step, at the step");
     assert_eq!(error("3 !").column, 4);
     assert_eq!(error("a,b").column, 2, "commas do not separate patterns");
     assert_eq!(
@@ -175,6 +180,9 @@ fn other_classes_read_their_own_attributes() {
     g.add_polygon(&[1, 3, 2]).unwrap();
     let p = GroupPattern::parse("@primnum=1").unwrap();
     assert_eq!(p.select(&g, AttribClass::Primitive).unwrap(), [1]);
+    // A point attribute on primitives: by the points' average.
+    let by_centroid = GroupPattern::parse("@P.x>0.5").unwrap();
+    assert_eq!(by_centroid.select(&g, AttribClass::Primitive).unwrap(), [1]);
     let v = GroupPattern::parse("4-10").unwrap();
     assert_eq!(v.select(&g, AttribClass::Vertex).unwrap(), [4, 5]);
     let grp = GroupPattern::parse("!0")
