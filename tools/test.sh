@@ -13,8 +13,8 @@ if [ ! -d tools/node_modules/gltf-validator ]; then
   echo "installing gltf-validator (npm) into tools/node_modules" >&2
   npm install --prefix tools --no-audit --no-fund --loglevel=error >&2
 fi
-if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh, manifold3d, scipy, pymeshlab" 2>/dev/null; then
-  echo "installing usd-core, trimesh, manifold3d, scipy and pymeshlab (PyPI) into tools/.venv" >&2
+if [ ! -x tools/.venv/bin/python ] || ! tools/.venv/bin/python -c "import pxr, trimesh, rtree, manifold3d, scipy, pymeshlab, igl" 2>/dev/null; then
+  echo "installing usd-core, trimesh, rtree, manifold3d, scipy, pymeshlab and libigl (PyPI) into tools/.venv" >&2
   python3 -m venv tools/.venv
   tools/.venv/bin/python -m pip install --quiet --disable-pip-version-check usd-core trimesh rtree manifold3d scipy pymeshlab libigl >&2
 fi

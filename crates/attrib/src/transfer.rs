@@ -84,11 +84,27 @@ pub struct Stencil {
     pub blend: Vec<f32>,
 }
 
-/// One destination's part of a stencil.
-struct Part {
+/// The rows found for a run of destinations, in the order visited: each
+/// row's sources and weights appended, its length and blend pushed (no
+/// allocation per destination).
+#[derive(Default)]
+struct Rows {
     sources: Vec<u32>,
     weights: Vec<f32>,
-    blend: f32,
+    lengths: Vec<u32>,
+    blend: Vec<f32>,
+}
+
+impl Rows {
+    fn push(&mut self, row: impl IntoIterator<Item = (u32, f32)>, blend: f32) {
+        let before = self.sources.len();
+        for (s, w) in row {
+            self.sources.push(s);
+            self.weights.push(w);
+        }
+        self.lengths.push((self.sources.len() - before) as u32);
+        self.blend.push(blend);
+    }
 }
 
 /// The stencil from the nearest source points of `tree`.
@@ -99,31 +115,25 @@ pub fn from_points(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Stencil, AttribError> {
     reach.check()?;
-    stencil(targets, cancel, |q, found: &mut Vec<Neighbour>| {
-        tree.k_nearest(q, reach.samples, reach.reach(), found);
-        let Some(nearest) = found.first() else {
-            return Part {
-                sources: Vec::new(),
-                weights: Vec::new(),
-                blend: 0.0,
+    stencil(
+        targets,
+        cancel,
+        |q, found: &mut Vec<Neighbour>, rows: &mut Rows| {
+            tree.k_nearest(q, reach.samples, reach.reach(), found);
+            let Some(nearest) = found.first() else {
+                return rows.push([], 0.0);
             };
-        };
-        let blend = reach.blend(nearest.dist2.sqrt());
-        if nearest.dist2 == 0.0 || found.len() == 1 {
-            return Part {
-                sources: vec![nearest.index],
-                weights: vec![1.0],
+            let blend = reach.blend(nearest.dist2.sqrt());
+            if nearest.dist2 == 0.0 || found.len() == 1 {
+                return rows.push([(nearest.index, 1.0)], blend);
+            }
+            let total: f32 = found.iter().map(|n| 1.0 / n.dist2).sum();
+            rows.push(
+                found.iter().map(|n| (n.index, 1.0 / n.dist2 / total)),
                 blend,
-            };
-        }
-        let w: Vec<f32> = found.iter().map(|n| 1.0 / n.dist2).collect();
-        let total: f32 = w.iter().sum();
-        Part {
-            sources: found.iter().map(|n| n.index).collect(),
-            weights: w.iter().map(|x| x / total).collect(),
-            blend,
-        }
-    })
+            );
+        },
+    )
 }
 
 /// The stencil from the nearest point of the triangles of `bvh`: each
@@ -136,63 +146,78 @@ pub fn from_surface(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Stencil, AttribError> {
     reach.check()?;
-    stencil(targets, cancel, |q, _: &mut Vec<Neighbour>| {
-        match bvh.closest(q, reach.reach()) {
-            Some(c) => Part {
-                sources: vec![prim_of_triangle[c.triangle as usize]],
-                weights: vec![1.0],
-                blend: reach.blend(c.dist2.sqrt()),
-            },
-            None => Part {
-                sources: Vec::new(),
-                weights: Vec::new(),
-                blend: 0.0,
-            },
-        }
-    })
+    stencil(
+        targets,
+        cancel,
+        |q, _: &mut Vec<Neighbour>, rows: &mut Rows| match bvh.closest(q, reach.reach()) {
+            Some(c) => rows.push(
+                [(prim_of_triangle[c.triangle as usize], 1.0)],
+                reach.blend(c.dist2.sqrt()),
+            ),
+            None => rows.push([], 0.0),
+        },
+    )
 }
 
-/// Each destination's part, in parallel chunks, joined in order. The
-/// destinations are visited in Morton order (near ones one after another,
-/// so a query finds the tree where the last one left it warm in cache).
+/// Each destination's row, found in parallel chunks, then laid out in
+/// destination order. The destinations are visited in Morton order (near
+/// ones one after another, so a query finds the tree where the last one
+/// left it warm in cache).
 fn stencil(
     targets: &[Vec3],
     cancel: &(dyn Fn() -> bool + Sync),
-    find: impl Fn(Vec3, &mut Vec<Neighbour>) -> Part + Sync,
+    find: impl Fn(Vec3, &mut Vec<Neighbour>, &mut Rows) + Sync,
 ) -> Result<Stencil, AttribError> {
     let visit = morton_order(targets);
     unless_cancelled(cancel)?;
-    let chunks: Vec<Result<Vec<Part>, AttribError>> = visit
+    let chunks: Vec<Result<Rows, AttribError>> = visit
         .par_chunks(CHUNK)
         .map(|chunk| {
             unless_cancelled(cancel)?;
-            let mut found = Vec::new();
-            Ok(chunk
-                .iter()
-                .map(|&i| find(targets[i as usize], &mut found))
-                .collect())
+            let (mut found, mut rows) = (Vec::new(), Rows::default());
+            for &i in chunk {
+                find(targets[i as usize], &mut found, &mut rows);
+            }
+            Ok(rows)
         })
         .collect();
-    let mut parts: Vec<Option<Part>> = (0..targets.len()).map(|_| None).collect();
+    let chunks: Vec<Rows> = chunks.into_iter().collect::<Result<_, _>>()?;
+    // Row lengths by destination, then each row copied to its place.
+    let n = targets.len();
+    let mut lengths = vec![0u32; n];
+    let mut blend = vec![0.0f32; n];
     let mut at = visit.iter();
-    for chunk in chunks {
-        for part in chunk? {
-            parts[*at.next().expect("one part per destination") as usize] = Some(part);
+    for rows in &chunks {
+        for (&len, &b) in rows.lengths.iter().zip(&rows.blend) {
+            let i = *at.next().expect("one row per destination") as usize;
+            lengths[i] = len;
+            blend[i] = b;
         }
     }
-    let mut out = Stencil {
-        offsets: vec![0],
-        ..Stencil::default()
-    };
-    {
-        for part in parts.into_iter().flatten() {
-            out.sources.extend(part.sources);
-            out.weights.extend(part.weights);
-            out.offsets.push(out.sources.len() as u32);
-            out.blend.push(part.blend);
+    let mut offsets = Vec::with_capacity(n + 1);
+    offsets.push(0u32);
+    for &len in &lengths {
+        offsets.push(offsets.last().copied().unwrap_or(0) + len);
+    }
+    let total = offsets[n] as usize;
+    let (mut sources, mut weights) = (vec![0u32; total], vec![0.0f32; total]);
+    let mut at = visit.iter();
+    for rows in &chunks {
+        let mut from = 0usize;
+        for &len in &rows.lengths {
+            let i = *at.next().expect("one row per destination") as usize;
+            let (to, len) = (offsets[i] as usize, len as usize);
+            sources[to..to + len].copy_from_slice(&rows.sources[from..from + len]);
+            weights[to..to + len].copy_from_slice(&rows.weights[from..from + len]);
+            from += len;
         }
     }
-    Ok(out)
+    Ok(Stencil {
+        offsets,
+        sources,
+        weights,
+        blend,
+    })
 }
 
 /// The indices of `points` in Morton (Z-curve) order over their bounds,

@@ -131,7 +131,7 @@ fn cook_promote(
 }
 
 /// The attributes of class `c` a name pattern selects; none is an error.
-fn names_matching(
+pub(crate) fn names_matching(
     ctx: &CookContext,
     spec: &P,
     pattern: &str,

@@ -266,13 +266,7 @@ fn cook_blur(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     let c = class(p, &BLUR_CLASS)?;
     let cancel = ctx.cancel_fn();
     let pattern = p.string(&BLUR_NAME)?;
-    let names: Vec<String> = match_names(pattern, g.attribs(c).names())
-        .into_iter()
-        .map(str::to_owned)
-        .collect();
-    if names.is_empty() {
-        crate::util::attribute_of(ctx, BLUR_NAME.name, &g, c, pattern)?;
-    }
+    let names = crate::attribute_move::names_matching(ctx, &BLUR_NAME, pattern, &g, c)?;
     let neighbours = if p.string(&BLUR_METHOD)? == "proximity" {
         if c != AttribClass::Point {
             return Err(ctx.param_error(

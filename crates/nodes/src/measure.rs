@@ -55,7 +55,7 @@ fn cook_measure(
     inputs: &[Option<Value>],
     p: &Params,
 ) -> Result<Value, CookError> {
-    let mut g = input_owned(ctx, inputs, 0)?;
+    let g = input_owned(ctx, inputs, 0)?;
     let what = p.string(&MEASURE_WHAT)?;
     let name = match p.string(&MEASURE_NAME)? {
         "" if what.ends_with("curvature") => "curvature",
@@ -100,7 +100,6 @@ fn cook_measure(
         }
         _ => {
             let values = per_prim.into_iter().map(|v| v as f32).collect();
-            let _ = &mut g;
             store(ctx, g, AttribClass::Primitive, name, values)
         }
     }

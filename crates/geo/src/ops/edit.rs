@@ -10,51 +10,84 @@ fn keep_prims(g: &mut Geometry, keep: &[bool]) {
     keep_where(g, keep, None);
 }
 
-/// Keeps the flagged primitives and, of those, the flagged vertices.
-fn keep_where(g: &mut Geometry, keep: &[bool], keep_vertex: Option<&[bool]>) {
-    let mut vertex_keep: Vec<u32> = Vec::new();
-    let mut prim_keep: Vec<u32> = Vec::new();
-    let mut offsets = vec![0u32];
-    let mut kinds = Vec::new();
-    let mut packed = Vec::new();
-    let mut patches = Vec::new();
-    for (prim, &k) in keep.iter().enumerate() {
-        if !k {
-            continue;
-        }
-        prim_keep.push(prim as u32);
-        vertex_keep.extend(
+/// Primitives picked out of a geometry: the old vertices they keep (in
+/// order), their offsets, kinds, and packed instances and patches
+/// renumbered to follow them.
+pub(crate) struct GatheredPrims {
+    pub vertices: Vec<u32>,
+    pub offsets: Vec<u32>,
+    pub kinds: Vec<PrimKind>,
+    pub packed: Vec<crate::geometry::PackedInstance>,
+    pub patches: Vec<crate::patch::PatchBasis>,
+}
+
+/// The primitives `prims` of `g`, in that order, with the vertices
+/// `keep_vertex` keeps (all when None): the one rule for deleting,
+/// reordering and cutting out primitives.
+pub(crate) fn gather_prims(
+    g: &Geometry,
+    prims: impl IntoIterator<Item = u32>,
+    keep_vertex: Option<&[bool]>,
+) -> GatheredPrims {
+    let mut out = GatheredPrims {
+        vertices: Vec::new(),
+        offsets: vec![0u32],
+        kinds: Vec::new(),
+        packed: Vec::new(),
+        patches: Vec::new(),
+    };
+    for prim in prims {
+        let prim = prim as usize;
+        out.vertices.extend(
             g.prim_vertex_range(prim)
                 .filter(|&v| keep_vertex.is_none_or(|kv| kv[v]))
                 .map(|v| v as u32),
         );
-        offsets.push(vertex_keep.len() as u32);
-        kinds.push(match g.prim_kinds[prim] {
+        out.offsets.push(out.vertices.len() as u32);
+        out.kinds.push(match g.prim_kinds[prim] {
             PrimKind::Packed(i) => {
-                packed.push(g.packed[i as usize].clone());
-                PrimKind::Packed(packed.len() as u32 - 1)
+                out.packed.push(g.packed[i as usize].clone());
+                PrimKind::Packed(out.packed.len() as u32 - 1)
             }
             PrimKind::Patch(i) => {
-                patches.push(g.patches[i as usize].clone());
-                PrimKind::Patch(patches.len() as u32 - 1)
+                out.patches.push(g.patches[i as usize].clone());
+                PrimKind::Patch(out.patches.len() as u32 - 1)
             }
             other => other,
         });
     }
-    g.vertex_point = vertex_keep
+    out
+}
+
+/// Makes `picked` (gathered from `g` itself) `g`'s primitives: vertex
+/// references, vertex and primitive attributes, kinds, packed instances,
+/// patches and primitive groups follow.
+pub(crate) fn set_prims(g: &mut Geometry, prims: &[u32], picked: GatheredPrims) {
+    g.vertex_point = picked
+        .vertices
         .iter()
         .map(|&v| g.vertex_point[v as usize])
-        .collect();
-    g.vertices = g.vertices.gather(&vertex_keep);
-    g.prims = g.prims.gather(&prim_keep);
-    g.prim_offsets = offsets.into();
-    g.prim_kinds = kinds.into();
-    g.packed = packed.into();
-    g.patches = patches;
+        .collect::<Vec<_>>()
+        .into();
+    g.vertices = g.vertices.gather(&picked.vertices);
+    g.prims = g.prims.gather(prims);
+    g.prim_offsets = picked.offsets.into();
+    g.prim_kinds = picked.kinds.into();
+    g.packed = picked.packed.into();
+    g.patches = picked.patches;
     for grp in g.prim_groups.values_mut() {
-        *grp = grp.gather(&prim_keep);
+        *grp = grp.gather(prims);
     }
     g.invalidate_topology();
+}
+
+/// Keeps the flagged primitives and, of those, the flagged vertices.
+fn keep_where(g: &mut Geometry, keep: &[bool], keep_vertex: Option<&[bool]>) {
+    let prims: Vec<u32> = (0..keep.len() as u32)
+        .filter(|&p| keep[p as usize])
+        .collect();
+    let picked = gather_prims(g, prims.iter().copied(), keep_vertex);
+    set_prims(g, &prims, picked);
 }
 
 /// Deletes the primitives in `group`; with `delete_unused_points`, points no

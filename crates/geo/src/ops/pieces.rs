@@ -285,48 +285,27 @@ fn number(g: &Geometry, sets: &mut Sets, prim_of_vertex: &[u32]) -> Pieces {
 /// they use.
 pub fn extract(g: &Geometry, prims: &[u32], loose: &[u32]) -> Geometry {
     let vp = g.vertex_points();
-    let mut vertices: Vec<u32> = Vec::new();
-    let mut offsets = Vec::with_capacity(prims.len() + 1);
-    offsets.push(0u32);
-    for &prim in prims {
-        vertices.extend(g.prim_vertex_range(prim as usize).map(|v| v as u32));
-        offsets.push(vertices.len() as u32);
-    }
-    let mut points: Vec<u32> = vertices.iter().map(|&v| vp[v as usize]).collect();
+    let picked = super::edit::gather_prims(g, prims.iter().copied(), None);
+    let mut points: Vec<u32> = picked.vertices.iter().map(|&v| vp[v as usize]).collect();
     points.extend_from_slice(loose);
     points.sort_unstable();
     points.dedup();
     let local = |p: u32| points.binary_search(&p).expect("a used point") as u32;
     let mut out = Geometry::new();
     out.points = compact_strings(g.points.gather(&points));
-    out.vertices = compact_strings(g.vertices.gather(&vertices));
+    out.vertices = compact_strings(g.vertices.gather(&picked.vertices));
     out.prims = compact_strings(g.prims.gather(prims));
     out.detail = g.detail.clone();
-    out.vertex_point = vertices
+    out.vertex_point = picked
+        .vertices
         .iter()
         .map(|&v| local(vp[v as usize]))
         .collect::<Vec<_>>()
         .into();
-    out.prim_offsets = offsets.into();
-    let mut packed = Vec::new();
-    let mut patches = Vec::new();
-    let kinds: Vec<PrimKind> = prims
-        .iter()
-        .map(|&prim| match g.prim_kinds[prim as usize] {
-            PrimKind::Packed(i) => {
-                packed.push(g.packed[i as usize].clone());
-                PrimKind::Packed(packed.len() as u32 - 1)
-            }
-            PrimKind::Patch(i) => {
-                patches.push(g.patches[i as usize].clone());
-                PrimKind::Patch(patches.len() as u32 - 1)
-            }
-            other => other,
-        })
-        .collect();
-    out.prim_kinds = kinds.into();
-    out.packed = packed.into();
-    out.patches = patches;
+    out.prim_offsets = picked.offsets.into();
+    out.prim_kinds = picked.kinds.into();
+    out.packed = picked.packed.into();
+    out.patches = picked.patches;
     out.point_groups = g
         .point_groups
         .iter()

@@ -3,7 +3,7 @@
 //! (the sort node's kernel).
 
 use crate::error::GeoError;
-use crate::geometry::{Geometry, PrimKind};
+use crate::geometry::Geometry;
 
 /// Checks that `order` holds each of `0..n` once.
 fn check(order: &[u32], n: usize, what: &str) -> Result<(), GeoError> {
@@ -44,42 +44,8 @@ pub fn reorder_points(g: &mut Geometry, order: &[u32]) -> Result<(), GeoError> {
 /// its vertices moving with it.
 pub fn reorder_prims(g: &mut Geometry, order: &[u32]) -> Result<(), GeoError> {
     check(order, g.num_prims(), "primitive")?;
-    let mut vertices: Vec<u32> = Vec::with_capacity(g.num_vertices());
-    let mut offsets = Vec::with_capacity(order.len() + 1);
-    offsets.push(0u32);
-    let mut kinds = Vec::with_capacity(order.len());
-    let mut packed = Vec::new();
-    let mut patches = Vec::new();
-    for &prim in order {
-        vertices.extend(g.prim_vertex_range(prim as usize).map(|v| v as u32));
-        offsets.push(vertices.len() as u32);
-        kinds.push(match g.prim_kinds[prim as usize] {
-            PrimKind::Packed(i) => {
-                packed.push(g.packed[i as usize].clone());
-                PrimKind::Packed(packed.len() as u32 - 1)
-            }
-            PrimKind::Patch(i) => {
-                patches.push(g.patches[i as usize].clone());
-                PrimKind::Patch(patches.len() as u32 - 1)
-            }
-            other => other,
-        });
-    }
-    g.vertex_point = vertices
-        .iter()
-        .map(|&v| g.vertex_point[v as usize])
-        .collect::<Vec<_>>()
-        .into();
-    g.vertices = g.vertices.gather(&vertices);
-    g.prims = g.prims.gather(order);
-    g.prim_offsets = offsets.into();
-    g.prim_kinds = kinds.into();
-    g.packed = packed.into();
-    g.patches = patches;
-    for grp in g.prim_groups.values_mut() {
-        *grp = grp.gather(order);
-    }
-    g.invalidate_topology();
+    let picked = super::edit::gather_prims(g, order.iter().copied(), None);
+    super::edit::set_prims(g, order, picked);
     Ok(())
 }
 
