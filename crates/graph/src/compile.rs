@@ -799,7 +799,9 @@ impl Builder<'_> {
             }
             if let NodeKind::Op { op, .. } = &self.nodes[i].kind {
                 let spec = op.spec();
-                if !spec.references.is_empty() {
+                let elsewhere = !spec.references_unless.is_empty()
+                    && matches!(self.docs[i].params.get(spec.references_unless), Some(Json::String(s)) if !s.is_empty());
+                if !spec.references.is_empty() && !elsewhere {
                     inputs.resize(inputs.len().max(spec.inputs.len()), None);
                     let refs = self.references(i, spec.references);
                     inputs.extend(refs.into_iter().map(Some));

@@ -24,6 +24,7 @@ pub struct Document {
 /// Nodes by name, and the node whose output is the network's result.
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct NetworkDoc {
+    #[serde(deserialize_with = "unique_keys")]
     pub nodes: BTreeMap<String, NodeDoc>,
     /// The output node's name; else the node with the display flag; else none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -64,7 +65,11 @@ pub struct NodeDoc {
     #[serde(rename = "type")]
     pub ty: String,
     /// Parameter values: constants, or channels (`{"keys": [...]}`) per component.
-    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    #[serde(
+        default,
+        skip_serializing_if = "BTreeMap::is_empty",
+        deserialize_with = "unique_keys"
+    )]
     pub params: BTreeMap<String, Json>,
     /// Sibling node names (or `@N` for a subnetwork's N-th input), null for an
     /// unconnected optional input.
@@ -150,6 +155,40 @@ impl Document {
     }
 }
 
+/// A JSON object read as a map, refusing a name given twice (serde would
+/// keep the last silently: two nodes named alike are a mistake to report,
+/// never a node to drop).
+fn unique_keys<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct Unique<V>(std::marker::PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> serde::de::Visitor<'de> for Unique<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("an object")
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(
+            self,
+            mut map: A,
+        ) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(name) = map.next_key::<String>()? {
+                if out.contains_key(&name) {
+                    return Err(serde::de::Error::custom(format!(
+                        "`{name}` is named twice in one object (names must be unique)"
+                    )));
+                }
+                let value = map.next_value()?;
+                out.insert(name, value);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(Unique(std::marker::PhantomData))
+}
+
 impl Default for Document {
     fn default() -> Self {
         Document::new()
@@ -159,6 +198,23 @@ impl Default for Document {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_node_or_parameter_named_twice_is_refused() {
+        let twice = r#"{"geode": "network", "version": 1, "nodes": {
+            "a": {"type": "box"},
+            "a": {"type": "sphere"}}}"#;
+        let e = Document::from_json(twice).unwrap_err();
+        assert!(e.message.contains("`a` is named twice"), "{e}");
+        let twice = r#"{"geode": "network", "version": 1, "nodes": {
+            "a": {"type": "box", "params": {"size": 1, "size": 2}}}}"#;
+        let e = Document::from_json(twice).unwrap_err();
+        assert!(e.message.contains("`size` is named twice"), "{e}");
+        // Inside a subnetwork too.
+        let twice = r#"{"geode": "network", "version": 1, "nodes": {
+            "s": {"type": "subnet", "network": {"nodes": {"b": {"type": "box"}, "b": {"type": "box"}}}}}}"#;
+        assert!(Document::from_json(twice).is_err());
+    }
 
     #[test]
     fn unknown_fields_survive_a_round_trip() {

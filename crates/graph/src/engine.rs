@@ -363,6 +363,8 @@ impl Run<'_, '_> {
             )]);
         }
         let key_ctx = geode_op::KeyContext {
+            path: &n.path,
+            frame: self.opts.frame,
             env: &self.opts.env,
             cancel: &self.opts.cancel,
         };

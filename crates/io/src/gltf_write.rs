@@ -22,6 +22,8 @@ const ARRAY_BUFFER: u32 = 34962;
 const ELEMENT_ARRAY_BUFFER: u32 = 34963;
 const FLOAT: u32 = 5126;
 const UNSIGNED_INT: u32 = 5125;
+/// The material of meshes with texture coordinates: white, rough, not metal.
+const DEFAULT_MATERIAL: usize = 0;
 
 struct Builder<'c> {
     /// Polled while instances are laid out (a million take seconds).
@@ -35,6 +37,10 @@ struct Builder<'c> {
     mesh_of: HashMap<*const Geometry, Option<usize>>,
     /// Whether a node uses `EXT_mesh_gpu_instancing`.
     instanced: bool,
+    /// Whether a mesh has texture coordinates: they get the default
+    /// material (readers such as trimesh keep coordinates only for a
+    /// primitive with a material).
+    textured: bool,
     /// What glTF could not carry, reported once.
     dropped: Vec<String>,
 }
@@ -306,6 +312,12 @@ impl Builder<'_> {
         if prims.is_empty() {
             return None;
         }
+        if attrs.contains_key("TEXCOORD_0") {
+            self.textured = true;
+            for p in &mut prims {
+                p["material"] = json!(DEFAULT_MATERIAL);
+            }
+        }
         self.meshes.push(json!({"primitives": prims}));
         Some(self.meshes.len() - 1)
     }
@@ -398,6 +410,7 @@ pub fn write_glb(
         nodes: Vec::new(),
         mesh_of: HashMap::new(),
         instanced: false,
+        textured: false,
         dropped: Vec::new(),
     };
     let roots = b.nodes_for(g, true, 0);
@@ -425,6 +438,12 @@ pub fn write_glb(
         // Required: a viewer without it would show one copy where there are many.
         doc["extensionsUsed"] = json!([instancing::EXTENSION]);
         doc["extensionsRequired"] = json!([instancing::EXTENSION]);
+    }
+    if b.textured {
+        doc["materials"] = json!([{
+            "name": "geode_default",
+            "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0], "metallicFactor": 0.0, "roughnessFactor": 0.8},
+        }]);
     }
     if !b.meshes.is_empty() {
         doc["meshes"] = json!(b.meshes);

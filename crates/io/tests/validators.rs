@@ -311,3 +311,58 @@ fn usda_primvars_keep_attributes_with_interpolation_and_role() {
     expect(2, "/geode/mesh.weight", "float[]", "uniform", 24 * 12);
     assert!(files.iter().all(|f| f["ok"] == true), "{report}");
 }
+
+/// Texture coordinates reach trimesh from a GLB: their primitives carry the
+/// default material (trimesh keeps coordinates only with one), and the v
+/// flip of glTF's top-left origin comes back out.
+#[test]
+fn glb_texture_coordinates_reach_trimesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let g = primitives::grid(geode_geo::glam::Vec2::new(2.0, 1.0), 3, 4);
+    let path = dir.path().join("grid.glb");
+    write(&g, &path, &NoProgress).unwrap();
+    let mut cmd = Command::new(std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into()));
+    cmd.args([
+        "-c",
+        "import sys, json, trimesh\n\
+         m = trimesh.load(sys.argv[1], force='mesh', process=False)\n\
+         uv = getattr(m.visual, 'uv', None)\n\
+         print(json.dumps({'uv': None if uv is None else uv.tolist(), 'v': m.vertices.tolist()}))",
+    ]);
+    cmd.arg(&path);
+    let Some(report) = run_validator(cmd, "trimesh (pip)") else {
+        return;
+    };
+    let v: serde_json::Value = serde_json::from_str(report.lines().last().unwrap()).unwrap();
+    let uv = v["uv"]
+        .as_array()
+        .expect("trimesh found no texture coordinates");
+    let theirs_pos = v["v"].as_array().unwrap();
+    let Some(geode_geo::AttribData::Vec2(ours)) = g
+        .attrib(geode_geo::AttribClass::Point, "uv")
+        .map(|a| a.data())
+    else {
+        panic!("the grid has two-float uv");
+    };
+    assert_eq!(uv.len(), theirs_pos.len());
+    // Match by position: each of trimesh's vertices is one of the grid's points.
+    for (t, p) in uv.iter().zip(theirs_pos) {
+        let p = Vec3::new(
+            p[0].as_f64().unwrap() as f32,
+            p[1].as_f64().unwrap() as f32,
+            p[2].as_f64().unwrap() as f32,
+        );
+        let i = g
+            .positions()
+            .iter()
+            .position(|q| (*q - p).length() < 1e-6)
+            .unwrap_or_else(|| panic!("{p} not in {:?}", g.positions()));
+        for k in 0..2 {
+            assert!(
+                (t[k].as_f64().unwrap() as f32 - ours[i][k]).abs() < 1e-6,
+                "{t:?} vs {}",
+                ours[i]
+            );
+        }
+    }
+}

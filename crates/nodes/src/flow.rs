@@ -2,10 +2,11 @@
 
 use geode_geo::{ops, Geometry};
 use geode_op::{
-    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
-    Params, PortType, Registry, Value,
+    CookContext, CookError, FnOperator, InputSpec, KeyContext, NodeSpec, ParamDefault as D,
+    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
 };
 
+use crate::network_file::{self, Outer};
 use crate::util::geometry;
 
 const ANY_GEOMETRY: &[InputSpec] = &[InputSpec {
@@ -92,18 +93,27 @@ const OBJECT_MERGE_OBJECTS: P = P::new(
     "Objects",
     T::String,
     D::Str(""),
-    "The nodes of this network to merge, by path, separated by spaces: absolute (`/box1`, `/sub/box1`) or from this node's network (`box1`, `../box1`). Read when the network loads (plain text, not an expression).",
+    "The nodes to merge, by path, separated by spaces: absolute (`/box1`, `/sub/box1`) or from this node's network (`box1`, `../box1`); with a file, nodes of that file's network (from its top level). Read when the network loads (plain text, not an expression).",
 )
 .not_animatable();
+
+const OBJECT_MERGE_FILE: P = P::new(
+    "file",
+    "Network File",
+    T::File,
+    D::Str(""),
+    "Another network file (`.json`) whose nodes `objects` names; empty for this network. It is cooked at this frame with its own `$HIP`; its results' content keys this node, so editing it (or a file it reads) recooks the merge. A file that reaches itself through merges is refused.",
+);
 
 static OBJECT_MERGE: NodeSpec = NodeSpec::new(
     "object_merge",
     "Object Merge",
     "flow",
-    "Merges other nodes of the network by path, without wires (Houdini's Object Merge), then transforms the result (scale, rotate, translate about a pivot, as transform does). The nodes named are read as inputs: their results key this node's cache, and a loop that names itself is refused when the network loads.",
+    "Merges other nodes by path, without wires (Houdini's Object Merge): of this network, or of another network file; then transforms the result (scale, rotate, translate about a pivot, as transform does). Nodes of this network are read as inputs: their results key this node's cache, and a loop that names itself is refused when the network loads.",
     &[],
     &[
         OBJECT_MERGE_OBJECTS,
+        OBJECT_MERGE_FILE,
         crate::transform::TRANSFORM_TRANSLATE,
         crate::transform::TRANSFORM_ROTATE,
         crate::transform::TRANSFORM_SCALE,
@@ -111,15 +121,34 @@ static OBJECT_MERGE: NodeSpec = NodeSpec::new(
         crate::transform::TRANSFORM_PIVOT,
     ],
 )
-.references("objects");
+.references("objects")
+.references_unless("file");
 
 fn cook_object_merge(
     ctx: &CookContext,
     inputs: &[Option<Value>],
     p: &Params,
 ) -> Result<Value, CookError> {
-    let mut parts: Vec<&Geometry> = Vec::with_capacity(inputs.len());
-    for (k, v) in inputs.iter().enumerate() {
+    let from_file;
+    let values: &[Option<Value>] = match p.string(&OBJECT_MERGE_FILE)? {
+        "" => inputs,
+        file => {
+            let outer = Outer {
+                path: ctx.path,
+                param: OBJECT_MERGE_FILE.name,
+                frame: ctx.frame,
+                env: ctx.env,
+                cancel: ctx.cancel,
+            };
+            from_file = other_file_objects(&outer, file, p)?
+                .into_iter()
+                .map(Some)
+                .collect::<Vec<_>>();
+            &from_file
+        }
+    };
+    let mut parts: Vec<&Geometry> = Vec::with_capacity(values.len());
+    for (k, v) in values.iter().enumerate() {
         match v.as_ref().map(|v| v.as_geometry()) {
             Some(Some(g)) => parts.push(g),
             _ => {
@@ -134,8 +163,49 @@ fn cook_object_merge(
     geometry(ops::transformed(&merged, crate::transform::matrix(p)?))
 }
 
+/// The other file's nodes `objects` names, cooked.
+fn other_file_objects(outer: &Outer, file: &str, p: &Params) -> Result<Vec<Value>, CookError> {
+    let paths: Vec<&str> = p
+        .string(&OBJECT_MERGE_OBJECTS)?
+        .split_whitespace()
+        .collect();
+    if paths.is_empty() {
+        return Err(CookError::param(
+            outer.path,
+            OBJECT_MERGE_OBJECTS.name,
+            format!("names no node of `{file}` to merge"),
+        ));
+    }
+    network_file::cook_nodes(outer, file, &paths)
+}
+
+/// With a file, the key covers the other network's results (their content
+/// hashes), whatever they read; without one, the inputs do.
+fn key_object_merge(ctx: &KeyContext, p: &Params) -> Result<Option<u128>, CookError> {
+    let file = p.string(&OBJECT_MERGE_FILE)?;
+    if file.is_empty() {
+        return Ok(None);
+    }
+    let outer = Outer {
+        path: ctx.path,
+        param: OBJECT_MERGE_FILE.name,
+        frame: ctx.frame,
+        env: ctx.env,
+        cancel: ctx.cancel,
+    };
+    let mut h = xxhash_rust::xxh3::Xxh3::new();
+    for v in other_file_objects(&outer, file, p)? {
+        h.update(&v.identity().to_le_bytes());
+    }
+    Ok(Some(h.digest128()))
+}
+
 pub fn register(r: &mut Registry) {
-    r.node(&OBJECT_MERGE, cook_object_merge);
+    r.add(FnOperator {
+        spec: &OBJECT_MERGE,
+        cook: cook_object_merge,
+        key_extra: Some(key_object_merge),
+    });
     r.node(&MERGE, cook_merge);
     r.node(&SWITCH, cook_switch);
     r.node(&NULL, cook_null);

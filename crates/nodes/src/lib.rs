@@ -31,6 +31,7 @@ mod model_reduce;
 mod model_remesh;
 mod model_surface;
 mod model_wire;
+mod network_file;
 mod noise_params;
 mod nurbs;
 mod param_expr;

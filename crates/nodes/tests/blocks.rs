@@ -341,3 +341,6 @@ fn object_merge_reads_nodes_by_path() {
     );
     assert!(e.contains("cycle") || e.contains("loop"), "{e}");
 }
+
+#[path = "blocks/object_merge_file.rs"]
+mod object_merge_file;

@@ -27,6 +27,7 @@ fn refused_within(nodes: &str, hip: &str, budget: u64) -> (String, Duration) {
         fps: 24.0,
         memory_budget: budget,
         files: geode_op::FileAccess::anywhere(),
+        nesting: Vec::new(),
     };
     // Inputs first: the time measured is the guarded node's.
     for e in engine

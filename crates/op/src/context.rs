@@ -171,6 +171,10 @@ impl Warnings {
 /// What a node's extra cache-key content may read: the environment (where
 /// files may be read) and the cook's cancellation.
 pub struct KeyContext<'a> {
+    /// The node's path (for errors).
+    pub path: &'a str,
+    /// The frame being cooked.
+    pub frame: f64,
     pub env: &'a CookEnv,
     pub cancel: &'a CancelToken,
 }

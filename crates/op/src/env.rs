@@ -20,6 +20,11 @@ pub struct CookEnv {
     /// Where cooks may read and write files (not in any key: a refused
     /// file is an error, and errors are not cached).
     pub files: FileAccess,
+    /// The network files being cooked, outermost first (each cooks the
+    /// next through object_merge's `file`), so a file that reaches itself
+    /// is refused instead of recursing. Not in any key: it changes only
+    /// whether a cook is refused, and errors are not cached.
+    pub nesting: Vec<String>,
 }
 
 impl Default for CookEnv {
@@ -29,6 +34,7 @@ impl Default for CookEnv {
             fps: DEFAULT_FPS,
             memory_budget: default_budget(),
             files: FileAccess::anywhere(),
+            nesting: Vec::new(),
         }
     }
 }
@@ -46,13 +52,15 @@ impl CookEnv {
             fps: DEFAULT_FPS,
             memory_budget: budget_from_env(),
             files: FileAccess::anywhere(),
+            nesting: Vec::new(),
         }
     }
 
     /// For a network file: `$HIP` is the file's folder, as in Houdini
     /// (unless the process sets `HIP`).
     pub fn for_network(network: &std::path::Path) -> CookEnv {
-        let env = CookEnv::from_process();
+        let mut env = CookEnv::from_process();
+        env.nesting = vec![network_identity(network)];
         if std::env::var_os("HIP").is_some() {
             return env;
         }
@@ -93,6 +101,15 @@ impl CookEnv {
     pub fn expand(&self, pattern: &str, frame: f64) -> String {
         expand_frame(&pattern.replace("$HIP", &self.hip), frame)
     }
+}
+
+/// What names a network file in [`CookEnv::nesting`]: its real path where
+/// it has one (two spellings of one file are one file), else as given.
+pub fn network_identity(path: &std::path::Path) -> String {
+    std::fs::canonicalize(path)
+        .unwrap_or_else(|_| path.to_owned())
+        .to_string_lossy()
+        .into_owned()
 }
 
 /// Replaces `$F` (frame), `$F2`..`$F9` (zero-padded frame) and `$FF` (fractional frame).

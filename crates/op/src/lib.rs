@@ -15,7 +15,7 @@ pub use context::{
     CancelToken, CheckContext, CookContext, CookError, ErrorKind, KeyContext, ProgressFn,
     TextPosition, Warnings,
 };
-pub use env::{budget_from_env, expand_frame, human_bytes, CookEnv, MB};
+pub use env::{budget_from_env, expand_frame, human_bytes, network_identity, CookEnv, MB};
 pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
 pub use files::{FileAccess, FileRefusal};
 pub use param::{
@@ -69,6 +69,10 @@ pub struct NodeSpec {
     /// declared ones, so the cook reads them as inputs and the cache keys
     /// on them ("" for none; object_merge's `objects`).
     pub references: &'static str,
+    /// A parameter that, when it names something, points `references`
+    /// elsewhere (object_merge's `file`: the paths are of that file's
+    /// network), so the loader wires nothing ("" for none).
+    pub references_unless: &'static str,
 }
 
 /// A required geometry input.
@@ -104,12 +108,20 @@ impl NodeSpec {
             writes: &[],
             spare: false,
             references: "",
+            references_unless: "",
         }
     }
 
     /// The node reads the nodes parameter `param` names, as extra inputs.
     pub const fn references(mut self, param: &'static str) -> NodeSpec {
         self.references = param;
+        self
+    }
+
+    /// ... unless parameter `other` names something (then the paths point
+    /// elsewhere and the cook resolves them itself).
+    pub const fn references_unless(mut self, other: &'static str) -> NodeSpec {
+        self.references_unless = other;
         self
     }
 

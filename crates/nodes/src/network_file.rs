@@ -1,0 +1,118 @@
+//! Cooking nodes of another network file (object_merge's `file`): the file
+//! is read through the cook's file access, loaded with this library's
+//! registry and cooked by an engine of its own at the same frame.
+//!
+//! The other file's results go through a process-wide memory cache, so the
+//! cook that computes object_merge's key (the merged values' content
+//! hashes, which cover whatever the other network reads) and the cook that
+//! builds its result cook the other network once. A file that reaches
+//! itself through such merges is refused by the chain in
+//! [`CookEnv::nesting`], before it recurses.
+
+use std::sync::OnceLock;
+
+use geode_graph::{Cache, CookOptions, Engine};
+use geode_op::{network_identity, CancelToken, CookEnv, CookError, ErrorKind, Registry, Value, MB};
+
+/// Most network files deep a chain of merges may go.
+pub const MAX_NESTING: usize = 16;
+
+/// Where and when the other network is cooked: the cook's own place.
+pub(crate) struct Outer<'a> {
+    pub path: &'a str,
+    pub param: &'a str,
+    pub frame: f64,
+    pub env: &'a CookEnv,
+    pub cancel: &'a CancelToken,
+}
+
+fn registry() -> &'static Registry {
+    static REGISTRY: OnceLock<Registry> = OnceLock::new();
+    REGISTRY.get_or_init(crate::registry)
+}
+
+fn cache() -> &'static Cache {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    CACHE.get_or_init(|| Cache::new(512 * MB as usize))
+}
+
+/// The values of nodes `paths` (absolute, or from the other network's top
+/// level) of network file `file`, in order.
+pub(crate) fn cook_nodes(
+    outer: &Outer,
+    file: &str,
+    paths: &[&str],
+) -> Result<Vec<Value>, CookError> {
+    let refuse = |kind: ErrorKind, message: String| {
+        CookError::new(outer.path, kind, message).at_param(outer.param)
+    };
+    let real = outer
+        .env
+        .files
+        .readable(std::path::Path::new(file))
+        .map_err(|e| refuse(ErrorKind::Io, e.to_string()))?;
+    let identity = network_identity(&real);
+    if outer.env.nesting.contains(&identity) {
+        let chain = outer.env.nesting.join(" -> ");
+        return Err(refuse(
+            ErrorKind::Network,
+            format!("`{file}` is already being cooked ({chain} -> {identity}): a network file may not merge from itself"),
+        ));
+    }
+    if outer.env.nesting.len() >= MAX_NESTING {
+        return Err(refuse(
+            ErrorKind::Resource,
+            format!("`{file}` would be the {}th network file merged into another; at most {MAX_NESTING} may nest", outer.env.nesting.len() + 1),
+        ));
+    }
+    let text = outer
+        .env
+        .files
+        .read_text(&real, outer.env.memory_budget, &|| {
+            outer.cancel.is_cancelled()
+        })
+        .map_err(|e| match e {
+            geode_op::FileRefusal::Cancelled => CookError::cancelled(outer.path),
+            e => refuse(ErrorKind::Io, e.to_string()),
+        })?;
+    let net = geode_graph::load_str(&text, registry()).map_err(|errors| {
+        let first = errors.first().map(ToString::to_string).unwrap_or_default();
+        refuse(
+            ErrorKind::Network,
+            format!(
+                "`{file}` does not load ({} problem(s)); the first: {first}",
+                errors.len()
+            ),
+        )
+    })?;
+    let mut env = outer.env.clone();
+    env.nesting.push(identity);
+    if let Some(dir) = real.parent() {
+        env.hip = dir.to_string_lossy().into_owned();
+    }
+    let opts = CookOptions {
+        frame: outer.frame,
+        cancel: outer.cancel.clone(),
+        progress: None,
+        env,
+        writes: false,
+    };
+    let engine = Engine::new(net, cache());
+    paths
+        .iter()
+        .map(|p| {
+            let at = if p.starts_with('/') {
+                (*p).to_owned()
+            } else {
+                format!("/{p}")
+            };
+            engine.cook(&at, &opts).map(|r| r.value).map_err(|errors| {
+                if errors.iter().any(|e| e.kind == ErrorKind::Cancelled) {
+                    return CookError::cancelled(outer.path);
+                }
+                let first = &errors[0];
+                refuse(first.kind, format!("in `{file}`: {first}")).with_source(first.clone())
+            })
+        })
+        .collect()
+}
