@@ -167,3 +167,43 @@ fn cluster_20m_triangles_to_3m(bencher: Bencher) {
         .counter(ItemsCount::new(ops::fan_triangle_count(g)))
         .bench(|| ops::cluster_triangles(g, 3_000_000));
 }
+
+/// A 360k-triangle sphere's hierarchy and 100k query points: near the
+/// surface (within 0.01, what transfer between similar meshes asks) or far
+/// from it (1.5 to 3 radii from the centre, what ray's minimum distance
+/// asks of points above a surface; boxes bound a smooth minimum loosely).
+fn closest_setup(far: bool) -> (ops::TriangleBvh, Vec<Vec3>) {
+    let s = ops::triangulate(&primitives::uv_sphere(1.0, 600, 300), None);
+    let tris: Vec<[u32; 3]> = (0..s.num_prims())
+        .map(|p| {
+            let v = s.prim_points(p);
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let bvh = ops::TriangleBvh::new(s.positions(), &tris);
+    let mut state = 7u32;
+    let mut r = || {
+        state = state.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (state >> 8) as f32 / (1u32 << 24) as f32
+    };
+    let queries = (0..100_000)
+        .map(|_| {
+            let d = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(Vec3::Y);
+            let radius = if far { 1.5 + 1.5 * r() } else { 1.0 + 0.02 * (r() - 0.5) };
+            d * radius
+        })
+        .collect();
+    (bvh, queries)
+}
+
+#[divan::bench(args = [false, true], sample_count = 5, sample_size = 1)]
+fn closest_100k_on_360k_triangles(bencher: Bencher, far: bool) {
+    let (bvh, queries) = closest_setup(far);
+    bencher.counter(ItemsCount::new(queries.len())).bench(|| {
+        use rayon::prelude::*;
+        queries
+            .par_iter()
+            .map(|&q| bvh.closest(q, f32::INFINITY).map_or(0.0, |c| c.dist2))
+            .sum::<f32>()
+    });
+}

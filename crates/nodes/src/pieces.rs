@@ -75,10 +75,12 @@ fn cook_connectivity(
             .into_iter()
             .find_map(|c| g.attrib(c, agree_name).map(|a| (c, a.data().clone())));
         Some(found.ok_or_else(|| {
-            ctx.param_error(
-                CONNECTIVITY_AGREE.name,
-                format!("there is no primitive or vertex attribute `{agree_name}`"),
-            )
+            let why = if g.attrib(AttribClass::Point, agree_name).is_some() {
+                format!("`{agree_name}` is a point attribute: pieces meet at shared points, where it has one value, so it cannot part them; split by a primitive or vertex attribute (uv_flatten and uv_project write vertex `uv`)")
+            } else {
+                format!("there is no primitive or vertex attribute `{agree_name}`")
+            };
+            ctx.param_error(CONNECTIVITY_AGREE.name, why)
         })?)
     };
     let pieces = ops::connectivity(&g, connect, agree.as_ref().map(|(c, d)| (*c, d)));

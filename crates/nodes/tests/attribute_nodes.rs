@@ -35,6 +35,12 @@ fn connectivity_counts_the_merged_shapes() {
         "c",
     );
     assert_eq!(ints(&g, AttribClass::Point, "piece").iter().max(), Some(&2));
+    // A point attribute cannot part pieces that meet at points: said so.
+    let e = err(
+        r#""g": {"type": "grid"}, "c": {"type": "connectivity", "inputs": ["g"], "params": {"by_attribute": "uv"}}"#,
+        "c",
+    );
+    assert!(e.contains("`uv` is a point attribute") && e.contains("by_attribute"), "{e}");
 }
 
 #[test]
