@@ -189,7 +189,11 @@ fn closest_setup(far: bool) -> (ops::TriangleBvh, Vec<Vec3>) {
     let queries = (0..100_000)
         .map(|_| {
             let d = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(Vec3::Y);
-            let radius = if far { 1.5 + 1.5 * r() } else { 1.0 + 0.02 * (r() - 0.5) };
+            let radius = if far {
+                1.5 + 1.5 * r()
+            } else {
+                1.0 + 0.02 * (r() - 0.5)
+            };
             d * radius
         })
         .collect();

@@ -11,8 +11,8 @@ use geode_op::{
     ParamType as T, Params, Registry, Value,
 };
 use geode_uv::{
-    flatten, frame_from_trs, project, write_islands, write_uv, Axis, FlattenOptions, PackOptions,
-    ProjectOptions, Projection, UvError, UvTransform,
+    flatten, frame_from_trs, project, write_islands, write_uv, Axis, ConformalMethod,
+    FlattenOptions, PackOptions, ProjectOptions, Projection, UvError, UvTransform,
 };
 
 use crate::util::{attribute_name, geometry, group_param, input_owned, vec2, vec3};
@@ -206,6 +206,13 @@ const FLATTEN_ROTATE: P = P::new(
     D::Toggle(true),
     "Turn islands to their tightest rectangles to pack them closer.",
 );
+const FLATTEN_METHOD: P = P::new(
+    "method",
+    "Method",
+    T::Menu(&["spectral", "two_pins"]),
+    D::Str("spectral"),
+    "How each island's least-squares conformal map is fixed: `spectral` (Mullen et al.'s spectral conformal map: no pins, the boundary spread evenly; long curved islands stay straight) or `two_pins` (classic LSCM with the two farthest boundary points pinned, as libigl and Blender's Conformal unwrap: can curl a long strip). Islands without a boundary use two pins.",
+);
 const FLATTEN_ISLAND: P = P::new(
     "island_attribute",
     "Island attribute",
@@ -218,9 +225,9 @@ static UV_FLATTEN: NodeSpec = NodeSpec::new(
     "uv_flatten",
     "UV Flatten",
     "uv",
-    "Unwraps the mesh into texture space (Houdini's UV Flatten and Layout): islands cut along the seams and the open edges, each flattened by least-squares conformal maps (angles kept, sized to its area) and packed into the unit square with a margin. Each island must be a disc: a closed mesh or a tube needs seams (the node warns of islands that are not discs). A long island far from developable (a torus cut into one strip) keeps its angles but may curl with its texel density varying widely: cut it into shorter islands.",
+    "Unwraps the mesh into texture space (Houdini's UV Flatten and Layout): islands cut along the seams and the open edges, each flattened by least-squares conformal maps (angles kept, sized to its area) and packed into the unit square with a margin. Each island must be a disc: a closed mesh or a tube needs seams (the node warns of islands that are not discs). The spectral method keeps a long island far from developable (a torus cut into one strip) a band of even texel density, where two pins let it curl.",
     &[geometry_input("geometry")],
-    &[FLATTEN_SEAMS, NAME, FLATTEN_MARGIN, FLATTEN_ROTATE, FLATTEN_ISLAND],
+    &[FLATTEN_SEAMS, NAME, FLATTEN_METHOD, FLATTEN_MARGIN, FLATTEN_ROTATE, FLATTEN_ISLAND],
 );
 
 fn cook_flatten(
@@ -245,6 +252,10 @@ fn cook_flatten(
         pack: PackOptions {
             margin: p.float(&FLATTEN_MARGIN)?,
             rotate: p.toggle(&FLATTEN_ROTATE)?,
+        },
+        method: match p.string(&FLATTEN_METHOD)? {
+            "two_pins" => ConformalMethod::TwoPins,
+            _ => ConformalMethod::Spectral,
         },
         ..FlattenOptions::default()
     };

@@ -40,7 +40,10 @@ fn connectivity_counts_the_merged_shapes() {
         r#""g": {"type": "grid"}, "c": {"type": "connectivity", "inputs": ["g"], "params": {"by_attribute": "uv"}}"#,
         "c",
     );
-    assert!(e.contains("`uv` is a point attribute") && e.contains("by_attribute"), "{e}");
+    assert!(
+        e.contains("`uv` is a point attribute") && e.contains("by_attribute"),
+        "{e}"
+    );
 }
 
 #[test]

@@ -107,3 +107,54 @@ fn projections_follow_their_definitions() {
         );
     }
 }
+
+/// Per polygon: uv area over 3D area (shoelace in uv, Newell in 3D).
+fn area_spread(g: &Geometry) -> f32 {
+    let uv = uv(g);
+    let p = g.positions();
+    let vp = g.vertex_points();
+    let ratios: Vec<f32> = (0..g.num_prims())
+        .map(|prim| {
+            let r = g.prim_vertex_range(prim);
+            let (mut flat, mut solid) = (0.0f32, Vec3::ZERO);
+            for k in r.clone() {
+                let next = if k + 1 == r.end { r.start } else { k + 1 };
+                flat += uv[k].truncate().perp_dot(uv[next].truncate());
+                solid += p[vp[k] as usize].cross(p[vp[next] as usize]);
+            }
+            0.5 * flat / (0.5 * solid.length())
+        })
+        .collect();
+    assert!(ratios.iter().all(|&r| r > 0.0), "a polygon flipped");
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f32::MAX, 0.0f32), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+    hi / lo
+}
+
+/// A torus cut along a meridian and its outer ring is one strip: the
+/// default spectral method lays it out as an even band (the continuous
+/// rectangle's density spread is ((R + r) / (R - r))^2 = 2.8); two pins
+/// let it curl, its density varying thousands of times.
+#[test]
+fn a_cut_torus_stays_an_even_band_by_default() {
+    let nodes = |method: &str| {
+        format!(
+            r#""t": {{"type": "torus", "params": {{"rows": 16, "columns": 48}}}},
+            "seam": {{"type": "group_expression", "inputs": ["t"], "params": {{"group": "seam", "class": "point",
+                "expression": "(abs(z) < 0.001 && x > 0) || (abs(y) < 0.001 && x * x + z * z > 1.1)"}}}},
+            "f": {{"type": "uv_flatten", "inputs": ["seam"], "params": {{"seams": "seam"{method}}}}}"#
+        )
+    };
+    let spectral = area_spread(&geo(&nodes(""), "f"));
+    assert!(spectral < 7.0, "spectral spread {spectral}");
+    let pinned = geo(&nodes(r#", "method": "two_pins""#), "f");
+    let uv = uv(&pinned);
+    assert!(uv
+        .iter()
+        .all(|u| u.x >= 0.0 && u.y >= 0.0 && u.x <= 1.0 && u.y <= 1.0));
+    assert!(
+        area_spread(&pinned) > 100.0 * spectral,
+        "two pins did not curl: the test no longer shows the difference"
+    );
+}

@@ -89,6 +89,20 @@ const PROJECTIONS: [Projection; 4] = [
     Projection::Box,
 ];
 
+/// The spectral map of the same cut torus (Cholesky, then inverse
+/// iteration on the one factorisation).
+#[divan::bench(sample_count = 3)]
+fn flatten_torus_200k_triangles_two_seams_spectral(bencher: Bencher) {
+    let (g, seams) = cut_torus();
+    let options = FlattenOptions {
+        method: geode_uv::ConformalMethod::Spectral,
+        ..FlattenOptions::default()
+    };
+    bencher
+        .counter(ItemsCount::new(g.num_prims()))
+        .bench(|| flatten(g, seams, &options, &never).unwrap());
+}
+
 #[divan::bench(args = PROJECTIONS, sample_count = 10)]
 fn project_1m_vertices(bencher: Bencher, projection: Projection) {
     let g = sphere();

@@ -52,6 +52,8 @@ mod solver;
 pub use attrib::{write_islands, write_uv, UV};
 pub use error::UvError;
 pub use flatten::{flatten, FlattenOptions, Flattened};
-pub use lscm::{choose_pins, lscm, LinearSolver, LscmSolution, Pin, SolverOptions};
+pub use lscm::{
+    choose_pins, lscm, spectral, ConformalMethod, LinearSolver, LscmSolution, Pin, SolverOptions,
+};
 pub use pack::{pack_islands, PackOptions, Packed, Placement};
 pub use project::{frame_from_trs, project, Axis, ProjectOptions, Projection, UvTransform};

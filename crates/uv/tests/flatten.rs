@@ -11,7 +11,8 @@ use common::meshes::{cylinder, hemisphere};
 use geode_geo::glam::{Vec2, Vec3};
 use geode_geo::{ops, primitives, Geometry, PrimKind};
 use geode_uv::{
-    flatten, FlattenOptions, Flattened, LinearSolver, PackOptions, SolverOptions, UvError,
+    flatten, ConformalMethod, FlattenOptions, Flattened, LinearSolver, PackOptions, SolverOptions,
+    UvError,
 };
 
 fn never() -> bool {
@@ -213,12 +214,18 @@ fn packed_islands_stay_apart_inside_the_square_at_one_scale() {
     assert!(covered > 0.3, "islands cover {covered} of the square");
 }
 
-fn flatten_on(threads: usize, g: &Geometry, seams: &[[u32; 2]], method: LinearSolver) -> Flattened {
+fn flatten_on(
+    threads: usize,
+    g: &Geometry,
+    seams: &[[u32; 2]],
+    (method, conformal): (LinearSolver, ConformalMethod),
+) -> Flattened {
     let options = FlattenOptions {
         solver: SolverOptions {
             method,
             ..SolverOptions::default()
         },
+        method: conformal,
         ..FlattenOptions::default()
     };
     rayon::ThreadPoolBuilder::new()
@@ -239,7 +246,11 @@ fn determinism_mesh() -> (Geometry, Vec<[u32; 2]>) {
 #[test]
 fn the_same_bits_on_one_and_on_four_threads() {
     let (g, seams) = determinism_mesh();
-    for method in [LinearSolver::Cholesky, LinearSolver::ConjugateGradient] {
+    for method in [
+        (LinearSolver::Cholesky, ConformalMethod::TwoPins),
+        (LinearSolver::ConjugateGradient, ConformalMethod::TwoPins),
+        (LinearSolver::Cholesky, ConformalMethod::Spectral),
+    ] {
         let one = flatten_on(1, &g, &seams, method);
         let four = flatten_on(4, &g, &seams, method);
         let bits = |f: &Flattened| {
@@ -266,15 +277,20 @@ fn cancellation_stops_every_phase() {
         Err(UvError::Cancelled)
     );
     // Cancelled after some polls: inside the islands' solves.
-    for method in [LinearSolver::Cholesky, LinearSolver::ConjugateGradient] {
+    for method in [
+        (LinearSolver::Cholesky, ConformalMethod::TwoPins),
+        (LinearSolver::ConjugateGradient, ConformalMethod::TwoPins),
+        (LinearSolver::Cholesky, ConformalMethod::Spectral),
+    ] {
         for after in [2, 4, 8] {
             let polls = AtomicUsize::new(0);
             let later = || polls.fetch_add(1, Ordering::Relaxed) >= after;
             let options = FlattenOptions {
                 solver: SolverOptions {
-                    method,
+                    method: method.0,
                     ..SolverOptions::default()
                 },
+                method: method.1,
                 ..FlattenOptions::default()
             };
             assert_eq!(
@@ -370,4 +386,88 @@ fn degenerate_input_passes_without_panic() {
         flatten(&one, &[], &wide, &never),
         Err(UvError::Invalid(_))
     ));
+}
+
+/// Per triangle (fanned): uv area over 3D area.
+fn area_ratios(g: &Geometry, f: &Flattened) -> Vec<f64> {
+    let p = g.positions();
+    let vp = g.vertex_points();
+    fan_triangles(g)
+        .into_iter()
+        .map(|t| {
+            let (a, b, c) = (uv2(f, t[0]), uv2(f, t[1]), uv2(f, t[2]));
+            let flat = 0.5 * (b - a).perp_dot(c - a) as f64;
+            let pos = |v: usize| p[vp[v] as usize].as_dvec3();
+            let solid = 0.5
+                * (pos(t[1]) - pos(t[0]))
+                    .cross(pos(t[2]) - pos(t[0]))
+                    .length();
+            flat / solid
+        })
+        .collect()
+}
+
+/// A torus of revolution cut along a meridian and a parallel is
+/// conformally a rectangle: in coordinates `(u, integral of r / (R + r cos
+/// v) dv)` the conformal factor is `R + r cos v`, so the uv-to-3D area
+/// ratio runs from `1 / (R + r)^2` to `1 / (R - r)^2` (relative spread
+/// `((R + r) / (R - r))^2`, 2.78 here), every triangle kept the right way
+/// round. The spectral map comes near it; two pins let the strip curl.
+#[test]
+fn a_cut_torus_opens_spectrally_into_a_band_of_even_density() {
+    let (cols, rows) = (48u32, 16u32);
+    let g = primitives::torus(1.0, 0.25, cols, rows);
+    // Point (i, j) is i * rows + j: the meridian i = 0 and the parallel j = 0.
+    let mut seams: Vec<[u32; 2]> = (0..rows).map(|j| [j, (j + 1) % rows]).collect();
+    seams.extend((0..cols).map(|i| [i * rows, ((i + 1) % cols) * rows]));
+    let options = FlattenOptions {
+        method: ConformalMethod::Spectral,
+        ..FlattenOptions::default()
+    };
+    let f = flatten(&g, &seams, &options, &never).unwrap();
+    assert_eq!(f.island_count, 1);
+    let ratios = area_ratios(&g, &f);
+    assert!(ratios.iter().all(|&r| r > 0.0), "a triangle flipped");
+    let (lo, hi) = ratios
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(lo, hi), &r| (lo.min(r), hi.max(r)));
+    let expected = (1.25f64 / 0.75).powi(2);
+    println!("cut torus, spectral: area ratio spread {:.3} (continuous {expected:.3}), angle distortion {:.3e}", hi / lo, max_angle_distortion(&g, &f));
+    let spectral_spread = hi / lo;
+    // The island's bounding box is filled: a rectangle, not a spiral.
+    let (lo_uv, hi_uv, area, _) = island_measures(&g, &f)[0];
+    let size = hi_uv - lo_uv;
+    assert!(
+        area / (size.x as f64 * size.y as f64) > 0.8,
+        "{area} in {size}"
+    );
+    // Two pins on the same cut: the strip curls, its density varying far
+    // more (what the spectral map is for).
+    let pinned = flatten(&g, &seams, &FlattenOptions::default(), &never).unwrap();
+    let ratios = area_ratios(&g, &pinned);
+    let (lo, hi) = ratios.iter().fold((f64::MAX, 0.0f64), |(lo, hi), &r| {
+        (lo.min(r.abs()), hi.max(r.abs()))
+    });
+    println!("cut torus, two pins: area ratio spread {:.3}", hi / lo);
+    // Not the rectangle's own map (any conformal map of the strip is free
+    // of energy; the spectral one bulges like a barrel, 5.2 here and 5.7
+    // at four times the triangles), but within a small factor of it.
+    assert!(spectral_spread < 2.5 * expected, "spread {spectral_spread}");
+}
+
+#[test]
+fn the_spectral_map_of_a_cut_cylinder_is_as_exact_and_a_closed_island_falls_back() {
+    let (g, seams) = cylinder(64, 16, 2.0);
+    let options = FlattenOptions {
+        method: ConformalMethod::Spectral,
+        ..FlattenOptions::default()
+    };
+    let f = flatten(&g, &seams, &options, &never).unwrap();
+    let distortion = max_angle_distortion(&g, &f);
+    assert!(distortion < 1e-3, "angle distortion {distortion} rad");
+    // A sphere without seams has no boundary: two pins, as before.
+    let s = primitives::uv_sphere(1.0, 12, 8);
+    let f = flatten(&s, &[], &options, &never).unwrap();
+    let plain = flatten(&s, &[], &FlattenOptions::default(), &never).unwrap();
+    assert_eq!(f.uv, plain.uv);
 }

@@ -7,7 +7,7 @@ use geode_geo::Geometry;
 
 use super::charts::Charts;
 use crate::error::UvError;
-use crate::lscm::{choose_pins, lscm, SolverOptions};
+use crate::lscm::{choose_pins, lscm, spectral, ConformalMethod, SolverOptions};
 
 /// Wedges and primitives grouped by island, in ascending order within
 /// each, and each wedge's number inside its island.
@@ -123,6 +123,7 @@ pub(super) struct FlatIsland {
 pub(super) fn flatten_island(
     mesh: &IslandMesh,
     solver: &SolverOptions,
+    method: ConformalMethod,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<FlatIsland, UvError> {
     let collapsed = FlatIsland {
@@ -137,7 +138,17 @@ pub(super) fn flatten_island(
     if area_3d <= 0.0 || !(pins[1].uv[0] > 0.0 && pins[1].uv[0].is_finite()) {
         return Ok(collapsed);
     }
-    let solution = lscm(&mesh.positions, &mesh.triangles, &pins, solver, cancel)?;
+    let spectral = match method {
+        ConformalMethod::Spectral => match spectral(&mesh.positions, &mesh.triangles, cancel) {
+            Err(UvError::Invalid(_)) => None,
+            other => Some(other?),
+        },
+        ConformalMethod::TwoPins => None,
+    };
+    let solution = match spectral {
+        Some(s) => s,
+        None => lscm(&mesh.positions, &mesh.triangles, &pins, solver, cancel)?,
+    };
     if solution.uv.iter().flatten().any(|c| !c.is_finite()) {
         return Ok(collapsed);
     }

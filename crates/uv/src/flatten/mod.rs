@@ -14,7 +14,9 @@
 //!    its wedges (polygons triangulated, concave ones by ear clipping;
 //!    the output stays per original vertex), is solved by LSCM
 //!    ([`crate::lscm`]) with its two farthest-apart boundary wedges pinned
-//!    ([`crate::choose_pins`]), then rescaled so its uv area equals its 3D
+//!    ([`crate::choose_pins`]) or by the spectral conformal map
+//!    ([`crate::spectral`], [`FlattenOptions::method`]; an island without
+//!    a boundary falls back on two pins), then rescaled so its uv area equals its 3D
 //!    area (relative texel density kept). Islands are solved in parallel.
 //!    An island without area (all its polygons degenerate) collapses to a
 //!    point; a closed island (no boundary, no seam) is pinned at its two
@@ -34,7 +36,7 @@ use geode_geo::Geometry;
 use rayon::prelude::*;
 
 use crate::error::UvError;
-use crate::lscm::SolverOptions;
+use crate::lscm::{ConformalMethod, SolverOptions};
 use crate::pack::{pack_islands, PackOptions, Packed, Placement};
 use charts::{build_charts, Charts, NONE};
 use island::{flatten_island, index_islands, island_mesh, FlatIsland, IslandIndex};
@@ -49,6 +51,8 @@ pub struct FlattenOptions {
     pub skip_packing: bool,
     /// When the conjugate gradient solves stop.
     pub solver: SolverOptions,
+    /// Two pins (LSCM) or spectral, per island.
+    pub method: ConformalMethod,
 }
 
 /// What [`flatten`] returns.
@@ -92,7 +96,7 @@ pub fn flatten(
     let charts = build_charts(g, seams);
     let index = index_islands(&charts);
     UvError::unless_cancelled(cancel)?;
-    let islands = solve_islands(g, &charts, &index, &options.solver, cancel)?;
+    let islands = solve_islands(g, &charts, &index, options, cancel)?;
     UvError::unless_cancelled(cancel)?;
     let packed = place_islands(&islands, options)?;
     Ok(Flattened {
@@ -115,7 +119,7 @@ fn solve_islands(
     g: &Geometry,
     charts: &Charts,
     index: &IslandIndex,
-    solver: &SolverOptions,
+    options: &FlattenOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Vec<FlatIsland>, UvError> {
     (0..charts.islands)
@@ -123,7 +127,7 @@ fn solve_islands(
         .map(|island| {
             UvError::unless_cancelled(cancel)?;
             let mesh = island_mesh(g, charts, index, island);
-            flatten_island(&mesh, solver, cancel)
+            flatten_island(&mesh, &options.solver, options.method, cancel)
         })
         .collect()
 }

@@ -26,6 +26,7 @@
 
 mod assemble;
 mod pins;
+mod spectral;
 
 use geode_geo::glam::Vec3;
 
@@ -33,6 +34,7 @@ use crate::error::UvError;
 use crate::solver::{solve_hermitian, CgSettings, Complex};
 use assemble::{assemble, triangle_terms, Role};
 pub use pins::choose_pins;
+pub use spectral::spectral;
 
 /// A vertex held at a given uv.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,6 +57,19 @@ pub enum LinearSolver {
     /// memory, but about ten times slower at 200k triangles and worse
     /// beyond; cancellable every few iterations.
     ConjugateGradient,
+}
+
+/// Which conformal map an island gets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub enum ConformalMethod {
+    /// LSCM with the two farthest-apart boundary vertices pinned (Lévy et
+    /// al.; what libigl's `lscm` and Blender's Conformal unwrap do): exact
+    /// for developable islands, but a long curved strip can curl.
+    #[default]
+    TwoPins,
+    /// The spectral conformal map ([`spectral`]): no pins, so nothing to
+    /// curl about; islands without a boundary fall back on two pins.
+    Spectral,
 }
 
 /// How the linear system is solved, and how exactly.

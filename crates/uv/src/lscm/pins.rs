@@ -53,6 +53,14 @@ pub fn choose_pins(positions: &[Vec3], triangles: &[[u32; 3]]) -> Option<[Pin; 2
 
 /// Vertices on an edge not shared by exactly two triangles, ascending.
 fn boundary_vertices(triangles: &[[u32; 3]]) -> Vec<u32> {
+    let mut boundary: Vec<u32> = boundary_edges(triangles).into_iter().flatten().collect();
+    boundary.sort_unstable();
+    boundary.dedup();
+    boundary
+}
+
+/// Edges (lower vertex first, sorted) in one triangle or in more than two.
+pub(super) fn boundary_edges(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
     let mut edges: Vec<[u32; 2]> = triangles
         .iter()
         .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
@@ -68,12 +76,10 @@ fn boundary_vertices(triangles: &[[u32; 3]]) -> Vec<u32> {
             j += 1;
         }
         if j - i != 2 {
-            boundary.extend_from_slice(&edges[i]);
+            boundary.push(edges[i]);
         }
         i = j;
     }
-    boundary.sort_unstable();
-    boundary.dedup();
     boundary
 }
 

@@ -19,6 +19,20 @@ pub fn cholesky_solve(
     b: &[Complex],
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Option<Vec<Complex>>, UvError> {
+    cholesky_iterate(a, b, cancel, &mut |_| Ok(false))
+}
+
+/// Solves `A x = b` with one factorisation of `A`, then, while `next`
+/// (given the solution, which it may overwrite with the next right-hand
+/// side) answers true, solves again: inverse iteration's solves for the
+/// price of one factorisation. The last solution comes back (None as in
+/// [`cholesky_solve`], or when a solution is not finite).
+pub fn cholesky_iterate(
+    a: &Csr,
+    b: &[Complex],
+    cancel: &(dyn Fn() -> bool + Sync),
+    next: &mut dyn FnMut(&mut [Complex]) -> Result<bool, UvError>,
+) -> Result<Option<Vec<Complex>>, UvError> {
     let n = a.rows();
     // Column j of a Hermitian matrix is the conjugate of row j: the rows
     // as they are give the columns of the lower triangle.
@@ -62,14 +76,26 @@ pub fn cholesky_solve(
     };
     UvError::unless_cancelled(cancel)?;
     let mut x: Vec<c64> = b.iter().map(|v| c64::new(v.re, v.im)).collect();
-    llt.solve_in_place_with_conj(
-        Conj::No,
-        MatMut::from_column_major_slice_mut(&mut x, n, 1),
-        par,
-        MemStack::new(&mut buffer),
-    );
-    let x: Vec<Complex> = x.iter().map(|v| Complex::new(v.re, v.im)).collect();
-    Ok(x.iter()
-        .all(|v| v.re.is_finite() && v.im.is_finite())
-        .then_some(x))
+    loop {
+        llt.solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(&mut x, n, 1),
+            par,
+            MemStack::new(&mut buffer),
+        );
+        let mut solution: Vec<Complex> = x.iter().map(|v| Complex::new(v.re, v.im)).collect();
+        if !solution
+            .iter()
+            .all(|v| v.re.is_finite() && v.im.is_finite())
+        {
+            return Ok(None);
+        }
+        UvError::unless_cancelled(cancel)?;
+        if !next(&mut solution)? {
+            return Ok(Some(solution));
+        }
+        for (x, s) in x.iter_mut().zip(&solution) {
+            *x = c64::new(s.re, s.im);
+        }
+    }
 }

@@ -47,6 +47,7 @@ mod sparse;
 pub use amg::Multigrid;
 pub use cg::CgSettings;
 pub use complex::Complex;
+pub use direct::cholesky_iterate;
 pub use precondition::Preconditioner;
 pub use sparse::Csr;
 
