@@ -159,6 +159,9 @@ pub fn from_surface(
     )
 }
 
+/// Queries between polls of `cancel` inside a chunk.
+const POLL: usize = 64;
+
 /// Each destination's row, found in parallel chunks, then laid out in
 /// destination order. The destinations are visited in Morton order (near
 /// ones one after another, so a query finds the tree where the last one
@@ -175,7 +178,12 @@ fn stencil(
         .map(|chunk| {
             unless_cancelled(cancel)?;
             let (mut found, mut rows) = (Vec::new(), Rows::default());
-            for &i in chunk {
+            for (k, &i) in chunk.iter().enumerate() {
+                // A query far from a dense surface can take a millisecond
+                // (every triangle nearly as close as the nearest).
+                if k % POLL == POLL - 1 {
+                    unless_cancelled(cancel)?;
+                }
                 find(targets[i as usize], &mut found, &mut rows);
             }
             Ok(rows)

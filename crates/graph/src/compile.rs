@@ -862,7 +862,11 @@ impl Builder<'_> {
                 _ => self.errors.push(LoadError::param(
                     &path,
                     param,
-                    format!("`{name}` ({full}) is not a node of this network"),
+                    if name.contains(['*', '?', '[']) {
+                        format!("`{name}`: nodes are named by exact paths, not patterns")
+                    } else {
+                        format!("`{name}` ({full}) is not a node of this network")
+                    },
                 )),
             }
         }

@@ -24,7 +24,6 @@ pub struct Document {
 /// Nodes by name, and the node whose output is the network's result.
 #[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
 pub struct NetworkDoc {
-    #[serde(deserialize_with = "unique_keys")]
     pub nodes: BTreeMap<String, NodeDoc>,
     /// The output node's name; else the node with the display flag; else none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -65,11 +64,7 @@ pub struct NodeDoc {
     #[serde(rename = "type")]
     pub ty: String,
     /// Parameter values: constants, or channels (`{"keys": [...]}`) per component.
-    #[serde(
-        default,
-        skip_serializing_if = "BTreeMap::is_empty",
-        deserialize_with = "unique_keys"
-    )]
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub params: BTreeMap<String, Json>,
     /// Sibling node names (or `@N` for a subnetwork's N-th input), null for an
     /// unconnected optional input.
@@ -137,16 +132,18 @@ impl Document {
     }
 
     pub fn from_json(text: &str) -> Result<Document, SyntaxError> {
-        serde_json::from_str(text).map_err(|e| SyntaxError {
-            line: e.line(),
-            column: e.column(),
-            message: e
-                .to_string()
-                .split(" at line")
-                .next()
-                .unwrap_or_default()
-                .to_owned(),
-        })
+        refuse_duplicate_keys(text)
+            .and_then(|()| serde_json::from_str(text))
+            .map_err(|e| SyntaxError {
+                line: e.line(),
+                column: e.column(),
+                message: e
+                    .to_string()
+                    .split(" at line")
+                    .next()
+                    .unwrap_or_default()
+                    .to_owned(),
+            })
     }
 
     /// Pretty JSON with keys in a stable order.
@@ -155,38 +152,62 @@ impl Document {
     }
 }
 
-/// A JSON object read as a map, refusing a name given twice (serde would
-/// keep the last silently: two nodes named alike are a mistake to report,
-/// never a node to drop).
-fn unique_keys<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
-where
-    D: serde::Deserializer<'de>,
-    V: Deserialize<'de>,
-{
-    struct Unique<V>(std::marker::PhantomData<V>);
-    impl<'de, V: Deserialize<'de>> serde::de::Visitor<'de> for Unique<V> {
-        type Value = BTreeMap<String, V>;
-        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-            f.write_str("an object")
+/// Refuses a name given twice in any object of `text` (serde would keep
+/// the last silently: two nodes or parameters named alike are a mistake to
+/// report, never one to drop), at the line and column of the second.
+/// A pass of its own: the typed parse buffers flattened fields and loses
+/// positions.
+fn refuse_duplicate_keys(text: &str) -> Result<(), serde_json::Error> {
+    use serde::de::{DeserializeSeed, Error, MapAccess, SeqAccess, Visitor};
+    struct Scan;
+    impl<'de> DeserializeSeed<'de> for Scan {
+        type Value = ();
+        fn deserialize<D: serde::Deserializer<'de>>(self, d: D) -> Result<(), D::Error> {
+            d.deserialize_any(self)
         }
-        fn visit_map<A: serde::de::MapAccess<'de>>(
-            self,
-            mut map: A,
-        ) -> Result<Self::Value, A::Error> {
-            let mut out = BTreeMap::new();
+    }
+    impl<'de> Visitor<'de> for Scan {
+        type Value = ();
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("JSON")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<(), A::Error> {
+            let mut seen = std::collections::HashSet::new();
             while let Some(name) = map.next_key::<String>()? {
-                if out.contains_key(&name) {
-                    return Err(serde::de::Error::custom(format!(
+                if !seen.insert(name.clone()) {
+                    return Err(A::Error::custom(format!(
                         "`{name}` is named twice in one object (names must be unique)"
                     )));
                 }
-                let value = map.next_value()?;
-                out.insert(name, value);
+                map.next_value_seed(Scan)?;
             }
-            Ok(out)
+            Ok(())
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<(), A::Error> {
+            while seq.next_element_seed(Scan)?.is_some() {}
+            Ok(())
+        }
+        fn visit_bool<E>(self, _: bool) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_i64<E>(self, _: i64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_u64<E>(self, _: u64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_f64<E>(self, _: f64) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_str<E>(self, _: &str) -> Result<(), E> {
+            Ok(())
+        }
+        fn visit_unit<E>(self) -> Result<(), E> {
+            Ok(())
         }
     }
-    d.deserialize_map(Unique(std::marker::PhantomData))
+    let mut de = serde_json::Deserializer::from_str(text);
+    Scan.deserialize(&mut de)
 }
 
 impl Default for Document {
@@ -206,6 +227,8 @@ mod tests {
             "a": {"type": "sphere"}}}"#;
         let e = Document::from_json(twice).unwrap_err();
         assert!(e.message.contains("`a` is named twice"), "{e}");
+        // At the second name, not where the object ends.
+        assert_eq!(e.line, 3, "{e}");
         let twice = r#"{"geode": "network", "version": 1, "nodes": {
             "a": {"type": "box", "params": {"size": 1, "size": 2}}}}"#;
         let e = Document::from_json(twice).unwrap_err();

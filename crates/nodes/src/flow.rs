@@ -2,8 +2,8 @@
 
 use geode_geo::{ops, Geometry};
 use geode_op::{
-    CookContext, CookError, FnOperator, InputSpec, KeyContext, NodeSpec, ParamDefault as D,
-    ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
+    CancelToken, CheckContext, CookContext, CookError, InputSpec, KeyContext, NodeSpec, Operator,
+    ParamDefault as D, ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
 };
 
 use crate::network_file::{self, Outer};
@@ -102,7 +102,7 @@ const OBJECT_MERGE_FILE: P = P::new(
     "Network File",
     T::File,
     D::Str(""),
-    "Another network file (`.json`) whose nodes `objects` names; empty for this network. It is cooked at this frame with its own `$HIP`; its results' content keys this node, so editing it (or a file it reads) recooks the merge. A file that reaches itself through merges is refused.",
+    "Another network file (`.json`) whose nodes `objects` names; empty for this network. Write `$HIP/parts.json` for a file beside this network (a bare relative path is from the current folder, as for the file node). It is cooked at this frame with its own `$HIP`; its results' content keys this node, so editing it (or a file it reads) recooks the merge. A file that reaches itself through merges is refused.",
 );
 
 static OBJECT_MERGE: NodeSpec = NodeSpec::new(
@@ -165,6 +165,11 @@ fn cook_object_merge(
 
 /// The other file's nodes `objects` names, cooked.
 fn other_file_objects(outer: &Outer, file: &str, p: &Params) -> Result<Vec<Value>, CookError> {
+    network_file::cook_nodes(outer, file, &object_paths(outer, file, p)?)
+}
+
+/// The paths `objects` names (at least one).
+fn object_paths<'p>(outer: &Outer, file: &str, p: &'p Params) -> Result<Vec<&'p str>, CookError> {
     let paths: Vec<&str> = p
         .string(&OBJECT_MERGE_OBJECTS)?
         .split_whitespace()
@@ -176,7 +181,44 @@ fn other_file_objects(outer: &Outer, file: &str, p: &Params) -> Result<Vec<Value
             format!("names no node of `{file}` to merge"),
         ));
     }
-    network_file::cook_nodes(outer, file, &paths)
+    Ok(paths)
+}
+
+/// object_merge: its own operator for `geode check`'s look at the other
+/// file (this network's paths are checked when it loads).
+struct ObjectMerge;
+
+impl Operator for ObjectMerge {
+    fn spec(&self) -> &'static NodeSpec {
+        &OBJECT_MERGE
+    }
+    fn cook(
+        &self,
+        ctx: &CookContext,
+        inputs: &[Option<Value>],
+        params: &Params,
+    ) -> Result<Value, CookError> {
+        cook_object_merge(ctx, inputs, params)
+    }
+    fn key_extra(&self, ctx: &KeyContext, params: &Params) -> Result<Option<u128>, CookError> {
+        key_object_merge(ctx, params)
+    }
+    fn check(&self, ctx: &CheckContext, p: &Params) -> Result<(), CookError> {
+        let file = p.string(&OBJECT_MERGE_FILE)?;
+        if file.is_empty() {
+            return Ok(());
+        }
+        let cancel = CancelToken::new();
+        let outer = Outer {
+            path: ctx.path,
+            param: OBJECT_MERGE_FILE.name,
+            frame: ctx.frame,
+            env: ctx.env,
+            cancel: &cancel,
+        };
+        let paths = object_paths(&outer, file, p)?;
+        network_file::check_nodes(&outer, file, &paths)
+    }
 }
 
 /// With a file, the key covers the other network's results (their content
@@ -201,11 +243,7 @@ fn key_object_merge(ctx: &KeyContext, p: &Params) -> Result<Option<u128>, CookEr
 }
 
 pub fn register(r: &mut Registry) {
-    r.add(FnOperator {
-        spec: &OBJECT_MERGE,
-        cook: cook_object_merge,
-        key_extra: Some(key_object_merge),
-    });
+    r.add(ObjectMerge);
     r.node(&MERGE, cook_merge);
     r.node(&SWITCH, cook_switch);
     r.node(&NULL, cook_null);

@@ -326,6 +326,12 @@ fn cook_ray(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<V
         .par_iter()
         .enumerate()
         .map(|(i, &q)| {
+            // A minimum-distance query far from a dense surface can take
+            // a millisecond: poll before each (one atomic load; the
+            // result is dropped once cancelled).
+            if ctx.cancel.is_cancelled() {
+                return None;
+            }
             if selected.as_ref().is_some_and(|s| !s.contains(i)) {
                 return None;
             }

@@ -227,6 +227,23 @@ fn attribute_nodes_stop_promptly() {
             &["/w", "/d"][..],
         ),
         (
+            // Points inside a closed sphere: every triangle nearly as
+            // close as the nearest, about a millisecond a query.
+            "attribute_transfer from primitives inside a sphere",
+            r#""g": {"type": "grid", "params": {"rows": 299, "columns": 299, "size": [1, 1]}},
+               "s": {"type": "sphere", "params": {"rows": 300, "columns": 600, "radius": 5}},
+               "w": {"type": "wrangle", "inputs": ["s"], "params": {"run_over": "primitives", "snippet": "f@w = @primnum;"}},
+               "n": {"type": "attribute_transfer", "params": {"points": "", "primitives": "w"}, "inputs": ["g", "w"]}"#,
+            &["/g", "/w"][..],
+        ),
+        (
+            "ray minimum inside a sphere",
+            r#""g": {"type": "grid", "params": {"rows": 299, "columns": 299, "size": [1, 1]}},
+               "s": {"type": "sphere", "params": {"rows": 300, "columns": 600, "radius": 5}},
+               "n": {"type": "ray", "params": {"method": "minimum"}, "inputs": ["g", "s"]}"#,
+            &["/g", "/s"][..],
+        ),
+        (
             "attribute_blur",
             r#""s": {"type": "sphere", "params": {"rows": 500, "columns": 1000}},
                "n": {"type": "attribute_blur", "params": {"iterations": 100000}, "inputs": ["s"]}"#,

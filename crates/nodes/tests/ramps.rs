@@ -301,7 +301,7 @@ fn chramp_reads_spare_ramps_in_wrangles() {
 fn ring_radii(params: &str) -> Vec<f32> {
     let nodes = format!(
         r#""l": {{"type": "curve_line", "params": {{"points": 5, "end": [0, 4, 0]}}}},
-            "n": {{"type": "sweep", "inputs": ["l"], "params": {{"sides": 16, "radius": 0.5, "caps": false, {params}}}}}"#
+            "n": {{"type": "sweep", "inputs": ["l"], "params": {{"sides": 16, "radius": 0.5, "caps": false{params}}}}}"#
     );
     let g = geo(&nodes, "n");
     let p = g.positions();
@@ -311,18 +311,18 @@ fn ring_radii(params: &str) -> Vec<f32> {
 #[test]
 fn sweep_scales_along_the_curve_by_its_ramp() {
     // Flat at 1 by default.
-    for r in ring_radii(r#""sides": 16"#) {
+    for r in ring_radii("") {
         assert!((r - 0.5).abs() < 1e-6);
     }
     // Linear from 1 to 0.2: the rings at u = 0, 0.25 ... 1.
-    let r = ring_radii(r#""ramp": [{"pos": 0, "value": 1}, {"pos": 1, "value": 0.2}]"#);
+    let r = ring_radii(r#", "ramp": [{"pos": 0, "value": 1}, {"pos": 1, "value": 0.2}]"#);
     for (k, v) in r.iter().enumerate() {
         let u = k as f32 / 4.0;
         assert!((v - 0.5 * (1.0 - 0.8 * u)).abs() < 1e-6, "{k}: {v}");
     }
     // Houdini's "Hill": a monotone cubic bump, widest in the middle.
     let r = ring_radii(
-        r#""ramp": [{"pos": 0, "value": 0, "interp": "monotonecubic"}, {"pos": 0.5, "value": 1, "interp": "monotonecubic"}, {"pos": 1, "value": 0}]"#,
+        r#", "ramp": [{"pos": 0, "value": 0, "interp": "monotonecubic"}, {"pos": 0.5, "value": 1, "interp": "monotonecubic"}, {"pos": 1, "value": 0}]"#,
     );
     assert!(
         (r[2] - 0.5).abs() < 1e-6 && r[0] < 1e-6 && r[4] < 1e-6,
@@ -330,8 +330,8 @@ fn sweep_scales_along_the_curve_by_its_ramp() {
     );
     assert!((r[1] - 0.5 * smoothstep(0.5)).abs() < 1e-6, "{r:?}");
     // The old text form still loads, as linear keys, with a note.
-    let old = ring_radii(r#""ramp": "0 1, 1 0.2""#);
-    let new = ring_radii(r#""ramp": [{"pos": 0, "value": 1}, {"pos": 1, "value": 0.2}]"#);
+    let old = ring_radii(r#", "ramp": "0 1, 1 0.2""#);
+    let new = ring_radii(r#", "ramp": [{"pos": 0, "value": 1}, {"pos": 1, "value": 0.2}]"#);
     assert_eq!(old, new);
     let net = load(r#""l": {"type": "curve_line"}, "n": {"type": "sweep", "inputs": ["l"], "params": {"ramp": "0 1, 1 0.2"}}"#).unwrap();
     assert_eq!(
@@ -339,7 +339,7 @@ fn sweep_scales_along_the_curve_by_its_ramp() {
         ["/n: parameter `ramp`: read from the old text form as 2 rows; write it as a list of objects with fields `pos`, `value`, `interp`"]
     );
     // An emptied ramp multiplies by 1, as the old empty text did.
-    for r in ring_radii(r#""ramp": []"#) {
+    for r in ring_radii(r#", "ramp": []"#) {
         assert!((r - 0.5).abs() < 1e-6);
     }
 }

@@ -107,6 +107,13 @@ pub enum Source {
     /// A constant of the run (`@numpt`, `@Frame`, `-1` for numbers that do
     /// not apply).
     Const(f64),
+    /// `@P` over primitives that have no `P` of their own: the average of
+    /// the primitive's points, as Houdini reads it (read-only).
+    Centroid,
+    /// Over vertices, a numeric attribute the vertices lack but their
+    /// points (or else primitives) have, read through each vertex's
+    /// point or primitive, as Houdini does (read-only).
+    Through { class: AttribClass, attrib: String },
 }
 
 #[derive(Clone, Debug)]
@@ -118,6 +125,16 @@ pub struct Binding {
 }
 
 impl Binding {
+    /// Why a binding cannot be written, for the error that says so (""
+    /// where "read-only" says it all).
+    pub fn read_only_because(&self) -> &'static str {
+        match self.source {
+            Source::Centroid => " here: over primitives it is the average of each primitive's points (move points with setpointattrib)",
+            Source::Through { .. } => " here: the vertices read it from their points or primitives (write it with setpointattrib or setprimattrib)",
+            _ => "",
+        }
+    }
+
     pub fn writable(&self) -> bool {
         matches!(
             self.source,

@@ -667,3 +667,69 @@ fn appending_to_one_array_is_linear_in_the_appends() {
         "400k appends took {large:?}, 25k {small:?}"
     );
 }
+
+/// SideFX: over primitives `@P` is the average of the primitive's points;
+/// over vertices, attributes the vertices lack are read from their points
+/// (then primitives). Both read-only there, and saying why.
+#[test]
+fn primitives_read_their_centroid_and_vertices_their_points() {
+    let g = primitives::grid(Vec2::new(2.0, 2.0), 2, 2);
+    let out = wrangle("f@cx = @P.x; f@cz = @P.z;", AttribClass::Primitive, &g);
+    let cx = out
+        .attrib(AttribClass::Primitive, "cx")
+        .unwrap()
+        .as_f32()
+        .unwrap()
+        .to_vec();
+    let cz = out
+        .attrib(AttribClass::Primitive, "cz")
+        .unwrap()
+        .as_f32()
+        .unwrap()
+        .to_vec();
+    for prim in 0..g.num_prims() {
+        let points = g.prim_points(prim);
+        let mean = points
+            .iter()
+            .map(|&p| g.positions()[p as usize])
+            .sum::<geode_geo::glam::Vec3>()
+            / points.len() as f32;
+        assert!((cx[prim] - mean.x).abs() < 1e-6 && (cz[prim] - mean.z).abs() < 1e-6);
+    }
+    // Over vertices: the point's position and uv, the primitive's number
+    // attribute, and a vertex attribute of its own before any of them.
+    let mut g = g;
+    let ids: Vec<i32> = (0..g.num_prims() as i32).map(|i| 10 + i).collect();
+    g.set_attrib(
+        AttribClass::Primitive,
+        "id",
+        geode_geo::Attribute::from_data(geode_geo::AttribData::Int(ids), geode_geo::TypeInfo::None),
+    )
+    .unwrap();
+    let out = wrangle(
+        "f@vx = @P.x; v@t = @uv; i@owner = i@id;",
+        AttribClass::Vertex,
+        &g,
+    );
+    let vx = out
+        .attrib(AttribClass::Vertex, "vx")
+        .unwrap()
+        .as_f32()
+        .unwrap();
+    let owner = out
+        .attrib(AttribClass::Vertex, "owner")
+        .unwrap()
+        .as_i32()
+        .unwrap();
+    for (v, &p) in g.vertex_points().iter().enumerate() {
+        assert_eq!(vx[v], g.positions()[p as usize].x);
+        assert_eq!(owner[v], 10 + g.topology().prim_of_vertex(v) as i32);
+    }
+    let e = geode_vex::compile("@P.y = 1;", &spec_default(AttribClass::Primitive, &g)).unwrap_err();
+    assert!(
+        e.to_string().contains("average of each primitive's points"),
+        "{e}"
+    );
+    let e = geode_vex::compile("@uv.x = 1;", &spec_default(AttribClass::Vertex, &g)).unwrap_err();
+    assert!(e.to_string().contains("from their points"), "{e}");
+}

@@ -131,22 +131,37 @@ fn refuses_files_that_reach_themselves_and_names_what_is_wrong() {
     );
     let e = cook_file(d, "m.json", &cache).unwrap_err();
     assert!(e.contains("missing.json"), "{e}");
-    std::fs::write(
-        d.join("bad.json"),
-        super::net(r#""b": {"type": "boxx"}"#, "b"),
-    )
-    .unwrap();
-    write(
-        d,
-        "m.json",
-        r#""om": {"type": "object_merge", "params": {"file": "$HIP/bad.json", "objects": "b"}}"#,
-        "om",
-    );
-    let e = cook_file(d, "m.json", &cache).unwrap_err();
+    // A broken node of the other file fails only the merges that read it.
+    let bad = super::net(r#""b": {"type": "boxx"}, "ok": {"type": "box"}"#, "b");
+    std::fs::write(d.join("bad.json"), bad).unwrap();
+    let merge = |file: &str, objects: &str| {
+        let text = format!(
+            r#""om": {{"type": "object_merge", "params": {{"file": "$HIP/{file}", "objects": "{objects}"}}}}"#
+        );
+        write(d, "m.json", &text, "om");
+        cook_file(d, "m.json", &Cache::disabled())
+    };
+    let ok = merge("bad.json", "ok").unwrap();
+    assert_eq!(ok.as_geometry().unwrap().num_points(), 8);
+    let e = merge("bad.json", "b").unwrap_err();
     assert!(
-        e.contains("bad.json") && e.contains("does not load") && e.contains("boxx"),
+        e.contains("bad.json") && e.contains("/b") && e.contains("boxx"),
         "{e}"
     );
+    std::fs::write(d.join("notjson.json"), "{").unwrap();
+    let e = merge("notjson.json", "b").unwrap_err();
+    assert!(
+        e.contains("notjson.json") && e.contains("does not load"),
+        "{e}"
+    );
+    // Paths above the other network's top, and patterns, are refused as such.
+    for (objects, says) in [
+        ("../ok", "goes above the network's top level"),
+        ("b*", "exact paths"),
+    ] {
+        let e = merge("bad.json", objects).unwrap_err();
+        assert!(e.contains(says), "{objects}: {e}");
+    }
     write(
         d,
         "m.json",
@@ -155,4 +170,39 @@ fn refuses_files_that_reach_themselves_and_names_what_is_wrong() {
     );
     let e = cook_file(d, "m.json", &cache).unwrap_err();
     assert!(e.contains("names no node"), "{e}");
+}
+
+/// `geode check` sees, without cooking, what no cook of the merge could
+/// get past: a missing file, a node the other file lacks or has broken.
+#[test]
+fn check_reads_the_other_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    write(
+        d,
+        "parts.json",
+        r#""b": {"type": "box"}, "typo": {"type": "boxx"}"#,
+        "b",
+    );
+    let problems = |objects: &str, file: &str| {
+        let text = super::net(
+            &format!(
+                r#""om": {{"type": "object_merge", "params": {{"file": "$HIP/{file}", "objects": "{objects}"}}}}"#
+            ),
+            "om",
+        );
+        let path = d.join("m.json");
+        std::fs::write(&path, &text).unwrap();
+        let net = geode_graph::load_str(&text, &geode_nodes::registry()).unwrap();
+        net.check(1.0, &CookEnv::for_network(&path))
+            .iter()
+            .map(|e| e.to_string())
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(problems("b", "parts.json"), "");
+    let e = problems("nosuch", "parts.json");
+    assert!(e.contains("/nosuch: no such node"), "{e}");
+    assert!(problems("typo", "parts.json").contains("boxx"));
+    assert!(problems("b", "missing.json").contains("missing.json"));
 }

@@ -270,6 +270,23 @@ fn source(name: &str, spec: &BindSpec, input0: Option<&Geometry>) -> (Source, Op
     let on_class = input0
         .and_then(|g| g.attrib(class, name))
         .and_then(|a| ty_of(a.data()));
+    if on_class.is_none() && input0.and_then(|g| g.attrib(class, name)).is_none() {
+        if class == AttribClass::Primitive && name == "P" {
+            return (Source::Centroid, Some(Ty::Vec3));
+        }
+        if class == AttribClass::Vertex {
+            for c in [AttribClass::Point, AttribClass::Primitive] {
+                let numeric = input0
+                    .and_then(|g| g.attrib(c, name))
+                    .filter(|a| a.data().as_floats().is_some() || a.as_i32().is_some())
+                    .and_then(|a| ty_of(a.data()));
+                if let Some(t) = numeric {
+                    let attrib = name.to_string();
+                    return (Source::Through { class: c, attrib }, Some(t));
+                }
+            }
+        }
+    }
     if on_class.is_none() && class != AttribClass::Detail {
         if let Some(t) = input0
             .and_then(|g| g.attrib(AttribClass::Detail, name))

@@ -58,6 +58,9 @@ enum Read<'g> {
     AF(&'g [Vec<f32>]),
     AV(&'g [Vec<geode_geo::glam::Vec3>]),
     AS(&'g [Vec<String>]),
+    /// A column made for the run (a centroid, a point attribute per vertex).
+    OwnedF(Vec<f32>, usize),
+    OwnedI(Vec<i32>),
 }
 
 /// A batch's queued effects and its sinks back.
@@ -430,8 +433,53 @@ fn reads<'g>(
                 })
             }
             Source::Const(c) => Read::Const(*c),
+            Source::Centroid => Read::OwnedF(centroids(snapshot), 3),
+            Source::Through { class, attrib } => through(snapshot, *class, attrib),
         })
         .collect()
+}
+
+/// The average of each primitive's points (0 for a primitive without).
+fn centroids(g: &Geometry) -> Vec<f32> {
+    let p = g.positions();
+    (0..g.num_prims())
+        .flat_map(|prim| {
+            let points = g.prim_points(prim);
+            let sum = points
+                .iter()
+                .fold(geode_geo::glam::Vec3::ZERO, |s, &q| s + p[q as usize]);
+            (sum / points.len().max(1) as f32).to_array()
+        })
+        .collect()
+}
+
+/// A point or primitive attribute per vertex.
+fn through<'g>(g: &'g Geometry, class: AttribClass, attrib: &str) -> Read<'g> {
+    let owner: Vec<u32> = if class == AttribClass::Point {
+        g.vertex_points().to_vec()
+    } else {
+        let offs = g.prim_offsets();
+        let mut t = vec![0u32; g.num_vertices()];
+        for prim in 0..g.num_prims() {
+            t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
+        }
+        t
+    };
+    let Some(a) = g.attrib(class, attrib) else {
+        return Read::Zero;
+    };
+    if let Some((f, w)) = a.data().as_floats() {
+        let gathered = owner
+            .iter()
+            .flat_map(|&o| &f[o as usize * w..(o as usize + 1) * w])
+            .copied()
+            .collect();
+        Read::OwnedF(gathered, w)
+    } else if let Some(i) = a.as_i32() {
+        Read::OwnedI(owner.iter().map(|&o| i[o as usize]).collect())
+    } else {
+        Read::Zero
+    }
 }
 
 /// Spreads interleaved values (`x y z x y z ...`) into one register row per
@@ -509,6 +557,19 @@ fn contiguous(elems: &[u32]) -> Option<std::ops::Range<usize>> {
 /// Fills every binding's registers for the batch's elements.
 fn load(p: &Program, fr: &mut Frame, reads: &[Read], elems: &[u32]) {
     for (b, r) in p.bindings.iter().zip(reads) {
+        // A column made for the run reads as one of the geometry's.
+        let made;
+        let r = match r {
+            Read::OwnedF(v, w) => {
+                made = Read::F(v, *w);
+                &made
+            }
+            Read::OwnedI(v) => {
+                made = Read::I(v);
+                &made
+            }
+            other => other,
+        };
         let reg = b.loc.reg as usize;
         let width = b.ty.floats();
         match (r, b.ty) {

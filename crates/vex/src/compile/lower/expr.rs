@@ -573,7 +573,8 @@ impl<'a> Lower<'a> {
                     .position(|b| b.name == *name)
                     .expect("pre-pass");
                 if !self.bindings[b].writable() {
-                    return err(e.pos, format!("@{name} is read-only"));
+                    let why = self.bindings[b].read_only_because();
+                    return err(e.pos, format!("@{name} is read-only{why}"));
                 }
                 self.mark_written(b);
                 Ok(Target::Regs(self.bindings[b].loc))
