@@ -175,6 +175,67 @@ describe('loops and solvers', () => {
   }
 });
 
+describe('a for-each block', () => {
+  let server;
+  let page;
+  before(async () => {
+    server = await serve('primitives.json');
+    ({ page } = await open(chrome.b, server.url));
+    await nextCook(page, 0);
+  });
+  after(async () => {
+    await page?.close();
+    await server?.stop();
+  });
+
+  /** Drags from `from`'s centre to `to`'s. */
+  async function drag(from, to) {
+    const a = await boxOf(from);
+    const b = await boxOf(to);
+    await page.mouse.move(a.x + a.width / 2, a.y + a.height / 2);
+    await page.mouse.down();
+    await page.mouse.move((a.x + b.x) / 2, (a.y + b.y) / 2, { steps: 4 });
+    await page.mouse.move(b.x + b.width / 2, b.y + b.height / 2, { steps: 4 });
+    await page.mouse.up();
+  }
+
+  test('a new one passes its piece through, and inside, @0 and @meta wire like outputs', async () => {
+    const names = await page.evaluate(() => Object.keys(window.__geode.store.state.document.nodes));
+    await clickNode(page, 'ring');
+    await page.locator('#editor svg').hover({ position: { x: 80, y: 80 } });
+    await page.keyboard.press('Tab');
+    await page.locator('.tab-menu input').fill('for_each');
+    await page.locator('.tab-item[data-type="for_each"]').waitFor();
+    await page.keyboard.press('Enter');
+    const added = await (await page.waitForFunction((old) => Object.keys(window.__geode.store.state.document.nodes).find((n) => !old.includes(n)), names)).jsonValue();
+    // Its network passes @0 through, so it cooks without error from the start.
+    const inner = await page.evaluate((n) => window.__geode.store.state.document.nodes[n].network, added);
+    assert.equal(inner.output, 'output');
+    assert.deepEqual(inner.nodes.output.inputs, ['@0']);
+    await page.waitForFunction((n) => !window.__geode.store.state.problems.some((p) => p.path.startsWith('/' + n)), added);
+    // Inside: a marker per input and @meta, with the wire from @0 drawn.
+    await clickNode(page, added);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('g.inner-input[data-marker="@0"]');
+    await page.waitForSelector('g.inner-input[data-marker="@meta"]');
+    await page.waitForSelector('path.wire.from-\\@0.to-output');
+    // A wrangle added inside is wired from the markers by dragging.
+    const before = await page.evaluate((n) => Object.keys(window.__geode.store.state.document.nodes[n].network.nodes), added);
+    await page.locator('#editor svg').hover({ position: { x: 300, y: 300 } });
+    await page.keyboard.press('Tab');
+    await page.locator('.tab-menu input').fill('wrangle');
+    await page.locator('.tab-item[data-type="wrangle"]').waitFor();
+    await page.keyboard.press('Enter');
+    const w = await (await page.waitForFunction(([n, old]) => Object.keys(window.__geode.store.state.document.nodes[n].network.nodes).find((k) => !old.includes(k)), [added, before])).jsonValue();
+    const ports = page.locator(`g.node[data-node="${w}"] circle.port.in`);
+    await drag(page.locator('g.inner-input[data-marker="@0"] circle.port.out'), ports.nth(0));
+    await page.waitForFunction(([n, k]) => window.__geode.store.state.document.nodes[n].network.nodes[k].inputs?.[0] === '@0', [added, w]);
+    await drag(page.locator('g.inner-input[data-marker="@meta"] circle.port.out'), ports.nth(1));
+    await page.waitForFunction(([n, k]) => window.__geode.store.state.document.nodes[n].network.nodes[k].inputs?.[1] === '@meta', [added, w]);
+    assert.doesNotMatch(await page.locator('#status').textContent(), /refused/);
+  });
+});
+
 describe('a result beyond the viewport budget', () => {
   let server;
   let page;

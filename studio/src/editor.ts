@@ -10,6 +10,9 @@ import type { AppStore } from './store';
 const MIN_FIT_ZOOM = 0.85;
 
 const SVG = 'http://www.w3.org/2000/svg';
+/** An inner input's marker (`@0`, `@meta`) inside a subnet or block. */
+const MARKER_W = 64;
+const MARKER_H = 22;
 
 export interface EditorActions {
   edit(edit: Record<string, unknown>): Promise<boolean>;
@@ -42,6 +45,8 @@ export class NetworkEditor {
   private zoom = 1;
   private drag: Drag | null = null;
   private positions = new Map<string, [number, number]>();
+  /** Inside a subnet or block: the enclosing node's inputs (`@0`, `@1`.., `@meta`) as markers above the nodes, wired from like outputs. */
+  private markers = new Map<string, [number, number]>();
   /** Automatic positions given to nodes the file places nowhere, by network path. */
   private autoPositions = new Map<string, Map<string, [number, number]>>();
   /** Positions moved locally, until the document confirms them. */
@@ -112,6 +117,10 @@ export class NetworkEditor {
     const ys = names.map((n) => this.positions.get(n)![1]);
     let [x0, x1] = [Math.min(...xs) - 40, Math.max(...xs) + NODE_W + 140];
     let [y0, y1] = [Math.min(...ys) - 40, Math.max(...ys) + NODE_H + 40];
+    // Frame all takes the inner inputs' markers in too.
+    for (const [x, y] of selectedOnly ? [] : this.markers.values()) {
+      [x0, y0] = [Math.min(x0, x - 40), Math.min(y0, y - 20)];
+    }
     // Frame all takes the notes in too (their corners must stay reachable).
     for (const n of selectedOnly ? [] : Object.values(this.net()?.notes ?? {})) {
       [x0, x1] = [Math.min(x0, n.pos[0] - 20), Math.max(x1, n.pos[0] + n.size[0] + 20)];
@@ -167,6 +176,11 @@ export class NetworkEditor {
       return;
     }
     if (e.button !== 0) return;
+    const marker = (e.target as Element).closest('[data-marker]')?.getAttribute('data-marker');
+    if (marker) {
+      this.drag = { kind: 'wire', from: marker, x: wx, y: wy };
+      return;
+    }
     if (!t.node && this.annotationDown(e, wx, wy)) return;
     this.picked = null;
     if (!t.node) {
@@ -376,6 +390,7 @@ export class NetworkEditor {
       }
       if (!this.drag && doc && Math.abs(doc[0] - p[0]) < 0.11 && Math.abs(doc[1] - p[1]) < 0.11) this.pending.delete(n);
     }
+    this.markers = this.innerInputs(net);
     if (this.framedAt !== this.store.at && this.positions.size) {
       this.framedAt = this.store.at;
       this.frame(false, true);
@@ -385,12 +400,13 @@ export class NetworkEditor {
     const noteLayer = el('g', { class: 'notes' }, this.root);
     const wireLayer = el('g', { class: 'wires' }, this.root);
     for (const w of wires(net)) {
-      const a = this.positions.get(w.from);
+      const a = this.outPort(w.from);
       const b = this.positions.get(w.to);
       if (!a || !b) continue;
       const count = Math.max(net.nodes[w.to].inputs?.length ?? 1, this.inputsOf(net.nodes[w.to]));
-      drawWire(wireLayer, [a[0] + NODE_W / 2, a[1] + NODE_H], [b[0] + portX(w.input, count), b[1]], `wire from-${w.from} to-${w.to}`);
+      drawWire(wireLayer, a, [b[0] + portX(w.input, count), b[1]], `wire from-${w.from} to-${w.to}`);
     }
+    for (const [name, at] of this.markers) this.drawMarker(name, at);
     const failed = this.readsFailed(net);
     for (const [name, node] of Object.entries(net.nodes)) this.drawNode(name, node, this.positions.get(name)!, failed.get(name));
     const notes = { ...net.notes };
@@ -399,12 +415,58 @@ export class NetworkEditor {
     drawAnnotations(boxLayer, noteLayer, { ...net, notes }, this.positions, this.picked);
     const d = this.drag;
     if (d?.kind === 'wire') {
-      const a = this.positions.get(d.from);
-      if (a) drawWire(this.root, [a[0] + NODE_W / 2, a[1] + NODE_H], [d.x, d.y], 'wire live');
+      const a = this.outPort(d.from);
+      if (a) drawWire(this.root, a, [d.x, d.y], 'wire live');
     }
     if (d?.kind === 'box') {
       el('rect', { class: 'box-select', x: Math.min(d.x0, d.x1), y: Math.min(d.y0, d.y1), width: Math.abs(d.x1 - d.x0), height: Math.abs(d.y1 - d.y0) }, this.root);
     }
+  }
+
+  /** Where wires from `from` start: a node's output, or an inner input's marker. */
+  private outPort(from: string): [number, number] | null {
+    const a = this.positions.get(from);
+    if (a) return [a[0] + NODE_W / 2, a[1] + NODE_H];
+    const m = this.markers.get(from);
+    return m ? [m[0] + MARKER_W / 2, m[1] + MARKER_H] : null;
+  }
+
+  /**
+   * Inside a subnet or block, its inputs as markers in a row above the
+   * nodes (Houdini's subnet input connectors): `@0` to the last input the
+   * node has or the network reads, and `@meta` in a block.
+   */
+  private innerInputs(net: DocNetwork): Map<string, [number, number]> {
+    const out = new Map<string, [number, number]>();
+    const at = this.store.at;
+    if (at === '/' || !this.store.state) return out;
+    const holder = nodeAt(this.store.state.document, at);
+    if (!holder) return out;
+    let count = Math.max(1, holder.inputs?.length ?? 0);
+    let meta = this.store.catalogue.get(holder.type)?.meta ?? false;
+    for (const node of Object.values(net.nodes)) {
+      for (const from of node.inputs ?? []) {
+        const n = from?.match(/^@(\d+)$/);
+        if (n) count = Math.max(count, Number(n[1]) + 1);
+        if (from === '@meta') meta = true;
+      }
+    }
+    const names = [...Array.from({ length: count }, (_, i) => `@${i}`), ...(meta ? ['@meta'] : [])];
+    const placed = [...this.positions.values()];
+    const left = placed.length ? Math.min(...placed.map((p) => p[0])) : 0;
+    const top = placed.length ? Math.min(...placed.map((p) => p[1])) : 0;
+    names.forEach((n, i) => out.set(n, [left + i * (MARKER_W + 16), top - MARKER_H - 60]));
+    return out;
+  }
+
+  private drawMarker(name: string, [x, y]: [number, number]) {
+    const g = el('g', { class: 'inner-input', transform: `translate(${x},${y})`, 'data-marker': name }, this.root);
+    el('rect', { class: 'body', width: MARKER_W, height: MARKER_H, rx: 11 }, g);
+    const label = el('text', { class: 'node-name', x: MARKER_W / 2, y: 15, 'text-anchor': 'middle' }, g);
+    label.textContent = name;
+    el('circle', { class: 'port out', cx: MARKER_W / 2, cy: MARKER_H, r: 5, 'data-marker': name }, g);
+    el('title', {}, g).textContent =
+      name === '@meta' ? "the block's pass: detail attributes iteration, numiterations, value (drag to an input to wire it)" : `the enclosing node's input ${Number(name.slice(1)) + 1} (in a block, @0 is the piece or feedback; drag to an input to wire it)`;
   }
 
   /** A press on a note (move, or resize at its corner) or a box's label (moves its nodes); true when it took the press. */

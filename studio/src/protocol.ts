@@ -27,8 +27,10 @@ export interface NodeType {
   output: string;
   params: ParamDecl[];
   timeDependent: boolean;
-  /** Holds a network (subnet, loop, solver). */
+  /** Holds a network (subnet, loop, solver, for_each). */
   network?: boolean;
+  /** Its network reads `@meta` (the blocks). */
+  meta?: boolean;
   /** Takes spare parameters declared in the network. */
   spare?: boolean;
 }

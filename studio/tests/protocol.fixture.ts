@@ -350,6 +350,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
+    "meta": true,
     "name": "for_each",
     "network": true,
     "output": "",
@@ -418,6 +419,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
+    "meta": false,
     "name": "attribute_blur",
     "network": false,
     "output": "",
@@ -558,6 +560,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
+    "meta": false,
     "name": "attribute_rename",
     "network": false,
     "output": "",
@@ -643,6 +646,7 @@ export const nodeTypes: NodeType[] = [
       }
     ],
     "label": "",
+    "meta": false,
     "name": "wrangle",
     "network": false,
     "output": "",

@@ -99,6 +99,12 @@ pub fn holds_network(ty: &str) -> bool {
     container_spec(ty).is_some() && ty != TIME_SHIFT.name
 }
 
+/// Whether the network inside node type `ty` reads `@meta` (the blocks:
+/// loop, solver, for_each; not a subnet).
+pub fn has_meta(ty: &str) -> bool {
+    holds_network(ty) && ty != SUBNET.name
+}
+
 /// The declaration of one of the engine's own node types (nodes that hold
 /// a network), if `ty` names one.
 pub fn container_spec(ty: &str) -> Option<&'static NodeSpec> {

@@ -17,7 +17,7 @@ mod expr;
 pub use block::BlockKind;
 pub use cache::{Cache, CacheStats, Cached, Store};
 pub use compile::{LoadError, Network, Promotion};
-pub use container::{container_spec, holds_network, node_spec, node_specs};
+pub use container::{container_spec, has_meta, holds_network, node_spec, node_specs};
 pub use document::{Document, SyntaxError};
 pub use engine::{CookEvent, CookOptions, CookResult, Engine};
 

@@ -96,6 +96,7 @@ pub fn spec_json(s: &NodeSpec) -> Json {
         "params": s.params.iter().map(param_json).collect::<Vec<_>>(),
         "timeDependent": s.time_dependent,
         "network": geode_graph::holds_network(s.name),
+        "meta": geode_graph::has_meta(s.name),
         "spare": s.spare,
     })
 }

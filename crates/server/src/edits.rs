@@ -370,7 +370,7 @@ fn add_node(
         bypass: false,
         display: false,
         template: false,
-        network: geode_graph::holds_network(ty).then(|| Box::new(NetworkDoc::default())),
+        network: geode_graph::holds_network(ty).then(|| Box::new(passing_through())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),
@@ -381,6 +381,29 @@ fn add_node(
     let path = join(parent, &name);
     net.nodes.insert(name, node);
     Ok(path)
+}
+
+/// A new subnet's or block's network: a null named `output` passing its
+/// first input through (Houdini's new For-Each passes its piece through),
+/// so a new block cooks before anything is put in it.
+fn passing_through() -> NetworkDoc {
+    let output = NodeDoc {
+        ty: "null".into(),
+        params: BTreeMap::new(),
+        inputs: vec![Some("@0".into())],
+        bypass: false,
+        display: false,
+        template: false,
+        network: None,
+        spare: BTreeMap::new(),
+        promote: BTreeMap::new(),
+        extra: BTreeMap::new(),
+    };
+    NetworkDoc {
+        nodes: BTreeMap::from([("output".to_owned(), output)]),
+        output: Some("output".into()),
+        ..NetworkDoc::default()
+    }
 }
 
 fn remove_node(d: &mut Document, path: &str) -> Result<(), EditError> {
@@ -475,6 +498,9 @@ fn connect(
     if pf != pt {
         return Err(refuse(to, "wires join nodes of the same network"));
     }
+    if from_name.starts_with('@') {
+        return connect_inner_input(d, pt, from_name, to_name, input, registry);
+    }
     let net = network_mut(d, pt)?;
     let source = net
         .nodes
@@ -503,6 +529,62 @@ fn connect(
         ));
     }
     let target = net.nodes.get_mut(to_name).expect("checked above");
+    if target.inputs.len() <= input {
+        target.inputs.resize(input + 1, None);
+    }
+    target.inputs[input] = Some(from_name.to_owned());
+    Ok(())
+}
+
+/// Wires one of the enclosing node's inputs inside its network: `@N` (its
+/// N-th input, in a block the feedback or piece for `@0`) or `@meta` (a
+/// block's pass).
+fn connect_inner_input(
+    d: &mut Document,
+    parent: &str,
+    from_name: &str,
+    to_name: &str,
+    input: usize,
+    registry: &Registry,
+) -> Result<(), EditError> {
+    let to = join(parent, to_name);
+    let holder = (parent != "/")
+        .then(|| node_mut(d, parent).ok().map(|n| n.ty.clone()))
+        .flatten();
+    let Some(holder) = holder.filter(|t| geode_graph::holds_network(t)) else {
+        return Err(refuse(
+            &to,
+            format!(
+                "`{from_name}` names an input of the enclosing node: only inside a subnet or block"
+            ),
+        ));
+    };
+    let valid = match &from_name[1..] {
+        "meta" => geode_graph::has_meta(&holder),
+        n => n.parse::<usize>().is_ok(),
+    };
+    if !valid {
+        return Err(refuse(
+            &to,
+            format!(
+                "`{from_name}` is no input of a {holder} (`@0`, `@1`..{})",
+                if geode_graph::has_meta(&holder) {
+                    " or `@meta`"
+                } else {
+                    ""
+                }
+            ),
+        ));
+    }
+    let net = network_mut(d, parent)?;
+    let target = net
+        .nodes
+        .get_mut(to_name)
+        .ok_or_else(|| refuse(&to, "no such node"))?;
+    let (_, in_ty) = port_types(target, registry, input);
+    if in_ty.is_none() {
+        return Err(refuse(&to, format!("has no input {}", input + 1)));
+    }
     if target.inputs.len() <= input {
         target.inputs.resize(input + 1, None);
     }
