@@ -107,7 +107,7 @@ const SHIFT_RANGE: P = P::new(
     "Range",
     T::Vec2,
     D::Vec2([1.0, 240.0]),
-    "The first and last frame the input is cooked at, when clamped.",
+    "The first and last frame the input is cooked at, when clamped (in either order).",
 );
 
 pub(crate) static TIME_SHIFT_PARAMS: [P; 5] = [
