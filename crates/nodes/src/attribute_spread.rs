@@ -38,7 +38,7 @@ const TRANSFER_USE_THRESHOLD: P = P::new(
     "Distance threshold",
     T::Toggle,
     D::Toggle(false),
-    "Transfer only within the threshold (and fade over the blend width); off: every destination takes its nearest source's value.",
+    "Transfer only within the threshold (and fade over the blend width); off: every destination takes its nearest source's value. The threshold also bounds the search: primitives far from every source surface (inside a closed shape) cost up to a millisecond each unbounded.",
 );
 const TRANSFER_THRESHOLD: P = P::new(
     "threshold",

@@ -133,13 +133,13 @@ fn cook_object_merge(
     let values: &[Option<Value>] = match p.string(&OBJECT_MERGE_FILE)? {
         "" => inputs,
         file => {
-            let outer = Outer {
-                path: ctx.path,
-                param: OBJECT_MERGE_FILE.name,
-                frame: ctx.frame,
-                env: ctx.env,
-                cancel: ctx.cancel,
-            };
+            let outer = Outer::new(
+                ctx.path,
+                OBJECT_MERGE_FILE.name,
+                ctx.frame,
+                ctx.env,
+                ctx.cancel,
+            );
             from_file = other_file_objects(&outer, file, p)?
                 .into_iter()
                 .map(Some)
@@ -209,13 +209,13 @@ impl Operator for ObjectMerge {
             return Ok(());
         }
         let cancel = CancelToken::new();
-        let outer = Outer {
-            path: ctx.path,
-            param: OBJECT_MERGE_FILE.name,
-            frame: ctx.frame,
-            env: ctx.env,
-            cancel: &cancel,
-        };
+        let outer = Outer::new(
+            ctx.path,
+            OBJECT_MERGE_FILE.name,
+            ctx.frame,
+            ctx.env,
+            &cancel,
+        );
         let paths = object_paths(&outer, file, p)?;
         network_file::check_nodes(&outer, file, &paths)
     }
@@ -228,13 +228,13 @@ fn key_object_merge(ctx: &KeyContext, p: &Params) -> Result<Option<u128>, CookEr
     if file.is_empty() {
         return Ok(None);
     }
-    let outer = Outer {
-        path: ctx.path,
-        param: OBJECT_MERGE_FILE.name,
-        frame: ctx.frame,
-        env: ctx.env,
-        cancel: ctx.cancel,
-    };
+    let outer = Outer::new(
+        ctx.path,
+        OBJECT_MERGE_FILE.name,
+        ctx.frame,
+        ctx.env,
+        ctx.cancel,
+    );
     let mut h = xxhash_rust::xxh3::Xxh3::new();
     for v in other_file_objects(&outer, file, p)? {
         h.update(&v.identity().to_le_bytes());

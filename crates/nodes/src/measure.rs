@@ -210,7 +210,7 @@ const RAY_LIMIT: P = P::new(
     "Limit distance",
     T::Toggle,
     D::Toggle(false),
-    "Ignore hits farther than the maximum distance.",
+    "Ignore hits farther than the maximum distance. With minimum distance, it also bounds the search: a point far from a dense surface (inside a closed shape, where every triangle is nearly as close as the nearest) costs up to a millisecond unlimited, microseconds limited.",
 );
 const RAY_MAX: P = P::new(
     "max_distance",

@@ -26,6 +26,25 @@ pub(crate) struct Outer<'a> {
     pub cancel: &'a CancelToken,
 }
 
+impl<'a> Outer<'a> {
+    /// A cook's place, `param` (naming the file) blamed for what fails.
+    pub fn new(
+        path: &'a str,
+        param: &'a str,
+        frame: f64,
+        env: &'a CookEnv,
+        cancel: &'a CancelToken,
+    ) -> Self {
+        Outer {
+            path,
+            param,
+            frame,
+            env,
+            cancel,
+        }
+    }
+}
+
 fn registry() -> &'static Registry {
     static REGISTRY: OnceLock<Registry> = OnceLock::new();
     REGISTRY.get_or_init(crate::registry)

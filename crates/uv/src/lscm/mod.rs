@@ -31,7 +31,7 @@ mod spectral;
 use geode_geo::glam::Vec3;
 
 use crate::error::UvError;
-use crate::solver::{solve_hermitian, CgSettings, Complex};
+use crate::solver::{solve_hermitian, CgSettings, Complex, SolveReport};
 use assemble::{assemble, triangle_terms, Role};
 pub use pins::choose_pins;
 pub use spectral::spectral;
@@ -127,6 +127,18 @@ pub fn lscm(
     };
     let direct = options.method == LinearSolver::Cholesky;
     let (x, report) = solve_hermitian(&matrix, &rhs, direct, &settings, cancel)?;
+    Ok(solution(&roles, &x, triangles, report))
+}
+
+/// Each vertex's uv from the solved unknowns `x` (pins at their values,
+/// vertices in no triangle filled from their neighbours), with how the
+/// solve went.
+fn solution(
+    roles: &[Role],
+    x: &[Complex],
+    triangles: &[[u32; 3]],
+    report: SolveReport,
+) -> LscmSolution {
     let mut uv: Vec<Option<Complex>> = roles
         .iter()
         .map(|role| match *role {
@@ -136,7 +148,7 @@ pub fn lscm(
         })
         .collect();
     fill_unused(&mut uv, triangles);
-    Ok(LscmSolution {
+    LscmSolution {
         uv: uv
             .into_iter()
             .map(|c| c.map_or([0.0, 0.0], |c| [c.re, c.im]))
@@ -144,7 +156,7 @@ pub fn lscm(
         iterations: report.iterations,
         relative_residual: report.relative_residual,
         converged: report.converged,
-    })
+    }
 }
 
 /// Indices in range, two distinct pins or more with finite values.

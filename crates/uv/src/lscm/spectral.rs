@@ -22,9 +22,9 @@ use geode_geo::glam::Vec3;
 
 use super::assemble::{assemble, triangle_terms, Role};
 use super::pins::boundary_edges;
-use super::{fill_unused, vertex_roles, LscmSolution};
+use super::{solution, vertex_roles, LscmSolution};
 use crate::error::UvError;
-use crate::solver::{cholesky_iterate, Complex, Csr};
+use crate::solver::{cholesky_iterate, Complex, Csr, SolveReport};
 
 /// Most inverse iterations (each one triangular solve pair).
 const MAX_ITERATIONS: usize = 300;
@@ -81,24 +81,12 @@ pub fn spectral(
             "the island's conformal energy could not be factored (parts joined only through triangles without area?)".into(),
         ));
     };
-    let mut uv: Vec<Option<Complex>> = roles
-        .iter()
-        .map(|role| match *role {
-            Role::Free(k) => Some(x[k as usize]),
-            Role::Pinned(p) => Some(p),
-            Role::Unused => None,
-        })
-        .collect();
-    fill_unused(&mut uv, triangles);
-    Ok(LscmSolution {
-        uv: uv
-            .into_iter()
-            .map(|c| c.map_or([0.0, 0.0], |c| [c.re, c.im]))
-            .collect(),
+    let report = SolveReport {
         iterations,
         relative_residual: 0.0,
         converged,
-    })
+    };
+    Ok(solution(&roles, &x, triangles, report))
 }
 
 /// Half of each boundary edge's length to each of its ends (unknown order).
