@@ -11,10 +11,10 @@
 //! whose cells merged lose their repeated corners or vanish, and what is
 //! left is the dual of the simplified octree, closed and manifold.
 
-use crate::brick::{face_pairs, find, B, CELL_EDGES};
+use crate::cell::Grid;
+use crate::cell::{face_pairs, find, B, CELL_EDGES};
 use crate::eval::GradEval;
 use crate::lattice::Lattice;
-use crate::polygonise::Grid;
 use crate::qef::Qef;
 
 /// What a (merged) cell holds.

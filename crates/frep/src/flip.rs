@@ -6,7 +6,7 @@
 
 use geode_geo::glam::Vec3;
 
-use crate::adaptive::{field_distances, RegionTapes};
+use crate::surface::{field_distances, RegionTapes};
 
 /// A flip of the edge shared by triangles `t1 = (a, b, c)` and
 /// `t2 = (b, a, d)`: they become `(a, d, c)` and `(d, b, c)`.

@@ -2,11 +2,11 @@
 //! of cells around it, where a feature needs them) and where the surface
 //! crosses each sign-changing edge, solved for many edges at once.
 
+use crate::cell::Grid;
 use crate::eval::{BatchEval, BatchGradEval, Grad, PointEval};
 use crate::features::Plane;
-use crate::polygonise::Grid;
 
-pub(crate) use crate::brick::B;
+pub(crate) use crate::cell::B;
 
 /// Corners sampled per axis: the brick's B + 1 and one on either side, so
 /// the cells around the brick's border cells are known (corner recovery

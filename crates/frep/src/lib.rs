@@ -9,6 +9,7 @@
 pub mod adaptive;
 mod brick;
 pub mod capsules;
+mod cell;
 mod cluster;
 pub mod codec;
 pub mod distance;
@@ -26,16 +27,17 @@ mod qef;
 mod recovery;
 mod refine;
 pub mod shapes;
+mod surface;
 pub mod tape;
 mod thin;
 pub mod vm;
 
-pub use adaptive::surface_distances;
 pub use capsules::CapsuleSet;
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use hyperfun::{parse_hf, HfError};
 pub use interval::Interval;
 pub use polygonise::{polygonise, sample, MeshError, MeshEstimate, MeshOptions, MeshStats};
+pub use surface::surface_distances;
 pub use tape::{Choice, Choices, Instr, Tape};
 pub use vm::{parse_vm, VmError};

@@ -17,7 +17,8 @@ use geode_geo::{AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use rayon::prelude::*;
 
 use crate::adaptive;
-use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined, B};
+use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined};
+use crate::cell::{Grid, B};
 use crate::eval::{BatchEval, IntervalEval};
 use crate::field::{Binary, Field, Node};
 use crate::interval::Interval;
@@ -97,31 +98,6 @@ impl MeshStats {
             self.thin_region = Some((rlo, rhi));
         }
         self.thin_cells += cells.len();
-    }
-}
-
-pub(crate) struct Grid {
-    pub origin: [f64; 3],
-    pub h: f64,
-    /// Corner count per axis (cells + 1).
-    pub corners: [usize; 3],
-    pub bricks: [usize; 3],
-}
-
-impl Grid {
-    pub fn point(&self, c: [usize; 3]) -> [f64; 3] {
-        std::array::from_fn(|k| self.coordinate(k, c[k] as isize))
-    }
-
-    /// The coordinate along `axis` of the corners with index `c` there
-    /// (also just outside the grid).
-    pub fn coordinate(&self, axis: usize, c: isize) -> f64 {
-        self.origin[axis] + c as f64 * self.h
-    }
-
-    /// A corner's position, also for corners just outside the grid.
-    pub fn point_signed(&self, c: [isize; 3]) -> [f64; 3] {
-        std::array::from_fn(|k| self.coordinate(k, c[k]))
     }
 }
 

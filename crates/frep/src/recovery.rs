@@ -5,12 +5,12 @@
 
 use geode_geo::glam::Vec3;
 
-use crate::brick::B;
+use crate::cell::Grid;
+use crate::cell::B;
 use crate::eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval};
 use crate::features::{self, CellBox, Plane};
 use crate::interval::Interval;
 use crate::lattice::{Crossings, Lattice};
-use crate::polygonise::Grid;
 use crate::qef::Qef;
 use crate::tape::Tape;
 

@@ -9,10 +9,10 @@
 //! (a warning naming the region) instead of letting the feature vanish
 //! silently.
 
-use crate::brick::B;
+use crate::cell::Grid;
+use crate::cell::B;
 use crate::eval::{BatchEval, BatchGradEval, Grad};
 use crate::lattice::{lattice_index, Lattice, L};
-use crate::polygonise::Grid;
 
 /// How far past the predicted crossing the probes land, in cells: a feature
 /// thinner than the smallest step can still slip between them.
