@@ -410,14 +410,7 @@ fn reads<'g>(
             }
             Source::Elem => Read::Elem,
             Source::PointOfVertex => Read::Table(snapshot.vertex_points().to_vec()),
-            Source::PrimOfVertex => {
-                let offs = snapshot.prim_offsets();
-                let mut t = vec![0u32; snapshot.num_vertices()];
-                for prim in 0..snapshot.num_prims() {
-                    t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
-                }
-                Read::Table(t)
-            }
+            Source::PrimOfVertex => Read::Table(prim_of_each_vertex(snapshot)),
             Source::Group(group) => Read::Table(group_flags(snapshot, p.run_over, group)),
             Source::PrimVertexCount => {
                 let offs = snapshot.prim_offsets();
@@ -453,17 +446,23 @@ fn centroids(g: &Geometry) -> Vec<f32> {
         .collect()
 }
 
+/// The primitive of every vertex (`@primnum` over vertices, primitive
+/// attributes read there).
+fn prim_of_each_vertex(g: &Geometry) -> Vec<u32> {
+    let offs = g.prim_offsets();
+    let mut t = vec![0u32; g.num_vertices()];
+    for prim in 0..g.num_prims() {
+        t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
+    }
+    t
+}
+
 /// A point or primitive attribute per vertex.
 fn through<'g>(g: &'g Geometry, class: AttribClass, attrib: &str) -> Read<'g> {
     let owner: Vec<u32> = if class == AttribClass::Point {
         g.vertex_points().to_vec()
     } else {
-        let offs = g.prim_offsets();
-        let mut t = vec![0u32; g.num_vertices()];
-        for prim in 0..g.num_prims() {
-            t[offs[prim] as usize..offs[prim + 1] as usize].fill(prim as u32);
-        }
-        t
+        prim_of_each_vertex(g)
     };
     let Some(a) = g.attrib(class, attrib) else {
         return Read::Zero;
