@@ -1,10 +1,11 @@
 //! How far a mesh strays from the exact surface: geode's measure
-//! (`geode_frep::surface_distances`, the first-order distance `|f| / |∇f|`
+//! (`geode_mesher::surface_distances`, the first-order distance `|f| / |∇f|`
 //! with exact gradients, the one adaptive output keeps within its
 //! tolerance) at every vertex, triangle centroid and edge midpoint, the same
 //! yardstick for both meshers.
 
-use geode_frep::{surface_distances, Field, Tape};
+use geode_frep::{Field, Tape};
+use geode_mesher::surface_distances;
 use geode_geo::glam::Vec3;
 
 /// The largest and the 99th-percentile distance over the samples.

@@ -42,10 +42,10 @@ fn median(mut xs: Vec<f64>) -> f64 {
 }
 
 fn geode_mesh(
-    g: &geode_frep::MeshOptions,
+    g: &geode_mesher::MeshOptions,
     field: &geode_frep::Field,
 ) -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let (m, _) = geode_frep::polygonise(field, g, &|| false, &|_| {}).expect("meshes");
+    let (m, _) = geode_mesher::polygonise(field, g, &|| false, &|_| {}).expect("meshes");
     let positions = m.positions().iter().map(|p| p.to_array()).collect();
     let tris = (0..m.num_prims())
         .map(|p| {
@@ -103,7 +103,7 @@ fn main() {
                 .map(|t| [t.x as u32, t.y as u32, t.z as u32])
                 .collect();
             let (fdev, _) = deviation(&field, &fp, &ft);
-            let uniform = geode_frep::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
+            let uniform = geode_mesher::MeshOptions::new([-1.0; 3], [1.0; 3], depth as u32);
             let mut adaptive = uniform.clone();
             adaptive.tolerance = fdev;
             let (mut up, mut ut) = geode_mesh(&uniform, &field);

@@ -3,8 +3,9 @@
 //! nodes that turn fields into geometry. Fields travel on `field` wires.
 
 use geode_frep::shapes;
-use geode_frep::{CapsuleSet, Field, MeshError, MeshOptions};
+use geode_frep::{CapsuleSet, Field};
 use geode_geo::{AttribClass, AttribData, Attribute, TypeInfo};
+use geode_mesher::{MeshError, MeshOptions};
 use geode_op::{
     CookContext, CookError, InputSpec, NodeSpec, Operator, ParamDefault as D, ParamName,
     ParamSpec as P, ParamType as T, Params, PortType, Registry, Value,
@@ -822,7 +823,7 @@ fn cook_polygonise(
     reserve_meshing(ctx, f, &opts)?;
     let cancel = || ctx.cancel.is_cancelled();
     let progress = |x: f32| ctx.progress(x);
-    match geode_frep::polygonise(f, &opts, &cancel, &progress) {
+    match geode_mesher::polygonise(f, &opts, &cancel, &progress) {
         Ok((g, stats)) => {
             warn_of_thin_features(ctx, &opts, &stats);
             warn_of_deviation(ctx, &opts, &stats);
@@ -837,7 +838,7 @@ fn cook_polygonise(
 }
 
 /// Names the region where surface thinner than a cell is missing.
-fn warn_of_thin_features(ctx: &CookContext, opts: &MeshOptions, stats: &geode_frep::MeshStats) {
+fn warn_of_thin_features(ctx: &CookContext, opts: &MeshOptions, stats: &geode_mesher::MeshStats) {
     let Some((lo, hi)) = stats.thin_region else {
         return;
     };
@@ -858,7 +859,7 @@ fn warn_of_thin_features(ctx: &CookContext, opts: &MeshOptions, stats: &geode_fr
 /// Names how far adaptive output strays where splitting edges could not
 /// bring it within the tolerance (a feature thinner than a cell, or a field
 /// whose first-order distance reads high in a blend).
-fn warn_of_deviation(ctx: &CookContext, opts: &MeshOptions, stats: &geode_frep::MeshStats) {
+fn warn_of_deviation(ctx: &CookContext, opts: &MeshOptions, stats: &geode_mesher::MeshStats) {
     if opts.tolerance > 0.0 && stats.deviation > opts.tolerance {
         ctx.warn(format!(
             "adaptive output strays up to {:.4} from the surface in places, beyond the tolerance {}: raise depth (now {}) to follow it closer",
@@ -875,7 +876,7 @@ fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(
         return Ok(());
     }
     let cancel = || ctx.cancel.is_cancelled();
-    let est = match geode_frep::polygonise::estimate(f, opts, &cancel) {
+    let est = match geode_mesher::polygonise::estimate(f, opts, &cancel) {
         Ok(est) => est,
         Err(MeshError::Cancelled) => return Err(CookError::cancelled(ctx.path)),
         Err(e) => return Err(ctx.kernel_at("depth", e)),
@@ -917,7 +918,7 @@ fn cook_sample(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let f = field_input(ctx, inputs, 1)?;
-    let values = geode_frep::sample(f, g.positions());
+    let values = geode_mesher::sample(f, g.positions());
     g.set_attrib(
         AttribClass::Point,
         p.string(&SAMPLE_NAME)?,

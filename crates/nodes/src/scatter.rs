@@ -2,11 +2,11 @@
 //! its surface (by area), or inside a field (f >= 0); uniform or blue noise
 //! (sample elimination), exact in count.
 
-use geode_frep::polygonise::sample as sample_field;
 use geode_geo::glam::Vec3;
 use geode_geo::{ops, AttribClass, AttribData, Attribute, Geometry, TypeInfo};
 use geode_growth::scatter::{self, ScatterError};
 use geode_growth::InsideTest;
+use geode_mesher::polygonise::sample as sample_field;
 use geode_op::{
     geometry_input, CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P,
     ParamType as T, Params, PortType, Registry, Value,

@@ -6,9 +6,9 @@
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
-use crate::eval::{BatchGradEval, Grad};
 use crate::parts::par_fill_into;
-use crate::tape::Tape;
+use geode_frep::eval::{BatchGradEval, Grad};
+use geode_frep::tape::Tape;
 
 /// A mesh being changed: positions, normals, triangles.
 pub(crate) type Mesh<'a> = (&'a mut Vec<Vec3>, &'a mut Vec<Vec3>, &'a mut Vec<[u32; 3]>);
@@ -332,7 +332,7 @@ pub(crate) fn distance_estimate(g: &Grad) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::shapes::sphere;
+    use geode_frep::shapes::sphere;
 
     /// A ball of radius 0.5 joined to one of radius 0.3 whose field is
     /// scaled by 4: at `m`, 0.05 outside the first and 0.03 outside the

@@ -7,12 +7,12 @@ use geode_geo::glam::Vec3;
 
 use crate::cell::Grid;
 use crate::cell::B;
-use crate::eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval};
 use crate::features::{self, CellBox, Plane};
-use crate::interval::Interval;
 use crate::lattice::{Crossings, Lattice};
 use crate::qef::Qef;
-use crate::tape::Tape;
+use geode_frep::eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval};
+use geode_frep::interval::Interval;
+use geode_frep::tape::Tape;
 
 /// Cells whose QEFs are kept per axis: the brick's and one on either side.
 pub(crate) const C: usize = B + 2;

@@ -7,8 +7,9 @@ mod common;
 
 use common::Rng;
 use geode_frep::shapes::{block, sphere};
-use geode_frep::{polygonise, Field, MeshOptions, MeshStats};
+use geode_frep::Field;
 use geode_geo::{ops, Geometry};
+use geode_mesher::{polygonise, MeshOptions, MeshStats};
 
 const DEPTH: u32 = 6;
 const HALF: f64 = 1.0;

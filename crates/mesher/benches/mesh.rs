@@ -1,10 +1,11 @@
 //! Meshing time against octree depth: cost should grow ~4x per level (with the
 //! surface), not 8x (with the volume). Triangle counts are printed once.
 //! Also the memory estimate made before meshing, at depths 9 and 12.
-//! Run: cargo bench -p geode-frep --bench mesh
+//! Run: cargo bench -p geode-mesher --bench mesh
 
 use geode_frep::shapes::{block, cylinder, sphere, union};
-use geode_frep::{polygonise, Field, MeshOptions};
+use geode_frep::Field;
+use geode_mesher::{polygonise, MeshOptions};
 
 fn main() {
     for (name, f, half) in cases() {
@@ -117,7 +118,7 @@ fn estimate_at_depth<const DEPTH: u32>(bencher: divan::Bencher, case: &str) {
         .find(|(n, _, _)| *n == case)
         .expect("a known case");
     bencher.bench(|| {
-        geode_frep::polygonise::estimate(
+        geode_mesher::polygonise::estimate(
             &f,
             &MeshOptions::new([-half; 3], [half; 3], DEPTH),
             &|| false,

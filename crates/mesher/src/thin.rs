@@ -11,8 +11,8 @@
 
 use crate::cell::Grid;
 use crate::cell::B;
-use crate::eval::{BatchEval, BatchGradEval, Grad};
 use crate::lattice::{lattice_index, Lattice, L};
+use geode_frep::eval::{BatchEval, BatchGradEval, Grad};
 
 /// How far past the predicted crossing the probes land, in cells: a feature
 /// thinner than the smallest step can still slip between them.

@@ -13,9 +13,9 @@
 
 use crate::cell::Grid;
 use crate::cell::{face_pairs, find, B, CELL_EDGES};
-use crate::eval::GradEval;
 use crate::lattice::Lattice;
 use crate::qef::Qef;
+use geode_frep::eval::GradEval;
 
 /// What a (merged) cell holds.
 #[derive(Clone, Debug)]

@@ -5,8 +5,9 @@
 mod common;
 
 use geode_frep::shapes::{block, sphere, torus, union};
-use geode_frep::{polygonise, Field, GradEval, MeshOptions, PointEval, Tape};
+use geode_frep::{Field, GradEval, PointEval, Tape};
 use geode_geo::{ops, AttribClass, Geometry};
+use geode_mesher::{polygonise, MeshOptions};
 
 use common::mesh;
 
@@ -157,14 +158,14 @@ fn deterministic_on_any_thread_count_and_cancellable() {
         &|| true,
         &|_| {},
     );
-    assert_eq!(r.unwrap_err(), geode_frep::MeshError::Cancelled);
+    assert_eq!(r.unwrap_err(), geode_mesher::MeshError::Cancelled);
     let bad = polygonise(
         &f,
         &MeshOptions::new([0.0; 3], [0.0, 1.0, 1.0], 5),
         &|| false,
         &|_| {},
     );
-    assert_eq!(bad.unwrap_err(), geode_frep::MeshError::BadBounds);
+    assert_eq!(bad.unwrap_err(), geode_mesher::MeshError::BadBounds);
 }
 
 #[test]
@@ -222,7 +223,7 @@ fn the_meshing_estimate_is_close_to_the_cells_meshed() {
     for (name, f) in [("sphere", sphere), ("torus", torus), ("gyroid", gyroid)] {
         for depth in [7, 8] {
             let opts = MeshOptions::new([-1.0; 3], [1.0; 3], depth);
-            let est = geode_frep::polygonise::estimate(&f, &opts, &|| false).unwrap();
+            let est = geode_mesher::polygonise::estimate(&f, &opts, &|| false).unwrap();
             let (_, stats) = polygonise(&f, &opts, &|| false, &|_| {}).unwrap();
             let ratio = est.surface_cells / stats.cells_with_surface as f64;
             eprintln!(

@@ -8,8 +8,8 @@
 //! its faces is recovered from the planes of the neighbouring cells, and
 //! accepted only where every plane involved and the field agree on it.
 
-use crate::eval::GradEval;
 use crate::qef::Qef;
+use geode_frep::eval::GradEval;
 
 /// A point where the surface crosses a grid edge and the outward unit normal there.
 pub(crate) type Plane = ([f64; 3], [f64; 3]);
@@ -167,7 +167,7 @@ pub(crate) fn propose(planes: &[Plane], sharpness: f64, cell: &CellBox, h: f64) 
 
 /// Whether a proposed edge or corner point is on the surface, given the
 /// field's value and gradient there.
-pub(crate) fn verified(g: &crate::eval::Grad, h: f64) -> bool {
+pub(crate) fn verified(g: &geode_frep::eval::Grad, h: f64) -> bool {
     let len = g.d.iter().map(|d| d * d).sum::<f64>().sqrt();
     len > 0.0 && len.is_finite() && g.v.is_finite() && g.v.abs() / len <= FEATURE_ON_SURFACE * h
 }

@@ -10,11 +10,11 @@
 use geode_geo::glam::Vec3;
 use rayon::prelude::*;
 
-use crate::eval::Grad;
 use crate::flip::flip_edges;
 use crate::surface::{
     distance_estimate, field_distances, grads_at, ray_feet, walk_to_surface, Mesh, RegionTapes,
 };
+use geode_frep::eval::Grad;
 
 /// Rounds of flipping or splitting: each split halves the edges it cuts, so
 /// a deviation of a cell falls below 1/100 of a cell within six on a smooth

@@ -1,8 +1,9 @@
 //! Helpers shared by the polygoniser's tests (each test file uses some).
 #![allow(dead_code)]
 
-use geode_frep::{polygonise, Field, MeshOptions};
+use geode_frep::Field;
 use geode_geo::Geometry;
+use geode_mesher::{polygonise, MeshOptions};
 
 /// Distance from `p` to the nearest vertex of `g`.
 pub fn nearest_vertex(g: &Geometry, p: [f64; 3]) -> f64 {

@@ -6,7 +6,8 @@ mod common;
 
 use common::Rng;
 use geode_frep::shapes::block;
-use geode_frep::{polygonise, Field, MeshOptions};
+use geode_frep::Field;
+use geode_mesher::{polygonise, MeshOptions};
 
 use common::mesh;
 use common::{apply, box_surface_distance, transpose};

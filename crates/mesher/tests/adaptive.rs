@@ -8,9 +8,10 @@ mod common;
 
 use common::{apply, box_surface_distance, transpose, Rng};
 use geode_frep::shapes::{block, sphere};
-use geode_frep::{polygonise, surface_distances, Field, MeshOptions, MeshStats, Tape};
+use geode_frep::{Field, Tape};
 use geode_geo::glam::Vec3;
 use geode_geo::Geometry;
+use geode_mesher::{polygonise, surface_distances, MeshOptions, MeshStats};
 
 fn adaptive(f: &Field, half: f64, depth: u32, tolerance: f64) -> (Geometry, MeshStats) {
     let mut opts = MeshOptions::new([-half; 3], [half; 3], depth);
@@ -219,7 +220,7 @@ fn cancelling_stops_adaptive_output() {
     let cancel = || calls.fetch_add(1, Ordering::Relaxed) > uniform + 1;
     let r = polygonise(&f, &opts, &cancel, &|_| {});
     assert!(
-        matches!(r, Err(geode_frep::MeshError::Cancelled)),
+        matches!(r, Err(geode_mesher::MeshError::Cancelled)),
         "{:?}",
         r.map(|x| x.1)
     );

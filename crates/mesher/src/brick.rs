@@ -8,15 +8,15 @@ use geode_geo::ops::renumber_used;
 
 use crate::cell::{edge_key, face_pairs, find, Grid, B, CELL_EDGES};
 use crate::cluster::{merge_cells, Clustering, Node};
-use crate::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
 use crate::parts::par_fill;
 use crate::recovery::{
     cell_box, cell_slot, recover_features, verify_features, Candidate, CellTable, Check,
 };
-use crate::tape::Tape;
 use crate::thin;
+use geode_frep::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
+use geode_frep::tape::Tape;
 
 pub(crate) struct BrickOut {
     pub positions: Vec<Vec3>,

@@ -3,8 +3,8 @@
 //! crosses each sign-changing edge, solved for many edges at once.
 
 use crate::cell::Grid;
-use crate::eval::{BatchEval, BatchGradEval, Grad, PointEval};
 use crate::features::Plane;
+use geode_frep::eval::{BatchEval, BatchGradEval, Grad, PointEval};
 
 pub(crate) use crate::cell::B;
 

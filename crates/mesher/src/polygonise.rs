@@ -19,12 +19,12 @@ use rayon::prelude::*;
 use crate::adaptive;
 use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined};
 use crate::cell::{Grid, B};
-use crate::eval::{BatchEval, IntervalEval};
-use crate::field::{Binary, Field, Node};
-use crate::interval::Interval;
 use crate::pinch;
-use crate::shapes;
-use crate::tape::Tape;
+use geode_frep::eval::{BatchEval, IntervalEval};
+use geode_frep::field::{Binary, Field, Node};
+use geode_frep::interval::Interval;
+use geode_frep::shapes;
+use geode_frep::tape::Tape;
 
 /// What to mesh and how finely.
 #[derive(Clone, Debug)]

@@ -10,8 +10,8 @@ use std::collections::HashMap;
 
 use geode_geo::glam::Vec3;
 
-use crate::eval::{GradEval, PointEval};
-use crate::tape::Tape;
+use geode_frep::eval::{GradEval, PointEval};
+use geode_frep::tape::Tape;
 
 /// The cell lattice the vertices were placed in: copies stay in their cell.
 pub(crate) struct Cells {

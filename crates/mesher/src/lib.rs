@@ -1,0 +1,25 @@
+//! geode's FRep polygoniser: a `geode-frep` field meshed into `geode-geo`
+//! geometry by an octree over bricks of cells pruned by interval arithmetic
+//! and feature-preserving dual contouring (QEF placement on sharp edges and
+//! corners, thin sheets and pinches repaired, adaptive simplification
+//! within a tolerance); also sampling fields at points and measuring a mesh
+//! against its field. Knows nothing of nodes, graphs or files.
+
+pub mod adaptive;
+mod brick;
+mod cell;
+mod cluster;
+mod features;
+mod flip;
+mod lattice;
+mod parts;
+mod pinch;
+pub mod polygonise;
+mod qef;
+mod recovery;
+mod refine;
+mod surface;
+mod thin;
+
+pub use polygonise::{polygonise, sample, MeshError, MeshEstimate, MeshOptions, MeshStats};
+pub use surface::surface_distances;
