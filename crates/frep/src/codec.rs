@@ -1,20 +1,20 @@
-//! A versioned binary form of a `Field` (the disk cache's): its distinct nodes children first, each naming its operands by index, and its capsule sets with their built hierarchies.
+//! A versioned binary form of a `Field` (the disk cache's): its distinct nodes children first, each naming its operands by index, and its datasets (capsule sets with their built hierarchies, meshes as points and triangles).
 //!
 //! A decoded field is rebuilt through the same constructors, so it has the
 //! identity of the one encoded; capsule sets are stored as built (segments
 //! in hierarchy order, the hierarchy's boxes) and read back as they were,
-//! not rebuilt. Traversal is iterative: a field millions of nodes deep is
+//! not rebuilt; a mesh's hierarchy is rebuilt from its triangles. Traversal is iterative: a field millions of nodes deep is
 //! no deeper a recursion here. Counts and indices are checked against the
 //! bytes before anything is allocated from them.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use crate::capsules::CapsuleSet;
+use crate::dataset::Dataset;
 use crate::field::{Binary, Field, Node, Unary};
 
 const MAGIC: &[u8; 4] = b"GEOF";
-pub const CODEC_VERSION: u32 = 1;
+pub const CODEC_VERSION: u32 = 2;
 
 /// Why bytes are not a field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -51,7 +51,7 @@ fn post_order(root: &Field) -> Vec<Field> {
                 stack.push((b.clone(), false));
                 stack.push((a.clone(), false));
             }
-            Node::Capsules(_, args) => args
+            Node::Dataset(_, args) => args
                 .iter()
                 .rev()
                 .for_each(|a| stack.push((a.clone(), false))),
@@ -70,10 +70,10 @@ pub fn encode(field: &Field, out: &mut Vec<u8>) {
         .map(|(i, f)| (Arc::as_ptr(&f.0) as *const (), i as u32))
         .collect();
     let idx = |f: &Field| at[&(Arc::as_ptr(&f.0) as *const ())];
-    let mut sets: Vec<&Arc<CapsuleSet>> = Vec::new();
-    let mut set_at: HashMap<*const CapsuleSet, u32> = HashMap::new();
+    let mut sets: Vec<&Arc<Dataset>> = Vec::new();
+    let mut set_at: HashMap<*const Dataset, u32> = HashMap::new();
     for f in &nodes {
-        if let Node::Capsules(s, _) = f.node() {
+        if let Node::Dataset(s, _) = f.node() {
             set_at.entry(Arc::as_ptr(s)).or_insert_with(|| {
                 sets.push(s);
                 sets.len() as u32 - 1
@@ -110,7 +110,7 @@ pub fn encode(field: &Field, out: &mut Vec<u8>) {
                 out.push(number_of(&Binary::ALL, op));
                 u32s(out, &[idx(a), idx(b)]);
             }
-            Node::Capsules(s, args) => {
+            Node::Dataset(s, args) => {
                 out.push(6);
                 u32s(
                     out,
@@ -141,6 +141,11 @@ impl<'a> Reader<'a> {
     }
     pub fn u32(&mut self) -> Result<u32, FieldDecodeError> {
         Ok(u32::from_le_bytes(
+            self.take(4)?.try_into().expect("four bytes"),
+        ))
+    }
+    pub fn f32(&mut self) -> Result<f32, FieldDecodeError> {
+        Ok(f32::from_le_bytes(
             self.take(4)?.try_into().expect("four bytes"),
         ))
     }
@@ -183,8 +188,8 @@ pub fn decode(bytes: &[u8]) -> Result<Field, FieldDecodeError> {
         return Err(FieldDecodeError::Version(version));
     }
     let n_sets = r.count(8)?;
-    let sets: Vec<Arc<CapsuleSet>> = (0..n_sets)
-        .map(|_| CapsuleSet::decode(&mut r).map(Arc::new))
+    let sets: Vec<Arc<Dataset>> = (0..n_sets)
+        .map(|_| Dataset::decode(&mut r).map(Arc::new))
         .collect::<Result<_, _>>()?;
     let n = r.count(1)?;
     let mut nodes: Vec<Field> = Vec::with_capacity(n);
@@ -215,16 +220,13 @@ pub fn decode(bytes: &[u8]) -> Result<Field, FieldDecodeError> {
             }
             6 => {
                 let s = r.u32()? as usize;
-                let set = sets
-                    .get(s)
-                    .ok_or_else(|| invalid("capsule set index"))?
-                    .clone();
+                let set = sets.get(s).ok_or_else(|| invalid("dataset index"))?.clone();
                 let args = [
                     get(&mut r, &nodes)?,
                     get(&mut r, &nodes)?,
                     get(&mut r, &nodes)?,
                 ];
-                Field::capsules_at(&set, args)
+                Field::dataset_at(&set, args)
             }
             t => return Err(FieldDecodeError::Invalid(format!("node tag {t}"))),
         };

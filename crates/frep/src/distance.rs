@@ -13,7 +13,7 @@
 
 use std::sync::Arc;
 
-use crate::capsules::CapsuleSet;
+use crate::dataset::Dataset;
 use crate::field::{Binary, Field, Node, Unary};
 
 /// Newton steps after the first-order estimate: two take the superellipsoid
@@ -150,20 +150,16 @@ fn binary_gradient(
     }
 }
 
-/// A capsule union's derivative at its arguments by central differences
-/// (its value is a distance, continuous with a bounded gradient).
-fn capsules_gradient(
-    set: &Arc<CapsuleSet>,
-    args: &[Field; 3],
-    dargs: &[&[Field; 3]; 3],
-) -> [Field; 3] {
+/// A dataset's derivative at its arguments by central differences (its
+/// value is a distance, continuous with a bounded gradient).
+fn dataset_gradient(set: &Arc<Dataset>, args: &[Field; 3], dargs: &[&[Field; 3]; 3]) -> [Field; 3] {
     let h = set.difference_step();
     let mut total = zero3();
     for k in 0..3 {
         let shifted = |d: f64| {
             let mut at = args.clone();
             at[k] = &at[k] + d;
-            Field::capsules_at(set, at)
+            Field::dataset_at(set, at)
         };
         let partial = (shifted(h) - shifted(-h)) * (0.5 / h);
         total = add3(total, scale3(&partial, dargs[k]));
@@ -183,8 +179,8 @@ pub fn gradient(f: &Field) -> [Field; 3] {
             Node::Const(_) => zero3(),
             Node::Unary(op, a) => unary_gradient(*op, a, &d(a)),
             Node::Binary(op, a, b) => binary_gradient(*op, (a, &d(a)), (b, &d(b))),
-            Node::Capsules(set, args) => {
-                capsules_gradient(set, args, &[&d(&args[0]), &d(&args[1]), &d(&args[2])])
+            Node::Dataset(set, args) => {
+                dataset_gradient(set, args, &[&d(&args[0]), &d(&args[1]), &d(&args[2])])
             }
         },
     )
@@ -200,8 +196,26 @@ fn dot3(a: &[Field; 3], b: &[Field; 3]) -> Field {
     )
 }
 
+/// Whether `f` already is its surface's exact signed distance (a mesh's
+/// distance at the untransformed point): Newton steps would only cost.
+fn is_exact_distance(f: &Field) -> bool {
+    match f.node() {
+        Node::Dataset(set, args) => {
+            matches!(**set, Dataset::Mesh(_))
+                && matches!(
+                    [args[0].node(), args[1].node(), args[2].node()],
+                    [Node::X, Node::Y, Node::Z]
+                )
+        }
+        _ => false,
+    }
+}
+
 /// The signed distance to `f`'s surface, positive inside (see the module doc).
 pub fn signed_distance(f: &Field) -> Field {
+    if is_exact_distance(f) {
+        return f.clone();
+    }
     let (x, y, z) = (Field::x(), Field::y(), Field::z());
     let g = gradient(f);
     let length = dot3(&g, &g).sqrt().max(TINY_GRADIENT);
@@ -305,7 +319,7 @@ mod tests {
 
     #[test]
     fn capsule_gradients_are_unit_outside_the_axis() {
-        let set = CapsuleSet::new(&[([0.0; 3], [1.0, 0.0, 0.0], 0.2, 0.2)]).unwrap();
+        let set = crate::CapsuleSet::new(&[([0.0; 3], [1.0, 0.0, 0.0], 0.2, 0.2)]).unwrap();
         let f = Field::capsules(set);
         let g = gradient(&f);
         let p = [0.5, 0.3, 0.4];

@@ -7,7 +7,7 @@ use crate::interval::{self, Interval};
 use std::cell::RefCell;
 use std::sync::Arc;
 
-use crate::capsules::CapsuleSet;
+use crate::dataset::Dataset;
 use crate::tape::{Choice, Choices, Instr, Tape};
 
 /// Evaluates one point at a time, reusing its registers.
@@ -34,9 +34,9 @@ impl<'t> PointEval<'t> {
                 Instr::Binary { op, out, a, b } => {
                     r[out as usize] = binary(op, r[a as usize], r[b as usize])
                 }
-                Instr::Capsules { set, out, x, y, z } => {
+                Instr::Dataset { set, out, x, y, z } => {
                     let p = [r[x as usize], r[y as usize], r[z as usize]];
-                    r[out as usize] = self.tape.capsule_set(set).value(p)
+                    r[out as usize] = self.tape.dataset(set).value(p)
                 }
             }
         }
@@ -186,8 +186,8 @@ impl<'t> BatchEval<'t> {
                     );
                     lane_binary(op, a, b, &mut dst[..len]);
                 }
-                Instr::Capsules { set, out, x, y, z } => {
-                    let set = self.tape.capsule_set(set);
+                Instr::Dataset { set, out, x, y, z } => {
+                    let set = self.tape.dataset(set);
                     let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
                     let mut values = [0f32; LANES];
                     set.values(
@@ -255,8 +255,8 @@ impl<'t> IntervalEval<'t> {
                     r[out as usize] = v;
                     self.choices.per_instr[i] = c;
                 }
-                Instr::Capsules { set, out, x, y, z } => {
-                    let set = self.tape.capsule_set(set);
+                Instr::Dataset { set, out, x, y, z } => {
+                    let set = self.tape.dataset(set);
                     let (v, narrowed) = set.interval(r[x as usize], r[y as usize], r[z as usize]);
                     r[out as usize] = v;
                     if let Some(n) = narrowed {
@@ -376,8 +376,8 @@ fn grad_binary(op: Binary, a: Grad, b: Grad) -> Grad {
     }
 }
 
-/// A capsule union at space-mapped arguments: its gradient by the chain rule.
-fn grad_capsules(set: &CapsuleSet, args: [Grad; 3]) -> Grad {
+/// A dataset at space-mapped arguments: its gradient by the chain rule.
+fn grad_dataset(set: &Dataset, args: [Grad; 3]) -> Grad {
     let (v, g) = set.value_gradient(args.map(|a| a.v));
     Grad {
         v,
@@ -421,9 +421,9 @@ impl<'t> GradEval<'t> {
                 Instr::Binary { op, out, a, b } => {
                     r[out as usize] = grad_binary(op, r[a as usize], r[b as usize])
                 }
-                Instr::Capsules { set, out, x, y, z } => {
+                Instr::Dataset { set, out, x, y, z } => {
                     let args = [r[x as usize], r[y as usize], r[z as usize]];
-                    r[out as usize] = grad_capsules(self.tape.capsule_set(set), args)
+                    r[out as usize] = grad_dataset(self.tape.dataset(set), args)
                 }
             }
         }
@@ -597,13 +597,13 @@ impl<'t> BatchGradEval<'t> {
                             _ => each!(op),
                         }
                     }
-                    Instr::Capsules { set, out, x, y, z } => {
-                        let set = self.tape.capsule_set(set);
+                    Instr::Dataset { set, out, x, y, z } => {
+                        let set = self.tape.dataset(set);
                         let o = out as usize * LANES;
                         let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
                         for i in 0..len {
                             let args = [regs[x + i], regs[y + i], regs[z + i]];
-                            regs[o + i] = grad_capsules(set, args);
+                            regs[o + i] = grad_dataset(set, args);
                         }
                     }
                 }

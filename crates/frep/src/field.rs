@@ -4,6 +4,8 @@ use std::ops;
 use std::sync::Arc;
 
 use crate::capsules::CapsuleSet;
+use crate::dataset::Dataset;
+use crate::mesh_distance::MeshDistance;
 
 /// One-argument operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -97,9 +99,9 @@ pub enum Node {
     Const(f64),
     Unary(Unary, Field),
     Binary(Binary, Field, Field),
-    /// A union of capsules evaluated at the point given by three fields
-    /// (x, y and z unless space-mapped).
-    Capsules(Arc<CapsuleSet>, [Field; 3]),
+    /// Data (a union of capsules, a mesh's distance) evaluated at the point
+    /// given by three fields (x, y and z unless space-mapped).
+    Dataset(Arc<Dataset>, [Field; 3]),
 }
 
 /// A node with its structural hash and size, computed once at construction.
@@ -147,8 +149,8 @@ fn make(node: Node) -> Field {
             h.update(&b.0.hash.to_le_bytes());
             a.0.size.saturating_add(b.0.size).saturating_add(1)
         }
-        Node::Capsules(set, args) => {
-            h.update(b"capsules");
+        Node::Dataset(set, args) => {
+            h.update(b"dataset");
             h.update(&set.identity().to_le_bytes());
             for a in args {
                 h.update(&a.0.hash.to_le_bytes());
@@ -183,12 +185,23 @@ impl Field {
 
     /// The union of a set of capsules at (x, y, z).
     pub fn capsules(set: CapsuleSet) -> Field {
-        Field::capsules_at(&Arc::new(set), [Field::x(), Field::y(), Field::z()])
+        Field::dataset_at(
+            &Arc::new(Dataset::Capsules(set)),
+            [Field::x(), Field::y(), Field::z()],
+        )
     }
 
-    /// The union of a shared set of capsules at the point `args` give.
-    pub fn capsules_at(set: &Arc<CapsuleSet>, args: [Field; 3]) -> Field {
-        make(Node::Capsules(Arc::clone(set), args))
+    /// A mesh's signed distance at (x, y, z).
+    pub fn mesh(mesh: MeshDistance) -> Field {
+        Field::dataset_at(
+            &Arc::new(Dataset::Mesh(mesh)),
+            [Field::x(), Field::y(), Field::z()],
+        )
+    }
+
+    /// Shared data (capsules, a mesh) evaluated at the point `args` give.
+    pub fn dataset_at(set: &Arc<Dataset>, args: [Field; 3]) -> Field {
+        make(Node::Dataset(Arc::clone(set), args))
     }
 
     pub fn node(&self) -> &Node {
@@ -205,7 +218,7 @@ impl Field {
         self.0.size
     }
 
-    /// Bytes held by the shared DAG: its distinct nodes and capsule sets.
+    /// Bytes held by the shared DAG: its distinct nodes and datasets.
     pub fn memory_bytes(&self) -> usize {
         let mut sets = std::collections::HashSet::new();
         let mut bytes = 0;
@@ -213,7 +226,7 @@ impl Field {
             |_| true,
             |f, _: &dyn Fn(&Field)| {
                 bytes += std::mem::size_of::<Inner>() + 16;
-                if let Node::Capsules(set, _) = f.node() {
+                if let Node::Dataset(set, _) = f.node() {
                     if sets.insert(Arc::as_ptr(set)) {
                         bytes += set.memory_bytes();
                     }
@@ -228,7 +241,7 @@ impl Field {
         match self.node() {
             Node::Unary(_, a) => vec![a],
             Node::Binary(_, a, b) => vec![a, b],
-            Node::Capsules(_, args) => args.iter().collect(),
+            Node::Dataset(_, args) => args.iter().collect(),
             Node::X | Node::Y | Node::Z | Node::Const(_) => Vec::new(),
         }
     }
@@ -338,7 +351,7 @@ impl Field {
             Node::Const(c) => *c,
             Node::Unary(op, a) => unary(*op, a.eval_tree(p)),
             Node::Binary(op, a, b) => binary(*op, a.eval_tree(p), b.eval_tree(p)),
-            Node::Capsules(set, args) => set.value(args.each_ref().map(|a| a.eval_tree(p))),
+            Node::Dataset(set, args) => set.value(args.each_ref().map(|a| a.eval_tree(p))),
         }
     }
 }
@@ -355,7 +368,7 @@ impl Drop for Field {
                         stack.push(a);
                         stack.push(b);
                     }
-                    Node::Capsules(_, args) => stack.extend(args),
+                    Node::Dataset(_, args) => stack.extend(args),
                     _ => {}
                 }
             }

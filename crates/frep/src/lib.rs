@@ -9,19 +9,23 @@
 
 pub mod capsules;
 pub mod codec;
+pub mod dataset;
 pub mod distance;
 pub mod eval;
 pub mod field;
 pub mod hyperfun;
 pub mod interval;
+pub mod mesh_distance;
 pub mod shapes;
 pub mod tape;
 pub mod vm;
 
 pub use capsules::CapsuleSet;
+pub use dataset::Dataset;
 pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval, LANES};
 pub use field::{Binary, Field, Node, Unary};
 pub use hyperfun::{parse_hf, HfError};
 pub use interval::Interval;
+pub use mesh_distance::{MeshDistance, MeshFieldError};
 pub use tape::{Choice, Choices, Instr, Tape};
 pub use vm::{parse_vm, VmError};

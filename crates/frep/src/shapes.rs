@@ -202,7 +202,7 @@ impl Field {
                 Node::Const(_) => f.clone(),
                 Node::Unary(op, a) => get(a).unary(*op),
                 Node::Binary(op, a, b) => get(a).binary(*op, get(b)),
-                Node::Capsules(set, args) => Field::capsules_at(set, args.each_ref().map(get)),
+                Node::Dataset(set, args) => Field::dataset_at(set, args.each_ref().map(get)),
             },
         )
     }

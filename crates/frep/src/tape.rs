@@ -4,7 +4,7 @@ use std::collections::HashMap;
 
 use std::sync::Arc;
 
-use crate::capsules::CapsuleSet;
+use crate::dataset::Dataset;
 use crate::field::{binary, unary, Binary, Field, Node, Unary};
 
 /// One instruction. Arguments and outputs are registers (after allocation)
@@ -30,9 +30,9 @@ pub enum Instr {
         a: u32,
         b: u32,
     },
-    /// The union of capsule set `set` (an index into [`Tape::capsule_set`])
-    /// at the point in registers `x`, `y`, `z`.
-    Capsules {
+    /// Dataset `set` (an index into [`Tape::dataset`]) at the point in
+    /// registers `x`, `y`, `z`.
+    Dataset {
         set: u32,
         out: u32,
         x: u32,
@@ -48,7 +48,7 @@ impl Instr {
             | Instr::Const { out, .. }
             | Instr::Unary { out, .. }
             | Instr::Binary { out, .. }
-            | Instr::Capsules { out, .. } => out,
+            | Instr::Dataset { out, .. } => out,
         }
     }
 
@@ -57,7 +57,7 @@ impl Instr {
             Instr::Var { .. } | Instr::Const { .. } => [None; 3],
             Instr::Unary { a, .. } => [Some(a), None, None],
             Instr::Binary { a, b, .. } => [Some(a), Some(b), None],
-            Instr::Capsules { x, y, z, .. } => [Some(x), Some(y), Some(z)],
+            Instr::Dataset { x, y, z, .. } => [Some(x), Some(y), Some(z)],
         }
     }
 
@@ -69,7 +69,7 @@ impl Instr {
             Instr::Const { value, .. } => Instr::Const { out, value },
             Instr::Unary { op, .. } => Instr::Unary { op, out, a },
             Instr::Binary { op, .. } => Instr::Binary { op, out, a, b },
-            Instr::Capsules { set, .. } => Instr::Capsules {
+            Instr::Dataset { set, .. } => Instr::Dataset {
                 set,
                 out,
                 x: a,
@@ -94,12 +94,12 @@ pub enum Choice {
 }
 
 /// What an interval evaluation over a region proved: the decisive argument
-/// of every `min`/`max`, and the capsule sets narrowed to the capsules that
+/// of every `min`/`max`, and the datasets narrowed to what
 /// may win there (by instruction index).
 #[derive(Clone, Debug, Default)]
 pub struct Choices {
     pub per_instr: Vec<Choice>,
-    pub narrowed: Vec<(u32, Arc<CapsuleSet>)>,
+    pub narrowed: Vec<(u32, Arc<Dataset>)>,
 }
 
 /// A compiled field: instructions in evaluation order over `slots` registers,
@@ -112,8 +112,8 @@ pub struct Tape {
     instrs: Vec<Instr>,
     slots: u32,
     output: u32,
-    /// The capsule sets `Instr::Capsules` refer to.
-    capsule_sets: Vec<Arc<CapsuleSet>>,
+    /// The datasets `Instr::Dataset` refers to.
+    datasets: Vec<Arc<Dataset>>,
 }
 
 #[derive(Hash, PartialEq, Eq)]
@@ -122,7 +122,7 @@ enum Key {
     Const(u64),
     Unary(Unary, u32),
     Binary(Binary, u32, u32),
-    Capsules(u128, [u32; 3]),
+    Dataset(u128, [u32; 3]),
 }
 
 impl Tape {
@@ -131,7 +131,7 @@ impl Tape {
     pub fn compile(field: &Field) -> Tape {
         let mut ssa: Vec<Instr> = Vec::new();
         let mut by_key: HashMap<Key, u32> = HashMap::new();
-        let mut capsule_sets: Vec<Arc<CapsuleSet>> = Vec::new();
+        let mut datasets: Vec<Arc<Dataset>> = Vec::new();
         let consts = |ssa: &Vec<Instr>, v: u32| match ssa[v as usize] {
             Instr::Const { value, .. } => Some(value),
             _ => None,
@@ -174,26 +174,24 @@ impl Tape {
                             ),
                         }
                     }
-                    Node::Capsules(set, args) => {
+                    Node::Dataset(set, args) => {
                         let [x, y, z] = args.each_ref().map(get);
-                        let index = match capsule_sets
-                            .iter()
-                            .position(|s| s.identity() == set.identity())
-                        {
-                            Some(i) => i,
-                            None => {
-                                capsule_sets.push(Arc::clone(set));
-                                capsule_sets.len() - 1
-                            }
-                        };
-                        let instr = Instr::Capsules {
+                        let index =
+                            match datasets.iter().position(|s| s.identity() == set.identity()) {
+                                Some(i) => i,
+                                None => {
+                                    datasets.push(Arc::clone(set));
+                                    datasets.len() - 1
+                                }
+                            };
+                        let instr = Instr::Dataset {
                             set: index as u32,
                             out: 0,
                             x,
                             y,
                             z,
                         };
-                        (Key::Capsules(set.identity(), [x, y, z]), instr)
+                        (Key::Dataset(set.identity(), [x, y, z]), instr)
                     }
                 };
                 let id = *by_key.entry(key).or_insert_with(|| {
@@ -204,11 +202,11 @@ impl Tape {
                 id
             },
         );
-        Tape::from_ssa(ssa, output, capsule_sets)
+        Tape::from_ssa(ssa, output, datasets)
     }
 
     /// Keeps only what the output needs, then allocates registers.
-    fn from_ssa(ssa: Vec<Instr>, output: u32, capsule_sets: Vec<Arc<CapsuleSet>>) -> Tape {
+    fn from_ssa(ssa: Vec<Instr>, output: u32, datasets: Vec<Arc<Dataset>>) -> Tape {
         // Backwards, which instructions the output needs and where each of
         // them is read last (the first reader met from the end): every
         // reader of an instruction comes after it, so its liveness is known
@@ -266,7 +264,7 @@ impl Tape {
             instrs,
             slots: slots.max(1),
             output: reg_of[output as usize],
-            capsule_sets,
+            datasets,
         }
     }
 
@@ -283,9 +281,9 @@ impl Tape {
         self.output as usize
     }
 
-    /// The capsule set an `Instr::Capsules` names.
-    pub fn capsule_set(&self, set: u32) -> &CapsuleSet {
-        &self.capsule_sets[set as usize]
+    /// The dataset an `Instr::Dataset` names.
+    pub fn dataset(&self, set: u32) -> &Dataset {
+        &self.datasets[set as usize]
     }
 
     pub fn len(&self) -> usize {
@@ -298,7 +296,7 @@ impl Tape {
 
     /// A shorter tape valid wherever `choices` (from an interval evaluation
     /// over a region) hold: every decided `min`/`max` is replaced by the
-    /// winning argument, capsule sets by their narrowed sets, and what no
+    /// winning argument, datasets by their narrowed ones, and what no
     /// longer matters is dropped.
     pub fn simplify(&self, choices: &Choices) -> Tape {
         let per_instr = &choices.per_instr;
@@ -309,7 +307,7 @@ impl Tape {
         );
         let mut alias: Vec<u32> = (0..self.ssa.len() as u32).collect();
         let mut ssa: Vec<Instr> = Vec::with_capacity(self.ssa.len());
-        let mut capsule_sets = self.capsule_sets.clone();
+        let mut datasets = self.datasets.clone();
         let mut narrowed = choices.narrowed.iter().peekable();
         for (i, ins) in self.ssa.iter().enumerate() {
             let args = ins.args().map(|x| x.map(|x| alias[x as usize]));
@@ -329,10 +327,10 @@ impl Tape {
                     },
                     Choice::Right,
                 ) => alias[i] = args[1].expect("binary"),
-                (Instr::Capsules { set, .. }, _) => {
+                (Instr::Dataset { set, .. }, _) => {
                     if let Some((_, narrow)) = narrowed.next_if(|(at, _)| *at as usize == i) {
-                        *set = capsule_sets.len() as u32;
-                        capsule_sets.push(Arc::clone(narrow));
+                        *set = datasets.len() as u32;
+                        datasets.push(Arc::clone(narrow));
                     }
                 }
                 _ => {}
@@ -340,25 +338,25 @@ impl Tape {
             ssa.push(ins.with_args(i as u32, args));
         }
         let output = alias[self.output_ssa() as usize];
-        let mut tape = Tape::from_ssa(ssa, output, capsule_sets);
-        tape.drop_unused_capsule_sets();
+        let mut tape = Tape::from_ssa(ssa, output, datasets);
+        tape.drop_unused_datasets();
         tape
     }
 
-    /// Keeps only the capsule sets live instructions name, renumbered.
-    fn drop_unused_capsule_sets(&mut self) {
-        let mut renumber: Vec<Option<u32>> = vec![None; self.capsule_sets.len()];
+    /// Keeps only the datasets live instructions name, renumbered.
+    fn drop_unused_datasets(&mut self) {
+        let mut renumber: Vec<Option<u32>> = vec![None; self.datasets.len()];
         let mut kept = Vec::new();
         for ins in self.ssa.iter_mut().chain(self.instrs.iter_mut()) {
-            if let Instr::Capsules { set, .. } = ins {
+            if let Instr::Dataset { set, .. } = ins {
                 let new = *renumber[*set as usize].get_or_insert_with(|| {
-                    kept.push(Arc::clone(&self.capsule_sets[*set as usize]));
+                    kept.push(Arc::clone(&self.datasets[*set as usize]));
                     kept.len() as u32 - 1
                 });
                 *set = new;
             }
         }
-        self.capsule_sets = kept;
+        self.datasets = kept;
     }
 
     fn output_ssa(&self) -> u32 {

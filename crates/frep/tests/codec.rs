@@ -73,3 +73,34 @@ fn damaged_fields_are_errors_never_panics() {
     }
     assert_eq!(decode(b"GEOX").unwrap_err(), FieldDecodeError::Magic);
 }
+
+/// A mesh's field survives the codec: same identity, same values, and a
+/// corrupted triangle index is refused, not evaluated.
+#[test]
+fn mesh_fields_round_trip() {
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
+    let t = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let mesh = geode_frep::MeshDistance::new(p, t, &|| false).unwrap();
+    let f = geode_frep::Field::mesh(mesh).max(geode_frep::shapes::sphere([0.5; 3], 0.2));
+    let mut bytes = Vec::new();
+    geode_frep::codec::encode(&f, &mut bytes);
+    let back = geode_frep::codec::decode(&bytes).unwrap();
+    assert_eq!(back.identity(), f.identity());
+    for q in [[0.1, 0.1, 0.1], [0.5, 0.5, 0.5], [2.0, -1.0, 0.3]] {
+        assert_eq!(back.eval_tree(q), f.eval_tree(q));
+    }
+    // The last triangle's last index, made to point past the points.
+    let mut bad = bytes.clone();
+    let needle: Vec<u8> = [1u32, 2, 3].iter().flat_map(|v| v.to_le_bytes()).collect();
+    let pos = bad
+        .windows(12)
+        .rposition(|w| w == needle.as_slice())
+        .unwrap();
+    bad[pos + 8..pos + 12].copy_from_slice(&99u32.to_le_bytes());
+    assert!(geode_frep::codec::decode(&bad).is_err());
+}

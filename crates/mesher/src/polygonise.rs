@@ -189,7 +189,7 @@ fn surviving_bricks(
 /// cell of it on a distance field, thin-feature probes within two.
 const FLOOR_CELLS: f64 = 3.0;
 
-/// The field with the capsule sets it reaches through `min` and `max` alone
+/// The field with the datasets it reaches through `min` and `max` alone
 /// floored at `floor` (< 0): `max(floor, f)` distributes over both, so the
 /// result equals `f` wherever either is above the floor, and has its sign
 /// everywhere; capsules that never rise above it drop out of every search.
@@ -198,9 +198,10 @@ fn floor_capsules(f: &Field, floor: f64) -> Field {
     f.fold(min_or_max, |g, get: &dyn Fn(&Field) -> Field| {
         match g.node() {
             Node::Binary(op @ (Binary::Min | Binary::Max), a, b) => get(a).binary(*op, get(b)),
-            Node::Capsules(set, args) => {
-                Field::capsules_at(&Arc::new(set.with_floor(floor)), args.clone())
-            }
+            Node::Dataset(set, args) => match set.with_floor(floor) {
+                Some(floored) => Field::dataset_at(&Arc::new(floored), args.clone()),
+                None => g.clone(),
+            },
             _ => g.clone(),
         }
     })

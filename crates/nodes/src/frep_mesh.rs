@@ -1,11 +1,104 @@
-//! Mesh primitives as FRep inputs: the box, sphere, torus and tube nodes
-//! (with `analytic` on) feed FRep networks as the exact solids they stand
-//! for, moved by any `transform` on the way (the seed's use of Houdini's own
+//! Meshes as FRep inputs: any closed (or nearly closed) polygon mesh as its
+//! exact signed distance (frep_from_mesh), and the box, sphere, torus and
+//! tube nodes (with `analytic` on) as the exact solids they stand for, moved
+//! by any `transform` on the way (the seed's use of Houdini's own
 //! primitives as guide geometry).
 
-use geode_frep::shapes;
-use geode_geo::analytic;
-use geode_op::{CookContext, CookError, InputSpec, NodeSpec, Params, PortType, Registry, Value};
+use geode_frep::{shapes, Field, MeshDistance, MeshFieldError};
+use geode_geo::{analytic, AttribClass};
+use geode_op::{
+    CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
+    Params, PortType, Registry, Value,
+};
+
+const FROM_MESH_GROUP: P = P::new(
+    "group",
+    "Group",
+    T::String,
+    D::Str(""),
+    "The polygons that make the solid (a primitive group pattern); empty for all.",
+);
+
+static FROM_MESH: NodeSpec = NodeSpec::new(
+    "frep_from_mesh",
+    "FRep From Mesh",
+    "frep",
+    "A polygon mesh as a solid: the exact signed distance to its surface (positive inside), for CSG with other solids, offsets, shells, blends, infill and wall checks. Inside is where the generalized winding number passes one half, so a mesh with small holes, gaps or overlapping parts (a typical STL) still has a clear inside; faces must point outward. Polygons are triangulated; other primitives are ignored.",
+    &[InputSpec {
+        name: "mesh",
+        ty: PortType::Geometry,
+        required: true,
+    }],
+    &[FROM_MESH_GROUP],
+)
+.output(PortType::Field);
+
+/// Bytes a mesh field holds per triangle (its corners, hierarchy and
+/// winding dipoles, measured from `MeshDistance::memory_bytes`).
+const FIELD_BYTES_PER_TRIANGLE: f64 = 160.0;
+
+fn cook_from_mesh(
+    ctx: &CookContext,
+    inputs: &[Option<Value>],
+    p: &Params,
+) -> Result<Value, CookError> {
+    let g = crate::util::input(ctx, inputs, 0)?;
+    let group = crate::util::group_param(ctx, p, &FROM_MESH_GROUP, g, AttribClass::Primitive)?;
+    let (triangles, prim_of) = geode_attrib::relation::surface_triangles(g);
+    let triangles: Vec<[u32; 3]> = match &group {
+        Some(group) => triangles
+            .into_iter()
+            .zip(prim_of)
+            .filter(|&(_, prim)| group.contains(prim as usize))
+            .map(|(t, _)| t)
+            .collect(),
+        None => triangles,
+    };
+    ctx.reserve(
+        FROM_MESH_GROUP.name,
+        triangles.len() as f64 * FIELD_BYTES_PER_TRIANGLE,
+        "the mesh's distance hierarchy",
+    )?;
+    warn_of_open_edges(ctx, &triangles);
+    let positions = g.positions().iter().map(|v| v.to_array()).collect();
+    let cancel = ctx.cancel_fn();
+    match MeshDistance::new(positions, triangles, &cancel) {
+        Ok(mesh) => Ok(Value::Field(Field::mesh(mesh))),
+        Err(MeshFieldError::Cancelled) => Err(CookError::cancelled(ctx.path)),
+        Err(MeshFieldError::Empty) => Err(ctx.input_error(if group.is_some() {
+            "the group selects no polygons: a solid needs a closed surface of polygons"
+        } else {
+            "input 1 has no polygons: a solid needs a closed surface of polygons"
+        })),
+        Err(e) => Err(ctx.input_error(format!("input 1: {e}"))),
+    }
+}
+
+/// Warns when edges bound only one triangle (or three and more): the
+/// winding number still gives an inside, but a hole wider than the wall
+/// around it leaks.
+fn warn_of_open_edges(ctx: &CookContext, triangles: &[[u32; 3]]) {
+    let mut uses: std::collections::HashMap<(u32, u32), i32> =
+        std::collections::HashMap::with_capacity(triangles.len() * 3 / 2);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let open = uses.values().filter(|&&n| n == 1).count();
+    let shared = uses.values().filter(|&&n| n > 2).count();
+    if open > 0 {
+        ctx.warn(format!(
+            "the mesh is not closed: {open} edges bound one polygon only; inside is decided by winding number, so small holes are bridged, but fuse points (or fill holes) for a watertight solid"
+        ));
+    }
+    if shared > 0 {
+        ctx.warn(format!(
+            "{shared} edges are shared by more than two polygons; inside is decided by winding number"
+        ));
+    }
+}
 
 static FROM_PRIMITIVES: NodeSpec = NodeSpec::new(
     "frep_from_primitives",
@@ -41,5 +134,6 @@ fn cook_from_primitives(
 }
 
 pub fn register(r: &mut Registry) {
+    r.node(&FROM_MESH, cook_from_mesh);
     r.node(&FROM_PRIMITIVES, cook_from_primitives);
 }

@@ -3,7 +3,7 @@
 //! found, so a query on a million triangles visits a few dozen. Degenerate
 //! triangles (segments, points) answer as their longest edge.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use super::raycast::TriangleBvh;
 
@@ -24,14 +24,33 @@ impl TriangleBvh {
     /// triangle index, so the answer is the same however the tree was
     /// walked.
     pub fn closest(&self, q: Vec3, max_dist: f32) -> Option<Closest> {
+        let bound = if max_dist.is_finite() {
+            max_dist as f64
+        } else {
+            f64::INFINITY
+        };
+        self.closest_f64(q.as_dvec3(), bound).map(|c| Closest {
+            triangle: c.triangle,
+            point: c.point.as_vec3(),
+            u: c.u as f32,
+            v: c.v as f32,
+            dist2: c.dist2 as f32,
+        })
+    }
+
+    /// [`TriangleBvh::closest`] in double precision (the corners are
+    /// single, every step after them double): exact to rounding on long
+    /// thin triangles, where single precision misjudges which side of an
+    /// edge a point projects to by a good fraction of the sliver's width.
+    pub fn closest_f64(&self, q: DVec3, max_dist: f64) -> Option<Closest64> {
         if self.corners.is_empty() {
             return None;
         }
-        let mut best: Option<Closest> = None;
+        let mut best: Option<Closest64> = None;
         let mut bound = if max_dist.is_finite() {
             max_dist * max_dist
         } else {
-            f32::INFINITY
+            f64::INFINITY
         };
         let mut stack = [0u32; 64];
         let mut top = 1;
@@ -45,14 +64,15 @@ impl TriangleBvh {
             if node.end > node.start {
                 for i in node.start as usize..node.end as usize {
                     let tri = self.order[i];
-                    let (point, u, v) = closest_on_triangle(&self.corners[i], q);
+                    let (point, u, v) =
+                        closest_on_triangle_f64(&self.corners[i].map(|c| c.as_dvec3()), q);
                     let d2 = (point - q).length_squared();
                     let better = match best {
                         Some(b) => d2 < b.dist2 || (d2 == b.dist2 && tri < b.triangle),
                         None => d2 <= bound,
                     };
                     if better {
-                        best = Some(Closest {
+                        best = Some(Closest64 {
                             triangle: tri,
                             point,
                             u,
@@ -70,7 +90,7 @@ impl TriangleBvh {
                 let (a, b) = (n + 1, node.second);
                 let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
                 let key = |m: &super::raycast::Node| {
-                    let centre = (m.lo + m.hi) * 0.5;
+                    let centre = ((m.lo + m.hi) * 0.5).as_dvec3();
                     (box_dist2(m.lo, m.hi, q), (centre - q).length_squared())
                 };
                 let (ka, kb) = (key(na), key(nb));
@@ -85,13 +105,23 @@ impl TriangleBvh {
     }
 }
 
-fn box_dist2(lo: Vec3, hi: Vec3, q: Vec3) -> f32 {
-    let d = (lo - q).max(q - hi).max(Vec3::ZERO);
+/// [`Closest`] in double precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest64 {
+    pub triangle: u32,
+    pub point: DVec3,
+    pub u: f64,
+    pub v: f64,
+    pub dist2: f64,
+}
+
+fn box_dist2(lo: Vec3, hi: Vec3, q: DVec3) -> f64 {
+    let d = (lo.as_dvec3() - q).max(q - hi.as_dvec3()).max(DVec3::ZERO);
     d.length_squared()
 }
 
 /// The closest point of a segment to `q` and its parameter along it.
-fn closest_on_segment(a: Vec3, b: Vec3, q: Vec3) -> (Vec3, f32) {
+fn closest_on_segment(a: DVec3, b: DVec3, q: DVec3) -> (DVec3, f64) {
     let ab = b - a;
     let len2 = ab.length_squared();
     let t = if len2 > 0.0 {
@@ -102,13 +132,20 @@ fn closest_on_segment(a: Vec3, b: Vec3, q: Vec3) -> (Vec3, f32) {
     (a + ab * t, t)
 }
 
+/// The closest point of triangle `c` to `q` with its barycentric (u, v),
+/// computed in double precision (see [`closest_on_triangle_f64`]).
+pub fn closest_on_triangle(c: &[Vec3; 3], q: Vec3) -> (Vec3, f32, f32) {
+    let (p, u, v) = closest_on_triangle_f64(&c.map(|x| x.as_dvec3()), q.as_dvec3());
+    (p.as_vec3(), u as f32, v as f32)
+}
+
 /// The closest point of triangle `c` to `q` with its barycentric (u, v)
 /// (Ericson, Real-Time Collision Detection, 5.1.5: by Voronoi region).
-pub fn closest_on_triangle(c: &[Vec3; 3], q: Vec3) -> (Vec3, f32, f32) {
+pub fn closest_on_triangle_f64(c: &[DVec3; 3], q: DVec3) -> (DVec3, f64, f64) {
     let (a, b, cc) = (c[0], c[1], c[2]);
     let ab = b - a;
     let ac = cc - a;
-    if ab.cross(ac).length_squared() <= f32::EPSILON * ab.length_squared() * ac.length_squared() {
+    if ab.cross(ac).length_squared() <= f64::EPSILON * ab.length_squared() * ac.length_squared() {
         return closest_degenerate(c, q);
     }
     let ap = q - a;
@@ -151,15 +188,15 @@ pub fn closest_on_triangle(c: &[Vec3; 3], q: Vec3) -> (Vec3, f32, f32) {
 }
 
 /// A triangle without area: the closest of its three edges.
-fn closest_degenerate(c: &[Vec3; 3], q: Vec3) -> (Vec3, f32, f32) {
+fn closest_degenerate(c: &[DVec3; 3], q: DVec3) -> (DVec3, f64, f64) {
     let edges = [(0usize, 1usize), (1, 2), (2, 0)];
-    let mut best = (c[0], 0.0f32, 0.0f32, f32::INFINITY);
+    let mut best = (c[0], 0.0, 0.0, f64::INFINITY);
     for (i, j) in edges {
         let (p, t) = closest_on_segment(c[i], c[j], q);
         let d = (p - q).length_squared();
         if d < best.3 {
             // Weights of corners 1 and 2 at parameter t from i to j.
-            let mut w = [0.0f32; 3];
+            let mut w = [0.0; 3];
             w[i] += 1.0 - t;
             w[j] += t;
             best = (p, w[1], w[2], d);
@@ -215,6 +252,21 @@ mod tests {
             let p = c[0] * (1.0 - got.u - got.v) + c[1] * got.u + c[2] * got.v;
             assert!((p - got.point).length() < 1e-5);
         }
+    }
+
+    /// A long sliver in the plane y = 0 (from a machined part's STL): the
+    /// point above its middle projects inside it, so its distance is its
+    /// height; single-precision Ericson put it past an edge.
+    #[test]
+    fn a_sliver_is_measured_to_its_plane() {
+        let c = [
+            Vec3::new(2.46875, 0.0, 0.0),
+            Vec3::new(0.450_072_35, 0.0, 0.187_006_83),
+            Vec3::new(0.437_993_2, 0.0, 0.174_927_64),
+        ];
+        let q = Vec3::new(1.532_617_1, -0.000_528_097_15, 0.086_373_195);
+        let (p, _, _) = closest_on_triangle(&c, q);
+        assert!(((p - q).length() - 0.000_528_097_15).abs() < 1e-9, "{p}");
     }
 
     #[test]

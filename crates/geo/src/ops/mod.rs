@@ -20,9 +20,10 @@ mod transform;
 mod triangulate;
 mod unpack;
 mod validate;
+mod winding;
 
 pub use bounds::{bounds, signed_volume, surface_area, Aabb};
-pub use closest::{closest_on_triangle, Closest};
+pub use closest::{closest_on_triangle, closest_on_triangle_f64, Closest, Closest64};
 pub use cluster::{cluster_triangles, fan_triangle_count};
 pub use collapse::reduce_triangles;
 pub use edit::{
@@ -48,3 +49,4 @@ pub use transform::{transform, transformed, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};
 pub use unpack::{unpack, unpack_with, unpacked_bytes};
 pub use validate::{validate, ValidationIssue};
+pub use winding::WindingBvh;

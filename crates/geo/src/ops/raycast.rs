@@ -101,6 +101,22 @@ impl TriangleBvh {
         })
     }
 
+    /// Bytes held by the corners, the order and the nodes.
+    pub fn memory_bytes(&self) -> usize {
+        self.corners.len() * std::mem::size_of::<[Vec3; 3]>()
+            + self.order.len() * 4
+            + self.nodes.len() * std::mem::size_of::<Node>()
+    }
+
+    /// The number of triangles.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
+    }
+
     /// The nearest hit with `t` in `(t_min, t_max)` of the ray `origin + t dir`,
     /// ignoring triangles `skip` rejects; ties go to the lower index.
     pub fn first_hit(

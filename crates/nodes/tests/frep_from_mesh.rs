@@ -1,0 +1,274 @@
+//! frep_from_mesh against trimesh: the field's value at 100,000 random
+//! points is trimesh's exact closest-point distance (to 1e-5 of the part's
+//! bounding box) with libigl's exact winding number (and trimesh's
+//! `contains` where the part does not overlap itself) for its sign, and
+//! meshing the field at depth 8 gives the part back (Hausdorff both ways,
+//! measured by trimesh). Parts: three machined STLs
+//! (`examples/parts`, trimesh's own models) and OpenSubdiv's car cage
+//! closed by polyfill.
+
+#[path = "../../model/tests/common/oracle.rs"]
+mod oracle;
+
+mod common;
+
+use geode_geo::glam::Vec3;
+
+const PARTS: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/parts");
+const CAR: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/../model/tests/data/catmark_car.obj"
+);
+
+/// trimesh on the part (read from `path`, or given as JSON triangles):
+/// distances and sides at the points, then both one-sided distances
+/// between the part and a mesh of it.
+const ORACLE: &str = r#"
+import json, sys
+import numpy as np
+import trimesh
+a = json.load(sys.stdin)
+if a["path"]:
+    part = trimesh.load(a["path"], force="mesh")
+else:
+    part = trimesh.Trimesh(np.array(a["part"]["v"]), np.array(a["part"]["f"]), process=True)
+pts = np.array(a["points"], dtype=np.float64)
+_, dist, _ = trimesh.proximity.closest_point(part, pts)
+inside = part.contains(pts)
+import igl
+winding = igl.winding_number(np.array(part.vertices, dtype=np.float64), np.array(part.faces, dtype=np.int64), pts)
+out = trimesh.Trimesh(np.array(a["mesh"]["v"]), np.array(a["mesh"]["f"]), process=False)
+# Mesh to part: every vertex of the mesh. Part to mesh: the part's corners
+# and 20,000 points on its surface (seeded), those on the solid's boundary:
+# where the part overlaps itself, surface inside the solid is not meshed.
+_, to_part, _ = trimesh.proximity.closest_point(part, out.vertices)
+on_part, faces = trimesh.sample.sample_surface(part, 20000, seed=7)
+corner_faces = [np.where((part.faces == i).any(axis=1))[0][0] for i in range(len(part.vertices))]
+probe = np.vstack([part.vertices, on_part])
+normals = part.face_normals[np.concatenate([corner_faces, faces])]
+eps = 1e-4 * np.linalg.norm(part.extents)
+V, F = np.array(part.vertices, dtype=np.float64), np.array(part.faces, dtype=np.int64)
+w_out = igl.winding_number(V, F, probe + eps * normals)
+w_in = igl.winding_number(V, F, probe - eps * normals)
+boundary = (w_out > 0.5) != (w_in > 0.5)
+_, to_mesh, _ = trimesh.proximity.closest_point(out, probe[boundary])
+print(json.dumps({
+    "dist": dist.tolist(),
+    "inside": inside.tolist(),
+    "winding": winding.tolist(),
+    "mesh_to_part": float(to_part.max()),
+    "part_to_mesh": float(to_mesh.max()),
+    "watertight": bool(out.is_watertight),
+}))
+"#;
+
+/// 100,000 seeded points in the box grown by a tenth on every side.
+fn points(lo: Vec3, hi: Vec3) -> Vec<Vec3> {
+    let mut s = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let size = hi - lo;
+    (0..100_000)
+        .map(|_| lo - 0.1 * size + Vec3::new(next(), next(), next()) * size * 1.2)
+        .collect()
+}
+
+/// The part (`source` node entries ending in a node `part`), its field,
+/// and its mesh at depth 8 over its box grown by 4 cells, which must come
+/// within `part_to_mesh` cells of every point of the part's boundary
+/// (`None`: measured and printed only).
+fn check(source: &str, path: Option<&str>, name: &str, part_to_mesh: Option<f64>) {
+    let part = common::geo(source, "part");
+    let b = geode_geo::ops::bounds(&part).unwrap();
+    let nodes = format!(r#"{source}, "solid": {{"type": "frep_from_mesh", "inputs": ["part"]}}"#);
+    let field = common::cook_at(&nodes, "solid", 1.0)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .as_field()
+        .unwrap()
+        .clone();
+    let size = b.max - b.min;
+    let cell = size.max_element() as f64 * 1.1 / 256.0;
+    let (lo, hi) = (
+        b.min.as_dvec3() - 4.0 * cell,
+        b.min.as_dvec3() + 252.0 * cell,
+    );
+    let mesh_nodes = format!(
+        r#"{nodes}, "mesh": {{"type": "polygonise", "inputs": ["solid"], "params": {{"depth": 8, "min": [{}, {}, {}], "max": [{}, {}, {}]}}}}"#,
+        lo.x, lo.y, lo.z, hi.x, hi.y, hi.z
+    );
+    let mesh = common::geo(&mesh_nodes, "mesh");
+    let at = points(b.min, b.max);
+    let values = geode_mesher::sample(&field, &at);
+    let input = serde_json::json!({
+        "path": path,
+        "part": oracle::mesh_json(&part),
+        "points": at.iter().map(|p| p.to_array()).collect::<Vec<_>>(),
+        "mesh": oracle::mesh_json(&mesh),
+    });
+    let Some(want) = oracle::oracle(ORACLE, &input) else {
+        return;
+    };
+    let diagonal = size.length() as f64;
+    let dist: Vec<f64> = serde_json::from_value(want["dist"].clone()).unwrap();
+    let inside: Vec<bool> = serde_json::from_value(want["inside"].clone()).unwrap();
+    let winding: Vec<f64> = serde_json::from_value(want["winding"].clone()).unwrap();
+    let mut worst: f64 = 0.0;
+    let (mut against_igl, mut against_trimesh, mut overlapped) = (0, 0, 0);
+    for i in 0..at.len() {
+        let v = values[i] as f64;
+        worst = worst.max((v.abs() - dist[i]).abs());
+        // A point within a millionth of the box of the surface may go
+        // either way (f32 positions).
+        if dist[i] <= 1e-6 * diagonal {
+            continue;
+        }
+        if (v > 0.0) != (winding[i] > 0.5) {
+            against_igl += 1;
+        }
+        // trimesh's `contains` counts crossings of a ray, so where the
+        // part overlaps itself (winding number 2: the car's wheel arches
+        // through its body) it answers outside; compare it elsewhere.
+        if (winding[i] - winding[i].round()).abs() < 0.1
+            && (0.0..=1.0).contains(&winding[i].round())
+        {
+            if (v > 0.0) != inside[i] {
+                against_trimesh += 1;
+            }
+        } else {
+            overlapped += 1;
+        }
+    }
+    assert!(
+        worst <= 1e-5 * diagonal,
+        "{name}: distance off by {worst} (box {diagonal})"
+    );
+    assert_eq!(
+        (against_igl, against_trimesh),
+        (0, 0),
+        "{name}: points on the other side than libigl's winding number, trimesh's contains"
+    );
+    let (to_part, to_mesh) = (
+        want["mesh_to_part"].as_f64().unwrap(),
+        want["part_to_mesh"].as_f64().unwrap(),
+    );
+    eprintln!(
+        "{name}: {} triangles, worst distance error {:.2e} of the box, {overlapped} points where it overlaps itself; Hausdorff mesh->part {:.3} cell, part->mesh {:.3} cell",
+        part.num_prims(),
+        worst / diagonal,
+        to_part / cell,
+        to_mesh / cell
+    );
+    assert!(
+        to_part <= 0.5 * cell,
+        "{name}: mesh strays {to_part} (cell {cell})"
+    );
+    if let Some(bound) = part_to_mesh {
+        assert!(
+            to_mesh <= bound * cell,
+            "{name}: part missed by {to_mesh} (cell {cell})"
+        );
+    }
+    assert!(
+        want["watertight"].as_bool().unwrap(),
+        "{name}: mesh not closed"
+    );
+}
+
+fn stl(name: &str) {
+    let path = format!("{PARTS}/{name}");
+    let source = format!(r#""part": {{"type": "file", "params": {{"file": "{path}"}}}}"#);
+    // The corners where a faceted hole meets a face (facets a few degrees
+    // apart, about a cell long) are cut by up to three quarters of a cell
+    // today: curved creases are the mesher's open work (issue 37, item 3).
+    check(&source, Some(&path), name, Some(0.8));
+}
+
+#[test]
+fn featuretype_is_its_distance_and_meshes_back() {
+    stl("featuretype.stl");
+}
+
+#[test]
+fn idler_riser_is_its_distance_and_meshes_back() {
+    stl("idler_riser.stl");
+}
+
+#[test]
+fn plate_holes_is_its_distance_and_meshes_back() {
+    stl("plate_holes.stl");
+}
+
+#[test]
+fn the_car_closed_by_polyfill_is_its_distance_and_meshes_back() {
+    let source = format!(
+        r#""cage": {{"type": "file", "params": {{"file": "{CAR}"}}}},
+        "closed": {{"type": "polyfill", "inputs": ["cage"]}},
+        "part": {{"type": "triangulate", "inputs": ["closed"]}}"#
+    );
+    // The roof is a sheet 0.4 cell thick at depth 8, which the mesher
+    // loses today (issue 37, item 4: thin walls), so the part-to-mesh side
+    // is printed, not bounded.
+    check(&source, None, "catmark_car", None);
+}
+
+#[test]
+fn an_open_mesh_warns_and_an_empty_one_is_refused() {
+    let w = common::warnings(
+        r#""g": {"type": "grid"}, "s": {"type": "frep_from_mesh", "inputs": ["g"]}"#,
+        "/s",
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("not closed") && w.contains("edges bound one polygon")),
+        "{w:?}"
+    );
+    let e = common::err(
+        r#""g": {"type": "curve_line"}, "s": {"type": "frep_from_mesh", "inputs": ["g"]}"#,
+        "s",
+    );
+    assert!(e.contains("/s") && e.contains("no polygons"), "{e}");
+    let e = common::err(
+        r#""g": {"type": "box"}, "s": {"type": "frep_from_mesh", "inputs": ["g"], "params": {"group": "nothing_here"}}"#,
+        "s",
+    );
+    assert!(e.contains("group") && e.contains("nothing_here"), "{e}");
+}
+
+/// The volume of `output`'s closed mesh.
+fn volume(nodes: &str) -> f64 {
+    let g = common::geo(nodes, "mesh");
+    assert!(g.topology().manifold_report(&g).is_closed_manifold());
+    geode_geo::ops::signed_volume(&g) as f64
+}
+
+/// A mesh's field is a field like any other: CSG with a native sphere, and
+/// offsets in both measures (its value already is a distance), mesh to
+/// the analytic volumes.
+#[test]
+fn a_mesh_field_combines_with_native_fields() {
+    let pi = std::f64::consts::PI;
+    let cube = r#""cube": {"type": "box"}, "solid": {"type": "frep_from_mesh", "inputs": ["cube"]},
+        "ball": {"type": "frep_sphere", "params": {"radius": 0.5, "center": [0.5, 0.5, 0.5]}}"#;
+    let mesh = r#""mesh": {"type": "polygonise", "inputs": ["s"], "params": {"min": [-0.9, -0.9, -0.9], "max": [0.9, 0.9, 0.9], "depth": 7}}"#;
+    let cut = format!(
+        r#"{cube}, "s": {{"type": "frep_csg", "inputs": ["solid", "ball"], "params": {{"operation": "subtraction"}}}}, {mesh}"#
+    );
+    let want = 1.0 - pi / 48.0;
+    let got = volume(&cut);
+    assert!((got - want).abs() / want < 3e-3, "cut: {got} vs {want}");
+    for measure in ["field", "distance"] {
+        let grown = format!(
+            r#"{cube}, "s": {{"type": "frep_offset", "inputs": ["solid"], "params": {{"distance": 0.1, "measure": "{measure}"}}}}, {mesh}"#
+        );
+        let want = 1.0 + 6.0 * 0.1 + 3.0 * pi * 0.01 + 4.0 / 3.0 * pi * 0.001;
+        let got = volume(&grown);
+        assert!(
+            (got - want).abs() / want < 3e-3,
+            "offset ({measure}): {got} vs {want}"
+        );
+    }
+}
