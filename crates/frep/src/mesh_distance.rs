@@ -29,6 +29,29 @@ pub enum MeshFieldError {
     Cancelled,
 }
 
+/// Balls of known side kept per thread.
+const BALLS: usize = 16;
+
+#[derive(Clone, Copy, Default)]
+struct Ball {
+    centre: DVec3,
+    radius2: f64,
+    side: f64,
+}
+
+#[derive(Default)]
+struct SideBalls {
+    identity: u128,
+    balls: [Ball; BALLS],
+    next: usize,
+}
+
+thread_local! {
+    /// The last balls of known side on this thread, for the mesh named
+    /// (see `MeshDistance::side`).
+    static SIDE_BALLS: std::cell::RefCell<SideBalls> = std::cell::RefCell::new(SideBalls::default());
+}
+
 /// Triangles with their hierarchy; immutable once built.
 pub struct MeshDistance {
     positions: Vec<[f32; 3]>,
@@ -38,7 +61,40 @@ pub struct MeshDistance {
     /// The triangles' bounding box.
     lo: [f64; 3],
     hi: [f64; 3],
+    /// Distances up to this read as on the surface (see `ON_SURFACE`).
+    on_surface: f64,
+    /// Every edge (by its ends' positions) is used as often in one
+    /// direction as in the other: the winding number is then constant off
+    /// the surface, which lets known sides spread (see `side`).
+    closed: bool,
 }
+
+/// Whether every edge, keyed by its ends' positions, is used as often in
+/// one direction as in the other.
+fn is_closed(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> bool {
+    let key = |i: u32| positions[i as usize].map(|v| if v == 0.0 { 0 } else { v.to_bits() });
+    let mut balance: std::collections::HashMap<([u32; 3], [u32; 3]), i32> =
+        std::collections::HashMap::with_capacity(triangles.len() * 3 / 2);
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+            match a.cmp(&b) {
+                std::cmp::Ordering::Less => *balance.entry((a, b)).or_default() += 1,
+                std::cmp::Ordering::Greater => *balance.entry((b, a)).or_default() -= 1,
+                std::cmp::Ordering::Equal => {}
+            }
+        }
+    }
+    balance.values().all(|&b| b == 0)
+}
+
+/// Points this close to the surface, relative to the mesh's coordinates
+/// (single-precision positions round at 6e-8 of them), are on it: their
+/// value is +0, inside, as a native field's exact zero is. Their winding
+/// number is one half to rounding, and a side picked by rounding would
+/// checker a face lying on a grid plane with signs, which meshes as
+/// sheets meeting at edges.
+const ON_SURFACE: f64 = 1e-7;
 
 impl std::fmt::Debug for MeshDistance {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -107,13 +163,19 @@ impl MeshDistance {
                 }
             }
         }
+        let scale = (0..3)
+            .map(|k| lo[k].abs().max(hi[k].abs()).max(hi[k] - lo[k]))
+            .fold(0.0, f64::max);
+        let closed = is_closed(&positions, &triangles);
         Ok(MeshDistance {
+            closed,
             positions,
             triangles,
             tree: WindingBvh::new(bvh),
             identity,
             lo,
             hi,
+            on_surface: ON_SURFACE * scale,
         })
     }
 
@@ -157,13 +219,52 @@ impl MeshDistance {
         (c.point, c.triangle)
     }
 
-    /// +1 inside, -1 outside.
-    fn side(&self, p: DVec3) -> f64 {
-        if self.tree.contains(p) {
-            1.0
-        } else {
-            -1.0
+    /// +1 inside, -1 outside, for `p` at distance `d` from the surface.
+    /// A ball around a point whose side is known, of its distance's
+    /// radius, holds no surface, so every point inside it is on the same
+    /// side: this thread's last few such balls answer most of a mesher's
+    /// queries (neighbouring corners of a lattice) without a winding
+    /// number, the costly part. The balls are a hint: on a closed mesh the
+    /// winding number is constant inside each, so a side they give is the
+    /// side the winding number gives (an open mesh's varies smoothly
+    /// across its holes, so there they are not used).
+    fn side(&self, p: DVec3, d: f64) -> f64 {
+        if !self.closed {
+            return if self.tree.contains(p) { 1.0 } else { -1.0 };
         }
+        let known = SIDE_BALLS.with(|b| {
+            let b = b.borrow();
+            (b.identity == self.identity)
+                .then(|| {
+                    b.balls
+                        .iter()
+                        .find(|ball| ball.centre.distance_squared(p) < ball.radius2)
+                        .map(|ball| ball.side)
+                })
+                .flatten()
+        });
+        if let Some(side) = known {
+            return side;
+        }
+        let side = if self.tree.contains(p) { 1.0 } else { -1.0 };
+        SIDE_BALLS.with(|b| {
+            let mut b = b.borrow_mut();
+            if b.identity != self.identity {
+                *b = SideBalls {
+                    identity: self.identity,
+                    ..SideBalls::default()
+                };
+            }
+            let at = b.next;
+            // A hair inside the distance: rounding never reaches the surface.
+            b.balls[at] = Ball {
+                centre: p,
+                radius2: (d * (1.0 - 1e-9)).powi(2),
+                side,
+            };
+            b.next = (at + 1) % BALLS;
+        });
+        side
     }
 
     /// The signed distance at `p`.
@@ -173,7 +274,11 @@ impl MeshDistance {
             return f64::NAN;
         }
         let (near, _) = self.nearest(q);
-        self.side(q) * q.distance(near)
+        let d = q.distance(near);
+        if d <= self.on_surface {
+            return 0.0;
+        }
+        self.side(q, d) * d
     }
 
     /// The signed distance and its gradient at `p`: along the direction
@@ -185,21 +290,26 @@ impl MeshDistance {
             return (f64::NAN, [f64::NAN; 3]);
         }
         let (near, tri) = self.nearest(q);
-        let side = self.side(q);
         let away = q - near;
         let d = away.length();
-        let g = if d > 1e-12 {
-            side * away / d
-        } else {
+        if d <= self.on_surface {
             let [a, b, c] = self.triangles[tri as usize]
                 .map(|i| DVec3::from(self.positions[i as usize].map(f64::from)));
-            -(b - a).cross(c - a).normalize_or_zero()
-        };
-        (side * d, g.to_array())
+            return (0.0, (-(b - a).cross(c - a).normalize_or_zero()).to_array());
+        }
+        let side = self.side(q, d);
+        (side * d, (side * away / d).to_array())
     }
 
-    /// Bounds over the box the three intervals span: the centre's value
-    /// plus or minus half the diagonal.
+    /// Bounds over the box the three intervals span, `r` its half
+    /// diagonal. With surface within `2 r` of the centre: the centre's
+    /// value plus or minus `r` (the distance is 1-Lipschitz). Without, the
+    /// box holds no surface and every point of it is at least `r` from it:
+    /// the centre's side times `[r, U]`, `U` the farthest any point of the
+    /// box can be from a triangle (the far corner of the mesh's box). The
+    /// search bounded by `2 r` visits a few dozen nodes even at the middle
+    /// of a closed mesh, where an unbounded one meets every triangle at
+    /// nearly the same distance and visits them all.
     pub fn interval(&self, x: Interval, y: Interval, z: Interval) -> Interval {
         let spans = [x, y, z];
         if spans
@@ -208,10 +318,27 @@ impl MeshDistance {
         {
             return Interval::new(f64::NEG_INFINITY, f64::INFINITY);
         }
-        let centre = spans.map(|s| 0.5 * (s.lo + s.hi));
-        let half = DVec3::from(spans.map(|s| 0.5 * (s.hi - s.lo))).length();
-        let v = self.value(centre);
-        Interval::new(v - half, v + half)
+        let centre = DVec3::from(spans.map(|s| 0.5 * (s.lo + s.hi)));
+        let half = DVec3::from(spans.map(|s| 0.5 * (s.hi - s.lo)));
+        let r = half.length();
+        match self.tree.bvh().closest_f64(centre, 2.0 * r) {
+            Some(near) => {
+                let d = near.dist2.sqrt();
+                let v = if d <= self.on_surface {
+                    0.0
+                } else {
+                    self.side(centre, d) * d
+                };
+                Interval::new(v - r, v + r)
+            }
+            None => {
+                let (lo, hi) = (DVec3::from(self.lo), DVec3::from(self.hi));
+                let far = (centre - lo).abs().max((hi - centre).abs()) + half;
+                let side = self.side(centre, 2.0 * r);
+                let (a, b) = (side * r, side * far.length());
+                Interval::new(a.min(b), a.max(b))
+            }
+        }
     }
 
     /// Values at many points (`out[i]` at `(xs[i], ys[i], zs[i])`).

@@ -254,6 +254,21 @@ fn rows() -> Vec<Row> {
             None,
         ),
         row(
+            "printing an STL part end to end (frep_from_mesh, shell, gyroid, drains, polygonise depth 7, wall_thickness)",
+            example("frep_print_part.json").replace(
+                "$HIP",
+                &format!("{}/../../examples", env!("CARGO_MANIFEST_DIR")),
+            ),
+            "/check",
+            &[
+                "/part", "/welded", "/solid", "/skin", "/cavity", "/gyroid", "/infill",
+                "/hollowed", "/drain", "/drain_up", "/drain_copy", "/drains", "/printable",
+                "/mesh", "/check",
+            ],
+            Peer::None,
+            None,
+        ),
+        row(
             "wall_thickness of the gyroid part (310k triangles)",
             extended(
                 "frep_gyroid_part.json",
