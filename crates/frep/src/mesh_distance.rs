@@ -69,25 +69,6 @@ pub struct MeshDistance {
     closed: bool,
 }
 
-/// Whether every edge, keyed by its ends' positions, is used as often in
-/// one direction as in the other.
-fn is_closed(positions: &[[f32; 3]], triangles: &[[u32; 3]]) -> bool {
-    let key = |i: u32| positions[i as usize].map(|v| if v == 0.0 { 0 } else { v.to_bits() });
-    let mut balance: std::collections::HashMap<([u32; 3], [u32; 3]), i32> =
-        std::collections::HashMap::with_capacity(triangles.len() * 3 / 2);
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
-            match a.cmp(&b) {
-                std::cmp::Ordering::Less => *balance.entry((a, b)).or_default() += 1,
-                std::cmp::Ordering::Greater => *balance.entry((b, a)).or_default() -= 1,
-                std::cmp::Ordering::Equal => {}
-            }
-        }
-    }
-    balance.values().all(|&b| b == 0)
-}
-
 /// Points this close to the surface, relative to the mesh's coordinates
 /// (single-precision positions round at 6e-8 of them), are on it: their
 /// value is +0, inside, as a native field's exact zero is. Their winding
@@ -166,7 +147,11 @@ impl MeshDistance {
         let scale = (0..3)
             .map(|k| lo[k].abs().max(hi[k].abs()).max(hi[k] - lo[k]))
             .fold(0.0, f64::max);
-        let closed = is_closed(&positions, &triangles);
+        let closed = geode_geo::ops::is_closed_soup(
+            triangles
+                .iter()
+                .map(|t| t.map(|i| Vec3::from(positions[i as usize]))),
+        );
         Ok(MeshDistance {
             closed,
             positions,

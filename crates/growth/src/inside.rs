@@ -49,26 +49,6 @@ impl Voxels {
     }
 }
 
-/// Whether every edge is used as often in one direction as in the other
-/// (each triangle's edges counted by their ends' positions): the winding
-/// number is then well defined everywhere off the surface.
-fn is_closed(triangles: &[[Vec3; 3]]) -> bool {
-    let key = |p: Vec3| p.to_array().map(f32::to_bits);
-    let mut balance: std::collections::HashMap<([u32; 3], [u32; 3]), i32> =
-        std::collections::HashMap::with_capacity(triangles.len() * 3);
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
-            if a < b {
-                *balance.entry((a, b)).or_default() += 1;
-            } else {
-                *balance.entry((b, a)).or_default() -= 1;
-            }
-        }
-    }
-    balance.values().all(|&b| b == 0)
-}
-
 impl InsideTest {
     pub fn new(triangles: Vec<[Vec3; 3]>) -> InsideTest {
         let yz = |p: Vec3| DVec2::new(p.y as f64, p.z as f64);
@@ -135,7 +115,7 @@ impl InsideTest {
             items,
             voxels: None,
         };
-        if is_closed(&test.triangles) {
+        if geode_geo::ops::is_closed_soup(test.triangles.iter().copied()) {
             test.voxels = Some(test.voxelize());
         }
         test

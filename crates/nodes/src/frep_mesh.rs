@@ -5,7 +5,7 @@
 //! primitives as guide geometry).
 
 use geode_frep::{shapes, Field, MeshDistance, MeshFieldError};
-use geode_geo::{analytic, AttribClass};
+use geode_geo::{analytic, AttribClass, Geometry};
 use geode_op::{
     CookContext, CookError, InputSpec, NodeSpec, ParamDefault as D, ParamSpec as P, ParamType as T,
     Params, PortType, Registry, Value,
@@ -59,7 +59,7 @@ fn cook_from_mesh(
         triangles.len() as f64 * FIELD_BYTES_PER_TRIANGLE,
         "the mesh's distance hierarchy",
     )?;
-    warn_of_open_edges(ctx, &triangles);
+    warn_of_open_edges(ctx, g);
     let positions = g.positions().iter().map(|v| v.to_array()).collect();
     let cancel = ctx.cancel_fn();
     match MeshDistance::new(positions, triangles, &cancel) {
@@ -74,28 +74,21 @@ fn cook_from_mesh(
     }
 }
 
-/// Warns when edges bound only one triangle (or three and more): the
+/// Warns when edges bound only one polygon (or three and more): the
 /// winding number still gives an inside, but a hole wider than the wall
 /// around it leaks.
-fn warn_of_open_edges(ctx: &CookContext, triangles: &[[u32; 3]]) {
-    let mut uses: std::collections::HashMap<(u32, u32), i32> =
-        std::collections::HashMap::with_capacity(triangles.len() * 3 / 2);
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *uses.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    let open = uses.values().filter(|&&n| n == 1).count();
-    let shared = uses.values().filter(|&&n| n > 2).count();
-    if open > 0 {
+fn warn_of_open_edges(ctx: &CookContext, g: &Geometry) {
+    let report = g.topology().manifold_report(g);
+    if report.boundary_edges > 0 {
         ctx.warn(format!(
-            "the mesh is not closed: {open} edges bound one polygon only; inside is decided by winding number, so small holes are bridged, but fuse points (or fill holes) for a watertight solid"
+            "the mesh is not closed: {} edges bound one polygon only; inside is decided by winding number, so small holes are bridged, but fuse points (or fill holes) for a watertight solid",
+            report.boundary_edges
         ));
     }
-    if shared > 0 {
+    if report.non_manifold_edges > 0 {
         ctx.warn(format!(
-            "{shared} edges are shared by more than two polygons; inside is decided by winding number"
+            "{} edges are shared by more than two polygons; inside is decided by winding number",
+            report.non_manifold_edges
         ));
     }
 }

@@ -49,4 +49,4 @@ pub use transform::{transform, transformed, trs};
 pub use triangulate::{triangulate, triangulate_polygon, triangulate_with};
 pub use unpack::{unpack, unpack_with, unpacked_bytes};
 pub use validate::{validate, ValidationIssue};
-pub use winding::WindingBvh;
+pub use winding::{is_closed_soup, WindingBvh};

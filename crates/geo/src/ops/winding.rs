@@ -136,6 +136,27 @@ fn far_field(d: &Dipole, r: DVec3, dist2: f64) -> f64 {
     r.dot(d.area_normal) / (dist2 * dist2.sqrt())
 }
 
+/// Whether every edge of a triangle soup is used as often in one
+/// direction as in the other, edges keyed by their ends' positions (-0 and
+/// 0 alike): the winding number is then an integer, constant between
+/// surfaces, wherever it is off the surface.
+pub fn is_closed_soup(triangles: impl IntoIterator<Item = [Vec3; 3]>) -> bool {
+    let key = |p: Vec3| p.to_array().map(|v| if v == 0.0 { 0 } else { v.to_bits() });
+    let mut balance: std::collections::HashMap<([u32; 3], [u32; 3]), i32> =
+        std::collections::HashMap::new();
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (key(t[k]), key(t[(k + 1) % 3]));
+            match a.cmp(&b) {
+                std::cmp::Ordering::Less => *balance.entry((a, b)).or_default() += 1,
+                std::cmp::Ordering::Greater => *balance.entry((b, a)).or_default() -= 1,
+                std::cmp::Ordering::Equal => {}
+            }
+        }
+    }
+    balance.values().all(|&b| b == 0)
+}
+
 fn leaf_dipole(corners: &[[Vec3; 3]]) -> Dipole {
     let mut parts = corners.iter().map(|c| {
         let [a, b, cc] = c.map(dvec);
@@ -247,6 +268,22 @@ mod tests {
         }
         assert!(w.winding(DVec3::new(0.0, 0.0, 0.99)) > 0.5);
         assert!(w.winding(DVec3::new(0.0, 0.0, 1.05)) < 0.5);
+    }
+
+    #[test]
+    fn closed_soups_balance_their_edges() {
+        let (p, t) = sphere(8);
+        let soup = |t: &[[u32; 3]]| {
+            t.iter()
+                .map(|x| x.map(|i| p[i as usize]))
+                .collect::<Vec<_>>()
+        };
+        assert!(is_closed_soup(soup(&t)));
+        assert!(!is_closed_soup(soup(&t[1..])));
+        // Flipping one triangle unbalances its edges too.
+        let mut flipped = t.clone();
+        flipped[3].swap(1, 2);
+        assert!(!is_closed_soup(soup(&flipped)));
     }
 
     #[test]
