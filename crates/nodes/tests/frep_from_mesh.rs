@@ -271,6 +271,28 @@ fn a_mesh_field_combines_with_native_fields() {
             "offset ({measure}): {got} vs {want}"
         );
     }
+    // A 0.1 wall inside the unit cube: 1 - 0.8^3.
+    let shell = format!(
+        r#"{cube}, "s": {{"type": "frep_shell", "inputs": ["solid"], "params": {{"thickness": 0.1, "side": "inside"}}}}, {mesh}"#
+    );
+    let (got, want) = (volume(&shell), 1.0 - 0.8f64.powi(3));
+    assert!((got - want).abs() / want < 5e-3, "shell: {got} vs {want}");
+    // Two copies on points 0.8 apart, half size: a quarter of the cube.
+    let copies = r#""cube": {"type": "box"}, "solid": {"type": "frep_from_mesh", "inputs": ["cube"]},
+        "pts": {"type": "curve_line", "params": {"start": [-0.4, 0, 0], "end": [0.4, 0, 0], "points": 2}},
+        "sized": {"type": "attribute_create", "inputs": ["pts"], "params": {"name": "pscale", "value": [0.5, 0, 0, 0]}},
+        "s": {"type": "frep_instance", "inputs": ["solid", "sized"]},
+        "mesh": {"type": "polygonise", "inputs": ["s"], "params": {"min": [-0.9, -0.9, -0.9], "max": [0.9, 0.9, 0.9], "depth": 7}}"#;
+    let got = volume(copies);
+    assert!((got - 0.25).abs() / 0.25 < 3e-3, "instances: {got}");
+    // A blend with the sphere adds a fillet to the union's volume.
+    let union =
+        format!(r#"{cube}, "s": {{"type": "frep_csg", "inputs": ["solid", "ball"]}}, {mesh}"#);
+    let blended = format!(
+        r#"{cube}, "s": {{"type": "frep_blend", "inputs": ["solid", "ball"], "params": {{"a0": 0.2, "a1": 0.2, "a2": 0.2}}}}, {mesh}"#
+    );
+    let (u, b) = (volume(&union), volume(&blended));
+    assert!(b > u * 1.01 && b < u * 1.5, "union {u}, blend {b}");
 }
 
 /// Faces lying exactly on grid planes (a part's faces at whole cells from
