@@ -255,3 +255,65 @@ fn the_screw_crest_is_meshed_on_the_exact_crest() {
         "a crest cell's vertex lies {worst} cells off the crest"
     );
 }
+
+/// The screw's crest (r = 0.42, half a turn) and root (r = 0.27, whole
+/// turns) helices sampled densely away from the shaft's ends: the fraction
+/// of samples within `within` cells of the meshed surface (the triangles,
+/// not only the vertices: a zig-zag across a crease leaves the crease
+/// between its vertices).
+fn helix_coverage(g: &geode_geo::Geometry, h: f64, within: f64) -> [f64; 2] {
+    use geode_geo::glam::Vec3;
+    let tris: Vec<[u32; 3]> = (0..g.num_prims())
+        .map(|p| {
+            let v = g.prim_points(p);
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let bvh = geode_geo::ops::TriangleBvh::new(g.positions(), &tris);
+    [(0.42, 0.5), (0.27, 0.0)].map(|(radius, fraction)| {
+        let n = 20_000;
+        let near = (0..n)
+            .filter(|&step| {
+                let y = -0.6 + 1.2 * step as f64 / n as f64;
+                let t = y / 0.25;
+                let theta = (fraction - (t - t.floor())) * std::f64::consts::TAU;
+                let s = Vec3::new(
+                    (radius * theta.cos()) as f32,
+                    y as f32,
+                    (radius * theta.sin()) as f32,
+                );
+                let d = bvh.closest(s, f32::INFINITY).unwrap().dist2.sqrt() as f64;
+                d <= within * h
+            })
+            .count();
+        near as f64 / n as f64
+    })
+}
+
+#[test]
+fn the_screw_crest_and_root_lie_on_the_mesh() {
+    let (lo, hi, depth) = ([-0.6, -0.9, -0.6], [0.6, 0.9, 0.6], 7);
+    let g = polygonise(
+        &thread(),
+        &MeshOptions::new(lo, hi, depth),
+        &|| false,
+        &|_| {},
+    )
+    .unwrap()
+    .0;
+    let h = 1.8 / (1u64 << depth) as f64;
+    let mut at = Vec::new();
+    for within in [0.05, 0.1, 0.25] {
+        let [crest, root] = helix_coverage(&g, h, within);
+        eprintln!("within {within} cell: crest {crest:.3}, root {root:.3}");
+        at.push((crest, root));
+    }
+    // Today (depth 7): 63% of either helix within 0.05 cell, 68% within
+    // 0.1, 80% within 0.25. Of the samples beyond 0.1 cell, 56% lie in
+    // cells with no vertex (the ridge pokes into a cell whose corners are
+    // all outside, so dual contouring places nothing there) and the rest
+    // where the mesh zig-zags between crest and flank vertices. Issue 37
+    // asks for 99% within 0.05: this guards today's level until then.
+    assert!(at[0].0 >= 0.6 && at[0].1 >= 0.6, "{at:?}");
+    assert!(at[2].0 >= 0.78 && at[2].1 >= 0.78, "{at:?}");
+}
