@@ -295,17 +295,27 @@ fn a_mesh_field_combines_with_native_fields() {
     assert!(b > u * 1.01 && b < u * 1.5, "union {u}, blend {b}");
 }
 
+/// Node entries reading `part` (in `examples/parts`) as a field and
+/// meshing it over `min`..`max` at `depth`, as node `mesh`.
+fn meshed_part(part: &str, min: [f64; 3], max: [f64; 3], depth: u32) -> String {
+    format!(
+        r#""part": {{"type": "file", "params": {{"file": "{PARTS}/{part}"}}}},
+        "solid": {{"type": "frep_from_mesh", "inputs": ["part"]}},
+        "mesh": {{"type": "polygonise", "inputs": ["solid"], "params": {{"min": {min:?}, "max": {max:?}, "depth": {depth}}}}}"#
+    )
+}
+
 /// Faces lying exactly on grid planes (a part's faces at whole cells from
 /// the box's corner): points on them read as on the surface, never on a
 /// side picked by rounding, so the mesh is closed and manifold (it had
 /// sheets meeting at edges along featuretype's bottom and side).
 #[test]
 fn faces_on_grid_planes_mesh_closed() {
-    let part = format!("{PARTS}/featuretype.stl");
-    let nodes = format!(
-        r#""part": {{"type": "file", "params": {{"file": "{part}"}}}},
-        "solid": {{"type": "frep_from_mesh", "inputs": ["part"]}},
-        "mesh": {{"type": "polygonise", "inputs": ["solid"], "params": {{"min": [-2.6, -1.35, -0.1], "max": [2.6, 1.35, 1.475], "depth": 7}}}}"#
+    let nodes = meshed_part(
+        "featuretype.stl",
+        [-2.6, -1.35, -0.1],
+        [2.6, 1.35, 1.475],
+        7,
     );
     let g = common::geo(&nodes, "mesh");
     let report = g.topology().manifold_report(&g);
@@ -320,12 +330,7 @@ fn faces_on_grid_planes_mesh_closed() {
 /// each thread remembers are hints that never change an answer).
 #[test]
 fn meshing_a_mesh_field_is_deterministic() {
-    let part = format!("{PARTS}/idler_riser.stl");
-    let nodes = format!(
-        r#""part": {{"type": "file", "params": {{"file": "{part}"}}}},
-        "solid": {{"type": "frep_from_mesh", "inputs": ["part"]}},
-        "mesh": {{"type": "polygonise", "inputs": ["solid"], "params": {{"min": [-0.2, -0.1, -0.1], "max": [2.7, 3.0, 0.7], "depth": 6}}}}"#
-    );
+    let nodes = meshed_part("idler_riser.stl", [-0.2, -0.1, -0.1], [2.7, 3.0, 0.7], 6);
     let one = common::cook_on(1, &nodes, "mesh");
     let four = common::cook_on(4, &nodes, "mesh");
     assert!(one.num_prims() > 1000);
