@@ -20,8 +20,8 @@ seconds="${GEODE_FUZZ_SECONDS:-60}"
 # The parsers issue 33 asked to be fuzzed in CI and the wrangle compiler
 # (issue 34; seeds: the real snippets, `tools/vex_mutate.py --write-seeds`);
 # `all` adds the other readers. Every target is built whichever run.
-default_targets="hyperfun vm expr network read_bgeo vex_text"
-all_targets="hyperfun vm expr network read_bgeo read_obj read_ply read_stl read_gltf read_hs vex_text"
+default_targets="hyperfun vm field_codec expr network read_bgeo vex_text"
+all_targets="hyperfun vm field_codec expr network read_bgeo read_obj read_ply read_stl read_gltf read_hs vex_text"
 if [ "$#" -gt 0 ]; then
     targets="$*"
 elif [ "${GEODE_FUZZ_TARGETS:-}" = all ]; then
@@ -33,7 +33,7 @@ fi
 # Where a target's crash inputs are kept as regressions, replayed by `cargo test`.
 regressions() {
     case "$1" in
-        hyperfun | vm) echo crates/frep/tests/fuzz_regressions/$1 ;;
+        hyperfun | vm | field_codec) echo crates/frep/tests/fuzz_regressions/$1 ;;
         expr) echo crates/nodes/tests/fuzz_regressions/expr ;;
         network) echo crates/nodes/tests/fuzz_regressions/network ;;
         read_hs) echo crates/spline/tests/fuzz_regressions ;;
@@ -61,6 +61,7 @@ extension() {
         read_gltf) echo .glb ;;
         vm) echo .vm ;;
         hyperfun) echo .hf ;;
+        field_codec) echo .bin ;;
         read_hs) echo .hs ;;
         *) echo .txt ;;
     esac

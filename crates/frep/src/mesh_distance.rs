@@ -1,8 +1,8 @@
 //! A triangle mesh as an exact signed distance field: the distance to the
 //! nearest point of any triangle (through `geode-geo`'s triangle
-//! hierarchy), positive inside (the generalized winding number above one
-//! half, so small holes, gaps and self-overlaps still give a side), negative
-//! outside. The distance is 1-Lipschitz, so a box's values lie within half
+//! hierarchy), positive inside (the generalized winding number's magnitude
+//! above one half, so small holes, gaps, self-overlaps and a mesh wound
+//! inside out still give a side), negative outside. The distance is 1-Lipschitz, so a box's values lie within half
 //! its diagonal of its centre's: that is the interval bound, one point query
 //! per box, exact enough that the mesher prunes as for native fields.
 
@@ -204,6 +204,17 @@ impl MeshDistance {
         (c.point, c.triangle)
     }
 
+    /// +1 inside, -1 outside by the winding number alone: inside where its
+    /// magnitude passes one half, so a mesh turned inside out (-1 within)
+    /// is the same solid, as nested shells wound either way are.
+    fn winding_side(&self, p: DVec3) -> f64 {
+        if self.tree.winding(p).abs() > 0.5 {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+
     /// +1 inside, -1 outside, for `p` at distance `d` from the surface.
     /// A ball around a point whose side is known, of its distance's
     /// radius, holds no surface, so every point inside it is on the same
@@ -215,7 +226,7 @@ impl MeshDistance {
     /// across its holes, so there they are not used).
     fn side(&self, p: DVec3, d: f64) -> f64 {
         if !self.closed {
-            return if self.tree.contains(p) { 1.0 } else { -1.0 };
+            return self.winding_side(p);
         }
         let known = SIDE_BALLS.with(|b| {
             let b = b.borrow();
@@ -231,7 +242,7 @@ impl MeshDistance {
         if let Some(side) = known {
             return side;
         }
-        let side = if self.tree.contains(p) { 1.0 } else { -1.0 };
+        let side = self.winding_side(p);
         SIDE_BALLS.with(|b| {
             let mut b = b.borrow_mut();
             if b.identity != self.identity {

@@ -8,7 +8,12 @@ use geode_frep::Field;
 
 /// The unit tetrahedron's mesh as a field.
 fn tetrahedron() -> Field {
-    let p = vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
+    let p = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+    ];
     let t = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
     Field::mesh(geode_frep::MeshDistance::new(p, t, &|| false).unwrap())
 }
@@ -111,4 +116,25 @@ fn mesh_fields_round_trip() {
         .unwrap();
     bad[pos + 8..pos + 12].copy_from_slice(&99u32.to_le_bytes());
     assert!(geode_frep::codec::decode(&bad).is_err());
+}
+
+/// The fuzzer's seeds (fuzz/seeds/field_codec) are encodings of these
+/// fields, current with the codec's version: `GEODE_WRITE_SEEDS=1 cargo
+/// test -p geode-frep --test codec seeds` writes them again.
+#[test]
+fn the_fuzz_seeds_decode() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/field_codec");
+    let small: Vec<Field> = fields().into_iter().take(6).collect();
+    if std::env::var_os("GEODE_WRITE_SEEDS").is_some() {
+        std::fs::create_dir_all(&dir).unwrap();
+        for (k, f) in small.iter().enumerate() {
+            let mut bytes = Vec::new();
+            encode(f, &mut bytes);
+            std::fs::write(dir.join(format!("field{k}.bin")), bytes).unwrap();
+        }
+    }
+    for (k, f) in small.iter().enumerate() {
+        let bytes = std::fs::read(dir.join(format!("field{k}.bin"))).unwrap();
+        assert_eq!(decode(&bytes).unwrap().identity(), f.identity(), "seed {k}");
+    }
 }

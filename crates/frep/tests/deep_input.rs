@@ -141,16 +141,24 @@ fn vm_chains_of_100000_lines_load_and_evaluate() {
     assert_eq!(v, -(2.0 + (LEVELS - 1) as f64));
 }
 
-/// Inputs that once crashed the HyperFun or `.vm` reader under the fuzzer
-/// (kept by tools/fuzz.sh) give a field or an error, as the fuzz targets
-/// check: what loads compiles to a tape and evaluates.
+/// Inputs that once crashed the HyperFun or `.vm` reader or the field
+/// codec under the fuzzer (kept by tools/fuzz.sh) give a field or an
+/// error, as the fuzz targets check: what loads compiles to a tape and
+/// evaluates.
 #[test]
 fn fuzz_regressions() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fuzz_regressions");
-    type Reader = fn(&str) -> Option<Field>;
-    let readers: [(&str, Reader); 2] = [
-        ("hyperfun", |t| parse_hf(t, None, &[1.0, 2.0]).ok()),
-        ("vm", |t| parse_vm(t).ok()),
+    type Reader = fn(&[u8]) -> Option<Field>;
+    let readers: [(&str, Reader); 3] = [
+        ("hyperfun", |b| {
+            std::str::from_utf8(b)
+                .ok()
+                .and_then(|t| parse_hf(t, None, &[1.0, 2.0]).ok())
+        }),
+        ("vm", |b| {
+            std::str::from_utf8(b).ok().and_then(|t| parse_vm(t).ok())
+        }),
+        ("field_codec", |b| geode_frep::codec::decode(b).ok()),
     ];
     for (reader, parse) in readers {
         let Ok(entries) = std::fs::read_dir(dir.join(reader)) else {
@@ -158,10 +166,7 @@ fn fuzz_regressions() {
         };
         for entry in entries {
             let bytes = std::fs::read(entry.unwrap().path()).unwrap();
-            let Ok(text) = std::str::from_utf8(&bytes) else {
-                continue;
-            };
-            if let Some(field) = parse(text) {
+            if let Some(field) = parse(&bytes) {
                 let _ = PointEval::new(&Tape::compile(&field)).eval([0.1, 0.2, 0.3]);
             }
         }

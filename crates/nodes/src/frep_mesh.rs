@@ -23,7 +23,7 @@ static FROM_MESH: NodeSpec = NodeSpec::new(
     "frep_from_mesh",
     "FRep From Mesh",
     "frep",
-    "A polygon mesh as a solid: the exact signed distance to its surface (positive inside), for CSG with other solids, offsets, shells, blends, infill and wall checks. Inside is where the generalized winding number passes one half, so a mesh with small holes, gaps or overlapping parts (a typical STL) still has a clear inside; faces must point outward. Polygons are triangulated; other primitives are ignored.",
+    "A polygon mesh as a solid: the exact signed distance to its surface (positive inside), for CSG with other solids, offsets, shells, blends, infill and wall checks. Inside is where the generalized winding number passes one half in magnitude, so a mesh with small holes, gaps or overlapping parts (a typical STL) still has a clear inside, and one wound inside out is the same solid; neighbouring faces must agree on which way they point (a warning names the edges where they do not). An open sheet encloses nothing: its field is the distance to it, so frep_shell with side centered thickens it into a plate. Polygons are triangulated; other primitives are ignored. Exact everywhere, far from the mesh included; cost grows with the log of the triangle count.",
     &[InputSpec {
         name: "mesh",
         ty: PortType::Geometry,
@@ -59,7 +59,7 @@ fn cook_from_mesh(
         triangles.len() as f64 * FIELD_BYTES_PER_TRIANGLE,
         "the mesh's distance hierarchy",
     )?;
-    warn_of_open_edges(ctx, g);
+    warn_of_unclear_inside(ctx, g, &triangles);
     let positions = g.positions().iter().map(|v| v.to_array()).collect();
     let cancel = ctx.cancel_fn();
     match MeshDistance::new(positions, triangles, &cancel) {
@@ -74,10 +74,12 @@ fn cook_from_mesh(
     }
 }
 
-/// Warns when edges bound only one polygon (or three and more): the
-/// winding number still gives an inside, but a hole wider than the wall
-/// around it leaks.
-fn warn_of_open_edges(ctx: &CookContext, g: &Geometry) {
+/// Warns of what makes an inside unclear: edges that bound one polygon only
+/// (the winding number bridges small holes, but a hole wider than the wall
+/// around it leaks), edges of three polygons and more, neighbours facing
+/// opposite ways, a mesh wound inside out (read as the same solid), and
+/// one that encloses no volume at all (an open sheet, a flat patch).
+fn warn_of_unclear_inside(ctx: &CookContext, g: &Geometry, triangles: &[[u32; 3]]) {
     let report = g.topology().manifold_report(g);
     if report.boundary_edges > 0 {
         ctx.warn(format!(
@@ -90,6 +92,28 @@ fn warn_of_open_edges(ctx: &CookContext, g: &Geometry) {
             "{} edges are shared by more than two polygons; inside is decided by winding number",
             report.non_manifold_edges
         ));
+    }
+    if report.inconsistent_edges > 0 {
+        ctx.warn(format!(
+            "{} edges join polygons facing opposite ways: the inside is clear only where the faces around it all point out (or all in); reverse the odd ones",
+            report.inconsistent_edges
+        ));
+    }
+    let p = g.positions();
+    let corner = |i: u32| p[i as usize].as_dvec3();
+    let volume: f64 = triangles
+        .iter()
+        .map(|t| corner(t[0]).dot(corner(t[1]).cross(corner(t[2]))) / 6.0)
+        .sum();
+    let extent = geode_geo::ops::bounds(g).map_or(0.0, |b| (b.max - b.min).max_element() as f64);
+    if volume.abs() <= 1e-6 * extent.powi(3) {
+        ctx.warn(
+            "the mesh encloses no volume (an open or flat surface): frep_from_mesh makes solids of closed meshes; for a sheet, thicken it with frep_shell (side centered)",
+        );
+    } else if volume < 0.0 {
+        ctx.warn(
+            "the mesh's faces point inward (its volume is negative): it is read as the same solid, but reverse it for tools that trust orientation",
+        );
     }
 }
 

@@ -1,6 +1,7 @@
 //! frep_from_mesh against trimesh: the field's value at 100,000 random
 //! points is trimesh's exact closest-point distance (to 1e-5 of the part's
-//! bounding box) with libigl's exact winding number (and trimesh's
+//! bounding box) with libigl's exact winding number, inside where its
+//! magnitude passes one half (and trimesh's
 //! `contains` where the part does not overlap itself) for its sign, and
 //! meshing the field at depth 8 gives the part back (Hausdorff both ways,
 //! measured by trimesh). Parts: three machined STLs
@@ -50,7 +51,7 @@ eps = 1e-4 * np.linalg.norm(part.extents)
 V, F = np.array(part.vertices, dtype=np.float64), np.array(part.faces, dtype=np.int64)
 w_out = igl.winding_number(V, F, probe + eps * normals)
 w_in = igl.winding_number(V, F, probe - eps * normals)
-boundary = (w_out > 0.5) != (w_in > 0.5)
+boundary = (np.abs(w_out) > 0.5) != (np.abs(w_in) > 0.5)
 _, to_mesh, _ = trimesh.proximity.closest_point(out, probe[boundary])
 print(json.dumps({
     "dist": dist.tolist(),
@@ -126,7 +127,9 @@ fn check(source: &str, path: Option<&str>, name: &str, part_to_mesh: Option<f64>
         if dist[i] <= 1e-6 * diagonal {
             continue;
         }
-        if (v > 0.0) != (winding[i] > 0.5) {
+        // Inside where the winding number passes one half in magnitude
+        // (the car's cage has a few pockets wound inside out: -1).
+        if (v > 0.0) != (winding[i].abs() > 0.5) {
             against_igl += 1;
         }
         // trimesh's `contains` counts crossings of a ray, so where the
@@ -156,7 +159,7 @@ fn check(source: &str, path: Option<&str>, name: &str, part_to_mesh: Option<f64>
         want["part_to_mesh"].as_f64().unwrap(),
     );
     eprintln!(
-        "{name}: {} triangles, worst distance error {:.2e} of the box, {overlapped} points where it overlaps itself; Hausdorff mesh->part {:.3} cell, part->mesh {:.3} cell",
+        "{name}: {} triangles, worst distance error {:.2e} of the box, {overlapped} points where it overlaps itself or is wound inside out; Hausdorff mesh->part {:.3} cell, part->mesh {:.3} cell",
         part.num_prims(),
         worst / diagonal,
         to_part / cell,
@@ -335,4 +338,45 @@ fn meshing_a_mesh_field_is_deterministic() {
     let four = common::cook_on(4, &nodes, "mesh");
     assert!(one.num_prims() > 1000);
     assert_eq!(one.content_hash(), four.content_hash());
+}
+
+/// What makes an inside unclear is said, and what can still be read is:
+/// a box wound inside out is the same solid (with a warning), half a box's
+/// faces reversed is named, and an open sheet encloses nothing but
+/// thickens into a plate with a centred shell.
+#[test]
+fn unclear_insides_are_named_and_read_where_they_can_be() {
+    let mesh = r#""mesh": {"type": "polygonise", "inputs": ["s"], "params": {"min": [-0.9, -0.9, -0.9], "max": [0.9, 0.9, 0.9], "depth": 6}}"#;
+    let inverted = format!(
+        r#""cube": {{"type": "box"}}, "flipped": {{"type": "reverse", "inputs": ["cube"]}},
+        "s": {{"type": "frep_from_mesh", "inputs": ["flipped"]}}, {mesh}"#
+    );
+    let w = common::warnings(&inverted, "/s");
+    assert!(w.iter().any(|w| w.contains("point inward")), "{w:?}");
+    let v = volume(&inverted);
+    assert!((v - 1.0).abs() < 1e-4, "inside out: {v}");
+    let half = r#""cube": {"type": "box"},
+        "kept": {"type": "blast", "inputs": ["cube"], "params": {"group": "0-2", "keep_points": true}},
+        "odd": {"type": "blast", "inputs": ["cube"], "params": {"group": "0-2", "invert": true, "keep_points": true}},
+        "turned": {"type": "reverse", "inputs": ["odd"]},
+        "joined": {"type": "merge", "inputs": ["kept", "turned"]},
+        "welded": {"type": "fuse", "inputs": ["joined"]},
+        "s": {"type": "frep_from_mesh", "inputs": ["welded"]}"#;
+    let w = common::warnings(half, "/s");
+    assert!(
+        w.iter().any(|w| w.contains("facing opposite ways")),
+        "{w:?}"
+    );
+    let sheet = format!(
+        r#""g": {{"type": "grid", "params": {{"size": [1, 1]}}}}, "f": {{"type": "frep_from_mesh", "inputs": ["g"]}},
+        "s": {{"type": "frep_shell", "inputs": ["f"], "params": {{"thickness": 0.1, "side": "centered"}}}}, {mesh}"#
+    );
+    let w = common::warnings(&sheet, "/f");
+    assert!(w.iter().any(|w| w.contains("encloses no volume")), "{w:?}");
+    // A 1 x 1 plate 0.1 thick with rounded rims: 0.1 + the rims' half
+    // cylinders (4 x 1 x pi 0.05^2 / 2) + corners.
+    let v = volume(&sheet);
+    let want =
+        0.1 + 2.0 * std::f64::consts::PI * 0.0025 + 4.0 / 3.0 * std::f64::consts::PI * 1.25e-4;
+    assert!((v - want).abs() / want < 0.03, "plate {v} vs {want}");
 }

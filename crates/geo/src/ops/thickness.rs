@@ -1,6 +1,7 @@
 //! Wall thickness of a closed mesh at each point: the distance to the
 //! opposite wall along the inverted point normal (the ray test of 3D-print
-//! checkers such as Blender's 3D-Print toolbox), through a triangle BVH.
+//! checkers such as Blender's 3D-Print toolbox), through a triangle BVH;
+//! the wall is the first triangle the ray leaves the solid through.
 
 use glam::Vec3;
 use rayon::prelude::*;
@@ -79,7 +80,18 @@ pub fn wall_thickness(
                 return;
             }
             let own = &items[offsets[p] as usize..offsets[p + 1] as usize];
-            let hit = bvh.first_hit(positions[p], -n, t_min, f32::INFINITY, |t| own.contains(&t));
+            // The opposite wall is where the ray leaves the solid: a
+            // triangle facing along it. One facing against it is met
+            // entering, which from a point on the surface means a
+            // neighbour at a sharp edge (the point's normal averages
+            // faces meeting at an angle), not a wall.
+            let entering = |t: u32| {
+                let [a, b, c] = tris[t as usize].map(|i| positions[i as usize]);
+                (b - a).cross(c - a).dot(-n) <= 0.0
+            };
+            let hit = bvh.first_hit(positions[p], -n, t_min, f32::INFINITY, |t| {
+                own.contains(&t) || entering(t)
+            });
             if let Some(hit) = hit {
                 *slot = hit.t;
             }
@@ -111,6 +123,34 @@ mod tests {
             }
         }
         assert_eq!(interior, 2 * 9 * 7);
+    }
+
+    /// A point on a sharp edge, its normal halfway between the faces, with
+    /// a sliver of the neighbouring face just ahead of its ray (as a dual
+    /// contouring mesh has at sharp edges): the sliver is entered, not
+    /// left, so the wall is the slab's far side.
+    #[test]
+    fn faces_met_entering_are_not_walls() {
+        let size = Vec3::new(2.0, 2.0, 0.2);
+        let mut g = box_mesh(size, [1, 1, 1]);
+        // A tiny triangle facing outward (+z) just below the top face near
+        // the edge x = 1, where the corner (1, 1, 0.1) casts inward along
+        // -(1, 1, 1)/sqrt(3).
+        let at = Vec3::new(0.999, 0.999, 0.099);
+        let base = g.num_points() as u32;
+        g.add_points(&[
+            at - Vec3::X * 0.01,
+            at + Vec3::new(0.005, -0.01, 0.0),
+            at + Vec3::Y * 0.01,
+        ]);
+        g.add_polygon(&[base, base + 1, base + 2]).unwrap();
+        let t = wall_thickness(&g, &|| false).unwrap();
+        let corner = g
+            .positions()
+            .iter()
+            .position(|p| (*p - Vec3::new(1.0, 1.0, 0.1)).length() < 1e-6)
+            .unwrap();
+        assert!(t[corner] > 0.1, "{}", t[corner]);
     }
 
     #[test]
