@@ -24,24 +24,72 @@ impl TriangleBvh {
     /// triangle index, so the answer is the same however the tree was
     /// walked.
     pub fn closest(&self, q: Vec3, max_dist: f32) -> Option<Closest> {
-        let bound = if max_dist.is_finite() {
-            max_dist as f64
+        if self.corners.is_empty() {
+            return None;
+        }
+        let mut best: Option<Closest> = None;
+        let mut bound = if max_dist.is_finite() {
+            max_dist * max_dist
         } else {
-            f64::INFINITY
+            f32::INFINITY
         };
-        self.closest_f64(q.as_dvec3(), bound).map(|c| Closest {
-            triangle: c.triangle,
-            point: c.point.as_vec3(),
-            u: c.u as f32,
-            v: c.v as f32,
-            dist2: c.dist2 as f32,
-        })
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = stack[top];
+            let node = &self.nodes[n as usize];
+            if box_dist2(node.lo, node.hi, q) > bound {
+                continue;
+            }
+            if node.end > node.start {
+                for i in node.start as usize..node.end as usize {
+                    let tri = self.order[i];
+                    let (point, u, v) = closest_on_triangle(&self.corners[i], q);
+                    let d2 = (point - q).length_squared();
+                    let better = match best {
+                        Some(b) => d2 < b.dist2 || (d2 == b.dist2 && tri < b.triangle),
+                        None => d2 <= bound,
+                    };
+                    if better {
+                        best = Some(Closest {
+                            triangle: tri,
+                            point,
+                            u,
+                            v,
+                            dist2: d2,
+                        });
+                        bound = d2;
+                    }
+                }
+            } else {
+                // The nearer child is walked first (pushed last); when the
+                // query is inside both boxes (thick boxes of a wavy
+                // surface), the one whose centre is nearer, so the first
+                // leaf reached is near and the bound tight at once.
+                let (a, b) = (n + 1, node.second);
+                let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+                let key = |m: &super::raycast::Node| {
+                    let centre = (m.lo + m.hi) * 0.5;
+                    (box_dist2(m.lo, m.hi, q), (centre - q).length_squared())
+                };
+                let (ka, kb) = (key(na), key(nb));
+                let a_first = ka.0 < kb.0 || (ka.0 == kb.0 && ka.1 <= kb.1);
+                let (first, second) = if a_first { (a, b) } else { (b, a) };
+                stack[top] = second;
+                stack[top + 1] = first;
+                top += 2;
+            }
+        }
+        best
     }
 
     /// [`TriangleBvh::closest`] in double precision (the corners are
     /// single, every step after them double): exact to rounding on long
-    /// thin triangles, where single precision misjudges which side of an
-    /// edge a point projects to by a good fraction of the sliver's width.
+    /// thin triangles. The walk is `closest`'s with double box distances;
+    /// `closest` keeps single ones, since the remesher's result on the
+    /// OpenSubdiv car (a sliver appears) turned out sensitive to the
+    /// pruning order (to be made one walk once that is understood).
     pub fn closest_f64(&self, q: DVec3, max_dist: f64) -> Option<Closest64> {
         if self.corners.is_empty() {
             return None;
@@ -58,7 +106,7 @@ impl TriangleBvh {
             top -= 1;
             let n = stack[top];
             let node = &self.nodes[n as usize];
-            if box_dist2(node.lo, node.hi, q) > bound {
+            if box_dist2_f64(node.lo, node.hi, q) > bound {
                 continue;
             }
             if node.end > node.start {
@@ -91,7 +139,7 @@ impl TriangleBvh {
                 let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
                 let key = |m: &super::raycast::Node| {
                     let centre = ((m.lo + m.hi) * 0.5).as_dvec3();
-                    (box_dist2(m.lo, m.hi, q), (centre - q).length_squared())
+                    (box_dist2_f64(m.lo, m.hi, q), (centre - q).length_squared())
                 };
                 let (ka, kb) = (key(na), key(nb));
                 let a_first = ka.0 < kb.0 || (ka.0 == kb.0 && ka.1 <= kb.1);
@@ -115,8 +163,13 @@ pub struct Closest64 {
     pub dist2: f64,
 }
 
-fn box_dist2(lo: Vec3, hi: Vec3, q: DVec3) -> f64 {
+fn box_dist2_f64(lo: Vec3, hi: Vec3, q: DVec3) -> f64 {
     let d = (lo.as_dvec3() - q).max(q - hi.as_dvec3()).max(DVec3::ZERO);
+    d.length_squared()
+}
+
+fn box_dist2(lo: Vec3, hi: Vec3, q: Vec3) -> f32 {
+    let d = (lo - q).max(q - hi).max(Vec3::ZERO);
     d.length_squared()
 }
 
