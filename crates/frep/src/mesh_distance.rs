@@ -204,11 +204,10 @@ impl MeshDistance {
         (c.point, c.triangle)
     }
 
-    /// +1 inside, -1 outside by the winding number alone: inside where its
-    /// magnitude passes one half, so a mesh turned inside out (-1 within)
-    /// is the same solid, as nested shells wound either way are.
+    /// +1 inside, -1 outside by the winding number alone (see
+    /// [`WindingBvh::contains`]: a mesh turned inside out is the same solid).
     fn winding_side(&self, p: DVec3) -> f64 {
-        if self.tree.winding(p).abs() > 0.5 {
+        if self.tree.contains(p) {
             1.0
         } else {
             -1.0

@@ -91,15 +91,7 @@ fn damaged_fields_are_errors_never_panics() {
 /// corrupted triangle index is refused, not evaluated.
 #[test]
 fn mesh_fields_round_trip() {
-    let p = vec![
-        [0.0, 0.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0, 1.0, 0.0],
-        [0.0, 0.0, 1.0],
-    ];
-    let t = vec![[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
-    let mesh = geode_frep::MeshDistance::new(p, t, &|| false).unwrap();
-    let f = geode_frep::Field::mesh(mesh).max(geode_frep::shapes::sphere([0.5; 3], 0.2));
+    let f = tetrahedron().max(shapes::sphere([0.5; 3], 0.2));
     let mut bytes = Vec::new();
     geode_frep::codec::encode(&f, &mut bytes);
     let back = geode_frep::codec::decode(&bytes).unwrap();

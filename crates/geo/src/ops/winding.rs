@@ -119,9 +119,11 @@ impl WindingBvh {
         total / (4.0 * std::f64::consts::PI)
     }
 
-    /// Whether `q` is inside: winding number above one half.
+    /// Whether `q` is inside: winding number above one half in magnitude,
+    /// so a soup wound inside out (-1 within) has the same inside, as
+    /// nested shells wound either way do.
     pub fn contains(&self, q: DVec3) -> bool {
-        self.winding(q) > 0.5
+        self.winding(q).abs() > 0.5
     }
 
     /// Bytes held (hierarchy and dipoles).
