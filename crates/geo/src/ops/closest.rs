@@ -19,119 +19,40 @@ pub struct Closest {
     pub dist2: f32,
 }
 
-/// [`Closest`] in double precision.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Closest64 {
-    pub triangle: u32,
-    pub point: DVec3,
-    pub u: f64,
-    pub v: f64,
-    pub dist2: f64,
-}
-
-/// What the walk reads of a precision: a box's squared distance and its
-/// centre's from the query, and a triangle's closest point with its
-/// weights and squared distance, all as f64 (a single-precision value
-/// widened exactly, so every comparison falls as it would in f32).
-struct Measures<B, C, T> {
-    box_dist2: B,
-    centre_dist2: C,
-    triangle: T,
-}
-
 impl TriangleBvh {
     /// The closest point within `max_dist` of `q`; ties go to the lower
     /// triangle index, so the answer is the same however the tree was
     /// walked.
     pub fn closest(&self, q: Vec3, max_dist: f32) -> Option<Closest> {
-        let bound = if max_dist.is_finite() {
-            (max_dist * max_dist) as f64
-        } else {
-            f64::INFINITY
-        };
-        let found = self.walk(
-            bound,
-            Measures {
-                box_dist2: |lo: Vec3, hi: Vec3| box_dist2(lo, hi, q) as f64,
-                centre_dist2: |c: Vec3| (c - q).length_squared() as f64,
-                triangle: |c: &[Vec3; 3]| {
-                    let (point, u, v) = closest_on_triangle(c, q);
-                    (
-                        point,
-                        u as f64,
-                        v as f64,
-                        (point - q).length_squared() as f64,
-                    )
-                },
-            },
-        )?;
-        Some(Closest {
-            triangle: found.triangle,
-            point: found.point,
-            u: found.u as f32,
-            v: found.v as f32,
-            dist2: found.dist2 as f32,
-        })
-    }
-
-    /// [`TriangleBvh::closest`] in double precision (the corners are
-    /// single, every step after them double): exact to rounding on long
-    /// thin triangles. `closest` keeps single-precision distances for its
-    /// callers, since the remesher's result on the OpenSubdiv car (a sliver
-    /// appears) turned out sensitive to the pruning order.
-    pub fn closest_f64(&self, q: DVec3, max_dist: f64) -> Option<Closest64> {
-        let bound = if max_dist.is_finite() {
-            max_dist * max_dist
-        } else {
-            f64::INFINITY
-        };
-        let found = self.walk(
-            bound,
-            Measures {
-                box_dist2: |lo: Vec3, hi: Vec3| box_dist2_f64(lo, hi, q),
-                centre_dist2: |c: Vec3| (c.as_dvec3() - q).length_squared(),
-                triangle: |c: &[Vec3; 3]| {
-                    let (point, u, v) = closest_on_triangle_f64(&c.map(|x| x.as_dvec3()), q);
-                    (point, u, v, (point - q).length_squared())
-                },
-            },
-        )?;
-        Some(found.into())
-    }
-
-    /// The walk both precisions share: depth first, nearer child first,
-    /// boxes farther than the best (or `bound`, squared) pruned.
-    fn walk<P, B, C, T>(&self, bound: f64, m: Measures<B, C, T>) -> Option<ClosestAt<P>>
-    where
-        P: Copy,
-        B: Fn(Vec3, Vec3) -> f64,
-        C: Fn(Vec3) -> f64,
-        T: Fn(&[Vec3; 3]) -> (P, f64, f64, f64),
-    {
         if self.corners.is_empty() {
             return None;
         }
-        let mut best: Option<ClosestAt<P>> = None;
-        let mut bound = bound;
+        let mut best: Option<Closest> = None;
+        let mut bound = if max_dist.is_finite() {
+            max_dist * max_dist
+        } else {
+            f32::INFINITY
+        };
         let mut stack = [0u32; 64];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let n = stack[top];
             let node = &self.nodes[n as usize];
-            if (m.box_dist2)(node.lo, node.hi) > bound {
+            if box_dist2(node.lo, node.hi, q) > bound {
                 continue;
             }
             if node.end > node.start {
                 for i in node.start as usize..node.end as usize {
                     let tri = self.order[i];
-                    let (point, u, v, d2) = (m.triangle)(&self.corners[i]);
+                    let (point, u, v) = closest_on_triangle(&self.corners[i], q);
+                    let d2 = (point - q).length_squared();
                     let better = match best {
                         Some(b) => d2 < b.dist2 || (d2 == b.dist2 && tri < b.triangle),
                         None => d2 <= bound,
                     };
                     if better {
-                        best = Some(ClosestAt {
+                        best = Some(Closest {
                             triangle: tri,
                             point,
                             u,
@@ -148,11 +69,77 @@ impl TriangleBvh {
                 // leaf reached is near and the bound tight at once.
                 let (a, b) = (n + 1, node.second);
                 let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
-                let key = |x: &super::raycast::Node| {
-                    (
-                        (m.box_dist2)(x.lo, x.hi),
-                        (m.centre_dist2)((x.lo + x.hi) * 0.5),
-                    )
+                let key = |m: &super::raycast::Node| {
+                    let centre = (m.lo + m.hi) * 0.5;
+                    (box_dist2(m.lo, m.hi, q), (centre - q).length_squared())
+                };
+                let (ka, kb) = (key(na), key(nb));
+                let a_first = ka.0 < kb.0 || (ka.0 == kb.0 && ka.1 <= kb.1);
+                let (first, second) = if a_first { (a, b) } else { (b, a) };
+                stack[top] = second;
+                stack[top + 1] = first;
+                top += 2;
+            }
+        }
+        best
+    }
+
+    /// [`TriangleBvh::closest`] in double precision (the corners are
+    /// single, every step after them double): exact to rounding on long
+    /// thin triangles. The walk is `closest`'s with double box distances;
+    /// `closest` keeps single ones, since the remesher's result on the
+    /// OpenSubdiv car (a sliver appears) turned out sensitive to the
+    /// pruning order (to be made one walk once that is understood).
+    pub fn closest_f64(&self, q: DVec3, max_dist: f64) -> Option<Closest64> {
+        if self.corners.is_empty() {
+            return None;
+        }
+        let mut best: Option<Closest64> = None;
+        let mut bound = if max_dist.is_finite() {
+            max_dist * max_dist
+        } else {
+            f64::INFINITY
+        };
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let n = stack[top];
+            let node = &self.nodes[n as usize];
+            if box_dist2_f64(node.lo, node.hi, q) > bound {
+                continue;
+            }
+            if node.end > node.start {
+                for i in node.start as usize..node.end as usize {
+                    let tri = self.order[i];
+                    let (point, u, v) =
+                        closest_on_triangle_f64(&self.corners[i].map(|c| c.as_dvec3()), q);
+                    let d2 = (point - q).length_squared();
+                    let better = match best {
+                        Some(b) => d2 < b.dist2 || (d2 == b.dist2 && tri < b.triangle),
+                        None => d2 <= bound,
+                    };
+                    if better {
+                        best = Some(Closest64 {
+                            triangle: tri,
+                            point,
+                            u,
+                            v,
+                            dist2: d2,
+                        });
+                        bound = d2;
+                    }
+                }
+            } else {
+                // The nearer child is walked first (pushed last); when the
+                // query is inside both boxes (thick boxes of a wavy
+                // surface), the one whose centre is nearer, so the first
+                // leaf reached is near and the bound tight at once.
+                let (a, b) = (n + 1, node.second);
+                let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+                let key = |m: &super::raycast::Node| {
+                    let centre = ((m.lo + m.hi) * 0.5).as_dvec3();
+                    (box_dist2_f64(m.lo, m.hi, q), (centre - q).length_squared())
                 };
                 let (ka, kb) = (key(na), key(nb));
                 let a_first = ka.0 < kb.0 || (ka.0 == kb.0 && ka.1 <= kb.1);
@@ -166,26 +153,14 @@ impl TriangleBvh {
     }
 }
 
-/// A walk's answer, its point at either precision.
-#[derive(Clone, Copy)]
-struct ClosestAt<P> {
-    triangle: u32,
-    point: P,
-    u: f64,
-    v: f64,
-    dist2: f64,
-}
-
-impl From<ClosestAt<DVec3>> for Closest64 {
-    fn from(c: ClosestAt<DVec3>) -> Closest64 {
-        Closest64 {
-            triangle: c.triangle,
-            point: c.point,
-            u: c.u,
-            v: c.v,
-            dist2: c.dist2,
-        }
-    }
+/// [`Closest`] in double precision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Closest64 {
+    pub triangle: u32,
+    pub point: DVec3,
+    pub u: f64,
+    pub v: f64,
+    pub dist2: f64,
 }
 
 fn box_dist2_f64(lo: Vec3, hi: Vec3, q: DVec3) -> f64 {
