@@ -18,10 +18,11 @@ root="$PWD"
 
 seconds="${GEODE_FUZZ_SECONDS:-60}"
 # The parsers issue 33 asked to be fuzzed in CI and the wrangle compiler
-# (issue 34; seeds: the real snippets, `tools/vex_mutate.py --write-seeds`);
+# (issue 34; seeds: the real snippets, `tools/vex_mutate.py --write-seeds`),
+# the VDB reader (issue 37; seeds: OpenVDB's files and geode's);
 # `all` adds the other readers. Every target is built whichever run.
-default_targets="hyperfun vm field_codec expr network read_bgeo vex_text"
-all_targets="hyperfun vm field_codec expr network read_bgeo read_obj read_ply read_stl read_gltf read_hs vex_text"
+default_targets="hyperfun vm field_codec expr network read_bgeo read_vdb vex_text"
+all_targets="hyperfun vm field_codec expr network read_bgeo read_vdb read_obj read_ply read_stl read_gltf read_hs vex_text"
 if [ "$#" -gt 0 ]; then
     targets="$*"
 elif [ "${GEODE_FUZZ_TARGETS:-}" = all ]; then
@@ -38,6 +39,7 @@ regressions() {
         network) echo crates/nodes/tests/fuzz_regressions/network ;;
         read_hs) echo crates/spline/tests/fuzz_regressions ;;
         vex_text) echo crates/vex/tests/fuzz_regressions ;;
+        read_vdb) echo crates/io/tests/fuzz_regressions/vdb ;;
         *) echo crates/io/tests/fuzz_regressions ;;
     esac
 }
@@ -59,6 +61,7 @@ extension() {
         read_ply) echo .ply ;;
         read_stl) echo .stl ;;
         read_gltf) echo .glb ;;
+        read_vdb) echo .vdb ;;
         vm) echo .vm ;;
         hyperfun) echo .hf ;;
         field_codec) echo .bin ;;

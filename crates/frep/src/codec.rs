@@ -1,4 +1,4 @@
-//! A versioned binary form of a `Field` (the disk cache's): its distinct nodes children first, each naming its operands by index, and its datasets (capsule sets with their built hierarchies, meshes as points and triangles).
+//! A versioned binary form of a `Field` (the disk cache's): its distinct nodes children first, each naming its operands by index, and its datasets (capsule sets with their built hierarchies, meshes as points and triangles, volumes as their leaves and tiles).
 //!
 //! A decoded field is rebuilt through the same constructors, so it has the
 //! identity of the one encoded; capsule sets are stored as built (segments
@@ -14,7 +14,7 @@ use crate::dataset::Dataset;
 use crate::field::{Binary, Field, Node, Unary};
 
 const MAGIC: &[u8; 4] = b"GEOF";
-pub const CODEC_VERSION: u32 = 2;
+pub const CODEC_VERSION: u32 = 3;
 
 /// Why bytes are not a field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

@@ -1,6 +1,7 @@
 //! Fields defined by data rather than formulas, as one kind of field node
 //! evaluated at the point three argument fields give: unions of capsules
-//! and triangle meshes as signed distances. Every evaluator, the codec and
+//! and triangle meshes as signed distances, sparse volumes as sampled
+//! values. Every evaluator, the codec and
 //! the tapes treat them through this one type, so a new kind of data is one
 //! more arm here, not one more instruction everywhere.
 
@@ -8,12 +9,14 @@ use crate::capsules::CapsuleSet;
 use crate::codec::{FieldDecodeError, Reader};
 use crate::interval::Interval;
 use crate::mesh_distance::MeshDistance;
+use crate::volume::VolumeField;
 
 /// Data a field node evaluates.
 #[derive(Debug, PartialEq)]
 pub enum Dataset {
     Capsules(CapsuleSet),
     Mesh(MeshDistance),
+    Volume(VolumeField),
 }
 
 impl Dataset {
@@ -22,6 +25,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.identity(),
             Dataset::Mesh(m) => m.identity(),
+            Dataset::Volume(v) => v.identity(),
         }
     }
 
@@ -31,6 +35,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.len(),
             Dataset::Mesh(m) => m.len(),
+            Dataset::Volume(v) => v.len(),
         }
     }
 
@@ -42,6 +47,17 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.memory_bytes(),
             Dataset::Mesh(m) => m.memory_bytes(),
+            Dataset::Volume(v) => v.memory_bytes(),
+        }
+    }
+
+    /// Whether the values are signed distances to the surface already (a
+    /// mesh's, a level set's).
+    pub fn is_distance(&self) -> bool {
+        match self {
+            Dataset::Capsules(_) => false,
+            Dataset::Mesh(_) => true,
+            Dataset::Volume(v) => v.volume().class == geode_geo::volume::VolumeClass::LevelSet,
         }
     }
 
@@ -50,6 +66,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.difference_step(),
             Dataset::Mesh(m) => m.difference_step(),
+            Dataset::Volume(v) => v.difference_step(),
         }
     }
 
@@ -57,6 +74,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.value(p),
             Dataset::Mesh(m) => m.value(p),
+            Dataset::Volume(v) => v.value(p),
         }
     }
 
@@ -64,6 +82,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.value_gradient(p),
             Dataset::Mesh(m) => m.value_gradient(p),
+            Dataset::Volume(v) => v.value_gradient(p),
         }
     }
 
@@ -76,6 +95,7 @@ impl Dataset {
                 (v, narrowed.map(Dataset::Capsules))
             }
             Dataset::Mesh(m) => (m.interval(x, y, z), None),
+            Dataset::Volume(v) => (v.interval(x, y, z), None),
         }
     }
 
@@ -84,6 +104,7 @@ impl Dataset {
         match self {
             Dataset::Capsules(s) => s.values(xs, ys, zs, out),
             Dataset::Mesh(m) => m.values(xs, ys, zs, out),
+            Dataset::Volume(v) => v.values(xs, ys, zs, out),
         }
     }
 
@@ -93,7 +114,7 @@ impl Dataset {
     pub fn with_floor(&self, floor: f64) -> Option<Dataset> {
         match self {
             Dataset::Capsules(s) => Some(Dataset::Capsules(s.with_floor(floor))),
-            Dataset::Mesh(_) => None,
+            Dataset::Mesh(_) | Dataset::Volume(_) => None,
         }
     }
 
@@ -108,6 +129,10 @@ impl Dataset {
                 out.push(1);
                 m.encode(out);
             }
+            Dataset::Volume(v) => {
+                out.push(2);
+                v.encode(out);
+            }
         }
     }
 
@@ -115,6 +140,7 @@ impl Dataset {
         match r.take(1)?[0] {
             0 => CapsuleSet::decode(r).map(Dataset::Capsules),
             1 => MeshDistance::decode(r).map(Dataset::Mesh),
+            2 => VolumeField::decode(r).map(Dataset::Volume),
             t => Err(FieldDecodeError::Invalid(format!("dataset tag {t}"))),
         }
     }

@@ -197,11 +197,12 @@ fn dot3(a: &[Field; 3], b: &[Field; 3]) -> Field {
 }
 
 /// Whether `f` already is its surface's exact signed distance (a mesh's
-/// distance at the untransformed point): Newton steps would only cost.
+/// distance or a level set at the untransformed point): Newton steps would
+/// only cost (and blur a level set's voxel values).
 fn is_exact_distance(f: &Field) -> bool {
     match f.node() {
         Node::Dataset(set, args) => {
-            matches!(**set, Dataset::Mesh(_))
+            set.is_distance()
                 && matches!(
                     [args[0].node(), args[1].node(), args[2].node()],
                     [Node::X, Node::Y, Node::Z]

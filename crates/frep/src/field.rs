@@ -6,6 +6,7 @@ use std::sync::Arc;
 use crate::capsules::CapsuleSet;
 use crate::dataset::Dataset;
 use crate::mesh_distance::MeshDistance;
+use crate::volume::VolumeField;
 
 /// One-argument operations.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -199,7 +200,15 @@ impl Field {
         )
     }
 
-    /// Shared data (capsules, a mesh) evaluated at the point `args` give.
+    /// A sparse volume's values at (x, y, z) (see [`VolumeField`]).
+    pub fn volume(volume: VolumeField) -> Field {
+        Field::dataset_at(
+            &Arc::new(Dataset::Volume(volume)),
+            [Field::x(), Field::y(), Field::z()],
+        )
+    }
+
+    /// Shared data (capsules, a mesh, a volume) evaluated at the point `args` give.
     pub fn dataset_at(set: &Arc<Dataset>, args: [Field; 3]) -> Field {
         make(Node::Dataset(Arc::clone(set), args))
     }

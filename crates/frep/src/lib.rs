@@ -19,6 +19,7 @@ pub mod mesh_distance;
 pub mod shapes;
 pub mod tape;
 pub mod vm;
+pub mod volume;
 
 pub use capsules::CapsuleSet;
 pub use dataset::Dataset;
@@ -29,3 +30,4 @@ pub use interval::Interval;
 pub use mesh_distance::{MeshDistance, MeshFieldError};
 pub use tape::{Choice, Choices, Instr, Tape};
 pub use vm::{parse_vm, VmError};
+pub use volume::{SampleError, SampleOptions, SamplePlan, VolumeField};

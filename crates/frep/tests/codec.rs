@@ -18,6 +18,21 @@ fn tetrahedron() -> Field {
     Field::mesh(geode_frep::MeshDistance::new(p, t, &|| false).unwrap())
 }
 
+/// A small sphere sampled into a narrow-band volume, as a field.
+fn volume() -> Field {
+    let options = geode_frep::SampleOptions {
+        min: [-0.3; 3],
+        max: [0.3; 3],
+        voxel_size: 0.05,
+        half_width: 2.0,
+        memory_budget: 1 << 30,
+    };
+    let s = shapes::sphere([0.02, 0.0, -0.01], 0.2);
+    let plan = geode_frep::SamplePlan::new(&s, options, &|| false).unwrap();
+    let v = plan.sample(&s, "surface", &|| false).unwrap();
+    Field::volume(geode_frep::VolumeField::new(v))
+}
+
 fn fields() -> Vec<Field> {
     let s = shapes::sphere([0.1, 0.2, 0.3], 1.0);
     let b = shapes::block([0.0; 3], [0.5, 0.7, 0.9]);
@@ -39,6 +54,7 @@ fn fields() -> Vec<Field> {
         shapes::morph(&s, &t, 0.3).sin().abs(),
         shapes::union(&sweep, &shapes::offset(&s, 0.1), 1.0),
         tetrahedron().max(shapes::sphere([0.5; 3], 0.2)),
+        volume().min(shapes::block([0.0; 3], [0.1, 0.3, 0.3])),
         deep,
     ]
 }
@@ -50,7 +66,7 @@ fn every_field_comes_back_with_its_identity_and_values() {
         encode(&f, &mut bytes);
         let back = decode(&bytes).unwrap();
         assert_eq!(back.identity(), f.identity(), "field {k}");
-        if k == 6 {
+        if k == 7 {
             continue; // the deep chain: identity is enough, a tape of it is large
         }
         let (ta, tb) = (Tape::compile(&f), Tape::compile(&back));
@@ -72,7 +88,7 @@ fn every_field_comes_back_with_its_identity_and_values() {
 
 #[test]
 fn damaged_fields_are_errors_never_panics() {
-    for f in fields().into_iter().take(6) {
+    for f in fields().into_iter().take(7) {
         let mut bytes = Vec::new();
         encode(&f, &mut bytes);
         for at in (0..bytes.len()).step_by(bytes.len() / 300 + 1) {
@@ -116,7 +132,7 @@ fn mesh_fields_round_trip() {
 #[test]
 fn the_fuzz_seeds_decode() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fuzz/seeds/field_codec");
-    let small: Vec<Field> = fields().into_iter().take(6).collect();
+    let small: Vec<Field> = fields().into_iter().take(7).collect();
     if std::env::var_os("GEODE_WRITE_SEEDS").is_some() {
         std::fs::create_dir_all(&dir).unwrap();
         for (k, f) in small.iter().enumerate() {

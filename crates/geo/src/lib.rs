@@ -20,6 +20,7 @@ pub mod ramp;
 pub mod random;
 mod shared;
 pub mod topology;
+pub mod volume;
 
 pub use attrib::{
     AttribClass, AttribData, AttribTable, AttribType, AttribValue, Attribute, StringColumn,

@@ -19,6 +19,7 @@ mod stl;
 mod text;
 mod usda;
 mod usda_primvars;
+pub mod vdb;
 mod weld;
 
 use std::path::Path;

@@ -1,6 +1,7 @@
 //! The frep_file node: a field read from a program file, fidget's `.vm`
-//! SSA text or a HyperFun `.hf` program. A 2D `.vm` program (no `var-z`)
-//! is a prism along z: polygonise's bounds give its height.
+//! SSA text or a HyperFun `.hf` program, or from an OpenVDB `.vdb` volume.
+//! A 2D `.vm` program (no `var-z`) is a prism along z: polygonise's bounds
+//! give its height.
 
 use geode_op::{
     CookContext, CookError, FnOperator, NodeSpec, ParamDefault as D, ParamSpec as P,
@@ -12,7 +13,7 @@ const FREP_FILE_FILE: P = P::new(
     "File",
     T::File,
     D::Str(""),
-    "A fidget `.vm` program (negative inside in fidget; geode flips it to positive inside) or a HyperFun `.hf` program.",
+    "A fidget `.vm` program (negative inside in fidget; geode flips it to positive inside), a HyperFun `.hf` program or an OpenVDB `.vdb` file.",
 );
 
 const FREP_FILE_OBJECT: P = P::new(
@@ -23,13 +24,21 @@ const FREP_FILE_OBJECT: P = P::new(
     "For a HyperFun program: the object to read (empty: the last one defined). Its parameter array `a` is all zeros.",
 );
 
+const FREP_FILE_GRID: P = P::new(
+    "grid",
+    "Grid",
+    T::String,
+    D::Str(""),
+    "For a `.vdb` file: the float grid to read (empty: the first).",
+);
+
 static FREP_FILE: NodeSpec = NodeSpec::new(
     "frep_file",
     "FRep File",
     "frep",
-    "Reads a field from a fidget `.vm` program or a HyperFun `.hf` program (its language, compiled to a field: arrays, `if`, `while` with conditions known before meshing, the set operations and the FRep library). A `.vm` program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height).",
+    "Reads a field from a fidget `.vm` program, a HyperFun `.hf` program (its language, compiled to a field: arrays, `if`, `while` with conditions known before meshing, the set operations and the FRep library) or a float grid of an OpenVDB `.vdb` file (Houdini's, Blender's, OpenVDB's: any compression, half floats, tiles). A `.vm` program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height). A level set reads as its negated distance (positive inside, as every geode field); other grids read as their values (a fog volume: positive where it has density), trilinear between voxel centres.",
     &[],
-    &[FREP_FILE_FILE, FREP_FILE_OBJECT],
+    &[FREP_FILE_FILE, FREP_FILE_OBJECT, FREP_FILE_GRID],
 )
 .output(PortType::Field);
 
@@ -43,11 +52,16 @@ fn cook_frep_file(
         return Err(ctx.param_error("file", "names no file to read"));
     }
     let extension = path.to_lowercase();
+    if extension.ends_with(".vdb") {
+        return read_vdb(ctx, path, p.string(&FREP_FILE_GRID)?);
+    }
     let hyperfun = extension.ends_with(".hf");
     if !hyperfun && !extension.ends_with(".vm") {
         return Err(ctx.param_error(
             "file",
-            format!("{path}: expected a fidget .vm or a HyperFun .hf program"),
+            format!(
+                "{path}: expected a fidget .vm or a HyperFun .hf program, or an OpenVDB .vdb file"
+            ),
         ));
     }
     let text = crate::util::text_file(ctx, "file", path)?;
@@ -66,6 +80,55 @@ fn cook_frep_file(
         })?
     };
     Ok(Value::Field(field))
+}
+
+/// A float grid of a `.vdb` file as a field.
+fn read_vdb(ctx: &CookContext, path: &str, grid: &str) -> Result<Value, CookError> {
+    use geode_io::vdb::VdbError;
+    use geode_io::{IoError, Position};
+    ctx.readable_file("file", path)?;
+    let bytes = ctx.read_file("file", path)?;
+    let cancel = || ctx.cancel.is_cancelled();
+    let volumes = geode_io::vdb::read_vdb(&bytes, ctx.env.memory_budget, &cancel).map_err(|e| {
+        let path = std::path::PathBuf::from(path);
+        let e = match e {
+            VdbError::Malformed { offset, message } => IoError::Parse {
+                path,
+                pos: Some(Position::Byte(offset)),
+                message,
+            },
+            VdbError::TooLarge { .. } => IoError::TooLarge {
+                path,
+                message: e.to_string(),
+            },
+            VdbError::Cancelled => IoError::Cancelled { path },
+        };
+        crate::file::io_error(ctx, "file", e)
+    })?;
+    let names: Vec<String> = volumes.iter().map(|v| format!("{:?}", v.name)).collect();
+    let volume = if grid.is_empty() {
+        volumes.into_iter().next()
+    } else {
+        volumes.into_iter().find(|v| v.name == grid)
+    };
+    let Some(volume) = volume else {
+        return Err(ctx.param_error(
+            "grid",
+            format!(
+                "{path} has no float grid named {grid:?} (it has {})",
+                names.join(", ")
+            ),
+        ));
+    };
+    if volume.class != geode_geo::volume::VolumeClass::LevelSet {
+        ctx.warn(format!(
+            "grid {:?} is not a level set: its values are read as they are (positive where a fog volume has density), not as distances",
+            volume.name
+        ));
+    }
+    Ok(Value::Field(geode_frep::Field::volume(
+        geode_frep::VolumeField::new(volume),
+    )))
 }
 
 fn key_frep_file(ctx: &geode_op::KeyContext, p: &Params) -> Result<Option<u128>, CookError> {

@@ -17,6 +17,7 @@ mod frep;
 mod frep_file;
 mod frep_mesh;
 mod frep_offset;
+mod frep_volume;
 mod groups;
 mod growth;
 mod hspline;
@@ -68,6 +69,7 @@ pub fn registry() -> Registry {
     frep::register(&mut r);
     frep_file::register(&mut r);
     frep_mesh::register(&mut r);
+    frep_volume::register(&mut r);
     frep_offset::register(&mut r);
     attributes::register(&mut r);
     attribute_move::register(&mut r);

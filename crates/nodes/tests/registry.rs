@@ -70,6 +70,7 @@ fn setup(node: &str, dir: &str) -> (Vec<String>, String) {
             vec![r#""in0": {"type": "box"}"#.into()],
             format!(r#"{{"file": "{dir}/out.$F4.obj"}}"#),
         ),
+        "frep_write" => (vec![], format!(r#"{{"file": "{dir}/out.$F4.vdb", "voxel_size": 0.1}}"#)),
         "bundle_extract" => (
             vec![r#""in0": {"type": "bundle_pack", "params": {"names": "a"}, "inputs": ["b0"]}, "b0": {"type": "box"}"#.into()],
             r#"{"name": "a"}"#.into(),
@@ -178,6 +179,7 @@ fn every_node_cooks_on_defaults_and_is_a_pure_function_of_its_key() {
     assert!(checked >= 58, "{checked} node types");
     // The write node wrote its frame's file.
     assert!(dir.path().join("out.0001.obj").exists());
+    assert!(dir.path().join("out.0001.vdb").exists());
 }
 
 #[test]
