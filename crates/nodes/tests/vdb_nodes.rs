@@ -56,7 +56,7 @@ fn openvdb_reads_the_sphere_frep_write_wrote_as_its_distance() {
     let (c, r, voxel) = ([0.1, -0.05, 0.2], 0.6, 0.025);
     let nodes = format!(
         r#""s": {{"type": "frep_sphere", "params": {{"center": {c:?}, "radius": {r}}}}},
-           "w": {{"type": "frep_write", "inputs": ["s"], "params": {{"file": {file:?}, "min": [-1, -1, -1], "max": [1, 1, 1], "voxel_size": {voxel}}}}}"#
+           "w": {{"type": "frep_write", "inputs": ["s"], "params": {{"file": {file:?}, "min": [-1, -1, -1], "max": [1, 1, 1], "voxel_size": {voxel}, "compress": true}}}}"#
     );
     cook_at(&nodes, "w", 1.0).unwrap();
     let v = read_volume(&file);
@@ -166,7 +166,7 @@ fn openvdb_s_sphere_reads_meshes_and_writes_back_voxel_for_voxel() {
     let ours = dir.path().join("ours.vdb");
     let write = format!(
         r#""f": {{"type": "frep_file", "params": {{"file": {theirs:?}}}}},
-           "w": {{"type": "frep_write", "inputs": ["f"], "params": {{"file": {ours:?}, "min": [-0.6, -0.9, -0.4], "max": [0.8, 0.5, 1.0], "voxel_size": {voxel}, "compress": false}}}}"#
+           "w": {{"type": "frep_write", "inputs": ["f"], "params": {{"file": {ours:?}, "min": [-0.6, -0.9, -0.4], "max": [0.8, 0.5, 1.0], "voxel_size": {voxel}}}}}"#
     );
     cook_at(&write, "w", 1.0).unwrap();
     let (a, b) = (read_volume(&theirs), read_volume(&ours));

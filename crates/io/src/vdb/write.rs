@@ -4,6 +4,8 @@
 
 use std::collections::BTreeMap;
 
+use rayon::prelude::*;
+
 use geode_geo::volume::{Leaf, SparseVolume, VolumeClass};
 
 use super::tree::{Inactive, Level, Mask, ALL_VALUES, LOWER, UPPER};
@@ -262,16 +264,28 @@ impl<'a> Tree<'a> {
         }
     }
 
+    /// The leaves' masks and values in topology order, encoded in
+    /// parallel (zlib dominates) and joined in order.
     fn write_buffers(&self, out: &mut Vec<u8>, enc: Encoding) {
-        for upper in self.uppers.values() {
-            for lower in upper.children.values() {
-                for leaf in lower.children.values() {
+        let leaves: Vec<&Leaf> = self
+            .uppers
+            .values()
+            .flat_map(|upper| upper.children.values())
+            .flat_map(|lower| lower.children.values().copied())
+            .collect();
+        let encoded: Vec<Vec<u8>> = leaves
+            .par_chunks(64)
+            .map(|chunk| {
+                let mut buf = Vec::new();
+                for leaf in chunk {
                     let mask = leaf_mask(leaf);
-                    mask.write(out);
-                    values(out, &leaf.values[..], &mask, None, enc);
+                    mask.write(&mut buf);
+                    values(&mut buf, &leaf.values[..], &mask, None, enc);
                 }
-            }
-        }
+                buf
+            })
+            .collect();
+        encoded.iter().for_each(|b| out.extend_from_slice(b));
     }
 }
 
