@@ -192,20 +192,47 @@ impl SamplePlan {
     ) -> Result<SparseVolume, SampleError> {
         let o = self.options;
         let bg = (o.half_width * o.voxel_size) as f32;
-        let tape = Tape::compile(&distance::signed_distance(f));
+        // The side from the field itself, the magnitude from its distance
+        // estimate: where the field's gradient vanishes (a gyroid's
+        // channels), Newton steps may land on the other side, the field
+        // never does.
+        let distance = distance::signed_distance(f);
+        let exact = distance.identity() == f.identity();
+        let side_tape = Tape::compile(f);
+        let distance_tape = Tape::compile(&distance);
         let filled: Vec<Option<Result<Leaf, Option<Tile>>>> = self
             .leaves
             .par_iter()
             .map_init(
-                || (BatchEval::new(&tape), LeafPoints::default()),
-                |(eval, pts), &origin| {
+                || {
+                    (
+                        BatchEval::new(&side_tape),
+                        BatchEval::new(&distance_tape),
+                        LeafPoints::default(),
+                    )
+                },
+                |(side_eval, distance_eval, pts), &origin| {
                     if cancel() {
                         return None;
                     }
                     pts.fill(origin, o.voxel_size);
-                    let mut d = [0.0f32; LEAF_VOXELS];
-                    eval.eval(&pts.x, &pts.y, &pts.z, &mut d);
-                    Some(level_set_leaf(origin, &d, bg))
+                    let mut side = [0.0f32; LEAF_VOXELS];
+                    side_eval.eval(&pts.x, &pts.y, &pts.z, &mut side);
+                    if !exact {
+                        let mut d = [0.0f32; LEAF_VOXELS];
+                        distance_eval.eval(&pts.x, &pts.y, &pts.z, &mut d);
+                        for (s, d) in side.iter_mut().zip(d) {
+                            let magnitude = if d.is_nan() { f32::INFINITY } else { d.abs() };
+                            *s = if *s > 0.0 {
+                                magnitude
+                            } else if *s < 0.0 {
+                                -magnitude
+                            } else {
+                                *s
+                            };
+                        }
+                    }
+                    Some(level_set_leaf(origin, &side, bg))
                 },
             )
             .collect();
@@ -314,27 +341,35 @@ fn level_set_leaf(origin: [i32; 3], d: &[f32; LEAF_VOXELS], bg: f32) -> Result<L
 }
 
 /// A sparse volume as a field: trilinear between voxel centres, level sets
-/// negated so the inside is positive; other volumes as they are.
+/// negated so the inside is positive; other volumes (densities) less an
+/// isovalue, so the inside is where they pass it.
 #[derive(Debug, PartialEq)]
 pub struct VolumeField {
     volume: SparseVolume,
     sign: f64,
+    iso: f64,
     identity: u128,
 }
 
 impl VolumeField {
+    /// A level set's field (any other volume's surface at 0).
     pub fn new(volume: SparseVolume) -> VolumeField {
-        let sign = if volume.class == VolumeClass::LevelSet {
-            -1.0
-        } else {
-            1.0
-        };
+        VolumeField::with_iso(volume, 0.0)
+    }
+
+    /// A volume's field; a volume other than a level set has its surface
+    /// where its values pass `iso` (a level set's is at 0: `iso` is unused).
+    pub fn with_iso(volume: SparseVolume, iso: f64) -> VolumeField {
+        let level_set = volume.class == VolumeClass::LevelSet;
+        let (sign, iso) = if level_set { (-1.0, 0.0) } else { (1.0, iso) };
         let mut bytes = Vec::new();
         encode_volume(&volume, &mut bytes);
+        bytes.extend_from_slice(&iso.to_le_bytes());
         VolumeField {
             identity: geode_geo::hash_bytes(&bytes),
             volume,
             sign,
+            iso,
         }
     }
 
@@ -371,12 +406,12 @@ impl VolumeField {
     }
 
     pub fn value(&self, p: [f64; 3]) -> f64 {
-        self.sign * self.volume.sample(p)
+        self.sign * self.volume.sample(p) - self.iso
     }
 
     pub fn value_gradient(&self, p: [f64; 3]) -> (f64, [f64; 3]) {
         let (v, g) = self.volume.sample_gradient(p);
-        (self.sign * v, g.map(|c| self.sign * c))
+        (self.sign * v - self.iso, g.map(|c| self.sign * c))
     }
 
     /// Bounds over a box: the least and greatest voxel value among the
@@ -395,7 +430,10 @@ impl VolumeField {
         } else {
             self.volume.range()
         };
-        let (a, b) = (self.sign * lo as f64, self.sign * hi as f64);
+        let (a, b) = (
+            self.sign * lo as f64 - self.iso,
+            self.sign * hi as f64 - self.iso,
+        );
         Interval::new(a.min(b), a.max(b))
     }
 
@@ -407,10 +445,12 @@ impl VolumeField {
 
     pub(crate) fn encode(&self, out: &mut Vec<u8>) {
         encode_volume(&self.volume, out);
+        out.extend_from_slice(&self.iso.to_le_bytes());
     }
 
     pub(crate) fn decode(r: &mut Reader) -> Result<VolumeField, FieldDecodeError> {
-        decode_volume(r).map(VolumeField::new)
+        let volume = decode_volume(r)?;
+        Ok(VolumeField::with_iso(volume, r.f64()?))
     }
 }
 

@@ -190,3 +190,40 @@ fn bad_options_and_cancelling_are_errors() {
         Some(geode_frep::SampleError::TooLarge { .. })
     ));
 }
+
+/// A field that is not a distance (a gyroid: its gradient vanishes along
+/// its channels, where Newton steps toward the surface may overshoot):
+/// every voxel of the band keeps the field's own side.
+#[test]
+fn a_gyroid_s_voxels_keep_the_field_s_side() {
+    let (x, y, z) = (Field::x() * 10.0, Field::y() * 10.0, Field::z() * 10.0);
+    let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
+    let tape = Tape::compile(&g);
+    let mut eval = PointEval::new(&tape);
+    let o = SampleOptions {
+        min: [-0.5; 3],
+        max: [0.5; 3],
+        voxel_size: 0.02,
+        half_width: 3.0,
+        memory_budget: 1 << 32,
+    };
+    let v = sample(&g, o);
+    let (mut checked, mut wrong) = (0, 0);
+    for l in v.leaves() {
+        for n in 0..LEAF_VOXELS {
+            let i = [
+                l.origin[0] + (n >> 6) as i32,
+                l.origin[1] + ((n >> 3) & 7) as i32,
+                l.origin[2] + (n & 7) as i32,
+            ];
+            let f = eval.eval(i.map(|c| (c as f64 * 0.02) as f32 as f64));
+            let phi = l.values[n];
+            if f.abs() > 1e-6 && (f > 0.0) != (phi < 0.0) {
+                wrong += 1;
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked > 100_000, "{checked}");
+    assert_eq!(wrong, 0, "{wrong} of {checked} voxels on the wrong side");
+}

@@ -88,10 +88,13 @@ pub(crate) fn flip_edges(
     let mut far = vec![0.0f32; samples.len()];
     field_distances(tapes, &samples, &mut far);
     let mut used = vec![false; triangles.len()];
+    // Two flips of one call may not make the same diagonal (two quads with
+    // the same opposite corners, as around a split vertex).
+    let mut made_edges = std::collections::HashSet::new();
     let mut made = 0;
     for (f, d) in flips.iter().zip(far.chunks(4)) {
         let closer = d[1..].iter().all(|x| *x < d[0]);
-        if !closer || used[f.t1] || used[f.t2] {
+        if !closer || used[f.t1] || used[f.t2] || !made_edges.insert([f.c.min(f.d), f.c.max(f.d)]) {
             continue;
         }
         used[f.t1] = true;

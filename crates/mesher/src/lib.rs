@@ -9,6 +9,7 @@ pub mod adaptive;
 mod brick;
 mod cell;
 mod cluster;
+mod crease;
 mod features;
 mod flip;
 mod lattice;

@@ -78,6 +78,8 @@ pub struct MeshStats {
     pub thin_cells: usize,
     /// The box of those cells (model units), when there are any.
     pub thin_region: Option<([f64; 3], [f64; 3])>,
+    /// Edges flipped to follow a crease (see `crease.rs`).
+    pub crease_flips: usize,
     /// Adaptive output: edges split where the uniform mesh strayed beyond
     /// the tolerance, edges collapsed where the surface allowed, and the
     /// largest deviation measured after splitting (model units).
@@ -347,6 +349,7 @@ pub fn polygonise(
         vertices_split: 0,
         thin_cells: 0,
         thin_region: None,
+        crease_flips: 0,
         splits: 0,
         collapses: 0,
         deviation: 0.0,
@@ -385,15 +388,18 @@ pub fn polygonise(
         },
     );
     stop()?;
+    let tapes = adaptive::RegionTapes::new(
+        &root,
+        bricks
+            .iter()
+            .map(|s| ([s.node[2], s.node[1], s.node[0]], s.tape.as_ref()))
+            .collect(),
+        (grid.origin, grid.h * B as f64, grid.bricks),
+    );
+    stats.crease_flips =
+        crate::crease::straighten_creases(&tapes, &positions, &mut triangles, grid.h, cancel);
+    stop()?;
     if opts.tolerance > 0.0 {
-        let tapes = adaptive::RegionTapes::new(
-            &root,
-            bricks
-                .iter()
-                .map(|s| ([s.node[2], s.node[1], s.node[0]], s.tape.as_ref()))
-                .collect(),
-            (grid.origin, grid.h * B as f64, grid.bricks),
-        );
         let mesh = (&mut positions, &mut normals, &mut triangles);
         let adapted =
             adaptive::adapt(&tapes, mesh, opts.tolerance, cancel).ok_or(MeshError::Cancelled)?;

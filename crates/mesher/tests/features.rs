@@ -308,12 +308,102 @@ fn the_screw_crest_and_root_lie_on_the_mesh() {
         eprintln!("within {within} cell: crest {crest:.3}, root {root:.3}");
         at.push((crest, root));
     }
-    // Today (depth 7): 63% of either helix within 0.05 cell, 68% within
-    // 0.1, 80% within 0.25. Of the samples beyond 0.1 cell, 56% lie in
-    // cells with no vertex (the ridge pokes into a cell whose corners are
-    // all outside, so dual contouring places nothing there) and the rest
-    // where the mesh zig-zags between crest and flank vertices. Issue 37
-    // asks for 99% within 0.05: this guards today's level until then.
-    assert!(at[0].0 >= 0.6 && at[0].1 >= 0.6, "{at:?}");
-    assert!(at[2].0 >= 0.78 && at[2].1 >= 0.78, "{at:?}");
+    // Depth 7, with creases straightened (crease.rs): 81% of either helix
+    // within 0.05 cell, 85% within 0.1, 92% within 0.25 (63%, 68% and 80%
+    // before: the mesh zig-zagged between crest and flank vertices). Most
+    // of the rest lie in cells with no vertex (the ridge pokes into a cell
+    // whose corners are all outside, so dual contouring places nothing
+    // there). Issue 37 asks for 99% within 0.05: this guards today's level.
+    assert!(at[0].0 >= 0.78 && at[0].1 >= 0.78, "{at:?}");
+    assert!(at[2].0 >= 0.9 && at[2].1 >= 0.9, "{at:?}");
+}
+
+/// Points of `curve` (a closed parametric curve, t in 0..1) within
+/// `within` cells of the mesh's triangles, as a fraction, and the worst.
+fn curve_coverage(
+    g: &geode_geo::Geometry,
+    h: f64,
+    within: f64,
+    curve: impl Fn(f64) -> [f64; 3],
+) -> (f64, f64) {
+    use geode_geo::glam::Vec3;
+    let tris: Vec<[u32; 3]> = (0..g.num_prims())
+        .map(|p| {
+            let v = g.prim_points(p);
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let bvh = geode_geo::ops::TriangleBvh::new(g.positions(), &tris);
+    let n = 5000;
+    let d: Vec<f64> = (0..n)
+        .map(|i| {
+            let p = curve(i as f64 / n as f64);
+            let s = Vec3::new(p[0] as f32, p[1] as f32, p[2] as f32);
+            bvh.closest(s, f32::INFINITY).unwrap().dist2.sqrt() as f64 / h
+        })
+        .collect();
+    let near = d.iter().filter(|&&x| x <= within).count();
+    (
+        near as f64 / n as f64,
+        d.iter().copied().fold(0.0, f64::max),
+    )
+}
+
+/// The circle where a sphere meets a cylinder it caps, and a cone's rim
+/// turned off every axis: sampled along the crease, against the mesh.
+#[test]
+fn curved_creases_of_a_capped_cylinder_and_a_turned_cone() {
+    use geode_frep::shapes::{cone, cylinder, sphere};
+    let depth = 7;
+    let (lo, hi) = ([-1.0; 3], [1.0; 3]);
+    let h = 2.0 / (1u64 << depth) as f64;
+    // Cylinder r 0.5 along y (half height 0.6) under a sphere r 0.7 at
+    // (0, 0.6, 0): they cross at y = 0.6 - sqrt(0.49 - 0.25).
+    let capped = cylinder([0.0; 3], 0.5, 0.6).max(sphere([0.0, 0.6, 0.0], 0.7));
+    let g = polygonise(
+        &capped,
+        &MeshOptions::new(lo, hi, depth),
+        &|| false,
+        &|_| {},
+    )
+    .unwrap()
+    .0;
+    let y = 0.6 - (0.49f64 - 0.25).sqrt();
+    let circle = |t: f64| {
+        let a = t * std::f64::consts::TAU;
+        [0.5 * a.cos(), y, 0.5 * a.sin()]
+    };
+    let (near, worst) = curve_coverage(&g, h, 0.05, circle);
+    eprintln!("capped cylinder: {near:.3} of the crease within 0.05 cell, worst {worst:.3} cell");
+    // A cone (apex up, radius 0.5, height 0.9) turned about x and z.
+    let turn =
+        geode_geo::glam::DMat4::from_rotation_z(0.5) * geode_geo::glam::DMat4::from_rotation_x(0.3);
+    let turned = cone([0.0, 0.45, 0.0], 0.5, 0.9).transformed(&turn).unwrap();
+    let g = polygonise(
+        &turned,
+        &MeshOptions::new(lo, hi, depth),
+        &|| false,
+        &|_| {},
+    )
+    .unwrap()
+    .0;
+    let rim = |t: f64| {
+        let a = t * std::f64::consts::TAU;
+        let p = turn.transform_point3(geode_geo::glam::DVec3::new(
+            0.5 * a.cos(),
+            -0.45,
+            0.5 * a.sin(),
+        ));
+        p.to_array()
+    };
+    let (near_cone, worst_cone) = curve_coverage(&g, h, 0.05, rim);
+    eprintln!(
+        "turned cone: {near_cone:.3} of the rim within 0.05 cell, worst {worst_cone:.3} cell"
+    );
+    // Issue 37 asks for every sample within 0.05 cell. The capped
+    // cylinder's crease holds it (worst 0.019 cell at depth 7); the turned
+    // cone's rim does not yet: 59% within 0.05 cell, worst 0.79 (56% and
+    // 0.83 before creases were straightened). This guards today's level.
+    assert!(near == 1.0 && worst < 0.05, "{near} {worst}");
+    assert!(near_cone >= 0.55, "{near_cone}");
 }

@@ -32,13 +32,21 @@ const FREP_FILE_GRID: P = P::new(
     "For a `.vdb` file: the float grid to read (empty: the first).",
 );
 
+const FREP_FILE_ISO: P = P::new(
+    "iso",
+    "Isovalue",
+    T::Float,
+    D::Float(0.5),
+    "For a `.vdb` grid that is not a level set (a fog volume): the value where its surface lies; the field is the value less this, inside where it is larger. A level set's surface is at 0.",
+);
+
 static FREP_FILE: NodeSpec = NodeSpec::new(
     "frep_file",
     "FRep File",
     "frep",
-    "Reads a field from a fidget `.vm` program, a HyperFun `.hf` program (its language, compiled to a field: arrays, `if`, `while` with conditions known before meshing, the set operations and the FRep library) or a float grid of an OpenVDB `.vdb` file (Houdini's, Blender's, OpenVDB's: any compression, half floats, tiles). A `.vm` program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height). A level set reads as its negated distance (positive inside, as every geode field); other grids read as their values (a fog volume: positive where it has density), trilinear between voxel centres.",
+    "Reads a field from a fidget `.vm` program, a HyperFun `.hf` program (its language, compiled to a field: arrays, `if`, `while` with conditions known before meshing, the set operations and the FRep library) or a float grid of an OpenVDB `.vdb` file (Houdini's, Blender's, OpenVDB's: any compression, half floats, tiles). A `.vm` program without `var-z` is a 2D shape, extruded along z (the meshing bounds give its height). A level set reads as its negated distance (positive inside, as every geode field); other grids read as their values less the isovalue (a fog volume: inside where its density passes it), trilinear between voxel centres. The voxel transform may scale and translate; rotated or sheared grids are refused.",
     &[],
-    &[FREP_FILE_FILE, FREP_FILE_OBJECT, FREP_FILE_GRID],
+    &[FREP_FILE_FILE, FREP_FILE_OBJECT, FREP_FILE_GRID, FREP_FILE_ISO],
 )
 .output(PortType::Field);
 
@@ -53,7 +61,12 @@ fn cook_frep_file(
     }
     let extension = path.to_lowercase();
     if extension.ends_with(".vdb") {
-        return read_vdb(ctx, path, p.string(&FREP_FILE_GRID)?);
+        return read_vdb(
+            ctx,
+            path,
+            p.string(&FREP_FILE_GRID)?,
+            p.float(&FREP_FILE_ISO)?,
+        );
     }
     let hyperfun = extension.ends_with(".hf");
     if !hyperfun && !extension.ends_with(".vm") {
@@ -83,7 +96,7 @@ fn cook_frep_file(
 }
 
 /// A float grid of a `.vdb` file as a field.
-fn read_vdb(ctx: &CookContext, path: &str, grid: &str) -> Result<Value, CookError> {
+fn read_vdb(ctx: &CookContext, path: &str, grid: &str, iso: f64) -> Result<Value, CookError> {
     use geode_io::vdb::VdbError;
     use geode_io::{IoError, Position};
     ctx.readable_file("file", path)?;
@@ -120,15 +133,37 @@ fn read_vdb(ctx: &CookContext, path: &str, grid: &str) -> Result<Value, CookErro
             ),
         ));
     };
+    warn_of_values(ctx, &volume, iso);
+    Ok(Value::Field(geode_frep::Field::volume(
+        geode_frep::VolumeField::with_iso(volume, iso),
+    )))
+}
+
+/// Warnings for what reads unlike its file: a grid that is not a level
+/// set, one without active voxels, voxels that are not numbers.
+fn warn_of_values(ctx: &CookContext, volume: &geode_geo::volume::SparseVolume, iso: f64) {
     if volume.class != geode_geo::volume::VolumeClass::LevelSet {
         ctx.warn(format!(
-            "grid {:?} is not a level set: its values are read as they are (positive where a fog volume has density), not as distances",
+            "grid {:?} is not a level set: its surface is where its values pass the isovalue {iso}, and its values are not distances",
             volume.name
         ));
     }
-    Ok(Value::Field(geode_frep::Field::volume(
-        geode_frep::VolumeField::new(volume),
-    )))
+    if volume.active_voxel_count() == 0 {
+        ctx.warn(format!("grid {:?} has no active voxels", volume.name));
+    }
+    let bad = volume
+        .leaves()
+        .iter()
+        .flat_map(|l| l.values.iter())
+        .chain(volume.tiles().iter().map(|t| &t.value))
+        .filter(|v| !v.is_finite())
+        .count();
+    if bad > 0 {
+        ctx.warn(format!(
+            "grid {:?} holds {bad} voxels or tiles that are NaN or infinite: the field is not a number near them",
+            volume.name
+        ));
+    }
 }
 
 fn key_frep_file(ctx: &geode_op::KeyContext, p: &Params) -> Result<Option<u128>, CookError> {

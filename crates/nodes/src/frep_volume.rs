@@ -40,7 +40,7 @@ static VOLUME: NodeSpec = NodeSpec::new(
     "frep_volume",
     "FRep Volume",
     "frep",
-    "Samples a field into a narrow-band level set (OpenVDB's kind of volume: signed distances on the voxels within the half width of the surface, the inside filled by tiles) over the box, and gives it back as a field: trilinear between voxel centres, positive inside. A field that is slow to evaluate (a huge mesh's, a deep blend) costs one sampling, then a lookup per point; offsets within the half width stay exact to the voxels.",
+    "Samples a field into a narrow-band level set (OpenVDB's kind of volume: signed distances on the voxels within the half width of the surface, the inside filled by tiles) over the box, and gives it back as a field: trilinear between voxel centres, positive inside. Inside and outside come from the field itself, distances from its distance estimate (exact for meshes, primitives and level sets; a field that is not a distance, such as a gyroid, gets the estimate's values). Leaves are whole blocks of 8 voxels, so the band may reach a few voxels past the box. A field that is slow to evaluate (a huge mesh's, a deep blend) costs one sampling, then a lookup per point; offsets within the half width stay exact to the voxels.",
     &[FIELD_IN],
     &[BOUNDS_MIN, BOUNDS_MAX, VOXEL_SIZE, HALF_WIDTH, GRID_NAME],
 )
@@ -90,6 +90,7 @@ fn sample(ctx: &CookContext, f: &Field, p: &Params) -> Result<SparseVolume, Cook
         half_width: p.float(&HALF_WIDTH)?,
         memory_budget: ctx.env.memory_budget,
     };
+    warn_of_options(ctx, f, &options);
     let cancel = || ctx.cancel.is_cancelled();
     let plan = SamplePlan::new(f, options, &cancel).map_err(|e| sample_error(ctx, e))?;
     ctx.reserve(
@@ -107,6 +108,29 @@ fn sample(ctx: &CookContext, f: &Field, p: &Params) -> Result<SparseVolume, Cook
         ctx.warn("the field has no surface in the box: the volume is all inside or all outside");
     }
     Ok(volume)
+}
+
+/// Warnings for a sampling that cannot show its field: a box narrower than
+/// two voxels, or a level set asked for distances beyond its own band
+/// (past it, its values are its background, not distances).
+fn warn_of_options(ctx: &CookContext, f: &Field, o: &SampleOptions) {
+    if (0..3).any(|k| o.max[k] - o.min[k] < 2.0 * o.voxel_size) {
+        ctx.warn(format!(
+            "the box spans fewer than two voxels of {} along an axis: the volume cannot show the field's shape",
+            o.voxel_size
+        ));
+    }
+    let band = o.half_width * o.voxel_size;
+    if let geode_frep::Node::Dataset(set, _) = f.node() {
+        if let geode_frep::Dataset::Volume(v) = set.as_ref() {
+            let own = v.volume().background as f64;
+            if v.volume().class == geode_geo::volume::VolumeClass::LevelSet && own < band {
+                ctx.warn(format!(
+                    "the input level set holds distances only within {own} of its surface: voxels farther than that (up to the half width's {band}) hold {own}, not their distance"
+                ));
+            }
+        }
+    }
 }
 
 fn sample_error(ctx: &CookContext, e: SampleError) -> CookError {

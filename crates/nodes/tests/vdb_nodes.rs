@@ -314,3 +314,100 @@ fn blender_imports_frep_write_s_file_as_a_volume() {
         );
     }
 }
+
+/// OpenVDB's fog volume (a box of density 1 filled by `FloatGrid.fill`,
+/// kept as a fuzz seed) reads with its surface at the isovalue: halfway
+/// between the last voxel of density and the first without, a box of
+/// 128 voxels a side; the warning says the values are not distances.
+#[test]
+fn a_fog_volume_s_surface_lies_at_the_isovalue() {
+    let file = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../fuzz/seeds/read_vdb/openvdb_fog_and_vectors.vdb"
+    );
+    let nodes = format!(
+        r#""f": {{"type": "frep_file", "params": {{"file": {file:?}, "grid": "density", "iso": 0.5}}}},
+           "m": {{"type": "polygonise", "inputs": ["f"], "params": {{"min": [190, -10, -10], "max": [340, 140, 140], "depth": 7}}}}"#
+    );
+    let g = geo(&nodes, "m");
+    let volume = geode_geo::ops::signed_volume(&g).abs() as f64;
+    let b = geode_geo::ops::bounds(&g).unwrap();
+    assert!(
+        (b.min.x - 199.5).abs() < 0.6 && (b.max.x - 327.5).abs() < 0.6,
+        "{b:?}"
+    );
+    assert!(
+        (volume / 128f64.powi(3) - 1.0).abs() < 0.02,
+        "volume {volume}"
+    );
+    let w = warnings(&nodes, "/f");
+    assert!(
+        w.iter()
+            .any(|w| w.contains("not a level set") && w.contains("isovalue 0.5")),
+        "{w:?}"
+    );
+}
+
+/// Voxels that are not numbers, a grid without active voxels, a box
+/// narrower than two voxels and a band wider than its level set's: each
+/// warned of.
+#[test]
+fn unusual_volumes_are_warned_of() {
+    use geode_geo::volume::{Leaf, SparseVolume, VoxelTransform};
+    let dir = tempfile::tempdir().unwrap();
+    let mut values = Box::new([0.5f32; 512]);
+    values[3] = f32::NAN;
+    values[9] = f32::NEG_INFINITY;
+    let leaf = Leaf {
+        origin: [0; 3],
+        active: [0; 8],
+        values,
+    };
+    let v = SparseVolume::new(
+        "odd",
+        VolumeClass::LevelSet,
+        VoxelTransform::uniform(0.1, [0.0; 3]),
+        0.3,
+        vec![leaf],
+        vec![],
+    )
+    .unwrap();
+    let odd = dir.path().join("odd.vdb");
+    std::fs::write(
+        &odd,
+        geode_io::vdb::write_vdb(&[&v], geode_io::vdb::VdbCompression::None),
+    )
+    .unwrap();
+    let w = warnings(
+        &format!(r#""f": {{"type": "frep_file", "params": {{"file": {odd:?}}}}}"#),
+        "/f",
+    );
+    assert!(
+        w.iter()
+            .any(|w| w.contains("2 voxels or tiles that are NaN or infinite")),
+        "{w:?}"
+    );
+    assert!(w.iter().any(|w| w.contains("no active voxels")), "{w:?}");
+    let w = warnings(
+        r#""s": {"type": "frep_sphere"}, "v": {"type": "frep_volume", "inputs": ["s"], "params": {"voxel_size": 5}}"#,
+        "/v",
+    );
+    assert!(
+        w.iter().any(|w| w.contains("fewer than two voxels")),
+        "{w:?}"
+    );
+    // A level set of half width 3 sampled again with 6.
+    let narrow = dir.path().join("narrow.vdb");
+    let nodes = format!(
+        r#""s": {{"type": "frep_sphere"}},
+           "w": {{"type": "frep_write", "inputs": ["s"], "params": {{"file": {narrow:?}, "voxel_size": 0.1}}}},
+           "f": {{"type": "frep_file", "params": {{"file": {narrow:?}}}}},
+           "v": {{"type": "frep_volume", "inputs": ["f"], "params": {{"voxel_size": 0.1, "half_width": 6}}}}"#
+    );
+    cook_at(&nodes, "w", 1.0).unwrap();
+    let w = warnings(&nodes, "/v");
+    assert!(
+        w.iter().any(|w| w.contains("holds distances only within")),
+        "{w:?}"
+    );
+}
