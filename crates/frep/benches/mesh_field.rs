@@ -8,6 +8,8 @@ use divan::counter::ItemsCount;
 use divan::Bencher;
 use geode_frep::{Field, MeshDistance, PointEval, Tape};
 
+#[path = "support/uniform.rs"]
+mod uniform;
 #[path = "support/wavy_sphere.rs"]
 mod wavy_sphere;
 use wavy_sphere::wavy_sphere;
@@ -29,13 +31,7 @@ fn build(bencher: Bencher, rings: u32) {
 /// Points in a shell around the surface (where a mesher evaluates), and
 /// through the whole box.
 fn points(near: bool) -> Vec<[f64; 3]> {
-    let mut s = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = uniform::uniform();
     (0..10_000)
         .map(|_| {
             let d = [next() - 0.5, next() - 0.5, next() - 0.5];

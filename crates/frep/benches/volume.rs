@@ -10,6 +10,8 @@ use geode_frep::{
     shapes, Field, MeshDistance, PointEval, SampleOptions, SamplePlan, Tape, VolumeField,
 };
 
+#[path = "support/uniform.rs"]
+mod uniform;
 #[path = "support/wavy_sphere.rs"]
 mod wavy_sphere;
 
@@ -63,13 +65,7 @@ fn sample_mesh_320k_triangles(bencher: Bencher) {
 fn evaluate_near_surface(bencher: Bencher) {
     let volume = sample(&blend(), 512);
     let tape = Tape::compile(&Field::volume(VolumeField::new(volume)));
-    let mut s = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut next = || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = uniform::uniform();
     // Points on the torus's tube, a little in and out.
     let at: Vec<[f64; 3]> = (0..10_000)
         .map(|_| {

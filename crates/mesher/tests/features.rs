@@ -256,6 +256,17 @@ fn the_screw_crest_is_meshed_on_the_exact_crest() {
     );
 }
 
+/// The mesh's triangles, for closest points.
+fn triangle_bvh(g: &geode_geo::Geometry) -> geode_geo::ops::TriangleBvh {
+    let tris: Vec<[u32; 3]> = (0..g.num_prims())
+        .map(|p| {
+            let v = g.prim_points(p);
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    geode_geo::ops::TriangleBvh::new(g.positions(), &tris)
+}
+
 /// The screw's crest (r = 0.42, half a turn) and root (r = 0.27, whole
 /// turns) helices sampled densely away from the shaft's ends: the fraction
 /// of samples within `within` cells of the meshed surface (the triangles,
@@ -263,13 +274,7 @@ fn the_screw_crest_is_meshed_on_the_exact_crest() {
 /// between its vertices).
 fn helix_coverage(g: &geode_geo::Geometry, h: f64, within: f64) -> [f64; 2] {
     use geode_geo::glam::Vec3;
-    let tris: Vec<[u32; 3]> = (0..g.num_prims())
-        .map(|p| {
-            let v = g.prim_points(p);
-            [v[0], v[1], v[2]]
-        })
-        .collect();
-    let bvh = geode_geo::ops::TriangleBvh::new(g.positions(), &tris);
+    let bvh = triangle_bvh(g);
     [(0.42, 0.5), (0.27, 0.0)].map(|(radius, fraction)| {
         let n = 20_000;
         let near = (0..n)
@@ -327,13 +332,7 @@ fn curve_coverage(
     curve: impl Fn(f64) -> [f64; 3],
 ) -> (f64, f64) {
     use geode_geo::glam::Vec3;
-    let tris: Vec<[u32; 3]> = (0..g.num_prims())
-        .map(|p| {
-            let v = g.prim_points(p);
-            [v[0], v[1], v[2]]
-        })
-        .collect();
-    let bvh = geode_geo::ops::TriangleBvh::new(g.positions(), &tris);
+    let bvh = triangle_bvh(g);
     let n = 5000;
     let d: Vec<f64> = (0..n)
         .map(|i| {
