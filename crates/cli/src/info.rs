@@ -147,3 +147,75 @@ impl Report {
         .to_string()
     }
 }
+
+/// `geode info` of a `.vdb` file: each float grid's name, class, voxel
+/// transform, background, active voxels and their bounds, leaves and tiles.
+pub fn volumes_text(path: &Path, volumes: &[geode_geo::volume::SparseVolume]) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "file:        {}", path.display());
+    let _ = writeln!(s, "grids:       {} float", volumes.len());
+    for v in volumes {
+        let j = volume_json(v);
+        let _ = writeln!(s, "grid {:?}:", v.name);
+        let _ = writeln!(
+            s,
+            "  class:       {}",
+            j["class"].as_str().unwrap_or_default()
+        );
+        let _ = writeln!(s, "  voxel size:  {:?}", v.transform.scale);
+        let _ = writeln!(s, "  translation: {:?}", v.transform.translation);
+        let _ = writeln!(s, "  background:  {}", v.background);
+        let _ = writeln!(s, "  active:      {} voxels", v.active_voxel_count());
+        match v.active_bounds() {
+            Some((lo, hi)) => {
+                let _ = writeln!(
+                    s,
+                    "  bounds:      index {lo:?} to {hi:?}, world {:?} to {:?}",
+                    v.transform.to_world(lo),
+                    v.transform.to_world(hi)
+                );
+            }
+            None => s.push_str("  bounds:      empty\n"),
+        }
+        let _ = writeln!(
+            s,
+            "  tree:        {} leaves, {} tiles",
+            v.leaves().len(),
+            v.tiles().len()
+        );
+    }
+    s
+}
+
+/// The same as JSON.
+pub fn volumes_json(path: &Path, volumes: &[geode_geo::volume::SparseVolume]) -> String {
+    serde_json::json!({
+        "file": path.display().to_string(),
+        "grids": volumes.iter().map(volume_json).collect::<Vec<_>>(),
+    })
+    .to_string()
+}
+
+fn volume_json(v: &geode_geo::volume::SparseVolume) -> serde_json::Value {
+    use geode_geo::volume::VolumeClass;
+    let class = match v.class {
+        VolumeClass::LevelSet => "level set",
+        VolumeClass::FogVolume => "fog volume",
+        VolumeClass::Unknown => "unknown",
+    };
+    let bounds = v.active_bounds().map(|(lo, hi)| {
+        serde_json::json!({"index_min": lo, "index_max": hi,
+            "min": v.transform.to_world(lo), "max": v.transform.to_world(hi)})
+    });
+    serde_json::json!({
+        "name": v.name,
+        "class": class,
+        "voxel_size": v.transform.scale,
+        "translation": v.transform.translation,
+        "background": v.background,
+        "active_voxels": v.active_voxel_count(),
+        "bounds": bounds,
+        "leaves": v.leaves().len(),
+        "tiles": v.tiles().len(),
+    })
+}

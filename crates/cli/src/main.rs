@@ -129,10 +129,12 @@ enum Command {
         #[arg(long, value_name = "DIR")]
         markdown: Option<PathBuf>,
     },
-    /// Print counts, bounds, attributes, groups, topology and content hash of a file.
+    /// Print counts, bounds, attributes, groups, topology and content hash of a file
+    /// (of a .vdb file: its grids, voxel sizes, active voxels and bounds).
     #[command(after_help = "Example:\n  geode info examples/assets/creased_box.obj")]
     Info {
-        /// Geometry file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo).
+        /// Geometry file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo), or an
+        /// OpenVDB .vdb file (its float grids).
         file: PathBuf,
         /// Print JSON instead of text.
         #[arg(long)]
@@ -239,6 +241,24 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             Some(dir) => catalogue::write_markdown(&dir)?,
             None => catalogue::list(node_type.as_deref())?,
         },
+        Command::Info { file, json }
+            if file
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("vdb")) =>
+        {
+            let bytes = geode_op::FileAccess::anywhere().read(
+                &file,
+                geode_op::budget_from_env(),
+                &|| false,
+            )?;
+            let volumes = geode_io::vdb::read_vdb(&bytes, geode_op::budget_from_env(), &|| false)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+            if json {
+                say!("{}", info::volumes_json(&file, &volumes));
+            } else {
+                write_stdout(format_args!("{}", info::volumes_text(&file, &volumes)));
+            }
+        }
         Command::Info { file, json } => {
             let g = read_geometry(&file, &progress::Bar::new())?;
             let report = info::Report::new(&file, &g);

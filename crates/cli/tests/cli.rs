@@ -39,6 +39,40 @@ fn info_reports_counts_attributes_and_hash() {
     assert_eq!(v["content_hash"].as_str().unwrap().len(), 32);
 }
 
+/// A `.vdb` file's grids: OpenVDB's fog volume beside a vector grid (a fuzz
+/// seed), its voxel count as OpenVDB's `activeVoxelCount` gives it.
+#[test]
+fn info_reports_a_vdb_file_s_grids() {
+    let file = "fuzz/seeds/read_vdb/openvdb_fog_and_vectors.vdb";
+    let o = geode(&["info", file]);
+    assert!(o.status.success(), "{}", text(&o));
+    let t = text(&o);
+    for needle in [
+        "grids:       1 float",
+        "grid \"density\":",
+        "class:       fog volume",
+        "active:      2097159 voxels",
+    ] {
+        assert!(t.contains(needle), "missing `{needle}` in\n{t}");
+    }
+    let o = geode(&["info", "--json", file]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["grids"][0]["active_voxels"], 2_097_159);
+    assert_eq!(
+        v["grids"][0]["bounds"]["index_max"],
+        serde_json::json!([327, 127, 127])
+    );
+    let bad = tempfile::tempdir().unwrap();
+    let cut = bad.path().join("cut.vdb");
+    std::fs::write(&cut, &std::fs::read(repo_root().join(file)).unwrap()[..500]).unwrap();
+    let o = geode(&["info", cut.to_str().unwrap()]);
+    assert!(
+        !o.status.success() && text(&o).contains("cut.vdb: byte "),
+        "{}",
+        text(&o)
+    );
+}
+
 #[test]
 fn convert_round_trips_every_writable_format() {
     let dir = tempfile::tempdir().unwrap();

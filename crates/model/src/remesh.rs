@@ -158,7 +158,7 @@ pub fn remesh(
             } else {
                 relax::Onto::Features
             };
-            relax::project(&mut m, &topo, &surface, which);
+            relax::project(&mut m, &topo, &surface, which, cancel);
         }
     }
     ModelError::unless_cancelled(cancel)?;

@@ -48,7 +48,9 @@ fn cook_offset(
     p: &Params,
 ) -> Result<Value, CookError> {
     let f = field_input(ctx, inputs, 0)?;
-    out(distance::offset(f, p.float(&OFFSET_DISTANCE)?, measure(p)?))
+    let d = p.float(&OFFSET_DISTANCE)?;
+    crate::frep_volume::warn_beyond_band(ctx, f, d);
+    out(distance::offset(f, d, measure(p)?))
 }
 
 const SHELL_THICKNESS: P = P::new(
@@ -85,6 +87,7 @@ fn cook_shell(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         "centered" => ShellSide::Centered,
         _ => ShellSide::Inside,
     };
+    crate::frep_volume::warn_beyond_band(ctx, f, p.float(&SHELL_THICKNESS)?);
     out(distance::shell(
         f,
         p.float(&SHELL_THICKNESS)?,

@@ -121,14 +121,37 @@ fn warn_of_options(ctx: &CookContext, f: &Field, o: &SampleOptions) {
         ));
     }
     let band = o.half_width * o.voxel_size;
-    if let geode_frep::Node::Dataset(set, _) = f.node() {
-        if let geode_frep::Dataset::Volume(v) = set.as_ref() {
-            let own = v.volume().background as f64;
-            if v.volume().class == geode_geo::volume::VolumeClass::LevelSet && own < band {
-                ctx.warn(format!(
-                    "the input level set holds distances only within {own} of its surface: voxels farther than that (up to the half width's {band}) hold {own}, not their distance"
-                ));
-            }
+    if let Some(own) = level_set_band(f) {
+        if own < band {
+            ctx.warn(format!(
+                "the input level set holds distances only within {own} of its surface: voxels farther than that (up to the half width's {band}) hold {own}, not their distance"
+            ));
+        }
+    }
+}
+
+/// How far from its surface a field that is a level set's (read or
+/// sampled) holds distances: its background.
+pub(crate) fn level_set_band(f: &Field) -> Option<f64> {
+    let geode_frep::Node::Dataset(set, _) = f.node() else {
+        return None;
+    };
+    let geode_frep::Dataset::Volume(v) = set.as_ref() else {
+        return None;
+    };
+    (v.volume().class == geode_geo::volume::VolumeClass::LevelSet)
+        .then_some(v.volume().background as f64)
+}
+
+/// Warns when an offset or shell reaches past the band of the level set
+/// it applies to: beyond it the values are the background, and the
+/// surface there is lost or everywhere.
+pub(crate) fn warn_beyond_band(ctx: &CookContext, f: &Field, reach: f64) {
+    if let Some(band) = level_set_band(f) {
+        if reach.abs() >= band {
+            ctx.warn(format!(
+                "{reach} reaches past the band of the level set it applies to ({band}): beyond the band its values are the background, not distances, so the surface there is lost; sample it with a wider half width (frep_volume) first"
+            ));
         }
     }
 }

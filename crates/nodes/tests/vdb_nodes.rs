@@ -410,4 +410,18 @@ fn unusual_volumes_are_warned_of() {
         w.iter().any(|w| w.contains("holds distances only within")),
         "{w:?}"
     );
+    // An offset past the band (0.3), and one within it.
+    let offset = |d: f64| {
+        warnings(
+            &format!(
+                r#""f": {{"type": "frep_file", "params": {{"file": {narrow:?}}}}},
+                   "o": {{"type": "frep_offset", "inputs": ["f"], "params": {{"distance": {d}}}}}"#
+            ),
+            "/o",
+        )
+    };
+    assert!(offset(0.5)
+        .iter()
+        .any(|w| w.contains("reaches past the band")));
+    assert!(offset(-0.2).is_empty());
 }

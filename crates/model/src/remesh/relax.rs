@@ -81,15 +81,32 @@ fn along_feature(m: &Mesh, topo: &Topo, v: u32) -> Vec3 {
 /// Vertices back onto the original (corners stay), their places there
 /// and target lengths updated. Each reads and writes only its own, so in
 /// place.
-pub(super) fn project(m: &mut Mesh, topo: &Topo, s: &Surface, which: Onto) {
+/// A cancel leaves the vertices not yet visited where they were (the
+/// caller answers it next: a projection of a million vertices takes longer
+/// than a cancel may wait).
+pub(super) fn project(
+    m: &mut Mesh,
+    topo: &Topo,
+    s: &Surface,
+    which: Onto,
+    cancel: &(dyn Fn() -> bool + Sync),
+) {
     let (fixed, size) = (&m.fixed, &m.size);
+    let stopped = std::sync::atomic::AtomicBool::new(false);
+    let stop = |v: usize| {
+        use std::sync::atomic::Ordering::Relaxed;
+        if v.is_multiple_of(1024) && cancel() {
+            stopped.store(true, Relaxed);
+        }
+        stopped.load(Relaxed)
+    };
     m.pos
         .par_iter_mut()
         .zip(m.proj.par_iter_mut())
         .enumerate()
         .for_each(|(v, (p, proj))| {
             let (to, at) = match topo.feature[v] {
-                _ if fixed[v] => return,
+                _ if fixed[v] || stop(v) => return,
                 0 if which == Onto::All => s.onto_surface(*p, *proj, size[v]),
                 2 => s.onto_features(*p, size[v]),
                 _ => return,
