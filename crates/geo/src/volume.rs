@@ -73,6 +73,12 @@ impl Leaf {
         (((i[0] & 7) << 6) | ((i[1] & 7) << 3) | (i[2] & 7)) as usize
     }
 
+    /// The index of voxel `n` (the inverse of [`Leaf::offset`]).
+    pub fn voxel(&self, n: usize) -> [i32; 3] {
+        let local = [n >> 6, (n >> 3) & 7, n & 7];
+        std::array::from_fn(|k| self.origin[k] + local[k] as i32)
+    }
+
     pub fn is_active(&self, n: usize) -> bool {
         self.active[n >> 6] >> (n & 63) & 1 == 1
     }
@@ -268,8 +274,7 @@ impl SparseVolume {
         };
         for l in &self.leaves {
             for n in (0..LEAF_VOXELS).filter(|&n| l.is_active(n)) {
-                let local = [(n >> 6) as i32, ((n >> 3) & 7) as i32, (n & 7) as i32];
-                grow(std::array::from_fn(|k| l.origin[k] + local[k]), 1);
+                grow(l.voxel(n), 1);
             }
         }
         for t in self.tiles.iter().filter(|t| t.active) {

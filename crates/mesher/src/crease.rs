@@ -54,18 +54,15 @@ pub(crate) fn straighten_creases(
             .filter(|(_, d)| **d as f64 > STRAY_CELLS * cell)
             .map(|(e, _)| *e)
             .collect();
-        let before = triangles.to_vec();
-        let n = flip_edges(tapes, positions, triangles, &far);
-        if n == 0 {
+        let changed = flip_edges(tapes, positions, triangles, &far);
+        if changed.is_empty() {
             break;
         }
-        flipped += n;
+        flipped += changed.len() / 2;
         // Next round: the corners of the triangles this one changed.
         let mut near = vec![false; positions.len()];
-        for (old, new) in before.iter().zip(triangles.iter()) {
-            if old != new {
-                new.iter().for_each(|&v| near[v as usize] = true);
-            }
+        for t in changed {
+            triangles[t].iter().for_each(|&v| near[v as usize] = true);
         }
         watch = Some(near);
     }

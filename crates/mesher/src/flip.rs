@@ -22,13 +22,13 @@ struct Flip {
 /// Flips those of `edges` (lower index first) whose other diagonal's
 /// midpoint lies closer to the surface, when both new triangles face the
 /// way both old ones did (no fold) and creates no edge twice; no triangle takes part in
-/// two flips. Returns how many were flipped.
+/// two flips. Returns the triangles changed.
 pub(crate) fn flip_edges(
     tapes: &RegionTapes,
     positions: &[Vec3],
     triangles: &mut [[u32; 3]],
     edges: &[[u32; 2]],
-) -> usize {
+) -> Vec<usize> {
     // Every directed edge, with its triangle and the corner opposite, of
     // the triangles that touch a corner of a triangle on one of `edges`
     // (all a flip reads, the other diagonal's existence included).
@@ -91,7 +91,7 @@ pub(crate) fn flip_edges(
     // Two flips of one call may not make the same diagonal (two quads with
     // the same opposite corners, as around a split vertex).
     let mut made_edges = std::collections::HashSet::new();
-    let mut made = 0;
+    let mut made = Vec::new();
     for (f, d) in flips.iter().zip(far.chunks(4)) {
         let closer = d[1..].iter().all(|x| *x < d[0]);
         if !closer || used[f.t1] || used[f.t2] || !made_edges.insert([f.c.min(f.d), f.c.max(f.d)]) {
@@ -101,7 +101,7 @@ pub(crate) fn flip_edges(
         used[f.t2] = true;
         triangles[f.t1] = [f.a, f.d, f.c];
         triangles[f.t2] = [f.d, f.b, f.c];
-        made += 1;
+        made.extend([f.t1, f.t2]);
     }
     made
 }

@@ -84,7 +84,7 @@ pub(crate) fn refine(
             triangles.clone(),
             done.splits,
         ));
-        if flip_edges(tapes, positions, triangles, &split) > 0 {
+        if !flip_edges(tapes, positions, triangles, &split).is_empty() {
             // Measure again before splitting what flips left.
             continue;
         }
