@@ -63,6 +63,20 @@ fn screw() -> Field {
     shaft.max(head.min(&-slot))
 }
 
+/// Three discs 0.01 thick, turned off the axes (0.3 of a cell at depth 6,
+/// 1.3 at depth 8): walls meshed through edges crossed twice.
+fn walls() -> Field {
+    let (x, y, z) = (Field::x(), Field::y(), Field::z());
+    let disc = |n: [f64; 3], shift: f64| {
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let along = (&x * n[0] + &y * n[1] + &z * n[2]) / len - shift;
+        (0.005 - along.abs()).min(sphere([0.0; 3], 0.8))
+    };
+    disc([1.0, 0.3, 0.2], 0.0)
+        .max(disc([0.2, 1.0, -0.4], 0.1))
+        .max(disc([-0.3, 0.1, 1.0], -0.05))
+}
+
 fn vm(name: &str) -> Field {
     let text = std::fs::read_to_string(format!(
         "{}/../../../shared/corpus/fidget-models/{name}",
@@ -78,16 +92,18 @@ fn cases() -> Vec<(&'static str, Field, f64)> {
         ("gyroid", gyroid_lattice(), 1.0),
         ("spheres200", spheres200(), 1.0),
         ("screw", screw().translate([0.0, -0.15, 0.0]), 1.0),
+        ("walls", walls(), 1.0),
         ("colonnade", vm("colonnade.vm"), 1.0),
         ("bear", vm("bear.vm"), 1.0),
     ]
 }
 
-const CASES: [&str; 6] = [
+const CASES: [&str; 7] = [
     "sphere",
     "gyroid",
     "spheres200",
     "screw",
+    "walls",
     "colonnade",
     "bear",
 ];

@@ -43,7 +43,11 @@ pub(crate) fn adapt(
 }
 
 /// Drops the vertices no triangle uses, keeping the others' order.
-fn compact(positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>, triangles: &mut [[u32; 3]]) {
+pub(crate) fn compact(
+    positions: &mut Vec<Vec3>,
+    normals: &mut Vec<Vec3>,
+    triangles: &mut [[u32; 3]],
+) {
     let kept = compact_vertices(positions.len(), triangles);
     *positions = kept.iter().map(|&v| positions[v as usize]).collect();
     *normals = kept.iter().map(|&v| normals[v as usize]).collect();

@@ -1,13 +1,17 @@
 //! Dual contouring of one brick of 8^3 cells: corner samples, edge
-//! crossings solved in batches, one vertex per connected surface component
-//! of a cell placed on its features (see `features`), and the dual-edge
-//! references from which the mesher builds quads.
+//! crossings solved in batches (both crossings of edges crossed twice, see
+//! `double`), one vertex per connected surface component of a cell placed
+//! on its features (see `features`), and the dual-edge references from
+//! which the mesher builds quads.
 
 use geode_geo::glam::Vec3;
 use geode_geo::ops::renumber_used;
 
-use crate::cell::{edge_key, face_pairs, find, Grid, B, CELL_EDGES};
+use crate::cell::{
+    crossing_key, doubled_face_pairs, face_pairs, find, Grid, B, CELL_EDGES, SECOND,
+};
 use crate::cluster::{merge_cells, Clustering, Node};
+use crate::double;
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
 use crate::parts::par_fill;
@@ -31,6 +35,9 @@ pub(crate) struct BrickOut {
     /// face: the only ones that can be pinched (see `pinch`).
     pub pinched: Vec<u32>,
     pub cells: usize,
+    /// Whether some edge of the brick is crossed twice: its quads may have
+    /// cancelled, leaving vertices no quad uses.
+    pub doubled: bool,
     /// Cells holding surface that none of their corners shows (see `thin`).
     pub missed: Vec<[usize; 3]>,
 }
@@ -40,16 +47,39 @@ pub(crate) struct BrickOut {
 pub(crate) type EdgeRef = (u64, u8, u32, bool);
 
 /// The dual quads, oriented outward, of the edges all four of whose cells
-/// `refs` (sorted by key and slot) holds; `refs` keeps the others.
-pub(crate) fn take_quads(refs: &mut Vec<EdgeRef>) -> Vec<[u32; 4]> {
-    let mut quads = Vec::with_capacity(refs.len() / 4);
+/// `refs` (sorted by key and slot) holds; `refs` keeps the others. The two
+/// quads of an edge crossed twice cancel where they join the same four
+/// vertices (every cell around it holds both crossings in one component:
+/// a ridge grazing the edge, finer than the grid can show, whose planes
+/// still placed those vertices).
+/// The corners of cancelled quads go to `cancelled`: a vertex that kept
+/// quads besides them may hold two fans now, which `pinch` splits.
+pub(crate) fn take_quads(refs: &mut Vec<EdgeRef>, cancelled: &mut Vec<u32>) -> Vec<[u32; 4]> {
+    let mut quads: Vec<[u32; 4]> = Vec::with_capacity(refs.len() / 4);
     let mut rest = Vec::new();
+    // The key and quad of the first crossing of the last edge crossed twice.
+    let mut first: Option<(u64, [u32; 4])> = None;
     for group in refs.chunk_by(|a, b| a.0 == b.0) {
         if group.len() == 4 && group.iter().enumerate().all(|(i, r)| r.1 as usize == i) {
             let mut q = [group[0].2, group[1].2, group[2].2, group[3].2];
             if !group[0].3 {
                 q.reverse();
             }
+            let key = group[0].0;
+            if key & 1 == 1 {
+                if let Some((k, p)) = first {
+                    let mut both = (p, q);
+                    both.0.sort_unstable();
+                    both.1.sort_unstable();
+                    if k == key - 1 && both.0 == both.1 {
+                        quads.pop();
+                        cancelled.extend_from_slice(&both.0);
+                        first = None;
+                        continue;
+                    }
+                }
+            }
+            first = Some((key, q));
             quads.push(q);
         } else {
             rest.extend_from_slice(group);
@@ -67,6 +97,8 @@ pub(crate) struct Joined {
     pub refs: Vec<EdgeRef>,
     /// Pinch candidates with the brick whose (simplified) tape is valid there.
     pub pinched: Vec<(u32, u32)>,
+    /// Each brick's first vertex.
+    pub offsets: Vec<u32>,
 }
 
 /// Joins the bricks' outputs in their order, each brick's vertex indices
@@ -100,6 +132,7 @@ pub(crate) fn join_bricks(outs: &[BrickOut]) -> Joined {
                 *to = (v + offsets[b], b as u32);
             }
         }),
+        offsets,
     }
 }
 
@@ -121,6 +154,10 @@ pub(crate) fn mesh_brick(
     let mut crossings = Crossings::new();
     let roots = lattice.crossed_edges(grid, (0, B as isize));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
+    let doubles = double::doubly_crossed_edges(&mut batch, &lattice, grid);
+    crossings.add_doubles(&mut batch, &mut point, &mut grads, doubles);
+    // Cells meshed through edges crossed twice (no longer missed).
+    let mut doubled_cells: Vec<[usize; 3]> = Vec::new();
     // Sized from the crossed edges: each is referenced by the (up to) four
     // cells around it, and a brick has about as many vertices as edges.
     let edges = crossings.planes.len();
@@ -131,14 +168,16 @@ pub(crate) fn mesh_brick(
         refs: Vec::with_capacity(4 * edges),
         pinched: Vec::new(),
         cells: 0,
+        doubled: crossings.has_doubles(),
         missed,
     };
     let mut vertex_points: Vec<[f64; 3]> = Vec::with_capacity(edges);
     let mut cells = CellTable::new();
-    let mut cell_planes: Vec<(usize, Plane)> = Vec::with_capacity(12);
+    // (component, plane, from an edge crossed twice)
+    let mut cell_planes: Vec<(usize, Plane, bool)> = Vec::with_capacity(2 * SECOND);
     let mut roots_seen: Vec<usize> = Vec::with_capacity(4);
     let mut scratch: Vec<Plane> = Vec::with_capacity(12);
-    let mut edge_info: Vec<(usize, u64, u8, bool)> = Vec::with_capacity(12);
+    let mut edge_info: Vec<(usize, u64, u8, bool)> = Vec::with_capacity(2 * SECOND);
     // Edge and corner points still to check against the field, all at once:
     // (vertex, its planes in `unverified_planes`, cell, candidate index).
     let mut unverified: Vec<Check> = Vec::new();
@@ -169,55 +208,107 @@ pub(crate) fn mesh_brick(
                     .iter()
                     .enumerate()
                     .fold(0u8, |m, (c, x)| m | ((*x >= 0.0) as u8) << c);
-                if signs == 0 || signs == u8::MAX {
+                let corner_of = |p: [usize; 3]| [i + p[0], j + p[1], k + p[2]].map(|x| x as isize);
+                // Edges crossed twice show surface the corners do not.
+                let doubled = crossings.has_doubles()
+                    && CELL_EDGES
+                        .iter()
+                        .any(|e| crossings.get_double(e.axis, corner_of(e.offset)).is_some());
+                if (signs == 0 || signs == u8::MAX) && !doubled {
                     continue;
                 }
                 out.cells += 1;
-                // Crossed edges and their connected components.
+                // Crossings and their connected components.
                 pairs.clear();
                 ambiguous.clear();
-                face_pairs(&v, &mut pairs, &mut ambiguous);
-                let mut parent: [usize; 12] = std::array::from_fn(|e| e);
+                // The field at a face's centre settles an ambiguous face.
+                let mut centre = |face: usize| {
+                    let mut at = [i, j, k].map(|x| x as f64 + 0.5);
+                    at[face / 2] += if face.is_multiple_of(2) { -0.5 } else { 0.5 };
+                    let x =
+                        std::array::from_fn(|a| grid.origin[a] + (base[a] as f64 + at[a]) * grid.h);
+                    Some(point.eval(x) >= 0.0)
+                };
+                if doubled {
+                    doubled_cells.push(cell);
+                    let mut crossed: [&[Plane]; 12] = [&[]; 12];
+                    for edge in &CELL_EDGES {
+                        let corner = corner_of(edge.offset);
+                        crossed[edge.id] = match crossings.get_double(edge.axis, corner) {
+                            Some(two) => two,
+                            None => crossings
+                                .get(edge.axis, corner)
+                                .map_or(&[], std::slice::from_ref),
+                        };
+                    }
+                    doubled_face_pairs(&v, &crossed, &mut centre, &mut pairs, &mut ambiguous);
+                } else {
+                    face_pairs(&v, &mut centre, &mut pairs, &mut ambiguous);
+                }
+                let mut parent: [usize; 2 * SECOND] = std::array::from_fn(|e| e);
                 for &(a, b) in &pairs {
                     let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
                     parent[ra] = rb;
                 }
-                let mut component_vertex: [u32; 12] = [u32::MAX; 12];
+                let mut component_vertex = [u32::MAX; 2 * SECOND];
                 cell_planes.clear();
                 roots_seen.clear();
                 edge_info.clear();
                 for edge in &CELL_EDGES {
                     let (lo_inside, hi_inside) = (signs >> edge.lo & 1, signs >> edge.hi & 1);
-                    if lo_inside == hi_inside {
-                        continue;
-                    }
                     let (axis, p, e) = (edge.axis, edge.offset, edge.id);
                     let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
-                    let key = edge_key(axis, lo);
-                    // Every crossed edge of the brick was solved above.
-                    let corner = [i + p[0], j + p[1], k + p[2]].map(|x| x as isize);
-                    let Some(&plane) = crossings.get(axis, corner) else {
-                        continue;
+                    let corner = corner_of(p);
+                    // Every crossing of the brick's edges was solved above.
+                    let planes: &[Plane] = if lo_inside != hi_inside {
+                        crossings
+                            .get(axis, corner)
+                            .map_or(&[], std::slice::from_ref)
+                    } else if doubled {
+                        crossings.get_double(axis, corner).map_or(&[], |two| two)
+                    } else {
+                        &[]
                     };
-                    let root = find(&mut parent, e);
-                    if !roots_seen.contains(&root) {
-                        roots_seen.push(root);
+                    for (n, &plane) in planes.iter().enumerate() {
+                        let id = e + n * SECOND;
+                        let root = find(&mut parent, id);
+                        if !roots_seen.contains(&root) {
+                            roots_seen.push(root);
+                        }
+                        cell_planes.push((root, plane, lo_inside == hi_inside));
+                        // The solid lies before a crossing (along +axis)
+                        // where the lower corner is inside, up to the second.
+                        let outward_plus = (lo_inside == 1) != (n == 1);
+                        let key = crossing_key(axis, lo, n == 1);
+                        edge_info.push((id, key, edge.slot, outward_plus));
                     }
-                    cell_planes.push((root, plane));
-                    edge_info.push((e, key, edge.slot, lo_inside == 1));
                 }
                 let bounds = cell_box(grid, cell, 0);
                 let slot = cell_slot(local);
                 for root in &roots_seen {
-                    scratch.clear();
-                    scratch.extend(
-                        cell_planes
-                            .iter()
-                            .filter(|(r, _)| r == root)
-                            .map(|(_, p)| *p),
+                    let mut proposal = propose_from(
+                        &cell_planes,
+                        *root,
+                        |_| true,
+                        &mut scratch,
+                        (sharpness, &bounds, grid.h),
                     );
+                    let own = cell_planes.iter().filter(|p| p.0 == *root);
+                    let kinds = own.fold([false; 2], |k, p| [k[0] | !p.2, k[1] | p.2]);
+                    if matches!(proposal, Proposal::Unfit { .. }) && kinds == [true; 2] {
+                        // The edges crossed twice show a feature beyond the
+                        // cell (a solid's corner poking in); the cell's own
+                        // sign changes place its vertex on what it holds.
+                        proposal = propose_from(
+                            &cell_planes,
+                            *root,
+                            |double| !double,
+                            &mut scratch,
+                            (sharpness, &bounds, grid.h),
+                        );
+                    }
                     let vertex = out.positions.len();
-                    let placed = match features::propose(&scratch, sharpness, &bounds, grid.h) {
+                    let placed = match proposal {
                         Proposal::Fits(placed) => placed,
                         Proposal::Verify(placed) => {
                             let planes = unverified_planes.len()..;
@@ -263,7 +354,7 @@ pub(crate) fn mesh_brick(
                         0
                     };
                     cells.merge(slot, &placed.qef, rank);
-                    nodes[node] = if roots_seen.len() == 1 && ambiguous.is_empty() {
+                    nodes[node] = if roots_seen.len() == 1 && ambiguous.is_empty() && !doubled {
                         let vertex = out.positions.len() as u32;
                         Node::Surface {
                             vertex,
@@ -293,6 +384,14 @@ pub(crate) fn mesh_brick(
             }
         }
     }
+    // Cells whose surface edges crossed twice show are no longer missed.
+    // Both lists are in cell order (z, then y, then x).
+    let order = |c: &[usize; 3]| (c[2], c[1], c[0]);
+    out.missed.retain(|c| {
+        doubled_cells
+            .binary_search_by_key(&order(c), order)
+            .is_err()
+    });
     let checks = (unverified.as_slice(), unverified_planes.as_slice());
     let vertices = (out.positions.as_mut_slice(), vertex_points.as_mut_slice());
     verify_features(tape, grid, sharpness, checks, &mut candidates, vertices);
@@ -339,8 +438,34 @@ pub(crate) fn mesh_brick(
     // Most edges lie inside the brick: their quads are made here, in
     // parallel, and only edges on the brick's faces meet in the global sort.
     out.refs.sort_unstable_by_key(|r| (r.0, r.1));
-    out.quads = take_quads(&mut out.refs);
+    let mut cancelled = Vec::new();
+    out.quads = take_quads(&mut out.refs, &mut cancelled);
+    for v in cancelled {
+        if !out.pinched.contains(&v) {
+            out.pinched.push(v);
+        }
+    }
     out
+}
+
+/// The proposal for component `root` of a cell from those of its planes
+/// `keep` accepts (given whether each came from an edge crossed twice),
+/// gathered in `scratch`.
+fn propose_from(
+    cell_planes: &[(usize, Plane, bool)],
+    root: usize,
+    keep: impl Fn(bool) -> bool,
+    scratch: &mut Vec<Plane>,
+    (sharpness, bounds, h): (f64, &features::CellBox, f64),
+) -> Proposal {
+    scratch.clear();
+    scratch.extend(
+        cell_planes
+            .iter()
+            .filter(|(r, _, double)| *r == root && keep(*double))
+            .map(|(_, p, _)| *p),
+    );
+    features::propose(scratch, sharpness, bounds, h)
 }
 
 /// Drops the vertices no edge reference uses (those merged into coarser

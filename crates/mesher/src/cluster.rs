@@ -242,7 +242,7 @@ fn one_component(c: &Clustering, origin: [usize; 3], size: usize) -> bool {
     let (mut pairs, mut ambiguous) = SCRATCH.with_borrow_mut(std::mem::take);
     pairs.clear();
     ambiguous.clear();
-    face_pairs(&v, &mut pairs, &mut ambiguous);
+    face_pairs(&v, &mut |_| None, &mut pairs, &mut ambiguous);
     let one = joined(&v, &pairs, &ambiguous);
     SCRATCH.with_borrow_mut(|s| *s = (pairs, ambiguous));
     one

@@ -11,8 +11,7 @@
 use crate::qef::Qef;
 use geode_frep::eval::GradEval;
 
-/// A point where the surface crosses a grid edge and the outward unit normal there.
-pub(crate) type Plane = ([f64; 3], [f64; 3]);
+pub(crate) use crate::cell::Plane;
 
 /// A cell's bounds shrunk by a margin, so no vertex sits on a cell face (two
 /// neighbours' vertices at one point would pinch the mesh).

@@ -48,6 +48,7 @@ impl Lattice {
         }
         let mut values = vec![0.0f32; N * N * N];
         batch.eval(&xs, &ys, &zs, &mut values);
+        snap_to_surface(&mut values, grid.h);
         for (row, from) in values.chunks_exact(N).enumerate() {
             let (j, k) = (row % N, row / N);
             let at = lattice_index([0, j as isize, k as isize]);
@@ -162,6 +163,7 @@ impl Lattice {
         }
         let mut values = vec![0.0f32; xs.len()];
         batch.eval(&xs, &ys, &zs, &mut values);
+        snap_to_surface(&mut values, grid.h);
         for (i, v) in at.into_iter().zip(values) {
             self.values[i] = v;
         }
@@ -211,6 +213,10 @@ impl Lattice {
 pub(crate) struct Crossings {
     pub(crate) slots: Vec<u32>,
     pub(crate) planes: Vec<Plane>,
+    /// Edges crossed twice (see `double`): a table like `slots`, allocated
+    /// only when a brick has any, and their two crossings in order along the edge.
+    double_slots: Vec<u32>,
+    doubles: Vec<[Plane; 2]>,
 }
 
 impl Crossings {
@@ -218,6 +224,43 @@ impl Crossings {
         Crossings {
             slots: vec![u32::MAX; 3 * L * L * L],
             planes: Vec::new(),
+            double_slots: Vec::new(),
+            doubles: Vec::new(),
+        }
+    }
+
+    /// The two crossings of an edge crossed twice, nearer its lower end first.
+    pub(crate) fn get_double(&self, axis: usize, c: [isize; 3]) -> Option<&[Plane; 2]> {
+        match self.double_slots.get(edge_slot(axis, c)) {
+            None | Some(&u32::MAX) => None,
+            Some(&i) => Some(&self.doubles[i as usize]),
+        }
+    }
+
+    pub(crate) fn has_doubles(&self) -> bool {
+        !self.doubles.is_empty()
+    }
+
+    /// Solves the brackets of edges crossed twice (in pairs, as
+    /// `double::doubly_crossed_edges` gives them) into the table.
+    pub(crate) fn add_doubles(
+        &mut self,
+        batch: &mut BatchEval,
+        point: &mut PointEval,
+        grads: &mut BatchGradEval,
+        mut roots: Vec<Root>,
+    ) {
+        if roots.is_empty() {
+            return;
+        }
+        solve_roots(batch, &mut roots);
+        let points: Vec<[f64; 3]> = roots.iter().map(Root::point).collect();
+        let normals = outward_normals(point, grads, &points);
+        self.double_slots.resize(3 * L * L * L, u32::MAX);
+        for (pair, at) in roots.chunks_exact(2).zip(0..) {
+            let plane = |k: usize| (points[2 * at + k], normals[2 * at + k]);
+            self.double_slots[pair[0].slot] = self.doubles.len() as u32;
+            self.doubles.push([plane(0), plane(1)]);
         }
     }
 
@@ -251,6 +294,24 @@ impl Crossings {
     }
 }
 
+/// Corners closer to the surface than this (fraction of a cell, read on
+/// the field) count as on it.
+pub(crate) const SNAP: f64 = 0.005;
+
+/// Corner values just outside the surface set to zero, which reads as
+/// inside: the surface then passes through such a corner (moved by at
+/// most [`SNAP`] of a cell) instead of grazing it, where it would cut a
+/// sliver off the cell (a tiny component of its own, folded against its
+/// neighbours, or an edge crossed twice within a hair of its end).
+fn snap_to_surface(values: &mut [f32], h: f64) {
+    let near = -(SNAP * h) as f32;
+    for v in values {
+        if *v < 0.0 && *v > near {
+            *v = 0.0;
+        }
+    }
+}
+
 pub(crate) fn lattice_index(c: [isize; 3]) -> usize {
     let i = c.map(|x| (x + 1) as usize);
     i[0] + L * (i[1] + L * i[2])
@@ -266,6 +327,7 @@ const ROOT_TOLERANCE: f64 = 1e-6;
 
 /// A crossed grid edge being bracketed: the surface lies between `t0` and
 /// `t1` (parameters along a-b), where the field has values `f0` and `f1`.
+#[derive(Clone)]
 pub(crate) struct Root {
     pub(crate) slot: usize,
     pub(crate) a: [f64; 3],
@@ -313,12 +375,17 @@ impl Root {
         self.t1 - self.t0 < ROOT_TOLERANCE
     }
 
-    pub(crate) fn point(&self) -> [f64; 3] {
-        let t = if self.t1 - self.t0 < ROOT_TOLERANCE {
+    /// Where along the edge (0 to 1) the crossing is.
+    pub(crate) fn parameter(&self) -> f64 {
+        if self.t1 - self.t0 < ROOT_TOLERANCE {
             0.5 * (self.t0 + self.t1)
         } else {
             self.guess()
-        };
+        }
+    }
+
+    pub(crate) fn point(&self) -> [f64; 3] {
+        let t = self.parameter();
         std::array::from_fn(|k| self.a[k] + (self.b[k] - self.a[k]) * t)
     }
 }

@@ -1,8 +1,9 @@
 //! geode's FRep polygoniser: a `geode-frep` field meshed into `geode-geo`
 //! geometry by an octree over bricks of cells pruned by interval arithmetic
 //! and feature-preserving dual contouring (QEF placement on sharp edges and
-//! corners, thin sheets and pinches repaired, adaptive simplification
-//! within a tolerance); also sampling fields at points and measuring a mesh
+//! corners, walls and ridges thinner than a cell meshed on both sides
+//! through the edges they cross twice, pinches split, adaptive
+//! simplification within a tolerance); also sampling fields at points and measuring a mesh
 //! against its field. Knows nothing of nodes, graphs or files.
 
 pub mod adaptive;
@@ -10,6 +11,7 @@ mod brick;
 mod cell;
 mod cluster;
 mod crease;
+mod double;
 mod features;
 mod flip;
 mod lattice;

@@ -6,7 +6,7 @@
 //! moving each copy onto the surface on its own side makes the mesh a
 //! closed manifold again.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use geode_geo::glam::Vec3;
 
@@ -21,18 +21,61 @@ pub(crate) struct Cells {
 
 /// Splits each vertex of `candidates` (ascending, deduplicated, each with
 /// the index of its brick's tape in `tapes`) whose link is not a simple
-/// cycle.
-/// Returns how many vertices were added.
+/// cycle; then the neighbours of split vertices whose link splitting broke
+/// (the other end of a dual edge that lay in four triangles: its brick
+/// from `brick_of`), for a few rounds. Returns how many vertices were added.
 pub(crate) fn split_pinched_vertices(
+    positions: &mut Vec<Vec3>,
+    normals: &mut Vec<Vec3>,
+    triangles: &mut [[u32; 3]],
+    (candidates, brick_of): (&[(u32, u32)], BrickOf),
+    tapes: &[&Tape],
+    cells: &Cells,
+) -> usize {
+    let before = positions.len();
+    let mut seen: HashSet<u32> = candidates.iter().map(|c| c.0).collect();
+    let mut round = candidates.to_vec();
+    for _ in 0..ROUNDS {
+        let split = split_round(positions, normals, triangles, &round, tapes, cells);
+        if split.is_empty() {
+            break;
+        }
+        let split: HashSet<u32> = split.into_iter().collect();
+        let mut next: Vec<(u32, u32)> = Vec::new();
+        for tri in triangles.iter() {
+            if tri.iter().any(|v| split.contains(v)) {
+                for &v in tri {
+                    if (v as usize) < before && seen.insert(v) {
+                        next.push((v, brick_of(v)));
+                    }
+                }
+            }
+        }
+        next.sort_unstable();
+        round = next;
+    }
+    positions.len() - before
+}
+
+/// The brick (its tape's index) a vertex was made in.
+pub(crate) type BrickOf<'a> = &'a dyn Fn(u32) -> u32;
+
+/// Rounds of splitting: each reaches the neighbours the last one broke.
+const ROUNDS: usize = 4;
+
+/// One round of [`split_pinched_vertices`]; returns the vertices split
+/// (each original and its copies).
+fn split_round(
     positions: &mut Vec<Vec3>,
     normals: &mut Vec<Vec3>,
     triangles: &mut [[u32; 3]],
     candidates: &[(u32, u32)],
     tapes: &[&Tape],
     cells: &Cells,
-) -> usize {
+) -> Vec<u32> {
+    let mut split = Vec::new();
     if candidates.is_empty() {
-        return 0;
+        return split;
     }
     let mut incident: HashMap<u32, Vec<u32>> =
         candidates.iter().map(|&(v, _)| (v, Vec::new())).collect();
@@ -43,7 +86,6 @@ pub(crate) fn split_pinched_vertices(
             }
         }
     }
-    let before = positions.len();
     for &(v, brick) in candidates {
         let tris = &incident[&v];
         let fans = fans_around(v, tris, triangles);
@@ -64,6 +106,7 @@ pub(crate) fn split_pinched_vertices(
                 normals.push(normals[v as usize]);
                 (positions.len() - 1) as u32
             };
+            split.push(id);
             for &t in fan {
                 for c in triangles[t as usize].iter_mut() {
                     if *c == v {
@@ -83,7 +126,7 @@ pub(crate) fn split_pinched_vertices(
             normals[id as usize] = n;
         }
     }
-    positions.len() - before
+    split
 }
 
 /// Incident triangles of `v` grouped so that each group's link (the ring of

@@ -1,13 +1,14 @@
 //! The polygoniser: an octree over bricks of 8^3 cells pruned by interval
 //! arithmetic (each level evaluates a tape simplified for its region), then
 //! dual contouring in the surviving bricks: one vertex per connected surface
-//! component of a cell (faces paired by the asymptotic decider, so the mesh is
-//! closed; vertices shared by two sheets are split afterwards, see `pinch`),
-//! placed by a QEF
-//! over the crossings' tangent planes so sharp edges and corners survive,
-//! with analytic normals from the gradient. Each brick makes the dual quads
-//! of the crossed edges all four of whose cells it holds; the cells'
-//! references to edges on brick faces meet in one sort afterwards.
+//! component of a cell (faces paired by the field at their centre where the
+//! corners alternate, and by the surface's direction where an edge is
+//! crossed twice, so the mesh is closed; vertices shared by two sheets are
+//! split afterwards, see `pinch`), placed by a QEF over the crossings'
+//! tangent planes so sharp edges and corners survive, with analytic normals
+//! from the gradient. Each brick makes the dual quads of the crossed edges
+//! all four of whose cells it holds; the cells' references to edges on
+//! brick faces meet in one sort afterwards.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -19,6 +20,7 @@ use rayon::prelude::*;
 use crate::adaptive;
 use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined};
 use crate::cell::{Grid, B};
+use crate::lattice::SNAP;
 use crate::pinch;
 use geode_frep::eval::{BatchEval, IntervalEval};
 use geode_frep::field::{Binary, Field, Node};
@@ -139,7 +141,11 @@ fn surviving_bricks(
         Interval::new(lo[1], hi[1]),
         Interval::new(lo[2], hi[2]),
     );
-    if !r.has_nan() && (r.lo > 0.0 || r.hi < 0.0) {
+    // Outside by less than the snap (see `lattice::SNAP`) may still mesh:
+    // a corner there reads as on the surface, and the node beside it must
+    // mesh its edges too.
+    let snapped = SNAP * grid.h;
+    if !r.has_nan() && (r.lo > 0.0 || r.hi < -snapped) {
         return;
     }
     let simplified = Arc::new(tape.simplify(iv.choices()));
@@ -341,6 +347,7 @@ pub fn polygonise(
         mut quads,
         mut refs,
         mut pinched,
+        offsets,
     } = join_bricks(&outs);
     let mut stats = MeshStats {
         bricks_total: grid.bricks.iter().product(),
@@ -354,6 +361,7 @@ pub fn polygonise(
         collapses: 0,
         deviation: 0.0,
     };
+    let doubled = outs.iter().any(|o| o.doubled);
     for o in &outs {
         stats.cells_with_surface += o.cells;
         stats.add_missed(&grid, &o.missed);
@@ -366,7 +374,11 @@ pub fn polygonise(
     // Edges on bricks' faces: any group left incomplete cannot happen when
     // every cell around a crossed edge survived pruning (intervals are
     // conservative), and is skipped rather than panicked on.
-    quads.extend(take_quads(&mut refs));
+    let mut cancelled = Vec::new();
+    quads.extend(take_quads(&mut refs, &mut cancelled));
+    // Each cancelled corner with the brick it belongs to.
+    let brick_of = |v: u32| (offsets.partition_point(|&first| first <= v) - 1) as u32;
+    pinched.extend(cancelled.into_iter().map(|v| (v, brick_of(v))));
     let mut triangles: Vec<[u32; 3]> = quads
         .par_iter()
         .with_min_len(4096)
@@ -380,7 +392,7 @@ pub fn polygonise(
         &mut positions,
         &mut normals,
         &mut triangles,
-        &pinched,
+        (&pinched, &brick_of),
         &tapes,
         &pinch::Cells {
             origin: grid.origin,
@@ -404,6 +416,10 @@ pub fn polygonise(
         let adapted =
             adaptive::adapt(&tapes, mesh, opts.tolerance, cancel).ok_or(MeshError::Cancelled)?;
         (stats.splits, stats.collapses, stats.deviation) = adapted;
+    }
+    if doubled {
+        // Vertices whose only quads cancelled (see `brick::take_quads`).
+        adaptive::compact(&mut positions, &mut normals, &mut triangles);
     }
     let mut g =
         Geometry::from_triangles(positions, &triangles).map_err(|_| MeshError::BadBounds)?;

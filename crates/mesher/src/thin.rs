@@ -1,13 +1,14 @@
 //! Thin features: surface inside a cell whose eight corners all share a sign
-//! (a wall, a pin or a gap thinner than a cell, which dual contouring cannot
-//! see). Proven, not guessed: from each corner where the lattice predicts a
-//! crossing its next corner does not show, a Newton step along the gradient
-//! reaches past the zero crossing the gradient predicts; a point of
-//! the other sign inside a cell whose corners all miss it is proof of
-//! surface there, and a point a cell deeper along the probe's gradient,
-//! back on the corner's side, shows the feature is thinner than a cell. The mesher reports such cells
-//! (a warning naming the region) instead of letting the feature vanish
-//! silently.
+//! (a wall, a pin or a gap thinner than a cell). Proven, not guessed: from
+//! each corner where the lattice predicts a crossing its next corner does
+//! not show, a Newton step along the gradient reaches past the zero
+//! crossing the gradient predicts; a point of the other sign inside a cell
+//! whose corners all miss it is proof of surface there, and a point a cell
+//! deeper along the probe's gradient, back on the corner's side, shows the
+//! feature is thinner than a cell. Where an edge of the cell is crossed
+//! twice the mesher meshes the feature (see `double`); the cells left (a
+//! speck or a pin no grid edge meets) are reported, a warning naming the
+//! region, instead of letting the feature vanish silently.
 
 use crate::cell::Grid;
 use crate::cell::B;

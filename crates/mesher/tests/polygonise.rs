@@ -178,34 +178,65 @@ fn solids_touching_the_box_are_closed_by_it() {
     );
 }
 
-/// A thin gyroid shell cut by a superellipsoid: at depth 7 many cell faces
+/// Tubes thinner than a cell (a thin gyroid shell cut by a superellipsoid,
+/// a tree of branches one to two cells thick, at depth 7): some cell faces
 /// are crossed twice by one sheet that also joins both crossings inside the
-/// cells on either side (a tube thinner than a cell). Dual contouring with
-/// one vertex per cell component puts such a dual edge in four quads; the
-/// mesher must split those vertices so the result stays a closed manifold.
+/// cells on either side. Dual contouring with one vertex per cell component
+/// puts such a dual edge in four quads; the mesher must split those
+/// vertices so the result stays a closed manifold.
 #[test]
 fn thin_tubes_through_cell_faces_stay_manifold() {
     let (x, y, z) = (Field::x() * 12.0, Field::y() * 12.0, Field::z() * 12.0);
     let g = x.sin() * y.cos() + y.sin() * z.cos() + z.sin() * x.cos();
     let shell = 0.35 - g.abs();
     let part = geode_frep::shapes::superellipsoid([0.0; 3], [0.9, 0.6, 0.6], 0.3, 0.3);
-    let f = shell.min(part);
-    let opts = MeshOptions::new([-1.0, -0.7, -0.7], [1.0, 0.7, 0.7], 7);
-    let (g, stats) = polygonise(&f, &opts, &|| false, &|_| {}).unwrap();
-    assert!(
-        stats.vertices_split > 0,
-        "the case this test is for: {stats:?}"
-    );
-    closed_manifold(&g);
-    // Split copies are moved apart: no two vertices share a position (a
-    // welding checker such as trimesh would otherwise fuse them back).
-    let mut seen = std::collections::HashSet::new();
-    for p in g.positions() {
-        assert!(
-            seen.insert(p.to_array().map(f32::to_bits)),
-            "duplicate vertex {p}"
-        );
+    let cases = [
+        (shell.min(part), [-1.0, -0.7, -0.7], [1.0, 0.7, 0.7]),
+        (branches().min(1.5), [-1.0; 3], [1.0; 3]),
+    ];
+    let mut split = 0;
+    for (f, lo, hi) in cases {
+        let (g, stats) = polygonise(&f, &MeshOptions::new(lo, hi, 7), &|| false, &|_| {}).unwrap();
+        split += stats.vertices_split;
+        closed_manifold(&g);
+        // Split copies are moved apart: no two vertices share a position (a
+        // welding checker such as trimesh would otherwise fuse them back).
+        let mut seen = std::collections::HashSet::new();
+        for p in g.positions() {
+            assert!(
+                seen.insert(p.to_array().map(f32::to_bits)),
+                "duplicate vertex {p}"
+            );
+        }
     }
+    assert!(split > 0, "the case this test is for");
+}
+
+/// A seeded tree of 400 tapered branches, one to two cells thick at depth 7.
+fn branches() -> Field {
+    use geode_frep::CapsuleSet;
+    let mut rng = common::Rng(0xc0a1);
+    let mut segments = Vec::new();
+    let mut tips = vec![[0.0, -0.8, 0.0]];
+    for _ in 0..400 {
+        let from = tips[(rng.next() * tips.len() as f64) as usize];
+        let to: [f64; 3] = std::array::from_fn(|k| {
+            let step = if k == 1 {
+                0.05 + 0.04 * rng.next()
+            } else {
+                0.12 * (rng.next() - 0.5)
+            };
+            (from[k] + step).clamp(-0.9, 0.9)
+        });
+        segments.push((
+            from,
+            to,
+            0.02 + 0.01 * rng.next(),
+            0.015 + 0.01 * rng.next(),
+        ));
+        tips.push(to);
+    }
+    Field::capsules(CapsuleSet::new(&segments).unwrap())
 }
 
 #[test]
@@ -245,29 +276,7 @@ fn the_meshing_estimate_is_close_to_the_cells_meshed() {
 /// (the sweep behind `* 1`), and closed.
 #[test]
 fn floored_capsule_sets_mesh_as_the_unfloored_field() {
-    use geode_frep::CapsuleSet;
-    let mut rng = common::Rng(0xc0a1);
-    let mut segments = Vec::new();
-    let mut tips = vec![[0.0, -0.8, 0.0]];
-    for _ in 0..400 {
-        let from = tips[(rng.next() * tips.len() as f64) as usize];
-        let to: [f64; 3] = std::array::from_fn(|k| {
-            let step = if k == 1 {
-                0.05 + 0.04 * rng.next()
-            } else {
-                0.12 * (rng.next() - 0.5)
-            };
-            (from[k] + step).clamp(-0.9, 0.9)
-        });
-        segments.push((
-            from,
-            to,
-            0.02 + 0.01 * rng.next(),
-            0.015 + 0.01 * rng.next(),
-        ));
-        tips.push(to);
-    }
-    let sweep = Field::capsules(CapsuleSet::new(&segments).unwrap());
+    let sweep = branches();
     let opts = MeshOptions::new([-1.0; 3], [1.0; 3], 7);
     let floored = polygonise(&sweep.min(1.5), &opts, &|| false, &|_| {})
         .unwrap()

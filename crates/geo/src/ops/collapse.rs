@@ -7,9 +7,14 @@
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::closest::closest_on_triangle;
 use super::quadric::Quadric;
 use super::reduce::{Deviation, ReduceOptions, Reduced};
 use super::thickness::Cancelled;
+
+/// How far from the plane of two of a vertex's face normals a third must
+/// reach (the volume they span) for the vertex to count as a corner.
+const CORNER_SPAN: f32 = 0.3;
 
 /// Vertex-to-triangle incidence, compressed.
 struct Incidence {
@@ -208,7 +213,30 @@ fn keeps_manifold(ring_from: &[u32], ring_to: &[u32], incidence: &Incidence) -> 
     ok.then_some(opposite)
 }
 
-impl State<'_> {
+impl<'a> State<'a> {
+    /// The state before any collapse: each vertex's quadric from its
+    /// triangles, vertices whose fan is not one closed disc pinned.
+    fn new(positions: &'a [Vec3], triangles: &[[u32; 3]]) -> State<'a> {
+        let tris = triangles.to_vec();
+        let incidence = Incidence::build(positions.len(), &tris);
+        let quadrics = initial_quadrics(positions, &tris, &incidence);
+        State {
+            positions,
+            own_error: (quadrics.par_iter().zip(positions))
+                .map(|(q, &p)| q.sum_at(p))
+                .collect(),
+            quadrics,
+            pinned: (0..positions.len() as u32)
+                .into_par_iter()
+                .map(|v| !is_closed_disc(v, &incidence, &tris))
+                .collect(),
+            tris,
+            refused: Vec::new(),
+            refused_from: vec![false; positions.len()],
+            touched: None,
+        }
+    }
+
     /// `v`'s ring (see [`ring`]), read as a closed disc unless `v` is pinned.
     fn ring(&self, v: u32, incidence: &Incidence, out: &mut Vec<u32>) {
         ring(v, !self.pinned[v as usize], incidence, &self.tris, out);
@@ -337,9 +365,11 @@ impl State<'_> {
 
     /// For each chosen collapse, whether the measure finds all its samples
     /// (the moved triangles' centroids and the new edges' midpoints) within
-    /// `tolerance`. A collapse inside a plane (every triangle around the
-    /// moved vertex in one plane, to a thousandth of the tolerance) covers
-    /// the same part of that plane as before, so it is not measured.
+    /// `tolerance`, and, where it moves a corner, the moved triangles still
+    /// pass within `tolerance` of it (see [`State::covers`]). A collapse
+    /// inside a plane (every triangle around the moved vertex in one plane,
+    /// to a thousandth of the tolerance) covers the same part of that plane
+    /// as before, so it is not measured.
     fn measure(
         &self,
         chosen: &[Collapse],
@@ -351,11 +381,15 @@ impl State<'_> {
         let mut points = Vec::new();
         let mut ends = Vec::with_capacity(chosen.len());
         let flat = tolerance * 1e-3;
+        let mut stays_covered = Vec::with_capacity(chosen.len());
         for c in chosen {
             if self.is_flat_fan(c.from, incidence, flat) {
                 ends.push(points.len());
+                stays_covered.push(true);
                 continue;
             }
+            stays_covered
+                .push(!self.is_corner(c.from, incidence) || self.covers(c, incidence, tolerance));
             for &f in incidence.of(c.from) {
                 let t = self.tris[f as usize];
                 if t.contains(&c.to) {
@@ -374,14 +408,60 @@ impl State<'_> {
         deviation(&points, &mut distances);
         let mut start = 0;
         ends.iter()
-            .map(|&end| {
+            .zip(stays_covered)
+            .map(|(&end, covered)| {
                 let ok = distances[start..end]
                     .iter()
                     .all(|d| (d.abs() as f64) <= tolerance);
                 start = end;
-                ok
+                ok && covered
             })
             .collect()
+    }
+
+    /// Whether the moved triangles of collapse `c` pass within `tolerance`
+    /// of the vertex it removes: the field measures only the triangles'
+    /// side, which cannot see a corner sliding along an edge towards a
+    /// nearer vertex (the surface's corner would be lost).
+    fn covers(&self, c: &Collapse, incidence: &Incidence, tolerance: f64) -> bool {
+        let p = |v: u32| self.positions[v as usize];
+        let gone = p(c.from);
+        incidence
+            .of(c.from)
+            .iter()
+            .map(|&f| self.tris[f as usize])
+            .filter(|t| !t.contains(&c.to))
+            .any(|t| {
+                let moved = t.map(|v| p(if v == c.from { c.to } else { v }));
+                closest_on_triangle(&moved, gone).0.distance(gone) as f64 <= tolerance
+            })
+    }
+
+    /// Whether `v` is a corner: the normals of its triangles span space
+    /// (three of them far from coplanar), as where three faces of a solid
+    /// meet; smooth and creased fans span at most a plane.
+    fn is_corner(&self, v: u32, incidence: &Incidence) -> bool {
+        let p = |v: u32| self.positions[v as usize];
+        let normals: Vec<Vec3> = incidence
+            .of(v)
+            .iter()
+            .map(|&f| {
+                let [a, b, c] = self.tris[f as usize].map(p);
+                (b - a).cross(c - a).normalize_or_zero()
+            })
+            .collect();
+        let Some(&first) = normals.first() else {
+            return false;
+        };
+        let Some(second) = normals
+            .iter()
+            .copied()
+            .min_by(|x, y| first.dot(*x).abs().total_cmp(&first.dot(*y).abs()))
+        else {
+            return false;
+        };
+        let plane = first.cross(second);
+        normals.iter().any(|n| plane.dot(*n).abs() > CORNER_SPAN)
     }
 
     /// Whether every corner of the triangles around `v` lies within `flat`
@@ -449,24 +529,7 @@ pub fn reduce_triangles(
     deviation: Deviation,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Result<Reduced, Cancelled> {
-    let tris = triangles.to_vec();
-    let incidence = Incidence::build(positions.len(), &tris);
-    let quadrics = initial_quadrics(positions, &tris, &incidence);
-    let mut state = State {
-        positions,
-        own_error: (quadrics.par_iter().zip(positions))
-            .map(|(q, &p)| q.sum_at(p))
-            .collect(),
-        quadrics,
-        pinned: (0..positions.len() as u32)
-            .into_par_iter()
-            .map(|v| !is_closed_disc(v, &incidence, &tris))
-            .collect(),
-        tris,
-        refused: Vec::new(),
-        refused_from: vec![false; positions.len()],
-        touched: None,
-    };
+    let mut state = State::new(positions, triangles);
     let mut out = Reduced::default();
     let bound = opts.tolerance * opts.tolerance;
     loop {
@@ -493,4 +556,96 @@ pub fn reduce_triangles(
     }
     out.triangles = state.tris;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cube [-1, 1]^3 as twelve triangles, with a vertex `E` added on
+    /// its edge from the corner `C` = (1, 1, 1) towards (-1, 1, 1), `gap`
+    /// from `C`: returns the mesh, `C` and `E`.
+    fn cube_with_edge_vertex(gap: f32) -> (Vec<Vec3>, Vec<[u32; 3]>, u32, u32) {
+        let g =
+            crate::ops::triangulate(&crate::primitives::box_mesh(Vec3::splat(2.0), [1; 3]), None);
+        let mut positions = g.positions().to_vec();
+        let mut tris: Vec<[u32; 3]> = (0..g.num_prims())
+            .map(|p| {
+                let v = g.prim_points(p);
+                [v[0], v[1], v[2]]
+            })
+            .collect();
+        let at = |q: Vec3| positions.iter().position(|&p| p == q).unwrap() as u32;
+        let (c, x) = (at(Vec3::ONE), at(Vec3::new(-1.0, 1.0, 1.0)));
+        let e = positions.len() as u32;
+        positions.push(Vec3::new(1.0 - gap, 1.0, 1.0));
+        // Split the two triangles on edge C-X at E.
+        let mut split = Vec::new();
+        tris.retain(|t| {
+            let on = (0..3).find(|&i| {
+                let (a, b) = (t[i], t[(i + 1) % 3]);
+                (a, b) == (c, x) || (a, b) == (x, c)
+            });
+            match on {
+                Some(i) => {
+                    let (a, b, o) = (t[i], t[(i + 1) % 3], t[(i + 2) % 3]);
+                    split.push([a, e, o]);
+                    split.push([e, b, o]);
+                    false
+                }
+                None => true,
+            }
+        });
+        tris.extend(split);
+        (positions, tris, c, e)
+    }
+
+    fn box_distance(points: &[Vec3], out: &mut [f32]) {
+        for (p, o) in points.iter().zip(out) {
+            let q = p.abs() - Vec3::ONE;
+            *o = q.max(Vec3::ZERO).length() + q.max_element().min(0.0);
+        }
+    }
+
+    /// The field sees only the moved triangles' side: sliding the corner
+    /// along its edge to a vertex twice the tolerance away keeps every
+    /// sample near some face of the cube. The corner must stay; the edge
+    /// vertex may still collapse onto the corner.
+    #[test]
+    fn a_corner_does_not_slide_along_its_edge() {
+        let tolerance = 0.01;
+        let (positions, tris, c, e) = cube_with_edge_vertex(0.02);
+        let state = State::new(&positions, &tris);
+        let incidence = Incidence::build(positions.len(), &tris);
+        assert!(state.is_corner(c, &incidence));
+        assert!(!state.is_corner(e, &incidence));
+        let moves = [
+            Collapse {
+                cost: 0.0,
+                from: c,
+                to: e,
+            },
+            Collapse {
+                cost: 0.0,
+                from: e,
+                to: c,
+            },
+        ];
+        let accepted = state.measure(&moves, &incidence, tolerance, &box_distance);
+        assert_eq!(accepted, [false, true]);
+        // Within the tolerance, the corner may move (the surface it stood
+        // for is still covered).
+        let (positions, tris, c, e) = cube_with_edge_vertex(0.005);
+        let state = State::new(&positions, &tris);
+        let incidence = Incidence::build(positions.len(), &tris);
+        let near = [Collapse {
+            cost: 0.0,
+            from: c,
+            to: e,
+        }];
+        assert_eq!(
+            state.measure(&near, &incidence, tolerance, &box_distance),
+            [true]
+        );
+    }
 }
