@@ -324,11 +324,21 @@ pub(crate) fn mesh_brick(
                             qef,
                             reduced,
                         } => {
+                            let beside =
+                                (rank >= 2).then(|| qef.solver().solve(rank)).filter(|&x| {
+                                    let grown = cell_box(grid, cell, 0).grown(BESIDE * grid.h);
+                                    grown.contains(&x) && features::verified(&grad.eval(x), grid.h)
+                                });
                             let point = if rank <= 1 {
                                 // No feature: the surface curves within the cell.
                                 features::smooth_on_surface(
                                     &qef, reduced, &bounds, &mut grad, grid.h,
                                 )
+                            } else if let Some(x) = beside {
+                                // The crease or corner runs just beside the
+                                // cell: on it, the mesh follows the crease
+                                // where it passes a hair from a grid edge.
+                                x
                             } else {
                                 features::best_on_surface(
                                     &scratch, &qef, reduced, sharpness, &bounds, &mut grad, grid.h,
@@ -447,6 +457,10 @@ pub(crate) fn mesh_brick(
     }
     out
 }
+
+/// How far beyond its cell (in cells) a vertex may stand on the crease or
+/// corner its planes meet at, where none of the cell's own points is on it.
+const BESIDE: f64 = 0.1;
 
 /// The proposal for component `root` of a cell from those of its planes
 /// `keep` accepts (given whether each came from an edge crossed twice),

@@ -22,7 +22,15 @@ pub(crate) struct CellBox {
 }
 
 impl CellBox {
-    fn contains(&self, x: &[f64; 3]) -> bool {
+    /// The box grown by `by` on every side.
+    pub(crate) fn grown(&self, by: f64) -> CellBox {
+        CellBox {
+            lo: self.lo.map(|c| c - by),
+            hi: self.hi.map(|c| c + by),
+        }
+    }
+
+    pub(crate) fn contains(&self, x: &[f64; 3]) -> bool {
         (0..3).all(|a| x[a].is_finite() && x[a] >= self.lo[a] && x[a] <= self.hi[a])
     }
 
