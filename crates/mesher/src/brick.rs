@@ -7,10 +7,9 @@
 use geode_geo::glam::Vec3;
 use geode_geo::ops::renumber_used;
 
-use crate::cell::{
-    crossing_key, doubled_face_pairs, face_pairs, find, Grid, B, CELL_EDGES, SECOND,
-};
+use crate::cell::{find, Grid, B, CELL_EDGES, SECOND};
 use crate::cluster::{merge_cells, Clustering, Node};
+use crate::components::{CellAt, Components};
 use crate::double;
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
@@ -173,18 +172,13 @@ pub(crate) fn mesh_brick(
     };
     let mut vertex_points: Vec<[f64; 3]> = Vec::with_capacity(edges);
     let mut cells = CellTable::new();
-    // (component, plane, from an edge crossed twice)
-    let mut cell_planes: Vec<(usize, Plane, bool)> = Vec::with_capacity(2 * SECOND);
-    let mut roots_seen: Vec<usize> = Vec::with_capacity(4);
+    let mut parts = Components::new();
     let mut scratch: Vec<Plane> = Vec::with_capacity(12);
-    let mut edge_info: Vec<(usize, u64, u8, bool)> = Vec::with_capacity(2 * SECOND);
     // Edge and corner points still to check against the field, all at once:
     // (vertex, its planes in `unverified_planes`, cell, candidate index).
     let mut unverified: Vec<Check> = Vec::new();
     let mut unverified_planes: Vec<Plane> = Vec::new();
     let mut candidates: Vec<Candidate> = Vec::new();
-    let mut pairs = Vec::with_capacity(12);
-    let mut ambiguous = Vec::with_capacity(6);
     // What each cell holds, for merging cells (adaptive output).
     let mut nodes = vec![Node::Empty; B * B * B];
     for k in 0..B {
@@ -218,9 +212,9 @@ pub(crate) fn mesh_brick(
                     continue;
                 }
                 out.cells += 1;
-                // Crossings and their connected components.
-                pairs.clear();
-                ambiguous.clear();
+                if doubled {
+                    doubled_cells.push(cell);
+                }
                 // The field at a face's centre settles an ambiguous face.
                 let mut centre = |face: usize| {
                     let mut at = [i, j, k].map(|x| x as f64 + 0.5);
@@ -229,78 +223,33 @@ pub(crate) fn mesh_brick(
                         std::array::from_fn(|a| grid.origin[a] + (base[a] as f64 + at[a]) * grid.h);
                     Some(point.eval(x) >= 0.0)
                 };
-                if doubled {
-                    doubled_cells.push(cell);
-                    let mut crossed: [&[Plane]; 12] = [&[]; 12];
-                    for edge in &CELL_EDGES {
-                        let corner = corner_of(edge.offset);
-                        crossed[edge.id] = match crossings.get_double(edge.axis, corner) {
-                            Some(two) => two,
-                            None => crossings
-                                .get(edge.axis, corner)
-                                .map_or(&[], std::slice::from_ref),
-                        };
-                    }
-                    doubled_face_pairs(&v, &crossed, &mut centre, &mut pairs, &mut ambiguous);
-                } else {
-                    face_pairs(&v, &mut centre, &mut pairs, &mut ambiguous);
-                }
-                let mut parent: [usize; 2 * SECOND] = std::array::from_fn(|e| e);
-                for &(a, b) in &pairs {
-                    let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
-                    parent[ra] = rb;
-                }
+                let at = CellAt {
+                    values: v,
+                    signs,
+                    cell,
+                    local,
+                    doubled,
+                };
+                parts.build(&at, &crossings, &mut centre);
                 let mut component_vertex = [u32::MAX; 2 * SECOND];
-                cell_planes.clear();
-                roots_seen.clear();
-                edge_info.clear();
-                for edge in &CELL_EDGES {
-                    let (lo_inside, hi_inside) = (signs >> edge.lo & 1, signs >> edge.hi & 1);
-                    let (axis, p, e) = (edge.axis, edge.offset, edge.id);
-                    let lo = [cell[0] + p[0], cell[1] + p[1], cell[2] + p[2]];
-                    let corner = corner_of(p);
-                    // Every crossing of the brick's edges was solved above.
-                    let planes: &[Plane] = if lo_inside != hi_inside {
-                        crossings
-                            .get(axis, corner)
-                            .map_or(&[], std::slice::from_ref)
-                    } else if doubled {
-                        crossings.get_double(axis, corner).map_or(&[], |two| two)
-                    } else {
-                        &[]
-                    };
-                    for (n, &plane) in planes.iter().enumerate() {
-                        let id = e + n * SECOND;
-                        let root = find(&mut parent, id);
-                        if !roots_seen.contains(&root) {
-                            roots_seen.push(root);
-                        }
-                        cell_planes.push((root, plane, lo_inside == hi_inside));
-                        // The solid lies before a crossing (along +axis)
-                        // where the lower corner is inside, up to the second.
-                        let outward_plus = (lo_inside == 1) != (n == 1);
-                        let key = crossing_key(axis, lo, n == 1);
-                        edge_info.push((id, key, edge.slot, outward_plus));
-                    }
-                }
                 let bounds = cell_box(grid, cell, 0);
                 let slot = cell_slot(local);
-                for root in &roots_seen {
+                for root in &parts.roots {
                     let mut proposal = propose_from(
-                        &cell_planes,
+                        &parts.planes,
                         *root,
                         |_| true,
                         &mut scratch,
                         (sharpness, &bounds, grid.h),
                     );
-                    let own = cell_planes.iter().filter(|p| p.0 == *root);
+                    let own = parts.planes.iter().filter(|p| p.0 == *root);
                     let kinds = own.fold([false; 2], |k, p| [k[0] | !p.2, k[1] | p.2]);
                     if matches!(proposal, Proposal::Unfit { .. }) && kinds == [true; 2] {
                         // The edges crossed twice show a feature beyond the
                         // cell (a solid's corner poking in); the cell's own
                         // sign changes place its vertex on what it holds.
                         proposal = propose_from(
-                            &cell_planes,
+                            &parts.planes,
                             *root,
                             |double| !double,
                             &mut scratch,
@@ -314,7 +263,7 @@ pub(crate) fn mesh_brick(
                             let planes = unverified_planes.len()..;
                             unverified_planes.extend_from_slice(&scratch);
                             let planes = planes.start..unverified_planes.len();
-                            let candidate = (roots_seen.len() == 1).then_some(candidates.len());
+                            let candidate = (parts.roots.len() == 1).then_some(candidates.len());
                             unverified.push((vertex, planes, bounds, candidate));
                             placed
                         }
@@ -353,7 +302,7 @@ pub(crate) fn mesh_brick(
                         }
                     };
                     let x = placed.point;
-                    let rank = if roots_seen.len() == 1 {
+                    let rank = if parts.roots.len() == 1 {
                         candidates.push(Candidate {
                             vertex: out.positions.len() as u32,
                             cell: [i as u8, j as u8, k as u8],
@@ -364,22 +313,24 @@ pub(crate) fn mesh_brick(
                         0
                     };
                     cells.merge(slot, &placed.qef, rank);
-                    nodes[node] = if roots_seen.len() == 1 && ambiguous.is_empty() && !doubled {
-                        let vertex = out.positions.len() as u32;
-                        Node::Surface {
-                            vertex,
-                            qef: placed.qef,
-                            feature: None,
-                        }
-                    } else {
-                        Node::Blocked
-                    };
+                    nodes[node] =
+                        if parts.roots.len() == 1 && parts.ambiguous.is_empty() && !doubled {
+                            let vertex = out.positions.len() as u32;
+                            Node::Surface {
+                                vertex,
+                                qef: placed.qef,
+                                feature: None,
+                            }
+                        } else {
+                            Node::Blocked
+                        };
                     component_vertex[*root] = out.positions.len() as u32;
                     out.positions
                         .push(Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32));
                     vertex_points.push(x);
                 }
-                for &(a, b) in &ambiguous {
+                let mut parent = parts.parent;
+                for &(a, b) in &parts.ambiguous {
                     let root = find(&mut parent, a);
                     if root == find(&mut parent, b)
                         && !out.pinched.contains(&component_vertex[root])
@@ -387,7 +338,7 @@ pub(crate) fn mesh_brick(
                         out.pinched.push(component_vertex[root]);
                     }
                 }
-                for &(e, key, slot, plus) in &edge_info {
+                for &(e, key, slot, plus) in &parts.refs {
                     let root = find(&mut parent, e);
                     out.refs.push((key, slot, component_vertex[root], plus));
                 }

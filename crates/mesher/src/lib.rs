@@ -10,6 +10,7 @@ pub mod adaptive;
 mod brick;
 mod cell;
 mod cluster;
+mod components;
 mod crease;
 mod double;
 mod features;
