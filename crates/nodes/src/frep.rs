@@ -796,7 +796,7 @@ static POLYGONISE: NodeSpec = NodeSpec::new(
     "polygonise",
     "Polygonise",
     "frep",
-    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells. With a tolerance, flat and gently curved regions take few, large triangles (adaptive output). Surface thinner than a cell that the cells' corners miss (a wall, a gap, a sharp tip) is found and reported in a warning naming its region, never lost silently.",
+    "Meshes a field into closed, manifold triangles with sharp edges and corners kept and point normals from the gradient. The box bounds the solid (and closes it where the solid reaches it); the longest side is cut into 2^depth cells. With a tolerance, flat and gently curved regions take few, large triangles (adaptive output). Surface thinner than a cell that the cells' corners miss (a wall, a slot, a sharp crest) is meshed on both of its sides where grid edges cross it twice; what no grid edge meets (a speck inside a cell) is reported in a warning naming its region, never lost silently.",
     &[FIELD_IN],
     &[
         BOUNDS_MIN,
