@@ -14,6 +14,7 @@ use crate::double;
 use crate::features::{self, Plane, Proposal};
 use crate::lattice::{outward_normals, Crossings, Lattice};
 use crate::parts::par_fill;
+use crate::qef::Qef;
 use crate::recovery::{
     cell_box, cell_slot, recover_features, verify_features, Candidate, CellTable, Check,
 };
@@ -273,10 +274,14 @@ pub(crate) fn mesh_brick(
                             qef,
                             reduced,
                         } => {
-                            let beside =
-                                (rank >= 2).then(|| qef.solver().solve(rank)).filter(|&x| {
-                                    let grown = cell_box(grid, cell, 0).grown(BESIDE * grid.h);
-                                    grown.contains(&x) && features::verified(&grad.eval(x), grid.h)
+                            // A crease or corner a hair beside the cell (past
+                            // a grid edge, between two diagonal cells that
+                            // share no dual edge) takes the vertex there.
+                            let beside = (rank >= 2)
+                                .then(|| beside_feature(&qef, rank, grid, cell))
+                                .filter(|x| features::verified(&grad.eval(*x), grid.h))
+                                .filter(|x| {
+                                    cell_box(grid, cell, 0).grown(BESIDE * grid.h).contains(x)
                                 });
                             let point = if rank <= 1 {
                                 // No feature: the surface curves within the cell.
@@ -284,9 +289,6 @@ pub(crate) fn mesh_brick(
                                     &qef, reduced, &bounds, &mut grad, grid.h,
                                 )
                             } else if let Some(x) = beside {
-                                // The crease or corner runs just beside the
-                                // cell: on it, the mesh follows the crease
-                                // where it passes a hair from a grid edge.
                                 x
                             } else {
                                 features::best_on_surface(
@@ -412,6 +414,21 @@ pub(crate) fn mesh_brick(
 /// How far beyond its cell (in cells) a vertex may stand on the crease or
 /// corner its planes meet at, where none of the cell's own points is on it.
 const BESIDE: f64 = 0.1;
+
+/// The point of a crease or corner (the solution of `qef` at `rank`) a
+/// thousandth of a cell towards the centre of `cell`: a neighbour whose
+/// planes are the same keeps the feature's point itself, or moves towards
+/// its own centre, so no two cells put a vertex at one point.
+fn beside_feature(qef: &Qef, rank: usize, grid: &Grid, cell: [usize; 3]) -> [f64; 3] {
+    let x = qef.solver().solve(rank);
+    let centre = grid.point(cell).map(|c| c + 0.5 * grid.h);
+    let to: [f64; 3] = std::array::from_fn(|a| centre[a] - x[a]);
+    let length = to.iter().map(|d| d * d).sum::<f64>().sqrt();
+    if length == 0.0 {
+        return x;
+    }
+    std::array::from_fn(|a| x[a] + 1e-3 * grid.h * to[a] / length)
+}
 
 /// The proposal for component `root` of a cell from those of its planes
 /// `keep` accepts (given whether each came from an edge crossed twice),
