@@ -456,7 +456,7 @@ describe('a wrangle in a loop', () => {
 });
 
 describe('the print check', () => {
-  test('a wall thinner than a cell warns on the mesh node, and thickening it clears the warning', async () => {
+  test('a wall thinner than a cell is meshed without a warning; a tolerance the mesh cannot meet warns on the mesh node, and clearing it clears the warning', async () => {
     const server = await serve('frep_print_check.json');
     const { page } = await open(chrome.b, server.url);
     try {
@@ -466,16 +466,25 @@ describe('the print check', () => {
       await clickNode(page, 'hollow');
       await page.waitForSelector('.param[data-param="thickness"]');
       let g = await generation(page);
+      // A third of a cell: both sides of the wall are meshed, nothing warns.
       await setParam(page, 'thickness', '0.01');
       const thin = await nextCook(page, g, 120_000);
-      assert.ok(thin.ok, 'a warning is not an error');
-      const warned = thin.events.find((e) => e.path === '/mesh');
-      assert.match(warned.warnings[0], /thinner than a cell/);
+      assert.ok(thin.ok, JSON.stringify(thin.errors));
+      const meshed = thin.events.find((e) => e.path === '/mesh');
+      assert.deepEqual(meshed.warnings ?? [], []);
+      await clickNode(page, 'mesh');
+      await page.waitForSelector('.param[data-param="tolerance"]');
+      g = await generation(page);
+      await setParam(page, 'tolerance', '0.00001');
+      const strict = await nextCook(page, g, 120_000);
+      assert.ok(strict.ok, 'a warning is not an error');
+      const warned = strict.events.find((e) => e.path === '/mesh');
+      assert.match(warned.warnings[0], /beyond the tolerance/);
       await page.waitForSelector('g.node.warning[data-node="mesh"]');
-      assert.match(await page.locator('g.node.warning[data-node="mesh"] .warning-text').textContent(), /thinner than a cell/);
+      assert.match(await page.locator('g.node.warning[data-node="mesh"] .warning-text').textContent(), /^adaptive output strays/);
       assert.match(await page.locator('#status').textContent(), /^warning: \/mesh: /);
       g = await generation(page);
-      await setParam(page, 'thickness', '0.06');
+      await setParam(page, 'tolerance', '0');
       await nextCook(page, g, 120_000);
       await page.waitForFunction(() => document.querySelectorAll('g.node.warning').length === 0);
     } finally {
