@@ -9,7 +9,7 @@ pub struct Interval {
     pub hi: f64,
 }
 
-const EVERYTHING: Interval = Interval {
+pub(crate) const EVERYTHING: Interval = Interval {
     lo: f64::NEG_INFINITY,
     hi: f64::INFINITY,
 };
@@ -31,7 +31,7 @@ impl Interval {
         self.lo.is_nan() || self.hi.is_nan()
     }
 
-    fn hull(a: Interval, b: Interval) -> Interval {
+    pub(crate) fn hull(a: Interval, b: Interval) -> Interval {
         if a.has_nan() || b.has_nan() {
             return EVERYTHING;
         }
@@ -152,7 +152,7 @@ pub fn unary(op: Unary, a: Interval) -> Interval {
     }
 }
 
-fn mul(a: Interval, b: Interval) -> Interval {
+pub(crate) fn mul(a: Interval, b: Interval) -> Interval {
     let p = [a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi];
     if p.iter().any(|x| x.is_nan()) {
         // 0 * inf: the product may be anything.

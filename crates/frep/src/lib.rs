@@ -15,6 +15,7 @@ pub mod eval;
 pub mod field;
 pub mod hyperfun;
 pub mod interval;
+pub mod interval_grad;
 pub mod mesh_distance;
 pub mod shapes;
 pub mod tape;
@@ -27,6 +28,7 @@ pub use eval::{BatchEval, BatchGradEval, Grad, GradEval, IntervalEval, PointEval
 pub use field::{Binary, Field, Node, Unary};
 pub use hyperfun::{parse_hf, HfError};
 pub use interval::Interval;
+pub use interval_grad::{IntervalGrad, IntervalGradEval, Piece};
 pub use mesh_distance::{MeshDistance, MeshFieldError};
 pub use tape::{Choice, Choices, Instr, Tape};
 pub use vm::{parse_vm, VmError};

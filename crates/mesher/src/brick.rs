@@ -12,6 +12,7 @@ use crate::cluster::{merge_cells, Clustering, Node};
 use crate::components::{CellAt, Components};
 use crate::double;
 use crate::features::{self, Plane, Proposal};
+use crate::inner_leaves::InnerLeaves;
 use crate::lattice::{outward_normals, Crossings, Lattice};
 use crate::parts::par_fill;
 use crate::qef::Qef;
@@ -22,6 +23,7 @@ use crate::thin;
 use geode_frep::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
 use geode_frep::tape::Tape;
 
+#[derive(Default)]
 pub(crate) struct BrickOut {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
@@ -35,6 +37,9 @@ pub(crate) struct BrickOut {
     /// face: the only ones that can be pinched (see `pinch`).
     pub pinched: Vec<u32>,
     pub cells: usize,
+    /// Coarse leaves (adaptive output: see `coarse` and `inner_leaves`),
+    /// each one vertex for the cells it covers, which `cells` leaves out.
+    pub leaves: usize,
     /// Whether some edge of the brick is crossed twice: its quads may have
     /// cancelled, leaving vertices no quad uses.
     pub doubled: bool,
@@ -152,10 +157,22 @@ pub(crate) fn mesh_brick(
     let mut lattice = Lattice::sample(&mut batch, grid, base);
     let missed = thin::missed_cells((&mut batch, &mut grads), &lattice, grid, base);
     let mut crossings = Crossings::new();
-    let roots = lattice.crossed_edges(grid, (0, B as isize));
+    // Adaptive output: octants proved one sheet leave their inner edges unsolved.
+    let mut leaves = if tolerance > 0.0 {
+        InnerLeaves::candidates(grid, base, &lattice)
+    } else {
+        InnerLeaves::none()
+    };
+    let range = (0, B as isize);
+    let roots = lattice.crossed_edges_where(grid, range, |axis, c| !leaves.interior(axis, c));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
     let doubles = double::doubly_crossed_edges(&mut batch, &lattice, grid);
     crossings.add_doubles(&mut batch, &mut point, &mut grads, doubles);
+    if leaves.fit(tape, grid, base, &crossings, (sharpness, tolerance)) {
+        let back = |axis, c| leaves.given_back_interior(axis, c);
+        let roots = lattice.crossed_edges_where(grid, range, back);
+        crossings.add(&mut batch, &mut point, &mut grads, roots);
+    }
     // Cells meshed through edges crossed twice (no longer missed).
     let mut doubled_cells: Vec<[usize; 3]> = Vec::new();
     // Sized from the crossed edges: each is referenced by the (up to) four
@@ -168,6 +185,7 @@ pub(crate) fn mesh_brick(
         refs: Vec::with_capacity(4 * edges),
         pinched: Vec::new(),
         cells: 0,
+        leaves: 0,
         doubled: crossings.has_doubles(),
         missed,
     };
@@ -187,7 +205,7 @@ pub(crate) fn mesh_brick(
             for i in 0..B {
                 let cell = [base[0] + i, base[1] + j, base[2] + k];
                 let node = i + B * (j + B * k);
-                if (0..3).any(|a| cell[a] + 1 >= grid.corners[a]) {
+                if (0..3).any(|a| cell[a] + 1 >= grid.corners[a]) || leaves.covers([i, j, k]) {
                     nodes[node] = Node::Blocked;
                     continue;
                 }
@@ -367,6 +385,7 @@ pub(crate) fn mesh_brick(
         recovered = recover_features(ring_tape, grid, sharpness, state, &candidates, vertices);
     }
     if tolerance > 0.0 {
+        leaves.emit(base, &mut out, &mut vertex_points);
         recovered.sort_unstable();
         for node in &mut nodes {
             if let Node::Surface {

@@ -182,9 +182,14 @@ impl Lattice {
             .then(|| g.map(|x| x as usize))
     }
 
-    /// Every crossed edge with both ends in the local range `lo..=hi`,
-    /// ready to be solved.
-    pub(crate) fn crossed_edges(&self, grid: &Grid, (lo, hi): (isize, isize)) -> Vec<Root> {
+    /// Every crossed edge with both ends in the local range `lo..=hi` that
+    /// `wanted` accepts (by axis and lower local corner), ready to be solved.
+    pub(crate) fn crossed_edges_where(
+        &self,
+        grid: &Grid,
+        (lo, hi): (isize, isize),
+        wanted: impl Fn(usize, [isize; 3]) -> bool,
+    ) -> Vec<Root> {
         // Signs compared along each axis by stride, in one pass over the
         // values; only the few crossed edges build their root.
         let strides = [1, L, L * L];
@@ -196,7 +201,10 @@ impl Lattice {
                     let (c, at) = ([i, j, k], row + n);
                     let inside = self.values[at] >= 0.0;
                     for axis in 0..3 {
-                        if c[axis] < hi && (self.values[at + strides[axis]] >= 0.0) != inside {
+                        if c[axis] < hi
+                            && (self.values[at + strides[axis]] >= 0.0) != inside
+                            && wanted(axis, c)
+                        {
                             roots.extend(self.root(grid, axis, c, edge_slot(axis, c)));
                         }
                     }
@@ -303,7 +311,7 @@ pub(crate) const SNAP: f64 = 0.005;
 /// most [`SNAP`] of a cell) instead of grazing it, where it would cut a
 /// sliver off the cell (a tiny component of its own, folded against its
 /// neighbours, or an edge crossed twice within a hair of its end).
-fn snap_to_surface(values: &mut [f32], h: f64) {
+pub(crate) fn snap_to_surface(values: &mut [f32], h: f64) {
     let near = -(SNAP * h) as f32;
     for v in values {
         if *v < 0.0 && *v > near {

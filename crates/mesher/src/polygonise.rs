@@ -20,6 +20,7 @@ use rayon::prelude::*;
 use crate::adaptive;
 use crate::brick::{join_bricks, mesh_brick, take_quads, BrickOut, Joined};
 use crate::cell::{Grid, B};
+use crate::coarse;
 use crate::lattice::SNAP;
 use crate::pinch;
 use geode_frep::eval::{BatchEval, IntervalEval};
@@ -73,6 +74,9 @@ pub struct MeshStats {
     pub bricks_total: usize,
     pub bricks_meshed: usize,
     pub cells_with_surface: usize,
+    /// Adaptive output: octree nodes of 2 cells or more meshed as one vertex
+    /// each (see `coarse`), whose cells `cells_with_surface` leaves out.
+    pub leaves: usize,
     /// Vertices added where one vertex was shared by two sheets.
     pub vertices_split: usize,
     /// Cells proven to hold surface that none of their corners shows: a
@@ -112,6 +116,18 @@ struct Surviving {
     node: [usize; 3],
     tape: Arc<Tape>,
     ring_tape: Arc<Tape>,
+    /// A coarse leaf (adaptive output, see `coarse`): its level above the
+    /// bricks and its vertex, taken when the bricks are meshed.
+    leaf: Option<(u32, BrickOut)>,
+}
+
+/// How the octree descends: the level where it stops (0: bricks) and the
+/// adaptive tolerance coarse leaves must meet (0: none).
+#[derive(Clone, Copy)]
+struct Descent {
+    stop: u32,
+    tolerance: f64,
+    sharpness: f64,
 }
 
 /// Octree nodes of `stop` levels above the bricks (0: bricks) that may hold
@@ -121,7 +137,7 @@ struct Surviving {
 fn surviving_bricks(
     tape: Arc<Tape>,
     grid: &Grid,
-    (level, stop): (u32, u32),
+    (level, descent): (u32, Descent),
     b: [usize; 3],
     out: &mut Vec<Surviving>,
     cancel: &(dyn Fn() -> bool + Sync),
@@ -149,11 +165,30 @@ fn surviving_bricks(
         return;
     }
     let simplified = Arc::new(tape.simplify(iv.choices()));
-    if level <= stop {
+    let side = B << level;
+    if descent.tolerance > 0.0 && side <= coarse::LARGEST {
+        let node = (b.map(|x| x * B), side);
+        if let Some(leaf) = coarse::coarse_leaf(
+            &simplified,
+            grid,
+            node,
+            (descent.sharpness, descent.tolerance),
+        ) {
+            out.push(Surviving {
+                node: b,
+                tape: simplified,
+                ring_tape: tape,
+                leaf: Some((level, leaf)),
+            });
+            return;
+        }
+    }
+    if level <= descent.stop {
         out.push(Surviving {
             node: b,
             tape: simplified,
             ring_tape: tape,
+            leaf: None,
         });
         return;
     }
@@ -172,7 +207,7 @@ fn surviving_bricks(
             .par_iter()
             .map(|c| {
                 let mut v = Vec::new();
-                let levels = (level - 1, stop);
+                let levels = (level - 1, descent);
                 surviving_bricks(Arc::clone(&simplified), grid, levels, *c, &mut v, cancel);
                 v
             })
@@ -183,7 +218,7 @@ fn surviving_bricks(
             surviving_bricks(
                 Arc::clone(&simplified),
                 grid,
-                (level - 1, stop),
+                (level - 1, descent),
                 c,
                 out,
                 cancel,
@@ -279,7 +314,12 @@ pub fn estimate(
     let (grid, tape, top) = setup(field, opts)?;
     let stop = top.saturating_sub(6);
     let mut nodes = Vec::new();
-    surviving_bricks(tape, &grid, (top, stop), [0, 0, 0], &mut nodes, cancel);
+    let descent = Descent {
+        stop,
+        tolerance: 0.0,
+        sharpness: opts.sharpness,
+    };
+    surviving_bricks(tape, &grid, (top, descent), [0, 0, 0], &mut nodes, cancel);
     if cancel() {
         return Err(MeshError::Cancelled);
     }
@@ -312,10 +352,15 @@ pub fn polygonise(
         }
     };
     let mut bricks = Vec::new();
+    let descent = Descent {
+        stop: 0,
+        tolerance: opts.tolerance,
+        sharpness: opts.sharpness,
+    };
     surviving_bricks(
         Arc::clone(&tape),
         &grid,
-        (top, 0),
+        (top, descent),
         [0, 0, 0],
         &mut bricks,
         cancel,
@@ -326,10 +371,13 @@ pub fn polygonise(
     let done = AtomicUsize::new(0);
     let total = bricks.len().max(1);
     let outs: Vec<Option<BrickOut>> = bricks
-        .par_iter()
+        .par_iter_mut()
         .map(|s| {
             if cancel() {
                 return None;
+            }
+            if let Some((_, leaf)) = s.leaf.as_mut() {
+                return Some(std::mem::take(leaf));
             }
             let tapes = (s.tape.as_ref(), s.ring_tape.as_ref());
             let o = mesh_brick(tapes, &grid, s.node, (opts.sharpness, opts.tolerance));
@@ -353,6 +401,7 @@ pub fn polygonise(
         bricks_total: grid.bricks.iter().product(),
         bricks_meshed: outs.len(),
         cells_with_surface: 0,
+        leaves: 0,
         vertices_split: 0,
         thin_cells: 0,
         thin_region: None,
@@ -364,6 +413,7 @@ pub fn polygonise(
     let doubled = outs.iter().any(|o| o.doubled);
     for o in &outs {
         stats.cells_with_surface += o.cells;
+        stats.leaves += o.leaves;
         stats.add_missed(&grid, &o.missed);
     }
     // Freed before the adaptive passes, which allocate their own.
@@ -402,10 +452,7 @@ pub fn polygonise(
     stop()?;
     let tapes = adaptive::RegionTapes::new(
         &root,
-        bricks
-            .iter()
-            .map(|s| ([s.node[2], s.node[1], s.node[0]], s.tape.as_ref()))
-            .collect(),
+        covered_bricks(&bricks, &grid),
         (grid.origin, grid.h * B as f64, grid.bricks),
     );
     stats.crease_flips =
@@ -431,6 +478,27 @@ pub fn polygonise(
     .map_err(|_| MeshError::BadBounds)?;
     progress(1.0);
     Ok((g, stats))
+}
+
+/// Every brick the octree's leaves cover (a coarse leaf several) with its
+/// leaf's tape, keyed (z, y, x) in ascending order.
+fn covered_bricks<'a>(leaves: &'a [Surviving], grid: &Grid) -> Vec<([usize; 3], &'a Tape)> {
+    let mut covered: Vec<([usize; 3], &Tape)> = Vec::with_capacity(leaves.len());
+    for s in leaves {
+        let span = s.leaf.as_ref().map_or(1, |(level, _)| 1usize << level);
+        for d in 0..span * span * span {
+            let b = [
+                s.node[0] + d % span,
+                s.node[1] + d / span % span,
+                s.node[2] + d / (span * span),
+            ];
+            if (0..3).all(|a| b[a] < grid.bricks[a]) {
+                covered.push(([b[2], b[1], b[0]], s.tape.as_ref()));
+            }
+        }
+    }
+    covered.sort_by_key(|c| c.0);
+    covered
 }
 
 /// The triangles of a dual quad: two, split along the diagonal
