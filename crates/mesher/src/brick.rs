@@ -157,16 +157,16 @@ pub(crate) fn mesh_brick(
     let mut lattice = Lattice::sample(&mut batch, grid, base);
     let missed = thin::missed_cells((&mut batch, &mut grads), &lattice, grid, base);
     let mut crossings = Crossings::new();
+    let doubles = double::doubly_crossed_edges(&mut batch, &lattice, grid);
     // Adaptive output: octants proved one sheet leave their inner edges unsolved.
     let mut leaves = if tolerance > 0.0 {
-        InnerLeaves::candidates(grid, base, &lattice)
+        InnerLeaves::candidates(grid, base, &lattice, &doubles)
     } else {
         InnerLeaves::none()
     };
     let range = (0, B as isize);
     let roots = lattice.crossed_edges_where(grid, range, |axis, c| !leaves.interior(axis, c));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
-    let doubles = double::doubly_crossed_edges(&mut batch, &lattice, grid);
     crossings.add_doubles(&mut batch, &mut point, &mut grads, doubles);
     if leaves.fit(tape, grid, base, &crossings, (sharpness, tolerance)) {
         let back = |axis, c| leaves.given_back_interior(axis, c);

@@ -7,22 +7,25 @@
 //! are candidates, and one whose vertex fits its boundary's planes within
 //! the tolerance is meshed as that vertex alone: contracting a disc to a
 //! point keeps the mesh closed and manifold (Ju et al.'s criterion, read
-//! top-down on the signs instead of bottom-up on every cell's vertex). Their inner edges are never
-//! solved and their cells never placed; the vertex stands in every slot
+//! top-down on the signs instead of bottom-up on every cell's vertex).
+//! Their inner edges are never solved and their cells never placed; the
+//! vertex stands in every slot
 //! its cells hold around the crossed edges of its boundary, where the
 //! brick's own quads (or the global sort, on the brick's faces) lose its
 //! repeated corner. A candidate whose vertex does not fit its planes
-//! within the tolerance, or with an edge of its boundary crossed twice,
-//! gives its cells back to the brick, which then solves their edges.
+//! within the tolerance gives its cells back to the brick, which then
+//! solves their edges; cells beside an edge crossed twice are never in one.
 
 use crate::brick::BrickOut;
 use crate::cell::{crossing_key, Grid, Plane, B};
 use crate::coarse::{cells_around, fit_vertex, Boundary, Crossing};
-use crate::lattice::{Crossings, Lattice};
+use crate::lattice::{slot_edge, Crossings, Lattice, Root};
 use geode_frep::tape::Tape;
 use geode_geo::glam::Vec3;
 
 const NONE: u16 = u16::MAX;
+/// A cell beside an edge crossed twice.
+const DOUBLED: u16 = u16::MAX - 1;
 
 struct InnerLeaf {
     /// First cell, local to the brick.
@@ -62,11 +65,30 @@ impl InnerLeaves {
 
     /// The candidates of a brick, top-down: the brick, or else each octant
     /// of 4 cells, or else each of its octants of 2.
-    pub(crate) fn candidates(grid: &Grid, base: [usize; 3], lattice: &Lattice) -> InnerLeaves {
+    pub(crate) fn candidates(
+        grid: &Grid,
+        base: [usize; 3],
+        lattice: &Lattice,
+        doubles: &[Root],
+    ) -> InnerLeaves {
         let mut leaves = InnerLeaves {
             leaf_of: vec![NONE; B * B * B],
             leaves: Vec::new(),
         };
+        // Cells around an edge crossed twice (a wall thinner than a cell,
+        // its two sheets shown by no sign) are never part of a leaf.
+        for r in doubles {
+            let (axis, c) = slot_edge(r.slot);
+            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+            for (du, dw) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+                let mut cell = c;
+                cell[u] -= du;
+                cell[w] -= dw;
+                if cell.iter().all(|&x| (0..B as isize).contains(&x)) {
+                    leaves.leaf_of[cell_index(cell.map(|x| x as usize))] = DOUBLED;
+                }
+            }
+        }
         if leaves.try_candidate(grid, (base, lattice), ([0; 3], B)) {
             return leaves;
         }
@@ -93,6 +115,13 @@ impl InnerLeaves {
     ) -> bool {
         let global: [usize; 3] = std::array::from_fn(|k| base[k] + lo[k]);
         if (0..3).any(|k| global[k] + side >= grid.corners[k]) {
+            return false;
+        }
+        let mut doubled = false;
+        for_cells(lo, side, |c| {
+            doubled |= self.leaf_of[cell_index(c)] == DOUBLED
+        });
+        if doubled {
             return false;
         }
         let Some(boundary) = Boundary::from_lattice(lattice, base, lo, side) else {
@@ -125,7 +154,7 @@ impl InnerLeaves {
             return None;
         }
         match self.leaf_of[cell_index(c.map(|x| x as usize))] {
-            NONE => None,
+            NONE | DOUBLED => None,
             id => Some(&self.leaves[id as usize]),
         }
     }
@@ -165,15 +194,10 @@ impl InnerLeaves {
                 .map(|c| crossings.get(c.axis, local(c.corner)).copied())
                 .collect();
             let global: [usize; 3] = std::array::from_fn(|k| base[k] + leaf.lo[k]);
-            let doubled =
-                crossings.has_doubles() && boundary_doubled(crossings, base, (global, leaf.side));
             let node = (global, leaf.side);
-            leaf.vertex = match planes {
-                Some(planes) if !doubled => {
-                    fit_vertex(tape, grid, node, &planes, tolerances).map(|(x, _)| x)
-                }
-                _ => None,
-            };
+            leaf.vertex = planes.and_then(|planes| {
+                fit_vertex(tape, grid, node, &planes, tolerances).map(|(x, _)| x)
+            });
             any_back |= leaf.vertex.is_none();
         }
         any_back
@@ -341,36 +365,6 @@ fn find16(parent: &mut [u16], mut x: usize) -> u16 {
         x = parent[x] as usize;
     }
     x as u16
-}
-
-/// Whether some edge on the boundary of the node (global first cell and
-/// side) is crossed twice.
-fn boundary_doubled(
-    crossings: &Crossings,
-    base: [usize; 3],
-    (lo, side): ([usize; 3], usize),
-) -> bool {
-    let mut doubled = false;
-    let on = |c: [usize; 3]| (0..3).any(|k| c[k] == lo[k] || c[k] == lo[k] + side);
-    for k in lo[2]..=lo[2] + side {
-        for j in lo[1]..=lo[1] + side {
-            for i in lo[0]..=lo[0] + side {
-                let c = [i, j, k];
-                if !on(c) {
-                    continue;
-                }
-                for axis in 0..3 {
-                    let mut d = c;
-                    d[axis] += 1;
-                    if d[axis] <= lo[axis] + side && on(d) {
-                        let local = std::array::from_fn(|a| (c[a] - base[a]) as isize);
-                        doubled |= crossings.get_double(axis, local).is_some();
-                    }
-                }
-            }
-        }
-    }
-    doubled
 }
 
 fn for_cells(lo: [usize; 3], side: usize, mut f: impl FnMut([usize; 3])) {

@@ -325,6 +325,16 @@ pub(crate) fn lattice_index(c: [isize; 3]) -> usize {
     i[0] + L * (i[1] + L * i[2])
 }
 
+/// The axis and local lower corner of the lattice edge at `slot` (see
+/// [`edge_slot`]).
+pub(crate) fn slot_edge(slot: usize) -> (usize, [isize; 3]) {
+    let (axis, i) = (slot / (L * L * L), slot % (L * L * L));
+    (
+        axis,
+        [i % L, i / L % L, i / (L * L)].map(|x| x as isize - 1),
+    )
+}
+
 /// Index of the lattice edge along `axis` from local corner `c`.
 pub(crate) fn edge_slot(axis: usize, c: [isize; 3]) -> usize {
     axis * L * L * L + lattice_index(c)
