@@ -10,6 +10,7 @@ macro_rules! say {
 }
 
 mod catalogue;
+mod convert;
 mod cook;
 mod disk_cache;
 mod farm;
@@ -140,17 +141,32 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Convert between formats (chosen by extension). The output is written atomically.
+    /// Convert between formats (chosen by extension), a .vdb level set to a mesh, or a closed mesh to a .vdb level set. The output is written atomically.
     #[command(
-        after_help = "Example:\n  geode convert examples/assets/creased_box.obj /tmp/box.glb\n\n\
+        after_help = "Examples:\n  geode convert examples/assets/creased_box.obj /tmp/box.glb\n  \
+        geode convert part.stl part.vdb --voxel-size 0.01\n  geode convert part.vdb part.obj\n\n\
         Formats without instancing (.obj, .stl, .ply) get packed instances unpacked;\n\
-        what a format cannot hold is named in a warning."
+        what a format cannot hold is named in a warning. A .vdb grid is meshed one cell a voxel\n\
+        (up to 4096 a side) over its active voxels; a mesh becomes a level set \"surface\" (exact\n\
+        signed distance, sign by winding number) within --half-width voxels of its surface."
     )]
     Convert {
-        /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo).
+        /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo, .vdb).
         input: PathBuf,
-        /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo).
+        /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo, .vdb).
         output: PathBuf,
+        /// Voxel edge of a .vdb written from a mesh, in model units (default: the longest side of its box / 256).
+        #[arg(long, allow_negative_numbers = true)]
+        voxel_size: Option<f64>,
+        /// Voxels either side of the surface that hold distances in a .vdb written from a mesh.
+        #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
+        half_width: f64,
+        /// The float grid of a .vdb input to mesh (default: the first).
+        #[arg(long, default_value = "")]
+        grid: String,
+        /// Adaptive output of a meshed .vdb grid: triangles merge while within this distance of its surface (model units; 0 keeps one cell a voxel).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        tolerance: f64,
     },
     /// Cook frames (and a wedge of one parameter's values) as independent tasks on a scheduler, sharing a disk cache.
     #[command(
@@ -268,17 +284,21 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 write_stdout(format_args!("{}", report.to_text()));
             }
         }
-        Command::Convert { input, output } => {
-            let bar = progress::Bar::new();
-            let g = read_geometry(&input, &bar)?;
-            geode_io::write(&g, &output, &bar)?;
-            eprintln!(
-                "wrote {} ({} points, {} primitives)",
-                output.display(),
-                g.num_points(),
-                g.num_prims()
-            );
-        }
+        Command::Convert {
+            input,
+            output,
+            voxel_size,
+            half_width,
+            grid,
+            tolerance,
+        } => convert::convert(&convert::ConvertArgs {
+            input,
+            output,
+            voxel_size,
+            half_width,
+            grid,
+            tolerance,
+        })?,
     }
     Ok(())
 }

@@ -230,3 +230,78 @@ fn a_closed_pipe_ends_output_quietly() {
     assert!(out.status.success(), "{:?} {stderr}", out.status);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// A closed part as an OpenVDB level set and back (Houdini's VDB from
+/// Polygons, then Convert VDB): closed, its box kept within a voxel; a
+/// level set OpenVDB itself wrote meshes closed; wrong requests are named.
+#[test]
+fn convert_takes_meshes_to_level_sets_and_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let vdb = dir.path().join("plate.vdb");
+    let obj = dir.path().join("plate.obj");
+    let part = "examples/parts/plate_holes.stl";
+    let o = geode(&[
+        "convert",
+        part,
+        vdb.to_str().unwrap(),
+        "--voxel-size",
+        "1.5",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let info = geode(&["info", "--json", vdb.to_str().unwrap()]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+    assert_eq!(info["grids"][0]["name"], "surface");
+    assert_eq!(info["grids"][0]["class"], "level set");
+    let o = geode(&["convert", vdb.to_str().unwrap(), obj.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o));
+    let bounds = |file: &str| {
+        let o = geode(&["info", "--json", file]);
+        let j: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(j["boundary_edges"], 0, "{file} is closed");
+        assert_eq!(j["non_manifold_edges"], 0, "{file} is manifold");
+        let v = |k: &str| -> Vec<f64> {
+            j["bounds"][k]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        (v("min"), v("max"))
+    };
+    let (a, b) = (bounds(part), bounds(obj.to_str().unwrap()));
+    for k in 0..3 {
+        assert!(
+            (a.0[k] - b.0[k]).abs() < 1.5 && (a.1[k] - b.1[k]).abs() < 1.5,
+            "{a:?} {b:?}"
+        );
+    }
+    let sphere = dir.path().join("sphere.obj");
+    let o = geode(&[
+        "convert",
+        "fuzz/seeds/read_vdb/openvdb_sphere.vdb",
+        sphere.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    bounds(sphere.to_str().unwrap());
+    for (args, says) in [
+        (vec![part, "x.vdb", "--voxel-size", "-1"], "--voxel-size -1"),
+        (
+            vec![
+                "fuzz/seeds/read_vdb/openvdb_sphere.vdb",
+                "x.obj",
+                "--grid",
+                "density",
+            ],
+            "no float grid named \"density\" (it has \"surface\")",
+        ),
+        (
+            vec!["fuzz/seeds/read_vdb/openvdb_sphere.vdb", "x.vdb"],
+            "both .vdb files",
+        ),
+    ] {
+        let o = geode(&[&["convert"][..], &args].concat());
+        assert!(!o.status.success());
+        assert!(text(&o).contains(says), "{}", text(&o));
+    }
+}
