@@ -12,16 +12,23 @@ use geode_op::{CancelToken, CookEnv, Value};
 use serde_json::json;
 
 /// What `geode convert` was asked.
+#[derive(clap::Args)]
 pub struct ConvertArgs {
+    /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo, .vdb).
     pub input: PathBuf,
+    /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo, .vdb).
     pub output: PathBuf,
-    /// Voxel edge of a level set written from a mesh (model units).
+    /// Voxel edge of a .vdb written from a mesh, in model units (default: the longest side of its box / 256).
+    #[arg(long, allow_negative_numbers = true)]
     pub voxel_size: Option<f64>,
-    /// Voxels either side of the surface holding distances.
+    /// Voxels either side of the surface that hold distances in a .vdb written from a mesh.
+    #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
     pub half_width: f64,
-    /// The float grid of a `.vdb` input to mesh (empty: the first).
+    /// The float grid of a .vdb input to mesh (default: the first).
+    #[arg(long, default_value = "")]
     pub grid: String,
-    /// Adaptive output of a meshed grid (model units; 0: one cell a voxel everywhere).
+    /// Adaptive output of a meshed .vdb grid: triangles merge while within this distance of its surface (model units; 0 keeps one cell a voxel).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub tolerance: f64,
 }
 

@@ -150,24 +150,7 @@ enum Command {
         (up to 4096 a side) over its active voxels; a mesh becomes a level set \"surface\" (exact\n\
         signed distance, sign by winding number) within --half-width voxels of its surface."
     )]
-    Convert {
-        /// Input file (.obj, .stl, .ply, .gltf, .glb, .geo, .bgeo, .vdb).
-        input: PathBuf,
-        /// Output file (.obj, .stl, .ply, .glb, .usda, .geo, .bgeo, .vdb).
-        output: PathBuf,
-        /// Voxel edge of a .vdb written from a mesh, in model units (default: the longest side of its box / 256).
-        #[arg(long, allow_negative_numbers = true)]
-        voxel_size: Option<f64>,
-        /// Voxels either side of the surface that hold distances in a .vdb written from a mesh.
-        #[arg(long, default_value_t = 3.0, allow_negative_numbers = true)]
-        half_width: f64,
-        /// The float grid of a .vdb input to mesh (default: the first).
-        #[arg(long, default_value = "")]
-        grid: String,
-        /// Adaptive output of a meshed .vdb grid: triangles merge while within this distance of its surface (model units; 0 keeps one cell a voxel).
-        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-        tolerance: f64,
-    },
+    Convert(convert::ConvertArgs),
     /// Cook frames (and a wedge of one parameter's values) as independent tasks on a scheduler, sharing a disk cache.
     #[command(
         after_help = "Examples:\n  geode farm examples/coral.json --frames 1-24 -o 'out/$F4.bgeo'\n  geode farm examples/chain.json --wedge /spacing/count=48,96,192 -o 'out/$WEDGE/$F4.bgeo'\n  geode farm examples/coral.json --frames 1-240 --scheduler slurm --retry 2 --task-timeout 10m -o '/shared/coral/$F4.bgeo'\n\n\
@@ -284,21 +267,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 write_stdout(format_args!("{}", report.to_text()));
             }
         }
-        Command::Convert {
-            input,
-            output,
-            voxel_size,
-            half_width,
-            grid,
-            tolerance,
-        } => convert::convert(&convert::ConvertArgs {
-            input,
-            output,
-            voxel_size,
-            half_width,
-            grid,
-            tolerance,
-        })?,
+        Command::Convert(args) => convert::convert(&args)?,
     }
     Ok(())
 }

@@ -62,7 +62,7 @@ const fn corner_index(p: [usize; 3]) -> usize {
 /// The six faces of a cube, each as its corners in cyclic order (corner
 /// indices) and the local edges joining them (edge `i` joins corners `i`
 /// and `i + 1`): computed once, since every surface cell asks.
-const FACES: [([usize; 4], [usize; 4]); 6] = face_table();
+pub(crate) const FACES: [([usize; 4], [usize; 4]); 6] = face_table();
 
 const fn face_table() -> [([usize; 4], [usize; 4]); 6] {
     // Corners in cyclic order (0,0), (1,0), (1,1), (0,1) over (u, w).

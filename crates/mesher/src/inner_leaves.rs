@@ -17,7 +17,7 @@
 //! solves their edges; cells beside an edge crossed twice are never in one.
 
 use crate::brick::BrickOut;
-use crate::cell::{crossing_key, Grid, Plane, B};
+use crate::cell::{crossing_key, Grid, Plane, B, FACES};
 use crate::coarse::{cells_around, fit_vertex, Boundary, Crossing};
 use crate::lattice::{slot_edge, Crossings, Lattice, Root};
 use geode_frep::tape::Tape;
@@ -324,18 +324,10 @@ fn face_crossed(inside: &impl Fn([usize; 3]) -> bool, c: [usize; 3], axis: usize
 /// set of inside corners and one of outside corners along the cube's
 /// edges (on the cube's surface, a sphere, loops = regions - 1).
 fn one_component(signs: u8) -> bool {
-    const FACES: [[usize; 4]; 6] = [
-        [0, 2, 6, 4],
-        [1, 3, 7, 5],
-        [0, 1, 5, 4],
-        [2, 3, 7, 6],
-        [0, 1, 3, 2],
-        [4, 5, 7, 6],
-    ];
     let at = |k: usize| signs >> k & 1;
     if FACES
         .iter()
-        .any(|f| at(f[0]) == at(f[2]) && at(f[1]) == at(f[3]) && at(f[0]) != at(f[1]))
+        .any(|(f, _)| at(f[0]) == at(f[2]) && at(f[1]) == at(f[3]) && at(f[0]) != at(f[1]))
     {
         return false;
     }
