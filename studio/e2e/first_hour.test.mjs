@@ -322,7 +322,11 @@ describe('daily work in the editor', () => {
     await page.evaluate(() => window.__geode.request({ op: 'edit', edit: { kind: 'set_param', path: '/ball', param: 'radius', value: 0.7 } }));
     await other.evaluate(() => window.__geode.request({ op: 'edit', edit: { kind: 'set_param', path: '/ball', param: 'radius', value: 0.8 } }));
     await page.waitForFunction(() => window.__geode.store.state.document.nodes.ball.params.radius === 0.8);
-    assert.ok(await page.locator('#undo:disabled').count(), "this tab's undo waits for the other tab's change");
+    // The undo button follows the history the server sends after the
+    // change itself: wait for it rather than read it at once.
+    await page.waitForSelector('#undo:disabled', { timeout: 5000 }).catch(() => {
+      assert.fail("this tab's undo waits for the other tab's change");
+    });
     const refused = await page.evaluate(() => window.__geode.request({ op: 'undo' }));
     assert.equal(refused.ok, false);
     assert.match(refused.error, /another tab made the latest change/);
