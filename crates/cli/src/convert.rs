@@ -142,19 +142,12 @@ fn vdb_to_mesh(args: &ConvertArgs) -> Result<()> {
 /// winding number) sampled within the half width of the surface.
 fn mesh_to_vdb(args: &ConvertArgs) -> Result<()> {
     let g = crate::read_geometry(&args.input, &crate::progress::Bar::new())?;
-    let p = g.positions();
-    if p.is_empty() {
+    let Some(bounds) = geode_geo::ops::bounds(&g) else {
         bail!("{}: no points to sample", args.input.display());
-    }
-    let (lo, hi) = p.iter().fold(
-        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-        |(lo, hi), q| {
-            let q = q.as_dvec3().to_array();
-            (
-                std::array::from_fn(|k| lo[k].min(q[k])),
-                std::array::from_fn(|k| hi[k].max(q[k])),
-            )
-        },
+    };
+    let (lo, hi) = (
+        bounds.min.as_dvec3().to_array(),
+        bounds.max.as_dvec3().to_array(),
     );
     let longest = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
     let voxel = match args.voxel_size {
@@ -199,10 +192,8 @@ fn absolute(path: &Path) -> Result<String> {
 /// file's (`about`), its warnings printed.
 fn cook(doc: &serde_json::Value, target: &str, about: &Path, writes: bool) -> Result<Value> {
     let doc = Document::from_json(&doc.to_string()).map_err(|e| anyhow!("{e}"))?;
-    let net = Network::load(&doc, &geode_nodes::registry()).map_err(|errors| {
-        let lines: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
-        anyhow!("{}: {}", about.display(), lines.join("; "))
-    })?;
+    let net = Network::load(&doc, &geode_nodes::registry())
+        .map_err(|errors| crate::cook::problems(about, &errors))?;
     let engine = Engine::new(net, crate::disk_cache::cook_cache()?);
     let cancel = CancelToken::new();
     {

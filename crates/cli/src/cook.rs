@@ -54,7 +54,7 @@ fn print_notes(path: &Path, net: &Network) {
 }
 
 /// Every load problem, one a line, each prefixed by the file.
-fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error {
+pub fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error {
     let lines: Vec<String> = errors
         .iter()
         .map(|e| format!("{}: {}", path.display(), describe(e)))

@@ -298,9 +298,7 @@ pub(crate) fn mesh_brick(
                             let beside = (rank >= 2)
                                 .then(|| beside_feature(&qef, rank, grid, cell))
                                 .filter(|x| features::verified(&grad.eval(*x), grid.h))
-                                .filter(|x| {
-                                    cell_box(grid, cell, 0).grown(BESIDE * grid.h).contains(x)
-                                });
+                                .filter(|x| bounds.grown(BESIDE * grid.h).contains(x));
                             let point = if rank <= 1 {
                                 // No feature: the surface curves within the cell.
                                 features::smooth_on_surface(

@@ -337,6 +337,12 @@ pub(crate) fn find(parent: &mut [usize], mut i: usize) -> usize {
     i
 }
 
+/// Joins the sets of `a` and `b` (the lower root stays the root).
+pub(crate) fn union(parent: &mut [usize], a: usize, b: usize) {
+    let (a, b) = (find(parent, a), find(parent, b));
+    parent[a.max(b)] = a.min(b);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -24,7 +24,8 @@
 //! quads that neighbours make there lose the node's repeated corner.
 
 use crate::brick::BrickOut;
-use crate::cell::{crossing_key, Grid, Plane};
+use crate::cell::{crossing_key, find, union, Grid, Plane};
+use crate::features::{smooth_on_surface, CellBox};
 use crate::lattice::{outward_normal, outward_normals, snap_to_surface, Lattice, SNAP};
 use crate::qef::Qef;
 use geode_frep::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
@@ -35,9 +36,6 @@ use geode_geo::glam::Vec3;
 
 /// The largest leaf, in cells a side.
 pub(crate) const LARGEST: usize = 32;
-
-/// Newton steps taking the vertex onto the surface.
-const PROJECTION_STEPS: usize = 4;
 
 /// The node of `side` cells from cell `lo` as one vertex, or None where
 /// the proofs above fail or no vertex fits every crossing's plane within
@@ -170,13 +168,16 @@ pub(crate) fn fit_vertex(
     let solver = qef.solver();
     let rank = solver.rank(sharpness);
     let mut x = solver.solve(rank);
-    let (a, b) = (grid.point(lo), grid.point(lo.map(|x| x + side)));
-    if !(0..3).all(|k| x[k] >= a[k] && x[k] <= b[k]) {
+    let node = CellBox {
+        lo: grid.point(lo),
+        hi: grid.point(lo.map(|x| x + side)),
+    };
+    if !node.contains(&x) {
         return None;
     }
     let mut grad = GradEval::new(tape);
     if rank <= 1 {
-        x = project(&mut grad, x, (a, b), grid.h);
+        x = smooth_on_surface(&qef, Some(x), &node, &mut grad, grid.h);
     }
     let g = grad.eval(x);
     let slope = g.d.iter().map(|d| d * d).sum::<f64>().sqrt();
@@ -185,19 +186,6 @@ pub(crate) fn fit_vertex(
     let fits = planes.iter().all(|pn| off_plane(pn) <= tolerance);
     (fits && slope > 0.0 && (g.v / slope).abs() <= tolerance)
         .then(|| (x, outward_normal(&mut PointEval::new(tape), g.d, x)))
-}
-
-/// Newton steps along the gradient onto the surface, kept in the box.
-fn project(grad: &mut GradEval, mut p: [f64; 3], (a, b): ([f64; 3], [f64; 3]), h: f64) -> [f64; 3] {
-    for _ in 0..PROJECTION_STEPS {
-        let g = grad.eval(p);
-        let len2: f64 = g.d.iter().map(|x| x * x).sum();
-        if !(len2 > 0.0 && len2.is_finite()) || g.v.abs() < 1e-9 * h {
-            break;
-        }
-        p = std::array::from_fn(|k| (p[k] - g.v * g.d[k] / len2).clamp(a[k], b[k]));
-    }
-    p
 }
 
 /// A crossed grid edge on a node's boundary.
@@ -322,7 +310,7 @@ impl Boundary {
     pub(crate) fn meets_faces_once(&self) -> bool {
         let s = self.side;
         let n = s + 1;
-        let mut parent: Vec<u32> = Vec::with_capacity(n * n);
+        let mut parent: Vec<usize> = Vec::with_capacity(n * n);
         for axis in 0..3 {
             let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
             for plane in [0, s] {
@@ -334,7 +322,7 @@ impl Boundary {
                     self.inside(c)
                 };
                 parent.clear();
-                parent.extend(0..(n * n) as u32);
+                parent.extend(0..n * n);
                 for j in 0..n {
                     for i in 0..n {
                         let here = at(i, j);
@@ -346,9 +334,7 @@ impl Boundary {
                         }
                     }
                 }
-                let regions = (0..n * n)
-                    .filter(|&i| find(&mut parent, i as u32) == i as u32)
-                    .count();
+                let regions = (0..n * n).filter(|&i| find(&mut parent, i) == i).count();
                 if regions > 2 {
                     return false;
                 }
@@ -398,7 +384,7 @@ impl Boundary {
     /// are the connected sets of boundary corners of one sign.
     pub(crate) fn loops(&self) -> usize {
         let n = self.side + 1;
-        let mut parent: Vec<u32> = (0..(n * n * n) as u32).collect();
+        let mut parent: Vec<usize> = (0..n * n * n).collect();
         self.for_edges(|axis, c| {
             let mut d = c;
             d[axis] += 1;
@@ -408,26 +394,13 @@ impl Boundary {
         });
         let mut regions = 0usize;
         for_boundary_corners(self.side, |c| {
-            let i = self.index(c) as u32;
+            let i = self.index(c);
             if find(&mut parent, i) == i {
                 regions += 1;
             }
         });
         regions.saturating_sub(1)
     }
-}
-
-fn find(parent: &mut [u32], mut x: u32) -> u32 {
-    while parent[x as usize] != x {
-        parent[x as usize] = parent[parent[x as usize] as usize];
-        x = parent[x as usize];
-    }
-    x
-}
-
-fn union(parent: &mut [u32], a: usize, b: usize) {
-    let (a, b) = (find(parent, a as u32), find(parent, b as u32));
-    parent[a.max(b) as usize] = a.min(b);
 }
 
 /// Calls `f` with each corner on the surface of a node of `side` cells

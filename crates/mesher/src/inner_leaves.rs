@@ -17,7 +17,7 @@
 //! solves their edges; cells beside an edge crossed twice are never in one.
 
 use crate::brick::BrickOut;
-use crate::cell::{crossing_key, Grid, Plane, B, FACES};
+use crate::cell::{crossing_key, find, union, Grid, Plane, B, FACES};
 use crate::coarse::{cells_around, fit_vertex, Boundary, Crossing};
 use crate::lattice::{slot_edge, Crossings, Lattice, Root};
 use geode_frep::tape::Tape;
@@ -254,7 +254,7 @@ fn disc_at_grid(lattice: &Lattice, lo: [usize; 3], side: usize) -> bool {
     let inside = |c: [usize; 3]| lattice.at(c.map(|x| x as isize)) >= 0.0;
     let n = side * side * side;
     let local = |c: [usize; 3]| (c[0] - lo[0]) + side * ((c[1] - lo[1]) + side * (c[2] - lo[2]));
-    let mut parent: Vec<u16> = (0..n as u16).collect();
+    let mut parent: Vec<usize> = (0..n).collect();
     let mut surface = vec![false; n];
     let (mut vertices, mut edges, mut faces) = (0i64, 0i64, 0i64);
     let mut simple = true;
@@ -285,11 +285,7 @@ fn disc_at_grid(lattice: &Lattice, lo: [usize; 3], side: usize) -> bool {
                 && face_crossed(&inside, next, axis)
             {
                 edges += 1;
-                let (a, b) = (
-                    find16(&mut parent, local(c)),
-                    find16(&mut parent, local(next)),
-                );
-                parent[a.max(b) as usize] = a.min(b);
+                union(&mut parent, local(c), local(next));
             }
             let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
             let mut far = c;
@@ -300,7 +296,7 @@ fn disc_at_grid(lattice: &Lattice, lo: [usize; 3], side: usize) -> bool {
         }
     });
     let roots = (0..n)
-        .filter(|&i| surface[i] && find16(&mut parent, i) as usize == i)
+        .filter(|&i| surface[i] && find(&mut parent, i) == i)
         .count();
     roots == 1 && vertices - edges + faces == 1
 }
@@ -331,32 +327,17 @@ fn one_component(signs: u8) -> bool {
     {
         return false;
     }
-    let mut parent = [0u8, 1, 2, 3, 4, 5, 6, 7];
-    fn find(p: &mut [u8; 8], mut x: u8) -> u8 {
-        while p[x as usize] != x {
-            x = p[x as usize];
-        }
-        x
-    }
+    let mut parent: [usize; 8] = std::array::from_fn(|k| k);
     for k in 0..8 {
         for bit in [1, 2, 4] {
             let m = k | bit;
             if m != k && at(k) == at(m) {
-                let (a, b) = (find(&mut parent, k as u8), find(&mut parent, m as u8));
-                parent[a.max(b) as usize] = a.min(b);
+                union(&mut parent, k, m);
             }
         }
     }
-    let regions = (0..8u8).filter(|&k| find(&mut parent, k) == k).count();
+    let regions = (0..8).filter(|&k| find(&mut parent, k) == k).count();
     regions == 2
-}
-
-fn find16(parent: &mut [u16], mut x: usize) -> u16 {
-    while parent[x] as usize != x {
-        parent[x] = parent[parent[x] as usize];
-        x = parent[x] as usize;
-    }
-    x as u16
 }
 
 fn for_cells(lo: [usize; 3], side: usize, mut f: impl FnMut([usize; 3])) {
