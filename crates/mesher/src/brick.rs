@@ -295,10 +295,11 @@ pub(crate) fn mesh_brick(
                             // A crease or corner a hair beside the cell (past
                             // a grid edge, between two diagonal cells that
                             // share no dual edge) takes the vertex there.
+                            let near = bounds.grown(BESIDE * grid.h);
                             let beside = (rank >= 2)
-                                .then(|| beside_feature(&qef, rank, grid, cell))
-                                .filter(|x| features::verified(&grad.eval(*x), grid.h))
-                                .filter(|x| bounds.grown(BESIDE * grid.h).contains(x));
+                                .then(|| beside_feature(&qef, rank, &near, grid, cell))
+                                .flatten()
+                                .filter(|x| features::verified(&grad.eval(*x), grid.h));
                             let point = if rank <= 1 {
                                 // No feature: the surface curves within the cell.
                                 features::smooth_on_surface(
@@ -432,19 +433,38 @@ pub(crate) fn mesh_brick(
 /// corner its planes meet at, where none of the cell's own points is on it.
 const BESIDE: f64 = 0.1;
 
-/// The point of a crease or corner (the solution of `qef` at `rank`) a
-/// thousandth of a cell towards the centre of `cell`: a neighbour whose
-/// planes are the same keeps the feature's point itself, or moves towards
-/// its own centre, so no two cells put a vertex at one point.
-fn beside_feature(qef: &Qef, rank: usize, grid: &Grid, cell: [usize; 3]) -> [f64; 3] {
-    let x = qef.solver().solve(rank);
+/// The point of a crease or corner (the solution of `qef` at `rank`; on a
+/// crease's line, its point in `near` nearest the line's point nearest the
+/// planes' mass point) a thousandth of a cell towards the centre of `cell`:
+/// a neighbour whose planes are the same keeps the feature's point itself,
+/// or moves towards its own centre, so no two cells put a vertex at one
+/// point. `None` where the feature misses `near`.
+fn beside_feature(
+    qef: &Qef,
+    rank: usize,
+    near: &features::CellBox,
+    grid: &Grid,
+    cell: [usize; 3],
+) -> Option<[f64; 3]> {
+    let solver = qef.solver();
+    let mut x = solver.solve(rank);
+    if rank == 2 {
+        // The line may pass a hair from the cell's corner while its point
+        // nearest the mass point lies a cell away along it.
+        x = near.slide_into(x, solver.free_direction())?;
+    }
+    if !near.contains(&x) {
+        return None;
+    }
     let centre = grid.point(cell).map(|c| c + 0.5 * grid.h);
     let to: [f64; 3] = std::array::from_fn(|a| centre[a] - x[a]);
     let length = to.iter().map(|d| d * d).sum::<f64>().sqrt();
     if length == 0.0 {
-        return x;
+        return Some(x);
     }
-    std::array::from_fn(|a| x[a] + 1e-3 * grid.h * to[a] / length)
+    Some(std::array::from_fn(|a| {
+        x[a] + 1e-3 * grid.h * to[a] / length
+    }))
 }
 
 /// The proposal for component `root` of a cell from those of its planes

@@ -36,7 +36,7 @@ impl CellBox {
 
     /// The point of the line `x + t d` inside the box nearest `x`, if the
     /// line crosses the box.
-    fn slide_into(&self, x: [f64; 3], d: [f64; 3]) -> Option<[f64; 3]> {
+    pub(crate) fn slide_into(&self, x: [f64; 3], d: [f64; 3]) -> Option<[f64; 3]> {
         let (mut t0, mut t1) = (f64::NEG_INFINITY, f64::INFINITY);
         for a in 0..3 {
             if d[a].abs() < 1e-12 {
@@ -95,6 +95,10 @@ const ON_SURFACE: f64 = 0.002;
 /// looser than [`ON_SURFACE`], since tangent planes of curved faces meet a
 /// little off their crest (0.8% of a cell on the screw's thread at depth 7).
 const FEATURE_ON_SURFACE: f64 = 0.01;
+
+/// A crease point off the surface by at most this (in cells) is taken onto
+/// it rather than given up (see [`onto_curved_crease`]).
+const CURVED_CREASE: f64 = 0.04;
 
 /// Recovered features are accepted only where every plane of the
 /// neighbourhood passes this close (RMS, in cells) to them.
@@ -225,6 +229,25 @@ pub(crate) fn best_on_surface(
         Some((x, _, _)) => project(grad, x, cell),
         None => project(grad, cell.clamp(qef.mass_point()), cell),
     }
+}
+
+/// A crease point its planes put just off a curved surface (tangent planes
+/// of curved faces meet a little outside the crest: about `1 / (2R)` of a
+/// cell for faces of radius `R` cells), taken onto the surface by Newton
+/// steps inside `cell`, when it lies within [`CURVED_CREASE`] of it; `None`
+/// farther off (an edge's line run on past the edge's end).
+pub(crate) fn onto_curved_crease(
+    grad: &mut GradEval,
+    x: [f64; 3],
+    cell: &CellBox,
+    h: f64,
+) -> Option<[f64; 3]> {
+    if surface_distance(grad, x) > CURVED_CREASE * h {
+        return None;
+    }
+    let y = project_until(grad, x, cell, ON_SURFACE * h);
+    let moved = (0..3).map(|a| (y[a] - x[a]).powi(2)).sum::<f64>().sqrt();
+    (moved <= CURVED_CREASE * h && on_surface(grad, y, h)).then_some(y)
 }
 
 /// The vertex of a featureless component whose planes disagree (the surface

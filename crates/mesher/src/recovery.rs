@@ -123,6 +123,12 @@ pub(crate) fn verify_features(
         for &(p, n) in own {
             qef.add(p, n);
         }
+        let x = vertex_points[*vertex];
+        if let Some(y) = features::onto_curved_crease(&mut grad, x, bounds, grid.h) {
+            vertex_points[*vertex] = y;
+            positions[*vertex] = Vec3::new(y[0] as f32, y[1] as f32, y[2] as f32);
+            continue;
+        }
         let x = features::best_on_surface(own, &qef, None, sharpness, bounds, &mut grad, grid.h);
         vertex_points[*vertex] = x;
         positions[*vertex] = Vec3::new(x[0] as f32, x[1] as f32, x[2] as f32);

@@ -346,75 +346,61 @@ fn curve_coverage(
     )
 }
 
-/// The circle where a sphere meets a cylinder it caps, and a cone's rim
-/// turned off every axis: sampled along the crease, against the mesh.
+/// The circle where a sphere meets a cylinder it caps, and a cone's rim,
+/// each turned by 12 seeded random rotations: sampled along the crease,
+/// against the mesh, every sample within 0.05 cell (issue 37).
 #[test]
-fn curved_creases_of_a_capped_cylinder_and_a_turned_cone() {
+fn curved_creases_of_capped_cylinders_and_cones_at_any_turn() {
     use geode_frep::shapes::{cone, cylinder, sphere};
+    let mut rng = Rng(0xc0ffee);
     let depth = 7;
     let (lo, hi) = ([-1.0; 3], [1.0; 3]);
     let h = 2.0 / (1u64 << depth) as f64;
     // Cylinder r 0.5 along y (half height 0.6) under a sphere r 0.7 at
-    // (0, 0.6, 0): they cross at y = 0.6 - sqrt(0.49 - 0.25).
+    // (0, 0.6, 0): they cross at y = 0.6 - sqrt(0.49 - 0.25). A cone with
+    // its apex up, radius 0.5 and height 0.9: its rim at y = -0.45.
     let capped = cylinder([0.0; 3], 0.5, 0.6).max(sphere([0.0, 0.6, 0.0], 0.7));
-    let g = polygonise(
-        &capped,
-        &MeshOptions::new(lo, hi, depth),
-        &|| false,
-        &|_| {},
-    )
-    .unwrap()
-    .0;
-    let y = 0.6 - (0.49f64 - 0.25).sqrt();
-    let circle = |t: f64| {
-        let a = t * std::f64::consts::TAU;
-        [0.5 * a.cos(), y, 0.5 * a.sin()]
-    };
-    let (near, worst) = curve_coverage(&g, h, 0.05, circle);
-    eprintln!("capped cylinder: {near:.3} of the crease within 0.05 cell, worst {worst:.3} cell");
-    // A cone (apex up, radius 0.5, height 0.9) turned about x and z.
-    let turn =
-        geode_geo::glam::DMat4::from_rotation_z(0.5) * geode_geo::glam::DMat4::from_rotation_x(0.3);
-    let turned = cone([0.0, 0.45, 0.0], 0.5, 0.9).transformed(&turn).unwrap();
-    let g = polygonise(
-        &turned,
-        &MeshOptions::new(lo, hi, depth),
-        &|| false,
-        &|_| {},
-    )
-    .unwrap()
-    .0;
-    let rim = |t: f64| {
-        let a = t * std::f64::consts::TAU;
-        let p = turn.transform_point3(geode_geo::glam::DVec3::new(
-            0.5 * a.cos(),
-            -0.45,
-            0.5 * a.sin(),
-        ));
-        p.to_array()
-    };
-    let (near_cone, worst_cone) = curve_coverage(&g, h, 0.05, rim);
-    // Crease vertices that stand just beside their cell never share a
-    // point with a neighbour's (a welding reader would fuse them).
-    let mut seen = std::collections::HashSet::new();
-    for p in g.positions() {
+    let crease_y = 0.6 - (0.49f64 - 0.25).sqrt();
+    let rimmed = cone([0.0, 0.45, 0.0], 0.5, 0.9);
+    let mut worst_seen = [0.0f64; 2];
+    for case in 0..24 {
+        let (shape, y, name) = if case % 2 == 0 {
+            (&capped, crease_y, "capped cylinder")
+        } else {
+            (&rimmed, -0.45, "cone")
+        };
+        let r = rng.rotation();
+        let f = shape.affine_inverse(transpose(&r), [0.0; 3]);
+        let g = polygonise(&f, &MeshOptions::new(lo, hi, depth), &|| false, &|_| {})
+            .unwrap()
+            .0;
+        let circle = |t: f64| {
+            let a = t * std::f64::consts::TAU;
+            apply(&r, [0.5 * a.cos(), y, 0.5 * a.sin()])
+        };
+        let (near, worst) = curve_coverage(&g, h, 0.05, circle);
+        // Crease vertices that stand just beside their cell never share a
+        // point with a neighbour's (a welding reader would fuse them).
+        let mut seen = std::collections::HashSet::new();
+        for p in g.positions() {
+            assert!(
+                seen.insert(p.to_array().map(f32::to_bits)),
+                "{name} {case}: duplicate vertex {p}"
+            );
+        }
+        // Before the crease's point beside a cell was taken where its line
+        // passes the cell (not where it passes the planes' mass point) and
+        // crease points just off a curved face were taken onto it: 6 of
+        // 12 turned cones missed 0.4-0.6% of the rim by up to 0.5 cell.
         assert!(
-            seen.insert(p.to_array().map(f32::to_bits)),
-            "duplicate vertex {p}"
+            near == 1.0 && worst < 0.05,
+            "{name} {case}: {near} of the crease within 0.05 cell, worst {worst} cell"
         );
+        let k = case % 2;
+        worst_seen[k] = worst_seen[k].max(worst);
     }
     eprintln!(
-        "turned cone: {near_cone:.3} of the rim within 0.05 cell, worst {worst_cone:.3} cell"
-    );
-    // Issue 37 asks for every sample within 0.05 cell. The capped
-    // cylinder's crease holds it (worst 0.019 cell at depth 7); the turned
-    // cone's rim holds it for 99.4% of the rim (59% before edges crossed
-    // twice were meshed and crease vertices could sit just beside their
-    // cell), worst 0.18 cell where the rim passes a hair from a grid edge.
-    // This guards today's level.
-    assert!(near == 1.0 && worst < 0.05, "{near} {worst}");
-    assert!(
-        near_cone >= 0.99 && worst_cone < 0.2,
-        "{near_cone} {worst_cone}"
+        "worst crease sample: capped cylinders {:.3} cell, cones {:.3} cell",
+        worst_seen[0], worst_seen[1]
     );
 }
