@@ -168,10 +168,16 @@ pub(crate) fn mesh_brick(
     let roots = lattice.crossed_edges_where(grid, range, |axis, c| !leaves.interior(axis, c));
     crossings.add(&mut batch, &mut point, &mut grads, roots);
     crossings.add_doubles(&mut batch, &mut point, &mut grads, doubles);
-    if leaves.fit(tape, grid, base, &crossings, (sharpness, tolerance)) {
-        let back = |axis, c| leaves.given_back_interior(axis, c);
-        let roots = lattice.crossed_edges_where(grid, range, back);
+    let tolerances = (sharpness, tolerance);
+    let mut any_failed = leaves.fit(tape, grid, base, &crossings, tolerances);
+    while any_failed {
+        // Candidates whose vertex did not fit try their octants; the edges
+        // none of those holds are solved for them (or for the brick's cells).
+        let nodes = leaves.split_failed(grid, base, &lattice);
+        let exposed = |axis, c| leaves.exposed(&nodes, axis, c);
+        let roots = lattice.crossed_edges_where(grid, range, exposed);
         crossings.add(&mut batch, &mut point, &mut grads, roots);
+        any_failed = leaves.fit(tape, grid, base, &crossings, tolerances);
     }
     // Cells meshed through edges crossed twice (no longer missed).
     let mut doubled_cells: Vec<[usize; 3]> = Vec::new();

@@ -2,23 +2,27 @@
 //! octree's `coarse` leaves, which cannot see inside a node and so need a
 //! proof from interval arithmetic): the brick, or else its octants of 4
 //! cells, or else theirs of 2, where the surface the brick's lattice shows
-//! is one disc (one loop on the node's boundary; inside, every cell one
-//! component and the dual patch connected with Euler characteristic 1)
-//! are candidates, and one whose vertex fits its boundary's planes within
-//! the tolerance is meshed as that vertex alone: contracting a disc to a
-//! point keeps the mesh closed and manifold (Ju et al.'s criterion, read
+//! is one disc per loop on the node's boundary (each loop one arc a face,
+//! once an edge; inside, every cell one component and the dual patch one
+//! connected piece per loop, each with Euler characteristic 1) are
+//! candidates, and one whose vertices (one a sheet: a plate thinner than
+//! the node keeps both sides) fit their loops' planes within the
+//! tolerance is meshed as those vertices alone: contracting each disc to
+//! a point keeps the mesh closed and manifold (Ju et al.'s criterion, read
 //! top-down on the signs instead of bottom-up on every cell's vertex).
-//! Their inner edges are never solved and their cells never placed; the
-//! vertex stands in every slot
-//! its cells hold around the crossed edges of its boundary, where the
-//! brick's own quads (or the global sort, on the brick's faces) lose its
-//! repeated corner. A candidate whose vertex does not fit its planes
-//! within the tolerance gives its cells back to the brick, which then
-//! solves their edges; cells beside an edge crossed twice are never in one.
+//! Their inner edges are never solved and their cells never placed; each
+//! vertex stands in every slot its cells hold around the crossed edges of
+//! its loop, where the brick's own quads (or the global sort, on the
+//! brick's faces) lose its repeated corner. A candidate whose vertices do
+//! not fit gives its cells to its octants, each a candidate in turn (or
+//! below 4 cells to the brick), and the edges it held that none of them
+//! holds are solved then; cells beside an edge crossed twice are never in
+//! one.
 
+use crate::boundary::{cells_around, Boundary, Crossing, Loops};
 use crate::brick::BrickOut;
 use crate::cell::{crossing_key, find, union, Grid, Plane, B, FACES};
-use crate::coarse::{cells_around, fit_vertex, Boundary, Crossing};
+use crate::coarse::fit_vertex;
 use crate::lattice::{slot_edge, Crossings, Lattice, Root};
 use geode_frep::tape::Tape;
 use geode_geo::glam::Vec3;
@@ -27,13 +31,26 @@ const NONE: u16 = u16::MAX;
 /// A cell beside an edge crossed twice.
 const DOUBLED: u16 = u16::MAX - 1;
 
+/// The most sheets one leaf holds (a plate thinner than the node: two).
+const MOST_SHEETS: usize = 4;
+
 struct InnerLeaf {
     /// First cell, local to the brick.
     lo: [usize; 3],
     side: usize,
-    crossings: Vec<Crossing>,
-    /// Its vertex once it fits; None for a candidate that gave its cells back.
-    vertex: Option<[f64; 3]>,
+    /// The boundary's crossings, by the loop (sheet) they lie on.
+    sheets: Vec<Vec<Crossing>>,
+    /// A vertex per sheet once each fits; None before fitting, and for a
+    /// candidate that gave its cells back (to its octants, or the brick).
+    vertices: Option<Vec<[f64; 3]>>,
+    fitted: bool,
+    split: bool,
+}
+
+impl InnerLeaf {
+    fn failed(&self) -> bool {
+        self.fitted && self.vertices.is_none()
+    }
 }
 
 /// The leaves of one brick and the cells they cover.
@@ -41,6 +58,9 @@ pub(crate) struct InnerLeaves {
     /// Per cell of the brick (x fastest): the leaf covering it, or NONE.
     leaf_of: Vec<u16>,
     leaves: Vec<InnerLeaf>,
+    /// Per cell of the brick (x fastest): its corners inside (bit k:
+    /// corner k, x fastest), read once for the brick and its octants.
+    signs: Vec<u8>,
 }
 
 fn cell_index(c: [usize; 3]) -> usize {
@@ -60,6 +80,7 @@ impl InnerLeaves {
         InnerLeaves {
             leaf_of: Vec::new(),
             leaves: Vec::new(),
+            signs: Vec::new(),
         }
     }
 
@@ -71,9 +92,12 @@ impl InnerLeaves {
         lattice: &Lattice,
         doubles: &[Root],
     ) -> InnerLeaves {
+        let mut signs = vec![0u8; B * B * B];
+        for_cells([0; 3], B, |c| signs[cell_index(c)] = cell_signs(lattice, c));
         let mut leaves = InnerLeaves {
             leaf_of: vec![NONE; B * B * B],
             leaves: Vec::new(),
+            signs,
         };
         // Cells around an edge crossed twice (a wall thinner than a cell,
         // its two sheets shown by no sign) are never part of a leaf.
@@ -124,6 +148,22 @@ impl InnerLeaves {
         if doubled {
             return false;
         }
+        // No cell with surface (read off the brick's signs): settled
+        // without building its boundary.
+        let (mut masks, mut filled, mut simple) = (0u8, 0xffu8, true);
+        for_cells(lo, side, |c| {
+            let signs = self.signs[cell_index(c)];
+            masks |= signs;
+            filled &= signs;
+            simple &= signs == 0 || signs == 0xff || ONE_COMPONENT[signs as usize];
+        });
+        if masks == 0 || filled == 0xff {
+            return true;
+        }
+        if !simple {
+            // A cell holding two sheets: never inside a leaf.
+            return false;
+        }
         let Some(boundary) = Boundary::from_lattice(lattice, base, lo, side) else {
             return false;
         };
@@ -133,17 +173,28 @@ impl InnerLeaves {
             // (a speck), no leaf would save work.
             return true;
         }
-        if boundary.loops() != 1 || !boundary.meets_faces_once() || !disc_at_grid(lattice, lo, side)
-        {
+        let Some(loops) = boundary.loops_of(&crossings) else {
             return false;
+        };
+        if loops.count > MOST_SHEETS {
+            return false;
+        }
+        if !discs_at_grid((lattice, &self.signs), (base, lo, side), &crossings, &loops) {
+            return false;
+        }
+        let mut sheets: Vec<Vec<Crossing>> = (0..loops.count).map(|_| Vec::new()).collect();
+        for (c, &l) in crossings.into_iter().zip(&loops.of) {
+            sheets[l as usize].push(c);
         }
         let id = self.leaves.len() as u16;
         for_cells(lo, side, |c| self.leaf_of[cell_index(c)] = id);
         self.leaves.push(InnerLeaf {
             lo,
             side,
-            crossings,
-            vertex: None,
+            sheets,
+            vertices: None,
+            fitted: false,
+            split: false,
         });
         true
     }
@@ -173,10 +224,9 @@ impl InnerLeaves {
         self.inside_leaf(axis, c, |_| true)
     }
 
-    /// Fits every candidate's vertex to the planes the brick solved on its
-    /// boundary; those that do not fit give their cells back. Returns
-    /// whether any did (their inner edges are then to be solved: see
-    /// `given_back_interior`).
+    /// Fits the vertices (one per sheet) of every candidate not yet fitted
+    /// to the planes the brick solved on its boundary. Returns whether any
+    /// does not fit (see `split_failed`).
     pub(crate) fn fit(
         &mut self,
         tape: &Tape,
@@ -185,37 +235,80 @@ impl InnerLeaves {
         crossings: &Crossings,
         tolerances: (f64, f64),
     ) -> bool {
-        let mut any_back = false;
-        for leaf in &mut self.leaves {
+        let mut any_failed = false;
+        for leaf in self.leaves.iter_mut().filter(|leaf| !leaf.fitted) {
             let local = |c: [usize; 3]| std::array::from_fn(|k| (c[k] - base[k]) as isize);
-            let planes: Option<Vec<Plane>> = leaf
-                .crossings
-                .iter()
-                .map(|c| crossings.get(c.axis, local(c.corner)).copied())
-                .collect();
             let global: [usize; 3] = std::array::from_fn(|k| base[k] + leaf.lo[k]);
             let node = (global, leaf.side);
-            leaf.vertex = planes.and_then(|planes| {
-                fit_vertex(tape, grid, node, &planes, tolerances).map(|(x, _)| x)
-            });
-            any_back |= leaf.vertex.is_none();
+            leaf.fitted = true;
+            leaf.vertices = leaf
+                .sheets
+                .iter()
+                .map(|sheet| {
+                    let planes: Vec<Plane> = sheet
+                        .iter()
+                        .map(|c| crossings.get(c.axis, local(c.corner)).copied())
+                        .collect::<Option<_>>()?;
+                    fit_vertex(tape, grid, node, &planes, tolerances).map(|(x, _)| x)
+                })
+                .collect();
+            any_failed |= leaf.vertices.is_none();
         }
-        any_back
+        any_failed
     }
 
-    /// Whether an edge lies inside a candidate that gave its cells back.
-    pub(crate) fn given_back_interior(&self, axis: usize, c: [isize; 3]) -> bool {
-        self.inside_leaf(axis, c, |leaf| leaf.vertex.is_none())
+    /// Candidates that did not fit give their cells to their octants (each
+    /// tried as a candidate in turn), or to the brick below 4 cells. Returns
+    /// their nodes: the edges inside them that no candidate now holds are
+    /// to be solved (see `exposed`).
+    pub(crate) fn split_failed(
+        &mut self,
+        grid: &Grid,
+        base: [usize; 3],
+        lattice: &Lattice,
+    ) -> Vec<([usize; 3], usize)> {
+        let failed: Vec<usize> = (0..self.leaves.len())
+            .filter(|&i| self.leaves[i].failed() && !self.leaves[i].split)
+            .collect();
+        let mut nodes = Vec::with_capacity(failed.len());
+        for i in failed {
+            self.leaves[i].split = true;
+            let (lo, side) = (self.leaves[i].lo, self.leaves[i].side);
+            nodes.push((lo, side));
+            if side > 2 {
+                for n in 0..8 {
+                    self.try_candidate(grid, (base, lattice), (octant(lo, side / 2, n), side / 2));
+                }
+            }
+        }
+        nodes
     }
 
-    /// Whether a leaf with a vertex covers local cell `c`.
+    /// Whether the edge along `axis` from local corner `c` lies inside one
+    /// of `nodes` (all four of its cells in it) and inside no candidate that
+    /// may still fit: left unsolved until now, it is to be solved.
+    pub(crate) fn exposed(
+        &self,
+        nodes: &[([usize; 3], usize)],
+        axis: usize,
+        c: [isize; 3],
+    ) -> bool {
+        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+        let inside = |&(lo, side): &([usize; 3], usize)| {
+            let (lo, hi) = (lo.map(|x| x as isize), lo.map(|x| (x + side) as isize));
+            (0..3).all(|k| c[k] >= lo[k] && c[k] < hi[k]) && c[u] > lo[u] && c[w] > lo[w]
+        };
+        nodes.iter().any(inside) && !self.inside_leaf(axis, c, |leaf| !leaf.failed())
+    }
+
+    /// Whether a leaf with vertices covers local cell `c`.
     pub(crate) fn covers(&self, c: [usize; 3]) -> bool {
         self.leaf_at(c.map(|x| x as isize))
-            .is_some_and(|leaf| leaf.vertex.is_some())
+            .is_some_and(|leaf| leaf.vertices.is_some())
     }
 
-    /// Adds each leaf's vertex and its references to the crossed edges of
-    /// its boundary, in the slots of its cells.
+    /// Adds each leaf's vertices and their references to the crossed edges
+    /// of their sheet's loop on its boundary, in the slots of its cells.
     pub(crate) fn emit(
         &self,
         base: [usize; 3],
@@ -223,21 +316,25 @@ impl InnerLeaves {
         vertex_points: &mut Vec<[f64; 3]>,
     ) {
         for leaf in &self.leaves {
-            let Some(x) = leaf.vertex else { continue };
-            let vertex = out.positions.len() as u32;
+            let Some(vertices) = &leaf.vertices else {
+                continue;
+            };
             out.leaves += 1;
-            out.positions.push(Vec3::from_array(x.map(|c| c as f32)));
-            vertex_points.push(x);
             let lo: [usize; 3] = std::array::from_fn(|k| base[k] + leaf.lo[k]);
-            for c in &leaf.crossings {
-                for (cell, slot) in cells_around(c.axis, c.corner) {
-                    if (0..3).all(|a| cell[a] >= lo[a] && cell[a] < lo[a] + leaf.side) {
-                        out.refs.push((
-                            crossing_key(c.axis, c.corner, false),
-                            slot,
-                            vertex,
-                            c.lower_inside,
-                        ));
+            for (sheet, x) in leaf.sheets.iter().zip(vertices) {
+                let vertex = out.positions.len() as u32;
+                out.positions.push(Vec3::from_array(x.map(|c| c as f32)));
+                vertex_points.push(*x);
+                for c in sheet {
+                    for (cell, slot) in cells_around(c.axis, c.corner) {
+                        if (0..3).all(|a| cell[a] >= lo[a] && cell[a] < lo[a] + leaf.side) {
+                            out.refs.push((
+                                crossing_key(c.axis, c.corner, false),
+                                slot,
+                                vertex,
+                                c.lower_inside,
+                            ));
+                        }
                     }
                 }
             }
@@ -246,60 +343,150 @@ impl InnerLeaves {
 }
 
 /// Whether the dual patch of the node's cells (local first cell `lo`,
-/// `side` cells) is one disc at the grid's resolution, given one loop on
-/// its boundary: every cell's surface one component, no face with its
-/// corners alternating, the cells with surface connected across faces
-/// with surface, and vertices - edges + faces = 1.
-fn disc_at_grid(lattice: &Lattice, lo: [usize; 3], side: usize) -> bool {
-    let inside = |c: [usize; 3]| lattice.at(c.map(|x| x as isize)) >= 0.0;
-    let n = side * side * side;
-    let local = |c: [usize; 3]| (c[0] - lo[0]) + side * ((c[1] - lo[1]) + side * (c[2] - lo[2]));
-    let mut parent: Vec<usize> = (0..n).collect();
-    let mut surface = vec![false; n];
-    let (mut vertices, mut edges, mut faces) = (0i64, 0i64, 0i64);
-    let mut simple = true;
-    for_cells(lo, side, |c| {
-        let signs: u8 = (0..8).fold(0, |m, k| {
-            m | (inside([c[0] + (k & 1), c[1] + (k >> 1 & 1), c[2] + (k >> 2 & 1)]) as u8) << k
-        });
-        if signs != 0 && signs != 255 {
-            simple &= one_component(signs);
-            surface[local(c)] = true;
-            vertices += 1;
-        }
-    });
-    if !simple {
-        return false;
-    }
-    for_cells(lo, side, |c| {
-        if !surface[local(c)] {
-            return;
-        }
-        for axis in 0..3 {
-            // The face towards the next cell along `axis`, and the edges
-            // along `axis` from this cell's lowest corner.
-            let mut next = c;
-            next[axis] += 1;
-            if next[axis] < lo[axis] + side
-                && surface[local(next)]
-                && face_crossed(&inside, next, axis)
-            {
-                edges += 1;
-                union(&mut parent, local(c), local(next));
-            }
-            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-            let mut far = c;
-            far[axis] += 1;
-            if c[u] > lo[u] && c[w] > lo[w] && inside(c) != inside(far) {
-                faces += 1;
-            }
-        }
-    });
-    let roots = (0..n)
-        .filter(|&i| surface[i] && find(&mut parent, i) == i)
-        .count();
-    roots == 1 && vertices - edges + faces == 1
+/// `side` cells, in the brick from grid corner `base`; every cell's surface
+/// one component, see `try_candidate`) is one disc per loop of its
+/// boundary at the grid's resolution: the cells with surface connected
+/// across faces with surface into one piece per loop (the cells beside
+/// each loop's crossings in its piece), each with vertices - edges + faces
+/// = 1.
+fn discs_at_grid(
+    (lattice, signs): (&Lattice, &[u8]),
+    (base, lo, side): ([usize; 3], [usize; 3], usize),
+    crossings: &[Crossing],
+    loops: &Loops,
+) -> bool {
+    let mut patch = Patch::build((lattice, signs), lo, side);
+    patch.one_piece_per_loop(base, crossings, loops) && patch.pieces_are_discs()
 }
+
+/// The dual patch of a node's cells: its vertices (cells with surface),
+/// edges (crossed faces between them) and faces (crossed edges inside the
+/// node), and its connected pieces.
+struct Patch {
+    lo: [usize; 3],
+    side: usize,
+    surface: Vec<bool>,
+    parent: Vec<usize>,
+    /// A cell of each edge and of each face of the patch.
+    edges: Vec<usize>,
+    faces: Vec<usize>,
+}
+
+impl Patch {
+    fn build((lattice, signs): (&Lattice, &[u8]), lo: [usize; 3], side: usize) -> Patch {
+        let inside = |c: [usize; 3]| lattice.at(c.map(|x| x as isize)) >= 0.0;
+        let n = side * side * side;
+        let mut patch = Patch {
+            lo,
+            side,
+            surface: vec![false; n],
+            parent: (0..n).collect(),
+            edges: Vec::new(),
+            faces: Vec::new(),
+        };
+        for_cells(lo, side, |c| {
+            let signs = signs[cell_index(c)];
+            let at = patch.local(c);
+            patch.surface[at] = signs != 0 && signs != 0xff;
+        });
+        for_cells(lo, side, |c| {
+            let here = patch.local(c);
+            if !patch.surface[here] {
+                return;
+            }
+            for axis in 0..3 {
+                // The face towards the next cell along `axis`, and the edge
+                // along `axis` from this cell's lowest corner.
+                let mut next = c;
+                next[axis] += 1;
+                if next[axis] < lo[axis] + side
+                    && patch.surface[patch.local(next)]
+                    && face_crossed(&inside, next, axis)
+                {
+                    let there = patch.local(next);
+                    patch.edges.push(here);
+                    union(&mut patch.parent, here, there);
+                }
+                let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                if c[u] > lo[u] && c[w] > lo[w] && inside(c) != inside(next) {
+                    patch.faces.push(here);
+                }
+            }
+        });
+        patch
+    }
+
+    fn local(&self, c: [usize; 3]) -> usize {
+        let (lo, side) = (self.lo, self.side);
+        (c[0] - lo[0]) + side * ((c[1] - lo[1]) + side * (c[2] - lo[2]))
+    }
+
+    /// Whether each loop's crossings lie beside cells of one piece, and
+    /// each piece is one loop's.
+    fn one_piece_per_loop(
+        &mut self,
+        base: [usize; 3],
+        crossings: &[Crossing],
+        loops: &Loops,
+    ) -> bool {
+        let (lo, side) = (self.lo, self.side);
+        let mut piece_of_loop = vec![usize::MAX; loops.count];
+        for (c, &l) in crossings.iter().zip(&loops.of) {
+            let Some(cell) = cells_around(c.axis, c.corner).find_map(|(cell, _)| {
+                let at: [usize; 3] = std::array::from_fn(|k| cell[k].wrapping_sub(base[k]));
+                (0..3)
+                    .all(|k| at[k] >= lo[k] && at[k] < lo[k] + side)
+                    .then_some(at)
+            }) else {
+                return false;
+            };
+            let at = self.local(cell);
+            let piece = find(&mut self.parent, at);
+            match piece_of_loop[l as usize] {
+                usize::MAX => piece_of_loop[l as usize] = piece,
+                p if p != piece => return false,
+                _ => {}
+            }
+        }
+        let pieces = (0..self.surface.len())
+            .filter(|&i| self.surface[i] && find(&mut self.parent, i) == i)
+            .count();
+        piece_of_loop.sort_unstable();
+        piece_of_loop.dedup();
+        piece_of_loop.len() == loops.count && pieces == loops.count
+    }
+
+    /// Whether every piece has Euler characteristic 1 (a disc).
+    fn pieces_are_discs(&mut self) -> bool {
+        let mut euler = vec![0i64; self.surface.len()];
+        for i in 0..self.surface.len() {
+            if self.surface[i] {
+                euler[find(&mut self.parent, i)] += 1;
+            }
+        }
+        for &i in &self.edges {
+            euler[find(&mut self.parent, i)] -= 1;
+        }
+        for &i in &self.faces {
+            euler[find(&mut self.parent, i)] += 1;
+        }
+        (0..self.surface.len())
+            .filter(|&i| self.surface[i] && self.parent[i] == i)
+            .all(|i| euler[i] == 1)
+    }
+}
+
+/// The corners of local cell `c` inside (bit k: corner k, x fastest).
+fn cell_signs(lattice: &Lattice, c: [usize; 3]) -> u8 {
+    (0..8).fold(0, |m, k| {
+        let corner = [c[0] + (k & 1), c[1] + (k >> 1 & 1), c[2] + (k >> 2 & 1)];
+        m | ((lattice.at(corner.map(|x| x as isize)) >= 0.0) as u8) << k
+    })
+}
+
+/// [`one_component`] of every sign pattern.
+static ONE_COMPONENT: std::sync::LazyLock<[bool; 256]> =
+    std::sync::LazyLock::new(|| std::array::from_fn(|s| one_component(s as u8)));
 
 /// Whether the face of the cube at corner `c` normal to `axis` has both
 /// signs at its corners.

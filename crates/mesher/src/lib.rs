@@ -7,6 +7,7 @@
 //! against its field. Knows nothing of nodes, graphs or files.
 
 pub mod adaptive;
+mod boundary;
 mod brick;
 mod cell;
 mod cluster;
