@@ -22,19 +22,48 @@ pub(crate) struct Crossing {
     pub lower_inside: bool,
 }
 
-/// The signed values of the grid corners on a node's boundary.
+/// The signed values of the grid corners on a node's boundary, face by
+/// face: face `f` is normal to axis `f / 2`, at the node's near (`f` even)
+/// or far side, its corners indexed `i + n j` along the next axis (`i`)
+/// and the one after (`j`), `n` corners a side. A corner on an edge of the
+/// node is in two faces (three at a corner of the node), with one value.
 pub(crate) struct Boundary {
     lo: [usize; 3],
     side: usize,
-    /// Over the node's (side + 1)^3 corners; only the boundary's are set.
     values: Vec<f32>,
 }
 
+/// The local corner of face `f` at `(i, j)`.
+fn face_corner(f: usize, side: usize, i: usize, j: usize) -> [usize; 3] {
+    let axis = f / 2;
+    let mut c = [0; 3];
+    c[axis] = (f % 2) * side;
+    c[(axis + 1) % 3] = i;
+    c[(axis + 2) % 3] = j;
+    c
+}
+
 impl Boundary {
+    /// The boundary with each corner's value from `value` (local corner),
+    /// or None where a face's square has its corners alternating in sign
+    /// (its pairing belongs to the neighbour's centre test; such nodes
+    /// subdivide).
+    fn new(lo: [usize; 3], side: usize, value: impl Fn([usize; 3]) -> f32) -> Option<Boundary> {
+        let n = side + 1;
+        let mut values = Vec::with_capacity(6 * n * n);
+        for f in 0..6 {
+            for j in 0..n {
+                for i in 0..n {
+                    values.push(value(face_corner(f, side, i, j)));
+                }
+            }
+        }
+        let boundary = Boundary { lo, side, values };
+        (!boundary.has_ambiguous_face()).then_some(boundary)
+    }
+
     /// Samples the boundary's corners as a brick's lattice does (same
     /// coordinates in f32, same snapping), so both sides of a face agree.
-    /// None where a boundary face's corners alternate in sign (its pairing
-    /// belongs to the neighbour's centre test; such nodes subdivide).
     pub(crate) fn sample(
         tape: &Tape,
         grid: &Grid,
@@ -54,12 +83,11 @@ impl Boundary {
         let mut sampled = vec![0.0f32; at.len()];
         BatchEval::new(tape).eval(&xs, &ys, &zs, &mut sampled);
         snap_to_surface(&mut sampled, grid.h);
-        let mut values = vec![f32::NAN; n * n * n];
+        let mut cube = vec![f32::NAN; n * n * n];
         for (i, v) in at.into_iter().zip(sampled) {
-            values[i] = v;
+            cube[i] = v;
         }
-        let boundary = Boundary { lo, side, values };
-        (!boundary.has_ambiguous_face()).then_some(boundary)
+        Boundary::new(lo, side, |c| cube[c[0] + n * (c[1] + n * c[2])])
     }
 
     /// The boundary of a node inside a brick from the brick's lattice
@@ -70,85 +98,83 @@ impl Boundary {
         lo: [usize; 3],
         side: usize,
     ) -> Option<Boundary> {
-        let n = side + 1;
-        let mut values = vec![f32::NAN; n * n * n];
-        for_boundary_corners(side, |c| {
-            let at: [isize; 3] = std::array::from_fn(|k| (lo[k] + c[k]) as isize);
-            values[c[0] + n * (c[1] + n * c[2])] = lattice.at(at);
-        });
         let global = std::array::from_fn(|k| base[k] + lo[k]);
-        let boundary = Boundary {
-            lo: global,
-            side,
-            values,
-        };
-        (!boundary.has_ambiguous_face()).then_some(boundary)
+        Boundary::new(global, side, |c| {
+            lattice.at(std::array::from_fn(|k| (lo[k] + c[k]) as isize))
+        })
     }
 
-    fn index(&self, c: [usize; 3]) -> usize {
-        let n = self.side + 1;
-        c[0] + n * (c[1] + n * c[2])
+    fn n(&self) -> usize {
+        self.side + 1
+    }
+
+    /// The slot of local corner `c` on face `f` (which holds it).
+    fn slot(&self, f: usize, c: [usize; 3]) -> usize {
+        let (n, axis) = (self.n(), f / 2);
+        f * n * n + c[(axis + 1) % 3] + n * c[(axis + 2) % 3]
+    }
+
+    /// The faces holding local corner `c`.
+    fn faces_of(&self, c: [usize; 3]) -> impl Iterator<Item = usize> + '_ {
+        (0..6).filter(move |&f| c[f / 2] == (f % 2) * self.side)
     }
 
     fn inside(&self, c: [usize; 3]) -> bool {
-        self.values[self.index(c)] >= 0.0
+        let f = self.faces_of(c).next().unwrap_or(0);
+        self.values[self.slot(f, c)] >= 0.0
     }
 
-    fn on_boundary(&self, c: [usize; 3]) -> bool {
-        c.iter().any(|&x| x == 0 || x == self.side)
-    }
-
-    /// Calls `f` with every pair of neighbouring boundary corners (local),
-    /// each once: the grid edges lying on the boundary, by axis and lower
-    /// corner.
-    pub(crate) fn for_edges(&self, mut f: impl FnMut(usize, [usize; 3])) {
-        for_boundary_corners(self.side, |c| {
-            for axis in 0..3 {
-                let mut d = c;
-                d[axis] += 1;
-                if d[axis] <= self.side && self.on_boundary(d) {
-                    f(axis, c);
+    /// The crossed grid edges on the boundary, each once: face by face,
+    /// along the face's two axes, an edge on an edge of the node taken
+    /// from the first face holding it.
+    pub(crate) fn crossings(&self) -> Vec<Crossing> {
+        let (n, s) = (self.n(), self.side);
+        let mut out = Vec::new();
+        for f in 0..6 {
+            let axis = f / 2;
+            let values = &self.values[f * n * n..(f + 1) * n * n];
+            for (along, step) in [((axis + 1) % 3, 1), ((axis + 2) % 3, n)] {
+                // The face's other axis: an edge at its ends lies on an
+                // edge of the node, also held by the face normal to it.
+                let across = 3 - axis - along;
+                let shared = 2 * across;
+                for j in 0..n {
+                    for i in 0..n {
+                        let (at, along_at, across_at) = if step == 1 { (i + n * j, i, j) } else { (i + n * j, j, i) };
+                        if along_at == s {
+                            continue;
+                        }
+                        let on_node_edge = across_at == 0 || across_at == s;
+                        let other = shared + (across_at == s) as usize;
+                        if on_node_edge && other < f {
+                            continue;
+                        }
+                        let (a, b) = (values[at], values[at + step]);
+                        if (a >= 0.0) != (b >= 0.0) {
+                            let c = face_corner(f, s, i, j);
+                            out.push(Crossing {
+                                axis: along,
+                                corner: std::array::from_fn(|k| self.lo[k] + c[k]),
+                                at: (a / (a - b)).clamp(0.0, 1.0),
+                                lower_inside: a >= 0.0,
+                            });
+                        }
+                    }
                 }
             }
-        });
-    }
-
-    pub(crate) fn crossings(&self) -> Vec<Crossing> {
-        let mut out = Vec::new();
-        self.for_edges(|axis, c| {
-            let mut d = c;
-            d[axis] += 1;
-            let (a, b) = (self.values[self.index(c)], self.values[self.index(d)]);
-            if (a >= 0.0) != (b >= 0.0) {
-                out.push(Crossing {
-                    axis,
-                    corner: std::array::from_fn(|k| self.lo[k] + c[k]),
-                    at: (a / (a - b)).clamp(0.0, 1.0),
-                    lower_inside: a >= 0.0,
-                });
-            }
-        });
+        }
         out
     }
 
     /// Whether some square of the boundary has its corners alternating in sign.
     fn has_ambiguous_face(&self) -> bool {
-        let s = self.side;
-        (0..3).any(|axis| {
-            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-            [0, s].into_iter().any(|plane| {
-                (0..s).any(|i| {
-                    (0..s).any(|j| {
-                        let corner = |di: usize, dj: usize| {
-                            let mut c = [0; 3];
-                            c[axis] = plane;
-                            c[u] = i + di;
-                            c[w] = j + dj;
-                            self.inside(c)
-                        };
-                        let (a, b, c, d) = (corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1));
-                        a == c && b == d && a != b
-                    })
+        let n = self.n();
+        (0..6).any(|f| {
+            let inside = |i: usize, j: usize| self.values[f * n * n + i + n * j] >= 0.0;
+            (0..n - 1).any(|j| {
+                (0..n - 1).any(|i| {
+                    let (a, b, c, d) = (inside(i, j), inside(i + 1, j), inside(i + 1, j + 1), inside(i, j + 1));
+                    a == c && b == d && a != b
                 })
             })
         })
@@ -163,7 +189,7 @@ impl Boundary {
     /// same holds for arcs and the face's own regions; the boundary's
     /// regions are the faces' glued along the node's edges.
     pub(crate) fn loops_of(&self, crossings: &[Crossing]) -> Option<Loops> {
-        let mut faces = FaceRegions::new(self);
+        let mut regions = FaceRegions::new(self);
         let mut links: Vec<(usize, usize)> = Vec::new();
         let mut of = Vec::with_capacity(crossings.len());
         let mut arcs: Vec<(usize, u8, usize, usize)> = Vec::new();
@@ -172,7 +198,11 @@ impl Boundary {
             let mut b = a;
             b[c.axis] += 1;
             let (inside, outside) = if self.inside(a) { (a, b) } else { (b, a) };
-            let link = (faces.region(inside), faces.region(outside));
+            let mut region = |c: [usize; 3]| {
+                let f = self.faces_of(c).next().unwrap_or(0);
+                find(&mut regions.glued, self.slot(f, c))
+            };
+            let link = (region(inside), region(outside));
             let id = links.iter().position(|l| *l == link).unwrap_or_else(|| {
                 links.push(link);
                 links.len() - 1
@@ -180,8 +210,10 @@ impl Boundary {
             let id = u8::try_from(id).ok()?;
             of.push(id);
             // The arc it lies on, on each face holding it.
-            for f in faces.holding(c.axis, a) {
-                arcs.push((f, id, faces.local(f, inside), faces.local(f, outside)));
+            for f in self.faces_of(a).filter(|f| f / 2 != c.axis) {
+                let (x, y) = (self.slot(f, inside), self.slot(f, outside));
+                let local = &mut regions.local;
+                arcs.push((f, id, find(local, x), find(local, y)));
             }
         }
         arcs.sort_unstable();
@@ -230,48 +262,40 @@ pub(crate) struct Loops {
 /// joined along the face's grid edges), and the same glued along the
 /// node's edges into the boundary's.
 struct FaceRegions {
-    side: usize,
-    /// Per face (axis * 2 + far side) and corner of it (u fastest), the
-    /// root of its region on that face alone.
+    /// The union-find of each face's slots on that face alone.
     local: Vec<usize>,
-    /// The union-find of the faces' corners, glued where faces meet.
+    /// The union-find of the faces' slots, glued where faces meet.
     glued: Vec<usize>,
 }
 
 impl FaceRegions {
     fn new(b: &Boundary) -> FaceRegions {
-        let s = b.side;
-        let n = s + 1;
+        let (s, n) = (b.side, b.n());
+        let inside: Vec<bool> = b.values.iter().map(|&v| v >= 0.0).collect();
         let mut parent: Vec<usize> = (0..6 * n * n).collect();
         for f in 0..6 {
-            let (axis, plane) = (f / 2, (f % 2) * s);
-            let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-            let at = |i: usize, j: usize| {
-                let mut c = [0; 3];
-                c[axis] = plane;
-                c[u] = i;
-                c[w] = j;
-                b.inside(c)
-            };
             let base = f * n * n;
             for j in 0..n {
                 for i in 0..n {
-                    let here = at(i, j);
-                    if i + 1 < n && at(i + 1, j) == here {
-                        union(&mut parent, base + i + n * j, base + i + 1 + n * j);
+                    let at = base + i + n * j;
+                    // A run along i shares its start's root; rows join
+                    // where they touch (once per pair of runs that meet).
+                    if i > 0 && inside[at - 1] == inside[at] {
+                        parent[at] = parent[at - 1];
                     }
-                    if j + 1 < n && at(i, j + 1) == here {
-                        union(&mut parent, base + i + n * j, base + i + n * (j + 1));
+                    let meets_row_below = j > 0 && inside[at - n] == inside[at];
+                    let joined_left = meets_row_below
+                        && i > 0
+                        && inside[at - 1] == inside[at]
+                        && inside[at - 1 - n] == inside[at];
+                    if meets_row_below && !joined_left {
+                        union(&mut parent, at, at - n);
                     }
                 }
             }
         }
-        let local: Vec<usize> = (0..6 * n * n).map(|i| find(&mut parent, i)).collect();
-        let mut regions = FaceRegions {
-            side: s,
-            local,
-            glued: parent,
-        };
+        let local = parent.clone();
+        let mut glued = parent;
         // Each corner on a node edge lies on two faces (three at a node's
         // corner, which two of its edges join).
         for axis in 0..3 {
@@ -283,39 +307,11 @@ impl FaceRegions {
                     c[u] = p;
                     c[w] = q;
                     let (fu, fw) = (2 * u + (p == s) as usize, 2 * w + (q == s) as usize);
-                    let (x, y) = (regions.slot(fu, c), regions.slot(fw, c));
-                    union(&mut regions.glued, x, y);
+                    union(&mut glued, b.slot(fu, c), b.slot(fw, c));
                 }
             }
         }
-        regions
-    }
-
-    /// Corner `c`'s index on face `f`.
-    fn slot(&self, f: usize, c: [usize; 3]) -> usize {
-        let n = self.side + 1;
-        let axis = f / 2;
-        let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
-        f * n * n + c[u] + n * c[w]
-    }
-
-    /// The faces holding the edge along `axis` from corner `c` (both on the boundary).
-    fn holding(&self, axis: usize, c: [usize; 3]) -> impl Iterator<Item = usize> + '_ {
-        (0..6).filter(move |&f| f / 2 != axis && c[f / 2] == (f % 2) * self.side)
-    }
-
-    /// Corner `c`'s region on the boundary.
-    fn region(&mut self, c: [usize; 3]) -> usize {
-        let f = (0..6)
-            .find(|&f| c[f / 2] == (f % 2) * self.side)
-            .unwrap_or(0);
-        let slot = self.slot(f, c);
-        find(&mut self.glued, slot)
-    }
-
-    /// Corner `c`'s region on face `f` alone.
-    fn local(&self, f: usize, c: [usize; 3]) -> usize {
-        self.local[self.slot(f, c)]
+        FaceRegions { local, glued }
     }
 }
 
@@ -356,21 +352,11 @@ pub(crate) fn cells_around(axis: usize, c: [usize; 3]) -> impl Iterator<Item = (
 
 #[cfg(test)]
 mod tests {
-    use super::{for_boundary_corners, Boundary};
+    use super::Boundary;
 
     /// The boundary of a node of 4 cells signed by `inside` at local corners.
     fn boundary(inside: impl Fn([usize; 3]) -> bool) -> Boundary {
-        let side = 4;
-        let n = side + 1;
-        let mut values = vec![f32::NAN; n * n * n];
-        for_boundary_corners(side, |c| {
-            values[c[0] + n * (c[1] + n * c[2])] = if inside(c) { 1.0 } else { -1.0 };
-        });
-        Boundary {
-            lo: [0; 3],
-            side,
-            values,
-        }
+        Boundary::new([0; 3], 4, |c| if inside(c) { 1.0 } else { -1.0 }).unwrap()
     }
 
     /// A tilted plane cuts the boundary in one loop, each face in one arc;
