@@ -140,7 +140,11 @@ impl Boundary {
                 let shared = 2 * across;
                 for j in 0..n {
                     for i in 0..n {
-                        let (at, along_at, across_at) = if step == 1 { (i + n * j, i, j) } else { (i + n * j, j, i) };
+                        let (at, along_at, across_at) = if step == 1 {
+                            (i + n * j, i, j)
+                        } else {
+                            (i + n * j, j, i)
+                        };
                         if along_at == s {
                             continue;
                         }
@@ -173,7 +177,12 @@ impl Boundary {
             let inside = |i: usize, j: usize| self.values[f * n * n + i + n * j] >= 0.0;
             (0..n - 1).any(|j| {
                 (0..n - 1).any(|i| {
-                    let (a, b, c, d) = (inside(i, j), inside(i + 1, j), inside(i + 1, j + 1), inside(i, j + 1));
+                    let (a, b, c, d) = (
+                        inside(i, j),
+                        inside(i + 1, j),
+                        inside(i + 1, j + 1),
+                        inside(i, j + 1),
+                    );
                     a == c && b == d && a != b
                 })
             })

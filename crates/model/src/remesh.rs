@@ -108,14 +108,17 @@ pub fn remesh(
     if m.faces.is_empty() {
         return Ok(Geometry::default());
     }
-    // Setup phases take tens of milliseconds each on a million triangles:
-    // a cancel is answered between them.
+    // Setup phases take tens of milliseconds each on a million triangles
+    // (two or three times that in a test build): a cancel is answered
+    // between every two of them.
     let mut topo = Topo::build(&m);
     ModelError::unless_cancelled(cancel)?;
     check_manifold(&m, &topo)?;
+    ModelError::unless_cancelled(cancel)?;
     mark_features(&mut m, &topo, opts, &origin);
     ModelError::unless_cancelled(cancel)?;
     topo.rebuild(&m);
+    ModelError::unless_cancelled(cancel)?;
     mark_corners(&mut m, &topo, opts.crease_angle);
     ModelError::unless_cancelled(cancel)?;
     let sizes = match sizing {
@@ -135,8 +138,10 @@ pub fn remesh(
         }
     };
     ModelError::unless_cancelled(cancel)?;
+    let original = Topo::build(&m);
+    ModelError::unless_cancelled(cancel)?;
     let surface =
-        surface::Surface::new(&m, Topo::build(&m), sizes, cancel).ok_or(ModelError::Cancelled)?;
+        surface::Surface::new(&m, original, sizes, cancel).ok_or(ModelError::Cancelled)?;
     let mut scratch = Vec::new();
     for _ in 0..opts.iterations {
         split::split_long_edges(&mut m, &mut topo, cancel)?;

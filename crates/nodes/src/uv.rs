@@ -273,7 +273,7 @@ fn cook_flatten(
             flat.island_count, options.pack.margin, flat.margin
         ));
     }
-    warn_not_discs(ctx, &g, &flat.uv, &flat.prim_island, flat.island_count);
+    warn_not_discs(ctx, &g, &flat.uv, &flat.prim_island, flat.island_count)?;
     write_uv(&mut g, name, flat.uv).map_err(|e| uv_error(ctx, NAME.name, e))?;
     if !island.is_empty() {
         write_islands(&mut g, island, flat.prim_island)
@@ -285,15 +285,25 @@ fn cook_flatten(
 /// Warns of islands that are not discs (Euler characteristic other than
 /// 1: closed, or a tube with two rims): a least-squares conformal map
 /// flattens a disc; anything else folds or collapses. Counted on the
-/// flattened result, where a seam has split its points.
-fn warn_not_discs(ctx: &CookContext, g: &Geometry, uv: &[Vec3], island: &[i32], count: usize) {
-    use std::collections::HashSet;
+/// flattened result, where a seam has split its points (corners and edges
+/// sorted and deduplicated per island, with the cook's cancel polled).
+fn warn_not_discs(
+    ctx: &CookContext,
+    g: &Geometry,
+    uv: &[Vec3],
+    island: &[i32],
+    count: usize,
+) -> Result<(), CookError> {
+    use rayon::slice::ParallelSliceMut;
     type Corner = (u32, u32, u32);
     let key = |v: usize| (g.vertex_points()[v], uv[v].x.to_bits(), uv[v].y.to_bits());
-    let mut verts: Vec<HashSet<Corner>> = vec![HashSet::new(); count];
-    let mut edges: Vec<HashSet<[Corner; 2]>> = vec![HashSet::new(); count];
+    let mut corners: Vec<(u32, Corner)> = Vec::with_capacity(g.num_vertices());
+    let mut edges: Vec<(u32, [Corner; 2])> = Vec::with_capacity(g.num_vertices());
     let mut faces = vec![0i64; count];
     for (prim, &own) in island.iter().enumerate().take(g.num_prims()) {
+        if prim % 16384 == 0 {
+            ctx.check()?;
+        }
         let Some(k) = usize::try_from(own).ok().filter(|&k| k < count) else {
             continue;
         };
@@ -302,13 +312,26 @@ fn warn_not_discs(ctx: &CookContext, g: &Geometry, uv: &[Vec3], island: &[i32], 
         let n = r.len();
         for j in 0..n {
             let (a, b) = (key(r.start + j), key(r.start + (j + 1) % n));
-            verts[k].insert(a);
-            edges[k].insert(if a < b { [a, b] } else { [b, a] });
+            corners.push((k as u32, a));
+            edges.push((k as u32, if a < b { [a, b] } else { [b, a] }));
         }
+    }
+    ctx.check()?;
+    corners.par_sort_unstable();
+    corners.dedup();
+    ctx.check()?;
+    edges.par_sort_unstable();
+    edges.dedup();
+    let mut chi = faces;
+    for (k, _) in &corners {
+        chi[*k as usize] += 1;
+    }
+    for (k, _) in &edges {
+        chi[*k as usize] -= 1;
     }
     let odd: Vec<String> = (0..count)
         .filter_map(|k| {
-            let chi = verts[k].len() as i64 - edges[k].len() as i64 + faces[k];
+            let chi = chi[k];
             (chi != 1).then(|| match chi {
                 2 => format!("island {k} is closed"),
                 0 => format!("island {k} is a tube or ring"),
@@ -322,6 +345,7 @@ fn warn_not_discs(ctx: &CookContext, g: &Geometry, uv: &[Vec3], island: &[i32], 
             odd.iter().take(4).cloned().collect::<Vec<_>>().join(", ")
         ));
     }
+    Ok(())
 }
 
 /// The seam edges a seams parameter names: `pA-B[-C...]` paths, and the
