@@ -23,7 +23,7 @@ use deviation::deviation;
 
 fn corpus(name: &str) -> String {
     let path = format!(
-        "{}/../../../shared/corpus/fidget-models/{name}",
+        "{}/../../corpus/fidget-models/{name}",
         env!("CARGO_MANIFEST_DIR")
     );
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))

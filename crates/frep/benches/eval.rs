@@ -33,7 +33,7 @@ fn spheres() -> Field {
 fn colonnade() -> Field {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/corpus/fidget-models/colonnade.vm"
+        "/../../corpus/fidget-models/colonnade.vm"
     ))
     .unwrap();
     geode_frep::parse_vm(&text).unwrap()

@@ -181,7 +181,7 @@ fn batch_gradients_equal_point_gradients() {
 fn tanglecube_from_fidget_matches_its_formula() {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/corpus/fidget-models/tanglecube.vm"
+        "/../../corpus/fidget-models/tanglecube.vm"
     ))
     .unwrap();
     let f = geode_frep::parse_vm(&text).unwrap();
@@ -201,7 +201,7 @@ fn tanglecube_from_fidget_matches_its_formula() {
 fn every_corpus_model_imports_and_evaluates() {
     let dir = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/corpus/fidget-models"
+        "/../../corpus/fidget-models"
     );
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();

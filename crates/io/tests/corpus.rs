@@ -1,4 +1,4 @@
-//! Data-driven: every OpenSubdiv regression shape in the shared corpus reads,
+//! Data-driven: every OpenSubdiv regression shape in the test corpus (`corpus/`) reads,
 //! with its tags available as attributes that match the tag lines.
 
 mod common;

@@ -79,7 +79,7 @@ fn walls() -> Field {
 
 fn vm(name: &str) -> Field {
     let text = std::fs::read_to_string(format!(
-        "{}/../../../shared/corpus/fidget-models/{name}",
+        "{}/../../corpus/fidget-models/{name}",
         env!("CARGO_MANIFEST_DIR")
     ))
     .unwrap();

@@ -158,7 +158,7 @@ fn the_output_does_not_depend_on_threads() {
 
 fn corpus_model(name: &str) -> Field {
     let path = format!(
-        "{}/../../../shared/corpus/fidget-models/{name}",
+        "{}/../../corpus/fidget-models/{name}",
         env!("CARGO_MANIFEST_DIR")
     );
     geode_frep::parse_vm(&std::fs::read_to_string(&path).unwrap()).unwrap()

@@ -49,7 +49,7 @@ fn example(file: &str) -> String {
 
 fn corpus(path: &str) -> String {
     format!(
-        "{}/../../../shared/corpus/{path}",
+        "{}/../../corpus/{path}",
         env!("CARGO_MANIFEST_DIR")
     )
 }

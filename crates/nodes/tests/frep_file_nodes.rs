@@ -1,4 +1,4 @@
-//! The frep_file node on fidget's own models (`../shared/corpus/fidget-models`):
+//! The frep_file node on fidget's own models (`corpus/fidget-models`):
 //! 3D programs mesh to closed solids, 2D ones to prisms; errors name the
 //! file and line.
 
@@ -6,7 +6,7 @@ mod common;
 use common::*;
 
 fn corpus() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/fidget-models")
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/fidget-models")
 }
 
 #[test]

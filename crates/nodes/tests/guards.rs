@@ -63,7 +63,7 @@ fn peak_rss_bytes() -> Option<u64> {
 
 fn corpus(name: &str) -> String {
     let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/corpus/opensubdiv")
+        .join("../../corpus/opensubdiv")
         .join(name);
     p.canonicalize().unwrap().to_string_lossy().into_owned()
 }

@@ -22,7 +22,7 @@ fn subdividing_a_creased_box_keeps_its_creases_and_closes() {
     assert!(g.attrib(AttribClass::Point, "N").is_some());
     // Chaikin differs from uniform decay where semi-sharp creases meet.
     let shape = format!(
-        "{}/../../../shared/corpus/opensubdiv/catmark_chaikin1.obj",
+        "{}/../../corpus/opensubdiv/catmark_chaikin1.obj",
         env!("CARGO_MANIFEST_DIR")
     );
     let chaikin = |method: &str| {
@@ -324,7 +324,7 @@ fn nurbs_patches_stay_exact_through_transforms_and_merges_until_converted() {
 #[test]
 fn uv_interpolation_follows_opensubdivs_face_varying_options() {
     let shape = format!(
-        "{}/../../../shared/corpus/opensubdiv/catmark_fvar_bound0.obj",
+        "{}/../../corpus/opensubdiv/catmark_fvar_bound0.obj",
         env!("CARGO_MANIFEST_DIR")
     );
     let uvs_at = |mode: &str, limit: bool| -> Vec<[f32; 2]> {

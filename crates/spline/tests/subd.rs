@@ -221,7 +221,7 @@ fn a_bicubic_torus_equals_the_catmull_clark_limit_of_its_control_mesh() {
 #[test]
 fn the_same_output_on_one_thread_and_many() {
     let car = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/corpus/opensubdiv/catmark_car.obj");
+        .join("../../corpus/opensubdiv/catmark_car.obj");
     let g = geode_io::read(&car, &geode_io::NoProgress).unwrap();
     let on = |threads: usize, o: &SubdOptions| {
         let pool = rayon::ThreadPoolBuilder::new()

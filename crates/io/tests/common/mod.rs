@@ -16,10 +16,10 @@ pub fn repo_root() -> PathBuf {
 }
 
 pub fn corpus() -> PathBuf {
-    let p = repo_root().join("../shared/corpus");
+    let p = repo_root().join("corpus");
     assert!(
         p.is_dir(),
-        "the shared corpus must sit beside the checkout at {}",
+        "the test corpus is part of the repository, at {}",
         p.display()
     );
     p

@@ -40,7 +40,7 @@ const SKIPPED: [(&str, &str); 3] = [
 ];
 
 fn corpus() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus/opensubdiv")
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../corpus/opensubdiv")
 }
 
 /// The corpus's OBJ shapes, in name order.
