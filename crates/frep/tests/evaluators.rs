@@ -199,10 +199,7 @@ fn tanglecube_from_fidget_matches_its_formula() {
 
 #[test]
 fn every_corpus_model_imports_and_evaluates() {
-    let dir = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../corpus/fidget-models"
-    );
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../corpus/fidget-models");
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "vm") {

@@ -333,17 +333,7 @@ fn a_thin_plate_is_meshed_from_leaves_of_two_sheets() {
     let half_thickness = cell;
     let across = Field::x() * unit[0] + Field::y() * unit[1] + Field::z() * unit[2];
     let plate = (across.abs() * -1.0 + half_thickness).min(block([0.0; 3], [0.7; 3]));
-    let (_, uniform) = adaptive(&plate, 1.0, depth, 0.0);
-    let tolerance = 0.5 * cell;
-    let (g, stats) = adaptive(&plate, 1.0, depth, tolerance);
-    assert_closed(&g, "thin plate");
-    assert!(worst_deviation(&plate, &g) as f64 <= tolerance * 1.001);
-    assert!(
-        stats.cells_with_surface * 8 < uniform.cells_with_surface,
-        "{} of {} cells meshed one by one",
-        stats.cells_with_surface,
-        uniform.cells_with_surface
-    );
+    let g = meshed_mostly_from_leaves(&plate, depth, 0.5 * cell, 8, "thin plate");
     // Each side's area: the triangles facing along the plate's normal, and
     // those facing against it.
     let normal = Vec3::new(unit[0] as f32, unit[1] as f32, unit[2] as f32);
@@ -374,16 +364,30 @@ fn a_node_that_does_not_fit_hands_its_cells_to_its_octants() {
     let f = sphere([0.0; 3], 0.6);
     let depth = 6;
     let cell = 2.0 / (1u64 << depth) as f64;
-    let (_, uniform) = adaptive(&f, 1.0, depth, 0.0);
-    let tolerance = 0.25 * cell;
-    let (g, stats) = adaptive(&f, 1.0, depth, tolerance);
-    assert_closed(&g, "sphere");
-    assert!(worst_deviation(&f, &g) as f64 <= tolerance * 1.001);
+    meshed_mostly_from_leaves(&f, depth, 0.25 * cell, 50, "sphere");
+}
+
+/// `f` meshed adaptively at `depth` within `tolerance` over [-1, 1]^3:
+/// closed, every vertex, centroid and edge midpoint within the tolerance,
+/// and fewer than one in `fewer` of the uniform mesh's cells meshed one by
+/// one (the rest in leaves).
+fn meshed_mostly_from_leaves(
+    f: &Field,
+    depth: u32,
+    tolerance: f64,
+    fewer: usize,
+    what: &str,
+) -> Geometry {
+    let (_, uniform) = adaptive(f, 1.0, depth, 0.0);
+    let (g, stats) = adaptive(f, 1.0, depth, tolerance);
+    assert_closed(&g, what);
+    assert!(worst_deviation(f, &g) as f64 <= tolerance * 1.001, "{what}");
     assert!(
-        stats.cells_with_surface * 50 < uniform.cells_with_surface,
-        "{} of {} cells meshed one by one ({} leaves)",
+        stats.cells_with_surface * fewer < uniform.cells_with_surface,
+        "{what}: {} of {} cells meshed one by one ({} leaves)",
         stats.cells_with_surface,
         uniform.cells_with_surface,
         stats.leaves
     );
+    g
 }

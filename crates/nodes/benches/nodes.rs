@@ -48,10 +48,7 @@ fn example(file: &str) -> String {
 }
 
 fn corpus(path: &str) -> String {
-    format!(
-        "{}/../../corpus/{path}",
-        env!("CARGO_MANIFEST_DIR")
-    )
+    format!("{}/../../corpus/{path}", env!("CARGO_MANIFEST_DIR"))
 }
 
 /// An example network with more nodes (a JSON object of node entries).
