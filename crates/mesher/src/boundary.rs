@@ -140,11 +140,7 @@ impl Boundary {
                 let shared = 2 * across;
                 for j in 0..n {
                     for i in 0..n {
-                        let (at, along_at, across_at) = if step == 1 {
-                            (i + n * j, i, j)
-                        } else {
-                            (i + n * j, j, i)
-                        };
+                        let (along_at, across_at) = if step == 1 { (i, j) } else { (j, i) };
                         if along_at == s {
                             continue;
                         }
@@ -153,6 +149,7 @@ impl Boundary {
                         if on_node_edge && other < f {
                             continue;
                         }
+                        let at = i + n * j;
                         let (a, b) = (values[at], values[at + step]);
                         if (a >= 0.0) != (b >= 0.0) {
                             let c = face_corner(f, s, i, j);
