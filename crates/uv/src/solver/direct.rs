@@ -190,8 +190,9 @@ mod tests {
 
     /// A small system solves exactly; a large one cancelled 20 ms in (in
     /// its ordering or factorisation, single calls into faer) answers
-    /// within 50 ms. (Before the calls ran on a thread of their own, it
-    /// answered once the call returned: 217 ms here.)
+    /// within 100 ms: a few here alone, the margin is for a loaded test
+    /// run. (Before the calls ran on a thread of their own, it answered
+    /// once the call returned: 217 ms here.)
     #[test]
     fn a_factorisation_answers_a_cancel_promptly() {
         let small = grid_system(3);
@@ -217,7 +218,7 @@ mod tests {
             let (r, returned_at) = solve.join().unwrap();
             assert!(matches!(r, Err(UvError::Cancelled)), "{r:?}");
             let latency = returned_at - cancelled_at;
-            assert!(latency < Duration::from_millis(50), "{latency:?}");
+            assert!(latency < Duration::from_millis(100), "{latency:?}");
         });
     }
 }
