@@ -124,15 +124,15 @@ impl Boundary {
         self.values[self.slot(f, c)] >= 0.0
     }
 
-    /// The crossed grid edges on the boundary, each once: face by face,
-    /// along the face's two axes, an edge on an edge of the node taken
+    /// Calls `f(axis, lower corner (grid), value there, value at the
+    /// other end)` for every grid edge on the boundary, each once: face by
+    /// face, along the face's two axes, an edge on an edge of the node taken
     /// from the first face holding it.
-    pub(crate) fn crossings(&self) -> Vec<Crossing> {
+    pub(crate) fn for_edges(&self, mut f: impl FnMut(usize, [usize; 3], f32, f32)) {
         let (n, s) = (self.n(), self.side);
-        let mut out = Vec::new();
-        for f in 0..6 {
-            let axis = f / 2;
-            let values = &self.values[f * n * n..(f + 1) * n * n];
+        for face in 0..6 {
+            let axis = face / 2;
+            let values = &self.values[face * n * n..(face + 1) * n * n];
             for (along, step) in [((axis + 1) % 3, 1), ((axis + 2) % 3, n)] {
                 // The face's other axis: an edge at its ends lies on an
                 // edge of the node, also held by the face normal to it.
@@ -146,24 +146,32 @@ impl Boundary {
                         }
                         let on_node_edge = across_at == 0 || across_at == s;
                         let other = shared + (across_at == s) as usize;
-                        if on_node_edge && other < f {
+                        if on_node_edge && other < face {
                             continue;
                         }
                         let at = i + n * j;
-                        let (a, b) = (values[at], values[at + step]);
-                        if (a >= 0.0) != (b >= 0.0) {
-                            let c = face_corner(f, s, i, j);
-                            out.push(Crossing {
-                                axis: along,
-                                corner: std::array::from_fn(|k| self.lo[k] + c[k]),
-                                at: (a / (a - b)).clamp(0.0, 1.0),
-                                lower_inside: a >= 0.0,
-                            });
-                        }
+                        let c = face_corner(face, s, i, j);
+                        let corner = std::array::from_fn(|k| self.lo[k] + c[k]);
+                        f(along, corner, values[at], values[at + step]);
                     }
                 }
             }
         }
+    }
+
+    /// The crossed grid edges on the boundary, each once (see `for_edges`).
+    pub(crate) fn crossings(&self) -> Vec<Crossing> {
+        let mut out = Vec::new();
+        self.for_edges(|axis, corner, a, b| {
+            if (a >= 0.0) != (b >= 0.0) {
+                out.push(Crossing {
+                    axis,
+                    corner,
+                    at: (a / (a - b)).clamp(0.0, 1.0),
+                    lower_inside: a >= 0.0,
+                });
+            }
+        });
         out
     }
 

@@ -1,7 +1,7 @@
 //! Coarse leaves of the adaptive octree (adaptive output, top-down): an
 //! octree node of one or more bricks whose surface one vertex represents
 //! within the tolerance is meshed as that vertex alone, without sampling
-//! its inside. Two proofs make that safe:
+//! its inside. Three checks make that safe:
 //! - the node's gradient bounds (interval arithmetic, see
 //!   `geode_frep::IntervalGradEval`, one box per smooth piece where a
 //!   `min` or `max` may go either way) leave some direction along which
@@ -12,7 +12,11 @@
 //!   them, cut it along exactly one loop, so the graph is one disc; that
 //!   loop crosses each face in one arc at most and each edge of the node
 //!   once at most, so no neighbour shares two stretches of it (which would
-//!   give an edge of the mesh a third triangle once the disc is a point).
+//!   give an edge of the mesh a third triangle once the disc is a point);
+//! - no grid edge on the boundary is crossed twice (each searched as
+//!   bricks search theirs, see `double::any_crossed_twice`): a neighbouring
+//!   brick would mesh such an edge through quads the node, seeing no
+//!   crossing there, leaves open (a cone's rim poking past a grid edge).
 //!
 //! Its vertex is the QEF's point over the boundary crossings' planes, kept
 //! only within the tolerance of every plane and of the surface (so a
@@ -26,10 +30,11 @@
 use crate::boundary::{cells_around, Boundary, Crossing};
 use crate::brick::BrickOut;
 use crate::cell::{crossing_key, Grid, Plane};
+use crate::double::any_crossed_twice;
 use crate::features::{smooth_on_surface, CellBox};
 use crate::lattice::{outward_normal, outward_normals, SNAP};
 use crate::qef::Qef;
-use geode_frep::eval::{BatchGradEval, GradEval, PointEval};
+use geode_frep::eval::{BatchEval, BatchGradEval, GradEval, PointEval};
 use geode_frep::interval::Interval;
 use geode_frep::interval_grad::{GradBox, IntervalGradEval};
 use geode_frep::tape::Tape;
@@ -54,6 +59,13 @@ pub(crate) fn coarse_leaf(
         return None;
     }
     let boundary = Boundary::sample(tape, grid, lo, side)?;
+    // A neighbouring brick meshes an edge of this boundary crossed twice
+    // through quads that a node meshed whole would leave open.
+    let mut edges = Vec::new();
+    boundary.for_edges(|axis, corner, a, b| edges.push((axis, corner, a, b)));
+    if any_crossed_twice(&mut BatchEval::new(tape), grid, &edges) {
+        return None;
+    }
     let crossings = boundary.crossings();
     let mut out = BrickOut::default();
     if crossings.is_empty() {

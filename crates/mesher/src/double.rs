@@ -151,6 +151,40 @@ pub(crate) fn doubly_crossed_edges(
     roots
 }
 
+/// Whether any of `edges` (axis, lower corner (grid), values at its ends)
+/// with ends of one sign is crossed twice: each near enough the surface is
+/// searched as bricks search theirs, without the prediction by which
+/// bricks skip most (a brick's searches are a subset, run the same way, so
+/// whatever a brick finds on one of these edges is found here too). For a
+/// node meshed whole (`coarse`), whose boundary a neighbouring brick may
+/// mesh through an edge crossed twice.
+pub(crate) fn any_crossed_twice(
+    batch: &mut BatchEval,
+    grid: &Grid,
+    edges: &[(usize, [usize; 3], f32, f32)],
+) -> bool {
+    let limit = (LIPSCHITZ * grid.h * (1.0 - NARROWEST)) as f32;
+    let reach = |v: f32| v.abs() as f64 / (LIPSCHITZ * grid.h);
+    let mut searches: Vec<Search> = edges
+        .iter()
+        .filter(|(_, _, va, vb)| (*va >= 0.0) == (*vb >= 0.0) && va.abs() + vb.abs() < limit)
+        .filter_map(|&(axis, corner, va, vb)| {
+            let open = (reach(va), 1.0 - reach(vb));
+            let mut far = corner;
+            far[axis] += 1;
+            (open.1 - open.0 >= NARROWEST).then(|| Search {
+                slot: 0,
+                a: grid.point(corner),
+                b: grid.point(far),
+                fa: va as f64,
+                fb: vb as f64,
+                open: vec![open],
+            })
+        })
+        .collect();
+    !search(batch, grid, &mut searches).is_empty()
+}
+
 /// Samples the widest open stretch of every search, a batch per round,
 /// until a sample of the other sign turns up or nothing is left open.
 /// Returns the searches that found one, with its parameter and value.
