@@ -59,20 +59,21 @@ pub(crate) fn coarse_leaf(
         return None;
     }
     let boundary = Boundary::sample(tape, grid, lo, side)?;
+    let crossings = boundary.crossings();
+    if !crossings.is_empty() && boundary.loops_of(&crossings)?.count != 1 {
+        return None;
+    }
     // A neighbouring brick meshes an edge of this boundary crossed twice
-    // through quads that a node meshed whole would leave open.
+    // through quads that a node meshed whole would leave open (searched
+    // last: it costs samples, the checks above none).
     let mut edges = Vec::new();
     boundary.for_edges(|axis, corner, a, b| edges.push((axis, corner, a, b)));
     if any_crossed_twice(&mut BatchEval::new(tape), grid, &edges) {
         return None;
     }
-    let crossings = boundary.crossings();
     let mut out = BrickOut::default();
     if crossings.is_empty() {
         return Some(out);
-    }
-    if boundary.loops_of(&crossings)?.count != 1 {
-        return None;
     }
     let planes = interpolated_planes(tape, grid, &crossings);
     let (vertex, normal) = fit_vertex(tape, grid, (lo, side), &planes, (sharpness, tolerance))?;

@@ -77,22 +77,39 @@ fn candidate(
     (axis, c): (usize, [isize; 3]),
     (va, vb): (f32, f32),
 ) -> Option<Search> {
-    let reach = |v: f32| v.abs() as f64 / (LIPSCHITZ * grid.h);
-    let open = (reach(va), 1.0 - reach(vb));
-    if open.1 - open.0 < NARROWEST {
-        return None;
-    }
     let mut d = c;
     d[axis] += 1;
     let (ga, gb) = (lattice.global(grid, c)?, lattice.global(grid, d)?);
-    Some(Search {
-        slot: edge_slot(axis, c),
-        a: grid.point(ga),
-        b: grid.point(gb),
-        fa: va as f64,
-        fb: vb as f64,
-        open: vec![open],
-    })
+    Search::between(edge_slot(axis, c), grid, (ga, gb), (va, vb))
+}
+
+impl Search {
+    /// The search of the edge from grid corner `ga` to `gb` (values `va`,
+    /// `vb`, of one sign), if the surface could fit between them: the
+    /// stretch the ends' values do not clear is wider than [`NARROWEST`].
+    fn between(
+        slot: usize,
+        grid: &Grid,
+        (ga, gb): ([usize; 3], [usize; 3]),
+        (va, vb): (f32, f32),
+    ) -> Option<Search> {
+        let reach = |v: f32| v.abs() as f64 / (LIPSCHITZ * grid.h);
+        let open = (reach(va), 1.0 - reach(vb));
+        (open.1 - open.0 >= NARROWEST).then(|| Search {
+            slot,
+            a: grid.point(ga),
+            b: grid.point(gb),
+            fa: va as f64,
+            fb: vb as f64,
+            open: vec![open],
+        })
+    }
+}
+
+/// The sum of an edge's end values (absolute) below which the surface
+/// could fit between them (see [`LIPSCHITZ`]).
+fn near_enough(grid: &Grid) -> f32 {
+    (LIPSCHITZ * grid.h * (1.0 - NARROWEST)) as f32
 }
 
 /// The brick's edges (both ends in the brick) crossed twice, each as the
@@ -105,7 +122,7 @@ pub(crate) fn doubly_crossed_edges(
 ) -> Vec<Root> {
     // Most corners lie too far from the surface for any edge of theirs to
     // hold one: skipped on their value alone, by stride as `crossed_edges`.
-    let reach = (LIPSCHITZ * grid.h * (1.0 - NARROWEST)) as f32;
+    let reach = near_enough(grid);
     let strides = [1, L, L * L];
     let mut searches = Vec::new();
     for k in 0..=B as isize {
@@ -163,23 +180,14 @@ pub(crate) fn any_crossed_twice(
     grid: &Grid,
     edges: &[(usize, [usize; 3], f32, f32)],
 ) -> bool {
-    let limit = (LIPSCHITZ * grid.h * (1.0 - NARROWEST)) as f32;
-    let reach = |v: f32| v.abs() as f64 / (LIPSCHITZ * grid.h);
+    let limit = near_enough(grid);
     let mut searches: Vec<Search> = edges
         .iter()
         .filter(|(_, _, va, vb)| (*va >= 0.0) == (*vb >= 0.0) && va.abs() + vb.abs() < limit)
         .filter_map(|&(axis, corner, va, vb)| {
-            let open = (reach(va), 1.0 - reach(vb));
             let mut far = corner;
             far[axis] += 1;
-            (open.1 - open.0 >= NARROWEST).then(|| Search {
-                slot: 0,
-                a: grid.point(corner),
-                b: grid.point(far),
-                fa: va as f64,
-                fb: vb as f64,
-                open: vec![open],
-            })
+            Search::between(0, grid, (corner, far), (va, vb))
         })
         .collect();
     !search(batch, grid, &mut searches).is_empty()
