@@ -10,6 +10,9 @@ use std::sync::Arc;
 use crate::dataset::Dataset;
 use crate::tape::{Choice, Choices, Instr, Tape};
 
+mod batch_grad;
+pub use batch_grad::BatchGradEval;
+
 /// Evaluates one point at a time, reusing its registers.
 pub struct PointEval<'t> {
     tape: &'t Tape,
@@ -20,7 +23,7 @@ impl<'t> PointEval<'t> {
     pub fn new(tape: &'t Tape) -> PointEval<'t> {
         PointEval {
             tape,
-            regs: vec![0.0; tape.slots()],
+            regs: spare_file(&SPARE_POINT_REGS, tape.slots()),
         }
     }
 
@@ -48,6 +51,10 @@ impl<'t> PointEval<'t> {
 /// a tight loop the compiler vectorises.
 pub const LANES: usize = 256;
 
+/// Lanes of one AVX2 vector of `f32`: [`BatchEval`]'s loops run whole
+/// vectors of them (`LANES` is a multiple).
+const STEP: usize = 8;
+
 /// Evaluates many points: one instruction at a time over blocks of [`LANES`].
 pub struct BatchEval<'t> {
     tape: &'t Tape,
@@ -58,8 +65,10 @@ pub struct BatchEval<'t> {
 fn lane_unary(op: Unary, a: &[f32], o: &mut [f32]) {
     macro_rules! each {
         ($f:expr) => {
-            for (o, &a) in o.iter_mut().zip(a) {
-                *o = $f(a);
+            for (o, a) in o.chunks_exact_mut(STEP).zip(a.chunks_exact(STEP)) {
+                for i in 0..STEP {
+                    o[i] = $f(a[i]);
+                }
             }
         };
     }
@@ -87,8 +96,14 @@ fn lane_unary(op: Unary, a: &[f32], o: &mut [f32]) {
 fn lane_binary(op: Binary, a: &[f32], b: &[f32], o: &mut [f32]) {
     macro_rules! each {
         ($f:expr) => {
-            for ((o, &a), &b) in o.iter_mut().zip(a).zip(b) {
-                *o = $f(a, b);
+            for ((o, a), b) in o
+                .chunks_exact_mut(STEP)
+                .zip(a.chunks_exact(STEP))
+                .zip(b.chunks_exact(STEP))
+            {
+                for i in 0..STEP {
+                    o[i] = $f(a[i], b[i]);
+                }
             }
         };
     }
@@ -120,6 +135,7 @@ impl<'t> BatchEval<'t> {
     /// `out[i] = f(xs[i], ys[i], zs[i])` for any number of points.
     pub fn eval(&mut self, xs: &[f32], ys: &[f32], zs: &[f32], out: &mut [f32]) {
         let n = xs.len();
+
         assert!(
             ys.len() == n && zs.len() == n && out.len() == n,
             "coordinate slices of equal length"
@@ -158,46 +174,51 @@ impl<'t> BatchEval<'t> {
     #[inline(always)]
     fn block_any(&mut self, axes: [&[f32]; 3], len: usize) {
         let regs = &mut self.regs;
+        // Whole vectors: lanes past `len` repeat the last point (their
+        // values are never read), so no loop has a scalar tail.
+        let width = len.next_multiple_of(STEP);
         for ins in self.tape.instrs() {
             match *ins {
                 Instr::Var { out, axis } => {
                     let o = out as usize * LANES;
-                    regs[o..o + len].copy_from_slice(axes[axis as usize]);
+                    let axis = axes[axis as usize];
+                    regs[o..o + len].copy_from_slice(axis);
+                    regs[o + len..o + width].fill(axis[len - 1]);
                 }
                 Instr::Const { out, value } => {
                     let o = out as usize * LANES;
-                    regs[o..o + len].fill(value as f32);
+                    regs[o..o + width].fill(value as f32);
                 }
                 Instr::Unary { op, out, a } => {
                     let (dst, before, after) = carve(regs, out as usize * LANES);
                     let o = out as usize * LANES;
                     lane_unary(
                         op,
-                        arg(before, after, o, a as usize * LANES, len),
-                        &mut dst[..len],
+                        arg(before, after, o, a as usize * LANES, width),
+                        &mut dst[..width],
                     );
                 }
                 Instr::Binary { op, out, a, b } => {
                     let (dst, before, after) = carve(regs, out as usize * LANES);
                     let o = out as usize * LANES;
                     let (a, b) = (
-                        arg(before, after, o, a as usize * LANES, len),
-                        arg(before, after, o, b as usize * LANES, len),
+                        arg(before, after, o, a as usize * LANES, width),
+                        arg(before, after, o, b as usize * LANES, width),
                     );
-                    lane_binary(op, a, b, &mut dst[..len]);
+                    lane_binary(op, a, b, &mut dst[..width]);
                 }
                 Instr::Dataset { set, out, x, y, z } => {
                     let set = self.tape.dataset(set);
                     let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
                     let mut values = [0f32; LANES];
                     set.values(
-                        &regs[x..x + len],
-                        &regs[y..y + len],
-                        &regs[z..z + len],
-                        &mut values[..len],
+                        &regs[x..x + width],
+                        &regs[y..y + width],
+                        &regs[z..z + width],
+                        &mut values[..width],
                     );
                     let o = out as usize * LANES;
-                    regs[o..o + len].copy_from_slice(&values[..len]);
+                    regs[o..o + width].copy_from_slice(&values[..width]);
                 }
             }
         }
@@ -395,7 +416,7 @@ impl<'t> GradEval<'t> {
     pub fn new(tape: &'t Tape) -> GradEval<'t> {
         GradEval {
             tape,
-            regs: vec![Grad::default(); tape.slots()],
+            regs: spare_file(&SPARE_POINT_GRAD_REGS, tape.slots()),
         }
     }
 
@@ -431,14 +452,6 @@ impl<'t> GradEval<'t> {
     }
 }
 
-/// Values and exact gradients of many points: [`GradEval`]'s arithmetic run
-/// one instruction at a time over blocks of [`LANES`] points, so the
-/// interpreter's dispatch is paid once per block, not per point.
-pub struct BatchGradEval<'t> {
-    tape: &'t Tape,
-    regs: Vec<Grad>,
-}
-
 thread_local! {
     /// Register files of dropped batch evaluators, for the next ones made
     /// on this thread: the mesher makes several per brick, and zeroing a
@@ -447,7 +460,12 @@ thread_local! {
     /// file's old contents are never read: a tape writes each register
     /// before it reads it.
     static SPARE_REGS: RefCell<Vec<Vec<f32>>> = const { RefCell::new(Vec::new()) };
-    static SPARE_GRAD_REGS: RefCell<Vec<Vec<Grad>>> = const { RefCell::new(Vec::new()) };
+    static SPARE_GRAD_REGS: RefCell<Vec<Vec<batch_grad::Block>>> = const { RefCell::new(Vec::new()) };
+    /// Likewise for the one-point evaluators: the mesher makes one per
+    /// leaf it fits and per feature it recovers, each a fresh allocation
+    /// before.
+    static SPARE_POINT_REGS: RefCell<Vec<Vec<f64>>> = const { RefCell::new(Vec::new()) };
+    static SPARE_POINT_GRAD_REGS: RefCell<Vec<Vec<Grad>>> = const { RefCell::new(Vec::new()) };
 }
 
 /// Spare register files kept per thread and kind (evaluators alive at
@@ -457,10 +475,10 @@ thread_local! {
 const SPARE_FILES: usize = 4;
 const SPARE_BYTES: usize = 1 << 20;
 
-type Spares<T> = std::thread::LocalKey<RefCell<Vec<Vec<T>>>>;
+pub(crate) type Spares<T> = std::thread::LocalKey<RefCell<Vec<Vec<T>>>>;
 
 /// A spare register file of this thread (or a new one), of at least `need`.
-fn spare_file<T: Clone + Default>(spares: &'static Spares<T>, need: usize) -> Vec<T> {
+pub(crate) fn spare_file<T: Clone + Default>(spares: &'static Spares<T>, need: usize) -> Vec<T> {
     let mut regs = spares.with(|s| s.borrow_mut().pop()).unwrap_or_default();
     grow_file(&mut regs, need);
     regs
@@ -475,7 +493,7 @@ fn grow_file<T: Clone + Default>(regs: &mut Vec<T>, need: usize) {
 }
 
 /// Keeps a dropped evaluator's register file for the next one.
-fn keep_file<T>(spares: &'static Spares<T>, regs: Vec<T>) {
+pub(crate) fn keep_file<T>(spares: &'static Spares<T>, regs: Vec<T>) {
     spares.with(|s| {
         let mut s = s.borrow_mut();
         if s.len() < SPARE_FILES && std::mem::size_of_val(regs.as_slice()) <= SPARE_BYTES {
@@ -484,139 +502,21 @@ fn keep_file<T>(spares: &'static Spares<T>, regs: Vec<T>) {
     });
 }
 
+impl Drop for PointEval<'_> {
+    fn drop(&mut self) {
+        keep_file(&SPARE_POINT_REGS, std::mem::take(&mut self.regs));
+    }
+}
+
+impl Drop for GradEval<'_> {
+    fn drop(&mut self) {
+        keep_file(&SPARE_POINT_GRAD_REGS, std::mem::take(&mut self.regs));
+    }
+}
+
 impl Drop for BatchEval<'_> {
     fn drop(&mut self) {
         keep_file(&SPARE_REGS, std::mem::take(&mut self.regs));
-    }
-}
-
-impl<'t> BatchGradEval<'t> {
-    pub fn new(tape: &'t Tape) -> BatchGradEval<'t> {
-        BatchGradEval {
-            tape,
-            regs: spare_file(&SPARE_GRAD_REGS, tape.slots() * LANES),
-        }
-    }
-
-    /// Evaluates `tape` from now on, keeping the register buffer (grown
-    /// only: a smaller tape uses a prefix).
-    pub fn set_tape(&mut self, tape: &'t Tape) {
-        self.tape = tape;
-        grow_file(&mut self.regs, tape.slots() * LANES);
-    }
-
-    /// `out[i]` = value and gradient at `points[i]`.
-    pub fn eval(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
-        assert_eq!(points.len(), out.len(), "a result per point");
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2, checked just above.
-            return unsafe { self.eval_avx2(points, out) };
-        }
-        self.eval_any(points, out)
-    }
-
-    /// [`BatchGradEval::eval`] compiled for AVX2, chosen at run time: the
-    /// lane loops then run on 256-bit registers (a whole value and gradient
-    /// in one) where the baseline build has SSE2's 128. The same IEEE
-    /// operations lane by lane (no fused multiply-add), so the results are
-    /// the same bits on every machine.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    unsafe fn eval_avx2(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
-        self.eval_any(points, out)
-    }
-
-    #[inline(always)]
-    fn eval_any(&mut self, points: &[[f64; 3]], out: &mut [Grad]) {
-        for (pts, res) in points.chunks(LANES).zip(out.chunks_mut(LANES)) {
-            let len = pts.len();
-            let regs = &mut self.regs;
-            for ins in self.tape.instrs() {
-                match *ins {
-                    Instr::Var { out, axis } => {
-                        let o = out as usize * LANES;
-                        let mut d = [0.0; 3];
-                        d[axis as usize] = 1.0;
-                        for (r, p) in regs[o..o + len].iter_mut().zip(pts) {
-                            *r = Grad {
-                                v: p[axis as usize],
-                                d,
-                            };
-                        }
-                    }
-                    Instr::Const { out, value } => {
-                        let o = out as usize * LANES;
-                        regs[o..o + len].fill(Grad {
-                            v: value,
-                            d: [0.0; 3],
-                        });
-                    }
-                    Instr::Unary { op, out, a } => {
-                        let o = out as usize * LANES;
-                        let (dst, before, after) = carve(regs, o);
-                        let a = arg(before, after, o, a as usize * LANES, len);
-                        // One loop per common operation, each with the
-                        // operation constant, so the rule's `match` folds
-                        // away instead of running per lane.
-                        macro_rules! each {
-                            ($op:expr) => {
-                                for (r, a) in dst[..len].iter_mut().zip(a) {
-                                    *r = grad_unary($op, *a);
-                                }
-                            };
-                        }
-                        match op {
-                            Unary::Neg => each!(Unary::Neg),
-                            Unary::Abs => each!(Unary::Abs),
-                            Unary::Sqrt => each!(Unary::Sqrt),
-                            Unary::Square => each!(Unary::Square),
-                            _ => each!(op),
-                        }
-                    }
-                    Instr::Binary { op, out, a, b } => {
-                        let o = out as usize * LANES;
-                        let (dst, before, after) = carve(regs, o);
-                        let (a, b) = (
-                            arg(before, after, o, a as usize * LANES, len),
-                            arg(before, after, o, b as usize * LANES, len),
-                        );
-                        macro_rules! each {
-                            ($op:expr) => {
-                                for ((r, a), b) in dst[..len].iter_mut().zip(a).zip(b) {
-                                    *r = grad_binary($op, *a, *b);
-                                }
-                            };
-                        }
-                        match op {
-                            Binary::Add => each!(Binary::Add),
-                            Binary::Sub => each!(Binary::Sub),
-                            Binary::Mul => each!(Binary::Mul),
-                            Binary::Min => each!(Binary::Min),
-                            Binary::Max => each!(Binary::Max),
-                            _ => each!(op),
-                        }
-                    }
-                    Instr::Dataset { set, out, x, y, z } => {
-                        let set = self.tape.dataset(set);
-                        let o = out as usize * LANES;
-                        let [x, y, z] = [x, y, z].map(|r| r as usize * LANES);
-                        for i in 0..len {
-                            let args = [regs[x + i], regs[y + i], regs[z + i]];
-                            regs[o + i] = grad_dataset(set, args);
-                        }
-                    }
-                }
-            }
-            let o = self.tape.output() * LANES;
-            res.copy_from_slice(&regs[o..o + len]);
-        }
-    }
-}
-
-impl Drop for BatchGradEval<'_> {
-    fn drop(&mut self) {
-        keep_file(&SPARE_GRAD_REGS, std::mem::take(&mut self.regs));
     }
 }
 

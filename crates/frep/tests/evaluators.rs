@@ -151,7 +151,9 @@ fn batch_gradients_equal_point_gradients() {
     for ((name, _), tape) in cases.iter().zip(&tapes) {
         let mut one = GradEval::new(tape);
         shared.set_tape(tape);
-        for chunk in [700, 1, 37, 300] {
+        // Blocks of every width the evaluator runs (4, 8, 16 lanes) and
+        // partial ones.
+        for chunk in [700, 1, 3, 6, 16, 37, 300] {
             let mut out = vec![Grad::default(); pts.len()];
             for (p, o) in pts.chunks(chunk).zip(out.chunks_mut(chunk)) {
                 shared.eval(p, o);

@@ -50,7 +50,8 @@ impl Boundary {
     /// subdivide).
     fn new(lo: [usize; 3], side: usize, value: impl Fn([usize; 3]) -> f32) -> Option<Boundary> {
         let n = side + 1;
-        let mut values = Vec::with_capacity(6 * n * n);
+        let mut values = SPARE_VALUES.with(|spare| spare.take());
+        values.clear();
         for f in 0..6 {
             for j in 0..n {
                 for i in 0..n {
@@ -203,10 +204,21 @@ impl Boundary {
     /// same holds for arcs and the face's own regions; the boundary's
     /// regions are the faces' glued along the node's edges.
     pub(crate) fn loops_of(&self, crossings: &[Crossing]) -> Option<Loops> {
-        let mut regions = FaceRegions::new(self);
-        let mut links: Vec<(usize, usize)> = Vec::new();
+        SCRATCH.with(|scratch| self.loops_in(crossings, &mut scratch.borrow_mut()))
+    }
+
+    fn loops_in(&self, crossings: &[Crossing], scratch: &mut LoopScratch) -> Option<Loops> {
+        let LoopScratch {
+            local,
+            glued,
+            links,
+            arcs,
+            seen,
+        } = scratch;
+        self.face_regions(local, glued);
+        links.clear();
+        arcs.clear();
         let mut of = Vec::with_capacity(crossings.len());
-        let mut arcs: Vec<(usize, u8, usize, usize)> = Vec::new();
         for c in crossings {
             let a: [usize; 3] = std::array::from_fn(|k| c.corner[k] - self.lo[k]);
             let mut b = a;
@@ -214,7 +226,7 @@ impl Boundary {
             let (inside, outside) = if self.inside(a) { (a, b) } else { (b, a) };
             let mut region = |c: [usize; 3]| {
                 let f = self.faces_of(c).next().unwrap_or(0);
-                find(&mut regions.glued, self.slot(f, c))
+                find(glued, self.slot(f, c))
             };
             let link = (region(inside), region(outside));
             let id = links.iter().position(|l| *l == link).unwrap_or_else(|| {
@@ -226,7 +238,6 @@ impl Boundary {
             // The arc it lies on, on each face holding it.
             for f in self.faces_of(a).filter(|f| f / 2 != c.axis) {
                 let (x, y) = (self.slot(f, inside), self.slot(f, outside));
-                let local = &mut regions.local;
                 arcs.push((f, id, find(local, x), find(local, y)));
             }
         }
@@ -242,51 +253,40 @@ impl Boundary {
             count: links.len(),
             of,
         };
-        self.node_edges_once(crossings, &loops).then_some(loops)
+        self.node_edges_once(crossings, &loops, seen)
+            .then_some(loops)
     }
 
     /// Whether each loop crosses each of the node's twelve edges once at most.
-    fn node_edges_once(&self, crossings: &[Crossing], loops: &Loops) -> bool {
+    fn node_edges_once(
+        &self,
+        crossings: &[Crossing],
+        loops: &Loops,
+        seen: &mut Vec<(usize, usize, usize, u8)>,
+    ) -> bool {
         let s = self.side;
-        let mut seen: Vec<(usize, usize, usize, u8)> = crossings
-            .iter()
-            .zip(&loops.of)
-            .filter_map(|(c, &l)| {
-                let (u, w) = ((c.axis + 1) % 3, (c.axis + 2) % 3);
-                let local: [usize; 3] = std::array::from_fn(|k| c.corner[k] - self.lo[k]);
-                let on_edge = [0, s].contains(&local[u]) && [0, s].contains(&local[w]);
-                on_edge.then_some((c.axis, local[u], local[w], l))
-            })
-            .collect();
+        seen.clear();
+        seen.extend(crossings.iter().zip(&loops.of).filter_map(|(c, &l)| {
+            let (u, w) = ((c.axis + 1) % 3, (c.axis + 2) % 3);
+            let local: [usize; 3] = std::array::from_fn(|k| c.corner[k] - self.lo[k]);
+            let on_edge = [0, s].contains(&local[u]) && [0, s].contains(&local[w]);
+            on_edge.then_some((c.axis, local[u], local[w], l))
+        }));
         let all = seen.len();
         seen.sort_unstable();
         seen.dedup();
         seen.len() == all
     }
-}
 
-/// The loop each crossing of a node's boundary lies on.
-pub(crate) struct Loops {
-    pub count: usize,
-    /// Per crossing, its loop (0..count).
-    pub of: Vec<u8>,
-}
-
-/// The regions of each face of a node's boundary (corners of one sign
-/// joined along the face's grid edges), and the same glued along the
-/// node's edges into the boundary's.
-struct FaceRegions {
-    /// The union-find of each face's slots on that face alone.
-    local: Vec<usize>,
-    /// The union-find of the faces' slots, glued where faces meet.
-    glued: Vec<usize>,
-}
-
-impl FaceRegions {
-    fn new(b: &Boundary) -> FaceRegions {
-        let (s, n) = (b.side, b.n());
-        let inside: Vec<bool> = b.values.iter().map(|&v| v >= 0.0).collect();
-        let mut parent: Vec<usize> = (0..6 * n * n).collect();
+    /// The regions of each face (corners of one sign joined along the
+    /// face's grid edges) as a union-find over the faces' slots in `local`,
+    /// and the same glued along the node's edges into the boundary's
+    /// regions in `glued`.
+    fn face_regions(&self, local: &mut Vec<usize>, glued: &mut Vec<usize>) {
+        let (s, n) = (self.side, self.n());
+        let inside = |at: usize| self.values[at] >= 0.0;
+        local.clear();
+        local.extend(0..6 * n * n);
         for f in 0..6 {
             let base = f * n * n;
             for j in 0..n {
@@ -294,22 +294,22 @@ impl FaceRegions {
                     let at = base + i + n * j;
                     // A run along i shares its start's root; rows join
                     // where they touch (once per pair of runs that meet).
-                    if i > 0 && inside[at - 1] == inside[at] {
-                        parent[at] = parent[at - 1];
+                    if i > 0 && inside(at - 1) == inside(at) {
+                        local[at] = local[at - 1];
                     }
-                    let meets_row_below = j > 0 && inside[at - n] == inside[at];
+                    let meets_row_below = j > 0 && inside(at - n) == inside(at);
                     let joined_left = meets_row_below
                         && i > 0
-                        && inside[at - 1] == inside[at]
-                        && inside[at - 1 - n] == inside[at];
+                        && inside(at - 1) == inside(at)
+                        && inside(at - 1 - n) == inside(at);
                     if meets_row_below && !joined_left {
-                        union(&mut parent, at, at - n);
+                        union(local, at, at - n);
                     }
                 }
             }
         }
-        let local = parent.clone();
-        let mut glued = parent;
+        glued.clear();
+        glued.extend_from_slice(local);
         // Each corner on a node edge lies on two faces (three at a node's
         // corner, which two of its edges join).
         for axis in 0..3 {
@@ -321,11 +321,41 @@ impl FaceRegions {
                     c[u] = p;
                     c[w] = q;
                     let (fu, fw) = (2 * u + (p == s) as usize, 2 * w + (q == s) as usize);
-                    union(&mut glued, b.slot(fu, c), b.slot(fw, c));
+                    union(glued, self.slot(fu, c), self.slot(fw, c));
                 }
             }
         }
-        FaceRegions { local, glued }
+    }
+}
+
+/// The loop each crossing of a node's boundary lies on.
+pub(crate) struct Loops {
+    pub count: usize,
+    /// Per crossing, its loop (0..count).
+    pub of: Vec<u8>,
+}
+
+/// Buffers `loops_of` reuses from node to node (a brick tries hundreds;
+/// fresh ones were one in nine of the mesher's allocations, colonnade at
+/// depth 6).
+#[derive(Default)]
+struct LoopScratch {
+    local: Vec<usize>,
+    glued: Vec<usize>,
+    links: Vec<(usize, usize)>,
+    arcs: Vec<(usize, u8, usize, usize)>,
+    seen: Vec<(usize, usize, usize, u8)>,
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<LoopScratch> = std::cell::RefCell::default();
+    /// A dropped boundary's values, for the next (a brick reads hundreds).
+    static SPARE_VALUES: std::cell::Cell<Vec<f32>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
+impl Drop for Boundary {
+    fn drop(&mut self) {
+        SPARE_VALUES.with(|spare| spare.set(std::mem::take(&mut self.values)));
     }
 }
 

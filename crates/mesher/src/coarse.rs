@@ -103,18 +103,23 @@ pub(crate) fn one_sheet(
     (lo, side): ([usize; 3], usize),
 ) -> bool {
     let (a, b) = (grid.point(lo), grid.point(lo.map(|x| x + side)));
-    let g = eval.eval(
-        Interval::new(a[0], b[0]),
-        Interval::new(a[1], b[1]),
-        Interval::new(a[2], b[2]),
-    );
+    let [x, y, z] = std::array::from_fn(|k| Interval::new(a[k], b[k]));
     // Only pieces that may decide where the field is zero (or within the
-    // snap below it, which corners read as on the surface) can cross it.
+    // snap below it, which corners read as on the surface) can cross it;
+    // one without a bound on its slope fails the proof, and plain
+    // intervals find many such nodes first, at a fifth of the cost (one in
+    // three of colonnade's bricks at depth 6, where a brick holds a
+    // column's axis; they had cost a third of its octree's time).
     let level = -(SNAP * grid.h);
+    let may_cross = |v: Interval| v.lo <= 0.0 && v.hi >= level;
+    if eval.unbounded_values(x, y, z).is_some_and(may_cross) {
+        return false;
+    }
+    let g = eval.eval(x, y, z);
     let pieces: Vec<GradBox> = g
         .pieces()
         .iter()
-        .filter(|p| p.v.lo <= 0.0 && p.v.hi >= level)
+        .filter(|p| may_cross(p.v))
         .map(|p| p.d)
         .collect();
     if pieces

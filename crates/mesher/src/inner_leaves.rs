@@ -236,6 +236,8 @@ impl InnerLeaves {
         tolerances: (f64, f64),
     ) -> bool {
         let mut any_failed = false;
+        // One buffer of planes for every sheet (a brick fits hundreds).
+        let mut planes: Vec<Plane> = Vec::new();
         for leaf in self.leaves.iter_mut().filter(|leaf| !leaf.fitted) {
             let local = |c: [usize; 3]| std::array::from_fn(|k| (c[k] - base[k]) as isize);
             let global: [usize; 3] = std::array::from_fn(|k| base[k] + leaf.lo[k]);
@@ -245,10 +247,10 @@ impl InnerLeaves {
                 .sheets
                 .iter()
                 .map(|sheet| {
-                    let planes: Vec<Plane> = sheet
-                        .iter()
-                        .map(|c| crossings.get(c.axis, local(c.corner)).copied())
-                        .collect::<Option<_>>()?;
+                    planes.clear();
+                    for c in sheet {
+                        planes.push(*crossings.get(c.axis, local(c.corner))?);
+                    }
                     fit_vertex(tape, grid, node, &planes, tolerances).map(|(x, _)| x)
                 })
                 .collect();
@@ -355,13 +357,24 @@ fn discs_at_grid(
     crossings: &[Crossing],
     loops: &Loops,
 ) -> bool {
-    let mut patch = Patch::build((lattice, signs), lo, side);
-    patch.one_piece_per_loop(base, crossings, loops) && patch.pieces_are_discs()
+    PATCH.with(|patch| {
+        let patch = &mut patch.borrow_mut();
+        patch.build((lattice, signs), lo, side);
+        patch.one_piece_per_loop(base, crossings, loops) && patch.pieces_are_discs()
+    })
+}
+
+thread_local! {
+    /// A patch's buffers, reused from node to node (a brick tries
+    /// hundreds; fresh ones were one in ten of the mesher's allocations,
+    /// colonnade at depth 6).
+    static PATCH: std::cell::RefCell<Patch> = std::cell::RefCell::default();
 }
 
 /// The dual patch of a node's cells: its vertices (cells with surface),
 /// edges (crossed faces between them) and faces (crossed edges inside the
 /// node), and its connected pieces.
+#[derive(Default)]
 struct Patch {
     lo: [usize; 3],
     side: usize,
@@ -370,20 +383,25 @@ struct Patch {
     /// A cell of each edge and of each face of the patch.
     edges: Vec<usize>,
     faces: Vec<usize>,
+    /// Each piece's Euler characteristic, at its root.
+    euler: Vec<i64>,
+    piece_of_loop: Vec<usize>,
 }
 
 impl Patch {
-    fn build((lattice, signs): (&Lattice, &[u8]), lo: [usize; 3], side: usize) -> Patch {
+    fn build(&mut self, (lattice, signs): (&Lattice, &[u8]), lo: [usize; 3], side: usize) {
         let inside = |c: [usize; 3]| lattice.at(c.map(|x| x as isize)) >= 0.0;
         let n = side * side * side;
-        let mut patch = Patch {
-            lo,
-            side,
-            surface: vec![false; n],
-            parent: (0..n).collect(),
-            edges: Vec::new(),
-            faces: Vec::new(),
-        };
+        let patch = self;
+        (patch.lo, patch.side) = (lo, side);
+        patch.surface.clear();
+        patch.surface.resize(n, false);
+        patch.parent.clear();
+        patch.parent.extend(0..n);
+        patch.edges.clear();
+        patch.faces.clear();
+        patch.euler.clear();
+        patch.euler.resize(n, 0);
         for_cells(lo, side, |c| {
             let signs = signs[cell_index(c)];
             let at = patch.local(c);
@@ -413,7 +431,6 @@ impl Patch {
                 }
             }
         });
-        patch
     }
 
     fn local(&self, c: [usize; 3]) -> usize {
@@ -429,8 +446,24 @@ impl Patch {
         crossings: &[Crossing],
         loops: &Loops,
     ) -> bool {
+        let mut piece_of_loop = std::mem::take(&mut self.piece_of_loop);
+        piece_of_loop.clear();
+        piece_of_loop.resize(loops.count, usize::MAX);
+        let one_each = self.pieces_of_loops(&mut piece_of_loop, base, crossings, loops);
+        self.piece_of_loop = piece_of_loop;
+        one_each
+    }
+
+    /// `one_piece_per_loop` with its buffer: each loop's piece in
+    /// `piece_of_loop` (all `usize::MAX` on entry).
+    fn pieces_of_loops(
+        &mut self,
+        piece_of_loop: &mut Vec<usize>,
+        base: [usize; 3],
+        crossings: &[Crossing],
+        loops: &Loops,
+    ) -> bool {
         let (lo, side) = (self.lo, self.side);
-        let mut piece_of_loop = vec![usize::MAX; loops.count];
         for (c, &l) in crossings.iter().zip(&loops.of) {
             let Some(cell) = cells_around(c.axis, c.corner).find_map(|(cell, _)| {
                 let at: [usize; 3] = std::array::from_fn(|k| cell[k].wrapping_sub(base[k]));
@@ -458,7 +491,7 @@ impl Patch {
 
     /// Whether every piece has Euler characteristic 1 (a disc).
     fn pieces_are_discs(&mut self) -> bool {
-        let mut euler = vec![0i64; self.surface.len()];
+        let euler = &mut self.euler;
         for i in 0..self.surface.len() {
             if self.surface[i] {
                 euler[find(&mut self.parent, i)] += 1;

@@ -455,14 +455,17 @@ pub fn polygonise(
         covered_bricks(&bricks, &grid),
         (grid.origin, grid.h * B as f64, grid.bricks),
     );
-    stats.crease_flips =
-        crate::crease::straighten_creases(&tapes, &positions, &mut triangles, grid.h, cancel);
-    stop()?;
     if opts.tolerance > 0.0 {
         let mesh = (&mut positions, &mut normals, &mut triangles);
-        let adapted =
-            adaptive::adapt(&tapes, mesh, opts.tolerance, cancel).ok_or(MeshError::Cancelled)?;
-        (stats.splits, stats.collapses, stats.deviation) = adapted;
+        let adapted = adaptive::adapt(&tapes, mesh, (opts.tolerance, grid.h), cancel)
+            .ok_or(MeshError::Cancelled)?;
+        stats.crease_flips = adapted.crease_flips;
+        (stats.splits, stats.collapses, stats.deviation) =
+            (adapted.splits, adapted.collapses, adapted.deviation);
+    } else {
+        stats.crease_flips =
+            crate::crease::straighten_creases(&tapes, &positions, &mut triangles, grid.h, cancel);
+        stop()?;
     }
     if doubled {
         // Vertices whose only quads cancelled (see `brick::take_quads`).

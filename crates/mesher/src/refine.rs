@@ -48,7 +48,8 @@ pub(crate) fn refine(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Option<Refinement> {
     // Vertices the QEF put further than the tolerance off the surface (a
-    // clamped corner, a rounded tip) move onto it first.
+    // clamped corner, a rounded tip) move onto it first (a no-op where
+    // they already were).
     onto_surface(tapes, positions, normals, triangles, tolerance);
     let mut done = Refinement::default();
     let mut before: Option<Snapshot> = None;
@@ -220,7 +221,7 @@ fn edges_to_split(
 
 /// Moves each vertex further than `tolerance` from the surface onto it
 /// (within half its shortest edge).
-fn onto_surface(
+pub(crate) fn onto_surface(
     tapes: &RegionTapes,
     positions: &mut [Vec3],
     normals: &mut [Vec3],
