@@ -101,6 +101,15 @@ fn a_cut_cube_collapses_to_its_faces_keeping_every_corner() {
     assert!((volume - 8.0).abs() < 1e-3, "volume {volume}");
 }
 
+/// `f` run on a pool of `threads` threads.
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 fn sphere_distance(p: Vec3) -> f32 {
     p.length() - 1.0
 }
@@ -158,11 +167,9 @@ fn the_result_does_not_depend_on_threads() {
     let runs: Vec<Vec<[u32; 3]>> = [1, 2, 4]
         .iter()
         .map(|&threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| reduce(&positions, &tris, 0.01, |p| p.length() - 1.0))
+            on_threads(threads, || {
+                reduce(&positions, &tris, 0.01, |p| p.length() - 1.0)
+            })
         })
         .collect();
     assert_eq!(runs[0], runs[1]);
@@ -219,13 +226,7 @@ fn an_irregular_mesh_reduced_in_parts_stays_closed() {
     assert_closed(&tris);
     let runs: Vec<Vec<[u32; 3]>> = [1, 2]
         .iter()
-        .map(|&threads| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| reduce(&positions, &tris, 0.01, sphere_distance))
-        })
+        .map(|&threads| on_threads(threads, || reduce(&positions, &tris, 0.01, sphere_distance)))
         .collect();
     assert_closed(&runs[0]);
     assert!(runs[0].len() * 4 < tris.len(), "{}", runs[0].len());

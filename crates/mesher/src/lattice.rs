@@ -419,7 +419,7 @@ impl Root {
     /// position cannot leave a zero end, so it bisects, as many as twenty
     /// times: a pass of the brick's tape each, one in every 40 roots of
     /// colonnade at depth 6).
-    fn next_guesses(&self, most: usize) -> impl Iterator<Item = f64> + '_ {
+    fn next_guesses(&self, most: usize) -> impl Iterator<Item = f64> {
         let first = self.guess();
         let zero_end = match (self.f0 == 0.0, self.f1 == 0.0) {
             (true, false) => Some(self.t0),
@@ -427,16 +427,9 @@ impl Root {
             _ => None,
         };
         let ahead = if zero_end.is_some() { SPECULATE } else { 1 };
-        let mut far = if self.f0 == 0.0 { self.t1 } else { self.t0 };
-        (0..ahead.min(most)).map(move |k| {
-            if k == 0 {
-                far = first;
-                return first;
-            }
-            let near = zero_end.unwrap_or(first);
-            far = 0.5 * (near + far);
-            far
-        })
+        let near = zero_end.unwrap_or(first);
+        std::iter::successors(Some(first), move |&far| Some(0.5 * (near + far)))
+            .take(ahead.min(most))
     }
 
     /// Where along the edge (0 to 1) the crossing is.
