@@ -216,14 +216,19 @@ fn linear(ka: Interval, p: &GradBox, kb: Interval, q: &GradBox) -> GradBox {
 /// every value `b` takes.
 fn may_win(a: &IntervalGrad, b: Interval, lower: bool, into: &mut IntervalGrad) {
     for p in a.pieces() {
-        let wins = if lower {
-            p.v.lo <= b.hi
-        } else {
-            p.v.hi >= b.lo
-        };
-        if wins {
+        if wins(p.v, b, lower) {
             into.push(*p);
         }
+    }
+}
+
+/// Whether values in `v` may win a `min` (`max`: `lower` false) against
+/// some value in `other`.
+fn wins(v: Interval, other: Interval, lower: bool) -> bool {
+    if lower {
+        v.lo <= other.hi
+    } else {
+        v.hi >= other.lo
     }
 }
 
@@ -356,19 +361,13 @@ impl<'t> IntervalGradEval<'t> {
                         }
                         Binary::Min | Binary::Max => {
                             let lower = op == Binary::Min;
-                            let wins = |s: Interval, other: Interval| {
-                                if lower {
-                                    s.lo <= other.hi
-                                } else {
-                                    s.hi >= other.lo
-                                }
-                            };
                             match choice {
                                 Choice::Left => sa,
                                 Choice::Right => sb,
-                                Choice::Both => {
-                                    hull(sa.filter(|s| wins(*s, b)), sb.filter(|s| wins(*s, a)))
-                                }
+                                Choice::Both => hull(
+                                    sa.filter(|s| wins(*s, b, lower)),
+                                    sb.filter(|s| wins(*s, a, lower)),
+                                ),
                             }
                         }
                         _ => Some(value),
@@ -381,14 +380,7 @@ impl<'t> IntervalGradEval<'t> {
                     (value, Some(value))
                 }
             };
-            let o = match *ins {
-                Instr::Var { out, .. }
-                | Instr::Const { out, .. }
-                | Instr::Unary { out, .. }
-                | Instr::Binary { out, .. }
-                | Instr::Dataset { out, .. } => out,
-            };
-            v[o as usize] = out;
+            v[ins.out() as usize] = out;
         }
         v[self.tape.output()].1
     }

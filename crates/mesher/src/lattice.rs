@@ -488,7 +488,7 @@ pub(crate) fn solve_roots(batch: &mut BatchEval, roots: &mut [Root]) {
             if done[i] || stopped == i {
                 continue;
             }
-            if steps[i] == STEPS || roots[i].guess().to_bits() != t.to_bits() {
+            if roots[i].guess().to_bits() != t.to_bits() {
                 stopped = i;
                 continue;
             }

@@ -648,13 +648,10 @@ fn reduce_whole(
 ) -> Result<(Reduced, Option<Vec<bool>>), Cancelled> {
     let mut state = State::new(positions, triangles);
     // A part hands its last passes to the whole (see `PART_STALL`).
-    let mut stall_below = STALL_FROM;
+    let part = matches!(frozen, Frozen::Cut(_));
     match frozen {
         Frozen::None => {}
-        Frozen::Cut(cut) => {
-            state.frozen = Some(cut);
-            stall_below = 0;
-        }
+        Frozen::Cut(cut) => state.frozen = Some(cut),
         Frozen::Seeds(seeds) => state.touched = Some(seeds),
     }
     let mut out = Reduced::default();
@@ -677,10 +674,10 @@ fn reduce_whole(
         // the vertices (a closed mesh has half as many vertices as
         // triangles); a small mesh's passes cost little, so it goes on,
         // but a part's (see `PART_STALL`).
-        let stalled = if stall_below == 0 {
+        let stalled = if part {
             made * PART_STALL < state.tris.len()
         } else {
-            made * 128 < state.tris.len().saturating_sub(stall_below)
+            made * 128 < state.tris.len().saturating_sub(STALL_FROM)
         };
         if stalled {
             break;
