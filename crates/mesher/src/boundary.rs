@@ -329,6 +329,7 @@ impl Boundary {
 }
 
 /// The loop each crossing of a node's boundary lies on.
+#[derive(Clone)]
 pub(crate) struct Loops {
     pub count: usize,
     /// Per crossing, its loop (0..count).

@@ -12,6 +12,9 @@ pub(crate) struct Grid {
     /// Corner count per axis (cells + 1).
     pub corners: [usize; 3],
     pub bricks: [usize; 3],
+    /// This mesh's number, unique per `polygonise` call: what a mesher
+    /// memoises holds for one mesh at a time (see `inner_leaves`).
+    pub mesh: u64,
 }
 
 impl Grid {

@@ -23,7 +23,10 @@ use crate::boundary::{cells_around, Boundary, Crossing, Loops};
 use crate::brick::BrickOut;
 use crate::cell::{crossing_key, find, union, Grid, Plane, B, FACES};
 use crate::coarse::fit_vertex;
+#[cfg(test)]
+use crate::lattice::{lattice_index, L};
 use crate::lattice::{slot_edge, Crossings, Lattice, Root};
+use crate::node_memo::{node_signs, recall, remember, Topology};
 use geode_frep::tape::Tape;
 use geode_geo::glam::Vec3;
 
@@ -164,24 +167,29 @@ impl InnerLeaves {
             // A cell holding two sheets: never inside a leaf.
             return false;
         }
-        let Some(boundary) = Boundary::from_lattice(lattice, base, lo, side) else {
-            return false;
+        let signs = (side, node_signs(lattice, lo, side));
+        let known = recall(grid.mesh, &signs);
+        let (crossings, loops) = match known {
+            Some(Topology::Refused) => return false,
+            Some(Topology::Uncrossed) => return true,
+            Some(Topology::Sheets(loops)) => {
+                // The same signs cross the same edges; where along them is
+                // this node's own.
+                let Some(boundary) = Boundary::from_lattice(lattice, base, lo, side) else {
+                    return false;
+                };
+                (boundary.crossings(), loops)
+            }
+            None => {
+                let (topology, crossings) = self.topology((base, lattice), (lo, side));
+                remember(grid.mesh, signs, topology.clone());
+                match topology {
+                    Topology::Refused => return false,
+                    Topology::Uncrossed => return true,
+                    Topology::Sheets(loops) => (crossings, loops),
+                }
+            }
         };
-        let crossings = boundary.crossings();
-        if crossings.is_empty() {
-            // Nothing crosses its boundary: whatever it holds its cells mesh
-            // (a speck), no leaf would save work.
-            return true;
-        }
-        let Some(loops) = boundary.loops_of(&crossings) else {
-            return false;
-        };
-        if loops.count > MOST_SHEETS {
-            return false;
-        }
-        if !discs_at_grid((lattice, &self.signs), (base, lo, side), &crossings, &loops) {
-            return false;
-        }
         let mut sheets: Vec<Vec<Crossing>> = (0..loops.count).map(|_| Vec::new()).collect();
         for (c, &l) in crossings.into_iter().zip(&loops.of) {
             sheets[l as usize].push(c);
@@ -197,6 +205,39 @@ impl InnerLeaves {
             split: false,
         });
         true
+    }
+
+    /// What the signs at a node's corners decide (every cell's surface one
+    /// component, see `try_candidate`), with the boundary's crossings.
+    fn topology(
+        &self,
+        (base, lattice): ([usize; 3], &Lattice),
+        (lo, side): ([usize; 3], usize),
+    ) -> (Topology, Vec<Crossing>) {
+        let Some(boundary) = Boundary::from_lattice(lattice, base, lo, side) else {
+            return (Topology::Refused, Vec::new());
+        };
+        let crossings = boundary.crossings();
+        if crossings.is_empty() {
+            // Nothing crosses its boundary: whatever it holds its cells mesh
+            // (a speck), no leaf would save work.
+            return (Topology::Uncrossed, crossings);
+        }
+        let topology = match boundary.loops_of(&crossings) {
+            Some(loops)
+                if loops.count <= MOST_SHEETS
+                    && discs_at_grid(
+                        (lattice, &self.signs),
+                        (base, lo, side),
+                        &crossings,
+                        &loops,
+                    ) =>
+            {
+                Topology::Sheets(loops)
+            }
+            _ => Topology::Refused,
+        };
+        (topology, crossings)
     }
 
     /// The leaf whose cell `c` (local) is, where a leaf covers it.
@@ -572,7 +613,122 @@ fn for_cells(lo: [usize; 3], side: usize, mut f: impl FnMut([usize; 3])) {
 
 #[cfg(test)]
 mod tests {
-    use super::one_component;
+    use super::*;
+    use geode_frep::eval::BatchEval;
+    use geode_frep::field::Field;
+
+    /// A leaf as its node and its sheets' crossed edges (and, with
+    /// `positions`, where along them), for comparing candidates.
+    type LeafShape = ([usize; 3], usize, Vec<Vec<(usize, [usize; 3], bool, u32)>>);
+
+    fn shapes(leaves: &InnerLeaves, positions: bool) -> Vec<LeafShape> {
+        let edge = |c: &Crossing| {
+            let at = if positions { c.at.to_bits() } else { 0 };
+            (c.axis, c.corner, c.lower_inside, at)
+        };
+        let sheets = |l: &InnerLeaf| {
+            l.sheets
+                .iter()
+                .map(|s| s.iter().map(edge).collect())
+                .collect()
+        };
+        leaves
+            .leaves
+            .iter()
+            .map(|l| (l.lo, l.side, sheets(l)))
+            .collect()
+    }
+
+    /// The bricks of a 4 x 4 x 4 grid of bricks over [-1, 1]^3, each with
+    /// its lattice, for `field`.
+    fn bricks(field: &Field, mesh: u64) -> (Grid, Vec<([usize; 3], Lattice)>) {
+        let h = 2.0 / (4 * B) as f64;
+        let grid = Grid {
+            origin: [-1.0; 3],
+            h,
+            corners: [4 * B + 1; 3],
+            bricks: [4; 3],
+            mesh,
+        };
+        let tape = Tape::compile(field);
+        let mut batch = BatchEval::new(&tape);
+        let mut out = Vec::new();
+        for n in 0..64 {
+            let base = [n % 4, n / 4 % 4, n / 16].map(|b| b * B);
+            out.push((base, Lattice::sample(&mut batch, &grid, base)));
+        }
+        (grid, out)
+    }
+
+    /// A topology as comparable parts: refused, uncrossed, or the loop of
+    /// each crossing.
+    fn describe(t: &Topology) -> (u8, Vec<u8>) {
+        match t {
+            Topology::Refused => (0, Vec::new()),
+            Topology::Uncrossed => (1, Vec::new()),
+            Topology::Sheets(loops) => (2 + loops.count as u8, loops.of.clone()),
+        }
+    }
+
+    /// Candidates with the memo of node topologies (nodes whose signs were
+    /// met before, in this brick, in earlier bricks, or in the same brick
+    /// read again) are those read afresh; every remembered topology is the
+    /// one worked out from a lattice of nothing but its signs (the memo's
+    /// premise); and the lattice's values scaled by a varying positive
+    /// factor give the same nodes crossed on the same edges.
+    #[test]
+    fn remembered_node_topologies_give_the_same_candidates() {
+        let (x, y, z) = (Field::x(), Field::y(), Field::z());
+        let ball = Field::constant(0.7) - (&x * &x + &y * &y + &z * &z).sqrt();
+        let waves = (&x * 5.0).sin() + (&y * 4.0).sin() * 0.8 - &z * 2.0;
+        let column = Field::constant(0.3) - (&x * &x + &y * &y).sqrt();
+        let (mut leaves, mut remembered) = (0, 0);
+        for (k, field) in [ball, waves, column].iter().enumerate() {
+            let (grid, bricks) = bricks(field, u64::MAX - k as u64);
+            for (base, lattice) in &bricks {
+                let first = InnerLeaves::candidates(&grid, *base, lattice, &[]);
+                let again = InnerLeaves::candidates(&grid, *base, lattice, &[]);
+                assert_eq!(shapes(&again, true), shapes(&first, true), "brick {base:?}");
+                leaves += first.leaves.len();
+                let mut scaled = Lattice {
+                    base: lattice.base,
+                    values: lattice.values.clone(),
+                };
+                for (i, v) in scaled.values.iter_mut().enumerate() {
+                    *v *= 1.0 + 0.9 * ((i * 7919) % 13) as f32 / 13.0;
+                }
+                let other = InnerLeaves::candidates(&grid, *base, &scaled, &[]);
+                assert_eq!(shapes(&other, false), shapes(&first, false));
+            }
+            let known = crate::node_memo::remembered();
+            remembered += known.len();
+            for ((side, words), topology) in known {
+                let mut lattice = Lattice {
+                    base: [0; 3],
+                    values: vec![-1.0; L * L * L],
+                };
+                let mut bit = 0;
+                for_cells([0; 3], side + 1, |c| {
+                    let inside = words[bit / 64] >> (bit % 64) & 1 == 1;
+                    lattice.values[lattice_index(c.map(|x| x as isize))] =
+                        if inside { 1.0 } else { -1.0 };
+                    bit += 1;
+                });
+                let mut signs = vec![0u8; B * B * B];
+                for_cells([0; 3], B, |c| {
+                    signs[cell_index(c)] = cell_signs(&lattice, c)
+                });
+                let afresh = InnerLeaves {
+                    leaf_of: vec![NONE; B * B * B],
+                    leaves: Vec::new(),
+                    signs,
+                };
+                let (want, _) = afresh.topology(([0; 3], &lattice), ([0; 3], side));
+                assert_eq!(describe(&topology), describe(&want), "side {side}");
+            }
+        }
+        assert!(leaves > 100 && remembered > 100, "{leaves} {remembered}");
+    }
 
     fn signs(inside: &[usize]) -> u8 {
         inside.iter().fold(0, |m, &k| m | 1 << k)

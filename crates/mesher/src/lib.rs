@@ -19,6 +19,7 @@ mod features;
 mod flip;
 mod inner_leaves;
 mod lattice;
+mod node_memo;
 mod parts;
 mod pinch;
 pub mod polygonise;

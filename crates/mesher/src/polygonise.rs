@@ -10,7 +10,7 @@
 //! all four of whose cells it holds; the cells' references to edges on
 //! brick faces meet in one sort afterwards.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use geode_geo::glam::Vec3;
@@ -202,29 +202,19 @@ fn surviving_bricks(
             ]
         })
         .collect();
-    if level >= 3 {
-        let parts: Vec<Vec<Surviving>> = children
-            .par_iter()
-            .map(|c| {
-                let mut v = Vec::new();
-                let levels = (level - 1, descent);
-                surviving_bricks(Arc::clone(&simplified), grid, levels, *c, &mut v, cancel);
-                v
-            })
-            .collect();
-        out.extend(parts.into_iter().flatten());
-    } else {
-        for c in children {
-            surviving_bricks(
-                Arc::clone(&simplified),
-                grid,
-                (level - 1, descent),
-                c,
-                out,
-                cancel,
-            );
-        }
-    }
+    // Every level's children in parallel: subtrees are uneven (a column's
+    // bricks beside empty air), and a task of 64 bricks on one thread left
+    // the other idle (colonnade at depth 6: 0.6 ms of 27.7 saved).
+    let parts: Vec<Vec<Surviving>> = children
+        .par_iter()
+        .map(|c| {
+            let mut v = Vec::new();
+            let levels = (level - 1, descent);
+            surviving_bricks(Arc::clone(&simplified), grid, levels, *c, &mut v, cancel);
+            v
+        })
+        .collect();
+    out.extend(parts.into_iter().flatten());
 }
 
 /// How far from the surface, in cells, the mesher reads the field's value
@@ -250,6 +240,9 @@ fn floor_capsules(f: &Field, floor: f64) -> Field {
     })
 }
 
+/// Meshes begun, numbering each (see `Grid::mesh`).
+static MESHES: AtomicU64 = AtomicU64::new(0);
+
 /// The cell grid, the tape of the field clipped to the box, and the octree's
 /// top level (bricks per side as a power of two).
 fn setup(field: &Field, opts: &MeshOptions) -> Result<(Grid, Arc<Tape>, u32), MeshError> {
@@ -269,6 +262,7 @@ fn setup(field: &Field, opts: &MeshOptions) -> Result<(Grid, Arc<Tape>, u32), Me
         h,
         corners: cells.map(|c| c + 1),
         bricks: cells.map(|c| c.div_ceil(B)),
+        mesh: MESHES.fetch_add(1, Ordering::Relaxed),
     };
     let center: [f64; 3] = std::array::from_fn(|k| 0.5 * (opts.min[k] + opts.max[k]));
     let half: [f64; 3] = std::array::from_fn(|k| 0.5 * size[k]);

@@ -28,42 +28,49 @@ const REACH: f64 = 1.5;
 /// before the one ahead, yet the one ahead has the corner's sign (either
 /// way along the axis). A surface the corners show never does this where
 /// the field is locally linear; a feature between the corners does.
+/// (Without branches: a brick asks it of every corner along every axis.)
+#[inline(always)]
 fn crossing_missed(v: f32, prev: f32, next: f32) -> bool {
     // Towards zero is up from outside, down from inside.
     let up = if v < 0.0 { 1.0 } else { -1.0 };
     let inside = v >= 0.0;
-    [(prev, next), (next, prev)]
-        .into_iter()
-        .any(|(behind, ahead)| {
-            let rise = up * (v - behind);
-            rise > 0.0 && up * v + rise >= 0.0 && (ahead >= 0.0) == inside
-        })
+    let predicts = |behind: f32, ahead: f32| {
+        let rise = up * (v - behind);
+        (rise > 0.0) & (up * v + rise >= 0.0) & ((ahead >= 0.0) == inside)
+    };
+    predicts(prev, next) | predicts(next, prev)
 }
 
 /// The brick's corners (local, in increasing order) next to which the
 /// lattice predicts a crossing it does not show along some axis (only
 /// corners with a neighbour either way along that axis can tell).
 fn corners_missing_crossings(lattice: &Lattice) -> Vec<[isize; 3]> {
-    let strides = [1, L, L * L];
+    let values = &lattice.values[..];
+    let inner = |x: usize| (1..B).contains(&x);
+    // A row of corners as an array (fixed length: the comparisons then run
+    // in vector lanes); the lattice's ring gives the row's ends neighbours.
+    let row_at = |at: usize| <&[f32; B + 1]>::try_from(values.get(at..at + B + 1)?).ok();
     let mut corners = Vec::new();
-    for k in 0..=B as isize {
-        for j in 0..=B as isize {
-            for i in 0..=B as isize {
-                let c = [i, j, k];
-                let at = lattice_index(c);
-                let v = lattice.values[at];
-                let missed = (0..3).any(|axis| {
-                    (1..B as isize).contains(&c[axis])
-                        && crossing_missed(
-                            v,
-                            lattice.values[at - strides[axis]],
-                            lattice.values[at + strides[axis]],
-                        )
-                });
-                if missed {
-                    corners.push(c);
+    for k in 0..=B {
+        for j in 0..=B {
+            let row = lattice_index([0, j as isize, k as isize]);
+            let Some(here) = row_at(row) else { continue };
+            let mut missed = [false; B + 1];
+            for (stride, counts) in [(1, true), (L, inner(j)), (L * L, inner(k))] {
+                if !counts {
+                    continue;
+                }
+                let (Some(prev), Some(next)) = (row_at(row - stride), row_at(row + stride)) else {
+                    continue;
+                };
+                for i in 0..B + 1 {
+                    // Along x only the row's inner corners have both.
+                    let along = stride != 1 || (i != 0 && i != B);
+                    missed[i] |= along & crossing_missed(here[i], prev[i], next[i]);
                 }
             }
+            let found = (0..=B).filter(|&i| missed[i]);
+            corners.extend(found.map(|i| [i as isize, j as isize, k as isize]));
         }
     }
     corners
@@ -101,15 +108,22 @@ pub(crate) fn missed_cells(
         let reach = g.v.abs() / length;
         // Towards zero: up the gradient from outside, down it from inside.
         let toward = if g.v < 0.0 { 1.0 } else { -1.0 } / length;
+        let corner_inside = lattice.at(corners[i]) >= 0.0;
         for extra in OVERSHOOT {
             let step = reach + extra * grid.h;
             if step > REACH * grid.h {
                 continue;
             }
-            xs.push((points[i][0] + toward * g.d[0] * step) as f32);
-            ys.push((points[i][1] + toward * g.d[1] * step) as f32);
-            zs.push((points[i][2] + toward * g.d[2] * step) as f32);
-            from.push(i);
+            let probe = std::array::from_fn(|a| (points[i][a] + toward * g.d[a] * step) as f32);
+            // Only a probe in a cell of the brick whose corners all show
+            // the corner's side can prove a missed surface: the others are
+            // not sampled at all.
+            if blind_cell(lattice, grid, base, probe, corner_inside).is_some() {
+                xs.push(probe[0]);
+                ys.push(probe[1]);
+                zs.push(probe[2]);
+                from.push(i);
+            }
         }
     }
     let mut values = vec![0.0f32; xs.len()];
@@ -150,28 +164,93 @@ pub(crate) fn missed_cells(
             continue;
         }
         let p = [xs[probe], ys[probe], zs[probe]];
-        let local: [isize; 3] = std::array::from_fn(|a| {
-            ((p[a] as f64 - grid.origin[a]) / grid.h).floor() as isize - base[a] as isize
-        });
-        let global: [isize; 3] = std::array::from_fn(|a| local[a] + base[a] as isize);
-        if local.iter().any(|&x| !(0..B as isize).contains(&x))
-            || (0..3).any(|a| global[a] as usize + 1 >= grid.corners[a])
-        {
-            continue;
-        }
-        let blind = (0..8).all(|c| {
-            let q = [
-                local[0] + (c & 1),
-                local[1] + (c >> 1 & 1),
-                local[2] + (c >> 2 & 1),
-            ];
-            (lattice.at(q) >= 0.0) == corner_inside
-        });
-        if blind {
-            missed.push(global.map(|x| x as usize));
-        }
+        missed.extend(blind_cell(lattice, grid, base, p, corner_inside));
     }
     missed.sort_unstable_by_key(|c: &[usize; 3]| (c[2], c[1], c[0]));
     missed.dedup();
     missed
+}
+
+/// The cell (global coordinates) of the brick that holds `p`, if all its
+/// corners are on the side `inside` says: a surface there is one the
+/// lattice cannot show.
+fn blind_cell(
+    lattice: &Lattice,
+    grid: &Grid,
+    base: [usize; 3],
+    p: [f32; 3],
+    inside: bool,
+) -> Option<[usize; 3]> {
+    let local: [isize; 3] = std::array::from_fn(|a| {
+        ((p[a] as f64 - grid.origin[a]) / grid.h).floor() as isize - base[a] as isize
+    });
+    let global: [isize; 3] = std::array::from_fn(|a| local[a] + base[a] as isize);
+    if local.iter().any(|&x| !(0..B as isize).contains(&x))
+        || (0..3).any(|a| global[a] as usize + 1 >= grid.corners[a])
+    {
+        return None;
+    }
+    let blind = (0..8).all(|c| {
+        let q = [
+            local[0] + (c & 1),
+            local[1] + (c >> 1 & 1),
+            local[2] + (c >> 2 & 1),
+        ];
+        (lattice.at(q) >= 0.0) == inside
+    });
+    blind.then(|| global.map(|x| x as usize))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The corners as the predicate reads them one at a time, axis by axis.
+    fn one_by_one(lattice: &Lattice) -> Vec<[isize; 3]> {
+        let mut corners = Vec::new();
+        for k in 0..=B as isize {
+            for j in 0..=B as isize {
+                for i in 0..=B as isize {
+                    let c = [i, j, k];
+                    let missed = (0..3).any(|axis| {
+                        let (mut prev, mut next) = (c, c);
+                        prev[axis] -= 1;
+                        next[axis] += 1;
+                        (1..B as isize).contains(&c[axis])
+                            && crossing_missed(lattice.at(c), lattice.at(prev), lattice.at(next))
+                    });
+                    if missed {
+                        corners.push(c);
+                    }
+                }
+            }
+        }
+        corners
+    }
+
+    /// Rows at once find the corners one at a time does, on lattices of
+    /// waves (many predicted crossings), with zeros (snapped corners),
+    /// NaNs and values on the ring that no corner of the brick may read.
+    #[test]
+    fn rows_at_once_find_the_corners_one_at_a_time_does() {
+        for (n, scale) in [(0usize, 1.0f32), (1, 3.0), (2, 0.3), (3, 7.0)] {
+            let mut lattice = Lattice {
+                base: [0; 3],
+                values: vec![0.0; L * L * L],
+            };
+            for (i, v) in lattice.values.iter_mut().enumerate() {
+                let t = i as f32 * 0.37 + n as f32;
+                *v = (t * scale).sin() + 0.4 * (t * 0.11).cos() - 0.2;
+                if i % 23 == n {
+                    *v = 0.0;
+                }
+                if i % 97 == n {
+                    *v = f32::NAN;
+                }
+            }
+            let found = corners_missing_crossings(&lattice);
+            assert!(found.len() > 10, "{}", found.len());
+            assert_eq!(found, one_by_one(&lattice));
+        }
+    }
 }
