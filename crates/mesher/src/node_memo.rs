@@ -83,18 +83,23 @@ const MEMO_MOST: usize = 1 << 14;
 
 impl TopologyMemo {
     fn get(&mut self, mesh: u64, signs: &Signs) -> Option<Topology> {
-        if self.mesh != mesh {
-            self.mesh = mesh;
-            self.known.clear();
-        }
+        self.start(mesh);
         self.known.get(signs).cloned()
     }
 
     fn insert(&mut self, mesh: u64, signs: Signs, topology: Topology) {
-        if self.mesh != mesh || self.known.len() >= MEMO_MOST {
-            self.mesh = mesh;
+        self.start(mesh);
+        if self.known.len() >= MEMO_MOST {
             self.known.clear();
         }
         self.known.insert(signs, topology);
+    }
+
+    /// Forgets another mesh's topologies.
+    fn start(&mut self, mesh: u64) {
+        if self.mesh != mesh {
+            self.mesh = mesh;
+            self.known.clear();
+        }
     }
 }

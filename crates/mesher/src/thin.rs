@@ -91,7 +91,8 @@ pub(crate) fn missed_cells(
         .collect();
     let mut at = vec![Grad::default(); points.len()];
     grads.eval(&points, &mut at);
-    // Probes past each predicted crossing, with the corner they start from.
+    // Probes past each predicted crossing, each with its corner's side and
+    // the blind cell it lands in.
     // Up to one probe per overshoot per corner.
     let most = OVERSHOOT.len() * at.len();
     let (mut xs, mut ys, mut zs, mut from) = (
@@ -118,11 +119,11 @@ pub(crate) fn missed_cells(
             // Only a probe in a cell of the brick whose corners all show
             // the corner's side can prove a missed surface: the others are
             // not sampled at all.
-            if blind_cell(lattice, grid, base, probe, corner_inside).is_some() {
+            if let Some(cell) = blind_cell(lattice, grid, base, probe, corner_inside) {
                 xs.push(probe[0]);
                 ys.push(probe[1]);
                 zs.push(probe[2]);
-                from.push(i);
+                from.push((corner_inside, cell));
             }
         }
     }
@@ -133,7 +134,7 @@ pub(crate) fn missed_cells(
     // corner's side, the feature is thinner than a cell there (a wall or a
     // gap; a thick solid's edge clipping the cell is deep along its normal).
     let hits: Vec<usize> = (0..values.len())
-        .filter(|&probe| (values[probe] >= 0.0) != (lattice.at(corners[from[probe]]) >= 0.0))
+        .filter(|&probe| (values[probe] >= 0.0) != from[probe].0)
         .collect();
     let inside: Vec<[f64; 3]> = hits
         .iter()
@@ -157,15 +158,12 @@ pub(crate) fn missed_cells(
     }
     let mut beyond = vec![0.0f32; hits.len()];
     batch.eval(&bx, &by, &bz, &mut beyond);
-    let mut missed = Vec::new();
-    for (&probe, &b) in hits.iter().zip(&beyond) {
-        let corner_inside = lattice.at(corners[from[probe]]) >= 0.0;
-        if (b >= 0.0) != corner_inside {
-            continue;
-        }
-        let p = [xs[probe], ys[probe], zs[probe]];
-        missed.extend(blind_cell(lattice, grid, base, p, corner_inside));
-    }
+    let mut missed: Vec<[usize; 3]> = hits
+        .iter()
+        .zip(&beyond)
+        .filter(|&(&probe, &b)| (b >= 0.0) == from[probe].0)
+        .map(|(&probe, _)| from[probe].1)
+        .collect();
     missed.sort_unstable_by_key(|c: &[usize; 3]| (c[2], c[1], c[0]));
     missed.dedup();
     missed
