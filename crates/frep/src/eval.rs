@@ -313,9 +313,15 @@ impl Grad {
 
 #[inline(always)]
 fn grad_unary(op: Unary, a: Grad) -> Grad {
-    let x = a.v;
-    let v = unary(op, x);
-    let k = match op {
+    let v = unary(op, a.v);
+    a.scale(unary_slope(op, a.v, v), v)
+}
+
+/// The slope of `op` at `x`, where its value is `v`: the chain rule's
+/// factor for the argument's gradient.
+#[inline(always)]
+fn unary_slope(op: Unary, x: f64, v: f64) -> f64 {
+    match op {
         Unary::Neg => -1.0,
         Unary::Abs => {
             if x < 0.0 {
@@ -344,8 +350,7 @@ fn grad_unary(op: Unary, a: Grad) -> Grad {
         Unary::Exp => v,
         Unary::Ln => 1.0 / x,
         Unary::Floor | Unary::Ceil | Unary::Round | Unary::Not => 0.0,
-    };
-    a.scale(k, v)
+    }
 }
 
 #[inline(always)]

@@ -391,7 +391,7 @@ impl Drop for Field {
 }
 
 /// The scalar semantics every evaluator reproduces.
-#[inline]
+#[inline(always)]
 pub fn unary(op: Unary, a: f64) -> f64 {
     match op {
         Unary::Neg => -a,

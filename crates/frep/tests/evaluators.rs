@@ -179,6 +179,46 @@ fn batch_gradients_equal_point_gradients() {
     }
 }
 
+/// Where the rules branch (a kink, a tie, a zero under a root, a NaN),
+/// the batch evaluator's row-wise forms of `abs`, `sqrt`, `square`, `neg`,
+/// `min` and `max` give the point evaluator's bits.
+#[test]
+fn batch_gradients_hold_the_rules_at_kinks_ties_and_nans() {
+    let (x, y) = (Field::x(), Field::y());
+    let nan_below_five = (&x - 5.0).ln();
+    let fields = [
+        x.abs(),
+        (&x * &x + &y * &y).sqrt(),
+        x.sqrt(),
+        x.square(),
+        -(&x * 2.0),
+        x.max(&y),
+        x.min(&y),
+        y.min(&nan_below_five),
+        nan_below_five.max(&y),
+        (&x * &y).max(0.0).sqrt(),
+    ];
+    let values = [-1.0, -0.5, -0.0, 0.0, 0.5, 1.0];
+    let pts: Vec<[f64; 3]> = values
+        .iter()
+        .flat_map(|&a| values.iter().map(move |&b| [a, b, 0.25]))
+        .collect();
+    for field in &fields {
+        let tape = Tape::compile(field);
+        let mut one = GradEval::new(&tape);
+        // 36 points: full blocks of 16 and a short one of 4.
+        let mut out = vec![Grad::default(); pts.len()];
+        BatchGradEval::new(&tape).eval(&pts, &mut out);
+        for (pt, got) in pts.iter().zip(&out) {
+            let want = one.eval(*pt);
+            let parts = |g: &Grad| [g.v, g.d[0], g.d[1], g.d[2]];
+            let agree = (parts(got).iter().zip(parts(&want)))
+                .all(|(a, b)| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()));
+            assert!(agree, "{field:?} at {pt:?}: {got:?}, want {want:?}");
+        }
+    }
+}
+
 #[test]
 fn tanglecube_from_fidget_matches_its_formula() {
     let text = std::fs::read_to_string(concat!(
