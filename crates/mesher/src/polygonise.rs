@@ -336,6 +336,20 @@ pub fn polygonise(
     cancel: &(dyn Fn() -> bool + Sync),
     progress: &(dyn Fn(f32) + Sync),
 ) -> Result<(Geometry, MeshStats), MeshError> {
+    // On a pool thread from the start: a parallel loop begun outside the
+    // pool hands its job over and waits on a latch, and reduction's fifty
+    // passes begin a hundred and fifty of them (colonnade at depth 6: 24.5
+    // against 24.0 ms). Already on a pool thread, the scope runs in place.
+    rayon::scope(|_| polygonise_on_pool(field, opts, cancel, progress))
+}
+
+/// [`polygonise`], run on a thread of the current pool.
+fn polygonise_on_pool(
+    field: &Field,
+    opts: &MeshOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+    progress: &(dyn Fn(f32) + Sync),
+) -> Result<(Geometry, MeshStats), MeshError> {
     let (grid, tape, top) = setup(field, opts)?;
     // Polled between phases; bricks poll `cancel` themselves.
     let stop = || {
