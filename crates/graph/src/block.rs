@@ -13,7 +13,7 @@ use geode_op::{
     CookError, ErrorKind, ParamDefault as D, ParamSpec as P, ParamType as T, Params, Value,
 };
 
-use crate::compile::CompiledParam;
+use crate::compiled_param::CompiledParam;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BlockKind {

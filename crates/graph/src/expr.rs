@@ -11,7 +11,9 @@ use std::sync::Arc;
 
 use geode_op::{CookEnv, ExprScope, ExprValue, Expression, ParamValue, TextPosition};
 
-use crate::compile::{CompiledParam, Component, LoadError, Network, NodeKind, ParamSource};
+use crate::compiled_param::{CompiledParam, Component, ParamSource};
+use crate::load::LoadError;
+use crate::network::{Network, NodeKind};
 
 /// A numeric component given as an expression.
 #[derive(Clone, Debug)]

@@ -8,18 +8,21 @@
 mod block;
 pub mod cache;
 pub mod channel;
-mod compile;
+mod compiled_param;
 pub mod container;
 pub mod document;
 mod engine;
 mod expr;
+mod load;
+mod network;
 
 pub use block::BlockKind;
 pub use cache::{Cache, CacheStats, Cached, Store};
-pub use compile::{LoadError, Network, Promotion};
 pub use container::{container_spec, has_meta, holds_network, node_spec, node_specs};
 pub use document::{Document, SyntaxError};
 pub use engine::{CookEvent, CookOptions, CookResult, Engine};
+pub use load::LoadError;
+pub use network::{Network, Promotion};
 
 /// Parses and loads a network document in one step; syntax errors come back
 /// as a single load error naming the line and column.
