@@ -10,7 +10,8 @@ use geode_op::{
     Params, PortType, Registry, Value,
 };
 
-use crate::frep::{field_input, BOUNDS_MAX, BOUNDS_MIN, FIELD_IN};
+use crate::frep::{field_input, FIELD_IN};
+use crate::frep_polygonise::{BOUNDS_MAX, BOUNDS_MIN};
 
 const VOXEL_SIZE: P = P::new(
     "voxel_size",

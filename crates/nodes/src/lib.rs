@@ -17,6 +17,7 @@ mod frep;
 mod frep_file;
 mod frep_mesh;
 mod frep_offset;
+mod frep_polygonise;
 mod frep_volume;
 mod groups;
 mod growth;
@@ -71,6 +72,7 @@ pub fn registry() -> Registry {
     frep_mesh::register(&mut r);
     frep_volume::register(&mut r);
     frep_offset::register(&mut r);
+    frep_polygonise::register(&mut r);
     attributes::register(&mut r);
     attribute_move::register(&mut r);
     attribute_noise::register(&mut r);

@@ -215,8 +215,8 @@ static SCATTER_FIELD: NodeSpec = NodeSpec::new(
         required: true,
     }],
     &[
-        crate::frep::BOUNDS_MIN,
-        crate::frep::BOUNDS_MAX,
+        crate::frep_polygonise::BOUNDS_MIN,
+        crate::frep_polygonise::BOUNDS_MAX,
         COUNT,
         DENSITY,
         SEED,
@@ -235,8 +235,8 @@ fn cook_scatter_field(
         .and_then(|v| v.as_field())
         .ok_or_else(|| ctx.input_error("input 1 needs a field"))?;
     let (lo, hi) = (
-        vec3(p, &crate::frep::BOUNDS_MIN)?,
-        vec3(p, &crate::frep::BOUNDS_MAX)?,
+        vec3(p, &crate::frep_polygonise::BOUNDS_MIN)?,
+        vec3(p, &crate::frep_polygonise::BOUNDS_MAX)?,
     );
     if (hi - lo).cmple(Vec3::ZERO).any() {
         return Err(ctx.param_error("max", "the box is empty: max must exceed min on every axis"));

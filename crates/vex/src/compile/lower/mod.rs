@@ -15,6 +15,7 @@ use crate::program::{ArgMode, Binding, CallSite, Counts};
 use crate::ty::{Elem, Ty};
 use crate::value::Val;
 
+mod access;
 mod calls;
 mod expr;
 mod flow;
