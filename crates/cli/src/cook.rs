@@ -7,6 +7,8 @@ use geode_graph::{CookOptions, Document, Engine, Network};
 use geode_op::{expand_frame, CancelToken, CookEnv, Value};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::exit::{tagged, Exit, Kind};
+
 /// Reads and checks a network file, failing on any problem (`geode fmt`);
 /// every problem is listed, each prefixed by the file.
 pub fn load(path: &Path) -> Result<(Document, Network)> {
@@ -40,9 +42,13 @@ fn read_document(path: &Path, sets: &[String]) -> Result<Document> {
     let text = geode_op::FileAccess::anywhere()
         .read_text(path, geode_op::budget_from_env(), &|| false)
         .context("cannot read the network")?;
-    let mut doc = Document::from_json(&text).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    let mut doc = Document::from_json(&text)
+        .with_context(|| path.display().to_string())
+        .kind(Exit::Network)?;
     for set in sets {
-        apply_set(&mut doc, set).map_err(|e| anyhow!("{}: --set {set}: {e}", path.display()))?;
+        apply_set(&mut doc, set)
+            .with_context(|| format!("{}: --set {set}", path.display()))
+            .kind(Exit::Usage)?;
     }
     Ok(doc)
 }
@@ -59,11 +65,14 @@ pub fn problems(path: &Path, errors: &[geode_graph::LoadError]) -> anyhow::Error
         .iter()
         .map(|e| format!("{}: {}", path.display(), describe(e)))
         .collect();
-    anyhow!(
-        "{} problem{} in the network:\n{}",
-        errors.len(),
-        if errors.len() == 1 { "" } else { "s" },
-        lines.join("\n")
+    tagged(
+        Exit::Network,
+        anyhow!(
+            "{} problem{} in the network:\n{}",
+            errors.len(),
+            if errors.len() == 1 { "" } else { "s" },
+            lines.join("\n")
+        ),
     )
 }
 
@@ -81,6 +90,10 @@ fn describe(e: &geode_graph::LoadError) -> String {
 
 /// Frames from `--frame F` or `--frames A-B` (inclusive, step 1).
 pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
+    frames_given(frame, range).kind(Exit::Usage)
+}
+
+fn frames_given(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
     match (frame, range) {
         (Some(f), None) => Ok(vec![f]),
         (None, None) => Ok(vec![1.0]),
@@ -111,10 +124,13 @@ pub fn frames(frame: Option<f64>, range: Option<&str>) -> Result<Vec<f64>> {
 /// frames are written: each would overwrite the last.
 pub fn check_per_frame(pattern: &str, frames: &[f64]) -> Result<()> {
     if frames.len() > 1 && !pattern.contains("$F") {
-        bail!(
-            "-o {pattern}: {} frames would all write this one file; name the frame with $F, $F4 or $FF",
-            frames.len()
-        );
+        return Err(tagged(
+            Exit::Usage,
+            anyhow!(
+                "-o {pattern}: {} frames would all write this one file; name the frame with $F, $F4 or $FF",
+                frames.len()
+            ),
+        ));
     }
     Ok(())
 }
@@ -192,19 +208,25 @@ pub fn cook(args: CookArgs) -> Result<()> {
         Some(n) if !n.starts_with('/') => format!("/{n}"),
         Some(n) => n.to_owned(),
         None => net.output().map(str::to_owned).ok_or_else(|| {
-            anyhow!(
-                "{}: the network names no output node; set \"output\" or pass --node",
-                args.network.display()
+            tagged(
+                Exit::Network,
+                anyhow!(
+                    "{}: the network names no output node; set \"output\" or pass --node",
+                    args.network.display()
+                ),
             )
         })?,
     };
     if net.node_type(&target).is_none() {
         let known: Vec<&str> = net.paths().collect();
-        bail!(
-            "{}: no node `{target}` (nodes: {})",
-            args.network.display(),
-            known.join(", ")
-        );
+        return Err(tagged(
+            Exit::Usage,
+            anyhow!(
+                "{}: no node `{target}` (nodes: {})",
+                args.network.display(),
+                known.join(", ")
+            ),
+        ));
     }
     let engine = Engine::new(net, crate::disk_cache::cook_cache()?);
     let cancel = CancelToken::new();
@@ -230,17 +252,24 @@ pub fn cook(args: CookArgs) -> Result<()> {
             writes: true,
         };
         let result = engine.cook(&target, &opts).map_err(|errors| {
-            if errors.iter().any(|e| e.is_cancelled()) {
-                return anyhow!("interrupted: nothing was written for frame {frame}");
+            let kind = Exit::of_cook(&errors);
+            if kind == Exit::Interrupted {
+                return tagged(
+                    kind,
+                    anyhow!("interrupted: nothing was written for frame {frame}"),
+                );
             }
             let lines: Vec<String> = errors
                 .iter()
                 .map(|e| format!("{}: frame {frame}: {e}", args.network.display()))
                 .collect();
-            anyhow!("the cook failed:\n{}", lines.join("\n"))
+            tagged(kind, anyhow!("the cook failed:\n{}", lines.join("\n")))
         })?;
         if cancel.is_cancelled() {
-            bail!("interrupted: nothing was written for frame {frame}");
+            return Err(tagged(
+                Exit::Interrupted,
+                anyhow!("interrupted: nothing was written for frame {frame}"),
+            ));
         }
         bar.suspend(|| {
             for e in &result.events {
@@ -261,8 +290,8 @@ pub fn cook(args: CookArgs) -> Result<()> {
                     let progress = CancelOnly(&cancel);
                     geode_io::write_limited(&g, &path, &progress, env.memory_budget)?
                 }
-                Value::Field(_) => bail!("{target} gives a field; mesh it with a polygonise node to write it"),
-                Value::Bundle(b) => bail!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")),
+                Value::Field(_) => return Err(tagged(Exit::Network, anyhow!("{target} gives a field; mesh it with a polygonise node to write it"))),
+                Value::Bundle(b) => return Err(tagged(Exit::Network, anyhow!("{target} gives a bundle ({}); extract one geometry with bundle_extract to write it", b.entries.keys().cloned().collect::<Vec<_>>().join(", ")))),
             }
             bar.suspend(|| eprintln!("frame {frame}: wrote {}", path.display()));
         }

@@ -13,6 +13,7 @@ mod catalogue;
 mod convert;
 mod cook;
 mod disk_cache;
+mod exit;
 mod farm;
 mod info;
 mod progress;
@@ -345,14 +346,29 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        // The convention for a command stopped by SIGINT (128 + 2).
-        Err(e) if e.downcast_ref::<farm::Interrupted>().is_some() => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(130)
-        }
+        // A status per kind of failure (README: Exit status).
         Err(e) => {
-            eprintln!("error: {e:#}");
-            ExitCode::from(1)
+            eprintln!("error: {}", chain_message(&e));
+            ExitCode::from(exit::Exit::of(&e).code())
         }
     }
+}
+
+/// An error and its causes, `: `-joined, each cause said once: geode's
+/// errors say their source in their own message and also return it as
+/// their source (so it can be inspected), which `{:#}` would repeat.
+fn chain_message(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    let mut said = String::new();
+    for cause in e.chain() {
+        let message = cause.to_string();
+        if !said.contains(&message) {
+            if !out.is_empty() {
+                out.push_str(": ");
+            }
+            out.push_str(&message);
+        }
+        said = message;
+    }
+    out
 }

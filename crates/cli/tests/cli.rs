@@ -1,5 +1,7 @@
 //! The `geode` command end to end: info, convert, errors and exit codes.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -110,7 +112,7 @@ fn errors_name_the_file_and_exit_codes_distinguish() {
     let bad = dir.path().join("bad.obj");
     std::fs::write(&bad, "v 0 0 0\nf 1 2 3\n").unwrap();
     let o = geode(&["info", bad.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert_eq!(
         String::from_utf8_lossy(&o.stderr).trim(),
         format!(
@@ -119,7 +121,7 @@ fn errors_name_the_file_and_exit_codes_distinguish() {
         )
     );
     let o = geode(&["info", "missing.obj"]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(5));
     assert!(
         text(&o).contains("missing.obj: No such file or directory"),
         "{}",
@@ -128,7 +130,7 @@ fn errors_name_the_file_and_exit_codes_distinguish() {
     // A failed conversion leaves no output behind.
     let out = dir.path().join("out.glb");
     let o = geode(&["convert", bad.to_str().unwrap(), out.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert!(!out.exists());
     assert_eq!(geode(&["frobnicate"]).status.code(), Some(2));
     let v = geode(&["--version"]);
@@ -146,7 +148,7 @@ fn only_regular_files_within_the_budget_are_read() {
     std::os::unix::fs::symlink("/dev/zero", &zero_json).unwrap();
     let t = std::time::Instant::now();
     let o = geode(&["info", zero_obj.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert_eq!(
         String::from_utf8_lossy(&o.stderr).trim(),
         format!(
@@ -161,7 +163,7 @@ fn only_regular_files_within_the_budget_are_read() {
         "-o",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(
         text(&o).contains(&format!(
             "cannot read the network: {}: not a regular file (a character device)",
@@ -189,7 +191,7 @@ fn only_regular_files_within_the_budget_are_read() {
     )
     .unwrap();
     let o = geode(&["info", gltf.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(4));
     assert!(
         text(&o).contains("buffer 0: cannot read") && text(&o).contains("not a regular file"),
         "{}",
@@ -204,7 +206,7 @@ fn only_regular_files_within_the_budget_are_read() {
         .env("GEODE_MEMORY_MB", "1")
         .output()
         .unwrap();
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(6));
     assert_eq!(
         String::from_utf8_lossy(&o.stderr).trim(),
         format!(
@@ -304,4 +306,72 @@ fn convert_takes_meshes_to_level_sets_and_back() {
         assert!(!o.status.success());
         assert!(text(&o).contains(says), "{}", text(&o));
     }
+}
+
+/// Each kind of failure exits with its own status (README: Exit status),
+/// and a bad number in a network names its node and parameter.
+#[test]
+fn each_kind_of_failure_has_its_exit_status() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let write = |name: &str, text: &str| std::fs::write(d.join(name), text).unwrap();
+    let status = |args: &[&str]| {
+        let o = common::geode_in(d, args, &[]);
+        (o.status.code(), common::stderr(&o))
+    };
+    write(
+        "ok.json",
+        r#"{"geode": "network", "version": 1, "output": "t", "nodes": {
+            "f": {"type": "file", "params": {"file": "$HIP/in.obj"}},
+            "t": {"type": "transform", "inputs": ["f"]}}}"#,
+    );
+    write(
+        "range.json",
+        r#"{"geode": "network", "version": 1, "nodes": {"box1": {"type": "box", "params": {"size": [1, 1e999, 1]}}}}"#,
+    );
+    write(
+        "unknown.json",
+        r#"{"geode": "network", "version": 1, "nodes": {"a": {"type": "no_such_node"}}}"#,
+    );
+
+    // 2: the command line.
+    assert_eq!(status(&["cook", "ok.json", "--frames", "5-3"]).0, Some(2));
+    assert_eq!(
+        status(&["cook", "ok.json", "--set", "no-equals"]).0,
+        Some(2)
+    );
+    assert_eq!(
+        status(&["cook", "ok.json", "--node", "/nowhere"]).0,
+        Some(2)
+    );
+    assert_eq!(status(&["cook", "--no-such-flag"]).0, Some(2));
+    // 3: the network.
+    let (code, err) = status(&["cook", "range.json"]);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(
+        err.contains("node /box1, parameter `size`: number out of range"),
+        "{err}"
+    );
+    assert_eq!(status(&["check", "unknown.json"]).0, Some(3));
+    // 5: the system refused a file (the network itself, or a node's input).
+    let (code, err) = status(&["cook", "missing.json"]);
+    assert_eq!(code, Some(5), "{err}");
+    // The cause is kept as the error's source and said once.
+    assert_eq!(err.matches("No such file or directory").count(), 1, "{err}");
+    let (code, err) = status(&["cook", "ok.json", "-o", "out.ply"]);
+    assert_eq!(code, Some(5), "{err}");
+    // 4: the cook (a file whose content cannot be read as OBJ).
+    write("in.obj", "v 1 2 x\nf 1 2 3\n");
+    let (code, err) = status(&["cook", "ok.json", "-o", "out.ply"]);
+    assert_eq!(code, Some(4), "{err}");
+    // 0, and 5 again where the output's folder cannot be made.
+    std::fs::copy(
+        common::root().join("examples/assets/creased_box.obj"),
+        d.join("in.obj"),
+    )
+    .unwrap();
+    assert_eq!(status(&["cook", "ok.json", "-o", "out.ply"]).0, Some(0));
+    write("blocker", "a file where a folder would go");
+    let (code, err) = status(&["cook", "ok.json", "-o", "blocker/out.ply"]);
+    assert_eq!(code, Some(5), "{err}");
 }

@@ -123,7 +123,9 @@ fn farms_equal_local_cooks(scheduler: &str) {
 }
 
 /// Frame 3's input file is missing: its task fails on every attempt, is
-/// retried, and is reported with the end of its log; the others are written.
+/// retried (the disk may yet hold it), and is reported with the end of its
+/// log. Frame 4's is not OBJ: its cook exits 4, which no retry changes, so
+/// it runs once. The others are written.
 fn a_failing_task_is_retried_and_reported(scheduler: &str) {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
@@ -131,6 +133,7 @@ fn a_failing_task_is_retried_and_reported(scheduler: &str) {
     for f in [1, 2] {
         std::fs::copy(&obj, d.join(format!("in.{f:04}.obj"))).unwrap();
     }
+    std::fs::write(d.join("in.0004.obj"), "v 1 2 x\n").unwrap();
     let net = r#"{"geode": "network", "version": 1, "output": "t", "nodes": {
         "f": {"type": "file", "params": {"file": "$HIP/in.$F4.obj"}},
         "t": {"type": "transform", "inputs": ["f"], "params": {"translate": [0, 1, 0]}}}}"#;
@@ -142,7 +145,7 @@ fn a_failing_task_is_retried_and_reported(scheduler: &str) {
             "--scheduler",
             scheduler,
             "--frames",
-            "1-3",
+            "1-4",
             "--retry",
             "1",
             "--farm-dir",
@@ -169,10 +172,22 @@ fn a_failing_task_is_retried_and_reported(scheduler: &str) {
         err.contains("in.0003.obj: No such file or directory"),
         "{err}"
     );
-    assert!(err.contains("error: 1 of 3 farm tasks failed"), "{err}");
+    assert!(err.contains("error: 2 of 4 farm tasks failed"), "{err}");
     assert!(
         d.join("f/task-2.attempt-0.log").exists() && log.exists(),
         "both attempts ran"
+    );
+    assert!(
+        err.contains(&format!(
+            "farm: task 3 (frame 4, to {}) failed after 1 attempt; log {}:",
+            d.join("out/0004.ply").display(),
+            d.join("f/task-3.attempt-0.log").display()
+        )),
+        "{err}"
+    );
+    assert!(
+        !d.join("f/task-3.attempt-1.log").exists(),
+        "a cook's failure is not retried"
     );
     assert!(d.join("out/0001.ply").exists() && d.join("out/0002.ply").exists());
     assert!(!d.join("out/0003.ply").exists());
@@ -281,6 +296,10 @@ fn the_kubernetes_manifest_indexes_every_task() {
     assert_eq!(job["spec"]["completions"], 5);
     assert_eq!(job["spec"]["parallelism"], 3);
     assert_eq!(job["spec"]["backoffLimitPerIndex"], 2);
+    // Usage, network and cook failures (exit 2, 3, 4) are not retried.
+    let rule = &job["spec"]["podFailurePolicy"]["rules"][0];
+    assert_eq!(rule["action"], "FailIndex");
+    assert_eq!(rule["onExitCodes"]["values"], serde_json::json!([2, 3, 4]));
     // Kubernetes enforces --task-timeout itself, per pod.
     assert_eq!(
         job["spec"]["template"]["spec"]["activeDeadlineSeconds"],

@@ -97,13 +97,30 @@ fn is_false(b: &bool) -> bool {
     !*b
 }
 
-/// A document that could not even be parsed as JSON of the right shape.
+/// A document that could not even be parsed as JSON of the right shape:
+/// where, in the text and (when the place is inside a node's entry) in the
+/// network.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("line {line}, column {column}: {message}")]
+#[error("line {line}, column {column}: {}{message}", self.within())]
 pub struct SyntaxError {
     pub line: usize,
     pub column: usize,
     pub message: String,
+    /// The node whose entry holds the error (`/a/b` inside subnet `a`).
+    pub node: Option<String>,
+    /// The parameter of `node` whose value holds it.
+    pub param: Option<String>,
+}
+
+impl SyntaxError {
+    /// `node /a, parameter `size`: ` where known.
+    fn within(&self) -> String {
+        match (&self.node, &self.param) {
+            (Some(n), Some(p)) => format!("node {n}, parameter `{p}`: "),
+            (Some(n), None) => format!("node {n}: "),
+            _ => String::new(),
+        }
+    }
 }
 
 /// Paths of the nodes with the template flag, subnets' contents included.
@@ -134,15 +151,20 @@ impl Document {
     pub fn from_json(text: &str) -> Result<Document, SyntaxError> {
         refuse_duplicate_keys(text)
             .and_then(|()| serde_json::from_str(text))
-            .map_err(|e| SyntaxError {
-                line: e.line(),
-                column: e.column(),
-                message: e
-                    .to_string()
-                    .split(" at line")
-                    .next()
-                    .unwrap_or_default()
-                    .to_owned(),
+            .map_err(|e| {
+                let (node, param) = crate::json_path::node_and_param_at(text, e.line(), e.column());
+                SyntaxError {
+                    line: e.line(),
+                    column: e.column(),
+                    message: e
+                        .to_string()
+                        .split(" at line")
+                        .next()
+                        .unwrap_or_default()
+                        .to_owned(),
+                    node,
+                    param,
+                }
             })
     }
 
@@ -254,5 +276,29 @@ mod tests {
     fn syntax_errors_have_positions() {
         let e = Document::from_json("{\n \"geode\": \"network\",\n \"version\": }").unwrap_err();
         assert_eq!((e.line, e.column), (3, 13));
+        assert_eq!((e.node, e.param), (None, None));
+    }
+
+    /// A number JSON cannot hold (1e999, NaN) names its node and parameter,
+    /// subnets' contents included.
+    #[test]
+    fn a_bad_number_names_its_node_and_parameter() {
+        let text = r#"{"geode": "network", "version": 1, "nodes": {"box1": {"type": "box", "params": {"size": [1, 1e999, 1]}}}}"#;
+        let e = Document::from_json(text).unwrap_err();
+        assert_eq!(e.node.as_deref(), Some("/box1"), "{e}");
+        assert_eq!(e.param.as_deref(), Some("size"), "{e}");
+        assert!(
+            e.to_string()
+                .contains("node /box1, parameter `size`: number out of range"),
+            "{e}"
+        );
+        let text = r#"{"geode": "network", "version": 1, "nodes": {"s": {"type": "subnet",
+            "network": {"nodes": {"t": {"type": "transform", "params": {"scale": NaN}}}}}}}"#;
+        let e = Document::from_json(text).unwrap_err();
+        assert_eq!(
+            (e.node.as_deref(), e.param.as_deref()),
+            (Some("/s/t"), Some("scale")),
+            "{e}"
+        );
     }
 }

@@ -13,6 +13,7 @@ pub mod container;
 pub mod document;
 mod engine;
 mod expr;
+mod json_path;
 mod load;
 mod network;
 
@@ -29,9 +30,10 @@ pub use network::{Network, Promotion};
 pub fn load_str(text: &str, registry: &geode_op::Registry) -> Result<Network, Vec<LoadError>> {
     let doc = Document::from_json(text).map_err(|e| {
         vec![LoadError {
-            path: "/".into(),
-            param: None,
-            message: e.to_string(),
+            path: e.node.clone().unwrap_or_else(|| "/".into()),
+            param: e.param.clone(),
+            // The node and parameter are the error's own path and param.
+            message: format!("line {}, column {}: {}", e.line, e.column, e.message),
             position: None,
         }]
     })?;

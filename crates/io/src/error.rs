@@ -35,6 +35,7 @@ pub enum IoError {
     #[error("{}: {error}", path.display())]
     Os {
         path: PathBuf,
+        #[source]
         error: std::io::Error,
     },
     /// The extension names no format geode knows.

@@ -74,8 +74,7 @@ type Source = Arc<dyn std::error::Error + Send + Sync + 'static>;
 
 /// A failed cook: the node, the parameter if one is to blame, the kind, why,
 /// and (for kernel and file errors) the error it came from.
-#[derive(Clone, Debug, thiserror::Error)]
-#[error("{path}{}: {message}", param.as_ref().map(|p| format!(" (parameter `{p}`)")).unwrap_or_default())]
+#[derive(Clone, Debug)]
 pub struct CookError {
     pub path: String,
     pub param: Option<String>,
@@ -83,8 +82,27 @@ pub struct CookError {
     pub message: String,
     /// Where in the blamed parameter's text the problem is, when it is text.
     pub position: Option<TextPosition>,
-    #[source]
     source: Option<Source>,
+}
+
+impl std::fmt::Display for CookError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}", self.path)?;
+        if let Some(p) = &self.param {
+            write!(f, " (parameter `{p}`)")?;
+        }
+        write!(f, ": {}", self.message)
+    }
+}
+
+/// The source is the error itself, not the `Arc` that shares it, so a
+/// caller can downcast it (the CLI tells a disk's refusal from a file's bad
+/// content by it).
+impl std::error::Error for CookError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        let source: &(dyn std::error::Error + Send + Sync + 'static) = self.source.as_deref()?;
+        Some(source)
+    }
 }
 
 /// Errors are equal when they say the same thing of the same node (sources
@@ -355,5 +373,26 @@ impl CookContext<'_> {
             ),
         )
         .at_param(param))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::error::Error;
+
+    /// The error a cook error came from is its source as itself: it
+    /// downcasts, and its own chain follows.
+    #[test]
+    fn a_cook_errors_source_downcasts_to_what_it_came_from() {
+        let e = CookError::new("/f", ErrorKind::Io, "disk full")
+            .at_param("file")
+            .with_source(std::io::Error::other("disk full"));
+        let source = e.source().expect("a source");
+        assert!(source.downcast_ref::<std::io::Error>().is_some());
+        assert_eq!(e.to_string(), "/f (parameter `file`): disk full");
+        assert!(CookError::new("/f", ErrorKind::Input, "no input")
+            .source()
+            .is_none());
     }
 }

@@ -27,6 +27,13 @@ pub fn manifest(farm: &Farm, image: &str) -> serde_json::Value {
     job
 }
 
+/// The exit statuses no retry can change (see `Exit::is_transient`).
+fn final_exit_codes() -> Vec<i32> {
+    (0..=255)
+        .filter(|&c| c != 0 && !crate::exit::Exit::is_transient(c))
+        .collect()
+}
+
 /// The Job before the optional per-pod deadline.
 fn job(farm: &Farm, image: &str) -> serde_json::Value {
     let dir = farm.dir.display().to_string();
@@ -42,6 +49,13 @@ fn job(farm: &Farm, image: &str) -> serde_json::Value {
             "completions": farm.tasks.len(),
             "parallelism": farm.jobs,
             "backoffLimitPerIndex": farm.retry,
+            // A cook that exits saying the command, the network or the
+            // cook is wrong fails the same way again: its index is not
+            // retried (README: Exit status).
+            "podFailurePolicy": {"rules": [{
+                "action": "FailIndex",
+                "onExitCodes": {"containerName": "cook", "operator": "In", "values": final_exit_codes()},
+            }]},
             "template": {
                 "metadata": {"labels": {"app": "geode-farm"}},
                 "spec": {

@@ -108,7 +108,7 @@ fn run_task(farm: &Farm, t: usize) -> Option<Result<(), (u32, Failure)>> {
         match attempt(farm, t, n) {
             Ending::Succeeded => return Some(Ok(())),
             Ending::Interrupted => return None,
-            Ending::Failed(failure) if n < farm.retry => {
+            Ending::Failed(failure) if n < farm.retry && failure.is_transient() => {
                 let why = match failure {
                     Failure::Exit(_) => "failed".to_owned(),
                     other => other.to_string(),

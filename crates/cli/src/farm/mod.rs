@@ -138,6 +138,17 @@ pub(crate) enum Failure {
 }
 
 impl Failure {
+    /// Whether another attempt can succeed: not when the cook exited with
+    /// a status that says the command, the network or the cook is wrong
+    /// (README: Exit status), which fail again the same way; a crash, a
+    /// signal, a timeout or a lost node may not.
+    pub(crate) fn is_transient(&self) -> bool {
+        match self {
+            Failure::Exit(Some(code)) => crate::exit::Exit::is_transient(*code),
+            _ => true,
+        }
+    }
+
     /// A task's exit status as the shell that ran it reports it: past 128,
     /// the cook was killed by signal (status - 128).
     pub(crate) fn from_exit(code: i32) -> Failure {
@@ -311,7 +322,21 @@ impl Farm {
                 }
             );
         }
-        bail!("{} of {} farm tasks failed", failed.len(), self.tasks.len())
+        // Tasks that all failed alike give the farm their status (a network
+        // every frame refuses exits as the cook would); else it is 1.
+        let mut statuses = failed.iter().map(|(_, _, why)| match why {
+            Failure::Exit(Some(code)) => crate::exit::Exit::from_code(*code),
+            _ => None,
+        });
+        let first = statuses.next().flatten();
+        let kind = match first {
+            Some(k) if statuses.all(|s| s == Some(k)) => k,
+            _ => crate::exit::Exit::Internal,
+        };
+        Err(crate::exit::tagged(
+            kind,
+            anyhow!("{} of {} farm tasks failed", failed.len(), self.tasks.len()),
+        ))
     }
 }
 

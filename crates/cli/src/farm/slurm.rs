@@ -465,7 +465,7 @@ pub fn run(farm: &Farm) -> Result<()> {
                             farm.describe(t)
                         );
                     }
-                    if task.attempt < farm.retry {
+                    if task.attempt < farm.retry && failure.is_transient() {
                         retry.entry(task.attempt + 1).or_default().push(t);
                     } else {
                         failed.push((t, task.attempt, failure));
