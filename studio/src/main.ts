@@ -1,4 +1,4 @@
-// The studio page: connects to `geode serve`, wires the editor, parameter panel, timeline, viewport, spreadsheet and trace to the session, and binds Houdini's keys.
+// The studio page: connects to `geode serve`, wires the editor, parameter panel, timeline, viewport, spreadsheet and trace to the session, and does what keymap.ts's keys ask.
 
 import './style.css';
 import { NetworkEditor } from './editor';
@@ -7,6 +7,7 @@ import { ParamPanel } from './params';
 import { CurveEditor, curvesOf } from './curves';
 import { human, showInfo, type NodeInfo } from './info';
 import { CookBar } from './cookbar';
+import { bindingFor, type Action } from './keymap';
 import { Connection, decodeGeometry, reducedNotice, type CookedMsg, type DocNetwork, type NodeType, type ProgressMsg, type ServerMsg } from './protocol';
 import { Spreadsheet, type SheetClass } from './sheet';
 import { createStore } from './store';
@@ -330,7 +331,6 @@ store.subscribe(() => {
   if (probe.panes.length > 100) probe.panes.shift();
 });
 
-const viewHotkeys: Record<string, ViewName> = { '1': 'persp', '2': 'top', '3': 'front', '4': 'right' };
 let spaceHeld = false;
 window.addEventListener('keydown', (e) => e.key === ' ' && (spaceHeld = true));
 window.addEventListener('keyup', (e) => e.key === ' ' && (spaceHeld = false));
@@ -392,114 +392,98 @@ function openTab() {
 }
 
 document.addEventListener('keydown', (e) => {
-  const typing = (e.target as HTMLElement).closest('input, select, textarea');
-  const mod = e.ctrlKey || e.metaKey;
-  if (mod && e.key.toLowerCase() === 's') {
-    e.preventDefault();
-    void save();
-    return;
-  }
-  if (typing) return;
-  if (mod && e.key.toLowerCase() === 'z') {
-    e.preventDefault();
-    void history(e.shiftKey ? 'redo' : 'undo');
-    return;
-  }
-  if (mod && e.key.toLowerCase() === 'y') {
-    e.preventDefault();
-    void history('redo');
-    return;
-  }
-  if (mod && e.key.toLowerCase() === 'c') return copy();
-  if (mod && e.key.toLowerCase() === 'v') return void paste();
-  if (mod) return;
-  if (spaceHeld && viewHotkeys[e.key] && document.querySelector('#viewport:hover')) {
-    // Houdini's Space+1..4: perspective, top, front, right.
-    e.preventDefault();
-    viewport.setView(viewHotkeys[e.key]);
-    ($('#view-name') as HTMLSelectElement).value = viewHotkeys[e.key];
-    return;
-  }
-  const inViewport = (e.target as HTMLElement).closest?.('#viewport') || document.querySelector('#viewport:hover');
-  const current = store.current;
-  switch (e.key) {
-    case 'Tab':
-      e.preventDefault();
-      openTab();
-      break;
-    case 'Delete':
-    case 'Backspace':
-      if (editor.deletePicked()) break;
-      if (store.selected.size) void edit({ kind: 'remove_nodes', paths: [...store.selected] });
-      break;
-    case 'P':
-      // Shift+P: a sticky note (Houdini's key).
-      if (!inViewport) editor.addNote();
-      break;
-    case 'O':
-      // Shift+O: a network box around the selection.
-      if (!inViewport) editor.boxSelection();
-      break;
-    case 'i':
-    case 'I':
-      // The current node's info (a middle-click on a node shows it too).
-      if (current && !inViewport) void openInfo(current);
-      break;
-    case 't':
-    case 'T':
-      // The template flag: the current node drawn as a ghost beside the viewed one.
-      if (current && !inViewport) void edit({ kind: 'set_flag', path: current, flag: 'template', on: !nodeAt(store.state!.document, current)?.template });
-      break;
-    case 'c':
-    case 'C':
-      if (!inViewport) void editor.colour();
-      break;
-    case 'Enter':
-      if (current) editor.dive(current);
-      store.notify();
-      break;
-    case 'u':
-    case 'U':
-      editor.up();
-      store.notify();
-      break;
-    case 'f':
-    case 'F':
-      if (inViewport) viewport.frame(true);
-      else editor.frame(store.selected.size > 0);
-      break;
-    case 'a':
-    case 'h':
-      if (inViewport) viewport.frame(false);
-      else editor.frame(false);
-      break;
-    case 'r':
-    case 'R':
-      if (current) void edit({ kind: 'set_flag', path: current, flag: 'display', on: true });
-      break;
-    case 'q':
-    case 'Q':
-      if (current) void edit({ kind: 'set_flag', path: current, flag: 'bypass', on: !nodeAt(store.state!.document, current)?.bypass });
-      break;
-    case 'w':
-    case 'W':
-      // Solo view of the current node (W: the view flag, where Houdini has template).
-      if (current) view(store.state?.view.solo === current ? null : current);
-      break;
-    case 'Escape':
-      void conn.request({ op: 'cancel' });
-      break;
-    case 'F2':
-      if (current && parentOf(current) === store.at) editor.rename(current.slice(current.lastIndexOf('/') + 1));
-      break;
-    case ' ':
-      if (!inViewport) {
-        e.preventDefault();
-        timeline.toggle();
-      }
-      break;
-  }
+  const target = e.target as HTMLElement;
+  const overViewport = document.querySelector('#viewport:hover') !== null;
+  const binding = bindingFor({
+    key: e.key,
+    mod: e.ctrlKey || e.metaKey,
+    shift: e.shiftKey,
+    typing: target.closest?.('input, select, textarea') != null,
+    inViewport: target.closest?.('#viewport') != null || overViewport,
+    overViewport,
+    spaceHeld,
+  });
+  if (!binding) return;
+  if (binding.prevent) e.preventDefault();
+  act(binding.action);
 });
+
+/** Does what a key asked for (see keymap.ts). */
+function act(action: Action) {
+  const current = store.current;
+  const flagged = (flag: 'template' | 'bypass') => !!(current && nodeAt(store.state!.document, current)?.[flag]);
+  switch (action) {
+    case 'save':
+      return void save();
+    case 'undo':
+    case 'redo':
+      return void history(action);
+    case 'copy':
+      return copy();
+    case 'paste':
+      return void paste();
+    case 'view-persp':
+    case 'view-top':
+    case 'view-front':
+    case 'view-right': {
+      const name = action.slice('view-'.length) as ViewName;
+      viewport.setView(name);
+      ($('#view-name') as HTMLSelectElement).value = name;
+      return;
+    }
+    case 'tab-menu':
+      return openTab();
+    case 'delete':
+      if (editor.deletePicked()) return;
+      if (store.selected.size) void edit({ kind: 'remove_nodes', paths: [...store.selected] });
+      return;
+    case 'sticky-note':
+      return editor.addNote();
+    case 'network-box':
+      return editor.boxSelection();
+    case 'info':
+      // A middle-click on a node shows it too.
+      if (current) void openInfo(current);
+      return;
+    case 'template':
+      // The current node drawn as a ghost beside the viewed one.
+      if (current) void edit({ kind: 'set_flag', path: current, flag: 'template', on: !flagged('template') });
+      return;
+    case 'colour':
+      return void editor.colour();
+    case 'dive':
+      if (current) editor.dive(current);
+      return store.notify();
+    case 'up':
+      editor.up();
+      return store.notify();
+    case 'frame-selection-in-viewport':
+      return viewport.frame(true);
+    case 'frame-selection-in-editor':
+      return editor.frame(store.selected.size > 0);
+    case 'frame-all-in-viewport':
+      return viewport.frame(false);
+    case 'frame-all-in-editor':
+      return editor.frame(false);
+    case 'display':
+      if (current) void edit({ kind: 'set_flag', path: current, flag: 'display', on: true });
+      return;
+    case 'bypass':
+      if (current) void edit({ kind: 'set_flag', path: current, flag: 'bypass', on: !flagged('bypass') });
+      return;
+    case 'solo':
+      // The view flag, where Houdini has template.
+      if (current) view(store.state?.view.solo === current ? null : current);
+      return;
+    case 'cancel':
+      return void conn.request({ op: 'cancel' });
+    case 'rename':
+      if (current && parentOf(current) === store.at) editor.rename(current.slice(current.lastIndexOf('/') + 1));
+      return;
+    case 'timeline':
+      return timeline.toggle();
+  }
+}
 
 $('#undo').addEventListener('click', () => void history('undo'));
 $('#redo').addEventListener('click', () => void history('redo'));
