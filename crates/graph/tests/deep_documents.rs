@@ -29,15 +29,20 @@ fn deep_json_is_refused_with_its_line_and_column() {
         r#"{{"geode": "network", "version": 1, "nodes": {{"a": {{"type": "points", "params": {{"count": {}1}}}}}}}}"#,
         "[".repeat(LEVELS)
     );
+    // The error names the node and parameter it is in.
     assert_eq!(
         syntax_error(&params),
-        "line 1, column 213: recursion limit exceeded"
+        "line 1, column 213: node /a, parameter `count`: recursion limit exceeded"
     );
-    // The loader reports it as one error naming the document.
+    // The loader reports it as one error on that node and parameter.
     let Err(e) = load_str(&params, &common::registry()) else {
         panic!("loaded");
     };
     assert_eq!(e.len(), 1);
+    assert_eq!(
+        (e[0].path.as_str(), e[0].param.as_deref()),
+        ("/a", Some("count"))
+    );
     assert_eq!(e[0].message, "line 1, column 213: recursion limit exceeded");
 }
 
@@ -67,9 +72,11 @@ fn deep_subnets_are_refused_with_their_line_and_column() {
         open.repeat(LEVELS),
         "}}}".repeat(LEVELS)
     );
-    assert_eq!(
-        syntax_error(&subnets),
-        "line 1, column 1977: recursion limit exceeded"
+    let e = syntax_error(&subnets);
+    assert!(
+        e.starts_with("line 1, column 1977: node /s/s/s/")
+            && e.ends_with("/s: recursion limit exceeded"),
+        "{e}"
     );
     // As deep as the limit allows loads (the loader recurses per subnet).
     let fits = format!(

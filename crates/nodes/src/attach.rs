@@ -64,27 +64,28 @@ fn hierarchy(ctx: &CookContext, g: &Geometry, input: &str) -> Result<Hspline, Co
 }
 
 /// A region row: the parent's level-0 faces a limb replaces.
+const REGION_U: P = P::new(
+    "u",
+    "Faces along u",
+    T::Vec2,
+    D::Vec2([2.0, 4.0]),
+    "u0 u1: the parent's level-0 faces u0..u1 (half-open).",
+)
+.at_least(0.0)
+.not_animatable();
+
+const REGION_V: P = P::new(
+    "v",
+    "Faces along v",
+    T::Vec2,
+    D::Vec2([2.0, 4.0]),
+    "v0 v1: the parent's level-0 faces v0..v1 (half-open).",
+)
+.at_least(0.0)
+.not_animatable();
+
 static REGION_ROWS: ListSpec = ListSpec {
-    fields: &[
-        P::new(
-            "u",
-            "Faces along u",
-            T::Vec2,
-            D::Vec2([2.0, 4.0]),
-            "u0 u1: the parent's level-0 faces u0..u1 (half-open).",
-        )
-        .at_least(0.0)
-        .not_animatable(),
-        P::new(
-            "v",
-            "Faces along v",
-            T::Vec2,
-            D::Vec2([2.0, 4.0]),
-            "v0 v1: the parent's level-0 faces v0..v1 (half-open).",
-        )
-        .at_least(0.0)
-        .not_animatable(),
-    ],
+    fields: &[REGION_U, REGION_V],
     legacy: Some(legacy_regions),
 };
 
@@ -111,14 +112,15 @@ fn regions(p: &Params) -> Result<Vec<Region>, CookError> {
     p.list(&ATTACH_REGIONS)?
         .iter()
         .map(|row| {
-            let [u0, u1] = row.vector::<2>("u")?.map(|x| x as usize);
-            let [v0, v1] = row.vector::<2>("v")?.map(|x| x as usize);
+            let [u0, u1] = row.vector::<2>(&REGION_U)?.map(|x| x as usize);
+            let [v0, v1] = row.vector::<2>(&REGION_V)?.map(|x| x as usize);
             Ok(((u0, u1), (v0, v1)))
         })
         .collect()
 }
 
-const ATTACH_REGIONS: P = P::list("regions", "Regions", &REGION_ROWS, "One row per limb input: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around.");
+const ATTACH_REGIONS: P = P::list(
+    "regions", "Regions", &REGION_ROWS, "One row per limb input: the parent's level-0 faces u0..u1 x v0..v1 (half-open) the limb replaces. The limb needs 2 x ((u1 - u0) + (v1 - v0)) vertices around.");
 const ATTACH_PLACE: P = P::new("place", "Place limbs", T::Toggle, D::Toggle(true), "Move each limb rigidly onto its region: rim centre on the hole's centre, axis along the parent's normal, turned to fit the rim (its offsets follow). Off: limbs stay where they are.");
 const ATTACH_SUBDIVISIONS: P = P::new(
     "subdivisions",
@@ -171,7 +173,7 @@ fn cook_attach(
     let regions = regions(p)?;
     if regions.len() != surfaces.len() {
         return Err(ctx.param_error(
-            "regions",
+            &ATTACH_REGIONS,
             format!(
                 "{} regions for {} limb inputs",
                 regions.len(),
@@ -191,7 +193,7 @@ fn cook_attach(
         p.toggle(&ATTACH_PLACE)?,
         p.int(&ATTACH_SUBDIVISIONS)? as usize,
     )
-    .map_err(|e| ctx.kernel_at("regions", e))?;
+    .map_err(|e| ctx.kernel_at(&ATTACH_REGIONS, e))?;
     let g = if p.string(&ATTACH_OUTPUT)? == "control_mesh" {
         cage(&a)
     } else {

@@ -13,12 +13,7 @@ use geode_op::{
 use crate::util::{attribute_name, class, geometry, input_owned, CLASSES};
 
 /// A kernel error at parameter `param`, about attribute `name`.
-pub(crate) fn attrib_error(
-    ctx: &CookContext,
-    param: &str,
-    name: &str,
-    e: AttribError,
-) -> CookError {
+pub(crate) fn attrib_error(ctx: &CookContext, param: &P, name: &str, e: AttribError) -> CookError {
     match e {
         AttribError::Cancelled => CookError::cancelled(ctx.path),
         AttribError::Invalid(why) => ctx.param_error(param, format!("`{name}`: {why}")),
@@ -99,10 +94,10 @@ fn cook_promote(
     let names = names_matching(ctx, &PROMOTE_NAME, pattern, &g, from)?;
     let new_name = p.string(&PROMOTE_NEW_NAME)?;
     if !new_name.is_empty() {
-        attribute_name(ctx, PROMOTE_NEW_NAME.name, new_name)?;
+        attribute_name(ctx, &PROMOTE_NEW_NAME, new_name)?;
         if names.len() > 1 {
             return Err(ctx.param_error(
-                PROMOTE_NEW_NAME.name,
+                &PROMOTE_NEW_NAME,
                 format!(
                     "one new name for {} attributes ({}): leave it empty to keep their names",
                     names.len(),
@@ -118,14 +113,14 @@ fn cook_promote(
             .expect("matched on this geometry")
             .clone();
         let promoted = promote(&g, &attr, from, to, how, &cancel)
-            .map_err(|e| attrib_error(ctx, PROMOTE_METHOD.name, &name, e))?;
+            .map_err(|e| attrib_error(ctx, &PROMOTE_METHOD, &name, e))?;
         // P stays on the points whatever is asked: it is their position.
         if p.toggle(&PROMOTE_DELETE)? && !(from == AttribClass::Point && name == geode_geo::P) {
             let _ = g.remove_attrib(from, &name);
         }
         let target = if new_name.is_empty() { &name } else { new_name };
         g.set_attrib(to, target, promoted)
-            .map_err(|e| ctx.kernel_at(PROMOTE_NAME.name, e))?;
+            .map_err(|e| ctx.kernel_at(&PROMOTE_NAME, e))?;
     }
     geometry(g)
 }
@@ -143,23 +138,24 @@ pub(crate) fn names_matching(
         .map(str::to_owned)
         .collect();
     if names.is_empty() {
-        crate::util::attribute_of(ctx, spec.name, g, c, pattern)?;
+        crate::util::attribute_of(ctx, spec, g, c, pattern)?;
     }
     Ok(names)
 }
 
+const RENAME_FROM: P = P::new(
+    "from",
+    "From",
+    T::String,
+    D::Str(""),
+    "The attribute's name now.",
+)
+.not_animatable();
+
+const RENAME_TO: P = P::new("to", "To", T::String, D::Str(""), "Its new name.").not_animatable();
+
 static RENAME_ROWS: ListSpec = ListSpec {
-    fields: &[
-        P::new(
-            "from",
-            "From",
-            T::String,
-            D::Str(""),
-            "The attribute's name now.",
-        )
-        .not_animatable(),
-        P::new("to", "To", T::String, D::Str(""), "Its new name.").not_animatable(),
-    ],
+    fields: &[RENAME_FROM, RENAME_TO],
     legacy: None,
 };
 const RENAME_CLASS: P = P::new(
@@ -193,24 +189,21 @@ fn cook_rename(
     let mut g = input_owned(ctx, inputs, 0)?;
     let c = class(p, &RENAME_CLASS)?;
     for row in p.list(&RENAME_PAIRS)? {
-        let (from, to) = (
-            row.string(&RENAME_ROWS.fields[0])?,
-            row.string(&RENAME_ROWS.fields[1])?,
-        );
+        let (from, to) = (row.string(&RENAME_FROM)?, row.string(&RENAME_TO)?);
         if from.is_empty() && to.is_empty() {
             continue;
         }
-        let attr = crate::util::attribute_of(ctx, RENAME_PAIRS.name, &g, c, from)?.clone();
-        attribute_name(ctx, RENAME_PAIRS.name, to)?;
+        let attr = crate::util::attribute_of(ctx, &RENAME_PAIRS, &g, c, from)?.clone();
+        attribute_name(ctx, &RENAME_PAIRS, to)?;
         if c == AttribClass::Point && (from == geode_geo::P || to == geode_geo::P) {
             return Err(ctx.param_error(
-                RENAME_PAIRS.name,
+                &RENAME_PAIRS,
                 "P is the points' position: it cannot be renamed or replaced",
             ));
         }
         let _ = g.remove_attrib(c, from);
         g.set_attrib(c, to, attr)
-            .map_err(|e| ctx.kernel_at(RENAME_PAIRS.name, e))?;
+            .map_err(|e| ctx.kernel_at(&RENAME_PAIRS, e))?;
     }
     geometry(g)
 }

@@ -108,7 +108,7 @@ const CHUNK: usize = 1 << 14;
 fn cook_noise(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&NAME)?;
-    attribute_name(ctx, NAME.name, name)?;
+    attribute_name(ctx, &NAME, name)?;
     let c = class(p, &CLASS)?;
     let noise_name = p.string(&NOISE)?;
     let curl = noise_name == "curl";
@@ -121,7 +121,7 @@ fn cook_noise(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     fractal.offset = noise_params::animated(fractal.offset, vec3(p, &ANIMATE)?, ctx.frame);
     let amplitude = p.float(&AMPLITUDE)? as f32;
     if !amplitude.is_finite() {
-        return Err(ctx.param_error(AMPLITUDE.name, "the amplitude must be finite"));
+        return Err(ctx.param_error(&AMPLITUDE, "the amplitude must be finite"));
     }
     let positive = p.string(&RANGE)? == "positive" && !curl;
     let op = p.string(&OPERATION)?;
@@ -130,7 +130,7 @@ fn cook_noise(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         AttribClass::Point | AttribClass::Primitive => group_param(ctx, p, &GROUP, &g, c)?,
         _ => None,
     };
-    ctx.reserve(NAME.name, positions.len() as f64 * 12.0, "noise values")?;
+    ctx.reserve(&NAME, positions.len() as f64 * 12.0, "noise values")?;
     let mut column = existing(ctx, &g, c, name, width)?;
     let channels: Vec<Fractal> = (0..3u64)
         .map(|k| Fractal {
@@ -186,7 +186,7 @@ fn cook_noise(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         Attribute::from_data(geode_geo::AttribData::Float(column), TypeInfo::None)
     };
     g.set_attrib(c, name, attr)
-        .map_err(|e| ctx.kernel_at(NAME.name, e))?;
+        .map_err(|e| ctx.kernel_at(&NAME, e))?;
     geometry(g)
 }
 
@@ -218,9 +218,9 @@ fn positions(
     let Some(geode_geo::AttribData::Vec3(rest)) =
         g.attrib(AttribClass::Point, name).map(|a| a.data())
     else {
-        crate::util::attribute_of(ctx, POSITION.name, g, AttribClass::Point, name)?;
+        crate::util::attribute_of(ctx, &POSITION, g, AttribClass::Point, name)?;
         return Err(ctx.param_error(
-            POSITION.name,
+            &POSITION,
             format!("point `{name}` is not a vector of three floats"),
         ));
     };
@@ -243,7 +243,7 @@ fn existing(
         Some(a) => match a.data().as_floats() {
             Some((f, w)) if w == width => Ok(f.to_vec()),
             _ => Err(ctx.param_error(
-                NAME.name,
+                &NAME,
                 format!(
                     "`{name}` is a {} attribute; the noise writes {}",
                     a.attrib_type(),

@@ -104,14 +104,14 @@ fn cook_transfer(
     let point_names = names(source, AttribClass::Point, p.string(&TRANSFER_POINTS)?);
     if !point_names.is_empty() {
         ctx.reserve(
-            TRANSFER_SAMPLES.name,
+            &TRANSFER_SAMPLES,
             g.num_points() as f64 * reach.samples as f64 * 8.0,
             "transfer weights",
         )?;
         let tree = KdTree::new_cancellable(source.positions(), &cancel)
             .ok_or_else(|| CookError::cancelled(ctx.path))?;
         let stencil = transfer::from_points(&tree, g.positions(), &reach, &cancel)
-            .map_err(|e| attrib_error(ctx, TRANSFER_THRESHOLD.name, "P", e))?;
+            .map_err(|e| attrib_error(ctx, &TRANSFER_THRESHOLD, "P", e))?;
         carry(
             ctx,
             &mut g,
@@ -129,7 +129,7 @@ fn cook_transfer(
             .ok_or_else(|| CookError::cancelled(ctx.path))?;
         let centroids = element_positions(&g, AttribClass::Primitive);
         let stencil = transfer::from_surface(&bvh, &prim_of, &centroids, &reach, &cancel)
-            .map_err(|e| attrib_error(ctx, TRANSFER_THRESHOLD.name, "P", e))?;
+            .map_err(|e| attrib_error(ctx, &TRANSFER_THRESHOLD, "P", e))?;
         carry(
             ctx,
             &mut g,
@@ -167,7 +167,7 @@ fn carry(
         let from = source.attrib(c, name).expect("named from the source");
         let moved = transfer::apply(stencil, from, g.attrib(c, name));
         g.set_attrib(c, name, moved)
-            .map_err(|e| ctx.kernel_at(spec.name, e))?;
+            .map_err(|e| ctx.kernel_at(spec, e))?;
     }
     Ok(())
 }
@@ -270,18 +270,18 @@ fn cook_blur(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     let neighbours = if p.string(&BLUR_METHOD)? == "proximity" {
         if c != AttribClass::Point {
             return Err(ctx.param_error(
-                BLUR_METHOD.name,
+                &BLUR_METHOD,
                 "proximity blurs point attributes: choose connectivity for primitives",
             ));
         }
         let max = p.int(&BLUR_MAX)?.clamp(1, 1024) as usize;
         ctx.reserve(
-            BLUR_MAX.name,
+            &BLUR_MAX,
             g.num_points() as f64 * max as f64 * 4.0,
             "proximity neighbours",
         )?;
         blur::proximity_neighbours(g.positions(), p.float(&BLUR_RADIUS)? as f32, max, &cancel)
-            .map_err(|e| attrib_error(ctx, BLUR_RADIUS.name, pattern, e))?
+            .map_err(|e| attrib_error(ctx, &BLUR_RADIUS, pattern, e))?
     } else if c == AttribClass::Point {
         blur::point_neighbours(&g)
     } else {
@@ -306,9 +306,9 @@ fn cook_blur(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
             pinned.as_ref(),
             &cancel,
         )
-        .map_err(|e| attrib_error(ctx, BLUR_NAME.name, &name, e))?;
+        .map_err(|e| attrib_error(ctx, &BLUR_NAME, &name, e))?;
         g.set_attrib(c, &name, blurred)
-            .map_err(|e| ctx.kernel_at(BLUR_NAME.name, e))?;
+            .map_err(|e| ctx.kernel_at(&BLUR_NAME, e))?;
     }
     geometry(g)
 }

@@ -15,8 +15,8 @@ const TYPES: &[&str] = &[
     "float", "int", "vector2", "vector3", "vector4", "color", "normal",
 ];
 
-fn check_name(ctx: &CookContext, name: &str) -> Result<(), CookError> {
-    crate::util::attribute_name(ctx, "name", name)
+fn check_name(ctx: &CookContext, param: &P, name: &str) -> Result<(), CookError> {
+    crate::util::attribute_name(ctx, param, name)
 }
 
 const CREATE_NAME: P = P::new("name", "Name", T::String, D::Str("attr"), "Attribute name.");
@@ -58,7 +58,7 @@ fn cook_create(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&CREATE_NAME)?;
-    check_name(ctx, name)?;
+    check_name(ctx, &CREATE_NAME, name)?;
     let c = class(p, &CREATE_CLASS)?;
     let v = p.vector::<4>(&CREATE_VALUE)?.map(|x| x as f32);
     let (value, info) = match p.string(&CREATE_TYPE)? {
@@ -81,7 +81,7 @@ fn cook_create(
     };
     let n = count(&g, c);
     g.set_attrib(c, name, Attribute::new(value, info, n))
-        .map_err(|e| ctx.kernel_at("name", e))?;
+        .map_err(|e| ctx.kernel_at(&CREATE_NAME, e))?;
     geometry(g)
 }
 
@@ -139,7 +139,7 @@ fn cook_randomize(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&RANDOMIZE_NAME)?;
-    check_name(ctx, name)?;
+    check_name(ctx, &RANDOMIZE_NAME, name)?;
     let c = class(p, &RANDOMIZE_CLASS)?;
     let (lo, hi) = (vec3(p, &RANDOMIZE_MIN)?, vec3(p, &RANDOMIZE_MAX)?);
     let seed = p.int(&RANDOMIZE_SEED)? as u64;
@@ -164,7 +164,7 @@ fn cook_randomize(
         ),
     };
     g.set_attrib(c, name, Attribute::from_data(data, info))
-        .map_err(|e| ctx.kernel_at("name", e))?;
+        .map_err(|e| ctx.kernel_at(&RANDOMIZE_NAME, e))?;
     geometry(g)
 }
 
@@ -285,9 +285,8 @@ fn cook_remap(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let new_name = match p.string(&REMAP_NEW_NAME)? {
         "" => name,
         n => {
-            check_name(ctx, n).map_err(|_| {
-                ctx.param_error(
-                    "new_name",
+            check_name(ctx, &REMAP_NAME, n).map_err(|_| {
+                ctx.param_error(&REMAP_NEW_NAME,
                     format!("`{n}` is not a valid attribute name (letters, digits and _, not starting with a digit)"),
                 )
             })?;
@@ -297,7 +296,7 @@ fn cook_remap(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let input = (p.float(&REMAP_INPUT_MIN)?, p.float(&REMAP_INPUT_MAX)?);
     if input.0 == input.1 {
         return Err(ctx.param_error(
-            "input_max",
+            &REMAP_INPUT_MAX,
             format!("the input range is empty: min and max are both {}", input.0),
         ));
     }
@@ -311,7 +310,7 @@ fn cook_remap(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let Some(source) = g.attrib(c, name) else {
         let known: Vec<&str> = g.attribs(c).names().collect();
         return Err(ctx.param_error(
-            "name",
+            &REMAP_NAME,
             format!(
                 "no {} attribute `{name}` (there are: {})",
                 p.string(&REMAP_CLASS)?,
@@ -328,7 +327,7 @@ fn cook_remap(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         AttribData::Float(_) | AttribData::Vec2(_) | AttribData::Vec3(_) | AttribData::Vec4(_)
     ) {
         return Err(ctx.param_error(
-            "name",
+            &REMAP_NAME,
             format!(
                 "`{name}` is a {} attribute; remap takes float and vector attributes",
                 source.attrib_type()
@@ -347,7 +346,7 @@ fn cook_remap(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         Ok(())
     })?;
     g.set_attrib(c, new_name, out)
-        .map_err(|e| ctx.kernel_at("name", e))?;
+        .map_err(|e| ctx.kernel_at(&REMAP_NAME, e))?;
     geometry(g)
 }
 

@@ -43,7 +43,7 @@ static PACK: NodeSpec = NodeSpec::new(
 
 fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let names: Vec<&str> = p
-        .string("names")?
+        .string(&PACK_NAMES)?
         .split(',')
         .map(str::trim)
         .filter(|s| !s.is_empty())
@@ -57,7 +57,7 @@ fn cook_pack(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
             .get(i)
             .map_or_else(|| format!("input{}", i + 1), |s| s.to_string());
         if b.entries.insert(name.clone(), Arc::clone(g)).is_some() {
-            return Err(ctx.param_error("names", format!("`{name}` is used twice")));
+            return Err(ctx.param_error(&PACK_NAMES, format!("`{name}` is used twice")));
         }
     }
     Ok(Value::Bundle(Arc::new(b)))
@@ -127,7 +127,7 @@ fn cook_extract(
         .ok_or_else(|| {
             let known: Vec<&str> = b.entries.keys().map(|k| k.as_str()).collect();
             ctx.param_error(
-                "name",
+                &ENTRY_NAME,
                 format!("the bundle has no `{name}` (it has: {})", known.join(", ")),
             )
         })

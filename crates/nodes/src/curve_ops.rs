@@ -101,7 +101,11 @@ fn cook_resample(
             .sum();
         total / length + 2.0 * g.num_prims() as f64
     };
-    let param = if by_count { "count" } else { "length" };
+    let param = if by_count {
+        &RESAMPLE_COUNT
+    } else {
+        &RESAMPLE_LENGTH
+    };
     crate::util::reserve_mesh(ctx, param, points, points, g.num_prims() as f64)?;
     rebuild_curves(ctx, g, |c, pts| {
         let s = if by_count {

@@ -131,7 +131,7 @@ fn cook_circle(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Val
     );
     if a == b {
         return Err(ctx.param_error(
-            "end_angle",
+            &CIRCLE_END_ANGLE,
             "the arc has no extent (start and end angles are equal)",
         ));
     }

@@ -46,12 +46,12 @@ impl geode_io::Progress for CookProgress<'_, '_> {
 
 /// A file error as a cook error of the right kind: cancelled, over the
 /// memory budget, or an I/O failure blamed on the file parameter.
-pub(crate) fn io_error(ctx: &CookContext, param: &str, e: geode_io::IoError) -> CookError {
+pub(crate) fn io_error(ctx: &CookContext, param: &P, e: geode_io::IoError) -> CookError {
     match e {
         geode_io::IoError::Cancelled { .. } => CookError::cancelled(ctx.path),
         geode_io::IoError::TooLarge { .. } => {
             CookError::new(ctx.path, ErrorKind::Resource, e.to_string())
-                .at_param(param)
+                .at_param(param.name)
                 .with_source(e)
         }
         e => ctx.io(param, e),
@@ -80,15 +80,16 @@ static FILE: NodeSpec = NodeSpec::new(
 fn cook_file(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let path = p.string(&FILE_FILE)?;
     if path.is_empty() {
-        return Err(ctx.param_error("file", "names no file to read"));
+        return Err(ctx.param_error(&FILE_FILE, "names no file to read"));
     }
     // Where first, then what: a file the studio may not read is refused
     // before its name is judged.
-    ctx.readable_file("file", path)?;
-    let format = geode_io::read_format(Path::new(path)).map_err(|e| io_error(ctx, "file", e))?;
-    let bytes = ctx.read_file("file", path)?;
+    ctx.readable_file(&FILE_FILE, path)?;
+    let format =
+        geode_io::read_format(Path::new(path)).map_err(|e| io_error(ctx, &FILE_FILE, e))?;
+    let bytes = ctx.read_file(&FILE_FILE, path)?;
     let g = geode_io::read_bytes(&bytes, format, Path::new(path), &CookProgress::new(ctx))
-        .map_err(|e| io_error(ctx, "file", e))?;
+        .map_err(|e| io_error(ctx, &FILE_FILE, e))?;
     geometry(g)
 }
 
@@ -114,19 +115,19 @@ static WRITE: NodeSpec = NodeSpec::new(
         WRITE_FILE,
     ],
 )
-.writes(&["file"]);
+.writes(&[&WRITE_FILE]);
 
 fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = input(ctx, inputs, 0)?;
     let path = p.string(&WRITE_FILE)?;
     if path.is_empty() {
-        return Err(ctx.param_error("file", "names no file to write"));
+        return Err(ctx.param_error(&WRITE_FILE, "names no file to write"));
     }
-    let real = ctx.writable_file("file", path)?;
+    let real = ctx.writable_file(&WRITE_FILE, path)?;
     ctx.check()?;
     let progress = CookProgress::new(ctx);
     geode_io::write_limited(g, &real, &progress, ctx.env.memory_budget)
-        .map_err(|e| io_error(ctx, "file", e))?;
+        .map_err(|e| io_error(ctx, &WRITE_FILE, e))?;
     Ok(Value::Geometry(g.clone()))
 }
 

@@ -64,7 +64,7 @@ fn cook_switch(
     let i = (p.int(&SWITCH_INDEX)?.max(0) as usize).min(inputs.len() - 1);
     inputs[i]
         .clone()
-        .ok_or_else(|| ctx.param_error("index", format!("input {} is not connected", i + 1)))
+        .ok_or_else(|| ctx.param_error(&SWITCH_INDEX, format!("input {} is not connected", i + 1)))
 }
 
 static NULL: NodeSpec = NodeSpec::new(
@@ -133,13 +133,7 @@ fn cook_object_merge(
     let values: &[Option<Value>] = match p.string(&OBJECT_MERGE_FILE)? {
         "" => inputs,
         file => {
-            let outer = Outer::new(
-                ctx.path,
-                OBJECT_MERGE_FILE.name,
-                ctx.frame,
-                ctx.env,
-                ctx.cancel,
-            );
+            let outer = Outer::new(ctx.path, &OBJECT_MERGE_FILE, ctx.frame, ctx.env, ctx.cancel);
             from_file = other_file_objects(&outer, file, p)?
                 .into_iter()
                 .map(Some)
@@ -153,7 +147,7 @@ fn cook_object_merge(
             Some(Some(g)) => parts.push(g),
             _ => {
                 return Err(ctx.param_error(
-                    OBJECT_MERGE_OBJECTS.name,
+                    &OBJECT_MERGE_OBJECTS,
                     format!("object {} is not a geometry", k + 1),
                 ))
             }
@@ -209,13 +203,7 @@ impl Operator for ObjectMerge {
             return Ok(());
         }
         let cancel = CancelToken::new();
-        let outer = Outer::new(
-            ctx.path,
-            OBJECT_MERGE_FILE.name,
-            ctx.frame,
-            ctx.env,
-            &cancel,
-        );
+        let outer = Outer::new(ctx.path, &OBJECT_MERGE_FILE, ctx.frame, ctx.env, &cancel);
         let paths = object_paths(&outer, file, p)?;
         network_file::check_nodes(&outer, file, &paths)
     }
@@ -228,13 +216,7 @@ fn key_object_merge(ctx: &KeyContext, p: &Params) -> Result<Option<u128>, CookEr
     if file.is_empty() {
         return Ok(None);
     }
-    let outer = Outer::new(
-        ctx.path,
-        OBJECT_MERGE_FILE.name,
-        ctx.frame,
-        ctx.env,
-        ctx.cancel,
-    );
+    let outer = Outer::new(ctx.path, &OBJECT_MERGE_FILE, ctx.frame, ctx.env, ctx.cancel);
     let mut h = xxhash_rust::xxh3::Xxh3::new();
     for v in other_file_objects(&outer, file, p)? {
         h.update(&v.identity().to_le_bytes());

@@ -166,7 +166,8 @@ const SWEEP_RAMP_DEFAULT: &[RampKey] = &[
     RampKey::float(0.0, 1.0, RampBasis::Linear),
     RampKey::float(1.0, 1.0, RampBasis::Linear),
 ];
-const SWEEP_RAMP: P = P::ramp("ramp", "Scale along curve", RampKind::Float, SWEEP_RAMP_DEFAULT, "Multiplies the radius along each curve: the ramp at the point's arc-length fraction (0 at the start, 1 at the end); a ramp without keys multiplies by 1. The old text form `u value, u value` still loads, as linear keys.");
+const SWEEP_RAMP: P = P::ramp(
+    "ramp", "Scale along curve", RampKind::Float, SWEEP_RAMP_DEFAULT, "Multiplies the radius along each curve: the ramp at the point's arc-length fraction (0 at the start, 1 at the end); a ramp without keys multiplies by 1. The old text form `u value, u value` still loads, as linear keys.");
 const SWEEP_CAPS: P = P::new(
     "caps",
     "End caps",
@@ -227,7 +228,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     };
     let radius = p.float(&SWEEP_RADIUS)?;
     let attr = geode_geo::ops::point_scalar(g, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
-        .map_err(|e| ctx.kernel_at("radius_attribute", e))?;
+        .map_err(|e| ctx.kernel_at(&SWEEP_RADIUS_ATTRIBUTE, e))?;
     // Any float4 `orient` (a wrangle's `p@orient` is a plain vector4).
     let orient = geode_geo::ops::point_float4(g, "orient").map_err(|e| ctx.kernel(e))?;
     let (tangent, up) = (p.string(&TANGENT)?, vec3(p, &UP)?.as_dvec3());
@@ -235,7 +236,7 @@ fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let sides = opts.section.len() as f64;
     crate::util::reserve_mesh(
         ctx,
-        "sides",
+        &SWEEP_SIDES,
         rings * sides,
         4.0 * rings * sides,
         rings * sides,

@@ -289,7 +289,7 @@ fn halfspace(ctx: &CookContext, p: &Params) -> Result<Field, CookError> {
     let n = v3(p, &HALFSPACE_NORMAL)?;
     let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
     if len == 0.0 {
-        return Err(ctx.param_error("normal", "the normal must not be zero"));
+        return Err(ctx.param_error(&HALFSPACE_NORMAL, "the normal must not be zero"));
     }
     Ok(shapes::half_space(
         n.map(|x| x / len),
@@ -462,7 +462,7 @@ static SWEEP: NodeSpec = NodeSpec::new(
 fn cook_sweep(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
     let g = crate::util::input(ctx, inputs, 0)?;
     let attr = geode_geo::ops::point_scalar(g, p.string(&SWEEP_RADIUS_ATTRIBUTE)?)
-        .map_err(|e| ctx.kernel_at("radius_attribute", e))?;
+        .map_err(|e| ctx.kernel_at(&SWEEP_RADIUS_ATTRIBUTE, e))?;
     let r = p.float(&SWEEP_RADIUS)?;
     let pos = g.positions();
     let mut segments = Vec::new();
@@ -566,7 +566,7 @@ fn cook_transform(
     let f = field_input(ctx, inputs, 0)?;
     let s = v3(p, &TRANSFORM_SCALE)?;
     if s.iter().any(|x| x.abs() < 1e-12) {
-        return Err(ctx.param_error("scale", "a zero scale collapses the solid"));
+        return Err(ctx.param_error(&TRANSFORM_SCALE, "a zero scale collapses the solid"));
     }
     let m = crate::transform::trs_about_pivot(
         v3(p, &crate::transform::TRANSFORM_TRANSLATE)?,
@@ -576,7 +576,7 @@ fn cook_transform(
     );
     f.transformed(&m)
         .map(Value::Field)
-        .ok_or_else(|| ctx.param_error("scale", "the transform is not invertible"))
+        .ok_or_else(|| ctx.param_error(&TRANSFORM_SCALE, "the transform is not invertible"))
 }
 
 const DEFORM_MODE: P = P::new(
@@ -669,7 +669,7 @@ fn cook_deform(
             let [y0, y1] = p.vector::<2>(&DEFORM_TAPER_RANGE)?;
             let [s0, s1] = p.vector::<2>(&DEFORM_TAPER_SCALE)?;
             if y0 == y1 {
-                return Err(ctx.param_error("taper_range", "the two heights must differ"));
+                return Err(ctx.param_error(&DEFORM_TAPER_RANGE, "the two heights must differ"));
             }
             f.taper_y(y0, y1, s0, s1)
         }
@@ -736,7 +736,7 @@ fn cook_expression(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result
         &["x", "y", "z", "a", "b", "c"],
     )
     .map_err(|e| {
-        ctx.param_error("expression", e.to_string())
+        ctx.param_error(&EXPRESSION_EXPRESSION, e.to_string())
             .at_position(1, e.column as u32)
     })?;
     let vars = [

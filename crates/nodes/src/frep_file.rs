@@ -57,7 +57,7 @@ fn cook_frep_file(
 ) -> Result<Value, CookError> {
     let path = p.string(&FREP_FILE_FILE)?;
     if path.is_empty() {
-        return Err(ctx.param_error("file", "names no file to read"));
+        return Err(ctx.param_error(&FREP_FILE_FILE, "names no file to read"));
     }
     let extension = path.to_lowercase();
     if extension.ends_with(".vdb") {
@@ -71,24 +71,24 @@ fn cook_frep_file(
     let hyperfun = extension.ends_with(".hf");
     if !hyperfun && !extension.ends_with(".vm") {
         return Err(ctx.param_error(
-            "file",
+            &FREP_FILE_FILE,
             format!(
                 "{path}: expected a fidget .vm or a HyperFun .hf program, or an OpenVDB .vdb file"
             ),
         ));
     }
-    let text = crate::util::text_file(ctx, "file", path)?;
+    let text = crate::util::text_file(ctx, &FREP_FILE_FILE, path)?;
     ctx.check()?;
     let field = if hyperfun {
         let object = p.string(&FREP_FILE_OBJECT)?;
         let object = (!object.is_empty()).then_some(object);
         geode_frep::parse_hf(&text, object, &[]).map_err(|e| {
-            ctx.param_error("file", format!("{path}, {e}"))
+            ctx.param_error(&FREP_FILE_FILE, format!("{path}, {e}"))
                 .with_source(e)
         })?
     } else {
         geode_frep::vm::parse_vm(&text).map_err(|e| {
-            ctx.param_error("file", format!("{path}, {e}"))
+            ctx.param_error(&FREP_FILE_FILE, format!("{path}, {e}"))
                 .with_source(e)
         })?
     };
@@ -99,8 +99,8 @@ fn cook_frep_file(
 fn read_vdb(ctx: &CookContext, path: &str, grid: &str, iso: f64) -> Result<Value, CookError> {
     use geode_io::vdb::VdbError;
     use geode_io::{IoError, Position};
-    ctx.readable_file("file", path)?;
-    let bytes = ctx.read_file("file", path)?;
+    ctx.readable_file(&FREP_FILE_FILE, path)?;
+    let bytes = ctx.read_file(&FREP_FILE_FILE, path)?;
     let cancel = || ctx.cancel.is_cancelled();
     let volumes = geode_io::vdb::read_vdb(&bytes, ctx.env.memory_budget, &cancel).map_err(|e| {
         let path = std::path::PathBuf::from(path);
@@ -116,7 +116,7 @@ fn read_vdb(ctx: &CookContext, path: &str, grid: &str, iso: f64) -> Result<Value
             },
             VdbError::Cancelled => IoError::Cancelled { path },
         };
-        crate::file::io_error(ctx, "file", e)
+        crate::file::io_error(ctx, &FREP_FILE_FILE, e)
     })?;
     let names: Vec<String> = volumes.iter().map(|v| format!("{:?}", v.name)).collect();
     let volume = if grid.is_empty() {
@@ -126,7 +126,7 @@ fn read_vdb(ctx: &CookContext, path: &str, grid: &str, iso: f64) -> Result<Value
     };
     let Some(volume) = volume else {
         return Err(ctx.param_error(
-            "grid",
+            &FREP_FILE_GRID,
             format!(
                 "{path} has no float grid named {grid:?} (it has {})",
                 names.join(", ")

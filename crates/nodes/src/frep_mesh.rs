@@ -55,7 +55,7 @@ fn cook_from_mesh(
         None => triangles,
     };
     ctx.reserve(
-        FROM_MESH_GROUP.name,
+        &FROM_MESH_GROUP,
         triangles.len() as f64 * FIELD_BYTES_PER_TRIANGLE,
         "the mesh's distance hierarchy",
     )?;

@@ -92,9 +92,9 @@ fn cook_polygonise(
         }
         Err(MeshError::Cancelled) => Err(CookError::cancelled(ctx.path)),
         Err(MeshError::BadBounds) => {
-            Err(ctx.param_error("max", "the bounds must have max > min on every axis"))
+            Err(ctx.param_error(&BOUNDS_MAX, "the bounds must have max > min on every axis"))
         }
-        Err(e) => Err(ctx.kernel_at("depth", e)),
+        Err(e) => Err(ctx.kernel_at(&POLYGONISE_DEPTH, e)),
     }
 }
 
@@ -140,10 +140,10 @@ fn reserve_meshing(ctx: &CookContext, f: &Field, opts: &MeshOptions) -> Result<(
     let est = match geode_mesher::polygonise::estimate(f, opts, &cancel) {
         Ok(est) => est,
         Err(MeshError::Cancelled) => return Err(CookError::cancelled(ctx.path)),
-        Err(e) => return Err(ctx.kernel_at("depth", e)),
+        Err(e) => return Err(ctx.kernel_at(&POLYGONISE_DEPTH, e)),
     };
     ctx.reserve(
-        "depth",
+        &POLYGONISE_DEPTH,
         est.bytes,
         &format!(
             "meshing at depth {} ({} cells with surface)",
@@ -185,7 +185,7 @@ fn cook_sample(
         p.string(&SAMPLE_NAME)?,
         Attribute::from_data(AttribData::Float(values), TypeInfo::None),
     )
-    .map_err(|e| ctx.kernel_at("name", e))?;
+    .map_err(|e| ctx.kernel_at(&SAMPLE_NAME, e))?;
     Ok(Value::geometry(g))
 }
 

@@ -78,7 +78,7 @@ static WRITE: NodeSpec = NodeSpec::new(
         WRITE_ZIP,
     ],
 )
-.writes(&["file"])
+.writes(&[&WRITE_FILE])
 .output(PortType::Field);
 
 /// Samples the node's field over its box, refusing before allocation a
@@ -95,7 +95,7 @@ fn sample(ctx: &CookContext, f: &Field, p: &Params) -> Result<SparseVolume, Cook
     let cancel = || ctx.cancel.is_cancelled();
     let plan = SamplePlan::new(f, options, &cancel).map_err(|e| sample_error(ctx, e))?;
     ctx.reserve(
-        "voxel_size",
+        &VOXEL_SIZE,
         plan.bytes() as f64,
         &format!(
             "a narrow band of {} leaves of voxels",
@@ -160,10 +160,10 @@ pub(crate) fn warn_beyond_band(ctx: &CookContext, f: &Field, reach: f64) {
 fn sample_error(ctx: &CookContext, e: SampleError) -> CookError {
     match e {
         SampleError::Cancelled => CookError::cancelled(ctx.path),
-        SampleError::Bounds => ctx.param_error("max", e.to_string()),
-        SampleError::HalfWidth => ctx.param_error("half_width", e.to_string()),
+        SampleError::Bounds => ctx.param_error(&BOUNDS_MAX, e.to_string()),
+        SampleError::HalfWidth => ctx.param_error(&HALF_WIDTH, e.to_string()),
         SampleError::VoxelSize | SampleError::TooManyVoxels(_) => {
-            ctx.param_error("voxel_size", e.to_string())
+            ctx.param_error(&VOXEL_SIZE, e.to_string())
         }
         SampleError::TooLarge { .. } => {
             CookError::new(ctx.path, ErrorKind::Resource, e.to_string())
@@ -187,12 +187,12 @@ fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
     let f = field_input(ctx, inputs, 0)?;
     let path = p.string(&WRITE_FILE)?;
     if path.is_empty() {
-        return Err(ctx.param_error("file", "names no file to write"));
+        return Err(ctx.param_error(&WRITE_FILE, "names no file to write"));
     }
     if !path.to_lowercase().ends_with(".vdb") {
-        return Err(ctx.param_error("file", format!("{path}: expected a .vdb file")));
+        return Err(ctx.param_error(&WRITE_FILE, format!("{path}: expected a .vdb file")));
     }
-    let real = ctx.writable_file("file", path)?;
+    let real = ctx.writable_file(&WRITE_FILE, path)?;
     let volume = sample(ctx, f, p)?;
     ctx.check()?;
     let compression = if p.toggle(&WRITE_ZIP)? {
@@ -205,7 +205,7 @@ fn cook_write(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         w.write_all(&bytes)
             .map_err(|e| geode_io::IoError::os(&real, e))
     })
-    .map_err(|e| crate::file::io_error(ctx, "file", e))?;
+    .map_err(|e| crate::file::io_error(ctx, &WRITE_FILE, e))?;
     Ok(Value::Field(f.clone()))
 }
 

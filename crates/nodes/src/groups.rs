@@ -12,13 +12,14 @@ use crate::util::{class, element_positions, geometry, input_owned, vec3, ELEMENT
 
 fn store(
     ctx: &CookContext,
+    param: &P,
     g: &mut Geometry,
     c: AttribClass,
     name: &str,
     flags: Vec<bool>,
 ) -> Result<(), CookError> {
     if name.is_empty() {
-        return Err(ctx.param_error("group", "a group needs a name"));
+        return Err(ctx.param_error(param, "a group needs a name"));
     }
     let grp = Group::from_flags(flags);
     let r = if c == AttribClass::Primitive {
@@ -26,7 +27,7 @@ fn store(
     } else {
         g.set_point_group(name, grp)
     };
-    r.map_err(|e| ctx.kernel_at("group", e))
+    r.map_err(|e| ctx.kernel_at(param, e))
 }
 
 const BOUNDING_GROUP: P = P::new("group", "Group", T::String, D::Str("inside"), "Group name.");
@@ -61,7 +62,14 @@ fn cook_bounding(
         .par_iter()
         .map(|q| q.cmpge(lo).all() && q.cmple(hi).all())
         .collect();
-    store(ctx, &mut g, c, p.string(&BOUNDING_GROUP)?, flags)?;
+    store(
+        ctx,
+        &BOUNDING_GROUP,
+        &mut g,
+        c,
+        p.string(&BOUNDING_GROUP)?,
+        flags,
+    )?;
     geometry(g)
 }
 
@@ -105,7 +113,7 @@ fn cook_expression(
         &["x", "y", "z", "id", "frame"],
     )
     .map_err(|e| {
-        ctx.param_error("expression", e.to_string())
+        ctx.param_error(&EXPRESSION_EXPRESSION, e.to_string())
             .at_position(1, e.column as u32)
     })?;
     let frame = ctx.frame;
@@ -114,7 +122,14 @@ fn cook_expression(
         .enumerate()
         .map(|(i, q)| expr.eval(&[q.x as f64, q.y as f64, q.z as f64, i as f64, frame]) != 0.0)
         .collect();
-    store(ctx, &mut g, c, p.string(&EXPRESSION_GROUP)?, flags)?;
+    store(
+        ctx,
+        &EXPRESSION_GROUP,
+        &mut g,
+        c,
+        p.string(&EXPRESSION_GROUP)?,
+        flags,
+    )?;
     geometry(g)
 }
 

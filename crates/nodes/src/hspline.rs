@@ -135,35 +135,37 @@ static HSPLINE: NodeSpec = NodeSpec::new(
         BEND,
     ],
 )
-.writes(&["save"]);
+.writes(&[&HSPLINE_SAVE]);
 
 /// An edit row: which control vertex of which level moves, and by how much.
+const EDIT_LEVEL: P = P::new(
+    "level",
+    "Level",
+    T::Int,
+    D::Int(0),
+    "The level whose control vertex moves.",
+)
+.range(0.0, 16.0);
+
+const EDIT_VERTEX: P = P::new(
+    "vertex",
+    "Vertex",
+    T::Vec2,
+    D::Vec2([0.0, 0.0]),
+    "i j of the control vertex (u, v).",
+)
+.at_least(0.0);
+
+const EDIT_MOVE: P = P::new(
+    "move",
+    "Move",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "World vector the vertex moves by (keyframable).",
+);
+
 static EDIT_ROWS: ListSpec = ListSpec {
-    fields: &[
-        P::new(
-            "level",
-            "Level",
-            T::Int,
-            D::Int(0),
-            "The level whose control vertex moves.",
-        )
-        .range(0.0, 16.0),
-        P::new(
-            "vertex",
-            "Vertex",
-            T::Vec2,
-            D::Vec2([0.0, 0.0]),
-            "i j of the control vertex (u, v).",
-        )
-        .at_least(0.0),
-        P::new(
-            "move",
-            "Move",
-            T::Vec3,
-            D::Vec3([0.0; 3]),
-            "World vector the vertex moves by (keyframable).",
-        ),
-    ],
+    fields: &[EDIT_LEVEL, EDIT_VERTEX, EDIT_MOVE],
     legacy: Some(legacy_edits),
 };
 
@@ -190,9 +192,12 @@ fn edits(p: &Params) -> Result<Vec<(Edit, String)>, CookError> {
     p.list(&HSPLINE_EDITS)?
         .iter()
         .map(|row| {
-            let [i, j] = row.vector::<2>("vertex")?.map(|x| x.max(0.0) as usize);
-            let mv = DVec3::from_array(row.vector::<3>("move")?);
-            Ok(((row.int("level")? as usize, i, j, mv), row.name("move")))
+            let [i, j] = row.vector::<2>(&EDIT_VERTEX)?.map(|x| x.max(0.0) as usize);
+            let mv = DVec3::from_array(row.vector::<3>(&EDIT_MOVE)?);
+            Ok((
+                (row.int(&EDIT_LEVEL)? as usize, i, j, mv),
+                row.name(&EDIT_MOVE),
+            ))
         })
         .collect()
 }
@@ -219,9 +224,9 @@ fn cook_hspline_node(
         )
         .map_err(err)?
     } else {
-        let text = crate::util::text_file(ctx, "load", load)?;
+        let text = crate::util::text_file(ctx, &HSPLINE_LOAD, load)?;
         file::load(&text).map_err(|e| {
-            ctx.param_error("load", format!("{load}: {e}"))
+            ctx.param_error(&HSPLINE_LOAD, format!("{load}: {e}"))
                 .with_source(e)
         })?
     };
@@ -232,7 +237,7 @@ fn cook_hspline_node(
     let [u0, u1, v0, v1] = p.vector::<4>(&HSPLINE_REGION)?.map(|x| x.max(0.0) as usize);
     if u1 > u0 && v1 > v0 {
         h.refine(Some(((u0, u1), (v0, v1))))
-            .map_err(|e| ctx.kernel_at("region", e))?;
+            .map_err(|e| ctx.kernel_at(&HSPLINE_REGION, e))?;
     }
     let mut edits = edits(p)?;
     let mv = p.vector::<3>(&HSPLINE_EDIT_MOVE)?;
@@ -249,7 +254,7 @@ fn cook_hspline_node(
     let symmetric = p.toggle(&HSPLINE_SYMMETRIC)?;
     for ((level, i, j, d), param) in edits {
         h.move_cv(level, i, j, d)
-            .map_err(|e| ctx.kernel_at(&param, e))?;
+            .map_err(|e| ctx.kernel(e).at_param(&param))?;
         if symmetric {
             // The vertex across X = 0: a plane's columns run along X; a
             // cylinder's or torus's vertices go round Y from +X, so the
@@ -261,7 +266,7 @@ fn cook_hspline_node(
                 (i, (nv / 2 + nv - j % nv) % nv)
             } else {
                 return Err(ctx.param_error(
-                    "symmetric",
+                    &HSPLINE_SYMMETRIC,
                     format!(
                         "level {level} has {nv} vertices around: mirroring needs an even count"
                     ),
@@ -269,7 +274,7 @@ fn cook_hspline_node(
             };
             if (mi, mj) != (i, j) {
                 h.move_cv(level, mi, mj, DVec3::new(-d.x, d.y, d.z))
-                    .map_err(|e| ctx.kernel_at("symmetric", e))?;
+                    .map_err(|e| ctx.kernel_at(&HSPLINE_SYMMETRIC, e))?;
             }
         }
     }
@@ -281,7 +286,7 @@ fn cook_hspline_node(
         "from_file" => {
             let Some(e) = &h.envelope else {
                 return Err(ctx.param_error(
-                    "envelope",
+                    &HSPLINE_ENVELOPE,
                     "`from_file` needs a loaded .hs file with enveloping data",
                 ));
             };
@@ -307,10 +312,10 @@ fn cook_hspline_node(
             w.write_all(text.as_bytes())
                 .map_err(|e| geode_io::IoError::os(path, e))
         })
-        .map_err(|e| ctx.io("save", e))?;
+        .map_err(|e| ctx.io(&HSPLINE_SAVE, e))?;
     }
     let [su, sv] = p.vector::<2>(&HSPLINE_SAMPLES)?;
-    crate::util::reserve_mesh(ctx, "samples", su * sv, 4.0 * su * sv, su * sv)?;
+    crate::util::reserve_mesh(ctx, &HSPLINE_SAMPLES, su * sv, 4.0 * su * sv, su * sv)?;
     let enveloped = motions.is_some();
     let grid = match motions {
         None => h.grid(finest).map_err(err)?,

@@ -55,7 +55,7 @@ fn cook_copy_to_points(
         let n = template.num_points() as f64;
         reserve_mesh(
             ctx,
-            "pack",
+            &COPY_TO_POINTS_PACK,
             n * source.num_points() as f64,
             n * source.num_vertices() as f64,
             n * source.num_prims() as f64,
@@ -63,8 +63,12 @@ fn cook_copy_to_points(
     }
     let cancel = || ctx.cancel.is_cancelled();
     let g = copy_to_points(source, template, &opts, &cancel).map_err(|e| match e {
-        geode_curve::CopyError::BadPieceAttrib(_) => ctx.kernel_at("piece_attribute", e),
-        geode_curve::CopyError::BadVariantAttrib(_) => ctx.kernel_at("variant_attribute", e),
+        geode_curve::CopyError::BadPieceAttrib(_) => {
+            ctx.kernel_at(&COPY_TO_POINTS_PIECE_ATTRIBUTE, e)
+        }
+        geode_curve::CopyError::BadVariantAttrib(_) => {
+            ctx.kernel_at(&COPY_TO_POINTS_VARIANT_ATTRIBUTE, e)
+        }
         other => ctx.kernel(other),
     })?;
     geometry(g)

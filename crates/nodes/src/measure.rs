@@ -62,10 +62,10 @@ fn cook_measure(
         "" => what,
         n => n,
     };
-    attribute_name(ctx, MEASURE_NAME.name, name)?;
+    attribute_name(ctx, &MEASURE_NAME, name)?;
     if what.ends_with("curvature") {
         let c = measure::curvature(&g, &ctx.cancel_fn())
-            .map_err(|e| crate::attribute_move::attrib_error(ctx, MEASURE_WHAT.name, name, e))?;
+            .map_err(|e| crate::attribute_move::attrib_error(ctx, &MEASURE_WHAT, name, e))?;
         let values = if what == "mean_curvature" {
             c.mean
         } else {
@@ -112,7 +112,7 @@ fn pieces(ctx: &CookContext, p: &Params, g: &Geometry) -> Result<Vec<u32>, CookE
     if by.is_empty() {
         return Ok(ops::connectivity(g, Connect::SharedPoint, None).of_prim);
     }
-    let attr = crate::util::attribute_of(ctx, MEASURE_PIECE.name, g, AttribClass::Primitive, by)?;
+    let attr = crate::util::attribute_of(ctx, &MEASURE_PIECE, g, AttribClass::Primitive, by)?;
     Ok(ops::value_classes(attr.data()).0)
 }
 
@@ -147,7 +147,7 @@ fn store(
         name,
         Attribute::from_data(AttribData::Float(values), TypeInfo::None),
     )
-    .map_err(|e| ctx.kernel_at(MEASURE_NAME.name, e))?;
+    .map_err(|e| ctx.kernel_at(&MEASURE_NAME, e))?;
     geometry(g)
 }
 
@@ -301,7 +301,7 @@ fn cook_ray(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<V
         let d = crate::util::vec3(p, &RAY_VECTOR)?.normalize_or_zero();
         if d == Vec3::ZERO && !minimum {
             return Err(ctx.param_error(
-                RAY_VECTOR.name,
+                &RAY_VECTOR,
                 "the direction is zero (or not finite): rays need a direction",
             ));
         }
@@ -317,7 +317,7 @@ fn cook_ray(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<V
     };
     if farthest && !max.is_finite() && !minimum {
         return Err(ctx.param_error(
-            RAY_HIT.name,
+            &RAY_HIT,
             "the farthest hit needs a limited distance: turn on Limit distance",
         ));
     }
@@ -376,7 +376,7 @@ fn cook_ray(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<V
                 name,
                 Attribute::from_data(data, TypeInfo::None),
             )
-            .map_err(|e| ctx.kernel_at(RAY_ATTRIBUTES.name, e))?;
+            .map_err(|e| ctx.kernel_at(&RAY_ATTRIBUTES, e))?;
         }
     }
     geometry(g)

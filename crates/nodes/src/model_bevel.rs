@@ -106,35 +106,35 @@ fn cook_polybevel(
     let offset = p.float(&OFFSET)?;
     if !offset.is_finite() || offset < 0.0 {
         return Err(ctx.param_error(
-            OFFSET.name,
+            &OFFSET,
             format!("offset must be zero or more, not {offset}"),
         ));
     }
     let segments = p.int(&SEGMENTS)?;
     if !(1..=1024).contains(&segments) {
         return Err(ctx.param_error(
-            SEGMENTS.name,
+            &SEGMENTS,
             format!("segments must be between 1 and 1024, not {segments}"),
         ));
     }
     let profile = p.float(&PROFILE)?;
     if !(0.0..=1.0).contains(&profile) {
         return Err(ctx.param_error(
-            PROFILE.name,
+            &PROFILE,
             format!("profile must be between 0 and 1, not {profile}"),
         ));
     }
     let flat = p.float(&FLAT_ANGLE)?;
     if !(0.0..=180.0).contains(&flat) {
         return Err(ctx.param_error(
-            FLAT_ANGLE.name,
+            &FLAT_ANGLE,
             format!("the flat angle must be between 0 and 180 degrees, not {flat}"),
         ));
     }
     let (edge_group, corner_group) = (p.string(&EDGE_GROUP_PARAM)?, p.string(&CORNER_GROUP_PARAM)?);
     if !edge_group.is_empty() && edge_group == corner_group {
         return Err(ctx.param_error(
-            CORNER_GROUP_PARAM.name,
+            &CORNER_GROUP_PARAM,
             format!(
                 "the corner group needs a name of its own (the edge group is `{edge_group}` too)"
             ),
@@ -157,7 +157,7 @@ fn cook_polybevel(
     let n = segments as f64;
     let vertices = g.num_vertices() as f64 * (1.0 + 2.0 * n) + g.num_points() as f64 * 1.5 * n * n;
     let bytes = vertices * 48.0 + g.num_points() as f64 * (1.0 + n) * 32.0;
-    ctx.reserve(SEGMENTS.name, bytes, "the bevel")?;
+    ctx.reserve(&SEGMENTS, bytes, "the bevel")?;
     match bevel(g, group.as_ref(), &how, &ctx.cancel_fn()) {
         Ok((out, report)) => {
             // A clamp below the asked offset is worth saying: one short

@@ -37,7 +37,7 @@ fn cook_boolean(
     let name = p.string(&OPERATION)?;
     let op = BooleanOp::from_name(name).ok_or_else(|| {
         ctx.param_error(
-            OPERATION.name,
+            &OPERATION,
             format!(
                 "unknown operation \"{name}\": expected one of {}",
                 BooleanOp::NAMES.join(", ")
@@ -50,7 +50,7 @@ fn cook_boolean(
         .map(|g| g.num_vertices().saturating_sub(2 * g.num_prims()))
         .sum();
     ctx.reserve(
-        OPERATION.name,
+        &OPERATION,
         boolean::estimate_bytes(triangles),
         "the boolean",
     )?;

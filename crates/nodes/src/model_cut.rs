@@ -20,7 +20,7 @@ fn direction(ctx: &CookContext, p: &Params, spec: &P) -> Result<geode_geo::glam:
     let v = vec3(p, spec)?;
     if !v.is_finite() || v.length() == 0.0 {
         return Err(ctx.param_error(
-            spec.name,
+            spec,
             format!(
                 "{} has no direction: [{}, {}, {}]",
                 spec.name, v.x, v.y, v.z
@@ -35,7 +35,7 @@ fn direction(ctx: &CookContext, p: &Params, spec: &P) -> Result<geode_geo::glam:
 fn reserve_scaled(
     ctx: &CookContext,
     g: &Geometry,
-    param: &str,
+    param: &geode_op::ParamSpec,
     scale: f64,
 ) -> Result<(), CookError> {
     reserve_mesh(
@@ -148,7 +148,7 @@ fn cook_clip(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
     };
     // Pieces and caps: at most a little over the input, per side kept.
     let sides = if keep == Keep::Both { 2.0 } else { 1.0 };
-    reserve_scaled(ctx, g, CLIP_KEEP.name, 1.2 * sides)?;
+    reserve_scaled(ctx, g, &CLIP_KEEP, 1.2 * sides)?;
     let r = clip::clip(g, &options, &ctx.cancel_fn()).map_err(|e| ctx.kernel(e))?;
     if r.open_loops > 0 {
         ctx.warn(format!(
@@ -247,9 +247,9 @@ fn cook_mirror(
         group: p.string(&MIRROR_GROUP)?.to_string(),
     };
     // The original and its image, merged and rebuilt once.
-    reserve_scaled(ctx, g, MIRROR_KEEP_ORIGINAL.name, 4.0)?;
+    reserve_scaled(ctx, g, &MIRROR_KEEP_ORIGINAL, 4.0)?;
     let r = mirror::mirror(g, &options, &ctx.cancel_fn())
-        .map_err(|e| ctx.kernel_at(MIRROR_FUSE.name, e))?;
+        .map_err(|e| ctx.kernel_at(&MIRROR_FUSE, e))?;
     geometry(r.geometry)
 }
 
@@ -316,7 +316,7 @@ fn cook_polyfill(
         holes: p.toggle(&FILL_HOLES)?,
     };
     // The copy plus a fill at most as large as the boundary.
-    reserve_scaled(ctx, g, FILL_MODE.name, 2.0)?;
+    reserve_scaled(ctx, g, &FILL_MODE, 2.0)?;
     let r = fill::polyfill(g, &options, &ctx.cancel_fn()).map_err(|e| ctx.kernel(e))?;
     geometry(r.geometry)
 }
@@ -348,7 +348,7 @@ fn cook_convex_hull(
     let g = input(ctx, inputs, 0)?;
     // Outside sets of 16 bytes a point, the hull's own columns.
     ctx.reserve(
-        HULL_KEEP_USED.name,
+        &HULL_KEEP_USED,
         g.num_points() as f64 * 40.0,
         &format!("the hull of {} points", g.num_points()),
     )?;
@@ -436,21 +436,21 @@ fn cook_revolve(
     let (start, end) = (p.float(&REVOLVE_START)?, p.float(&REVOLVE_END)?);
     if start == end {
         return Err(ctx.param_error(
-            REVOLVE_END.name,
+            &REVOLVE_END,
             format!("end_angle equals start_angle ({end}): nothing to revolve"),
         ));
     }
     let divisions = p.int(&REVOLVE_DIVISIONS)?;
     if !(1..=u32::MAX as i64).contains(&divisions) {
         return Err(ctx.param_error(
-            REVOLVE_DIVISIONS.name,
+            &REVOLVE_DIVISIONS,
             format!("divisions must be at least 1 (got {divisions})"),
         ));
     }
     let steps = divisions as f64 + 1.0;
     reserve_mesh(
         ctx,
-        REVOLVE_DIVISIONS.name,
+        &REVOLVE_DIVISIONS,
         g.num_points() as f64 * steps,
         g.num_vertices() as f64 * 4.0 * steps,
         g.num_vertices() as f64 * steps,

@@ -123,11 +123,11 @@ fn cook_polyextrude(
         None
     } else {
         let attr = g.attrib(AttribClass::Point, name).ok_or_else(|| {
-            ctx.param_error(DISTANCE_ATTRIB.name, format!("no point attribute `{name}`"))
+            ctx.param_error(&DISTANCE_ATTRIB, format!("no point attribute `{name}`"))
         })?;
         Some(attr.as_f32().ok_or_else(|| {
             ctx.param_error(
-                DISTANCE_ATTRIB.name,
+                &DISTANCE_ATTRIB,
                 format!(
                     "point attribute `{name}` is {}, expected a float",
                     attr.attrib_type()
@@ -137,7 +137,7 @@ fn cook_polyextrude(
     };
     // Each selected corner makes a point per ring and a wall quad.
     let corners = g.num_vertices() as f64 * how.divisions as f64;
-    ctx.reserve(DIVISIONS.name, corners * 64.0, "the extrusion")?;
+    ctx.reserve(&DIVISIONS, corners * 64.0, "the extrusion")?;
     match extrude(g, group.as_ref(), scale, &how, &ctx.cancel_fn()) {
         Ok(out) => {
             if out.overrun_fronts > 0 {

@@ -75,11 +75,11 @@ fn cook_polyreduce(
     let g = input(ctx, inputs, 0)?;
     let percent = p.float(&PERCENT)?;
     if !(0.0..=100.0).contains(&percent) {
-        return Err(ctx.param_error(PERCENT.name, format!("{percent} is not between 0 and 100")));
+        return Err(ctx.param_error(&PERCENT, format!("{percent} is not between 0 and 100")));
     }
     let bound = p.float(&MAX_ERROR)?;
     if bound.is_nan() || bound < 0.0 {
-        return Err(ctx.param_error(MAX_ERROR.name, format!("{bound} is below 0")));
+        return Err(ctx.param_error(&MAX_ERROR, format!("{bound} is below 0")));
     }
     let target = match p.string(&TARGET)? {
         "count" => Target::Count(p.int(&COUNT)?.max(0) as usize),
@@ -99,7 +99,7 @@ fn cook_polyreduce(
     // The working mesh: a position, quadric and lists per point, links
     // and wedges per corner, heap entries per edge; then the output.
     let bytes = g.num_points() as f64 * 160.0 + g.num_vertices() as f64 * 64.0;
-    ctx.reserve(TARGET.name, bytes, "the reduction")?;
+    ctx.reserve(&TARGET, bytes, "the reduction")?;
     match reduce(g, &how, &ctx.cancel_fn()) {
         Ok(r) => geometry(r.geometry),
         Err(ModelError::Cancelled) => Err(CookError::cancelled(ctx.path)),

@@ -123,13 +123,13 @@ fn cook_remesh(
     let blame = |e: ModelError| {
         let text = e.to_string();
         let param = [
-            ("target length", TARGET_LENGTH.name),
-            ("minimum length", MIN_LENGTH.name),
-            ("maximum length", MAX_LENGTH.name),
-            ("tolerance", TOLERANCE.name),
-            ("gradation", GRADATION.name),
-            ("crease angle", CREASE_ANGLE.name),
-            ("feature group", FEATURE_GROUP.name),
+            ("target length", &TARGET_LENGTH),
+            ("minimum length", &MIN_LENGTH),
+            ("maximum length", &MAX_LENGTH),
+            ("tolerance", &TOLERANCE),
+            ("gradation", &GRADATION),
+            ("crease angle", &CREASE_ANGLE),
+            ("feature group", &FEATURE_GROUP),
         ]
         .iter()
         .find(|(what, _)| text.contains(what))
@@ -145,8 +145,8 @@ fn cook_remesh(
     let triangles = remesh::expected_triangles(g, &opts).map_err(blame)?;
     let bytes = triangles * 160.0 + g.num_vertices() as f64 * 96.0;
     let param = match sizing {
-        Sizing::Uniform { .. } => TARGET_LENGTH.name,
-        Sizing::Adaptive { .. } => MIN_LENGTH.name,
+        Sizing::Uniform { .. } => &TARGET_LENGTH,
+        Sizing::Adaptive { .. } => &MIN_LENGTH,
     };
     ctx.reserve(param, bytes, "the remeshed triangles")?;
     remesh::remesh(g, &opts, &ctx.cancel_fn())

@@ -114,7 +114,7 @@ fn cook_smooth(
     // Two position buffers, the topology's edges, adjacency and rows.
     let bytes = g.num_points() as f64 * 80.0 + g.num_vertices() as f64 * 48.0;
     ctx.reserve(
-        SMOOTH_ITERATIONS.name,
+        &SMOOTH_ITERATIONS,
         bytes,
         "smoothing's buffers and topology",
     )?;
@@ -131,8 +131,8 @@ fn cook_smooth(
         // The ranges leave two refusals: an open mesh to keep the volume
         // of, and a pass band of exactly 0 or 1.
         let param = match e {
-            ModelError::NotClosed { .. } => SMOOTH_KEEP_VOLUME.name,
-            _ => SMOOTH_PASS_BAND.name,
+            ModelError::NotClosed { .. } => &SMOOTH_KEEP_VOLUME,
+            _ => &SMOOTH_PASS_BAND,
         };
         ctx.kernel_at(param, e)
     })?;
@@ -233,7 +233,7 @@ fn cook_mountain(
 /// The directions points move along: point `N`, else area-weighted.
 fn displacement_normals(ctx: &CookContext, g: &Geometry) -> Result<Vec<Vec3>, CookError> {
     ctx.reserve(
-        "group",
+        &DEFORM_GROUP,
         g.num_points() as f64 * 24.0,
         "normals and moved positions",
     )?;
@@ -335,17 +335,13 @@ fn cook_bound(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         None => g.positions().to_vec(),
     };
     if points.is_empty() && group.is_some() {
-        return Err(ctx.param_error(BOUND_GROUP.name, "the group has no points"));
+        return Err(ctx.param_error(&BOUND_GROUP, "the group has no points"));
     }
     let padding = p.float(&BOUND_PADDING)? as f32;
     let kind = p.string(&BOUND_TYPE)?;
     if kind == "oriented" {
         // f64 copies, the hull's faces and outside sets.
-        ctx.reserve(
-            BOUND_TYPE.name,
-            points.len() as f64 * 200.0,
-            "the convex hull",
-        )?;
+        ctx.reserve(&BOUND_TYPE, points.len() as f64 * 200.0, "the convex hull")?;
     }
     let Some(aabb) = bound::axis_aligned_box(&points) else {
         return Err(ctx.input_error("no points to bound"));
@@ -521,7 +517,7 @@ fn cook_match_size(
     }
     let scale = ScaleMode::from_name(p.string(&MATCH_SCALE)?).unwrap_or(ScaleMode::None);
     let m = bound::match_size(&mut g, &target, justify, scale)
-        .map_err(|e| ctx.kernel_at(MATCH_TARGET_SIZE.name, e))?;
+        .map_err(|e| ctx.kernel_at(&MATCH_TARGET_SIZE, e))?;
     g.set_attrib(
         AttribClass::Detail,
         "match_xform",

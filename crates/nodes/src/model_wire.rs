@@ -18,7 +18,7 @@ fn int_in(ctx: &CookContext, p: &Params, spec: &P, lo: i64, hi: i64) -> Result<u
     let v = p.int(spec)?;
     if !(lo..=hi).contains(&v) {
         return Err(ctx.param_error(
-            spec.name,
+            spec,
             format!("{} must be from {lo} to {hi} (got {v})", spec.name),
         ));
     }
@@ -116,14 +116,14 @@ fn cook_polywire(
     let radius = p.float(&WIRE_RADIUS)?;
     if !(radius > 0.0 && radius.is_finite()) {
         return Err(ctx.param_error(
-            WIRE_RADIUS.name,
+            &WIRE_RADIUS,
             format!("radius must be positive (got {radius})"),
         ));
     }
     let attribute = p.string(&WIRE_RADIUS_ATTRIBUTE)?;
     if !attribute.is_empty() && g.attrib(AttribClass::Point, attribute).is_none() {
         return Err(ctx.param_error(
-            WIRE_RADIUS_ATTRIBUTE.name,
+            &WIRE_RADIUS_ATTRIBUTE,
             format!("there is no point attribute `{attribute}` for the radius"),
         ));
     }
@@ -139,13 +139,7 @@ fn cook_polywire(
     // At most one edge per vertex; each edge makes segments + 1 rings.
     let rings = g.num_vertices() as f64 * (options.segments as f64 + 1.0);
     let n = options.divisions as f64;
-    reserve_mesh(
-        ctx,
-        WIRE_SEGMENTS.name,
-        rings * n,
-        4.0 * rings * n,
-        rings * n,
-    )?;
+    reserve_mesh(ctx, &WIRE_SEGMENTS, rings * n, 4.0 * rings * n, rings * n)?;
     let out = polywire::polywire(g, group.as_ref(), &options, &ctx.cancel_fn())
         .map_err(|e| ctx.kernel(e))?;
     geometry(out)
@@ -197,7 +191,7 @@ fn cook_edge_divide(
     let new = g.num_vertices() as f64 * divisions as f64;
     reserve_mesh(
         ctx,
-        DIVIDE_DIVISIONS.name,
+        &DIVIDE_DIVISIONS,
         g.num_points() as f64 + new,
         g.num_vertices() as f64 + 2.0 * new,
         g.num_prims() as f64,
@@ -263,7 +257,7 @@ fn cook_divide(
         let size = vec3(p, &DIVIDE_SIZE)?;
         if !(size.is_finite() && size.min_element() > 0.0) {
             return Err(ctx.param_error(
-                DIVIDE_SIZE.name,
+                &DIVIDE_SIZE,
                 format!("brick size must be positive on every axis (got {size})"),
             ));
         }
@@ -278,7 +272,7 @@ fn cook_divide(
         let pieces = (g.num_prims() as f64 * 4.0).max(cells.powf(2.0 / 3.0) * 2.0);
         reserve_mesh(
             ctx,
-            DIVIDE_SIZE.name,
+            &DIVIDE_SIZE,
             g.num_points() as f64 + pieces * 2.0,
             g.num_vertices() as f64 + pieces * 5.0,
             pieces,
@@ -288,7 +282,7 @@ fn cook_divide(
         let max_edges = int_in(ctx, p, &DIVIDE_MAX_EDGES, 3, u32::MAX as i64)?;
         reserve_mesh(
             ctx,
-            DIVIDE_MAX_EDGES.name,
+            &DIVIDE_MAX_EDGES,
             g.num_points() as f64,
             3.0 * g.num_vertices() as f64,
             g.num_vertices() as f64,

@@ -20,7 +20,7 @@ pub const MAX_NESTING: usize = 16;
 /// Where and when the other network is cooked: the cook's own place.
 pub(crate) struct Outer<'a> {
     pub path: &'a str,
-    pub param: &'a str,
+    pub param: &'a geode_op::ParamSpec,
     pub frame: f64,
     pub env: &'a CookEnv,
     pub cancel: &'a CancelToken,
@@ -30,7 +30,7 @@ impl<'a> Outer<'a> {
     /// A cook's place, `param` (naming the file) blamed for what fails.
     pub fn new(
         path: &'a str,
-        param: &'a str,
+        param: &'a geode_op::ParamSpec,
         frame: f64,
         env: &'a CookEnv,
         cancel: &'a CancelToken,
@@ -116,7 +116,7 @@ pub(crate) fn check_nodes(outer: &Outer, file: &str, paths: &[&str]) -> Result<(
 }
 
 fn refuse(outer: &Outer, kind: ErrorKind, message: String) -> CookError {
-    CookError::new(outer.path, kind, message).at_param(outer.param)
+    CookError::new(outer.path, kind, message).at_param(outer.param.name)
 }
 
 /// The other network, loaded with its problems kept on their nodes (as

@@ -81,7 +81,7 @@ pub(crate) fn fractal(
             FractalField::Offset => &OFFSET,
             FractalField::Height => height_param,
         };
-        ctx.kernel_at(param.name, e)
+        ctx.kernel_at(param, e)
     })?;
     Ok(fractal)
 }

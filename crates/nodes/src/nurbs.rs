@@ -116,7 +116,7 @@ fn cook_nurbs(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
             );
             if grid.num_points() != rows * cols {
                 return Err(ctx.param_error(
-                    "rows",
+                    &NURBS_ROWS,
                     format!(
                         "rows x columns = {} but input 1 has {} points",
                         rows * cols,
@@ -152,7 +152,7 @@ fn cook_nurbs(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result
         return geometry(g);
     }
     let [su, sv] = p.vector::<2>(&NURBS_SAMPLES)?;
-    crate::util::reserve_mesh(ctx, "samples", su * sv, 4.0 * su * sv, su * sv)?;
+    crate::util::reserve_mesh(ctx, &NURBS_SAMPLES, su * sv, 4.0 * su * sv, su * sv)?;
     let t = surface.tessellate(su as usize, sv as usize);
     let mut t = t;
     t.positions.iter_mut().for_each(|q| *q += offset);

@@ -81,7 +81,7 @@ fn cook_convert(
         .map(|i| g.prim_vertex_range(i).len() as f64)
         .sum();
     let quads = controls * (lod * lod) as f64;
-    crate::util::reserve_mesh(ctx, "level_of_detail", quads, 4.0 * quads, quads)?;
+    crate::util::reserve_mesh(ctx, &CONVERT_LEVEL_OF_DETAIL, quads, 4.0 * quads, quads)?;
     geometry(patches_to_polygons(g, lod).map_err(|e| ctx.kernel(e))?)
 }
 

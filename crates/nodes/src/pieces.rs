@@ -61,7 +61,7 @@ fn cook_connectivity(
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&CONNECTIVITY_ATTRIBUTE)?;
     if name.is_empty() {
-        return Err(ctx.param_error(CONNECTIVITY_ATTRIBUTE.name, "the attribute needs a name"));
+        return Err(ctx.param_error(&CONNECTIVITY_ATTRIBUTE, "the attribute needs a name"));
     }
     let connect = match p.string(&CONNECTIVITY_CONNECT)? {
         "edge" => Connect::SharedEdge,
@@ -80,7 +80,7 @@ fn cook_connectivity(
             } else {
                 format!("there is no primitive or vertex attribute `{agree_name}`")
             };
-            ctx.param_error(CONNECTIVITY_AGREE.name, why)
+            ctx.param_error(&CONNECTIVITY_AGREE, why)
         })?)
     };
     let pieces = ops::connectivity(&g, connect, agree.as_ref().map(|(c, d)| (*c, d)));
@@ -92,7 +92,7 @@ fn cook_connectivity(
     };
     let column = AttribData::Int(numbers.into_iter().map(|k| k as i32).collect());
     g.set_attrib(c, name, Attribute::from_data(column, TypeInfo::None))
-        .map_err(|e| ctx.kernel_at(CONNECTIVITY_ATTRIBUTE.name, e))?;
+        .map_err(|e| ctx.kernel_at(&CONNECTIVITY_ATTRIBUTE, e))?;
     geometry(g)
 }
 

@@ -60,7 +60,7 @@ fn reserve_quads(
     copies: f64,
 ) -> Result<(), CookError> {
     let (c, r) = (div(p, columns)? as f64, div(p, rows)? as f64);
-    let param = if c >= r { columns.name } else { rows.name };
+    let param = if c >= r { columns } else { rows };
     let quads = c * r * copies;
     reserve_mesh(
         ctx,
@@ -106,7 +106,7 @@ fn cook_box_node(ctx: &CookContext, _: &[Option<Value>], p: &Params) -> Result<V
     let d = p.vector::<3>(&BOX_DIVISIONS)?.map(|x| x.round() as u32);
     let [x, y, z] = d.map(f64::from);
     let quads = 2.0 * (x * y + y * z + x * z);
-    reserve_mesh(ctx, "divisions", quads + 2.0, 4.0 * quads, quads)?;
+    reserve_mesh(ctx, &BOX_DIVISIONS, quads + 2.0, 4.0 * quads, quads)?;
     let size = vec3(p, &BOX_SIZE)?;
     finish(
         ctx,

@@ -65,13 +65,13 @@ fn target_count(
 ) -> Result<usize, CookError> {
     let density = p.float(&DENSITY)?;
     let (n, param) = if density <= 0.0 {
-        (p.int(&COUNT)? as f64, "count")
+        (p.int(&COUNT)? as f64, &COUNT)
     } else {
         let n = (density * measure()).round();
         if !(0.0..=1e8).contains(&n) {
-            return Err(ctx.param_error("density", format!("gives {n} points; at most 100000000")));
+            return Err(ctx.param_error(&DENSITY, format!("gives {n} points; at most 100000000")));
         }
-        (n, "density")
+        (n, &DENSITY)
     };
     // Each point's position and normal, and with relax its candidates'
     // positions and neighbour lists.
@@ -239,7 +239,10 @@ fn cook_scatter_field(
         vec3(p, &crate::frep_polygonise::BOUNDS_MAX)?,
     );
     if (hi - lo).cmple(Vec3::ZERO).any() {
-        return Err(ctx.param_error("max", "the box is empty: max must exceed min on every axis"));
+        return Err(ctx.param_error(
+            &crate::frep_polygonise::BOUNDS_MAX,
+            "the box is empty: max must exceed min on every axis",
+        ));
     }
     let test =
         |c: &[Vec3]| -> Vec<bool> { sample_field(f, c).into_iter().map(|v| v >= 0.0).collect() };

@@ -15,51 +15,54 @@ use crate::util::{geometry, input_owned};
 
 /// A joint row: its name, its parent's (empty for the root; parents come
 /// first) and where it is at rest.
+const JOINT_NAME: P = P::new(
+    "name",
+    "Name",
+    T::String,
+    D::Str(""),
+    "The joint's name (weights are read from `w_<name>`).",
+);
+
+const JOINT_PARENT: P = P::new(
+    "parent",
+    "Parent",
+    T::String,
+    D::Str(""),
+    "An earlier joint's name; empty for the root.",
+);
+
+const JOINT_REST: P = P::new(
+    "rest",
+    "Rest position",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Where the joint is at rest.",
+);
+
 static JOINT_ROWS: ListSpec = ListSpec {
-    fields: &[
-        P::new(
-            "name",
-            "Name",
-            T::String,
-            D::Str(""),
-            "The joint's name (weights are read from `w_<name>`).",
-        ),
-        P::new(
-            "parent",
-            "Parent",
-            T::String,
-            D::Str(""),
-            "An earlier joint's name; empty for the root.",
-        ),
-        P::new(
-            "rest",
-            "Rest position",
-            T::Vec3,
-            D::Vec3([0.0; 3]),
-            "Where the joint is at rest.",
-        ),
-    ],
+    fields: &[JOINT_NAME, JOINT_PARENT, JOINT_REST],
     legacy: Some(legacy_joints),
 };
 
 /// A pose row: a joint and its rotation.
+const POSE_JOINT: P = P::new(
+    "joint",
+    "Joint",
+    T::String,
+    D::Str(""),
+    "The joint to rotate.",
+);
+
+const POSE_ROTATE: P = P::new(
+    "rotate",
+    "Rotate",
+    T::Vec3,
+    D::Vec3([0.0; 3]),
+    "Degrees about X, then Y, then Z (keyframable).",
+);
+
 static POSE_ROWS: ListSpec = ListSpec {
-    fields: &[
-        P::new(
-            "joint",
-            "Joint",
-            T::String,
-            D::Str(""),
-            "The joint to rotate.",
-        ),
-        P::new(
-            "rotate",
-            "Rotate",
-            T::Vec3,
-            D::Vec3([0.0; 3]),
-            "Degrees about X, then Y, then Z (keyframable).",
-        ),
-    ],
+    fields: &[POSE_JOINT, POSE_ROTATE],
     legacy: Some(legacy_pose),
 };
 
@@ -122,19 +125,20 @@ fn vector3(x: &str, y: &str, z: &str) -> Option<ParamValue> {
 pub(crate) fn skeleton_from_params(ctx: &CookContext, p: &Params) -> Result<Skeleton, CookError> {
     let mut joints: Vec<Joint> = Vec::new();
     for row in p.list(&SKELETON)? {
-        let name = row.string("name")?.trim().to_owned();
+        let name = row.string(&JOINT_NAME)?.trim().to_owned();
         if name.is_empty() {
-            return Err(ctx.param_error(&row.name("name"), "a joint needs a name"));
+            return Err(ctx.field_error(&row, &JOINT_NAME, "a joint needs a name"));
         }
-        let parent = match row.string("parent")?.trim() {
+        let parent = match row.string(&JOINT_PARENT)?.trim() {
             "" | "-" => None,
             parent => Some(
                 joints
                     .iter()
                     .position(|j| j.name == parent)
                     .ok_or_else(|| {
-                        ctx.param_error(
-                            &row.name("parent"),
+                        ctx.field_error(
+                            &row,
+                            &JOINT_PARENT,
                             format!("`{parent}` is not an earlier joint"),
                         )
                     })?,
@@ -143,7 +147,7 @@ pub(crate) fn skeleton_from_params(ctx: &CookContext, p: &Params) -> Result<Skel
         joints.push(Joint {
             name,
             parent,
-            rest: DVec3::from_array(row.vector::<3>("rest")?),
+            rest: DVec3::from_array(row.vector::<3>(&JOINT_REST)?),
             rotation: DQuat::IDENTITY,
         });
     }
@@ -170,21 +174,21 @@ fn posed(ctx: &CookContext, p: &Params, mut joints: Vec<Joint>) -> Result<Skelet
         )
     };
     for row in p.list(&POSE)? {
-        let name = row.string("joint")?;
+        let name = row.string(&POSE_JOINT)?;
         let j = joints.iter_mut().find(|j| j.name == name).ok_or_else(|| {
-            ctx.param_error(&row.name("joint"), format!("no joint named `{name}`"))
+            ctx.field_error(&row, &POSE_JOINT, format!("no joint named `{name}`"))
         })?;
-        j.rotation = euler(row.vector::<3>("rotate")?) * j.rotation;
+        j.rotation = euler(row.vector::<3>(&POSE_ROTATE)?) * j.rotation;
     }
     let name = p.string(&BEND_JOINT)?;
     if !name.is_empty() {
         let j = joints
             .iter_mut()
             .find(|j| j.name == name)
-            .ok_or_else(|| ctx.param_error("bend_joint", format!("no joint named `{name}`")))?;
+            .ok_or_else(|| ctx.param_error(&BEND_JOINT, format!("no joint named `{name}`")))?;
         j.rotation = euler(p.vector::<3>(&BEND)?) * j.rotation;
     }
-    Skeleton::new(joints).map_err(|e| ctx.kernel_at("skeleton", e))
+    Skeleton::new(joints).map_err(|e| ctx.kernel_at(&SKELETON, e))
 }
 
 const SKIN_METHOD: P = P::new(

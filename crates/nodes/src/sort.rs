@@ -93,7 +93,7 @@ fn cook_sort(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<
             let d = vec3(p, &VECTOR)?;
             if d == Vec3::ZERO || !d.is_finite() {
                 return Err(ctx.param_error(
-                    VECTOR.name,
+                    &VECTOR,
                     "the vector is zero (or not finite): nothing to sort along",
                 ));
             }
@@ -150,12 +150,12 @@ fn attribute_keys(
         Some((name, k)) => (
             name,
             k.parse::<usize>().map_err(|_| {
-                ctx.param_error(ATTRIBUTE.name, format!("`{k}` is no component number"))
+                ctx.param_error(&ATTRIBUTE, format!("`{k}` is no component number"))
             })?,
         ),
         None => (text, 0),
     };
-    let a = crate::util::attribute_of(ctx, ATTRIBUTE.name, g, c, name)?;
+    let a = crate::util::attribute_of(ctx, &ATTRIBUTE, g, c, name)?;
     if let Some(s) = a.as_strings() {
         return Ok(Keys::Text(
             (0..s.indices.len()).map(|i| s.get(i).to_owned()).collect(),
@@ -169,11 +169,11 @@ fn attribute_keys(
             f.chunks(w).map(|e| f64::from(e[k])).collect(),
         )),
         Some((_, w)) => Err(ctx.param_error(
-            ATTRIBUTE.name,
+            &ATTRIBUTE,
             format!("`{name}` has {w} components: {k} is past them"),
         )),
         None => Err(ctx.param_error(
-            ATTRIBUTE.name,
+            &ATTRIBUTE,
             format!("`{name}` is an array attribute: sort by numbers or strings"),
         )),
     }

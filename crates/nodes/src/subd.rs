@@ -107,7 +107,7 @@ fn reserve_refinement(ctx: &CookContext, g: &Geometry, levels: i64) -> Result<()
     }
     let quads = g.num_vertices() as f64 * 4f64.powi(levels as i32 - 1);
     ctx.reserve(
-        "levels",
+        &SUBDIVIDE_LEVELS,
         quads * BYTES_PER_REFINED_QUAD,
         &format!("{} quads at level {levels}", count_text(quads)),
     )

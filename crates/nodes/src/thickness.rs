@@ -51,10 +51,10 @@ fn cook(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value
     let mut g = input_owned(ctx, inputs, 0)?;
     let (attribute, group) = (p.string(&ATTRIBUTE)?, p.string(&GROUP)?);
     if attribute.is_empty() {
-        return Err(ctx.param_error("attribute", "the thickness attribute needs a name"));
+        return Err(ctx.param_error(&ATTRIBUTE, "the thickness attribute needs a name"));
     }
     if group.is_empty() {
-        return Err(ctx.param_error("group", "the group of thin points needs a name"));
+        return Err(ctx.param_error(&GROUP, "the group of thin points needs a name"));
     }
     let minimum = p.float(&MINIMUM)? as f32;
     let thickness =
@@ -67,13 +67,13 @@ fn cook(ctx: &CookContext, inputs: &[Option<Value>], p: &Params) -> Result<Value
             .map(|&t| t != NO_OPPOSITE_WALL && t < minimum),
     );
     g.set_point_group(group, thin)
-        .map_err(|e| ctx.kernel_at("group", e))?;
+        .map_err(|e| ctx.kernel_at(&GROUP, e))?;
     g.set_attrib(
         AttribClass::Point,
         attribute,
         Attribute::from_data(AttribData::Float(thickness), TypeInfo::None),
     )
-    .map_err(|e| ctx.kernel_at("attribute", e))?;
+    .map_err(|e| ctx.kernel_at(&ATTRIBUTE, e))?;
     g.set_attrib(
         AttribClass::Detail,
         "min_thickness",

@@ -75,7 +75,7 @@ const BYTES_PER_PRIM: f64 = 24.0;
 /// parameter that asked for it.
 pub fn reserve_mesh(
     ctx: &CookContext,
-    param: &str,
+    param: &geode_op::ParamSpec,
     points: f64,
     vertices: f64,
     prims: f64,
@@ -143,7 +143,11 @@ pub fn geometry(g: Geometry) -> Result<Value, CookError> {
 
 /// The text of the file `param` names, read as the environment allows
 /// (`CookContext::read_file`); not UTF-8 is a parameter error.
-pub fn text_file(ctx: &CookContext, param: &str, path: &str) -> Result<String, CookError> {
+pub fn text_file(
+    ctx: &CookContext,
+    param: &geode_op::ParamSpec,
+    path: &str,
+) -> Result<String, CookError> {
     let bytes = ctx.read_file(param, path)?;
     String::from_utf8(bytes).map_err(|e| {
         ctx.param_error(
@@ -171,7 +175,7 @@ pub fn group_param(
 ) -> Result<Option<geode_geo::Group>, CookError> {
     let text = p.string(spec)?;
     let pattern = GroupPattern::parse(text)
-        .map_err(|e| ctx.param_error(spec.name, format!("group pattern `{text}`: {e}")))?;
+        .map_err(|e| ctx.param_error(spec, format!("group pattern `{text}`: {e}")))?;
     if pattern.is_everything() {
         return Ok(None);
     }
@@ -181,7 +185,7 @@ pub fn group_param(
     pattern
         .group(g, class)
         .map(Some)
-        .map_err(|e| ctx.param_error(spec.name, format!("group pattern `{text}`: {e}")))
+        .map_err(|e| ctx.param_error(spec, format!("group pattern `{text}`: {e}")))
 }
 
 /// An error when `name` is no group of `class` on `g`.
@@ -210,12 +214,16 @@ fn missing_group(
             n => format!(" ({n} {kind} groups: {}, ...)", known[..12].join(", ")),
         };
     }
-    Err(ctx.param_error(spec.name, format!("no {kind} group `{name}`{hint}")))
+    Err(ctx.param_error(spec, format!("no {kind} group `{name}`{hint}")))
 }
 
 /// Refuses `name` for parameter `param` unless it is a valid attribute
 /// name (letters, digits and `_`, not starting with a digit).
-pub fn attribute_name(ctx: &CookContext, param: &str, name: &str) -> Result<(), CookError> {
+pub fn attribute_name(
+    ctx: &CookContext,
+    param: &geode_op::ParamSpec,
+    name: &str,
+) -> Result<(), CookError> {
     if name.is_empty()
         || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
         || name.starts_with(|c: char| c.is_ascii_digit())
@@ -232,7 +240,7 @@ pub fn attribute_name(ctx: &CookContext, param: &str, name: &str) -> Result<(), 
 /// and the attributes there are (the nearest first when one is close).
 pub fn attribute_of<'g>(
     ctx: &CookContext,
-    param: &str,
+    param: &geode_op::ParamSpec,
     g: &'g Geometry,
     c: AttribClass,
     name: &str,

@@ -26,7 +26,7 @@ const NAME: P = P::new(
 );
 
 /// A kernel error at parameter `param`.
-fn uv_error(ctx: &CookContext, param: &str, e: UvError) -> CookError {
+fn uv_error(ctx: &CookContext, param: &P, e: UvError) -> CookError {
     match e {
         UvError::Cancelled => CookError::cancelled(ctx.path),
         UvError::Invalid(why) => ctx.param_error(param, why),
@@ -126,7 +126,7 @@ fn cook_project(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&NAME)?;
-    attribute_name(ctx, NAME.name, name)?;
+    attribute_name(ctx, &NAME, name)?;
     let axis = match p.string(&PROJECT_AXIS)? {
         "x" => Axis::X,
         "z" => Axis::Z,
@@ -149,7 +149,7 @@ fn cook_project(
     };
     if size.cmpeq(Vec3::ZERO).any() || !size.is_finite() {
         return Err(ctx.param_error(
-            PROJECT_SIZE.name,
+            &PROJECT_SIZE,
             format!("the frame's size must be finite and not zero, not {size}"),
         ));
     }
@@ -162,7 +162,7 @@ fn cook_project(
             offset: vec2(p, &PROJECT_UV_OFFSET)?,
         },
     };
-    let mut uv = project(&g, &options).map_err(|e| uv_error(ctx, PROJECT_SIZE.name, e))?;
+    let mut uv = project(&g, &options).map_err(|e| uv_error(ctx, &PROJECT_SIZE, e))?;
     if let Some(group) = group_param(ctx, p, &PROJECT_GROUP, &g, AttribClass::Primitive)? {
         let old = existing_uv(&g, name);
         for prim in (0..g.num_prims()).filter(|&i| !group.contains(i)) {
@@ -171,7 +171,7 @@ fn cook_project(
             }
         }
     }
-    write_uv(&mut g, name, uv).map_err(|e| uv_error(ctx, NAME.name, e))?;
+    write_uv(&mut g, name, uv).map_err(|e| uv_error(ctx, &NAME, e))?;
     geometry(g)
 }
 
@@ -237,14 +237,14 @@ fn cook_flatten(
 ) -> Result<Value, CookError> {
     let mut g = input_owned(ctx, inputs, 0)?;
     let name = p.string(&NAME)?;
-    attribute_name(ctx, NAME.name, name)?;
+    attribute_name(ctx, &NAME, name)?;
     let island = p.string(&FLATTEN_ISLAND)?;
     if !island.is_empty() {
-        attribute_name(ctx, FLATTEN_ISLAND.name, island)?;
+        attribute_name(ctx, &FLATTEN_ISLAND, island)?;
     }
     let seams = seams(ctx, p.string(&FLATTEN_SEAMS)?, &g)?;
     ctx.reserve(
-        NAME.name,
+        &NAME,
         g.num_vertices() as f64 * 200.0,
         "the flattening's system",
     )?;
@@ -260,7 +260,7 @@ fn cook_flatten(
         ..FlattenOptions::default()
     };
     let flat = flatten(&g, &seams, &options, &ctx.cancel_fn())
-        .map_err(|e| uv_error(ctx, FLATTEN_SEAMS.name, e))?;
+        .map_err(|e| uv_error(ctx, &FLATTEN_SEAMS, e))?;
     if flat.unconverged_islands > 0 {
         ctx.warn(format!(
             "{} island(s) did not converge to the solver's tolerance",
@@ -274,10 +274,10 @@ fn cook_flatten(
         ));
     }
     warn_not_discs(ctx, &g, &flat.uv, &flat.prim_island, flat.island_count)?;
-    write_uv(&mut g, name, flat.uv).map_err(|e| uv_error(ctx, NAME.name, e))?;
+    write_uv(&mut g, name, flat.uv).map_err(|e| uv_error(ctx, &NAME, e))?;
     if !island.is_empty() {
         write_islands(&mut g, island, flat.prim_island)
-            .map_err(|e| uv_error(ctx, FLATTEN_ISLAND.name, e))?;
+            .map_err(|e| uv_error(ctx, &FLATTEN_ISLAND, e))?;
     }
     geometry(g)
 }
@@ -361,11 +361,11 @@ fn seams(ctx: &CookContext, text: &str, g: &Geometry) -> Result<Vec<[u32; 2]>, C
             Some(path) => {
                 let pts: Result<Vec<u32>, _> = path.split('-').map(str::parse::<u32>).collect();
                 let pts = pts.ok().filter(|p| p.len() >= 2).ok_or_else(|| {
-                    ctx.param_error(FLATTEN_SEAMS.name, format!("`{token}`: an edge is `p` and two or more point numbers joined by `-` (`p3-4`)"))
+                    ctx.param_error(&FLATTEN_SEAMS, format!("`{token}`: an edge is `p` and two or more point numbers joined by `-` (`p3-4`)"))
                 })?;
                 if let Some(&bad) = pts.iter().find(|&&q| q as usize >= g.num_points()) {
                     return Err(ctx.param_error(
-                        FLATTEN_SEAMS.name,
+                        &FLATTEN_SEAMS,
                         format!(
                             "`{token}`: there is no point {bad} ({} points)",
                             g.num_points()
@@ -378,7 +378,7 @@ fn seams(ctx: &CookContext, text: &str, g: &Geometry) -> Result<Vec<[u32; 2]>, C
                     .find(|w| topo.find_edge(w[0], w[1]).is_none())
                 {
                     return Err(ctx.param_error(
-                        FLATTEN_SEAMS.name,
+                        &FLATTEN_SEAMS,
                         format!("`{token}`: points {} and {} share no edge", w[0], w[1]),
                     ));
                 }
@@ -391,7 +391,7 @@ fn seams(ctx: &CookContext, text: &str, g: &Geometry) -> Result<Vec<[u32; 2]>, C
         let text = rest.join(" ");
         let selected = GroupPattern::parse(&text)
             .and_then(|pat| pat.group(g, AttribClass::Point))
-            .map_err(|e| ctx.param_error(FLATTEN_SEAMS.name, format!("`{text}`: {e}")))?;
+            .map_err(|e| ctx.param_error(&FLATTEN_SEAMS, format!("`{text}`: {e}")))?;
         let topo = g.topology();
         edges.extend(
             topo.edges()

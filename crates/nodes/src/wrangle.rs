@@ -121,7 +121,7 @@ impl Operator for Wrangle {
         };
         let program = geode_vex::compile(p.string(&SNIPPET)?, &spec).map_err(|e| {
             let pos = e.pos;
-            ctx.kernel_at("snippet", e).at_position(pos.line, pos.col)
+            ctx.kernel_at(&SNIPPET, e).at_position(pos.line, pos.col)
         })?;
         let group = group_members(ctx, p, g0, class)?;
         let mut out = geode_geo::Geometry::clone(g0);
@@ -144,9 +144,9 @@ impl Operator for Wrangle {
                     .with_source(e))
             }
             Err(e @ RunError::At { pos, .. }) if pos.line > 0 => {
-                Err(ctx.kernel_at("snippet", e).at_position(pos.line, pos.col))
+                Err(ctx.kernel_at(&SNIPPET, e).at_position(pos.line, pos.col))
             }
-            Err(e) => Err(ctx.kernel_at("snippet", e)),
+            Err(e) => Err(ctx.kernel_at(&SNIPPET, e)),
         }
     }
 

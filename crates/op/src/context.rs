@@ -4,6 +4,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use crate::env::{human_bytes, CookEnv};
+use crate::param::ParamSpec;
 
 /// A shared flag that asks running cooks to stop.
 #[derive(Clone, Debug, Default)]
@@ -280,8 +281,19 @@ impl CookContext<'_> {
         CookError::new(self.path, ErrorKind::Input, message)
     }
 
-    pub fn param_error(&self, param: &str, message: impl Into<String>) -> CookError {
-        CookError::param(self.path, param, message)
+    pub fn param_error(&self, param: &ParamSpec, message: impl Into<String>) -> CookError {
+        CookError::param(self.path, param.name, message)
+    }
+
+    /// A field of one row of a list parameter is to blame (`row` from
+    /// `Params::list`): the error names it in full, `skeleton[2].parent`.
+    pub fn field_error(
+        &self,
+        row: &crate::Params,
+        field: &ParamSpec,
+        message: impl Into<String>,
+    ) -> CookError {
+        CookError::param(self.path, &row.name(field), message)
     }
 
     /// A kernel's error, kept as the source; a kernel that stopped because
@@ -296,26 +308,30 @@ impl CookContext<'_> {
     /// A kernel's error blamed on a parameter.
     pub fn kernel_at(
         &self,
-        param: &str,
+        param: &ParamSpec,
         e: impl std::error::Error + Send + Sync + 'static,
     ) -> CookError {
-        self.kernel(e).at_param(param)
+        self.kernel(e).at_param(param.name)
     }
 
     /// A file error for the file named by `param`.
-    pub fn io(&self, param: &str, e: impl std::error::Error + Send + Sync + 'static) -> CookError {
+    pub fn io(
+        &self,
+        param: &ParamSpec,
+        e: impl std::error::Error + Send + Sync + 'static,
+    ) -> CookError {
         if self.cancel.is_cancelled() {
             return CookError::cancelled(self.path);
         }
         CookError::new(self.path, ErrorKind::Io, e.to_string())
-            .at_param(param)
+            .at_param(param.name)
             .with_source(e)
     }
 
     /// Reads the file `param` names, as the environment allows (confined
     /// folders, regular files, size within the memory budget), stopping
     /// when the cook is cancelled.
-    pub fn read_file(&self, param: &str, path: &str) -> Result<Vec<u8>, CookError> {
+    pub fn read_file(&self, param: &ParamSpec, path: &str) -> Result<Vec<u8>, CookError> {
         self.env
             .files
             .read(
@@ -328,7 +344,11 @@ impl CookContext<'_> {
 
     /// The real path of the file `param` names, if the environment allows
     /// reading it (checked before anything else is said of the file).
-    pub fn readable_file(&self, param: &str, path: &str) -> Result<std::path::PathBuf, CookError> {
+    pub fn readable_file(
+        &self,
+        param: &ParamSpec,
+        path: &str,
+    ) -> Result<std::path::PathBuf, CookError> {
         self.env
             .files
             .readable(std::path::Path::new(path))
@@ -337,19 +357,23 @@ impl CookContext<'_> {
 
     /// The real path to write the file `param` names, if the environment
     /// allows writing there.
-    pub fn writable_file(&self, param: &str, path: &str) -> Result<std::path::PathBuf, CookError> {
+    pub fn writable_file(
+        &self,
+        param: &ParamSpec,
+        path: &str,
+    ) -> Result<std::path::PathBuf, CookError> {
         self.env
             .files
             .writable(std::path::Path::new(path))
             .map_err(|e| self.file_refusal(param, e))
     }
 
-    fn file_refusal(&self, param: &str, e: crate::FileRefusal) -> CookError {
+    fn file_refusal(&self, param: &ParamSpec, e: crate::FileRefusal) -> CookError {
         match e {
             crate::FileRefusal::Cancelled => CookError::cancelled(self.path),
             crate::FileRefusal::TooLarge { .. } => {
                 CookError::new(self.path, ErrorKind::Resource, e.to_string())
-                    .at_param(param)
+                    .at_param(param.name)
                     .with_source(e)
             }
             e => self.io(param, e),
@@ -358,7 +382,7 @@ impl CookContext<'_> {
 
     /// Refuses, before anything is allocated, a result estimated at `bytes`
     /// (`what` says what was counted) that the memory budget cannot hold.
-    pub fn reserve(&self, param: &str, bytes: f64, what: &str) -> Result<(), CookError> {
+    pub fn reserve(&self, param: &ParamSpec, bytes: f64, what: &str) -> Result<(), CookError> {
         let budget = self.env.memory_budget;
         if bytes <= budget as f64 {
             return Ok(());
@@ -372,7 +396,7 @@ impl CookContext<'_> {
                 human_bytes(budget as f64)
             ),
         )
-        .at_param(param))
+        .at_param(param.name))
     }
 }
 

@@ -91,7 +91,11 @@ pub fn markdown(spec: &NodeSpec) -> String {
     }
     let _ = writeln!(s, "\n## Output\n\n{}\n", spec.output);
     if !spec.writes.is_empty() {
-        let names: Vec<String> = spec.writes.iter().map(|w| format!("`{w}`")).collect();
+        let names: Vec<String> = spec
+            .writes
+            .iter()
+            .map(|w| format!("`{}`", w.name))
+            .collect();
         let _ = writeln!(
             s,
             "Writes the file named by {} every time it cooks (an output: never served from the cache).\n",

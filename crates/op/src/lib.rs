@@ -60,7 +60,7 @@ pub struct NodeSpec {
     /// File parameters the cook writes to (outputs, not cached side effects):
     /// while any of them names a file, the node cooks every time it is pulled
     /// and its result is never served from or stored in the cache.
-    pub writes: &'static [&'static str],
+    pub writes: &'static [&'static ParamSpec],
     /// Whether a network may declare spare parameters on the node (read by
     /// its cook by name: a wrangle's `ch()`).
     pub spare: bool,
@@ -132,7 +132,7 @@ impl NodeSpec {
     }
 
     /// Declares the file parameters the cook writes.
-    pub const fn writes(mut self, params: &'static [&'static str]) -> NodeSpec {
+    pub const fn writes(mut self, params: &'static [&'static ParamSpec]) -> NodeSpec {
         self.writes = params;
         self
     }

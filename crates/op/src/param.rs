@@ -615,15 +615,11 @@ impl fmt::Display for ParamValue {
 }
 
 /// What a parameter is read by: its declaration (`p.float(&RADIUS)`, the
-/// name written once) or, where a node has no const for it, its name.
+/// name written once). No string stands for a declared parameter; a
+/// node's spare parameters, declared by the network, are read by name
+/// (`Params::spare`).
 pub trait ParamName {
     fn param_name(&self) -> &str;
-}
-
-impl ParamName for str {
-    fn param_name(&self) -> &str {
-        self
-    }
 }
 
 impl ParamName for ParamSpec {
@@ -673,7 +669,10 @@ impl Params {
     /// The full name of a parameter or row field, for error messages
     /// (`edits[2].level`).
     pub fn name(&self, name: &(impl ParamName + ?Sized)) -> String {
-        let name = name.param_name();
+        self.full_name(name.param_name())
+    }
+
+    fn full_name(&self, name: &str) -> String {
         format!("{}{name}", self.prefix)
     }
 
@@ -698,7 +697,10 @@ impl Params {
     }
 
     pub fn get(&self, name: &(impl ParamName + ?Sized)) -> Result<&ParamValue, CookError> {
-        let name = name.param_name();
+        self.get_named(name.param_name())
+    }
+
+    fn get_named(&self, name: &str) -> Result<&ParamValue, CookError> {
         self.values
             .iter()
             .find(|(n, _)| *n == name)
@@ -706,7 +708,7 @@ impl Params {
             .ok_or_else(|| {
                 CookError::param(
                     &self.path,
-                    &self.name(name),
+                    &self.full_name(name),
                     "the node asked for a parameter it does not declare",
                 )
             })
@@ -764,9 +766,9 @@ impl Params {
     }
 
     /// The rows of a list parameter, each read by field name.
-    pub fn list(&self, name: &(impl ParamName + ?Sized)) -> Result<Vec<Params>, CookError> {
-        let name = name.param_name();
-        let spec = self
+    pub fn list(&self, spec: &(impl ParamName + ?Sized)) -> Result<Vec<Params>, CookError> {
+        let name = spec.param_name();
+        let list_spec = self
             .specs
             .iter()
             .find(|s| s.name == name)
@@ -774,7 +776,7 @@ impl Params {
                 ParamType::List(l) => Some(l),
                 _ => None,
             });
-        match (self.get(name)?, spec) {
+        match (self.get_named(name)?, list_spec) {
             (ParamValue::List(rows), Some(l)) => Ok(rows
                 .iter()
                 .enumerate()
@@ -791,7 +793,7 @@ impl Params {
                     spare: Vec::new(),
                 })
                 .collect()),
-            _ => Err(self.wrong(name, "list")),
+            _ => Err(self.wrong(spec, "list")),
         }
     }
 }

@@ -105,8 +105,8 @@ impl Operator for Points {
     fn cook(&self, _: &CookContext, _: &[Option<Value>], p: &Params) -> Result<Value, CookError> {
         COOKS.fetch_add(1, Ordering::Relaxed);
         let mut g = Geometry::new();
-        let step = p.float("step")? as f32;
-        let pts: Vec<Vec3> = (0..p.int("count")?)
+        let step = p.float(&POINTS.params[1])? as f32;
+        let pts: Vec<Vec3> = (0..p.int(&POINTS.params[0])?)
             .map(|i| Vec3::X * i as f32 * step)
             .collect();
         g.add_points(&pts);
@@ -125,7 +125,7 @@ impl Operator for Offset {
         p: &Params,
     ) -> Result<Value, CookError> {
         let mut g = geo(inputs[0].as_ref().unwrap()).clone();
-        let by = p.vector::<3>("by")?;
+        let by = p.vector::<3>(&OFFSET.params[0])?;
         for q in g.positions_mut() {
             *q += Vec3::new(by[0] as f32, by[1] as f32, by[2] as f32);
         }
@@ -144,7 +144,7 @@ impl Operator for Clamp {
         p: &Params,
     ) -> Result<Value, CookError> {
         let mut g = geo(inputs[0].as_ref().unwrap()).clone();
-        let max = p.float("max")? as f32;
+        let max = p.float(&CLAMP.params[0])? as f32;
         for q in g.positions_mut() {
             q.x = q.x.min(max);
         }
@@ -152,7 +152,7 @@ impl Operator for Clamp {
     }
     /// Refuses a negative `max` without cooking (`Network::check`).
     fn check(&self, ctx: &CheckContext, p: &Params) -> Result<(), CookError> {
-        let max = p.float("max")?;
+        let max = p.float(&CLAMP.params[0])?;
         if max < 0.0 {
             return Err(CookError::param(
                 ctx.path,
