@@ -1,4 +1,5 @@
-//! The `geode` command: inspect and convert geometry files.
+//! The `geode` command: cook, check and format networks, farm frames, serve
+//! the studio, inspect and convert geometry files, manage the disk cache.
 
 /// `println!` that ends the process quietly when standard output is a
 /// closed pipe (`geode nodes | head`), as a Unix tool does, instead of
@@ -40,7 +41,8 @@ Examples:
   geode convert examples/assets/creased_box.obj /tmp/box.glb
   geode convert scan.ply print.stl
 
-Exit codes: 0 success, 1 a file could not be read or written, 2 bad usage.";
+Exit status: 0 success, 1 internal, 2 usage, 3 the network, 4 the cook,
+5 the system refused a file, 6 the memory budget, 130 interrupted (README).";
 
 /// geode: a procedural geometry engine.
 #[derive(Parser)]

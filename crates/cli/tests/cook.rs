@@ -497,7 +497,10 @@ fn mesh_examples_are_watertight() {
                 );
             }
         }
-        other => assert!(!required, "trimesh check could not run: {other:?}"),
+        other => {
+            assert!(!required, "trimesh check could not run: {other:?}");
+            eprintln!("skipping: trimesh check could not run: {other:?}");
+        }
     }
 }
 

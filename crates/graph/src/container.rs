@@ -1,4 +1,5 @@
-//! The node types the graph engine cooks itself (subnet, loop, solver),
+//! The node types the graph engine cooks itself (subnet, loop, solver,
+//! for_each, time_shift),
 //! declared once as `NodeSpec`s: the loader, the catalogue, `geode nodes`,
 //! the docs and the studio's Tab menu and wiring all read these.
 

@@ -419,7 +419,9 @@ mod tests {
                 "manifold was built serially though TBB is required"
             );
         } else if !parallel() {
-            eprintln!("skipped: manifold is built serially (no libtbb-dev)");
+            eprintln!(
+                "skipping: manifold is built serially (no libtbb-dev, or GEODE_MANIFOLD_SERIAL)"
+            );
         }
     }
 

@@ -212,3 +212,19 @@ fn cooks_read_parameters_through_their_declarations_not_string_literals() {
         found.join("\n")
     );
 }
+
+/// No node type is declared twice: the library's names and the engine's own
+/// containers' (subnet, loop...) are distinct (a duplicate in the library
+/// itself fails `Registry::add`).
+#[test]
+fn every_node_type_is_declared_once() {
+    let registry = geode_nodes::registry();
+    let names: Vec<&str> = geode_graph::node_specs(&registry)
+        .iter()
+        .map(|s| s.name)
+        .collect();
+    let mut unique = names.clone();
+    unique.dedup();
+    assert_eq!(names, unique, "a name shared by two declarations");
+    assert!(names.len() > 60, "{}", names.len());
+}

@@ -17,8 +17,13 @@ impl Registry {
         Registry::default()
     }
 
+    /// Adds a node type. A name given twice is a bug in the library that
+    /// builds the registry (one declaration would silently shadow the
+    /// other), found the first time the registry is built.
     pub fn add(&mut self, op: impl Operator + 'static) {
-        self.ops.insert(op.spec().name, Arc::new(op));
+        let name = op.spec().name;
+        let earlier = self.ops.insert(name, Arc::new(op));
+        assert!(earlier.is_none(), "node type `{name}` is registered twice");
     }
 
     /// Adds a node type given by its declaration and cook function.

@@ -3,7 +3,7 @@
 //! hemisphere, with the same two pins at the same uv: every vertex's uv
 //! must agree within 1e-4 of the island's size. Without Python and igl
 //! the test fails, unless the run skips oracles (GEODE_SKIP_ORACLES=1):
-//! then it says SKIPPED.
+//! then it says it is skipping.
 
 mod common;
 
@@ -27,14 +27,14 @@ fn python() -> String {
     })
 }
 
-/// Says SKIPPED and why, or fails when the oracle is required.
+/// Says it is skipping and why, or fails when the oracle is required.
 fn skip(why: &str) {
     assert!(
         !oracle_required(),
         "the libigl oracle is required here: {why}"
     );
-    println!("SKIPPED lscm_matches_libigl: {why}");
-    eprintln!("SKIPPED lscm_matches_libigl: {why}");
+    println!("skipping: lscm_matches_libigl: {why}");
+    eprintln!("skipping: lscm_matches_libigl: {why}");
 }
 
 /// libigl's LSCM uv of the mesh with the pins, or why there is none.

@@ -55,7 +55,7 @@ pub fn slurm_ready() -> bool {
             skip("GEODE_SKIP_ORACLES") || skip("GEODE_SKIP_SLURM"),
             "no Slurm node takes jobs: run bash tools/test.sh (it starts one), or tools/slurm.sh start and export SLURM_CONF; GEODE_SKIP_SLURM=1 skips these tests"
         );
-        eprintln!("skipped: no Slurm cluster (tools/slurm.sh start; export SLURM_CONF)");
+        eprintln!("skipping: no Slurm cluster (tools/slurm.sh start; export SLURM_CONF)");
     }
     ok
 }

@@ -390,7 +390,7 @@ fn reference_binary() -> Option<String> {
             !required,
             "GEODE_OSD_REF is not set (tools/test.sh builds tools/osd_ref)"
         );
-        eprintln!("skipped: GEODE_OSD_REF not set");
+        eprintln!("skipping: GEODE_OSD_REF not set");
     }
     reference
 }
