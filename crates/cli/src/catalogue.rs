@@ -10,13 +10,16 @@ pub fn list(node_type: Option<&str>) -> Result<()> {
         Some(name) => {
             let spec = geode_graph::node_spec(&reg, name).ok_or_else(|| {
                 let near = geode_graph::container::closest_types(&reg, name);
-                anyhow!(
-                    "unknown node type `{name}`{}",
-                    if near.is_empty() {
-                        String::new()
-                    } else {
-                        format!(" (did you mean {}?)", near.join(", "))
-                    }
+                crate::exit::tagged(
+                    crate::exit::Exit::Usage,
+                    anyhow!(
+                        "unknown node type `{name}`{}",
+                        if near.is_empty() {
+                            String::new()
+                        } else {
+                            format!(" (did you mean {}?)", near.join(", "))
+                        }
+                    ),
                 )
             })?;
             crate::write_stdout(format_args!("{}", geode_op::markdown(spec)));

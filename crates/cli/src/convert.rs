@@ -4,9 +4,10 @@
 //! set. Both run the nodes a network would (`frep_file`, `polygonise`,
 //! `frep_from_mesh`, `frep_write`), so they read, check and fail alike.
 
+use crate::exit::{tagged, Exit};
 use std::path::{Path, PathBuf};
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{anyhow, bail, Context, Result};
 use geode_graph::{CookOptions, Document, Engine, Network};
 use geode_op::{CancelToken, CookEnv, Value};
 use serde_json::json;
@@ -52,11 +53,14 @@ pub fn convert(args: &ConvertArgs) -> Result<()> {
         (false, false) => geometry_to_geometry(&args.input, &args.output),
         (true, false) => vdb_to_mesh(args),
         (false, true) => mesh_to_vdb(args),
-        (true, true) => bail!(
-            "{} and {} are both .vdb files: convert one of them to or from a mesh",
-            args.input.display(),
-            args.output.display()
-        ),
+        (true, true) => Err(tagged(
+            Exit::Usage,
+            anyhow!(
+                "{} and {} are both .vdb files: convert one of them to or from a mesh",
+                args.input.display(),
+                args.output.display()
+            ),
+        )),
     }
 }
 
@@ -80,17 +84,20 @@ fn vdb_to_mesh(args: &ConvertArgs) -> Result<()> {
         geode_op::FileAccess::anywhere()
             .read(&args.input, geode_op::budget_from_env(), &|| false)?;
     let volumes = geode_io::vdb::read_vdb(&bytes, geode_op::budget_from_env(), &|| false)
-        .map_err(|e| anyhow!("{}: {e}", args.input.display()))?;
+        .with_context(|| args.input.display().to_string())?;
     let names: Vec<String> = volumes.iter().map(|v| format!("{:?}", v.name)).collect();
     let volume = volumes
         .iter()
         .find(|v| args.grid.is_empty() || v.name == args.grid)
         .ok_or_else(|| {
-            anyhow!(
-                "{}: no float grid named {:?} (it has {})",
-                args.input.display(),
-                args.grid,
-                names.join(", ")
+            tagged(
+                Exit::Usage,
+                anyhow!(
+                    "{}: no float grid named {:?} (it has {})",
+                    args.input.display(),
+                    args.grid,
+                    names.join(", ")
+                ),
             )
         })?;
     let (lo, hi) = volume.active_bounds().ok_or_else(|| {
@@ -152,7 +159,12 @@ fn mesh_to_vdb(args: &ConvertArgs) -> Result<()> {
     let longest = (0..3).map(|k| hi[k] - lo[k]).fold(0.0, f64::max);
     let voxel = match args.voxel_size {
         Some(v) if v > 0.0 && v.is_finite() => v,
-        Some(v) => bail!("--voxel-size {v}: expected a positive number of model units"),
+        Some(v) => {
+            return Err(tagged(
+                Exit::Usage,
+                anyhow!("--voxel-size {v}: expected a positive number of model units"),
+            ))
+        }
         None if longest > 0.0 => longest / DEFAULT_VOXELS,
         None => bail!(
             "{}: every point is at one place: nothing to sample",
@@ -208,11 +220,12 @@ fn cook(doc: &serde_json::Value, target: &str, about: &Path, writes: bool) -> Re
         writes,
     };
     let result = engine.cook(target, &opts).map_err(|errors| {
-        if errors.iter().any(|e| e.is_cancelled()) {
-            return anyhow!("interrupted: nothing was written");
+        let kind = Exit::of_cook(&errors);
+        if kind == Exit::Interrupted {
+            return tagged(kind, anyhow!("interrupted: nothing was written"));
         }
         let lines: Vec<String> = errors.iter().map(|e| e.to_string()).collect();
-        anyhow!("{}: {}", about.display(), lines.join("; "))
+        tagged(kind, anyhow!("{}: {}", about.display(), lines.join("; ")))
     })?;
     for e in &result.events {
         for w in e.warnings.iter() {

@@ -44,7 +44,12 @@ fn open(dir: Option<PathBuf>, max_mb: Option<u64>) -> Result<DiskCache> {
                 .filter(|d| !d.is_empty())
                 .map(PathBuf::from)
         })
-        .ok_or_else(|| anyhow!("no disk cache: pass --dir or set GEODE_CACHE_DIR"))?;
+        .ok_or_else(|| {
+            crate::exit::tagged(
+                crate::exit::Exit::Usage,
+                anyhow!("no disk cache: pass --dir or set GEODE_CACHE_DIR"),
+            )
+        })?;
     let mb = max_mb
         .or_else(|| {
             std::env::var("GEODE_CACHE_DISK_MB")

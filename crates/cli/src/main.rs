@@ -23,6 +23,7 @@ mod telemetry;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use anyhow::Context;
 use clap::{Parser, Subcommand};
 
 /// Huge pages for large geometry columns (see geode-alloc).
@@ -254,7 +255,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 &|| false,
             )?;
             let volumes = geode_io::vdb::read_vdb(&bytes, geode_op::budget_from_env(), &|| false)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
+                .with_context(|| file.display().to_string())?;
             if json {
                 say!("{}", info::volumes_json(&file, &volumes));
             } else {

@@ -151,7 +151,7 @@ fn check_reports_every_problem_with_the_file_name() {
     )
     .unwrap();
     let o = geode(&["check", bad.to_str().unwrap()], &[]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(3));
     let b = bad.display();
     assert_eq!(
         String::from_utf8_lossy(&o.stderr).trim(),
@@ -186,7 +186,7 @@ fn check_compiles_every_snippet_and_evaluates_every_expression() {
     )
     .unwrap();
     let o = geode(&["check", net.to_str().unwrap()], &[]);
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(3), "{}", text(&o));
     let err = common::stderr(&o);
     let n = net.display();
     assert!(
@@ -255,7 +255,7 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
         ],
         &[],
     );
-    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    assert_eq!(o.status.code(), Some(4), "{}", text(&o));
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("/b (parameter `rotate`)"),
         "{}",
@@ -276,7 +276,7 @@ fn cook_warns_of_problems_elsewhere_and_fails_only_their_branch() {
     assert!(o.status.success(), "{}", text(&o));
     // `geode check` is strict.
     let o = geode(&["check", net.to_str().unwrap()], &[]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(3));
 }
 
 #[test]
@@ -386,7 +386,7 @@ fn node_docs_are_up_to_date() {
         assert!(root().join(format!("docs/nodes/{ty}.md")).exists(), "{ty}");
     }
     let o = geode(&["nodes", "lop"], &[]);
-    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).contains("did you mean loop"), "{}", text(&o));
 }
 
@@ -479,7 +479,15 @@ fn mesh_examples_are_watertight() {
         }
     }
     assert!(!files.is_empty(), "there are FRep examples");
-    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| "python3".into());
+    // GEODE_PYTHON, else the venv tools/test.sh makes, else the system's.
+    let venv = root().join("tools/.venv/bin/python");
+    let python = std::env::var("GEODE_PYTHON").unwrap_or_else(|_| {
+        if venv.exists() {
+            venv.display().to_string()
+        } else {
+            "python3".into()
+        }
+    });
     let out = Command::new(python)
         .arg(root().join("tools/mesh_check.py"))
         .args(&files)
