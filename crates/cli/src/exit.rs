@@ -40,28 +40,40 @@ impl Exit {
         }
     }
 
+    /// Every kind, in status order.
+    const ALL: [Exit; 7] = [
+        Exit::Internal,
+        Exit::Usage,
+        Exit::Network,
+        Exit::Cook,
+        Exit::Io,
+        Exit::Resource,
+        Exit::Interrupted,
+    ];
+
     /// The kind an exit status stands for.
     pub fn from_code(code: i32) -> Option<Exit> {
-        [
-            Exit::Internal,
-            Exit::Usage,
-            Exit::Network,
-            Exit::Cook,
-            Exit::Io,
-            Exit::Resource,
-            Exit::Interrupted,
-        ]
-        .into_iter()
-        .find(|e| i32::from(e.code()) == code)
+        Exit::ALL.into_iter().find(|e| i32::from(e.code()) == code)
     }
 
-    /// Whether running the same command again can succeed: the network, the
-    /// arguments and the cook are deterministic, the machine is not (a file
-    /// system's hiccup, memory in use by others, a crash).
+    /// Whether running the same command again fails the same way: the
+    /// network, the arguments and the cook are deterministic, the machine
+    /// is not (a file system's hiccup, memory in use by others, a crash).
+    pub fn is_final(self) -> bool {
+        matches!(self, Exit::Usage | Exit::Network | Exit::Cook)
+    }
+
+    /// The exit statuses no retry can change.
+    pub fn final_codes() -> impl Iterator<Item = u8> {
+        Exit::ALL
+            .into_iter()
+            .filter(|e| e.is_final())
+            .map(Exit::code)
+    }
+
+    /// Whether a process that exited with `code` may succeed if run again.
     pub fn is_transient(code: i32) -> bool {
-        ![Exit::Usage, Exit::Network, Exit::Cook]
-            .iter()
-            .any(|e| i32::from(e.code()) == code)
+        !Exit::from_code(code).is_some_and(Exit::is_final)
     }
 
     /// The kind of an error a command returned: the kind it was tagged
@@ -133,8 +145,7 @@ impl Exit {
                 _ => Exit::Cook,
             })
             .collect();
-        let last = |k: &Exit| !Exit::is_transient(i32::from(k.code()));
-        if kinds.is_empty() || kinds.iter().any(last) {
+        if kinds.is_empty() || kinds.iter().any(|k| k.is_final()) {
             Exit::Cook
         } else if kinds.contains(&Exit::Resource) {
             Exit::Resource

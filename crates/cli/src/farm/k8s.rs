@@ -27,13 +27,6 @@ pub fn manifest(farm: &Farm, image: &str) -> serde_json::Value {
     job
 }
 
-/// The exit statuses no retry can change (see `Exit::is_transient`).
-fn final_exit_codes() -> Vec<i32> {
-    (0..=255)
-        .filter(|&c| c != 0 && !crate::exit::Exit::is_transient(c))
-        .collect()
-}
-
 /// The Job before the optional per-pod deadline.
 fn job(farm: &Farm, image: &str) -> serde_json::Value {
     let dir = farm.dir.display().to_string();
@@ -54,7 +47,7 @@ fn job(farm: &Farm, image: &str) -> serde_json::Value {
             // retried (README: Exit status).
             "podFailurePolicy": {"rules": [{
                 "action": "FailIndex",
-                "onExitCodes": {"containerName": "cook", "operator": "In", "values": final_exit_codes()},
+                "onExitCodes": {"containerName": "cook", "operator": "In", "values": crate::exit::Exit::final_codes().collect::<Vec<_>>()},
             }]},
             "template": {
                 "metadata": {"labels": {"app": "geode-farm"}},
