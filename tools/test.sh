@@ -4,6 +4,7 @@
 # Pixar's usd-core, trimesh, manifold3d and scipy from PyPI, OpenSubdiv from Debian for
 # tools/osd_ref, oneTBB from Debian for manifold: tools/debian.sh) installed first and a one-machine Slurm cluster (Debian's
 # slurm-wlm and munge, tools/slurm.sh) running for the farm tests, then the
+# Python package built by maturin and its pytest suite (tools/python.sh), then the
 # studio in real Chromium (tools/browser.sh), so that nothing has to be
 # installed or started by hand. The cluster is stopped on exit.
 set -euo pipefail
@@ -42,4 +43,5 @@ export GEODE_OSD_REF="$PWD/tools/osd_ref/osd_ref"
 export GEODE_PYTHON="$PWD/tools/.venv/bin/python"
 bash tools/studio.sh
 cargo test --workspace "$@"
+bash tools/python.sh
 bash tools/browser.sh

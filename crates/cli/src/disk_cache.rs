@@ -6,7 +6,7 @@
 //! when it passes the bound (see `geode_store`).
 
 use std::path::PathBuf;
-use std::sync::{Arc, OnceLock};
+use std::sync::OnceLock;
 
 use anyhow::{anyhow, Context, Result};
 use geode_graph::Cache;
@@ -15,14 +15,8 @@ use geode_store::DiskCache;
 /// A cook cache: `Cache::from_env()`, with the disk cache of
 /// `GEODE_CACHE_DIR` (bounded by `GEODE_CACHE_DISK_MB`) as its second level.
 pub fn new_cache() -> Result<Cache> {
-    Ok(match DiskCache::from_env() {
-        Some(disk) => {
-            let disk =
-                disk.context("GEODE_CACHE_DIR: the disk cache's folder cannot be created")?;
-            Cache::from_env().with_store(Arc::new(disk))
-        }
-        None => Cache::from_env(),
-    })
+    DiskCache::cook_cache_from_env()
+        .context("GEODE_CACHE_DIR: the disk cache's folder cannot be created")
 }
 
 /// The process's cook cache for `geode cook` (see [`new_cache`]).

@@ -11,6 +11,7 @@ pub mod channel;
 mod compiled_param;
 pub mod container;
 pub mod document;
+pub mod edit;
 mod engine;
 mod expr;
 mod json_path;

@@ -21,6 +21,7 @@ mod frep_polygonise;
 mod frep_volume;
 mod groups;
 mod growth;
+pub mod held;
 mod hspline;
 mod instancing;
 mod measure;
@@ -63,6 +64,7 @@ use geode_op::Registry;
 pub fn registry() -> Registry {
     let mut r = Registry::new();
     file::register(&mut r);
+    held::register(&mut r);
     primitives::register(&mut r);
     thickness::register(&mut r);
     transform::register(&mut r);

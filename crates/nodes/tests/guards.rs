@@ -28,6 +28,7 @@ fn refused_within(nodes: &str, hip: &str, budget: u64) -> (String, Duration) {
         memory_budget: budget,
         files: geode_op::FileAccess::anywhere(),
         nesting: Vec::new(),
+        held: Default::default(),
     };
     // Inputs first: the time measured is the guarded node's.
     for e in engine

@@ -65,6 +65,13 @@ fn setup(node: &str, dir: &str) -> (Vec<String>, String) {
             "{}".into(),
         ),
         "file" => (vec![], format!(r#"{{"file": "{dir}/in.obj"}}"#)),
+        "python_input" => (
+            vec![],
+            format!(
+                r#"{{"geometry": "{}"}}"#,
+                geode_nodes::held::format_hash(held_triangle().content_hash())
+            ),
+        ),
         "frep_file" => (vec![], format!(r#"{{"file": "{dir}/ball.vm"}}"#)),
         "write" => (
             vec![r#""in0": {"type": "box"}"#.into()],
@@ -77,6 +84,13 @@ fn setup(node: &str, dir: &str) -> (Vec<String>, String) {
         ),
         _ => (vec![], "{}".into()),
     }
+}
+
+/// The geometry a host (Python) holds for `python_input`: one triangle.
+fn held_triangle() -> std::sync::Arc<geode_geo::Geometry> {
+    use geode_geo::glam::Vec3;
+    let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
+    std::sync::Arc::new(geode_geo::Geometry::from_triangles(p.to_vec(), &[[0, 1, 2]]).unwrap())
 }
 
 /// A network of one node of `ty` (named `n`) with its inputs.
@@ -158,10 +172,25 @@ fn every_node_cooks_on_defaults_and_is_a_pure_function_of_its_key() {
     for op in registry.iter() {
         let ty = op.spec().name;
         let text = network(ty, &d);
-        let one = cook(&text, 1, CookEnv::default().with_hip(&d));
+        let held = geode_op::HeldGeometry::new([held_triangle()]);
+        let one = cook(
+            &text,
+            1,
+            CookEnv {
+                held: held.clone(),
+                ..CookEnv::default().with_hip(&d)
+            },
+        );
         // Another thread count and another $HIP that the node does not read:
         // the key and the output must not move.
-        let many = cook(&text, 3, CookEnv::default().with_hip("/elsewhere"));
+        let many = cook(
+            &text,
+            3,
+            CookEnv {
+                held,
+                ..CookEnv::default().with_hip("/elsewhere")
+            },
+        );
         match (one, many) {
             (Ok(a), Ok(b)) => {
                 if a != b {

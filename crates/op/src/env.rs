@@ -25,6 +25,43 @@ pub struct CookEnv {
     /// is refused instead of recursing. Not in any key: it changes only
     /// whether a cook is refused, and errors are not cached.
     pub nesting: Vec<String>,
+    /// Geometry a host holds in memory (Python's `Geometry.from_arrays`),
+    /// which `python_input` reads by content hash. Not in any key: the
+    /// hash is the node's parameter, so a cook is still a function of it.
+    pub held: HeldGeometry,
+}
+
+/// Geometries a host process hands to its cooks, by content hash.
+#[derive(Clone, Debug, Default)]
+pub struct HeldGeometry(
+    std::sync::Arc<std::collections::BTreeMap<u128, std::sync::Arc<geode_geo::Geometry>>>,
+);
+
+impl HeldGeometry {
+    /// Holds `geometries`, each under its content hash.
+    pub fn new(
+        geometries: impl IntoIterator<Item = std::sync::Arc<geode_geo::Geometry>>,
+    ) -> HeldGeometry {
+        HeldGeometry(std::sync::Arc::new(
+            geometries
+                .into_iter()
+                .map(|g| (g.content_hash(), g))
+                .collect(),
+        ))
+    }
+
+    /// The geometry whose content hash is `hash`.
+    pub fn get(&self, hash: u128) -> Option<&std::sync::Arc<geode_geo::Geometry>> {
+        self.0.get(&hash)
+    }
+}
+
+impl PartialEq for HeldGeometry {
+    /// Two holds are equal when they hold the same hashes (their geometry is
+    /// then equal by definition of the hash).
+    fn eq(&self, other: &HeldGeometry) -> bool {
+        self.0.keys().eq(other.0.keys())
+    }
 }
 
 impl Default for CookEnv {
@@ -35,6 +72,7 @@ impl Default for CookEnv {
             memory_budget: default_budget(),
             files: FileAccess::anywhere(),
             nesting: Vec::new(),
+            held: HeldGeometry::default(),
         }
     }
 }
@@ -53,6 +91,7 @@ impl CookEnv {
             memory_budget: budget_from_env(),
             files: FileAccess::anywhere(),
             nesting: Vec::new(),
+            held: HeldGeometry::default(),
         }
     }
 

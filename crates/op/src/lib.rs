@@ -15,7 +15,9 @@ pub use context::{
     CancelToken, CheckContext, CookContext, CookError, ErrorKind, KeyContext, ProgressFn,
     TextPosition, Warnings,
 };
-pub use env::{budget_from_env, expand_frame, human_bytes, network_identity, CookEnv, MB};
+pub use env::{
+    budget_from_env, expand_frame, human_bytes, network_identity, CookEnv, HeldGeometry, MB,
+};
 pub use expr::{ExprError, ExprLanguage, ExprScope, ExprValue, Expression};
 pub use files::{FileAccess, FileRefusal};
 pub use param::{

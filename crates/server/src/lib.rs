@@ -2,14 +2,13 @@
 //!
 //! Nothing depends on this crate but the CLI; it sits on graph, nodes and io.
 
-mod annotations;
 mod catalogue;
 mod cooker;
 mod delta;
-pub mod edits;
+/// The document edits the studio sends (they live in `geode_graph::edit`).
+pub use geode_graph::edit as edits;
 mod hub;
 mod info;
-mod keys;
 mod pick;
 pub mod security;
 pub mod session;

@@ -118,6 +118,16 @@ impl DiskCache {
         ))
     }
 
+    /// A cook cache from the process's settings: the memory cache of
+    /// `Cache::from_env()` with, when `GEODE_CACHE_DIR` names one, this disk
+    /// cache behind it (what `geode cook` and Python's `geode` both use).
+    pub fn cook_cache_from_env() -> std::io::Result<geode_graph::Cache> {
+        Ok(match DiskCache::from_env() {
+            Some(disk) => geode_graph::Cache::from_env().with_store(std::sync::Arc::new(disk?)),
+            None => geode_graph::Cache::from_env(),
+        })
+    }
+
     pub fn dir(&self) -> &Path {
         &self.dir
     }

@@ -1,10 +1,10 @@
 //! Setting and deleting keyframes on a node's parameter in the document: a constant component becomes a channel, a channel with no key left becomes a constant.
 
-use geode_graph::document::NodeDoc;
+use crate::document::NodeDoc;
 use geode_op::{ParamDefault, Registry};
 use serde_json::{json, Value as Json};
 
-use crate::edits::{refuse, EditError};
+use crate::edit::{refuse, EditError};
 
 /// The components of a numeric default as the document writes them.
 fn default_components(d: ParamDefault) -> Vec<Json> {
@@ -26,7 +26,7 @@ fn components(
     param: &str,
     registry: &Registry,
 ) -> Result<Vec<Json>, EditError> {
-    let spec = crate::edits::param_spec(node, param, registry)
+    let spec = crate::edit::param_spec(node, param, registry)
         .ok_or_else(|| refuse(path, format!("has no keyable parameter `{param}`")))?;
     if !spec.animatable || spec.ty.components() == 0 {
         return Err(refuse(

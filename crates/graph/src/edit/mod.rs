@@ -1,8 +1,11 @@
 //! Edits of a network document (add, remove, rename, wire, parameters, keys, flags, positions, paste): each a pure function from one document to the next.
 
+mod annotations;
+mod keys;
+
 use std::collections::{BTreeMap, BTreeSet};
 
-use geode_graph::document::{Document, NetworkDoc, NodeDoc};
+use crate::document::{Document, NetworkDoc, NodeDoc};
 use geode_op::{PortType, Registry};
 use serde::Deserialize;
 use serde_json::{json, Value as Json};
@@ -76,6 +79,12 @@ pub enum Edit {
         flag: Flag,
         on: bool,
     },
+    /// Names the node whose output is the network's (`parent`'s) result,
+    /// or with `node` null leaves it to the display flag.
+    SetOutput {
+        parent: String,
+        node: Option<String>,
+    },
     /// Node positions in the editor (UI data kept in the file).
     Move {
         positions: BTreeMap<String, [f64; 2]>,
@@ -103,14 +112,14 @@ pub enum Edit {
     SetNote {
         parent: String,
         id: String,
-        note: Option<geode_graph::document::StickyNote>,
+        note: Option<crate::document::StickyNote>,
     },
     /// Sets network box `id` of network `parent`; null removes it.
     SetBox {
         parent: String,
         id: String,
         #[serde(rename = "box")]
-        network_box: Option<geode_graph::document::NetworkBox>,
+        network_box: Option<crate::document::NetworkBox>,
     },
 }
 
@@ -215,6 +224,17 @@ fn unique_name(net: &NetworkDoc, base: &str) -> String {
 /// Applies one edit to a copy of `doc`.
 pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Document, EditError> {
     let mut d = doc.clone();
+    apply_in_place(&mut d, edit, registry)?;
+    Ok(d)
+}
+
+/// Applies one edit to `d` itself, for hosts that build a network edit by
+/// edit (Python) and must not copy the document each time. Every edit
+/// checks before it writes, so one that changes a single thing leaves `d`
+/// as it was when refused; one that changes several (removing or moving
+/// several nodes, a paste, adding a node wired `after` another) may have
+/// made its first changes: use [`apply`] for those.
+pub fn apply_in_place(d: &mut Document, edit: &Edit, registry: &Registry) -> Result<(), EditError> {
     match edit {
         Edit::AddNode {
             parent,
@@ -223,20 +243,20 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             pos,
             after,
         } => {
-            let path = add_node(&mut d, parent, ty, name.as_deref(), *pos, registry)?;
+            let path = add_node(d, parent, ty, name.as_deref(), *pos, registry)?;
             if let Some(from) = after {
-                connect(&mut d, from, &path, 0, registry)?;
+                connect(d, from, &path, 0, registry)?;
             }
         }
         Edit::RemoveNodes { paths } => {
             for p in paths {
-                remove_node(&mut d, p)?;
+                remove_node(d, p)?;
             }
         }
-        Edit::Rename { path, name } => rename(&mut d, path, name)?,
-        Edit::Connect { from, to, input } => connect(&mut d, from, to, *input, registry)?,
+        Edit::Rename { path, name } => rename(d, path, name)?,
+        Edit::Connect { from, to, input } => connect(d, from, to, *input, registry)?,
         Edit::Disconnect { to, input } => {
-            let n = node_mut(&mut d, to)?;
+            let n = node_mut(d, to)?;
             if let Some(slot) = n.inputs.get_mut(*input) {
                 *slot = None;
             }
@@ -244,18 +264,16 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
                 n.inputs.pop();
             }
         }
-        Edit::SetParam { path, param, value } => set_param(&mut d, path, param, value, registry)?,
-        Edit::SetSpare { path, name, ty } => {
-            set_spare(&mut d, path, name, ty.as_deref(), registry)?
-        }
+        Edit::SetParam { path, param, value } => set_param(d, path, param, value, registry)?,
+        Edit::SetSpare { path, name, ty } => set_spare(d, path, name, ty.as_deref(), registry)?,
         Edit::SetKey {
             path,
             param,
             component,
             frame,
             value,
-        } => crate::keys::set_key(
-            node_mut(&mut d, path)?,
+        } => keys::set_key(
+            node_mut(d, path)?,
             path,
             param,
             *component,
@@ -268,34 +286,44 @@ pub fn apply(doc: &Document, edit: &Edit, registry: &Registry) -> Result<Documen
             param,
             component,
             frame,
-        } => crate::keys::delete_key(node_mut(&mut d, path)?, path, param, *component, *frame)?,
-        Edit::SetFlag { path, flag, on } => set_flag(&mut d, path, *flag, *on)?,
+        } => keys::delete_key(node_mut(d, path)?, path, param, *component, *frame)?,
+        Edit::SetFlag { path, flag, on } => set_flag(d, path, *flag, *on)?,
+        Edit::SetOutput { parent, node } => set_output(d, parent, node.as_deref())?,
         Edit::Move { positions } => {
             for (path, p) in positions {
-                set_position(node_mut(&mut d, path)?, *p);
+                set_position(node_mut(d, path)?, *p);
             }
         }
         Edit::Paste {
             parent,
             nodes,
             offset,
-        } => paste(&mut d, parent, nodes, *offset, registry)?,
-        Edit::SetTimeline { frames, fps } => set_timeline(&mut d, *frames, *fps)?,
+        } => paste(d, parent, nodes, *offset, registry)?,
+        Edit::SetTimeline { frames, fps } => set_timeline(d, *frames, *fps)?,
         Edit::SetColor { paths, color } => {
             for p in paths {
-                crate::annotations::set_node_color(node_mut(&mut d, p)?, p, color.as_deref())?;
+                annotations::set_node_color(node_mut(d, p)?, p, color.as_deref())?;
             }
         }
-        Edit::SetNote { parent, id, note } => {
-            crate::annotations::set_note(&mut d, parent, id, note.as_ref())?
-        }
+        Edit::SetNote { parent, id, note } => annotations::set_note(d, parent, id, note.as_ref())?,
         Edit::SetBox {
             parent,
             id,
             network_box,
-        } => crate::annotations::set_box(&mut d, parent, id, network_box.as_ref())?,
+        } => annotations::set_box(d, parent, id, network_box.as_ref())?,
     }
-    Ok(d)
+    Ok(())
+}
+
+fn set_output(d: &mut Document, parent: &str, node: Option<&str>) -> Result<(), EditError> {
+    let net = network_mut(d, parent)?;
+    if let Some(name) = node {
+        if !net.nodes.contains_key(name) {
+            return Err(refuse(&join(parent, name), "no such node"));
+        }
+    }
+    net.output = node.map(str::to_owned);
+    Ok(())
 }
 
 /// Stores the frame range and rate as the document's `frames` and `fps`.
@@ -330,10 +358,10 @@ fn set_position(n: &mut NodeDoc, p: [f64; 2]) {
 }
 
 fn check_type(path: &str, ty: &str, registry: &Registry) -> Result<(), EditError> {
-    if geode_graph::node_spec(registry, ty).is_some() {
+    if crate::node_spec(registry, ty).is_some() {
         return Ok(());
     }
-    let hint = geode_graph::container::closest_types(registry, ty);
+    let hint = crate::container::closest_types(registry, ty);
     Err(refuse(
         path,
         match hint.first() {
@@ -370,7 +398,7 @@ fn add_node(
         bypass: false,
         display: false,
         template: false,
-        network: geode_graph::holds_network(ty).then(|| Box::new(passing_through())),
+        network: crate::holds_network(ty).then(|| Box::new(passing_through())),
         spare: BTreeMap::new(),
         promote: BTreeMap::new(),
         extra: BTreeMap::new(),
@@ -425,7 +453,7 @@ fn remove_node(d: &mut Document, path: &str) -> Result<(), EditError> {
     if net.output.as_deref() == Some(name) {
         net.output = None;
     }
-    crate::annotations::node_renamed(net, name, None);
+    annotations::node_renamed(net, name, None);
     // A subnet's promotions that targeted the removed node go with it.
     if parent != "/" {
         let subnet = node_mut(d, parent)?;
@@ -461,7 +489,7 @@ fn rename(d: &mut Document, path: &str, new: &str) -> Result<(), EditError> {
     if net.output.as_deref() == Some(old) {
         net.output = Some(new.to_owned());
     }
-    crate::annotations::node_renamed(net, old, Some(new));
+    annotations::node_renamed(net, old, Some(new));
     if parent != "/" {
         let subnet = node_mut(d, parent)?;
         for target in subnet.promote.values_mut() {
@@ -475,7 +503,7 @@ fn rename(d: &mut Document, path: &str, new: &str) -> Result<(), EditError> {
 
 /// The port type a node produces, and the type of its input `k` (None when it has no such input).
 fn port_types(node: &NodeDoc, registry: &Registry, k: usize) -> (PortType, Option<PortType>) {
-    let Some(spec) = geode_graph::node_spec(registry, &node.ty) else {
+    let Some(spec) = crate::node_spec(registry, &node.ty) else {
         return (PortType::Geometry, None);
     };
     let input = spec
@@ -551,7 +579,7 @@ fn connect_inner_input(
     let holder = (parent != "/")
         .then(|| node_mut(d, parent).ok().map(|n| n.ty.clone()))
         .flatten();
-    let Some(holder) = holder.filter(|t| geode_graph::holds_network(t)) else {
+    let Some(holder) = holder.filter(|t| crate::holds_network(t)) else {
         return Err(refuse(
             &to,
             format!(
@@ -560,7 +588,7 @@ fn connect_inner_input(
         ));
     };
     let valid = match &from_name[1..] {
-        "meta" => geode_graph::has_meta(&holder),
+        "meta" => crate::has_meta(&holder),
         n => n.parse::<usize>().is_ok(),
     };
     if !valid {
@@ -568,7 +596,7 @@ fn connect_inner_input(
             &to,
             format!(
                 "`{from_name}` is no input of a {holder} (`@0`, `@1`..{})",
-                if geode_graph::has_meta(&holder) {
+                if crate::has_meta(&holder) {
                     " or `@meta`"
                 } else {
                     ""
@@ -639,7 +667,7 @@ pub(crate) fn param_spec(
     param: &str,
     registry: &Registry,
 ) -> Option<&'static geode_op::ParamSpec> {
-    geode_graph::node_spec(registry, &node.ty)
+    crate::node_spec(registry, &node.ty)
         .and_then(|spec| spec.param(param))
         .or_else(|| {
             node.spare
@@ -658,7 +686,7 @@ fn set_spare(
     let node = node_mut(d, path)?;
     // As declared: subnets, loops and solvers take them for their inner
     // nodes (`../name`).
-    let spec = geode_graph::node_spec(registry, &node.ty);
+    let spec = crate::node_spec(registry, &node.ty);
     if !spec.is_some_and(|s| s.spare) {
         return Err(refuse(
             path,

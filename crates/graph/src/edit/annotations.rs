@@ -1,10 +1,10 @@
 //! Edits of what the network editor draws besides nodes: sticky notes,
 //! network boxes and node colours, all kept in the network file.
 
-use geode_graph::document::{Document, NetworkBox, NodeDoc, StickyNote};
+use crate::document::{Document, NetworkBox, NodeDoc, StickyNote};
 use serde_json::json;
 
-use crate::edits::{refuse, EditError, UI_KEY};
+use crate::edit::{refuse, EditError, UI_KEY};
 
 /// `#rrggbb`, or the refusal naming what was given.
 pub fn check_color(path: &str, color: &str) -> Result<(), EditError> {
@@ -59,7 +59,7 @@ pub fn set_note(
     id: &str,
     note: Option<&StickyNote>,
 ) -> Result<(), EditError> {
-    let net = crate::edits::network_mut(d, parent)?;
+    let net = crate::edit::network_mut(d, parent)?;
     match note {
         Some(n) => {
             if let Some(c) = &n.color {
@@ -91,7 +91,7 @@ pub fn set_box(
     id: &str,
     nbox: Option<&NetworkBox>,
 ) -> Result<(), EditError> {
-    let net = crate::edits::network_mut(d, parent)?;
+    let net = crate::edit::network_mut(d, parent)?;
     match nbox {
         Some(b) => {
             if let Some(c) = &b.color {
@@ -115,7 +115,7 @@ pub fn set_box(
 }
 
 /// Keeps boxes true to a renamed (`Some(new)`) or removed (`None`) node.
-pub fn node_renamed(net: &mut geode_graph::document::NetworkDoc, old: &str, new: Option<&str>) {
+pub fn node_renamed(net: &mut crate::document::NetworkDoc, old: &str, new: Option<&str>) {
     for b in net.boxes.values_mut() {
         match new {
             Some(n) => b

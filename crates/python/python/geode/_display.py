@@ -1,0 +1,65 @@
+"""Jupyter's picture of a network: an SVG graph of its nodes and wires (a geometry draws itself as a PNG, natively)."""
+
+from __future__ import annotations
+
+import html
+import json
+from typing import Any
+
+
+def network_svg(document: str) -> str:
+    """The top-level nodes as boxes (name and type) joined by their wires.
+
+    Nodes are placed where the studio saved them, else in rows by how far
+    they are from the network's sources, as Houdini lays out a new network.
+    """
+    doc = json.loads(document)
+    nodes: dict[str, Any] = doc.get("nodes", {})
+    output = doc.get("output")
+    pos = _layout(nodes)
+    w, h, pad = 130, 34, 20
+    xs = [p[0] for p in pos.values()] or [0]
+    ys = [p[1] for p in pos.values()] or [0]
+    x0, y0 = min(xs), min(ys)
+    width = max(xs) - x0 + w + 2 * pad
+    height = max(ys) - y0 + h + 2 * pad
+    at = {n: (p[0] - x0 + pad, p[1] - y0 + pad) for n, p in pos.items()}
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" font-family="sans-serif">',
+             f'<rect width="{width:.0f}" height="{height:.0f}" fill="#1e1e1e"/>']
+    for name, node in nodes.items():
+        ins = node.get("inputs", [])
+        for k, src in enumerate(ins):
+            if src is None or src not in at:
+                continue
+            sx, sy = at[src]
+            tx, ty = at[name]
+            tx += w * (k + 1) / (len(ins) + 1)
+            parts.append(f'<path d="M{sx + w / 2:.1f} {sy + h:.1f}C{sx + w / 2:.1f} {sy + h + 20:.1f} {tx:.1f} {ty - 20:.1f} {tx:.1f} {ty:.1f}" fill="none" stroke="#8a8a8a" stroke-width="1.5"/>')
+    for name, node in nodes.items():
+        x, y = at[name]
+        edge = "#4fc3f7" if name == output or node.get("display") else "#666"
+        fill = "#5a4a2a" if node.get("bypass") else "#3a3a3a"
+        parts.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{w}" height="{h}" rx="5" fill="{fill}" stroke="{edge}" stroke-width="2"/>')
+        parts.append(f'<text x="{x + 8:.1f}" y="{y + 15:.1f}" fill="#eee" font-size="12">{html.escape(name)}</text>')
+        parts.append(f'<text x="{x + 8:.1f}" y="{y + 28:.1f}" fill="#aaa" font-size="10">{html.escape(str(node.get("type", "")))}</text>')
+    parts.append("</svg>")
+    return "".join(parts)
+
+
+def _layout(nodes: dict[str, Any]) -> dict[str, tuple[float, float]]:
+    saved = {n: tuple(v["ui"]["pos"]) for n, v in nodes.items() if isinstance(v.get("ui"), dict) and "pos" in v["ui"]}
+    if len(saved) == len(nodes):
+        return {n: (p[0], p[1]) for n, p in saved.items()}
+    depth: dict[str, int] = {}
+    for _ in range(len(nodes) + 1):  # longest path from a source, without recursion
+        changed = False
+        for name, node in nodes.items():
+            d = 1 + max((depth.get(s, 0) for s in node.get("inputs", []) if s in nodes), default=-1)
+            if depth.get(name) != d:
+                depth[name], changed = d, True
+        if not changed:
+            break
+    rows: dict[int, list[str]] = {}
+    for name in nodes:
+        rows.setdefault(depth.get(name, 0), []).append(name)
+    return {n: (i * 160.0, d * 70.0) for d, names in rows.items() for i, n in enumerate(names)}

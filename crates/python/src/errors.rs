@@ -1,0 +1,188 @@
+//! geode's typed errors as Python exceptions: one class per kind of failure, each carrying the kind, node path, parameter and message.
+
+use geode_graph::edit::EditError;
+use geode_graph::LoadError;
+use geode_op::{CookError, ErrorKind};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+/// The exception classes, apart from the Rust error types they are made from.
+mod exc {
+    use pyo3::exceptions::PyException;
+
+    pyo3::create_exception!(
+    geode,
+    GeodeError,
+    PyException,
+    "Any error geode reports: `kind`, `path` (node), `param`, `message`, and `errors` when there are several."
+);
+    pyo3::create_exception!(
+    geode,
+    EditError,
+    GeodeError,
+    "An edit the network refused (unknown node or parameter, a cycle, a wire between different port types)."
+);
+    pyo3::create_exception!(
+    geode,
+    LoadError,
+    GeodeError,
+    "A network that does not load: a bad parameter value, an unknown node type, a broken reference."
+);
+    pyo3::create_exception!(
+        geode,
+        CookError,
+        GeodeError,
+        "A cook that failed; `kind` says why (parameter, input, resource, kernel, io, network)."
+    );
+    pyo3::create_exception!(
+        geode,
+        FileError,
+        GeodeError,
+        "A file geode could not read or write."
+    );
+}
+use exc::{
+    CookError as CookErr, EditError as EditErr, FileError, GeodeError, LoadError as LoadErr,
+};
+
+/// One problem as the exception's fields hold it.
+pub struct Problem {
+    pub kind: &'static str,
+    pub path: String,
+    pub param: Option<String>,
+    pub message: String,
+}
+
+impl Problem {
+    fn line(&self) -> String {
+        match &self.param {
+            Some(p) => format!("{} (parameter `{p}`): {}", self.path, self.message),
+            None if self.path.is_empty() => self.message.clone(),
+            None => format!("{}: {}", self.path, self.message),
+        }
+    }
+}
+
+impl From<&LoadError> for Problem {
+    fn from(e: &LoadError) -> Problem {
+        Problem {
+            kind: if e.param.is_some() {
+                "parameter"
+            } else {
+                "network"
+            },
+            path: e.path.clone(),
+            param: e.param.clone(),
+            message: e.message.clone(),
+        }
+    }
+}
+
+impl From<&CookError> for Problem {
+    fn from(e: &CookError) -> Problem {
+        Problem {
+            kind: e.kind.name(),
+            path: e.path.clone(),
+            param: e.param.clone(),
+            message: e.message.clone(),
+        }
+    }
+}
+
+impl From<&EditError> for Problem {
+    fn from(e: &EditError) -> Problem {
+        Problem {
+            kind: "edit",
+            path: e.path.clone(),
+            param: None,
+            message: e.message.clone(),
+        }
+    }
+}
+
+/// An exception of class `T` whose fields are the first problem's, with
+/// every problem in `errors`.
+fn raise<T: pyo3::type_object::PyTypeInfo>(problems: Vec<Problem>) -> PyErr {
+    Python::attach(|py| {
+        let text = problems
+            .iter()
+            .map(Problem::line)
+            .collect::<Vec<_>>()
+            .join("\n");
+        let err = PyErr::new::<T, _>(text);
+        if let Err(e) = fill(py, &err, &problems) {
+            return e;
+        }
+        err
+    })
+}
+
+fn fill(py: Python<'_>, err: &PyErr, problems: &[Problem]) -> PyResult<()> {
+    let value = err.value(py);
+    let list = PyList::empty(py);
+    for p in problems {
+        let d = PyDict::new(py);
+        d.set_item("kind", p.kind)?;
+        d.set_item("path", &p.path)?;
+        d.set_item("param", p.param.as_deref())?;
+        d.set_item("message", &p.message)?;
+        list.append(d)?;
+    }
+    let first = problems.first();
+    value.setattr("kind", first.map(|p| p.kind))?;
+    value.setattr("path", first.map(|p| p.path.as_str()))?;
+    value.setattr("param", first.and_then(|p| p.param.as_deref()))?;
+    value.setattr("message", first.map(|p| p.message.as_str()))?;
+    value.setattr("errors", list)?;
+    Ok(())
+}
+
+pub fn edit_error(e: &EditError) -> PyErr {
+    raise::<EditErr>(vec![e.into()])
+}
+
+pub fn load_errors(errors: &[LoadError]) -> PyErr {
+    raise::<LoadErr>(errors.iter().map(Problem::from).collect())
+}
+
+/// A failed cook; a cancelled one becomes `KeyboardInterrupt`.
+pub fn cook_errors(errors: &[CookError]) -> PyErr {
+    if errors.iter().any(|e| e.kind == ErrorKind::Cancelled) {
+        return pyo3::exceptions::PyKeyboardInterrupt::new_err("the cook was cancelled");
+    }
+    raise::<CookErr>(errors.iter().map(Problem::from).collect())
+}
+
+/// A problem of geode's own making in Python's terms (a bad argument).
+pub fn usage(
+    kind: &'static str,
+    path: &str,
+    param: Option<&str>,
+    message: impl Into<String>,
+) -> PyErr {
+    raise::<GeodeError>(vec![Problem {
+        kind,
+        path: path.to_owned(),
+        param: param.map(str::to_owned),
+        message: message.into(),
+    }])
+}
+
+pub fn file_error(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {
+    raise::<FileError>(vec![Problem {
+        kind: "io",
+        path: path.display().to_string(),
+        param: None,
+        message: e.to_string(),
+    }])
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("GeodeError", py.get_type::<GeodeError>())?;
+    m.add("EditError", py.get_type::<EditErr>())?;
+    m.add("LoadError", py.get_type::<LoadErr>())?;
+    m.add("CookError", py.get_type::<CookErr>())?;
+    m.add("FileError", py.get_type::<FileError>())?;
+    Ok(())
+}

@@ -1,0 +1,767 @@
+//! `geode.Network` (native half): a network document edited through geode's own edit functions, validated as it is built, and cooked with the engine's cache.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+
+use geode_geo::Geometry;
+use geode_graph::document::{Document, NetworkDoc, NodeDoc};
+use geode_graph::edit::{apply_in_place, split_path, Edit, Flag};
+use geode_graph::{Cache, CookOptions, Engine, LoadError, Network};
+use geode_op::{CookEnv, HeldGeometry, ParamValue, Registry, Value};
+use pyo3::exceptions::{PyKeyError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use serde_json::Value as Json;
+
+use crate::cancel::run_interruptibly;
+use crate::errors::{cook_errors, edit_error, file_error, load_errors, usage};
+use crate::geometry::PyGeometry;
+use crate::json::{to_json, to_py};
+
+/// The node types a Python session knows: geode's whole library.
+pub fn registry() -> &'static Registry {
+    static REGISTRY: OnceLock<Registry> = OnceLock::new();
+    REGISTRY.get_or_init(geode_nodes::registry)
+}
+
+/// The process's cook cache, as `geode cook` makes it: memory bounded by
+/// `GEODE_CACHE_MB`, with `GEODE_CACHE_DIR`'s disk cache behind it.
+fn cache() -> PyResult<&'static Cache> {
+    static CACHE: OnceLock<Cache> = OnceLock::new();
+    if let Some(c) = CACHE.get() {
+        return Ok(c);
+    }
+    let cache = geode_store::DiskCache::cook_cache_from_env()
+        .map_err(|e| file_error(Path::new("GEODE_CACHE_DIR"), e))?;
+    Ok(CACHE.get_or_init(|| cache))
+}
+
+/// The name a node is loaded under when its parameters are checked alone.
+const ALONE: &str = "checked";
+
+/// A network being built or cooked from Python.
+#[pyclass(frozen, name = "Network", module = "geode._geode", subclass)]
+pub struct PyNetwork {
+    state: Mutex<State>,
+}
+
+struct State {
+    doc: Document,
+    /// The file it was loaded from or saved to (its folder is `$HIP`).
+    path: Option<PathBuf>,
+    /// Geometry given to `python_input` nodes, by content hash.
+    held: BTreeMap<u128, Arc<Geometry>>,
+    /// The loaded network of `doc` with its engine, made when first needed
+    /// after an edit and shared by the cooks that run at once.
+    engine: Option<Arc<Result<Engine<'static>, Vec<LoadError>>>>,
+}
+
+impl State {
+    fn edit(&mut self, edit: &Edit) -> PyResult<()> {
+        apply_in_place(&mut self.doc, edit, registry()).map_err(|e| edit_error(&e))?;
+        self.engine = None;
+        Ok(())
+    }
+
+    fn engine(&mut self) -> PyResult<Arc<Result<Engine<'static>, Vec<LoadError>>>> {
+        if let Some(e) = &self.engine {
+            return Ok(e.clone());
+        }
+        let cache = cache()?;
+        let loaded =
+            Network::load_partial(&self.doc, registry()).map(|net| Engine::new(net, cache));
+        let e = Arc::new(loaded);
+        self.engine = Some(e.clone());
+        Ok(e)
+    }
+
+    /// The load problems of `path`'s parameter `param` (all of the node's
+    /// for none). The node is first loaded alone, with its parameters and
+    /// without its wires, which costs the same whatever the network's size;
+    /// only a problem found there is confirmed against the whole network
+    /// (an expression may name a node the lone copy lacks).
+    fn problems_of(&mut self, path: &str, param: Option<&str>) -> PyResult<Vec<LoadError>> {
+        let node = self.node(path)?.clone();
+        let alone = Document {
+            network: NetworkDoc {
+                nodes: BTreeMap::from([(
+                    ALONE.to_owned(),
+                    NodeDoc {
+                        inputs: Vec::new(),
+                        ..node
+                    },
+                )]),
+                ..NetworkDoc::default()
+            },
+            ..Document::new()
+        };
+        let lone_problem = match Network::load_partial(&alone, registry()) {
+            Ok(net) => net
+                .node_problems(&format!("/{ALONE}"))
+                .iter()
+                .any(|e| e.param.is_some() && (param.is_none() || e.param.as_deref() == param)),
+            Err(_) => true,
+        };
+        if !lone_problem {
+            return Ok(Vec::new());
+        }
+        let engine = self.engine()?;
+        let all: Vec<LoadError> = match &*engine {
+            Ok(e) => e.network().node_problems(path).to_vec(),
+            Err(errors) => errors.iter().filter(|e| e.path == path).cloned().collect(),
+        };
+        Ok(all
+            .into_iter()
+            .filter(|e| param.is_none() || e.param.as_deref() == param)
+            .collect())
+    }
+
+    fn node(&self, path: &str) -> PyResult<&NodeDoc> {
+        node_at(&self.doc.network, path)
+            .ok_or_else(|| PyKeyError::new_err(format!("no node `{path}`")))
+    }
+
+    /// Keeps only the held geometry some `python_input` still names.
+    fn prune_held(&mut self) {
+        let mut named = Vec::new();
+        held_hashes(&self.doc.network, &mut named);
+        self.held.retain(|h, _| named.contains(h));
+    }
+}
+
+fn node_at<'d>(root: &'d NetworkDoc, path: &str) -> Option<&'d NodeDoc> {
+    let mut net = root;
+    let mut node = None;
+    for name in path.split('/').filter(|s| !s.is_empty()) {
+        let n = net.nodes.get(name)?;
+        node = Some(n);
+        if let Some(inner) = n.network.as_deref() {
+            net = inner;
+        }
+    }
+    node
+}
+
+fn network_at<'d>(root: &'d NetworkDoc, parent: &str) -> Option<&'d NetworkDoc> {
+    if parent == "/" || parent.is_empty() {
+        return Some(root);
+    }
+    node_at(root, parent)?.network.as_deref()
+}
+
+fn held_hashes(net: &NetworkDoc, out: &mut Vec<u128>) {
+    for n in net.nodes.values() {
+        if n.ty == "python_input" {
+            if let Some(h) = n
+                .params
+                .get("geometry")
+                .and_then(Json::as_str)
+                .and_then(geode_nodes::held::parse_hash)
+            {
+                out.push(h);
+            }
+        }
+        if let Some(inner) = n.network.as_deref() {
+            held_hashes(inner, out);
+        }
+    }
+}
+
+fn join(parent: &str, name: &str) -> String {
+    if parent == "/" || parent.is_empty() {
+        format!("/{name}")
+    } else {
+        format!("{parent}/{name}")
+    }
+}
+
+fn flag_of(name: &str) -> PyResult<Flag> {
+    Ok(match name {
+        "bypass" => Flag::Bypass,
+        "display" => Flag::Display,
+        "template" => Flag::Template,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "`{name}` is not a flag (bypass, display, template)"
+            )))
+        }
+    })
+}
+
+fn param_value_to_py<'py>(py: Python<'py>, v: &ParamValue) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        ParamValue::Float(x) => x.into_pyobject(py)?.into_any(),
+        ParamValue::Int(i) => i.into_pyobject(py)?.into_any(),
+        ParamValue::Toggle(b) => pyo3::types::PyBool::new(py, *b).to_owned().into_any(),
+        ParamValue::Vector(v) => pyo3::types::PyTuple::new(py, v)?.into_any(),
+        ParamValue::String(s) => s.into_pyobject(py)?.into_any(),
+        ParamValue::List(rows) => {
+            let out = PyList::empty(py);
+            for row in rows {
+                let r = PyList::empty(py);
+                for f in row {
+                    r.append(param_value_to_py(py, f)?)?;
+                }
+                out.append(r)?;
+            }
+            out.into_any()
+        }
+        ParamValue::Ramp(ramp) => {
+            let out = PyList::empty(py);
+            for k in ramp.keys() {
+                out.append((
+                    k.pos,
+                    k.value.to_vec(),
+                    format!("{:?}", k.basis).to_lowercase(),
+                ))?;
+            }
+            out.into_any()
+        }
+    })
+}
+
+impl PyNetwork {
+    fn lock(&self) -> MutexGuard<'_, State> {
+        // A panic inside an edit would poison the lock; the document is
+        // written only by edits that check before they write.
+        self.state.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    fn from_document(doc: Document, path: Option<PathBuf>) -> PyNetwork {
+        PyNetwork {
+            state: Mutex::new(State {
+                doc,
+                path,
+                held: BTreeMap::new(),
+                engine: None,
+            }),
+        }
+    }
+
+    fn checked(self, strict: bool) -> PyResult<PyNetwork> {
+        if strict {
+            let problems = {
+                let mut s = self.lock();
+                match &*s.engine()? {
+                    Ok(e) => e.network().problems().to_vec(),
+                    Err(errors) => errors.clone(),
+                }
+            };
+            if !problems.is_empty() {
+                return Err(load_errors(&problems));
+            }
+        }
+        Ok(self)
+    }
+
+    /// Sets one parameter in the document (a geometry is held and named by
+    /// its hash); the caller checks and undoes.
+    fn write_param(
+        s: &mut State,
+        path: &str,
+        param: &str,
+        value: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let json = if let Ok(g) = value.cast::<PyGeometry>() {
+            let geo = g.get().geo.clone();
+            let hash = geo.content_hash();
+            s.held.insert(hash, geo);
+            Json::String(geode_nodes::held::format_hash(hash))
+        } else if let Ok(p) = value.getattr("path").and_then(|p| p.extract::<String>()) {
+            if value.hasattr("parm")? {
+                Json::String(p) // a geode.Node given as a path parameter
+            } else {
+                to_json(value)?
+            }
+        } else {
+            to_json(value)?
+        };
+        s.edit(&Edit::SetParam {
+            path: path.to_owned(),
+            param: param.to_owned(),
+            value: json,
+        })
+    }
+}
+
+#[pymethods]
+impl PyNetwork {
+    #[new]
+    fn new() -> PyNetwork {
+        PyNetwork::from_document(Document::new(), None)
+    }
+
+    /// Reads a network file; with `strict`, any load problem raises LoadError.
+    #[staticmethod]
+    #[pyo3(signature = (path, strict = true))]
+    fn load(py: Python<'_>, path: PathBuf, strict: bool) -> PyResult<PyNetwork> {
+        let text = py
+            .detach(|| std::fs::read_to_string(&path))
+            .map_err(|e| file_error(&path, e))?;
+        let doc = parse(&text, &path.display().to_string())?;
+        PyNetwork::from_document(doc, Some(path)).checked(strict)
+    }
+
+    /// A network from the text of a network file.
+    #[staticmethod]
+    #[pyo3(signature = (text, strict = true))]
+    fn from_json(text: &str, strict: bool) -> PyResult<PyNetwork> {
+        PyNetwork::from_document(parse(text, "<text>")?, None).checked(strict)
+    }
+
+    /// The document as its file writes it (canonical form, as `geode fmt`).
+    fn to_json(&self) -> String {
+        self.lock().doc.to_json()
+    }
+
+    /// Writes the document atomically to `path` (or where it came from).
+    #[pyo3(signature = (path = None))]
+    fn save(&self, path: Option<PathBuf>) -> PyResult<()> {
+        let mut s = self.lock();
+        let path = path
+            .or_else(|| s.path.clone())
+            .ok_or_else(|| PyValueError::new_err("the network has no file yet: save(path)"))?;
+        let text = s.doc.to_json();
+        geode_io::write_atomic(&path, |w| {
+            std::io::Write::write_all(w, text.as_bytes())
+                .map_err(|e| geode_io::IoError::os(&path, e))
+        })
+        .map_err(|e| file_error(&path, e))?;
+        s.path = Some(path);
+        Ok(())
+    }
+
+    /// The file the network was loaded from or last saved to.
+    #[getter]
+    fn path(&self) -> Option<PathBuf> {
+        self.lock().path.clone()
+    }
+
+    /// Adds a node of `ty` in `parent` (`/` or a subnet or block's path),
+    /// named `name` or after its type, with `params`; returns its path.
+    /// A parameter the node cannot take undoes the whole addition.
+    #[pyo3(signature = (parent, ty, name = None, params = None))]
+    fn _create(
+        &self,
+        parent: &str,
+        ty: &str,
+        name: Option<&str>,
+        params: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<String> {
+        let mut s = self.lock();
+        let before: Vec<String> = network_at(&s.doc.network, parent)
+            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?
+            .nodes
+            .keys()
+            .cloned()
+            .collect();
+        if let Some(n) = name {
+            if before.iter().any(|b| b == n) {
+                return Err(edit_error(&geode_graph::edit::EditError {
+                    path: join(parent, n),
+                    message: "a node of that name is already there".into(),
+                }));
+            }
+        }
+        let undo = s.doc.clone();
+        s.edit(&Edit::AddNode {
+            parent: parent.to_owned(),
+            ty: ty.to_owned(),
+            name: name.map(str::to_owned),
+            pos: None,
+            after: None,
+        })?;
+        let made = network_at(&s.doc.network, parent)
+            .and_then(|net| net.nodes.keys().find(|k| !before.contains(k)).cloned())
+            .ok_or_else(|| PyValueError::new_err("the node was not added"))?;
+        let path = join(parent, &made);
+        if let Some(params) = params {
+            let result = (|| -> PyResult<()> {
+                let mut written = Vec::new();
+                for (k, v) in params.iter() {
+                    let k: String = k.extract()?;
+                    PyNetwork::write_param(&mut s, &path, &k, &v)?;
+                    written.push(k);
+                }
+                let problems: Vec<LoadError> = s
+                    .problems_of(&path, None)?
+                    .into_iter()
+                    .filter(|e| e.param.as_ref().is_some_and(|p| written.contains(p)))
+                    .collect();
+                if problems.is_empty() {
+                    Ok(())
+                } else {
+                    Err(load_errors(&problems))
+                }
+            })();
+            if let Err(e) = result {
+                s.doc = undo;
+                s.engine = None;
+                s.prune_held();
+                return Err(e);
+            }
+        }
+        Ok(path)
+    }
+
+    /// Sets a parameter; a value the parameter cannot take is refused
+    /// (LoadError naming node and parameter) and the old value kept.
+    fn _set_param(&self, path: &str, param: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let mut s = self.lock();
+        let old = s.node(path)?.params.get(param).cloned();
+        PyNetwork::write_param(&mut s, path, param, value)?;
+        let problems = s.problems_of(path, Some(param))?;
+        if !problems.is_empty() {
+            s.edit(&Edit::SetParam {
+                path: path.to_owned(),
+                param: param.to_owned(),
+                value: old.unwrap_or(Json::Null),
+            })?;
+            s.prune_held();
+            return Err(load_errors(&problems));
+        }
+        s.prune_held();
+        Ok(())
+    }
+
+    /// The parameter as the document writes it (None for its default).
+    fn _raw_param<'py>(
+        &self,
+        py: Python<'py>,
+        path: &str,
+        param: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let s = self.lock();
+        match s.node(path)?.params.get(param) {
+            Some(j) => to_py(py, j),
+            None => Ok(py.None().into_bound(py)),
+        }
+    }
+
+    /// The parameter's value at `frame` as the cook sees it (expressions and keys evaluated).
+    fn _eval_param<'py>(
+        &self,
+        py: Python<'py>,
+        path: &str,
+        param: &str,
+        frame: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (engine, env) = {
+            let mut s = self.lock();
+            s.node(path)?;
+            (s.engine()?, s.env())
+        };
+        let net = match &*engine {
+            Ok(e) => e.network(),
+            Err(errors) => return Err(load_errors(errors)),
+        };
+        let values = net
+            .param_values(path, frame, &env)
+            .ok_or_else(|| PyKeyError::new_err(format!("no node `{path}`")))?;
+        let (_, v) = values
+            .into_iter()
+            .find(|(n, _)| n == param)
+            .ok_or_else(|| usage("parameter", path, Some(param), "no such parameter"))?;
+        match v {
+            Ok(v) => param_value_to_py(py, &v),
+            Err(e) => Err(load_errors(&[e])),
+        }
+    }
+
+    fn _set_key(
+        &self,
+        path: &str,
+        param: &str,
+        component: usize,
+        frame: f64,
+        value: f64,
+    ) -> PyResult<()> {
+        self.lock().edit(&Edit::SetKey {
+            path: path.to_owned(),
+            param: param.to_owned(),
+            component,
+            frame,
+            value,
+        })
+    }
+
+    fn _delete_key(&self, path: &str, param: &str, component: usize, frame: f64) -> PyResult<()> {
+        self.lock().edit(&Edit::DeleteKey {
+            path: path.to_owned(),
+            param: param.to_owned(),
+            component,
+            frame,
+        })
+    }
+
+    #[pyo3(signature = (path, name, ty))]
+    fn _set_spare(&self, path: &str, name: &str, ty: Option<&str>) -> PyResult<()> {
+        self.lock().edit(&Edit::SetSpare {
+            path: path.to_owned(),
+            name: name.to_owned(),
+            ty: ty.map(str::to_owned),
+        })
+    }
+
+    /// Wires `source` (a sibling's path, or `@N` / `@meta` inside a
+    /// subnet or block) into input `input` of `path`; None unwires it.
+    #[pyo3(signature = (path, input, source))]
+    fn _connect(&self, path: &str, input: usize, source: Option<&str>) -> PyResult<()> {
+        let mut s = self.lock();
+        match source {
+            None => s.edit(&Edit::Disconnect {
+                to: path.to_owned(),
+                input,
+            }),
+            Some(src) => {
+                let from = if src.starts_with('@') {
+                    let parent = split_path(path).map_or("/", |(p, _)| p);
+                    join(parent, src)
+                } else {
+                    src.to_owned()
+                };
+                s.edit(&Edit::Connect {
+                    from,
+                    to: path.to_owned(),
+                    input,
+                })
+            }
+        }
+    }
+
+    fn _remove(&self, path: &str) -> PyResult<()> {
+        let mut s = self.lock();
+        s.edit(&Edit::RemoveNodes {
+            paths: vec![path.to_owned()],
+        })?;
+        s.prune_held();
+        Ok(())
+    }
+
+    fn _rename(&self, path: &str, name: &str) -> PyResult<String> {
+        self.lock().edit(&Edit::Rename {
+            path: path.to_owned(),
+            name: name.to_owned(),
+        })?;
+        let parent = split_path(path).map_or("/", |(p, _)| p);
+        Ok(join(parent, name))
+    }
+
+    fn _set_flag(&self, path: &str, flag: &str, on: bool) -> PyResult<()> {
+        self.lock().edit(&Edit::SetFlag {
+            path: path.to_owned(),
+            flag: flag_of(flag)?,
+            on,
+        })
+    }
+
+    #[pyo3(signature = (parent, name))]
+    fn _set_output(&self, parent: &str, name: Option<&str>) -> PyResult<()> {
+        self.lock().edit(&Edit::SetOutput {
+            parent: parent.to_owned(),
+            node: name.map(str::to_owned),
+        })
+    }
+
+    /// The name of `parent`'s output node, if it names one.
+    fn _output(&self, parent: &str) -> PyResult<Option<String>> {
+        let s = self.lock();
+        let net = network_at(&s.doc.network, parent)
+            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?;
+        Ok(net.output.clone())
+    }
+
+    /// Names of the nodes in `parent`.
+    fn _children(&self, parent: &str) -> PyResult<Vec<String>> {
+        let s = self.lock();
+        let net = network_at(&s.doc.network, parent)
+            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?;
+        Ok(net.nodes.keys().cloned().collect())
+    }
+
+    /// A node's type, inputs, flags, spare parameters and whether it holds a network.
+    fn _node_info<'py>(&self, py: Python<'py>, path: &str) -> PyResult<Bound<'py, PyDict>> {
+        let s = self.lock();
+        let n = s.node(path)?;
+        let d = PyDict::new(py);
+        d.set_item("type", &n.ty)?;
+        d.set_item("inputs", n.inputs.clone())?;
+        d.set_item("bypass", n.bypass)?;
+        d.set_item("display", n.display)?;
+        d.set_item("template", n.template)?;
+        d.set_item("spare", n.spare.clone())?;
+        d.set_item("has_network", n.network.is_some())?;
+        Ok(d)
+    }
+
+    /// Every parameter the node takes: its type's, then its spare ones.
+    fn _param_names(&self, path: &str) -> PyResult<Vec<String>> {
+        let s = self.lock();
+        let n = s.node(path)?;
+        let mut names: Vec<String> = geode_graph::node_spec(registry(), &n.ty)
+            .map(|spec| spec.params.iter().map(|p| p.name.to_owned()).collect())
+            .unwrap_or_default();
+        names.extend(n.spare.keys().cloned());
+        names.extend(n.promote.keys().cloned());
+        Ok(names)
+    }
+
+    /// Every load problem, as dicts of kind, path, param and message.
+    fn problems<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let engine = self.lock().engine()?;
+        let problems: Vec<LoadError> = match &*engine {
+            Ok(e) => e.network().problems().to_vec(),
+            Err(errors) => errors.clone(),
+        };
+        let out = PyList::empty(py);
+        for p in &problems {
+            let d = PyDict::new(py);
+            d.set_item(
+                "kind",
+                if p.param.is_some() {
+                    "parameter"
+                } else {
+                    "network"
+                },
+            )?;
+            d.set_item("path", &p.path)?;
+            d.set_item("param", p.param.as_deref())?;
+            d.set_item("message", &p.message)?;
+            out.append(d)?;
+        }
+        Ok(out)
+    }
+
+    /// Cooks `node` (the network's output when None) at `frame`: a
+    /// Geometry, or for a bundle a dict of them. The GIL is released while
+    /// it cooks and Ctrl-C cancels it (KeyboardInterrupt).
+    #[pyo3(signature = (node = None, frame = 1.0))]
+    fn cook<'py>(
+        &self,
+        py: Python<'py>,
+        node: Option<&str>,
+        frame: f64,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (engine, env, target) = {
+            let mut s = self.lock();
+            let engine = s.engine()?;
+            let target = match node {
+                Some(n) if n.starts_with('/') => n.to_owned(),
+                Some(n) => format!("/{n}"),
+                None => match &*engine {
+                    Ok(e) => e.network().output().map(str::to_owned).ok_or_else(|| {
+                        usage(
+                            "network",
+                            "/",
+                            None,
+                            "the network names no output node: cook(node=...) or set net.output",
+                        )
+                    })?,
+                    Err(errors) => return Err(load_errors(errors)),
+                },
+            };
+            (engine, s.env(), target)
+        };
+        let outcome = run_interruptibly(py, move |cancel| {
+            let engine = match &*engine {
+                Ok(e) => e,
+                Err(errors) => return Outcome::Load(errors.clone()),
+            };
+            if engine.network().node_type(&target).is_none() {
+                let known: Vec<&str> = engine.network().paths().collect();
+                return Outcome::NoNode(target, known.join(", "));
+            }
+            let opts = CookOptions {
+                frame,
+                cancel,
+                progress: None,
+                env,
+                writes: true,
+            };
+            match engine.cook(&target, &opts) {
+                Ok(r) => Outcome::Value(r.value),
+                Err(errors) => Outcome::Cook(errors),
+            }
+        })?;
+        match outcome {
+            Outcome::Value(v) => value_to_py(py, v),
+            Outcome::Load(errors) => Err(load_errors(&errors)),
+            Outcome::Cook(errors) => Err(cook_errors(&errors)),
+            Outcome::NoNode(target, known) => Err(usage(
+                "network",
+                &target,
+                None,
+                format!("no such node (nodes: {known})"),
+            )),
+        }
+    }
+
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        let Ok(o) = other.cast::<PyNetwork>() else {
+            return false;
+        };
+        let o = o.get();
+        if std::ptr::eq(self, o) {
+            return true;
+        }
+        self.lock().doc == o.lock().doc
+    }
+}
+
+/// What a cook thread hands back.
+enum Outcome {
+    Value(Value),
+    Load(Vec<LoadError>),
+    Cook(Vec<geode_op::CookError>),
+    NoNode(String, String),
+}
+
+fn value_to_py(py: Python<'_>, v: Value) -> PyResult<Bound<'_, PyAny>> {
+    match v {
+        Value::Geometry(g) => Ok(Bound::new(py, PyGeometry::new(g))?.into_any()),
+        Value::Bundle(b) => {
+            let d = PyDict::new(py);
+            for (name, g) in b.entries.iter() {
+                d.set_item(name, Bound::new(py, PyGeometry::new(g.clone()))?)?;
+            }
+            Ok(d.into_any())
+        }
+        Value::Field(_) => Err(usage(
+            "network",
+            "",
+            None,
+            "the node gives a field: mesh it with a polygonise node to read it as geometry",
+        )),
+    }
+}
+
+impl State {
+    /// The cook's environment: `$HIP` is the network file's folder, and
+    /// the held geometry goes with it.
+    fn env(&self) -> CookEnv {
+        let env = match &self.path {
+            Some(p) => CookEnv::for_network(p),
+            None => CookEnv::from_process(),
+        };
+        CookEnv {
+            held: HeldGeometry::new(self.held.values().cloned()),
+            ..env
+        }
+    }
+}
+
+/// Parses a document; a syntax error names the line, column, node and parameter.
+fn parse(text: &str, origin: &str) -> PyResult<Document> {
+    Document::from_json(text).map_err(|e| {
+        load_errors(&[LoadError {
+            path: e.node.clone().unwrap_or_else(|| "/".into()),
+            param: e.param.clone(),
+            message: format!(
+                "{origin}: line {}, column {}: {}",
+                e.line, e.column, e.message
+            ),
+            position: None,
+        }])
+    })
+}

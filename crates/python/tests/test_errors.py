@@ -1,0 +1,105 @@
+"""Every failure reaches Python as an exception of its kind, carrying kind, node path, parameter and message."""
+
+import json
+
+import pytest
+
+import geode
+
+
+def test_an_unknown_node_type_is_an_edit_error_that_names_a_near_type():
+    net = geode.Network()
+    with pytest.raises(geode.EditError) as e:
+        net.create_node("bxo", "b")
+    assert e.value.kind == "edit"
+    assert "bxo" in e.value.message and "box" in e.value.message
+    assert isinstance(e.value, geode.GeodeError)
+
+
+def test_a_value_a_parameter_cannot_take_is_refused_and_the_old_one_kept():
+    net = geode.Network()
+    box = net.create_node("box", "b", params={"size": [1, 2, 3]})
+    with pytest.raises(geode.LoadError) as e:
+        box.parm("size").set("not a vector")
+    err = e.value
+    assert (err.kind, err.path, err.param) == ("parameter", "/b", "size")
+    assert "vector3" in err.message
+    assert err.errors == [{"kind": "parameter", "path": "/b", "param": "size", "message": err.message}]
+    assert box.parm("size").raw == [1, 2, 3]
+    # A bad value given at creation undoes the whole creation.
+    with pytest.raises(geode.LoadError):
+        net.create_node("sphere", "s", params={"radius": [1, 2]})
+    assert [n.name for n in net.nodes] == ["b"]
+    with pytest.raises(ValueError, match="finite"):
+        box.parm("size").set([float("nan"), 1, 1])
+
+
+def test_an_unknown_parameter_a_cycle_and_a_wrong_port_are_edit_errors():
+    net = geode.Network()
+    a = net.create_node("box", "a")
+    t = net.create_node("transform", "t").set_input(0, a)
+    u = net.create_node("transform", "u").set_input(0, t)
+    with pytest.raises(geode.EditError) as e:
+        net.create_node("box", "b", params={"sizee": 1})
+    assert e.value.path == "/b" and "sizee" in e.value.message
+    assert [n.name for n in net.nodes] == ["a", "t", "u"]
+    with pytest.raises(geode.EditError) as e:
+        t.set_input(0, u)
+    assert e.value.path == "/t" and "cycle" in e.value.message
+    with pytest.raises(geode.EditError) as e:
+        a.set_input(0, t)
+    assert "has no input 1" in e.value.message
+    f = net.create_node("frep_sphere", "f")
+    with pytest.raises(geode.EditError) as e:
+        t.set_input(0, f)
+    assert e.value.path == "/t" and "field" in e.value.message
+
+
+def test_a_failed_cook_is_a_cook_error_of_its_kind(tmp_path):
+    net = geode.Network()
+    f = net.create_node("file", "in", params={"file": str(tmp_path / "missing.obj")})
+    with pytest.raises(geode.CookError) as e:
+        net.cook(f)
+    assert (e.value.kind, e.value.path, e.value.param) == ("io", "/in", "file")
+    assert "missing.obj" in str(e.value)
+    w = net.create_node("wrangle", "w", params={"snippet": "@P.y += ;"})
+    w.set_input(0, net.create_node("grid", "g"))
+    with pytest.raises(geode.GeodeError) as e:
+        net.cook(w)
+    assert e.value.path == "/w" and e.value.param == "snippet"
+    with pytest.raises(geode.GeodeError) as e:
+        net.cook()
+    assert "output" in e.value.message
+    with pytest.raises(geode.GeodeError) as e:
+        net.cook("nothere")
+    assert e.value.path == "/nothere"
+
+
+def test_a_broken_file_is_a_load_error_naming_line_node_and_parameter(tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text('{"geode": "network", "version": 1, "nodes": {"b": {"type": "box", "params": {"size": 1e999}}}}')
+    with pytest.raises(geode.LoadError) as e:
+        geode.Network.load(bad)
+    assert (e.value.path, e.value.param) == ("/b", "size")
+    assert "line 1" in e.value.message
+    with pytest.raises(geode.FileError) as e:
+        geode.Network.load(tmp_path / "none.json")
+    assert e.value.kind == "io"
+    doc = {"geode": "network", "version": 1, "nodes": {"b": {"type": "box", "params": {"size": "x"}}, "c": {"type": "nope"}}}
+    with pytest.raises(geode.LoadError) as e:
+        geode.Network.from_json(json.dumps(doc))
+    assert {(x["path"], x["param"]) for x in e.value.errors} == {("/b", "size"), ("/c", None)}
+    loose = geode.Network.from_json(json.dumps(doc), strict=False)
+    assert len(loose.problems()) == 2
+
+
+def test_parameter_values_too_deep_or_of_no_json_kind_are_refused():
+    net = geode.Network()
+    b = net.create_node("box", "b")
+    deep: list = []
+    for _ in range(100):
+        deep = [deep]
+    with pytest.raises(ValueError, match="deeper"):
+        b.parm("size").set(deep)
+    with pytest.raises(ValueError):
+        b.parm("size").set(object())
