@@ -9,6 +9,7 @@ mod geometry;
 mod json;
 mod network;
 mod picture;
+mod state;
 
 use pyo3::prelude::*;
 
@@ -25,7 +26,7 @@ fn _geode(m: &Bound<'_, PyModule>) -> PyResult<()> {
 /// Every node type: name, category and help, as `geode nodes` lists them.
 #[pyfunction]
 fn node_types() -> Vec<(String, String, String)> {
-    geode_graph::node_specs(network::registry())
+    geode_graph::node_specs(state::registry())
         .into_iter()
         .map(|s| (s.name.to_owned(), s.category.to_owned(), s.help.to_owned()))
         .collect()

@@ -1,14 +1,12 @@
 //! `geode.Network` (native half): a network document edited through geode's own edit functions, validated as it is built, and cooked with the engine's cache.
 
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
+use std::path::PathBuf;
+use std::sync::{Mutex, MutexGuard};
 
-use geode_geo::Geometry;
-use geode_graph::document::{Document, NetworkDoc, NodeDoc};
-use geode_graph::edit::{apply_in_place, split_path, Edit, Flag};
-use geode_graph::{Cache, CookOptions, Engine, LoadError, Network};
-use geode_op::{CookEnv, HeldGeometry, ParamValue, Registry, Value};
+use geode_graph::document::Document;
+use geode_graph::edit::{split_path, Edit};
+use geode_graph::{CookOptions, LoadError};
+use geode_op::Value;
 use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -18,207 +16,12 @@ use crate::cancel::run_interruptibly;
 use crate::errors::{cook_errors, edit_error, file_error, load_errors, usage};
 use crate::geometry::PyGeometry;
 use crate::json::{to_json, to_py};
-
-/// The node types a Python session knows: geode's whole library.
-pub fn registry() -> &'static Registry {
-    static REGISTRY: OnceLock<Registry> = OnceLock::new();
-    REGISTRY.get_or_init(geode_nodes::registry)
-}
-
-/// The process's cook cache, as `geode cook` makes it: memory bounded by
-/// `GEODE_CACHE_MB`, with `GEODE_CACHE_DIR`'s disk cache behind it.
-fn cache() -> PyResult<&'static Cache> {
-    static CACHE: OnceLock<Cache> = OnceLock::new();
-    if let Some(c) = CACHE.get() {
-        return Ok(c);
-    }
-    let cache = geode_store::DiskCache::cook_cache_from_env()
-        .map_err(|e| file_error(Path::new("GEODE_CACHE_DIR"), e))?;
-    Ok(CACHE.get_or_init(|| cache))
-}
-
-/// The name a node is loaded under when its parameters are checked alone.
-const ALONE: &str = "checked";
+use crate::state::{flag_of, join, network_at, param_value_to_py, parse, registry, State};
 
 /// A network being built or cooked from Python.
 #[pyclass(frozen, name = "Network", module = "geode._geode", subclass)]
 pub struct PyNetwork {
     state: Mutex<State>,
-}
-
-struct State {
-    doc: Document,
-    /// The file it was loaded from or saved to (its folder is `$HIP`).
-    path: Option<PathBuf>,
-    /// Geometry given to `python_input` nodes, by content hash.
-    held: BTreeMap<u128, Arc<Geometry>>,
-    /// The loaded network of `doc` with its engine, made when first needed
-    /// after an edit and shared by the cooks that run at once.
-    engine: Option<Arc<Result<Engine<'static>, Vec<LoadError>>>>,
-}
-
-impl State {
-    fn edit(&mut self, edit: &Edit) -> PyResult<()> {
-        apply_in_place(&mut self.doc, edit, registry()).map_err(|e| edit_error(&e))?;
-        self.engine = None;
-        Ok(())
-    }
-
-    fn engine(&mut self) -> PyResult<Arc<Result<Engine<'static>, Vec<LoadError>>>> {
-        if let Some(e) = &self.engine {
-            return Ok(e.clone());
-        }
-        let cache = cache()?;
-        let loaded =
-            Network::load_partial(&self.doc, registry()).map(|net| Engine::new(net, cache));
-        let e = Arc::new(loaded);
-        self.engine = Some(e.clone());
-        Ok(e)
-    }
-
-    /// The load problems of `path`'s parameter `param` (all of the node's
-    /// for none). The node is first loaded alone, with its parameters and
-    /// without its wires, which costs the same whatever the network's size;
-    /// only a problem found there is confirmed against the whole network
-    /// (an expression may name a node the lone copy lacks).
-    fn problems_of(&mut self, path: &str, param: Option<&str>) -> PyResult<Vec<LoadError>> {
-        let node = self.node(path)?.clone();
-        let alone = Document {
-            network: NetworkDoc {
-                nodes: BTreeMap::from([(
-                    ALONE.to_owned(),
-                    NodeDoc {
-                        inputs: Vec::new(),
-                        ..node
-                    },
-                )]),
-                ..NetworkDoc::default()
-            },
-            ..Document::new()
-        };
-        let lone_problem = match Network::load_partial(&alone, registry()) {
-            Ok(net) => net
-                .node_problems(&format!("/{ALONE}"))
-                .iter()
-                .any(|e| e.param.is_some() && (param.is_none() || e.param.as_deref() == param)),
-            Err(_) => true,
-        };
-        if !lone_problem {
-            return Ok(Vec::new());
-        }
-        let engine = self.engine()?;
-        let all: Vec<LoadError> = match &*engine {
-            Ok(e) => e.network().node_problems(path).to_vec(),
-            Err(errors) => errors.iter().filter(|e| e.path == path).cloned().collect(),
-        };
-        Ok(all
-            .into_iter()
-            .filter(|e| param.is_none() || e.param.as_deref() == param)
-            .collect())
-    }
-
-    fn node(&self, path: &str) -> PyResult<&NodeDoc> {
-        node_at(&self.doc.network, path)
-            .ok_or_else(|| PyKeyError::new_err(format!("no node `{path}`")))
-    }
-
-    /// Keeps only the held geometry some `python_input` still names.
-    fn prune_held(&mut self) {
-        let mut named = Vec::new();
-        held_hashes(&self.doc.network, &mut named);
-        self.held.retain(|h, _| named.contains(h));
-    }
-}
-
-fn node_at<'d>(root: &'d NetworkDoc, path: &str) -> Option<&'d NodeDoc> {
-    let mut net = root;
-    let mut node = None;
-    for name in path.split('/').filter(|s| !s.is_empty()) {
-        let n = net.nodes.get(name)?;
-        node = Some(n);
-        if let Some(inner) = n.network.as_deref() {
-            net = inner;
-        }
-    }
-    node
-}
-
-fn network_at<'d>(root: &'d NetworkDoc, parent: &str) -> Option<&'d NetworkDoc> {
-    if parent == "/" || parent.is_empty() {
-        return Some(root);
-    }
-    node_at(root, parent)?.network.as_deref()
-}
-
-fn held_hashes(net: &NetworkDoc, out: &mut Vec<u128>) {
-    for n in net.nodes.values() {
-        if n.ty == "python_input" {
-            if let Some(h) = n
-                .params
-                .get("geometry")
-                .and_then(Json::as_str)
-                .and_then(geode_nodes::held::parse_hash)
-            {
-                out.push(h);
-            }
-        }
-        if let Some(inner) = n.network.as_deref() {
-            held_hashes(inner, out);
-        }
-    }
-}
-
-fn join(parent: &str, name: &str) -> String {
-    if parent == "/" || parent.is_empty() {
-        format!("/{name}")
-    } else {
-        format!("{parent}/{name}")
-    }
-}
-
-fn flag_of(name: &str) -> PyResult<Flag> {
-    Ok(match name {
-        "bypass" => Flag::Bypass,
-        "display" => Flag::Display,
-        "template" => Flag::Template,
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "`{name}` is not a flag (bypass, display, template)"
-            )))
-        }
-    })
-}
-
-fn param_value_to_py<'py>(py: Python<'py>, v: &ParamValue) -> PyResult<Bound<'py, PyAny>> {
-    Ok(match v {
-        ParamValue::Float(x) => x.into_pyobject(py)?.into_any(),
-        ParamValue::Int(i) => i.into_pyobject(py)?.into_any(),
-        ParamValue::Toggle(b) => pyo3::types::PyBool::new(py, *b).to_owned().into_any(),
-        ParamValue::Vector(v) => pyo3::types::PyTuple::new(py, v)?.into_any(),
-        ParamValue::String(s) => s.into_pyobject(py)?.into_any(),
-        ParamValue::List(rows) => {
-            let out = PyList::empty(py);
-            for row in rows {
-                let r = PyList::empty(py);
-                for f in row {
-                    r.append(param_value_to_py(py, f)?)?;
-                }
-                out.append(r)?;
-            }
-            out.into_any()
-        }
-        ParamValue::Ramp(ramp) => {
-            let out = PyList::empty(py);
-            for k in ramp.keys() {
-                out.append((
-                    k.pos,
-                    k.value.to_vec(),
-                    format!("{:?}", k.basis).to_lowercase(),
-                ))?;
-            }
-            out.into_any()
-        }
-    })
 }
 
 impl PyNetwork {
@@ -230,12 +33,7 @@ impl PyNetwork {
 
     fn from_document(doc: Document, path: Option<PathBuf>) -> PyNetwork {
         PyNetwork {
-            state: Mutex::new(State {
-                doc,
-                path,
-                held: BTreeMap::new(),
-                engine: None,
-            }),
+            state: Mutex::new(State::new(doc, path)),
         }
     }
 
@@ -734,34 +532,4 @@ fn value_to_py(py: Python<'_>, v: Value) -> PyResult<Bound<'_, PyAny>> {
             "the node gives a field: mesh it with a polygonise node to read it as geometry",
         )),
     }
-}
-
-impl State {
-    /// The cook's environment: `$HIP` is the network file's folder, and
-    /// the held geometry goes with it.
-    fn env(&self) -> CookEnv {
-        let env = match &self.path {
-            Some(p) => CookEnv::for_network(p),
-            None => CookEnv::from_process(),
-        };
-        CookEnv {
-            held: HeldGeometry::new(self.held.values().cloned()),
-            ..env
-        }
-    }
-}
-
-/// Parses a document; a syntax error names the line, column, node and parameter.
-fn parse(text: &str, origin: &str) -> PyResult<Document> {
-    Document::from_json(text).map_err(|e| {
-        load_errors(&[LoadError {
-            path: e.node.clone().unwrap_or_else(|| "/".into()),
-            param: e.param.clone(),
-            message: format!(
-                "{origin}: line {}, column {}: {}",
-                e.line, e.column, e.message
-            ),
-            position: None,
-        }])
-    })
 }

@@ -127,6 +127,18 @@ def _name_of(node: Union["Node", str, None]) -> Optional[str]:
     return node.rsplit("/", 1)[-1]
 
 
+def _flag(name: str, doc: str) -> property:
+    """A node flag as a property that reads and writes the document."""
+
+    def get(node: "Node") -> bool:
+        return bool(node._net._node_info(node.path)[name])
+
+    def set(node: "Node", on: bool) -> None:
+        node._net._set_flag(node.path, name, bool(on))
+
+    return property(get, set, doc=doc)
+
+
 class Node:
     """A node of a network, by path. It stays valid while the node exists."""
 
@@ -210,32 +222,9 @@ class Node:
 
     # --- flags -------------------------------------------------------------
 
-    def _flag(self, name: str) -> bool:
-        return bool(self._net._node_info(self.path)[name])
-
-    @property
-    def bypass(self) -> bool:
-        return self._flag("bypass")
-
-    @bypass.setter
-    def bypass(self, on: bool) -> None:
-        self._net._set_flag(self.path, "bypass", bool(on))
-
-    @property
-    def display(self) -> bool:
-        return self._flag("display")
-
-    @display.setter
-    def display(self, on: bool) -> None:
-        self._net._set_flag(self.path, "display", bool(on))
-
-    @property
-    def template(self) -> bool:
-        return self._flag("template")
-
-    @template.setter
-    def template(self, on: bool) -> None:
-        self._net._set_flag(self.path, "template", bool(on))
+    bypass = _flag("bypass", "Whether the node passes its first input through uncooked.")
+    display = _flag("display", "Houdini's display flag: the node the studio shows (and the output when none is named).")
+    template = _flag("template", "Houdini's template flag: drawn as a ghost beside what is shown.")
 
     # --- subnets and blocks ------------------------------------------------
 
