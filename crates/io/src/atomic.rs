@@ -38,10 +38,21 @@ where
     };
     remove_stale_temporaries_by(dir, local);
     let prefix = format!("{TMP_PREFIX}{}-", std::process::id());
+    if !dir.is_dir() {
+        return Err(IoError::os(
+            path,
+            std::io::Error::new(
+                std::io::ErrorKind::NotFound,
+                format!("its folder {} does not exist", dir.display()),
+            ),
+        ));
+    }
     let tmp = tempfile::Builder::new()
         .prefix(&prefix)
         .tempfile_in(dir)
-        .map_err(|e| IoError::os(path, e))?;
+        // tempfile names its temporary file in the error; the user named
+        // only the target.
+        .map_err(|e| IoError::os(path, bare(&e)))?;
     {
         let mut w = BufWriter::with_capacity(1 << 20, tmp.as_file());
         body(&mut w)?;
@@ -52,6 +63,13 @@ where
     // Dropping `tmp` on an error path deletes the temporary file.
     tmp.persist(path).map_err(|e| IoError::os(path, e.error))?;
     Ok(())
+}
+
+/// The system's error without the temporary file's name tempfile adds.
+fn bare(e: &std::io::Error) -> std::io::Error {
+    e.raw_os_error()
+        .map(std::io::Error::from_raw_os_error)
+        .unwrap_or_else(|| std::io::Error::from(e.kind()))
 }
 
 /// Temporary files are `.geode-tmp-<pid>-<random>`.

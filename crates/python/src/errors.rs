@@ -3,8 +3,11 @@
 use geode_graph::edit::EditError;
 use geode_graph::LoadError;
 use geode_op::{CookError, ErrorKind};
+use std::sync::OnceLock;
+
+use pyo3::exceptions::{PyException, PyKeyError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyDict, PyList, PyType};
 
 /// The exception classes, apart from the Rust error types they are made from.
 mod exc {
@@ -123,22 +126,96 @@ fn fill(py: Python<'_>, err: &PyErr, problems: &[Problem]) -> PyResult<()> {
     for p in problems {
         let d = PyDict::new(py);
         d.set_item("kind", p.kind)?;
-        d.set_item("path", &p.path)?;
+        d.set_item("path", Some(p.path.as_str()).filter(|p| !p.is_empty()))?;
         d.set_item("param", p.param.as_deref())?;
         d.set_item("message", &p.message)?;
         list.append(d)?;
     }
     let first = problems.first();
     value.setattr("kind", first.map(|p| p.kind))?;
-    value.setattr("path", first.map(|p| p.path.as_str()))?;
+    value.setattr(
+        "path",
+        first.map(|p| p.path.as_str()).filter(|p| !p.is_empty()),
+    )?;
     value.setattr("param", first.and_then(|p| p.param.as_deref()))?;
     value.setattr("message", first.map(|p| p.message.as_str()))?;
     value.setattr("errors", list)?;
     Ok(())
 }
 
-pub fn edit_error(e: &EditError) -> PyErr {
-    raise::<EditErr>(vec![e.into()])
+/// The classes that are a `GeodeError` and a built-in error at once, made
+/// at import (a class with two exception bases cannot be declared in Rust).
+static NOT_FOUND: OnceLock<Py<PyType>> = OnceLock::new();
+static INVALID: OnceLock<Py<PyType>> = OnceLock::new();
+
+/// `class name(GeodeError, also)` with its own `__str__` (KeyError's would
+/// quote the message as if it were a key).
+fn derived<'py>(
+    py: Python<'py>,
+    name: &str,
+    also: Bound<'py, PyType>,
+    doc: &str,
+) -> PyResult<Bound<'py, PyType>> {
+    let body = PyDict::new(py);
+    body.set_item("__doc__", doc)?;
+    body.set_item("__module__", "geode")?;
+    body.set_item("__str__", py.get_type::<PyException>().getattr("__str__")?)?;
+    let bases = (py.get_type::<GeodeError>(), also);
+    Ok(py
+        .get_type::<pyo3::types::PyType>()
+        .call1((name, bases, body))?
+        .cast_into::<PyType>()?)
+}
+
+fn raise_as(cls: &'static OnceLock<Py<PyType>>, problem: Problem) -> PyErr {
+    Python::attach(|py| {
+        let Some(ty) = cls.get() else {
+            return PyValueError::new_err(problem.line());
+        };
+        let err = PyErr::from_type(ty.bind(py).clone(), problem.line());
+        match fill(py, &err, &[problem]) {
+            Ok(()) => err,
+            Err(e) => e,
+        }
+    })
+}
+
+/// A node, parameter or attribute that is not there: a `GeodeError` and a `KeyError`.
+pub fn not_found(
+    kind: &'static str,
+    path: &str,
+    param: Option<&str>,
+    message: impl Into<String>,
+) -> PyErr {
+    raise_as(
+        &NOT_FOUND,
+        Problem {
+            kind,
+            path: path.to_owned(),
+            param: param.map(str::to_owned),
+            message: message.into(),
+        },
+    )
+}
+
+/// A value geode cannot use (a shape, a type, a range): a `GeodeError` and a `ValueError`.
+pub fn invalid(message: impl Into<String>) -> PyErr {
+    raise_as(
+        &INVALID,
+        Problem {
+            kind: "value",
+            path: String::new(),
+            param: None,
+            message: message.into(),
+        },
+    )
+}
+
+/// A refused edit; `param` names the parameter it was about, where one was.
+pub fn edit_error(e: &EditError, param: Option<&str>) -> PyErr {
+    let mut problem = Problem::from(e);
+    problem.param = param.map(str::to_owned);
+    raise::<EditErr>(vec![problem])
 }
 
 pub fn load_errors(errors: &[LoadError]) -> PyErr {
@@ -169,11 +246,18 @@ pub fn usage(
 }
 
 pub fn file_error(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {
+    let shown = path.display().to_string();
+    let text = e.to_string();
+    // geode's I/O errors begin with the path already: say it once.
+    let message = text
+        .strip_prefix(&format!("{shown}: "))
+        .unwrap_or(&text)
+        .to_owned();
     raise::<FileError>(vec![Problem {
         kind: "io",
-        path: path.display().to_string(),
+        path: shown,
         param: None,
-        message: e.to_string(),
+        message,
     }])
 }
 
@@ -184,5 +268,21 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("LoadError", py.get_type::<LoadErr>())?;
     m.add("CookError", py.get_type::<CookErr>())?;
     m.add("FileError", py.get_type::<FileError>())?;
+    let not_found = derived(
+        py,
+        "NotFoundError",
+        py.get_type::<PyKeyError>(),
+        "A node, parameter or attribute that is not there; a KeyError too.",
+    )?;
+    let invalid = derived(
+        py,
+        "InvalidValueError",
+        py.get_type::<PyValueError>(),
+        "A value geode cannot use (an array's shape or type, a number out of range); a ValueError too.",
+    )?;
+    m.add("NotFoundError", &not_found)?;
+    m.add("InvalidValueError", &invalid)?;
+    let _ = NOT_FOUND.set(not_found.unbind());
+    let _ = INVALID.set(invalid.unbind());
     Ok(())
 }

@@ -12,11 +12,10 @@ use numpy::{
     Element, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyReadonlyArrayDyn, PyUntypedArrayMethods,
 };
-use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::errors::{file_error, usage};
+use crate::errors::{file_error, invalid, not_found, usage};
 
 /// A geometry, immutable: every change makes a new one (`with_attrib`),
 /// so the arrays handed out stay valid and unchanged while they live.
@@ -38,7 +37,7 @@ pub fn class_of(name: &str) -> PyResult<AttribClass> {
         "prim" | "prims" | "primitive" | "primitives" => AttribClass::Primitive,
         "detail" | "global" => AttribClass::Detail,
         _ => {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "`{name}` is not an attribute class (point, vertex, prim, detail)"
             )))
         }
@@ -51,7 +50,7 @@ fn type_of(name: &str) -> PyResult<AttribType> {
         .find(|t| t.to_string() == name)
         .ok_or_else(|| {
             let known: Vec<String> = AttribType::ALL.iter().map(|t| t.to_string()).collect();
-            PyValueError::new_err(format!(
+            invalid(format!(
                 "`{name}` is not an attribute type ({})",
                 known.join(", ")
             ))
@@ -66,7 +65,7 @@ fn view<'py, T: Element>(
     shape: &[usize],
 ) -> PyResult<Bound<'py, PyAny>> {
     let v = ArrayViewD::from_shape(IxDyn(shape), flat)
-        .map_err(|e| PyValueError::new_err(format!("column shape: {e}")))?;
+        .map_err(|e| invalid(format!("column shape: {e}")))?;
     // SAFETY: `owner` holds the `Arc<Geometry>` whose column `flat` borrows,
     // and a geometry is never written once shared with Python (every change
     // makes a new one), so the memory outlives the array and never changes.
@@ -209,7 +208,7 @@ impl PyGeometry {
         let (groups, len) = match class_of(class)? {
             AttribClass::Point => (self.geo.point_groups(), self.geo.num_points()),
             AttribClass::Primitive => (self.geo.prim_groups(), self.geo.num_prims()),
-            _ => return Err(PyValueError::new_err("groups are of points or prims")),
+            _ => return Err(invalid("groups are of points or prims")),
         };
         let d = PyDict::new(py);
         for (name, g) in groups {
@@ -246,12 +245,15 @@ impl PyGeometry {
     /// from `values`: a contiguous float32 array for float, vector and
     /// matrix types, int32 for int, a list of str for string, a list of
     /// number lists (str lists for string arrays) for the array types.
+    /// `type_info` tells transforms how to treat it (see [`type_info`]).
+    #[pyo3(signature = (class, name, ty, values, type_info = None))]
     fn with_attrib(
         &self,
         class: &str,
         name: &str,
         ty: &str,
         values: &Bound<'_, PyAny>,
+        type_info: Option<&str>,
     ) -> PyResult<PyGeometry> {
         let class = class_of(class)?;
         let ty = type_of(ty)?;
@@ -272,16 +274,12 @@ impl PyGeometry {
             }
         };
         if data.len() != expected {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "{class} attribute `{name}` needs {expected} values, got {}",
                 data.len()
             )));
         }
-        let info = if class == AttribClass::Point && name == "P" {
-            TypeInfo::Position
-        } else {
-            TypeInfo::default()
-        };
+        let info = self.type_info(class, name, ty, type_info)?;
         let mut g = (*self.geo).clone();
         g.set_attrib(class, name, Attribute::from_data(data, info))
             .map_err(|e| {
@@ -317,10 +315,10 @@ impl PyGeometry {
         let len = match class {
             AttribClass::Point => g.num_points(),
             AttribClass::Primitive => g.num_prims(),
-            _ => return Err(PyValueError::new_err("groups are of points or prims")),
+            _ => return Err(invalid("groups are of points or prims")),
         };
         if mask.len() != len {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "group `{name}` needs {len} flags, got {}",
                 mask.len()
             )));
@@ -345,7 +343,7 @@ impl PyGeometry {
         closed: PyReadonlyArray1<'_, bool>,
     ) -> PyResult<PyGeometry> {
         if points.shape()[1] != 3 {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "points must be (n, 3), not {:?}",
                 points.shape()
             )));
@@ -396,7 +394,7 @@ impl PyGeometry {
     #[pyo3(signature = (size = 320))]
     fn png<'py>(&self, py: Python<'py>, size: usize) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
         if !(16..=4096).contains(&size) {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "a picture is 16 to 4096 pixels a side, not {size}"
             )));
         }
@@ -407,7 +405,7 @@ impl PyGeometry {
         })?;
         match drawn {
             Some(Ok(bytes)) => Ok(pyo3::types::PyBytes::new(py, &bytes)),
-            Some(Err(e)) => Err(PyValueError::new_err(format!("PNG encoding: {e}"))),
+            Some(Err(e)) => Err(invalid(format!("PNG encoding: {e}"))),
             None => Err(pyo3::exceptions::PyKeyboardInterrupt::new_err(
                 "the drawing was cancelled",
             )),
@@ -426,19 +424,75 @@ impl PyGeometry {
 }
 
 impl PyGeometry {
+    /// The tag a set attribute gets: the one asked for; else the one the
+    /// attribute it replaces had; else Houdini's for its name (`N` a
+    /// normal, `Cd` a colour, `orient` a quaternion), where its type can
+    /// carry it.
+    fn type_info(
+        &self,
+        class: AttribClass,
+        name: &str,
+        ty: AttribType,
+        asked: Option<&str>,
+    ) -> PyResult<TypeInfo> {
+        if let Some(asked) = asked {
+            let info = TypeInfo::ALL
+                .into_iter()
+                .find(|t| t.to_string() == asked)
+                .ok_or_else(|| {
+                    let known: Vec<String> = TypeInfo::ALL.iter().map(|t| t.to_string()).collect();
+                    invalid(format!(
+                        "`{asked}` is not a type info ({})",
+                        known.join(", ")
+                    ))
+                })?;
+            if !carries(ty, info) {
+                return Err(invalid(format!("a {ty} attribute cannot be a {info}")));
+            }
+            return Ok(info);
+        }
+        if let Some(old) = self.geo.attrib(class, name) {
+            if old.attrib_type() == ty {
+                return Ok(old.type_info);
+            }
+        }
+        let by_name = TypeInfo::for_name(name);
+        Ok(if carries(ty, by_name) {
+            by_name
+        } else {
+            TypeInfo::None
+        })
+    }
+
     fn attribute(&self, class: &str, name: &str) -> PyResult<&Attribute> {
         let class = class_of(class)?;
         self.geo.attrib(class, name).ok_or_else(|| {
             let known: Vec<&str> = self.geo.attribs(class).names().collect();
-            PyKeyError::new_err(format!(
-                "no {class} attribute `{name}` (there are: {})",
-                if known.is_empty() {
-                    "none".to_owned()
-                } else {
-                    known.join(", ")
-                }
-            ))
+            not_found(
+                "attribute",
+                "",
+                None,
+                format!(
+                    "no {class} attribute `{name}` (there are: {})",
+                    if known.is_empty() {
+                        "none".to_owned()
+                    } else {
+                        known.join(", ")
+                    }
+                ),
+            )
         })
+    }
+}
+
+/// Whether values of `ty` can carry the tag `info` (what transforms do with it).
+fn carries(ty: AttribType, info: TypeInfo) -> bool {
+    match info {
+        TypeInfo::None | TypeInfo::TexCoord => true,
+        TypeInfo::Position | TypeInfo::Vector | TypeInfo::Normal => ty == AttribType::Vec3,
+        TypeInfo::Color => matches!(ty, AttribType::Vec3 | AttribType::Vec4),
+        TypeInfo::Quaternion => matches!(ty, AttribType::Quat | AttribType::Vec4),
+        TypeInfo::Transform => matches!(ty, AttribType::Mat3 | AttribType::Mat4),
     }
 }
 
@@ -446,7 +500,7 @@ impl PyGeometry {
 fn float_column(ty: AttribType, f: &[f32], len: usize) -> PyResult<AttribData> {
     fn rows<T: bytemuck::Pod>(f: &[f32], width: usize, len: usize) -> PyResult<Vec<T>> {
         if f.len() != width * len {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "{} numbers do not make {len} values of {width} components",
                 f.len()
             )));
@@ -461,11 +515,7 @@ fn float_column(ty: AttribType, f: &[f32], len: usize) -> PyResult<AttribData> {
         AttribType::Quat => AttribData::Quat(rows::<Quat>(f, 4, len)?),
         AttribType::Mat3 => AttribData::Mat3(rows::<Mat3>(f, 9, len)?),
         AttribType::Mat4 => AttribData::Mat4(rows::<Mat4>(f, 16, len)?),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "floats cannot make a {ty} attribute"
-            )))
-        }
+        _ => return Err(invalid(format!("floats cannot make a {ty} attribute"))),
     })
 }
 
@@ -501,9 +551,7 @@ fn array_column(ty: AttribType, a: Vec<Vec<f64>>) -> PyResult<AttribData> {
             a.into_iter()
                 .map(|v| {
                     if v.len() % 3 != 0 {
-                        return Err(PyValueError::new_err(
-                            "a vector3 array needs 3 numbers per vector",
-                        ));
+                        return Err(invalid("a vector3 array needs 3 numbers per vector"));
                     }
                     Ok(v.chunks(3)
                         .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
@@ -511,11 +559,7 @@ fn array_column(ty: AttribType, a: Vec<Vec<f64>>) -> PyResult<AttribData> {
                 })
                 .collect::<PyResult<_>>()?,
         ),
-        _ => {
-            return Err(PyValueError::new_err(format!(
-                "lists cannot make a {ty} attribute"
-            )))
-        }
+        _ => return Err(invalid(format!("lists cannot make a {ty} attribute"))),
     })
 }
 

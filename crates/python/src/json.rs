@@ -1,7 +1,8 @@
 //! Python values to the document's JSON and back, depth-limited both ways (a self-containing list must not overflow the stack).
 
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+
+use crate::errors::invalid;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde_json::{Map, Number, Value as Json};
 
@@ -16,7 +17,7 @@ pub fn to_json(v: &Bound<'_, PyAny>) -> PyResult<Json> {
 
 fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
     if depth > MAX_DEPTH {
-        return Err(PyValueError::new_err(format!(
+        return Err(invalid(format!(
             "a parameter value nests deeper than {MAX_DEPTH} levels"
         )));
     }
@@ -29,7 +30,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
     if v.is_instance_of::<PyInt>() {
         return match v.extract::<i64>() {
             Ok(i) => Ok(Json::from(i)),
-            Err(_) => Err(PyValueError::new_err(format!("{v} does not fit 64 bits"))),
+            Err(_) => Err(invalid(format!("{v} does not fit 64 bits"))),
         };
     }
     if v.is_instance_of::<PyFloat>() {
@@ -42,7 +43,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
         let mut m = Map::new();
         for (k, x) in d.iter() {
             let k: String = k.extract().map_err(|_| {
-                PyValueError::new_err("a dict in a parameter value has keys that are not strings")
+                invalid("a dict in a parameter value has keys that are not strings")
             })?;
             m.insert(k, to_json_at(&x, depth + 1)?);
         }
@@ -62,7 +63,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
             return to_json_at(&plain, depth + 1);
         }
     }
-    Err(PyValueError::new_err(format!(
+    Err(invalid(format!(
         "a parameter value cannot be a {}",
         v.get_type().name()?
     )))
@@ -71,7 +72,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
 fn float(x: f64) -> PyResult<Json> {
     Number::from_f64(x)
         .map(Json::Number)
-        .ok_or_else(|| PyValueError::new_err(format!("{x} is not a finite number")))
+        .ok_or_else(|| invalid(format!("{x} is not a finite number")))
 }
 
 /// JSON as plain Python values.
@@ -81,7 +82,7 @@ pub fn to_py<'py>(py: Python<'py>, j: &Json) -> PyResult<Bound<'py, PyAny>> {
 
 fn to_py_at<'py>(py: Python<'py>, j: &Json, depth: usize) -> PyResult<Bound<'py, PyAny>> {
     if depth > 4 * MAX_DEPTH {
-        return Err(PyValueError::new_err("a document value nests too deeply"));
+        return Err(invalid("a document value nests too deeply"));
     }
     Ok(match j {
         Json::Null => py.None().into_bound(py),

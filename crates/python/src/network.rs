@@ -7,13 +7,12 @@ use geode_graph::document::Document;
 use geode_graph::edit::{split_path, Edit};
 use geode_graph::{CookOptions, LoadError};
 use geode_op::Value;
-use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use serde_json::Value as Json;
 
 use crate::cancel::run_interruptibly;
-use crate::errors::{cook_errors, edit_error, file_error, load_errors, usage};
+use crate::errors::{cook_errors, edit_error, file_error, invalid, load_errors, not_found, usage};
 use crate::geometry::PyGeometry;
 use crate::json::{to_json, to_py};
 use crate::state::{flag_of, join, network_at, param_value_to_py, parse, registry, State};
@@ -64,6 +63,7 @@ impl PyNetwork {
         let json = if let Ok(g) = value.cast::<PyGeometry>() {
             let geo = g.get().geo.clone();
             let hash = geo.content_hash();
+            crate::state::hold(hash, &geo);
             s.held.insert(hash, geo);
             Json::String(geode_nodes::held::format_hash(hash))
         } else if let Ok(p) = value.getattr("path").and_then(|p| p.extract::<String>()) {
@@ -119,7 +119,7 @@ impl PyNetwork {
         let mut s = self.lock();
         let path = path
             .or_else(|| s.path.clone())
-            .ok_or_else(|| PyValueError::new_err("the network has no file yet: save(path)"))?;
+            .ok_or_else(|| invalid("the network has no file yet: save(path)"))?;
         let text = s.doc.to_json();
         geode_io::write_atomic(&path, |w| {
             std::io::Write::write_all(w, text.as_bytes())
@@ -149,17 +149,20 @@ impl PyNetwork {
     ) -> PyResult<String> {
         let mut s = self.lock();
         let before: Vec<String> = network_at(&s.doc.network, parent)
-            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?
+            .ok_or_else(|| not_found("node", parent, None, "no such subnet or block"))?
             .nodes
             .keys()
             .cloned()
             .collect();
         if let Some(n) = name {
             if before.iter().any(|b| b == n) {
-                return Err(edit_error(&geode_graph::edit::EditError {
-                    path: join(parent, n),
-                    message: "a node of that name is already there".into(),
-                }));
+                return Err(edit_error(
+                    &geode_graph::edit::EditError {
+                        path: join(parent, n),
+                        message: "a node of that name is already there".into(),
+                    },
+                    None,
+                ));
             }
         }
         let undo = s.doc.clone();
@@ -172,7 +175,7 @@ impl PyNetwork {
         })?;
         let made = network_at(&s.doc.network, parent)
             .and_then(|net| net.nodes.keys().find(|k| !before.contains(k)).cloned())
-            .ok_or_else(|| PyValueError::new_err("the node was not added"))?;
+            .ok_or_else(|| invalid("the node was not added"))?;
         let path = join(parent, &made);
         if let Some(params) = params {
             let result = (|| -> PyResult<()> {
@@ -256,7 +259,7 @@ impl PyNetwork {
         };
         let values = net
             .param_values(path, frame, &env)
-            .ok_or_else(|| PyKeyError::new_err(format!("no node `{path}`")))?;
+            .ok_or_else(|| not_found("node", path, None, "no such node"))?;
         let (_, v) = values
             .into_iter()
             .find(|(n, _)| n == param)
@@ -362,11 +365,33 @@ impl PyNetwork {
         })
     }
 
+    /// Another network with this one's document, file (its `$HIP`) and
+    /// geometry, to edit apart (one per thread of a wedge).
+    fn copy(&self) -> PyNetwork {
+        let s = self.lock();
+        let mut state = State::new(s.doc.clone(), s.path.clone());
+        state.held = s.held.clone();
+        state.engine = s.engine.clone();
+        PyNetwork {
+            state: Mutex::new(state),
+        }
+    }
+
+    /// The path of the node the network's result comes from: the one
+    /// `output` names, else the one with the display flag; None without either.
+    fn _effective_output(&self) -> PyResult<Option<String>> {
+        let engine = self.lock().engine()?;
+        Ok(match &*engine {
+            Ok(e) => e.network().output().map(str::to_owned),
+            Err(_) => None,
+        })
+    }
+
     /// The name of `parent`'s output node, if it names one.
     fn _output(&self, parent: &str) -> PyResult<Option<String>> {
         let s = self.lock();
         let net = network_at(&s.doc.network, parent)
-            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?;
+            .ok_or_else(|| not_found("node", parent, None, "no such subnet or block"))?;
         Ok(net.output.clone())
     }
 
@@ -374,7 +399,7 @@ impl PyNetwork {
     fn _children(&self, parent: &str) -> PyResult<Vec<String>> {
         let s = self.lock();
         let net = network_at(&s.doc.network, parent)
-            .ok_or_else(|| PyKeyError::new_err(format!("no network `{parent}`")))?;
+            .ok_or_else(|| not_found("node", parent, None, "no such subnet or block"))?;
         Ok(net.nodes.keys().cloned().collect())
     }
 
@@ -486,8 +511,8 @@ impl PyNetwork {
             Outcome::Value(v) => value_to_py(py, v),
             Outcome::Load(errors) => Err(load_errors(&errors)),
             Outcome::Cook(errors) => Err(cook_errors(&errors)),
-            Outcome::NoNode(target, known) => Err(usage(
-                "network",
+            Outcome::NoNode(target, known) => Err(not_found(
+                "node",
                 &target,
                 None,
                 format!("no such node (nodes: {known})"),

@@ -2,19 +2,18 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock, Weak};
 
 use geode_geo::Geometry;
 use geode_graph::document::{Document, NetworkDoc, NodeDoc};
 use geode_graph::edit::{apply_in_place, Edit, Flag};
 use geode_graph::{Cache, Engine, LoadError, Network};
 use geode_op::{CookEnv, HeldGeometry, ParamValue, Registry};
-use pyo3::exceptions::{PyKeyError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyList;
 use serde_json::Value as Json;
 
-use crate::errors::{edit_error, file_error, load_errors};
+use crate::errors::{edit_error, file_error, invalid, load_errors, not_found};
 
 /// The node types a Python session knows: geode's whole library.
 pub fn registry() -> &'static Registry {
@@ -59,7 +58,14 @@ impl State {
     }
 
     pub fn edit(&mut self, edit: &Edit) -> PyResult<()> {
-        apply_in_place(&mut self.doc, edit, registry()).map_err(|e| edit_error(&e))?;
+        let param = match edit {
+            Edit::SetParam { param, .. }
+            | Edit::SetKey { param, .. }
+            | Edit::DeleteKey { param, .. } => Some(param.as_str()),
+            Edit::SetSpare { name, .. } => Some(name.as_str()),
+            _ => None,
+        };
+        apply_in_place(&mut self.doc, edit, registry()).map_err(|e| edit_error(&e, param))?;
         self.engine = None;
         Ok(())
     }
@@ -119,13 +125,12 @@ impl State {
 
     pub fn node(&self, path: &str) -> PyResult<&NodeDoc> {
         node_at(&self.doc.network, path)
-            .ok_or_else(|| PyKeyError::new_err(format!("no node `{path}`")))
+            .ok_or_else(|| not_found("node", path, None, "no such node"))
     }
 
     /// Keeps only the held geometry some `python_input` still names.
     pub fn prune_held(&mut self) {
-        let mut named = Vec::new();
-        held_hashes(&self.doc.network, &mut named);
+        let named = held_hashes(&self.doc.network);
         self.held.retain(|h, _| named.contains(h));
     }
 }
@@ -150,22 +155,37 @@ pub fn network_at<'d>(root: &'d NetworkDoc, parent: &str) -> Option<&'d NetworkD
     node_at(root, parent)?.network.as_deref()
 }
 
-pub fn held_hashes(net: &NetworkDoc, out: &mut Vec<u128>) {
-    for n in net.nodes.values() {
-        if n.ty == "python_input" {
-            if let Some(h) = n
-                .params
-                .get("geometry")
-                .and_then(Json::as_str)
-                .and_then(geode_nodes::held::parse_hash)
-            {
-                out.push(h);
+/// The content hashes the `python_input` nodes of `net` (subnets included) name.
+pub fn held_hashes(net: &NetworkDoc) -> Vec<u128> {
+    let mut out = Vec::new();
+    let mut stack = vec![net];
+    while let Some(net) = stack.pop() {
+        for n in net.nodes.values() {
+            if n.ty == "python_input" {
+                let named = n.params.get("geometry").and_then(Json::as_str);
+                out.extend(named.and_then(geode_nodes::held::parse_hash));
             }
-        }
-        if let Some(inner) = n.network.as_deref() {
-            held_hashes(inner, out);
+            stack.extend(n.network.as_deref());
         }
     }
+    out
+}
+
+/// Every geometry Python has handed a `python_input`, by content hash, for
+/// as long as it lives anywhere: a network loaded from a file, or copied,
+/// cooks the geometry another network was given.
+static LIVE: Mutex<BTreeMap<u128, Weak<Geometry>>> = Mutex::new(BTreeMap::new());
+
+/// Records `geo` as live (and forgets the geometry no one holds any more).
+pub fn hold(hash: u128, geo: &Arc<Geometry>) {
+    let mut live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+    live.retain(|_, g| g.strong_count() > 0);
+    live.insert(hash, Arc::downgrade(geo));
+}
+
+fn live(hash: u128) -> Option<Arc<Geometry>> {
+    let live = LIVE.lock().unwrap_or_else(|p| p.into_inner());
+    live.get(&hash).and_then(Weak::upgrade)
 }
 
 pub fn join(parent: &str, name: &str) -> String {
@@ -182,7 +202,7 @@ pub fn flag_of(name: &str) -> PyResult<Flag> {
         "display" => Flag::Display,
         "template" => Flag::Template,
         _ => {
-            return Err(PyValueError::new_err(format!(
+            return Err(invalid(format!(
                 "`{name}` is not a flag (bypass, display, template)"
             )))
         }
@@ -229,8 +249,14 @@ impl State {
             Some(p) => CookEnv::for_network(p),
             None => CookEnv::from_process(),
         };
+        // Its own geometry, and what its python_inputs name that lives elsewhere.
+        let named = held_hashes(&self.doc.network);
+        let elsewhere = named
+            .into_iter()
+            .filter(|h| !self.held.contains_key(h))
+            .filter_map(live);
         CookEnv {
-            held: HeldGeometry::new(self.held.values().cloned()),
+            held: HeldGeometry::new(self.held.values().cloned().chain(elsewhere)),
             ..env
         }
     }

@@ -103,3 +103,45 @@ def test_parameter_values_too_deep_or_of_no_json_kind_are_refused():
         b.parm("size").set(deep)
     with pytest.raises(ValueError):
         b.parm("size").set(object())
+
+
+def test_mistakes_found_by_a_new_user_are_errors_that_say_what_to_fix(tmp_path):
+    net = geode.Network()
+    box = net.create_node("box", "b")
+    t = net.create_node("transform", "t").set_input(0, box)
+    # An unknown parameter given at creation names it and the nearest one.
+    with pytest.raises(geode.EditError) as e:
+        net.create_node("box", "c", params={"sise": [1, 1, 1]})
+    assert (e.value.path, e.value.param) == ("/c", "sise")
+    assert "did you mean `size`?" in e.value.message
+    # A node of another network is not wired by its name into this one.
+    other = geode.Network()
+    with pytest.raises(geode.EditError, match="another network"):
+        t.set_input(0, other.create_node("box", "b"))
+    with pytest.raises(TypeError):
+        t.set_input(0, 3)
+    # Spare parameters: removing one that is not there says so, and never
+    # drops a parameter of the node's own.
+    w = net.create_node("wrangle", "w", params={"snippet": "@P.y += 1;"})
+    for name in ("nope", "snippet"):
+        with pytest.raises(geode.EditError) as e:
+            w.remove_spare(name)
+        assert (e.value.path, e.value.param) == ("/w", name)
+    assert w.parm("snippet").raw == "@P.y += 1;"
+    # Keys need numbers; a menu parameter has none to key.
+    with pytest.raises(geode.GeodeError) as e:
+        net.create_node("normals", "n").parm("class").set_keys([(1, "point")])
+    assert e.value.param == "class"
+    with pytest.raises(geode.InvalidValueError):
+        t.parm("translate").set_expression("$F", component=3)
+    with pytest.raises(TypeError):
+        net.cook(t, frame="12")
+    with pytest.raises(geode.NotFoundError) as e:
+        net.cook("nope")
+    assert (e.value.kind, e.value.path) == ("node", "/nope") and isinstance(e.value, KeyError)
+    # A save into a folder that is not there names the folder, not a temporary file.
+    with pytest.raises(geode.FileError) as e:
+        net.cook(box).save(tmp_path / "missing" / "box.obj")
+    assert "missing" in e.value.message and "does not exist" in e.value.message
+    assert ".geode-tmp" not in str(e.value)
+    assert str(e.value).count(str(tmp_path / "missing" / "box.obj")) == 1

@@ -223,3 +223,50 @@ def test_a_geometry_and_a_network_draw_themselves_for_jupyter():
         cloud.png(5)
     graph = net._repr_svg_()
     assert graph.startswith("<svg") and ">s<" in graph and ">sphere<" in graph
+
+
+def test_attributes_from_python_carry_the_tags_transforms_read():
+    n = len(POINTS)
+    up = np.tile(np.float32([0, 1, 0]), (n, 1))
+    geo = base().set_attrib("point", "N", up).set_attrib("point", "v", up).set_attrib("point", "rest", up)
+    geo = geo.set_attrib("point", "tint", up, type_info="color")
+    assert geo.points.type("N") == ("vector3", "normal")
+    assert geo.points.type("v") == ("vector3", "vector")
+    assert geo.points.type("rest") == ("vector3", "none")
+    assert geo.points.type("tint") == ("vector3", "color")
+    # Replacing an attribute keeps its tag; a tag the type cannot carry is refused.
+    assert geo.set_attrib("point", "tint", up * 2).points.type("tint") == ("vector3", "color")
+    with pytest.raises(geode.InvalidValueError, match="cannot be a normal"):
+        geo.set_attrib("point", "w", np.zeros(n, dtype=np.float32), type_info="normal")
+    # Rotated 90 degrees about X, as Houdini's Transform does: a normal and a
+    # vector turn (Y to Z), a colour and an untagged vector do not.
+    net = geode.Network()
+    src = net.create_node("python_input", "src", params={"geometry": geo})
+    turn = net.create_node("transform", "t", params={"rotate": [90, 0, 0]}).set_input(0, src)
+    out = net.cook(turn)
+    np.testing.assert_allclose(out.points["N"], np.tile([0, 0, 1], (n, 1)), atol=1e-6)
+    np.testing.assert_allclose(out.points["v"], np.tile([0, 0, 1], (n, 1)), atol=1e-6)
+    np.testing.assert_allclose(out.points["rest"], up)
+    np.testing.assert_allclose(out.points["tint"], up)
+
+
+def test_arrays_geode_cannot_take_as_they_are_are_refused_not_reinterpreted():
+    for bad in (np.arange(12.0).reshape(3, 4), np.zeros((3, 2)), np.zeros(9)):
+        with pytest.raises(geode.InvalidValueError, match=r"\(n, 3\)") as e:
+            geode.Geometry.from_arrays(bad)
+        assert isinstance(e.value, ValueError) and e.value.kind == "value"
+    with pytest.raises(geode.InvalidValueError, match="integers"):
+        geode.Geometry.from_arrays(POINTS, polygons=[[0, 1, 2.7]])
+    with pytest.raises(geode.InvalidValueError, match="0 or more"):
+        geode.Geometry.from_arrays(POINTS, polygons=[[0, 1, -2]])
+    with pytest.raises(geode.GeodeError, match="out of range|6 points"):
+        geode.Geometry.from_arrays(POINTS, polygons=[[0, 1, 60]])
+    with pytest.raises(geode.InvalidValueError, match="32-bit"):
+        base().set_attrib("point", "id", np.array([2**40] * 6))
+    with pytest.raises(geode.InvalidValueError, match="not an attribute type"):
+        base().set_attrib("point", "id", [1] * 6, type="intarray")
+    # Every spelling of a class the reading side takes, the writing side takes too.
+    assert "w" in base().set_attrib("primitive", "w", np.zeros(3, dtype=np.float32)).prims
+    with pytest.raises(geode.NotFoundError) as e:
+        base().points["nope"]
+    assert e.value.kind == "attribute" and "nope" in str(e.value)

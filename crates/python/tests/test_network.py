@@ -174,3 +174,40 @@ def test_save_writes_the_document_atomically_and_load_reads_it_back(tmp_path):
     net.save()
     assert geode.Network.load(path).node("ball").parm("radius").raw == 2
     assert sorted(p.name for p in tmp_path.iterdir()) == ["shatter.json"]
+
+
+def test_a_copy_keeps_hip_and_geometry_and_edits_apart(tmp_path):
+    import numpy as np
+
+    folder = tmp_path / "shot"
+    folder.mkdir()
+    geode.Geometry.from_arrays(np.eye(3, dtype=np.float32), polygons=[[0, 1, 2]]).save(folder / "tri.bgeo")
+    net = geode.Network()
+    f = net.create_node("file", "in", params={"file": "$HIP/tri.bgeo"})
+    net.output = f
+    net.save(folder / "shot.json")
+    copy = net.copy()
+    assert copy == net and copy.path == net.path
+    assert copy.cook().num_points == 3  # $HIP is still the shot's folder
+    copy.node("in").parm("file").set("$HIP/other.bgeo")
+    assert net.node("in").parm("file").raw == "$HIP/tri.bgeo"
+    # Python geometry goes with a copy, and with a network read back from
+    # its file while the geometry lives, before any cook could cache it.
+    fresh = geode.Geometry.from_arrays(np.random.default_rng(11).random((4, 3)), polygons=[[0, 1, 2, 3]])
+    fed = geode.Network()
+    fed.output = fed.create_node("python_input", "src", params={"geometry": fresh})
+    assert fed.copy().cook().content_hash == fresh.content_hash
+    assert geode.Network.from_json(fed.to_json()).cook().content_hash == fresh.content_hash
+
+
+def test_the_output_is_the_named_node_else_the_display_flag():
+    net = geode.Network()
+    a = net.create_node("box", "a")
+    b = net.create_node("sphere", "b")
+    assert net.output is None
+    b.display = True
+    assert net.output == b
+    net.output = a
+    assert net.output == a and net.cook().num_points == 8
+    net.output = None
+    assert net.output == b and net.cook().num_points == net.cook(b).num_points

@@ -261,7 +261,10 @@ fn parameters_are_checked_by_the_loader_not_refused() {
             false,
         )
         .unwrap_err();
-    assert_eq!(e.to_string(), "/grow: has no parameter `kil`");
+    assert_eq!(
+        e.to_string(),
+        "/grow: has no parameter `kil` (did you mean `kill`?)"
+    );
     s.edit(
         &edit(json!({"kind": "set_param", "path": "/grow", "param": "kill", "value": null})),
         false,
@@ -426,6 +429,34 @@ fn spare_parameters_are_declared_where_taken_and_keyed_like_any_other() {
     assert!(!d.network.nodes["compute_tangent"]
         .params
         .contains_key("gain"));
+    // Removing a spare parameter that is not there is refused, and never
+    // drops the value of a parameter of the node's own.
+    for name in ["gain", "snippet"] {
+        let e = apply(
+            &d,
+            &edit(json!({"kind": "set_spare", "path": "/compute_tangent", "name": name, "type": null})),
+            &r,
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            format!("/compute_tangent: has no spare parameter `{name}`")
+        );
+    }
+    assert!(d.network.nodes["compute_tangent"]
+        .params
+        .contains_key("snippet"));
+    // An unknown parameter's refusal names the nearest one.
+    let e = apply(
+        &d,
+        &edit(json!({"kind": "set_param", "path": "/compute_tangent", "param": "snipet", "value": ""})),
+        &r,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "/compute_tangent: has no parameter `snipet` (did you mean `snippet`?)"
+    );
 }
 
 #[test]

@@ -130,6 +130,21 @@ impl TypeInfo {
     ];
 }
 
+impl TypeInfo {
+    /// The tag Houdini gives an attribute created by this name (`N` is a
+    /// normal, `v` a vector, `Cd` a colour, `orient` a quaternion).
+    pub fn for_name(name: &str) -> TypeInfo {
+        match name {
+            "P" => TypeInfo::Position,
+            "N" => TypeInfo::Normal,
+            "v" | "up" | "accel" | "force" => TypeInfo::Vector,
+            "Cd" => TypeInfo::Color,
+            "orient" | "rot" => TypeInfo::Quaternion,
+            _ => TypeInfo::None,
+        }
+    }
+}
+
 impl fmt::Display for TypeInfo {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {

@@ -649,7 +649,13 @@ fn set_param(
     let node = node_mut(d, path)?;
     let known = node.promote.contains_key(param) || param_spec(node, param, registry).is_some();
     if !known {
-        return Err(refuse(path, format!("has no parameter `{param}`")));
+        let names = crate::node_spec(registry, &node.ty)
+            .into_iter()
+            .flat_map(|spec| spec.params.iter().map(|p| p.name))
+            .chain(node.spare.keys().map(String::as_str))
+            .chain(node.promote.keys().map(String::as_str));
+        let hint = crate::load::closest(param, names);
+        return Err(refuse(path, format!("has no parameter `{param}`{hint}")));
     }
     if value.is_null() {
         node.params.remove(param);
@@ -696,7 +702,11 @@ fn set_spare(
     let own = spec.is_some_and(|s| s.param(name).is_some()) || node.promote.contains_key(name);
     match ty {
         None => {
-            node.spare.remove(name);
+            // Only a spare parameter goes: removing a node's own parameter
+            // this way would drop its value.
+            if node.spare.remove(name).is_none() {
+                return Err(refuse(path, format!("has no spare parameter `{name}`")));
+            }
             node.params.remove(name);
         }
         Some(ty) => {

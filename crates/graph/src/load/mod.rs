@@ -4,6 +4,7 @@
 //! found.
 
 mod params;
+pub(crate) use params::closest;
 
 use std::collections::HashMap;
 use std::sync::Arc;

@@ -507,7 +507,8 @@ fn field_names(rows: &ListSpec) -> String {
 }
 
 /// ` (did you mean `x`?)` for the known name nearest to `name`, if near.
-fn closest<'k>(name: &str, known: impl Iterator<Item = &'k str>) -> String {
+/// ` (did you mean `k`?)` for the known name nearest `name`, if any is near.
+pub(crate) fn closest<'k>(name: &str, known: impl Iterator<Item = &'k str>) -> String {
     let mut near: Vec<(usize, &str)> = known
         .map(|k| (geode_op::edit_distance(name, k), k))
         .filter(|(d, _)| *d <= 3)

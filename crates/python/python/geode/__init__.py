@@ -17,11 +17,12 @@ from ._geode import (
     EditError,
     FileError,
     GeodeError,
+    InvalidValueError,
     LoadError,
+    NotFoundError,
     __version__,
     node_types,
 )
-from ._errors import NotFoundError
 from .geometry import Geometry
 from .network import Network, Node, Parm
 
@@ -31,6 +32,7 @@ __all__ = [
     "FileError",
     "GeodeError",
     "Geometry",
+    "InvalidValueError",
     "LoadError",
     "Network",
     "Node",

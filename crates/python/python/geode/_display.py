@@ -8,7 +8,8 @@ from typing import Any
 
 
 def network_svg(document: str) -> str:
-    """The top-level nodes as boxes (name and type) joined by their wires.
+    """The top-level nodes as boxes (name and type) joined by their wires,
+    drawn over the boxes so a wire passing a node is not taken for its input.
 
     Nodes are placed where the studio saved them, else in rows by how far
     they are from the network's sources, as Houdini lays out a new network.
@@ -27,6 +28,13 @@ def network_svg(document: str) -> str:
     parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0f}" height="{height:.0f}" font-family="sans-serif">',
              f'<rect width="{width:.0f}" height="{height:.0f}" fill="#1e1e1e"/>']
     for name, node in nodes.items():
+        x, y = at[name]
+        edge = "#4fc3f7" if name == output or node.get("display") else "#666"
+        fill = "#5a4a2a" if node.get("bypass") else "#3a3a3a"
+        parts.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{w}" height="{h}" rx="5" fill="{fill}" stroke="{edge}" stroke-width="2"/>')
+        parts.append(f'<text x="{x + 8:.1f}" y="{y + 15:.1f}" fill="#eee" font-size="12">{html.escape(name)}</text>')
+        parts.append(f'<text x="{x + 8:.1f}" y="{y + 28:.1f}" fill="#aaa" font-size="10">{html.escape(str(node.get("type", "")))}</text>')
+    for name, node in nodes.items():
         ins = node.get("inputs", [])
         for k, src in enumerate(ins):
             if src is None or src not in at:
@@ -34,14 +42,7 @@ def network_svg(document: str) -> str:
             sx, sy = at[src]
             tx, ty = at[name]
             tx += w * (k + 1) / (len(ins) + 1)
-            parts.append(f'<path d="M{sx + w / 2:.1f} {sy + h:.1f}C{sx + w / 2:.1f} {sy + h + 20:.1f} {tx:.1f} {ty - 20:.1f} {tx:.1f} {ty:.1f}" fill="none" stroke="#8a8a8a" stroke-width="1.5"/>')
-    for name, node in nodes.items():
-        x, y = at[name]
-        edge = "#4fc3f7" if name == output or node.get("display") else "#666"
-        fill = "#5a4a2a" if node.get("bypass") else "#3a3a3a"
-        parts.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{w}" height="{h}" rx="5" fill="{fill}" stroke="{edge}" stroke-width="2"/>')
-        parts.append(f'<text x="{x + 8:.1f}" y="{y + 15:.1f}" fill="#eee" font-size="12">{html.escape(name)}</text>')
-        parts.append(f'<text x="{x + 8:.1f}" y="{y + 28:.1f}" fill="#aaa" font-size="10">{html.escape(str(node.get("type", "")))}</text>')
+            parts.append(f'<path d="M{sx + w / 2:.1f} {sy + h:.1f}C{sx + w / 2:.1f} {sy + h + 20:.1f} {tx:.1f} {ty - 20:.1f} {tx:.1f} {ty:.1f}" fill="none" stroke="#9a9a9a" stroke-opacity="0.8" stroke-width="1.5"/>')
     parts.append("</svg>")
     return "".join(parts)
 
@@ -59,7 +60,29 @@ def _layout(nodes: dict[str, Any]) -> dict[str, tuple[float, float]]:
                 depth[name], changed = d, True
         if not changed:
             break
+    # Then each node as low as its readers allow (a source sits just above
+    # the node that reads it, not at the top of a long chain's row).
+    readers: dict[str, list[str]] = {n: [] for n in nodes}
+    for name, node in nodes.items():
+        for s in node.get("inputs", []):
+            if s in readers:
+                readers[s].append(name)
+    for name in sorted(nodes, key=lambda n: -depth.get(n, 0)):
+        below = [depth[r] for r in readers[name] if r in depth]
+        if below:
+            depth[name] = max(depth.get(name, 0), min(below) - 1)
     rows: dict[int, list[str]] = {}
     for name in nodes:
         rows.setdefault(depth.get(name, 0), []).append(name)
+    # Each row ordered by where its inputs sit (a barycentre sweep, as the
+    # studio's layout does), so that wires run down rather than across.
+    column: dict[str, float] = {}
+    for d in sorted(rows):
+        def centre(name: str) -> float:
+            xs = [column[s] for s in nodes[name].get("inputs", []) if s in column]
+            return sum(xs) / len(xs) if xs else float("inf")
+
+        rows[d].sort(key=centre)
+        for i, name in enumerate(rows[d]):
+            column[name] = float(i)
     return {n: (i * 160.0, d * 70.0) for d, names in rows.items() for i, n in enumerate(names)}

@@ -9,9 +9,14 @@ from typing import Any, Optional, Union
 import numpy as np
 
 from . import _geode
-from ._errors import NotFoundError
+from ._errors import invalid
 
-_CLASSES = ("point", "vertex", "prim", "detail")
+_CLASS_NAMES = {
+    "point": "point", "points": "point",
+    "vertex": "vertex", "vertices": "vertex",
+    "prim": "prim", "prims": "prim", "primitive": "prim", "primitives": "prim",
+    "detail": "detail", "global": "detail",
+}
 
 # Element shape and dtype of each attribute type, for inferring a type from an array.
 _FLOAT_SHAPES = {
@@ -40,10 +45,7 @@ class Attributes(Mapping[str, Any]):
         self._cls = cls
 
     def __getitem__(self, name: str) -> np.ndarray:
-        try:
-            values = self._geo.attrib(self._cls, name)
-        except KeyError as e:
-            raise NotFoundError("attribute", None, None, str(e.args[0])) from None
+        values = self._geo.attrib(self._cls, name)
         if isinstance(values, list):
             out = np.empty(len(values), dtype=object)
             for i, v in enumerate(values):
@@ -136,7 +138,12 @@ class Geometry(_geode.Geometry):
         Polygons come first, then polylines. Attributes are given per class as
         ``{name: values}`` (see ``set_attrib`` for how types are inferred).
         """
-        P = np.ascontiguousarray(np.asarray(points, dtype=np.float32).reshape(-1, 3))
+        P = np.asarray(points, dtype=np.float32)
+        if P.size == 0:
+            P = P.reshape(0, 3)
+        if P.ndim != 2 or P.shape[1] != 3:
+            raise invalid(f"points must be an (n, 3) array of positions, not of shape {P.shape}")
+        P = np.ascontiguousarray(P)
         counts: list[np.ndarray] = []
         flat: list[np.ndarray] = []
         closed: list[np.ndarray] = []
@@ -158,11 +165,14 @@ class Geometry(_geode.Geometry):
 
     @classmethod
     def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Geometry":
-        """Reads a geometry file (.obj .stl .ply .gltf .glb .usda .geo .bgeo ...)."""
+        """Reads a geometry file (.obj .stl .ply .gltf .glb .geo .bgeo; geode writes .usda but does not read it)."""
         return cls(_geode.Geometry.load(path))
 
-    def set_attrib(self, cls: str, name: str, values: Any, type: Optional[str] = None) -> "Geometry":
-        """A new geometry with attribute ``name`` of class ``cls`` set to ``values``.
+    def set_attrib(
+        self, cls: str, name: str, values: Any, type: Optional[str] = None, type_info: Optional[str] = None
+    ) -> "Geometry":
+        """A new geometry with attribute ``name`` of class ``cls`` (point,
+        vertex, prim, detail) set to ``values``.
 
         The type is inferred unless given: integers make ``int``; floats of
         element shape (), (2,), (3,), (4,), (3, 3), (4, 4) make ``float``,
@@ -170,37 +180,42 @@ class Geometry(_geode.Geometry):
         strings make ``string``. ``quaternion`` and the array types
         (``int array``, ``float array``, ``vector3 array``, ``string array``)
         must be named. A detail attribute takes one value.
+
+        ``type_info`` tells transforms what the values are (``position``,
+        ``vector``, ``normal``, ``color``, ``quaternion``, ``texcoord``,
+        ``transform``, ``none``). Unless given, the attribute keeps the tag
+        of the one it replaces, else takes Houdini's for its name (``N`` a
+        normal, ``v`` a vector, ``Cd`` a colour, ``orient`` a quaternion).
         """
-        if cls not in _CLASSES:
-            raise ValueError(f"{cls!r} is not an attribute class ({', '.join(_CLASSES)})")
+        cls = _class(cls)
+        if type is not None and type not in _FLOAT_TYPES | _ARRAY_TYPES | {"int", "string"}:
+            raise invalid(f"{type!r} is not an attribute type ({', '.join(sorted(_FLOAT_TYPES | _ARRAY_TYPES | {'int', 'string'}))})")
         if type in _ARRAY_TYPES:
-            return self._set_array(cls, name, values, type)
+            return self._set_array(cls, name, values, type, type_info)
         if cls == "detail":
             values = [values]
         arr = np.asarray(values)
         if type is None:
             type = _infer_type(arr, cls, name)
         if type == "string":
-            return Geometry(self.with_attrib(cls, name, type, [str(s) for s in arr.reshape(-1)]))
+            return Geometry(self.with_attrib(cls, name, type, [str(s) for s in arr.reshape(-1)], type_info))
         if type == "int":
-            return Geometry(self.with_attrib(cls, name, type, np.ascontiguousarray(arr, dtype=np.int32)))
-        if type in _FLOAT_TYPES:
-            return Geometry(self.with_attrib(cls, name, type, np.ascontiguousarray(arr, dtype=np.float32)))
-        raise ValueError(f"{type!r} is not an attribute type")
+            return Geometry(self.with_attrib(cls, name, type, _int32(arr, f"{cls} attribute {name!r}"), type_info))
+        return Geometry(self.with_attrib(cls, name, type, np.ascontiguousarray(arr, dtype=np.float32), type_info))
 
-    def _set_array(self, cls: str, name: str, values: Any, type: str) -> "Geometry":
+    def _set_array(self, cls: str, name: str, values: Any, type: str, type_info: Optional[str]) -> "Geometry":
         rows = [values] if cls == "detail" else list(values)
         if type == "string array":
-            return Geometry(self.with_attrib(cls, name, type, [[str(x) for x in r] for r in rows]))
+            return Geometry(self.with_attrib(cls, name, type, [[str(x) for x in r] for r in rows], type_info))
         flat = [np.asarray(r, dtype=np.float64).reshape(-1).tolist() for r in rows]
-        return Geometry(self.with_attrib(cls, name, type, flat))
+        return Geometry(self.with_attrib(cls, name, type, flat, type_info))
 
     def remove_attrib(self, cls: str, name: str) -> "Geometry":
-        return Geometry(self.without_attrib(cls, name))
+        return Geometry(self.without_attrib(_class(cls), name))
 
     def set_group(self, cls: str, name: str, mask: Any) -> "Geometry":
         """A new geometry with point or prim group ``name`` from a boolean mask."""
-        return Geometry(self.with_group(cls, name, np.ascontiguousarray(mask, dtype=np.bool_)))
+        return Geometry(self.with_group(_class(cls), name, np.ascontiguousarray(mask, dtype=np.bool_)))
 
     # --- handing on --------------------------------------------------------
 
@@ -233,17 +248,42 @@ def _concat(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
     return np.ascontiguousarray(np.concatenate(parts).astype(dtype))
 
 
+def _indices(values: Any) -> np.ndarray:
+    """Point indices as int64, refusing what is not a whole number."""
+    arr = np.asarray(values)
+    if arr.size and arr.dtype.kind not in "iu":
+        raise invalid(f"point indices must be integers, not {arr.dtype}")
+    return arr.astype(np.int64).reshape(-1)
+
+
 def _flatten(prims: Any) -> tuple[np.ndarray, np.ndarray]:
     """Vertex counts and flat point indices of uniform (m, k) or ragged primitives."""
     if isinstance(prims, np.ndarray) and prims.ndim == 2:
         m, k = prims.shape
-        return np.full(m, k, dtype=np.int64), prims.reshape(-1).astype(np.int64)
-    seqs = [np.asarray(p, dtype=np.int64).reshape(-1) for p in prims]
+        return np.full(m, k, dtype=np.int64), _indices(prims)
+    seqs = [_indices(p) for p in prims]
     counts = np.array([len(s) for s in seqs], dtype=np.int64)
     flat = np.concatenate(seqs) if seqs else np.zeros(0, dtype=np.int64)
-    if flat.size and flat.min() < 0:
-        raise ValueError("point indices cannot be negative")
+    if flat.size and (flat.min() < 0 or flat.max() > np.iinfo(np.uint32).max):
+        raise invalid("point indices must be 0 or more and fit 32 bits")
     return counts, flat
+
+
+def _class(name: str) -> str:
+    """An attribute class by any of its names (``prim``, ``primitive``, ``points``...)."""
+    cls = _CLASS_NAMES.get(name)
+    if cls is None:
+        raise invalid(f"{name!r} is not an attribute class (point, vertex, prim, detail)")
+    return cls
+
+
+def _int32(arr: np.ndarray, what: str) -> np.ndarray:
+    """Integers as int32, refusing any that int32 cannot hold (rather than wrapping)."""
+    if arr.size and arr.dtype.kind in "iu":
+        lo, hi = np.iinfo(np.int32).min, np.iinfo(np.int32).max
+        if arr.min() < lo or arr.max() > hi:
+            raise invalid(f"{what}: integers from {lo} to {hi} only (int attributes are 32-bit)")
+    return np.ascontiguousarray(arr, dtype=np.int32)
 
 
 def _infer_type(arr: np.ndarray, cls: str, name: str) -> str:
@@ -257,6 +297,6 @@ def _infer_type(arr: np.ndarray, cls: str, name: str) -> str:
         t = _FLOAT_SHAPES.get(arr.shape[1:])
         if t:
             return t
-    raise ValueError(
+    raise invalid(
         f"{cls} attribute {name!r}: cannot tell the type of values of dtype {arr.dtype} and shape {arr.shape}; pass type="
     )

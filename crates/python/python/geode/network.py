@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import numbers
 import os
 from typing import Any, Iterable, Optional, Sequence, Union
 
 from . import _geode
 from ._display import network_svg
-from ._errors import NotFoundError
+from ._errors import error, invalid, not_found
+from ._geode import EditError
 from .geometry import Geometry
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -44,6 +46,12 @@ class Network:
     def from_json(cls, text: str, strict: bool = True) -> "Network":
         return cls(_geode.Network.from_json(text, strict))
 
+    def copy(self) -> "Network":
+        """Another network with this one's nodes, file (so ``$HIP``) and
+        ``python_input`` geometry, edited apart from it: one per thread when
+        a wedge edits parameters."""
+        return Network(self._net.copy())
+
     def to_json(self) -> str:
         """The document in canonical form (as ``geode fmt`` writes it)."""
         return self._net.to_json()
@@ -71,7 +79,7 @@ class Network:
             self._net._node_info(path)
         except KeyError:
             names = ", ".join(self._net._children(path.rsplit("/", 1)[0] or "/")) if path.count("/") == 1 else ""
-            raise NotFoundError("node", path, None, f"no such node{f' (nodes: {names})' if names else ''}") from None
+            raise not_found("node", path, None, f"no such node{f' (nodes: {names})' if names else ''}") from None
         return Node(self, path)
 
     @property
@@ -81,9 +89,11 @@ class Network:
 
     @property
     def output(self) -> Optional["Node"]:
-        """The node whose result is the network's (set a Node, a name, or None)."""
-        name = self._net._output("/")
-        return None if name is None else Node(self, "/" + name)
+        """The node whose result is the network's: the one set here (a Node,
+        a name), else the one with the display flag, as the file says it.
+        Setting None leaves it to the display flag."""
+        path = self._net._effective_output()
+        return None if path is None else Node(self, path)
 
     @output.setter
     def output(self, node: Union["Node", str, None]) -> None:
@@ -104,7 +114,7 @@ class Network:
         cancels the cook and raises ``KeyboardInterrupt``.
         """
         target = node.path if isinstance(node, Node) else node
-        return _wrap(self._net.cook(target, float(frame)))
+        return _wrap(self._net.cook(target, _frame(frame)))
 
     def __eq__(self, other: object) -> bool:
         return isinstance(other, Network) and self._net == other._net
@@ -117,6 +127,13 @@ class Network:
     def __repr__(self) -> str:
         names = self._net._children("/")
         return f"<geode.Network {len(names)} nodes{' from ' + self.path if self.path else ''}>"
+
+
+def _frame(frame: Any) -> float:
+    """A frame number; strings and the like are refused, not parsed."""
+    if isinstance(frame, bool) or not isinstance(frame, numbers.Real):
+        raise TypeError(f"a frame is a number, not {type(frame).__name__}")
+    return float(frame)
 
 
 def _name_of(node: Union["Node", str, None]) -> Optional[str]:
@@ -182,8 +199,14 @@ class Node:
         """Wires ``source`` (a sibling Node or its name, or ``"@0"``, ``"@meta"``
         inside a subnet or block) into input ``index``; None unwires it."""
         if isinstance(source, Node):
+            if source.network is not self.network:
+                raise error(EditError, "edit", self.path, None, f"{source.path} is a node of another network")
             src: Optional[str] = source.path
-        elif source is None or source.startswith("@") or source.startswith("/"):
+        elif source is None:
+            src = None
+        elif not isinstance(source, str):
+            raise TypeError(f"an input is a Node, a node's name or path, \"@0\"... or None, not {type(source).__name__}")
+        elif source.startswith("@") or source.startswith("/"):
             src = source
         else:
             src = f"{self.path.rsplit('/', 1)[0]}/{source}"
@@ -201,7 +224,7 @@ class Node:
         """The parameter ``name``; ``NotFoundError`` (a ``KeyError``) when the node has none."""
         names = self._net._param_names(self.path)
         if name not in names:
-            raise NotFoundError("parameter", self.path, name, f"no such parameter (it has: {', '.join(names)})")
+            raise not_found("parameter", self.path, name, f"no such parameter (it has: {', '.join(names)})")
         return Parm(self, name)
 
     def parms(self) -> list["Parm"]:
@@ -305,14 +328,14 @@ class Parm:
 
     def eval(self, frame: float = 1.0) -> Any:
         """The value at ``frame`` as the cook sees it (keys and expressions evaluated)."""
-        return self._net._eval_param(self.node.path, self.name, float(frame))
+        return self._net._eval_param(self.node.path, self.name, _frame(frame))
 
     def set_keys(self, keys: Iterable[Any], interp: Optional[str] = None) -> "Parm":
         """Replaces the value by keyframes: ``[(frame, value), ...]`` (a value
         is a sequence for a vector parameter, one channel per component) or
         dicts with ``frame``, ``value`` and optionally ``interp`` (constant,
         linear, bezier, ease), ``slope_in``, ``slope_out``."""
-        rows = [_key_row(k, interp) for k in keys]
+        rows = [_key_row(k, interp, self) for k in keys]
         if not rows:
             raise ValueError("set_keys needs at least one key")
         widths = {len(v) if isinstance(v, (list, tuple)) else 0 for _, v, _ in rows}
@@ -332,6 +355,8 @@ class Parm:
             return self.set({"expr": text})
         raw = self.raw
         values = list(raw) if isinstance(raw, list) else list(self.eval())
+        if not 0 <= component < len(values):
+            raise invalid(f"component {component} of a parameter of {len(values)}", self.node.path, self.name)
         values[component] = {"expr": text}
         return self.set(values)
 
@@ -348,7 +373,7 @@ class Parm:
         return f"<geode.Parm {self.node.path}/{self.name} = {self.raw!r}>"
 
 
-def _key_row(k: Any, interp: Optional[str]) -> tuple[float, Any, dict[str, Any]]:
+def _key_row(k: Any, interp: Optional[str], parm: "Parm") -> tuple[float, Any, dict[str, Any]]:
     if isinstance(k, dict):
         extra = {n: k[n] for n in ("interp", "slope_in", "slope_out") if n in k}
         frame, value = k["frame"], k["value"]
@@ -359,7 +384,10 @@ def _key_row(k: Any, interp: Optional[str]) -> tuple[float, Any, dict[str, Any]]
         extra.setdefault("interp", interp)
     if hasattr(value, "tolist"):
         value = value.tolist()
-    return float(frame), value, extra
+    parts = value if isinstance(value, (list, tuple)) else [value]
+    if not all(isinstance(v, numbers.Real) and not isinstance(v, bool) for v in parts):
+        raise invalid(f"a key's value is a number (or one per component), not {value!r}", parm.node.path, parm.name)
+    return _frame(frame), value, extra
 
 
 def _key_json(frame: float, value: Any, extra: dict[str, Any]) -> dict[str, Any]:

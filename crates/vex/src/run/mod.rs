@@ -84,18 +84,6 @@ pub(crate) fn elem_count(g: &Geometry, class: AttribClass) -> usize {
     }
 }
 
-/// The semantic tag a created attribute gets from its name.
-fn type_info(name: &str) -> TypeInfo {
-    match name {
-        "P" => TypeInfo::Position,
-        "N" => TypeInfo::Normal,
-        "v" | "up" | "accel" | "force" => TypeInfo::Vector,
-        "Cd" => TypeInfo::Color,
-        "orient" | "rot" => TypeInfo::Quaternion,
-        _ => TypeInfo::None,
-    }
-}
-
 /// Runs `p` on `out` (a copy of input 0, whose snapshot is `inputs[0]`).
 pub fn run(
     p: &Program,
@@ -128,7 +116,7 @@ pub fn run(
                         "@{} of type {}",
                         bind.name, bind.ty
                     )))?;
-                    Attribute::new(AttribValue::zero(ty), type_info(attrib), len)
+                    Attribute::new(AttribValue::zero(ty), TypeInfo::for_name(attrib), len)
                 }
             };
             taken.push((b, *c, attrib.clone(), attr));
