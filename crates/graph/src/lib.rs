@@ -7,6 +7,7 @@
 
 mod block;
 pub mod cache;
+pub mod catalogue;
 pub mod channel;
 mod compiled_param;
 pub mod container;

@@ -418,6 +418,36 @@ impl PyNetwork {
         Ok(d)
     }
 
+    /// A parameter's declaration (type, default, range, menu items, help) as
+    /// the studio reads it; a promoted one names the inner parameter.
+    fn _param_template<'py>(
+        &self,
+        py: Python<'py>,
+        path: &str,
+        param: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let s = self.lock();
+        let n = s.node(path)?;
+        if let Some(inner) = n.promote.get(param) {
+            return to_py(py, &serde_json::json!({"name": param, "promoted": inner}));
+        }
+        let spec = geode_graph::node_spec(registry(), &n.ty)
+            .and_then(|spec| spec.param(param))
+            .or_else(|| {
+                n.spare
+                    .get(param)
+                    .and_then(|ty| geode_op::ParamSpec::spare(ty))
+            })
+            .ok_or_else(|| not_found("parameter", path, Some(param), "no such parameter"))?;
+        let mut j = geode_graph::catalogue::param_json(spec);
+        if n.spare.contains_key(param) {
+            j["name"] = Json::String(param.to_owned());
+            j["label"] = Json::String(param.to_owned());
+            j["spare"] = Json::Bool(true);
+        }
+        to_py(py, &j)
+    }
+
     /// Every parameter the node takes: its type's, then its spare ones.
     fn _param_names(&self, path: &str) -> PyResult<Vec<String>> {
         let s = self.lock();

@@ -211,3 +211,24 @@ def test_the_output_is_the_named_node_else_the_display_flag():
     assert net.output == a and net.cook().num_points == 8
     net.output = None
     assert net.output == b and net.cook().num_points == net.cook(b).num_points
+
+
+def test_parameters_and_node_types_describe_themselves_as_the_studio_reads_them():
+    box = geode.node_type("box")
+    assert box["category"] and box["output"] == "geometry"
+    size = next(p for p in box["params"] if p["name"] == "size")
+    assert (size["type"], size["default"], size["min"]) == ("vec3", [1.0, 1.0, 1.0], 0.0)
+    net = geode.Network()
+    normals = net.create_node("normals", "n")
+    menu = normals.parm("class").template
+    assert menu["type"] == "menu" and menu["default"] in menu["items"]
+    # The template says what the parameter takes; a value outside it is refused.
+    with pytest.raises(geode.LoadError) as e:
+        normals.parm("class").set("edge")
+    assert e.value.param == "class" and all(item in e.value.message for item in menu["items"])
+    w = net.create_node("wrangle", "w")
+    w.add_spare("amp", "float")
+    assert w.parm("amp").template["spare"] is True
+    assert [name for name, _, _ in geode.node_types()] == sorted(name for name, _, _ in geode.node_types())
+    with pytest.raises(geode.NotFoundError, match="did you mean box"):
+        geode.node_type("bxo")

@@ -2,7 +2,6 @@
 //!
 //! Nothing depends on this crate but the CLI; it sits on graph, nodes and io.
 
-mod catalogue;
 mod cooker;
 mod delta;
 /// The document edits the studio sends (they live in `geode_graph::edit`).
@@ -120,7 +119,9 @@ pub fn start(opts: Options) -> Result<Running, ServeError> {
     let registry = Arc::new(geode_nodes::registry());
     let session = Session::open(opts.network.as_deref(), registry.clone())?;
     let files = confinement(opts.network.as_deref(), &opts.allow)?;
-    let catalogue: Arc<str> = catalogue::catalogue(&registry).to_string().into();
+    let catalogue: Arc<str> = geode_graph::catalogue::catalogue(&registry)
+        .to_string()
+        .into();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()

@@ -418,6 +418,6 @@ fn param_json(v: &geode_op::ParamValue) -> Json {
                 .map(|r| Json::Array(r.iter().map(param_json).collect()))
                 .collect(),
         ),
-        V::Ramp(r) => crate::catalogue::ramp_keys_json(r.kind(), r.keys()),
+        V::Ramp(r) => geode_graph::catalogue::ramp_keys_json(r.kind(), r.keys()),
     }
 }

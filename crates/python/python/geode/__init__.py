@@ -21,6 +21,7 @@ from ._geode import (
     LoadError,
     NotFoundError,
     __version__,
+    node_type,
     node_types,
 )
 from .geometry import Geometry
@@ -39,5 +40,6 @@ __all__ = [
     "NotFoundError",
     "Parm",
     "__version__",
+    "node_type",
     "node_types",
 ]

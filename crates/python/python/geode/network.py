@@ -318,6 +318,13 @@ class Parm:
         self._net._set_param(self.node.path, self.name, value)
         return self
 
+    @property
+    def template(self) -> dict[str, Any]:
+        """The parameter's declaration, as Houdini's ``parmTemplate``: ``type``,
+        ``label``, ``default``, ``min``, ``max``, ``animatable``, ``help``,
+        ``items`` for a menu, ``fields`` for list rows and ramps."""
+        return self._net._param_template(self.node.path, self.name)
+
     def revert(self) -> "Parm":
         return self.set(None)
 
