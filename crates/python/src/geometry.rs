@@ -519,6 +519,17 @@ fn float_column(ty: AttribType, f: &[f32], len: usize) -> PyResult<AttribData> {
     })
 }
 
+/// An int array's element: a whole number int32 holds, never truncated.
+fn whole(x: f64) -> PyResult<i32> {
+    if x.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+        Ok(x as i32)
+    } else {
+        Err(invalid(format!(
+            "an int array holds whole numbers of 32 bits, not {x}"
+        )))
+    }
+}
+
 /// A string column, each distinct string stored once.
 fn string_column(values: Vec<String>) -> geode_geo::StringColumn {
     let mut ids = std::collections::HashMap::new();
@@ -539,8 +550,8 @@ fn array_column(ty: AttribType, a: Vec<Vec<f64>>) -> PyResult<AttribData> {
     Ok(match ty {
         AttribType::IntArray => AttribData::IntArray(
             a.into_iter()
-                .map(|v| v.into_iter().map(|x| x as i32).collect())
-                .collect(),
+                .map(|v| v.into_iter().map(whole).collect::<PyResult<Vec<i32>>>())
+                .collect::<PyResult<_>>()?,
         ),
         AttribType::FloatArray => AttribData::FloatArray(
             a.into_iter()

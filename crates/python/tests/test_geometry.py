@@ -263,6 +263,8 @@ def test_arrays_geode_cannot_take_as_they_are_are_refused_not_reinterpreted():
         geode.Geometry.from_arrays(POINTS, polygons=[[0, 1, 60]])
     with pytest.raises(geode.InvalidValueError, match="32-bit"):
         base().set_attrib("point", "id", np.array([2**40] * 6))
+    with pytest.raises(geode.InvalidValueError, match="whole numbers"):
+        base().set_attrib("point", "ids", [[1.5]] * 6, type="int array")
     with pytest.raises(geode.InvalidValueError, match="not an attribute type"):
         base().set_attrib("point", "id", [1] * 6, type="intarray")
     # Every spelling of a class the reading side takes, the writing side takes too.
