@@ -47,7 +47,7 @@ pub enum IoError {
     /// The write was cancelled; nothing was written.
     #[error("{}: cancelled, nothing was written", path.display())]
     Cancelled { path: PathBuf },
-    /// Writing would need more memory than the budget allows.
+    /// Reading or writing would need more memory than the budget allows.
     #[error("{}: {message}", path.display())]
     TooLarge { path: PathBuf, message: String },
 }
@@ -88,6 +88,9 @@ pub(crate) fn refuse_packed(
 pub struct ParseError {
     pub pos: Option<Position>,
     pub message: String,
+    /// The file is well formed but its counts need more memory than the
+    /// budget: an `IoError::TooLarge`, not a malformed file.
+    pub over_budget: bool,
 }
 
 impl ParseError {
@@ -95,6 +98,7 @@ impl ParseError {
         ParseError {
             pos: Some(Position::Line(line)),
             message: message.into(),
+            over_budget: false,
         }
     }
 
@@ -102,6 +106,7 @@ impl ParseError {
         ParseError {
             pos: Some(Position::Byte(offset)),
             message: message.into(),
+            over_budget: false,
         }
     }
 
@@ -109,10 +114,34 @@ impl ParseError {
         ParseError {
             pos: None,
             message: message.into(),
+            over_budget: false,
+        }
+    }
+
+    /// Counts that would need more memory than the budget.
+    pub fn over_budget(message: impl Into<String>) -> ParseError {
+        ParseError {
+            over_budget: true,
+            ..ParseError::whole(message)
+        }
+    }
+
+    /// The same error, its message prefixed with where in the document it is.
+    pub fn within(self, what: impl std::fmt::Display) -> ParseError {
+        ParseError {
+            message: format!("{what}: {}", self.message),
+            pos: None,
+            ..self
         }
     }
 
     pub fn in_file(self, path: impl Into<PathBuf>) -> IoError {
+        if self.over_budget {
+            return IoError::TooLarge {
+                path: path.into(),
+                message: self.message,
+            };
+        }
         IoError::Parse {
             path: path.into(),
             pos: self.pos,

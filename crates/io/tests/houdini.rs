@@ -511,11 +511,14 @@ fn counts_beyond_the_memory_budget_are_refused_before_allocating() {
         let path = Path::new("x.geo");
         let bytes = write_bytes(&g, format, path, &NoProgress).unwrap();
         let e = read_bytes(&bytes, format, path, &Within(10_000)).unwrap_err();
+        // Of the budget's kind (a cook over it is a resource error), not a malformed file.
+        assert!(matches!(e, geode_io::IoError::TooLarge { .. }), "{e:?}");
         assert_eq!(
             e.to_string(),
             "x.geo: pointcount: 2048 points, 0 vertices and 0 primitives would need 24.6 KB, more than the memory budget of 10.0 KB (GEODE_MEMORY_MB)"
         );
         let e = read_bytes(&bytes, format, path, &Within(100_000)).unwrap_err();
+        assert!(matches!(e, geode_io::IoError::TooLarge { .. }), "{e:?}");
         assert_eq!(
             e.to_string(),
             "x.geo: pointattributes `xform`: 2048 elements of 16 values would need 262 KB, more than the memory budget of 100 KB (GEODE_MEMORY_MB)"

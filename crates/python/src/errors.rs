@@ -245,7 +245,21 @@ pub fn usage(
     }])
 }
 
+/// A file geode-io refused: over the memory budget it is of kind
+/// `resource`, as a cook's is; anything else `io`.
+pub fn read_error(path: &std::path::Path, e: &geode_io::IoError) -> PyErr {
+    let kind = match e {
+        geode_io::IoError::TooLarge { .. } => "resource",
+        _ => "io",
+    };
+    file_problem(path, e, kind)
+}
+
 pub fn file_error(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {
+    file_problem(path, e, "io")
+}
+
+fn file_problem(path: &std::path::Path, e: impl std::fmt::Display, kind: &'static str) -> PyErr {
     let shown = path.display().to_string();
     let text = e.to_string();
     // geode's I/O errors begin with the path already: say it once.
@@ -254,7 +268,7 @@ pub fn file_error(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {
         .unwrap_or(&text)
         .to_owned();
     raise::<FileError>(vec![Problem {
-        kind: "io",
+        kind,
         path: shown,
         param: None,
         message,

@@ -15,7 +15,7 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::errors::{file_error, invalid, not_found, usage};
+use crate::errors::{file_error, invalid, not_found, read_error, usage};
 
 /// A geometry, immutable: every change makes a new one (`with_attrib`),
 /// so the arrays handed out stay valid and unchanged while they live.
@@ -371,20 +371,25 @@ impl PyGeometry {
     /// Reads a geometry file (any format geode reads).
     #[staticmethod]
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyGeometry> {
-        let g = py
-            .detach(|| geode_io::read(&path, &NoProgress))
-            .map_err(|e| file_error(&path, e))?;
+        let from = path.clone();
+        let g = crate::cancel::run_interruptibly(py, move |cancel| {
+            geode_io::read(&from, &FileProgress::new(cancel))
+        })?
+        .map_err(|e| read_error(&path, &e))?;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
     /// Writes the geometry atomically; the extension picks the format
-    /// (.obj .stl .ply .glb .usda .geo .bgeo).
+    /// (.obj .stl .ply .glb .usda .geo .bgeo). Ctrl-C stops a long write
+    /// and leaves nothing behind.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let geo = &self.geo;
-        py.detach(|| -> Result<(), String> {
-            let g = geode_nodes::for_file(geo, &path).map_err(|e| e.to_string())?;
-            geode_io::write(&g, &path, &NoProgress).map_err(|e| e.to_string())
-        })
+        let geo = self.geo.clone();
+        let to = path.clone();
+        crate::cancel::run_interruptibly(py, move |cancel| -> Result<(), String> {
+            let g = geode_nodes::for_file(&geo, &to).map_err(|e| e.to_string())?;
+            let progress = FileProgress::new(cancel);
+            geode_io::write_limited(&g, &to, &progress, progress.budget).map_err(|e| e.to_string())
+        })?
         .map_err(|e| file_error(&path, e))
     }
 
@@ -574,6 +579,27 @@ fn array_column(ty: AttribType, a: Vec<Vec<f64>>) -> PyResult<AttribData> {
     })
 }
 
-/// geode-io's progress for Python's reads and writes: no bar, no cancel.
-struct NoProgress;
-impl geode_io::Progress for NoProgress {}
+/// geode-io's progress for Python's reads and writes: Ctrl-C cancels, and
+/// `GEODE_MEMORY_MB`'s budget refuses a file too big before it is read.
+struct FileProgress {
+    cancel: geode_op::CancelToken,
+    budget: u64,
+}
+
+impl FileProgress {
+    fn new(cancel: geode_op::CancelToken) -> FileProgress {
+        FileProgress {
+            cancel,
+            budget: geode_op::budget_from_env(),
+        }
+    }
+}
+
+impl geode_io::Progress for FileProgress {
+    fn cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+    fn memory_budget(&self) -> u64 {
+        self.budget
+    }
+}

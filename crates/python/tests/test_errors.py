@@ -145,3 +145,25 @@ def test_mistakes_found_by_a_new_user_are_errors_that_say_what_to_fix(tmp_path):
     assert "missing" in e.value.message and "does not exist" in e.value.message
     assert ".geode-tmp" not in str(e.value)
     assert str(e.value).count(str(tmp_path / "missing" / "box.obj")) == 1
+
+
+def test_a_file_over_the_memory_budget_is_refused_before_it_is_read(tmp_path):
+    import subprocess
+    import sys
+
+    net = geode.Network()
+    grid = net.create_node("grid", "g", params={"rows": 600, "columns": 600})
+    path = tmp_path / "big.bgeo"
+    net.cook(grid).save(path)
+    script = (
+        "import geode, sys\n"
+        "try:\n"
+        f"    geode.Geometry.load({str(path)!r})\n"
+        "except geode.FileError as e:\n"
+        "    print(e.kind, e.message)\n"
+    )
+    env = dict(__import__("os").environ, GEODE_MEMORY_MB="1")
+    out = subprocess.run([sys.executable, "-c", script], env=env, capture_output=True, text=True, check=True).stdout
+    assert out.startswith("resource "), out
+    assert "GEODE_MEMORY_MB" in out or "budget" in out, out
+    assert geode.Geometry.load(path).num_points == net.cook(grid).num_points

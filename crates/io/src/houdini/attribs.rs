@@ -21,7 +21,7 @@ pub(super) fn decode_values(
 ) -> ParseResult<Vec<f64>> {
     let bytes = (n as u64).saturating_mul(size as u64).saturating_mul(8);
     if bytes > budget {
-        return Err(ParseError::whole(format!(
+        return Err(ParseError::over_budget(format!(
             "{n} elements of {size} values would need {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
             geode_geo::human_bytes(bytes as f64),
             geode_geo::human_bytes(budget as f64)
@@ -187,10 +187,10 @@ pub(super) fn attribute(
         .map(type_info_from_name)
         .unwrap_or(TypeInfo::None);
     let attrib = match header.get("type").and_then(Json::as_str).unwrap_or("") {
-        "numeric" => numeric(body, n, info, budget).map_err(|e| bad(&what, e.message))?,
+        "numeric" => numeric(body, n, info, budget).map_err(|e| e.within(&what))?,
         // String tuples (Houdini's `varmap`) have no geode type.
         "string" if body.get("size").and_then(Json::as_i64).unwrap_or(1) != 1 => None,
-        "string" => Some(strings(body, n, budget).map_err(|e| bad(&what, e.message))?),
+        "string" => Some(strings(body, n, budget).map_err(|e| e.within(&what))?),
         ARRAY_TYPE => Some(arrays(body, n).map_err(|e| bad(&what, e.message))?),
         STRING_ARRAY_TYPE => Some(string_arrays(body, n).map_err(|e| bad(&what, e.message))?),
         _ => None,

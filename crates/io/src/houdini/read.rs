@@ -136,17 +136,14 @@ impl Counts {
             .saturating_add(counts.vertices as u64 * 4)
             .saturating_add(counts.prims as u64 * 16);
         if bytes > budget {
-            return Err(bad(
-                "pointcount",
-                format!(
-                    "{} points, {} vertices and {} primitives would need {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
-                    counts.points,
-                    counts.vertices,
-                    counts.prims,
-                    geode_geo::human_bytes(bytes as f64),
-                    geode_geo::human_bytes(budget as f64)
-                ),
-            ));
+            return Err(ParseError::over_budget(format!(
+                "pointcount: {} points, {} vertices and {} primitives would need {}, more than the memory budget of {} (GEODE_MEMORY_MB)",
+                counts.points,
+                counts.vertices,
+                counts.prims,
+                geode_geo::human_bytes(bytes as f64),
+                geode_geo::human_bytes(budget as f64)
+            )));
         }
         Ok(counts)
     }
@@ -501,8 +498,8 @@ fn positions(doc: &Json, n: usize, budget: u64) -> ParseResult<Vec<Vec3>> {
                 format!("tuple size {size}, expected 3 (or 4)"),
             ));
         }
-        let flat = decode_values(values, n, size, budget)
-            .map_err(|e| bad("pointattributes `P`", e.message))?;
+        let flat =
+            decode_values(values, n, size, budget).map_err(|e| e.within("pointattributes `P`"))?;
         return Ok(flat
             .chunks_exact(size)
             .map(|c| Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32))
