@@ -398,9 +398,9 @@ impl PyGeometry {
     /// them. Ctrl-C stops a long drawing.
     #[pyo3(signature = (size = 320))]
     fn png<'py>(&self, py: Python<'py>, size: usize) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
-        if !(16..=4096).contains(&size) {
+        if !(16..=1024).contains(&size) {
             return Err(invalid(format!(
-                "a picture is 16 to 4096 pixels a side, not {size}"
+                "a picture is 16 to 1024 pixels a side, not {size}"
             )));
         }
         let geo = self.geo.clone();

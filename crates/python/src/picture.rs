@@ -1,7 +1,10 @@
 //! A geometry drawn as a small PNG for Jupyter: its polygons flat-shaded with a depth buffer, its polylines and lone points over them, from the three-quarter view that shows the most of it.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use geode_geo::{AttribClass, Geometry, PrimKind};
 use glam::{Mat3, Vec3};
+use rayon::prelude::*;
 
 const BACKGROUND: [f32; 3] = [0.17, 0.17, 0.17];
 const LINE: [f32; 3] = [1.0, 0.8, 0.4];
@@ -115,6 +118,18 @@ impl Canvas {
         }
     }
 
+    /// `self` with `later` drawn under it: each sample the nearer of the
+    /// two, `self`'s on a tie (it holds the earlier primitives).
+    fn under(mut self, later: Canvas) -> Canvas {
+        for i in 0..self.depth.len() {
+            if later.depth[i] > self.depth[i] {
+                self.depth[i] = later.depth[i];
+                self.color[i] = later.color[i];
+            }
+        }
+        self
+    }
+
     /// Averages each block of samples into a pixel.
     fn resolve(&self, size: usize) -> Picture {
         let mut rgb = Vec::with_capacity(size * size * 3);
@@ -139,93 +154,169 @@ impl Canvas {
 }
 
 /// Draws `g` in a `size` x `size` picture; None when `cancelled` says to stop.
-pub fn draw(g: &Geometry, size: usize, cancelled: &dyn Fn() -> bool) -> Option<Picture> {
+///
+/// The polygons are drawn in parallel, each worker into a canvas of its own
+/// over a run of primitives; the canvases merge in run order, nearest first
+/// and the earlier primitive winning a tie, so the picture is the same on
+/// any thread count.
+pub fn draw(g: &Geometry, size: usize, cancelled: &(dyn Fn() -> bool + Sync)) -> Option<Picture> {
     let side = size * SUPERSAMPLE;
-    let mut canvas = Canvas::new(side);
-    let points = g.positions();
-    let finite: Vec<Vec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
-    if finite.is_empty() {
-        return Some(canvas.resolve(size));
-    }
-    let (lo, hi) = finite.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-    );
-    let centre = (lo + hi) * 0.5;
-    let r = best_view(&finite, centre);
-    let extent = finite
-        .iter()
-        .step_by((finite.len() / 4000).max(1))
-        .map(|p| {
-            let q = r * (*p - centre);
-            q.x.abs().max(q.y.abs())
+    let Some(view) = View::fit(g.positions(), side) else {
+        return Some(Canvas::new(side).resolve(size));
+    };
+    let screen: Vec<Vec3> = g.positions().par_iter().map(|p| view.screen(*p)).collect();
+    let stop = AtomicBool::new(false);
+    let runs = runs(g.num_prims(), side);
+    let canvases: Vec<Canvas> = runs
+        .into_par_iter()
+        .map(|run| {
+            let mut canvas = Canvas::new(side);
+            for prim in run {
+                if prim % PRIMS_PER_CHECK == 0 && (stop.load(Ordering::Relaxed) || cancelled()) {
+                    stop.store(true, Ordering::Relaxed);
+                    break;
+                }
+                if g.prim_kind(prim) == PrimKind::Polygon {
+                    shade_polygon(&mut canvas, g, prim, &view, &screen);
+                }
+            }
+            canvas
         })
-        .fold(0.0f32, f32::max)
-        .max((hi - lo).length() * 0.25)
-        .max(1e-9);
-    let scale = 0.45 * side as f32 / extent;
-    let screen = |p: Vec3| {
-        let q = r * (p - centre);
+        .collect();
+    let mut canvas = canvases
+        .into_iter()
+        .reduce(Canvas::under)
+        .unwrap_or_else(|| Canvas::new(side));
+    if stop.load(Ordering::Relaxed) {
+        return None;
+    }
+    overlay(&mut canvas, g, &screen);
+    Some(canvas.resolve(size))
+}
+
+/// Primitives drawn between two looks at whether to stop.
+const PRIMS_PER_CHECK: usize = 4096;
+
+/// The memory the workers' canvases may take together.
+const CANVAS_BYTES: usize = 256 << 20;
+
+/// The primitives cut into one run per worker, as many as the thread pool
+/// and `CANVAS_BYTES` allow (each run draws into a canvas of its own).
+fn runs(prims: usize, side: usize) -> Vec<std::ops::Range<usize>> {
+    let canvas = side * side * (std::mem::size_of::<[f32; 3]>() + std::mem::size_of::<f32>());
+    let workers = rayon::current_num_threads()
+        .min(CANVAS_BYTES / canvas.max(1))
+        .min(prims.div_ceil(PRIMS_PER_CHECK))
+        .max(1);
+    let len = prims.div_ceil(workers).max(1);
+    (0..prims)
+        .step_by(len)
+        .map(|s| s..(s + len).min(prims))
+        .collect()
+}
+
+/// The camera fitted to the points: rotation, centre and scale to samples.
+struct View {
+    rotation: Mat3,
+    centre: Vec3,
+    scale: f32,
+    half: f32,
+}
+
+impl View {
+    /// The view of [`best_view`] framing the finite points; None without any.
+    fn fit(points: &[Vec3], side: usize) -> Option<View> {
+        let finite: Vec<Vec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
+        if finite.is_empty() {
+            return None;
+        }
+        let (lo, hi) = finite.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let centre = (lo + hi) * 0.5;
+        let rotation = best_view(&finite, centre);
+        let extent = finite
+            .iter()
+            .step_by((finite.len() / 4000).max(1))
+            .map(|p| {
+                let q = rotation * (*p - centre);
+                q.x.abs().max(q.y.abs())
+            })
+            .fold(0.0f32, f32::max)
+            .max((hi - lo).length() * 0.25)
+            .max(1e-9);
+        Some(View {
+            rotation,
+            centre,
+            scale: 0.45 * side as f32 / extent,
+            half: side as f32 * 0.5,
+        })
+    }
+
+    /// A point in samples (x right, y down) with its depth (larger is nearer).
+    fn screen(&self, p: Vec3) -> Vec3 {
+        let q = self.rotation * (p - self.centre);
         Vec3::new(
-            side as f32 * 0.5 + q.x * scale,
-            side as f32 * 0.5 - q.y * scale,
+            self.half + q.x * self.scale,
+            self.half - q.y * self.scale,
             q.z,
         )
-    };
+    }
+}
+
+/// One polygon's triangles, flat-shaded by their facing and coloured by
+/// `Cd` as Houdini's viewport takes it (the primitive's, else its points').
+fn shade_polygon(canvas: &mut Canvas, g: &Geometry, prim: usize, view: &View, screen: &[Vec3]) {
     let light = Vec3::new(0.3, 0.5, 0.8).normalize();
-    // Colours as Houdini's viewport takes them: the primitives' Cd, else the points'.
     let prim_cd = g
         .attrib(AttribClass::Primitive, "Cd")
         .and_then(|a| a.as_vec3());
     let point_cd = g.attrib(AttribClass::Point, "Cd").and_then(|a| a.as_vec3());
-    let mut corners = Vec::new();
-    let mut drawn_prim = false;
+    let points = g.positions();
+    let pts = g.prim_points(prim);
+    let mut corners = Vec::with_capacity(pts.len().saturating_sub(2));
+    geode_geo::ops::triangulate_polygon(points, pts, &mut corners);
+    for t in &corners {
+        let ids = t.map(|k| pts[k as usize] as usize);
+        let [a, b, c] = ids.map(|i| points[i]);
+        let n = (view.rotation * (b - a).cross(c - a)).normalize_or_zero();
+        let shade = 0.35 + 0.65 * n.dot(light).abs();
+        let base = match (prim_cd, point_cd) {
+            (Some(cd), _) => cd[prim],
+            (None, Some(cd)) => (cd[ids[0]] + cd[ids[1]] + cd[ids[2]]) / 3.0,
+            _ => Vec3::new(0.9, 0.9, 1.0),
+        };
+        let color = (base.clamp(Vec3::ZERO, Vec3::ONE) * shade).to_array();
+        canvas.triangle(screen[ids[0]], screen[ids[1]], screen[ids[2]], color);
+    }
+}
+
+/// Polylines, packed instances and patches (as their first point) over the
+/// shaded polygons; a geometry of points alone as its points.
+fn overlay(canvas: &mut Canvas, g: &Geometry, screen: &[Vec3]) {
+    let mut any = false;
     for prim in 0..g.num_prims() {
-        if prim % 4096 == 0 && cancelled() {
-            return None;
-        }
         let pts = g.prim_points(prim);
         match g.prim_kind(prim) {
-            PrimKind::Polygon => {
-                corners.clear();
-                geode_geo::ops::triangulate_polygon(points, pts, &mut corners);
-                for t in &corners {
-                    let ids = t.map(|k| pts[k as usize] as usize);
-                    let [a, b, c] = ids.map(|i| points[i]);
-                    let n = (r * (b - a).cross(c - a)).normalize_or_zero();
-                    let shade = 0.35 + 0.65 * n.dot(light).abs();
-                    let base = match (prim_cd, point_cd) {
-                        (Some(cd), _) => cd[prim],
-                        (None, Some(cd)) => (cd[ids[0]] + cd[ids[1]] + cd[ids[2]]) / 3.0,
-                        _ => Vec3::new(0.9, 0.9, 1.0),
-                    };
-                    let color = (base.clamp(Vec3::ZERO, Vec3::ONE) * shade).to_array();
-                    canvas.triangle(screen(a), screen(b), screen(c), color);
-                }
-                drawn_prim = true;
-            }
+            PrimKind::Polygon => {}
             PrimKind::Polyline => {
                 for w in pts.windows(2) {
-                    canvas.line(
-                        screen(points[w[0] as usize]),
-                        screen(points[w[1] as usize]),
-                        LINE,
-                    );
+                    canvas.line(screen[w[0] as usize], screen[w[1] as usize], LINE);
                 }
-                drawn_prim = true;
             }
             PrimKind::Packed(_) | PrimKind::Patch(_) => {
-                canvas.dot(screen(points[pts[0] as usize]), POINT, SUPERSAMPLE);
-                drawn_prim = true;
+                canvas.dot(screen[pts[0] as usize], POINT, SUPERSAMPLE);
             }
         }
+        any = true;
     }
-    if !drawn_prim {
+    if !any {
+        let finite: Vec<&Vec3> = screen.iter().filter(|p| p.is_finite()).collect();
         for p in finite.iter().step_by((finite.len() / 200_000).max(1)) {
-            canvas.dot(screen(*p), POINT, SUPERSAMPLE / 2);
+            canvas.dot(**p, POINT, SUPERSAMPLE / 2);
         }
     }
-    Some(canvas.resolve(size))
 }
 
 /// The picture as PNG bytes.

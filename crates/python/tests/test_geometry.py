@@ -272,3 +272,34 @@ def test_arrays_geode_cannot_take_as_they_are_are_refused_not_reinterpreted():
     with pytest.raises(geode.NotFoundError) as e:
         base().points["nope"]
     assert e.value.kind == "attribute" and "nope" in str(e.value)
+
+
+def test_the_picture_is_the_same_on_any_thread_count():
+    import hashlib
+    import os
+    import subprocess
+    import sys
+
+    # Enough primitives for several workers' runs, which must merge to the
+    # same picture: two interpenetrating coloured spheres (depth ties where
+    # they meet).
+    script = (
+        "import geode, hashlib\n"
+        "net = geode.Network()\n"
+        "a = net.create_node('sphere', 'a', params={'rows': 120, 'columns': 240})\n"
+        "b = net.create_node('transform', 'b', params={'translate': [0.5, 0, 0]}).set_input(0, a)\n"
+        "m = net.create_node('merge', 'm').set_inputs([a, b])\n"
+        "c = net.create_node('wrangle', 'c', params={'snippet': '@Cd = set(rand(@ptnum), 0.5, rand(@ptnum + 7));'}).set_input(0, m)\n"
+        "print(hashlib.sha256(net.cook(c).png(256)).hexdigest())\n"
+    )
+    digests = {
+        threads: subprocess.run(
+            [sys.executable, "-c", script],
+            env=dict(os.environ, RAYON_NUM_THREADS=str(threads)),
+            capture_output=True,
+            text=True,
+            check=True,
+        ).stdout
+        for threads in (1, 2, 3)
+    }
+    assert len(set(digests.values())) == 1, digests
