@@ -52,7 +52,7 @@ where
         .tempfile_in(dir)
         // tempfile names its temporary file in the error; the user named
         // only the target.
-        .map_err(|e| IoError::os(path, bare(&e)))?;
+        .map_err(|e| IoError::os(path, bare(&e, dir)))?;
     {
         let mut w = BufWriter::with_capacity(1 << 20, tmp.as_file());
         body(&mut w)?;
@@ -65,11 +65,17 @@ where
     Ok(())
 }
 
-/// The system's error without the temporary file's name tempfile adds.
-fn bare(e: &std::io::Error) -> std::io::Error {
-    e.raw_os_error()
-        .map(std::io::Error::from_raw_os_error)
-        .unwrap_or_else(|| std::io::Error::from(e.kind()))
+/// The system's error without the temporary file's name tempfile adds,
+/// saying that no file could be made in `dir`.
+fn bare(e: &std::io::Error, dir: &Path) -> std::io::Error {
+    let why = match e.raw_os_error() {
+        Some(code) => std::io::Error::from_raw_os_error(code).to_string(),
+        None => e.kind().to_string(),
+    };
+    std::io::Error::new(
+        e.kind(),
+        format!("no file can be made in {}: {why}", dir.display()),
+    )
 }
 
 /// Temporary files are `.geode-tmp-<pid>-<random>`.

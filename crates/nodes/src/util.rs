@@ -224,10 +224,7 @@ pub fn attribute_name(
     param: &geode_op::ParamSpec,
     name: &str,
 ) -> Result<(), CookError> {
-    if name.is_empty()
-        || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        || name.starts_with(|c: char| c.is_ascii_digit())
-    {
+    if !geode_geo::attrib::is_valid_name(name) {
         return Err(ctx.param_error(
             param,
             format!("`{name}` is not a valid attribute name (letters, digits and _, not starting with a digit)"),

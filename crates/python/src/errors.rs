@@ -200,12 +200,17 @@ pub fn not_found(
 
 /// A value geode cannot use (a shape, a type, a range): a `GeodeError` and a `ValueError`.
 pub fn invalid(message: impl Into<String>) -> PyErr {
+    invalid_at("", None, message)
+}
+
+/// [`invalid`] for the value given to parameter `param` of node `path`.
+pub fn invalid_at(path: &str, param: Option<&str>, message: impl Into<String>) -> PyErr {
     raise_as(
         &INVALID,
         Problem {
             kind: "value",
-            path: String::new(),
-            param: None,
+            path: path.to_owned(),
+            param: param.map(str::to_owned),
             message: message.into(),
         },
     )
@@ -253,6 +258,18 @@ pub fn read_error(path: &std::path::Path, e: &geode_io::IoError) -> PyErr {
         _ => "io",
     };
     file_problem(path, e, kind)
+}
+
+/// A file read refused before it began: too big for the memory budget is
+/// `resource`, a cancelled read Ctrl-C's `KeyboardInterrupt`.
+pub fn refused_error(path: &std::path::Path, e: &geode_op::FileRefusal) -> PyErr {
+    match e {
+        geode_op::FileRefusal::TooLarge { .. } => file_problem(path, e, "resource"),
+        geode_op::FileRefusal::Cancelled => {
+            pyo3::exceptions::PyKeyboardInterrupt::new_err("the read was cancelled")
+        }
+        _ => file_problem(path, e, "io"),
+    }
 }
 
 pub fn file_error(path: &std::path::Path, e: impl std::fmt::Display) -> PyErr {

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use geode_geo::{
     AttribClass, AttribData, AttribType, Attribute, Geometry, Group, PrimKind, TypeInfo,
 };
-use glam::{Mat3, Mat4, Quat, Vec2, Vec3, Vec4};
+use glam::Vec3;
 use numpy::ndarray::{ArrayViewD, IxDyn};
 use numpy::{
     Element, PyArray1, PyArrayDyn, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
@@ -15,7 +15,7 @@ use numpy::{
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::errors::{file_error, invalid, not_found, read_error, usage};
+use crate::errors::{file_error, invalid, not_found, read_error, refused_error};
 
 /// A geometry, immutable: every change makes a new one (`with_attrib`),
 /// so the arrays handed out stay valid and unchanged while they live.
@@ -270,7 +270,8 @@ impl PyGeometry {
             AttribType::StringArray => AttribData::StringArray(values.extract()?),
             _ => {
                 let floats: PyReadonlyArrayDyn<'_, f32> = values.extract()?;
-                float_column(ty, floats.as_slice()?, expected)?
+                let what = format!("{class} attribute `{name}`");
+                float_column(ty, floats.as_slice()?, expected, &what)?
             }
         };
         if data.len() != expected {
@@ -279,17 +280,11 @@ impl PyGeometry {
                 data.len()
             )));
         }
+        check_name(name)?;
         let info = self.type_info(class, name, ty, type_info)?;
         let mut g = (*self.geo).clone();
         g.set_attrib(class, name, Attribute::from_data(data, info))
-            .map_err(|e| {
-                usage(
-                    "attribute",
-                    "",
-                    None,
-                    format!("{class} attribute `{name}`: {e}"),
-                )
-            })?;
+            .map_err(|e| invalid(e.to_string()))?;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
@@ -297,7 +292,7 @@ impl PyGeometry {
     fn without_attrib(&self, class: &str, name: &str) -> PyResult<PyGeometry> {
         let mut g = (*self.geo).clone();
         g.remove_attrib(class_of(class)?, name)
-            .map_err(|e| usage("attribute", "", None, e.to_string()))?;
+            .map_err(|e| invalid(e.to_string()))?;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
@@ -308,6 +303,7 @@ impl PyGeometry {
         name: &str,
         mask: PyReadonlyArray1<'_, bool>,
     ) -> PyResult<PyGeometry> {
+        check_name(name)?;
         let mask = mask.as_slice()?;
         let mut g = (*self.geo).clone();
         let group = Group::from_flags(mask.iter().copied());
@@ -328,7 +324,7 @@ impl PyGeometry {
         } else {
             g.set_prim_group(name, group)
         };
-        set.map_err(|e| usage("group", "", None, e.to_string()))?;
+        set.map_err(|e| invalid(e.to_string()))?;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
@@ -364,7 +360,7 @@ impl PyGeometry {
             .collect();
         let g = py
             .detach(|| Geometry::from_prims(positions, vp, &counts, kinds))
-            .map_err(|e| usage("geometry", "", None, e.to_string()))?;
+            .map_err(|e| invalid(e.to_string()))?;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
@@ -373,9 +369,16 @@ impl PyGeometry {
     fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyGeometry> {
         let from = path.clone();
         let g = crate::cancel::run_interruptibly(py, move |cancel| {
-            geode_io::read(&from, &FileProgress::new(cancel))
-        })?
-        .map_err(|e| read_error(&path, &e))?;
+            // Read as the file node reads: the format first, then the bytes,
+            // a file bigger than the memory budget refused before it is read.
+            let progress = FileProgress::new(cancel);
+            let format = geode_io::read_format(&from).map_err(|e| read_error(&from, &e))?;
+            let bytes = geode_op::FileAccess::anywhere()
+                .read(&from, progress.budget, &|| progress.cancel.is_cancelled())
+                .map_err(|e| refused_error(&from, &e))?;
+            geode_io::read_bytes(&bytes, format, &from, &progress)
+                .map_err(|e| read_error(&from, &e))
+        })??;
         Ok(PyGeometry::new(Arc::new(g)))
     }
 
@@ -461,7 +464,11 @@ impl PyGeometry {
                 return Ok(old.type_info);
             }
         }
-        let by_name = TypeInfo::for_name(name);
+        // A quaternion is one whatever its name; others by Houdini's names.
+        let by_name = match ty {
+            AttribType::Quat => TypeInfo::Quaternion,
+            _ => TypeInfo::for_name(name),
+        };
         Ok(if carries(ty, by_name) {
             by_name
         } else {
@@ -490,6 +497,17 @@ impl PyGeometry {
     }
 }
 
+/// Refuses a name Houdini would not take for an attribute or group.
+fn check_name(name: &str) -> PyResult<()> {
+    if geode_geo::attrib::is_valid_name(name) {
+        Ok(())
+    } else {
+        Err(invalid(format!(
+            "`{name}` is not an attribute or group name (letters, digits and _, not starting with a digit)"
+        )))
+    }
+}
+
 /// Whether values of `ty` can carry the tag `info` (what transforms do with it).
 fn carries(ty: AttribType, info: TypeInfo) -> bool {
     match info {
@@ -497,29 +515,38 @@ fn carries(ty: AttribType, info: TypeInfo) -> bool {
         TypeInfo::Position | TypeInfo::Vector | TypeInfo::Normal => ty == AttribType::Vec3,
         TypeInfo::Color => matches!(ty, AttribType::Vec3 | AttribType::Vec4),
         TypeInfo::Quaternion => matches!(ty, AttribType::Quat | AttribType::Vec4),
-        TypeInfo::Transform => matches!(ty, AttribType::Mat3 | AttribType::Mat4),
+        // What transforms turn: a 4x4 instance transform, not a 3x3.
+        TypeInfo::Transform => ty == AttribType::Mat4,
     }
 }
 
 /// A float column of `ty` from flat data: `len` elements of `ty`'s width.
-fn float_column(ty: AttribType, f: &[f32], len: usize) -> PyResult<AttribData> {
-    fn rows<T: bytemuck::Pod>(f: &[f32], width: usize, len: usize) -> PyResult<Vec<T>> {
-        if f.len() != width * len {
-            return Err(invalid(format!(
-                "{} numbers do not make {len} values of {width} components",
-                f.len()
-            )));
+fn float_column(ty: AttribType, f: &[f32], len: usize, what: &str) -> PyResult<AttribData> {
+    let rows = |width: usize| -> PyResult<&[f32]> {
+        if f.len() == width * len {
+            Ok(f)
+        } else {
+            Err(invalid(match width {
+                1 => format!("{what} needs {len} values, got {}", f.len()),
+                _ => format!(
+                    "{what} needs {len} {ty} values ({} numbers), got {} numbers",
+                    width * len,
+                    f.len()
+                ),
+            }))
         }
-        Ok(bytemuck::cast_slice(f).to_vec())
+    };
+    fn cast<T: bytemuck::Pod>(f: &[f32]) -> Vec<T> {
+        bytemuck::cast_slice(f).to_vec()
     }
     Ok(match ty {
-        AttribType::Float => AttribData::Float(f.to_vec()),
-        AttribType::Vec2 => AttribData::Vec2(rows::<Vec2>(f, 2, len)?),
-        AttribType::Vec3 => AttribData::Vec3(rows::<Vec3>(f, 3, len)?),
-        AttribType::Vec4 => AttribData::Vec4(rows::<Vec4>(f, 4, len)?),
-        AttribType::Quat => AttribData::Quat(rows::<Quat>(f, 4, len)?),
-        AttribType::Mat3 => AttribData::Mat3(rows::<Mat3>(f, 9, len)?),
-        AttribType::Mat4 => AttribData::Mat4(rows::<Mat4>(f, 16, len)?),
+        AttribType::Float => AttribData::Float(rows(1)?.to_vec()),
+        AttribType::Vec2 => AttribData::Vec2(cast(rows(2)?)),
+        AttribType::Vec3 => AttribData::Vec3(cast(rows(3)?)),
+        AttribType::Vec4 => AttribData::Vec4(cast(rows(4)?)),
+        AttribType::Quat => AttribData::Quat(cast(rows(4)?)),
+        AttribType::Mat3 => AttribData::Mat3(cast(rows(9)?)),
+        AttribType::Mat4 => AttribData::Mat4(cast(rows(16)?)),
         _ => return Err(invalid(format!("floats cannot make a {ty} attribute"))),
     })
 }

@@ -2,7 +2,7 @@
 
 use pyo3::prelude::*;
 
-use crate::errors::invalid;
+use crate::errors::{invalid, invalid_at};
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use serde_json::{Map, Number, Value as Json};
 
@@ -10,14 +10,30 @@ use serde_json::{Map, Number, Value as Json};
 const MAX_DEPTH: usize = 32;
 
 /// A Python value (numbers, strings, lists, tuples, dicts, numpy arrays
-/// and scalars) as JSON.
-pub fn to_json(v: &Bound<'_, PyAny>) -> PyResult<Json> {
-    to_json_at(v, 0)
+/// and scalars) as JSON, for parameter `param` of node `path` (which a
+/// refusal names).
+pub fn to_json(v: &Bound<'_, PyAny>, path: &str, param: &str) -> PyResult<Json> {
+    to_json_at(v, 0).map_err(|e| match e {
+        Refused::Python(e) => e,
+        Refused::Value(message) => invalid_at(path, Some(param), message),
+    })
 }
 
-fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
+/// Why a value was refused: geode's reason, or Python's own error.
+enum Refused {
+    Value(String),
+    Python(PyErr),
+}
+
+impl From<PyErr> for Refused {
+    fn from(e: PyErr) -> Refused {
+        Refused::Python(e)
+    }
+}
+
+fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> Result<Json, Refused> {
     if depth > MAX_DEPTH {
-        return Err(invalid(format!(
+        return Err(Refused::Value(format!(
             "a parameter value nests deeper than {MAX_DEPTH} levels"
         )));
     }
@@ -30,7 +46,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
     if v.is_instance_of::<PyInt>() {
         return match v.extract::<i64>() {
             Ok(i) => Ok(Json::from(i)),
-            Err(_) => Err(invalid(format!("{v} does not fit 64 bits"))),
+            Err(_) => Err(Refused::Value(format!("{v} does not fit 64 bits"))),
         };
     }
     if v.is_instance_of::<PyFloat>() {
@@ -43,7 +59,7 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
         let mut m = Map::new();
         for (k, x) in d.iter() {
             let k: String = k.extract().map_err(|_| {
-                invalid("a dict in a parameter value has keys that are not strings")
+                Refused::Value("a dict in a parameter value has keys that are not strings".into())
             })?;
             m.insert(k, to_json_at(&x, depth + 1)?);
         }
@@ -63,16 +79,16 @@ fn to_json_at(v: &Bound<'_, PyAny>, depth: usize) -> PyResult<Json> {
             return to_json_at(&plain, depth + 1);
         }
     }
-    Err(invalid(format!(
+    Err(Refused::Value(format!(
         "a parameter value cannot be a {}",
         v.get_type().name()?
     )))
 }
 
-fn float(x: f64) -> PyResult<Json> {
+fn float(x: f64) -> Result<Json, Refused> {
     Number::from_f64(x)
         .map(Json::Number)
-        .ok_or_else(|| invalid(format!("{x} is not a finite number")))
+        .ok_or_else(|| Refused::Value(format!("{x} is not a finite number")))
 }
 
 /// JSON as plain Python values.

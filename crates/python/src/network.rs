@@ -66,14 +66,8 @@ impl PyNetwork {
             crate::state::hold(hash, &geo);
             s.held.insert(hash, geo);
             Json::String(geode_nodes::held::format_hash(hash))
-        } else if let Ok(p) = value.getattr("path").and_then(|p| p.extract::<String>()) {
-            if value.hasattr("parm")? {
-                Json::String(p) // a geode.Node given as a path parameter
-            } else {
-                to_json(value)?
-            }
         } else {
-            to_json(value)?
+            to_json(value, path, param)?
         };
         s.edit(&Edit::SetParam {
             path: path.to_owned(),

@@ -18,7 +18,8 @@ pub struct Picture {
     pub rgb: Vec<u8>,
 }
 
-/// A camera turned `yaw` about Y and then `pitch` about X (degrees).
+/// A camera turned `yaw` about Y and then `pitch` about X (degrees; a
+/// positive pitch looks down on the geometry, as Houdini's default view).
 fn view(yaw: f32, pitch: f32) -> Mat3 {
     Mat3::from_rotation_x(pitch.to_radians()) * Mat3::from_rotation_y(yaw.to_radians())
 }
@@ -36,9 +37,9 @@ fn best_view(points: &[Vec3], centre: Vec3) -> Mat3 {
         }
         (hi.x - lo.x) * (hi.y - lo.y)
     };
-    let mut best = view(35.0, -25.0);
+    let mut best = view(35.0, 25.0);
     let mut best_area = f32::MIN;
-    for pitch in [-25.0, -60.0] {
+    for pitch in [25.0, 60.0] {
         for yaw in [35.0, 125.0, 215.0, 305.0] {
             let r = view(yaw, pitch);
             let a = area(&r);

@@ -303,3 +303,19 @@ def test_the_picture_is_the_same_on_any_thread_count():
         for threads in (1, 2, 3)
     }
     assert len(set(digests.values())) == 1, digests
+
+
+def test_the_picture_looks_down_on_the_geometry_as_houdini_does():
+    Image = oracle("PIL.Image")
+    import io
+
+    net = geode.Network()
+    g = net.cook(net.create_node("box", "b"))
+    P, off, pts = g.points["P"], g.prim_offsets, g.prim_points
+    heights = [P[pts[off[i] : off[i + 1]]].mean(axis=0)[1] for i in range(g.num_prims)]
+    # The top face red, the bottom blue, the sides grey.
+    cd = [[1, 0, 0] if h > 0.4 else [0, 0, 1] if h < -0.4 else [0.5, 0.5, 0.5] for h in heights]
+    image = np.asarray(Image.open(io.BytesIO(g.set_attrib("prim", "Cd", np.float32(cd)).png(128))).convert("RGB")).astype(int)
+    red = (image[:, :, 0] > image[:, :, 2] + 30).sum()
+    blue = (image[:, :, 2] > image[:, :, 0] + 30).sum()
+    assert red > 500 and blue == 0, (red, blue)

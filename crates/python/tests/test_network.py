@@ -207,10 +207,20 @@ def test_the_output_is_the_named_node_else_the_display_flag():
     assert net.output is None
     b.display = True
     assert net.output == b
+    # Naming the output moves the display flag to it, as the two are one in Houdini.
     net.output = a
-    assert net.output == a and net.cook().num_points == 8
+    assert net.output == a and a.display and not b.display and net.cook().num_points == 8
     net.output = None
+    assert net.output == a  # the display flag still says so
+    b.display = True
     assert net.output == b and net.cook().num_points == net.cook(b).num_points
+    other = geode.Network()
+    with pytest.raises(geode.EditError, match="another network"):
+        net.output = other.create_node("box", "a")
+    with pytest.raises(geode.EditError, match="another network"):
+        net.cook(other.node("a"))
+    with pytest.raises(TypeError):
+        net.output = 5
 
 
 def test_parameters_and_node_types_describe_themselves_as_the_studio_reads_them():

@@ -10,6 +10,14 @@ mod table;
 pub use kinds::{AttribClass, AttribType, AttribValue, TypeInfo};
 pub use table::AttribTable;
 
+/// Whether `name` can name an attribute or a group, as Houdini allows:
+/// letters, digits and `_`, not starting with a digit.
+pub fn is_valid_name(name: &str) -> bool {
+    !name.is_empty()
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !name.starts_with(|c: char| c.is_ascii_digit())
+}
+
 /// Strings stored once in a table; elements hold indices into it.
 #[derive(Clone, Debug, PartialEq, Default)]
 pub struct StringColumn {

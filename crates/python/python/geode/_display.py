@@ -32,6 +32,9 @@ def network_svg(document: str) -> str:
         edge = "#4fc3f7" if name == output or node.get("display") else "#666"
         fill = "#5a4a2a" if node.get("bypass") else "#3a3a3a"
         parts.append(f'<rect x="{x:.1f}" y="{y:.1f}" width="{w}" height="{h}" rx="5" fill="{fill}" stroke="{edge}" stroke-width="2"/>')
+        ins = node.get("inputs", [])
+        for k in range(len(ins)):
+            parts.append(f'<circle cx="{x + w * (k + 1) / (len(ins) + 1):.1f}" cy="{y:.1f}" r="3" fill="#ddd"/>')
         parts.append(f'<text x="{x + 8:.1f}" y="{y + 15:.1f}" fill="#eee" font-size="12">{html.escape(name)}</text>')
         parts.append(f'<text x="{x + 8:.1f}" y="{y + 28:.1f}" fill="#aaa" font-size="10">{html.escape(str(node.get("type", "")))}</text>')
     for name, node in nodes.items():
@@ -83,6 +86,22 @@ def _layout(nodes: dict[str, Any]) -> dict[str, tuple[float, float]]:
             return sum(xs) / len(xs) if xs else float("inf")
 
         rows[d].sort(key=centre)
+        for i, name in enumerate(rows[d]):
+            column[name] = float(i)
+    # Then upwards, each row by where it is read: a node feeding input 0
+    # left of one feeding input 1 of the same reader, so wires do not cross.
+    for d in sorted(rows, reverse=True)[1:]:
+        def slot(name: str) -> float:
+            at = [
+                column[r] + (k + 1) / (len(nodes[r].get("inputs", [])) + 1)
+                for r in readers[name]
+                if r in column
+                for k, s in enumerate(nodes[r].get("inputs", []))
+                if s == name
+            ]
+            return sum(at) / len(at) if at else column[name]
+
+        rows[d].sort(key=slot)
         for i, name in enumerate(rows[d]):
             column[name] = float(i)
     return {n: (i * 160.0, d * 70.0) for d, names in rows.items() for i, n in enumerate(names)}

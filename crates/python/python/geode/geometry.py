@@ -138,12 +138,7 @@ class Geometry(_geode.Geometry):
         Polygons come first, then polylines. Attributes are given per class as
         ``{name: values}`` (see ``set_attrib`` for how types are inferred).
         """
-        P = np.asarray(points, dtype=np.float32)
-        if P.size == 0:
-            P = P.reshape(0, 3)
-        if P.ndim != 2 or P.shape[1] != 3:
-            raise invalid(f"points must be an (n, 3) array of positions, not of shape {P.shape}")
-        P = np.ascontiguousarray(P)
+        P = _positions(points)
         counts: list[np.ndarray] = []
         flat: list[np.ndarray] = []
         closed: list[np.ndarray] = []
@@ -158,10 +153,25 @@ class Geometry(_geode.Geometry):
             P, _concat(flat, np.uint32), _concat(counts, np.uint32), _concat(closed, np.bool_)
         )
         geo = cls(native)
+        if point_attribs and "P" in point_attribs:
+            raise invalid("P comes from points=; point_attribs cannot give it too")
         for klass, attribs in (("point", point_attribs), ("vertex", vertex_attribs), ("prim", prim_attribs), ("detail", detail_attribs)):
             for name, values in (attribs or {}).items():
                 geo = geo.set_attrib(klass, name, values)
         return geo
+
+    @classmethod
+    def from_prims(cls, points: Any, vertex_points: Any, counts: Any, closed: Any) -> "Geometry":
+        """Polygons and polylines from flat arrays: positions (n, 3), the point
+        of every vertex, a vertex count per primitive, and whether each is closed."""
+        return cls(
+            _geode.Geometry.from_prims(
+                _positions(points),
+                _indices(vertex_points, 1).astype(np.uint32),
+                _indices(counts, 1).astype(np.uint32),
+                np.ascontiguousarray(np.asarray(closed, dtype=np.bool_)),
+            )
+        )
 
     @classmethod
     def load(cls, path: Union[str, "os.PathLike[str]"]) -> "Geometry":
@@ -197,25 +207,31 @@ class Geometry(_geode.Geometry):
         arr = np.asarray(values)
         if type is None:
             type = _infer_type(arr, cls, name)
+        what = f"{cls} attribute {name!r}"
         if type == "string":
-            return Geometry(self.with_attrib(cls, name, type, [str(s) for s in arr.reshape(-1)], type_info))
+            return Geometry(self.with_attrib(cls, name, type, [_text(v, what) for v in arr.reshape(-1)], type_info))
         if type == "int":
-            return Geometry(self.with_attrib(cls, name, type, _int32(arr, f"{cls} attribute {name!r}"), type_info))
-        return Geometry(self.with_attrib(cls, name, type, np.ascontiguousarray(arr, dtype=np.float32), type_info))
+            return Geometry(self.with_attrib(cls, name, type, _int32(arr, what), type_info))
+        return Geometry(self.with_attrib(cls, name, type, _floats(arr, what), type_info))
 
     def _set_array(self, cls: str, name: str, values: Any, type: str, type_info: Optional[str]) -> "Geometry":
         rows = [values] if cls == "detail" else list(values)
+        what = f"{cls} attribute {name!r}"
         if type == "string array":
-            return Geometry(self.with_attrib(cls, name, type, [[str(x) for x in r] for r in rows], type_info))
-        flat = [np.asarray(r, dtype=np.float64).reshape(-1).tolist() for r in rows]
+            return Geometry(self.with_attrib(cls, name, type, [[_text(x, what) for x in r] for r in rows], type_info))
+        flat = [_floats(r, what, np.float64).reshape(-1).tolist() for r in rows]
         return Geometry(self.with_attrib(cls, name, type, flat, type_info))
 
     def remove_attrib(self, cls: str, name: str) -> "Geometry":
         return Geometry(self.without_attrib(_class(cls), name))
 
     def set_group(self, cls: str, name: str, mask: Any) -> "Geometry":
-        """A new geometry with point or prim group ``name`` from a boolean mask."""
-        return Geometry(self.with_group(_class(cls), name, np.ascontiguousarray(mask, dtype=np.bool_)))
+        """A new geometry with point or prim group ``name`` from a boolean mask
+        (booleans, or numbers that are all 0 or 1)."""
+        flags = np.asarray(mask)
+        if flags.dtype != np.bool_ and flags.size and not np.isin(flags, (0, 1)).all():
+            raise invalid(f"group {name!r}: a mask holds booleans (or 0 and 1), not {flags.dtype} values like {flags.flat[0]!r}")
+        return Geometry(self.with_group(_class(cls), name, np.ascontiguousarray(flags, dtype=np.bool_)))
 
     # --- handing on --------------------------------------------------------
 
@@ -248,25 +264,66 @@ def _concat(parts: list[np.ndarray], dtype: Any) -> np.ndarray:
     return np.ascontiguousarray(np.concatenate(parts).astype(dtype))
 
 
-def _indices(values: Any) -> np.ndarray:
-    """Point indices as int64, refusing what is not a whole number."""
+def _indices(values: Any, ndim: int) -> np.ndarray:
+    """Point indices of ``ndim`` dimensions as int64, refusing what is not
+    a whole number from 0 to 2**32 - 1."""
     arr = np.asarray(values)
+    if arr.ndim != ndim:
+        raise invalid(f"a primitive's point indices are a list of numbers; got an array of shape {arr.shape}")
     if arr.size and arr.dtype.kind not in "iu":
         raise invalid(f"point indices must be integers, not {arr.dtype}")
+    if arr.size and (arr.min() < 0 or arr.max() > np.iinfo(np.uint32).max):
+        raise invalid("point indices must be 0 or more and fit 32 bits")
     return arr.astype(np.int64).reshape(-1)
 
 
 def _flatten(prims: Any) -> tuple[np.ndarray, np.ndarray]:
     """Vertex counts and flat point indices of uniform (m, k) or ragged primitives."""
-    if isinstance(prims, np.ndarray) and prims.ndim == 2:
-        m, k = prims.shape
-        return np.full(m, k, dtype=np.int64), _indices(prims)
-    seqs = [_indices(p) for p in prims]
+    if isinstance(prims, np.ndarray) and prims.dtype != object:
+        m, k = prims.shape if prims.ndim == 2 else (0, 0)
+        return np.full(m, k, dtype=np.int64), _indices(prims, 2)
+    seqs = [_indices(p, 1) for p in prims]
     counts = np.array([len(s) for s in seqs], dtype=np.int64)
     flat = np.concatenate(seqs) if seqs else np.zeros(0, dtype=np.int64)
-    if flat.size and (flat.min() < 0 or flat.max() > np.iinfo(np.uint32).max):
-        raise invalid("point indices must be 0 or more and fit 32 bits")
     return counts, flat
+
+
+def _positions(points: Any) -> np.ndarray:
+    """Positions as a contiguous (n, 3) float32 array; any other shape refused."""
+    P = _floats(points, "points")
+    if P.size == 0:
+        P = P.reshape(0, 3)
+    if P.ndim != 2 or P.shape[1] != 3:
+        raise invalid(f"points must be an (n, 3) array of positions, not of shape {P.shape}")
+    return P
+
+
+def _floats(values: Any, what: str, dtype: Any = np.float32) -> np.ndarray:
+    """Real numbers as a contiguous array of ``dtype``; anything else
+    (text, complex numbers, objects) refused rather than converted."""
+    try:
+        arr = np.asarray(values)
+        if arr.dtype.kind == "c":
+            raise invalid(f"{what}: complex numbers have no place in geometry")
+        if arr.size and arr.dtype.kind not in "biuf":
+            raise invalid(f"{what}: numbers expected, not {arr.dtype} values like {arr.flat[0]!r}")
+        return np.ascontiguousarray(arr, dtype=dtype)
+    except ValueError as e:
+        if isinstance(e, _geode.GeodeError):
+            raise
+        raise invalid(f"{what}: numbers expected ({e})") from None
+
+
+def _text(value: Any, what: str) -> str:
+    """A string attribute's value: text, or bytes as UTF-8."""
+    if isinstance(value, (bytes, np.bytes_)):
+        try:
+            return bytes(value).decode("utf-8")
+        except UnicodeDecodeError:
+            raise invalid(f"{what}: bytes that are not UTF-8 text") from None
+    if isinstance(value, str):
+        return value
+    raise invalid(f"{what}: text expected, not {type(value).__name__} {value!r}")
 
 
 def _class(name: str) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import numbers
 import os
 from typing import Any, Iterable, Optional, Sequence, Union
@@ -97,7 +98,7 @@ class Network:
 
     @output.setter
     def output(self, node: Union["Node", str, None]) -> None:
-        self._net._set_output("/", _name_of(node))
+        _set_output(self, "/", node)
 
     def problems(self) -> list[dict[str, Any]]:
         """Every load problem: dicts of ``kind``, ``path``, ``param`` and ``message``."""
@@ -113,7 +114,7 @@ class Network:
         while cooking, so threads can cook frames side by side; Ctrl-C
         cancels the cook and raises ``KeyboardInterrupt``.
         """
-        target = node.path if isinstance(node, Node) else node
+        target = _own(self, node).path if isinstance(node, Node) else node
         return _wrap(self._net.cook(target, _frame(frame)))
 
     def __eq__(self, other: object) -> bool:
@@ -133,15 +134,37 @@ def _frame(frame: Any) -> float:
     """A frame number; strings and the like are refused, not parsed."""
     if isinstance(frame, bool) or not isinstance(frame, numbers.Real):
         raise TypeError(f"a frame is a number, not {type(frame).__name__}")
+    if not math.isfinite(frame):
+        raise invalid(f"a frame is a finite number, not {frame}")
     return float(frame)
 
 
-def _name_of(node: Union["Node", str, None]) -> Optional[str]:
+def _own(network: Network, node: "Node") -> "Node":
+    """``node``, refused when it belongs to another network (its name would
+    find a different node here)."""
+    if node.network is not network:
+        raise error(EditError, "edit", node.path, None, "is a node of another network")
+    return node
+
+
+def _set_output(network: Network, parent: str, node: Union["Node", str, None]) -> None:
+    """Names ``parent``'s output node (moving the display flag to it where one
+    is set, as Houdini's display flag is the output); None leaves it to the flag."""
     if node is None:
-        return None
+        network._net._set_output(parent, None)
+        return
     if isinstance(node, Node):
-        return node.name
-    return node.rsplit("/", 1)[-1]
+        name = _own(network, node).name
+    elif isinstance(node, str):
+        name = node.rsplit("/", 1)[-1]
+    else:
+        raise TypeError(f"an output is a Node, a node's name or None, not {type(node).__name__}")
+    network._net._set_output(parent, name)
+    # Where a display flag is in use it follows the output, so the two never
+    # disagree; a network without one (a file that names its output) keeps none.
+    base = parent.rstrip("/")
+    if any(network._net._node_info(f"{base}/{n}")["display"] for n in network._net._children(parent)):
+        network._net._set_flag(f"{base}/{name}", "display", True)
 
 
 def _flag(name: str, doc: str) -> property:
@@ -198,6 +221,8 @@ class Node:
     def set_input(self, index: int, source: Union["Node", str, None]) -> "Node":
         """Wires ``source`` (a sibling Node or its name, or ``"@0"``, ``"@meta"``
         inside a subnet or block) into input ``index``; None unwires it."""
+        if isinstance(index, bool) or not isinstance(index, int) or index < 0:
+            raise invalid(f"an input index is 0 or more, not {index!r}", self.path)
         if isinstance(source, Node):
             if source.network is not self.network:
                 raise error(EditError, "edit", self.path, None, f"{source.path} is a node of another network")
@@ -231,8 +256,16 @@ class Node:
         return [Parm(self, n) for n in self._net._param_names(self.path)]
 
     def set_params(self, values: dict[str, Any]) -> "Node":
-        for k, v in values.items():
-            self.parm(k).set(v)
+        """Sets several parameters: all of them, or (when one is refused) none."""
+        parms = [self.parm(k) for k in values]
+        before = [p.raw for p in parms]
+        try:
+            for p, v in zip(parms, values.values()):
+                p.set(v)
+        except Exception:
+            for p, old in zip(parms, before):
+                self._net._set_param(self.path, p.name, old)
+            raise
         return self
 
     def add_spare(self, name: str, type: str) -> "Parm":
@@ -272,7 +305,7 @@ class Node:
 
     @output.setter
     def output(self, node: Union["Node", str, None]) -> None:
-        self._net._set_output(self.path, _name_of(node))
+        _set_output(self.network, self.path, node)
 
     # --- the rest ----------------------------------------------------------
 
@@ -342,6 +375,7 @@ class Parm:
         is a sequence for a vector parameter, one channel per component) or
         dicts with ``frame``, ``value`` and optionally ``interp`` (constant,
         linear, bezier, ease), ``slope_in``, ``slope_out``."""
+        self._animatable()
         rows = [_key_row(k, interp, self) for k in keys]
         if not rows:
             raise ValueError("set_keys needs at least one key")
@@ -359,9 +393,14 @@ class Parm:
         """Sets an expression (``"$F * 0.1"``, ``'ch("../amp")'``) as the value,
         or as one component's value of a vector parameter."""
         if component is None:
+            self._animatable()
             return self.set({"expr": text})
+        self._animatable()
         raw = self.raw
-        values = list(raw) if isinstance(raw, list) else list(self.eval())
+        current = raw if isinstance(raw, list) else self.eval()
+        if not isinstance(current, (list, tuple)):
+            raise invalid(f"component {component} of a parameter that has one: set_expression(text) without it", self.node.path, self.name)
+        values = list(current)
         if not 0 <= component < len(values):
             raise invalid(f"component {component} of a parameter of {len(values)}", self.node.path, self.name)
         values[component] = {"expr": text}
@@ -369,15 +408,23 @@ class Parm:
 
     def set_key(self, frame: float, value: float, component: int = 0) -> "Parm":
         """Sets one key of one component (a constant becomes a channel)."""
-        self._net._set_key(self.node.path, self.name, component, float(frame), float(value))
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise invalid(f"a key's value is a number, not {value!r}", self.node.path, self.name)
+        self._net._set_key(self.node.path, self.name, component, _frame(frame), float(value))
         return self
 
     def delete_key(self, frame: float, component: int = 0) -> "Parm":
         self._net._delete_key(self.node.path, self.name, component, float(frame))
         return self
 
+    def _animatable(self) -> None:
+        """Refuses keys and expressions on a parameter that takes neither."""
+        if not self.template.get("animatable", True):
+            raise error(EditError, "edit", self.node.path, self.name, f"parameter `{self.name}` cannot be animated")
+
     def __repr__(self) -> str:
-        return f"<geode.Parm {self.node.path}/{self.name} = {self.raw!r}>"
+        raw = self.raw
+        return f"<geode.Parm {self.node.path}/{self.name} = {'(default)' if raw is None else repr(raw)}>"
 
 
 def _key_row(k: Any, interp: Optional[str], parm: "Parm") -> tuple[float, Any, dict[str, Any]]:
