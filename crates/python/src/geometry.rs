@@ -45,15 +45,18 @@ pub fn class_of(name: &str) -> PyResult<AttribClass> {
 }
 
 fn type_of(name: &str) -> PyResult<AttribType> {
-    AttribType::ALL
-        .into_iter()
+    by_name(&AttribType::ALL, name, "an attribute type")
+}
+
+/// The one of `all` whose name (its `Display`) is `name`, or an error
+/// listing them.
+fn by_name<T: Copy + std::fmt::Display>(all: &[T], name: &str, what: &str) -> PyResult<T> {
+    all.iter()
+        .copied()
         .find(|t| t.to_string() == name)
         .ok_or_else(|| {
-            let known: Vec<String> = AttribType::ALL.iter().map(|t| t.to_string()).collect();
-            invalid(format!(
-                "`{name}` is not an attribute type ({})",
-                known.join(", ")
-            ))
+            let known: Vec<String> = all.iter().map(|t| t.to_string()).collect();
+            invalid(format!("`{name}` is not {what} ({})", known.join(", ")))
         })
 }
 
@@ -444,16 +447,7 @@ impl PyGeometry {
         asked: Option<&str>,
     ) -> PyResult<TypeInfo> {
         if let Some(asked) = asked {
-            let info = TypeInfo::ALL
-                .into_iter()
-                .find(|t| t.to_string() == asked)
-                .ok_or_else(|| {
-                    let known: Vec<String> = TypeInfo::ALL.iter().map(|t| t.to_string()).collect();
-                    invalid(format!(
-                        "`{asked}` is not a type info ({})",
-                        known.join(", ")
-                    ))
-                })?;
+            let info = by_name(&TypeInfo::ALL, asked, "a type info")?;
             if !carries(ty, info) {
                 return Err(invalid(format!("a {ty} attribute cannot be a {info}")));
             }
