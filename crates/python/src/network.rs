@@ -159,7 +159,6 @@ impl PyNetwork {
                 ));
             }
         }
-        let undo = s.doc.clone();
         s.edit(&Edit::AddNode {
             parent: parent.to_owned(),
             ty: ty.to_owned(),
@@ -191,8 +190,11 @@ impl PyNetwork {
                 }
             })();
             if let Err(e) = result {
-                s.doc = undo;
-                s.engine = None;
+                // The node goes again, its wires and values with it (no copy
+                // of the document is kept for this: a build stays linear).
+                s.edit(&Edit::RemoveNodes {
+                    paths: vec![path.clone()],
+                })?;
                 s.prune_held();
                 return Err(e);
             }
