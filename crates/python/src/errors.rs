@@ -57,6 +57,20 @@ pub struct Problem {
 }
 
 impl Problem {
+    fn new(
+        kind: &'static str,
+        path: &str,
+        param: Option<&str>,
+        message: impl Into<String>,
+    ) -> Problem {
+        Problem {
+            kind,
+            path: path.to_owned(),
+            param: param.map(str::to_owned),
+            message: message.into(),
+        }
+    }
+
     fn line(&self) -> String {
         match &self.param {
             Some(p) => format!("{} (parameter `{p}`): {}", self.path, self.message),
@@ -187,15 +201,7 @@ pub fn not_found(
     param: Option<&str>,
     message: impl Into<String>,
 ) -> PyErr {
-    raise_as(
-        &NOT_FOUND,
-        Problem {
-            kind,
-            path: path.to_owned(),
-            param: param.map(str::to_owned),
-            message: message.into(),
-        },
-    )
+    raise_as(&NOT_FOUND, Problem::new(kind, path, param, message))
 }
 
 /// A value geode cannot use (a shape, a type, a range): a `GeodeError` and a `ValueError`.
@@ -205,15 +211,7 @@ pub fn invalid(message: impl Into<String>) -> PyErr {
 
 /// [`invalid`] for the value given to parameter `param` of node `path`.
 pub fn invalid_at(path: &str, param: Option<&str>, message: impl Into<String>) -> PyErr {
-    raise_as(
-        &INVALID,
-        Problem {
-            kind: "value",
-            path: path.to_owned(),
-            param: param.map(str::to_owned),
-            message: message.into(),
-        },
-    )
+    raise_as(&INVALID, Problem::new("value", path, param, message))
 }
 
 /// A refused edit; `param` names the parameter it was about, where one was.
@@ -242,12 +240,7 @@ pub fn usage(
     param: Option<&str>,
     message: impl Into<String>,
 ) -> PyErr {
-    raise::<GeodeError>(vec![Problem {
-        kind,
-        path: path.to_owned(),
-        param: param.map(str::to_owned),
-        message: message.into(),
-    }])
+    raise::<GeodeError>(vec![Problem::new(kind, path, param, message)])
 }
 
 /// A file geode-io refused: over the memory budget it is of kind
@@ -284,12 +277,7 @@ fn file_problem(path: &std::path::Path, e: impl std::fmt::Display, kind: &'stati
         .strip_prefix(&format!("{shown}: "))
         .unwrap_or(&text)
         .to_owned();
-    raise::<FileError>(vec![Problem {
-        kind,
-        path: shown,
-        param: None,
-        message,
-    }])
+    raise::<FileError>(vec![Problem::new(kind, &shown, None, message)])
 }
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
